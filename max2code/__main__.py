@@ -1,0 +1,3 @@
+from max2code.cli import main
+
+raise SystemExit(main())

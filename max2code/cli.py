@@ -1,0 +1,109 @@
+"""Command line: `max2code --lang=LANG FILE.mxm -o OUT` and the subcommands.
+
+The generator form is the paper's figure 11.  Other jobs are subcommands,
+registered by name in SUBCOMMANDS as "module:function"; each function takes
+the remaining argv and returns an exit status.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import importlib
+import sys
+
+from max2code.errors import Max2CodeError
+
+# name -> "module:function(argv) -> int"
+SUBCOMMANDS: dict[str, str] = {
+    "conformance": "max2code.conformance.runner:main",
+    "table": "max2code.report:main",
+}
+
+
+def _generate_parser() -> argparse.ArgumentParser:
+    from max2code.targets import LANGUAGES
+
+    p = argparse.ArgumentParser(
+        prog="max2code",
+        description=(
+            "Generate time-of-collision coefficient code from a .mxm file. "
+            "The Maxima text between 'begin' and 'end' is expanded by Maxima into a "
+            "polynomial in t; max2code collects its coefficients by power of t, proves "
+            "the collection equals Maxima's polynomial, and prints code for LANG.  "
+            "Subcommands: " + ", ".join(sorted(SUBCOMMANDS)) + " (run 'max2code SUB --help')."
+        ),
+        epilog="example: max2code --lang=m2 point-line.mxm -o point-line.mxd",
+    )
+    p.add_argument("--lang", "-l", required=True, choices=sorted(LANGUAGES),
+                   help="target language")
+    p.add_argument("file", help="the .mxm file")
+    p.add_argument("-o", "--output", default="-",
+                   help="output file ('-' for standard output, the default)")
+    p.add_argument("--no-line", action="store_true",
+                   help="omit #line directives (C, Modula-2) and origin comments (Python, Rust)")
+    p.add_argument("--option", "-D", action="append", default=[], metavar="NAME=VALUE",
+                   help="override an 'option' declared in the .mxm file, e.g. -D order=6")
+    p.add_argument("--naive", action="store_true",
+                   help="print each coefficient as its plain expansion (no shared subexpressions)")
+    p.add_argument("--no-cache", action="store_true", help="do not read or write the Maxima result cache")
+    p.add_argument("--maxima-timeout", type=float, default=300.0, metavar="SECONDS",
+                   help="give up on Maxima after this many seconds (default 300)")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress messages on stderr")
+    return p
+
+
+def _parse_options(items: list[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise Max2CodeError(f"--option expects NAME=VALUE, got {item!r}")
+        out[name.strip()] = value.strip()
+    return out
+
+
+def generate_main(argv: list[str]) -> int:
+    from max2code.pipeline import GenerateRequest, generate_file
+
+    args = _generate_parser().parse_args(argv)
+    req = GenerateRequest(
+        path=args.file,
+        lang=args.lang,
+        line_directives=not args.no_line,
+        options=_parse_options(args.option),
+        shared=not args.naive,
+        use_cache=not args.no_cache,
+        maxima_timeout=args.maxima_timeout,
+        progress=not args.quiet,
+        out_name=None if args.output == "-" else os.path.basename(args.output),
+    )
+    result = generate_file(req)
+    text = result.text
+    if args.output == "-":
+        sys.stdout.write(text)
+    else:
+        with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        if argv and argv[0] in SUBCOMMANDS:
+            mod_name, func_name = SUBCOMMANDS[argv[0]].split(":")
+            func = getattr(importlib.import_module(mod_name), func_name)
+            return int(func(argv[1:]) or 0)
+        return generate_main(argv)
+    except Max2CodeError as exc:
+        print(str(exc), file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("max2code: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

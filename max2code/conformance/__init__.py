@@ -1,0 +1,1 @@
+"""Conformance suite: cases in tests/conformance/*.jsonl, one testee per runtime."""

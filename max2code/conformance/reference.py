@@ -1,0 +1,145 @@
+"""Reference answers for the "roots" op, from the exact double coefficients.
+
+The polynomial is taken exactly (each double is a rational number); Yun's
+square-free factorisation over the rationals gives every root's multiplicity
+exactly, and mpmath (at 120 digits) finds the roots of each square-free factor.
+The tolerance of each real root follows docs/roots.md:
+
+    tol = max(1e-12 |r|, 4 * (m! * eps * ptilde(|r|) / |p^(m)(r)|)^(1/m), 1e-300)
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import mpmath
+
+EPS = 2.0 ** -52
+DPS = 120
+
+
+def _trim(p: list[Fraction]) -> list[Fraction]:
+    p = list(p)
+    while p and p[-1] == 0:
+        p.pop()
+    return p
+
+
+def _deriv(p: list[Fraction]) -> list[Fraction]:
+    return [p[i] * i for i in range(1, len(p))]
+
+
+def _divmod(a: list[Fraction], b: list[Fraction]) -> tuple[list[Fraction], list[Fraction]]:
+    a = list(a)
+    q = [Fraction(0)] * max(len(a) - len(b) + 1, 1)
+    while len(a) >= len(b) and a:
+        f = a[-1] / b[-1]
+        k = len(a) - len(b)
+        q[k] = f
+        for i in range(len(b)):
+            a[k + i] -= f * b[i]
+        a.pop()
+        a = _trim(a)
+    return _trim(q), a
+
+
+def _gcd(a: list[Fraction], b: list[Fraction]) -> list[Fraction]:
+    a, b = _trim(a), _trim(b)
+    while b:
+        _, r = _divmod(a, b)
+        a, b = b, r
+    lc = a[-1]
+    return [x / lc for x in a]
+
+
+def squarefree(p: list[Fraction]) -> list[tuple[list[Fraction], int]]:
+    """Yun's algorithm: [(factor, multiplicity)] with p = lc * prod factor^m."""
+    p = _trim(p)
+    out = []
+    dp = _deriv(p)
+    a = _gcd(p, dp)
+    b, _ = _divmod(p, a)
+    c, _ = _divmod(dp, a)
+    d = [x - y for x, y in _zip_pad(c, _deriv(b))]
+    d = _trim(d)
+    m = 1
+    while len(b) > 1:
+        a = _gcd(b, d)
+        if len(a) > 1:
+            out.append((a, m))
+        b, _ = _divmod(b, a)
+        c, _ = _divmod(d, a)
+        d = _trim([x - y for x, y in _zip_pad(c, _deriv(b))])
+        m += 1
+    return out
+
+
+def _zip_pad(x, y):
+    n = max(len(x), len(y))
+    x = list(x) + [Fraction(0)] * (n - len(x))
+    y = list(y) + [Fraction(0)] * (n - len(y))
+    return zip(x, y)
+
+
+def _mpf(x: Fraction):
+    return mpmath.mpf(x.numerator) / mpmath.mpf(x.denominator)
+
+
+def real_roots(coeffs: list[float]) -> list[tuple[mpmath.mpf, int]]:
+    """All distinct real roots (as mpf at DPS digits) with multiplicities, ascending."""
+    p = _trim([Fraction(c) for c in coeffs])
+    if len(p) <= 1:
+        return []
+    out = []
+    with mpmath.workdps(DPS):
+        for f, m in squarefree(p):
+            if len(f) == 2:
+                out.append((_mpf(-f[0]) / _mpf(f[1]), m))
+                continue
+            desc = [_mpf(x) for x in reversed(f)]
+            roots = mpmath.polyroots(desc, maxsteps=2000, extraprec=4 * DPS * 3)
+            for z in roots:
+                z = mpmath.mpc(z)
+                if abs(z.imag) <= mpmath.mpf(10) ** (-(DPS // 2)) * (1 + abs(z.real)):
+                    out.append((mpmath.mpf(z.real), m))
+    out.sort(key=lambda rm: rm[0])
+    return out
+
+
+def tolerance(coeffs: list[float], r, m: int) -> float:
+    """Accepted distance from the reference root r of multiplicity m."""
+    with mpmath.workdps(DPS):
+        p = [mpmath.mpf(c) for c in coeffs]
+        ar = abs(r)
+        pt = sum(abs(c) * ar ** i for i, c in enumerate(p))
+        dm = mpmath.mpf(0)
+        for i in range(m, len(p)):
+            dm += p[i] * mpmath.ff(i, m) * r ** (i - m)
+        rel = mpmath.mpf(1e-12) * ar
+        if dm == 0:
+            cond = mpmath.inf
+        else:
+            cond = 4 * (math.factorial(m) * mpmath.mpf(EPS) * pt / abs(dm)) ** (mpmath.mpf(1) / m)
+        tol = max(rel, cond, mpmath.mpf(1e-300))
+        return float(tol)
+
+
+def reference(coeffs: list[float], lo: float, hi: float) -> dict:
+    """Reference fields of a roots case: expect (float or None), and the real
+    roots near (lo, hi] that decide acceptance, each [r, m, tol]."""
+    bad = any(not math.isfinite(c) for c in coeffs) or not (math.isfinite(lo) and math.isfinite(hi)) or not (lo < hi)
+    if bad:
+        return {"expect": None, "roots": []}
+    roots = real_roots(coeffs)
+    near = []
+    expect = None
+    with mpmath.workdps(DPS):
+        for r, m in roots:
+            tol = tolerance(coeffs, r, m)
+            if r <= lo - tol or r > hi + tol:
+                continue
+            rf = float(r)
+            near.append([rf, m, tol])
+            if expect is None and lo < r <= hi:
+                expect = rf
+    return {"expect": expect, "roots": near}

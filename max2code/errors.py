@@ -1,0 +1,28 @@
+"""Errors that max2code reports to the user as `FILE:LINE:COL: message`."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+class Max2CodeError(Exception):
+    """An error meant for the user; printed without a traceback."""
+
+
+@dataclass(frozen=True)
+class Span:
+    """A place in a source file: 1-based line and column."""
+    file: str
+    line: int
+    column: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}"
+
+
+class SourceError(Max2CodeError):
+    """An error at a place in a .mxm file (or another input file)."""
+
+    def __init__(self, span: Span, message: str):
+        self.span = span
+        self.message = message
+        super().__init__(f"{span}: error: {message}")

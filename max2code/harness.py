@@ -1,0 +1,54 @@
+"""Compile generated coefficient code into a small program per language
+(templates/<lang>/harness.j2) that reads parameter sets on stdin and prints
+the coefficients exactly; used by the tests and the benchmarks."""
+from __future__ import annotations
+
+import os
+import subprocess
+from dataclasses import dataclass
+
+from max2code.lower import FunctionIR
+from max2code.render import environment
+from max2code.targets import target as get_target
+
+RUNTIME_M2_SRC = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "runtimes", "m2", "src")
+
+
+class HarnessBuildError(RuntimeError):
+    """The generated code did not compile; the message holds the compiler's output."""
+
+
+@dataclass
+class Harness:
+    lang: str
+    workdir: str
+    run_cmd: list[str]
+    nparams: int
+
+    def evaluate(self, param_sets: list[list[float]], timeout: float = 120) -> list[list[float]]:
+        text = "\n".join(" ".join(repr(float(x)) for x in ps) for ps in param_sets) + "\n"
+        proc = subprocess.run(self.run_cmd, input=text, capture_output=True, text=True,
+                              timeout=timeout, cwd=self.workdir)
+        if proc.returncode != 0:
+            raise RuntimeError(f"{self.lang} harness failed: {proc.stderr[-2000:]}")
+        return [[float(w) for w in line.split()] for line in proc.stdout.splitlines()]
+
+
+def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str) -> Harness:
+    """Write the generated file and the harness into `workdir` and compile them."""
+    tgt = get_target(lang)
+    os.makedirs(workdir, exist_ok=True)
+    gen_name = "generated" + tgt.extension
+    with open(os.path.join(workdir, gen_name), "w", encoding="utf-8") as fh:
+        fh.write(generated_text)
+    src = os.path.join(workdir, tgt.harness_source)
+    text = environment().get_template(f"{lang}/harness.j2").render(
+        generated=gen_name, name=fn.name, nparams=len(fn.params), nterms=fn.degree + 1)
+    with open(src, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    exe = os.path.join(workdir, "harness")
+    for cmd in tgt.harness_build(src, exe, [workdir, RUNTIME_M2_SRC]):
+        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, timeout=600)
+        if proc.returncode != 0:
+            raise HarnessBuildError(f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}")
+    return Harness(lang, workdir, tgt.harness_run(src, exe), len(fn.params))

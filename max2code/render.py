@@ -1,0 +1,87 @@
+"""Render a FunctionIR (or a paper-style fragment) through templates/<lang>/."""
+from __future__ import annotations
+
+import functools
+import os
+import re
+from dataclasses import dataclass
+
+import jinja2
+
+from max2code.lower import FunctionIR, Node
+from max2code.targets.base import Target
+
+TEMPLATE_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "templates")
+
+
+@functools.lru_cache(maxsize=None)
+def environment() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(TEMPLATE_DIR),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+
+
+@dataclass(frozen=True)
+class BodyLine:
+    kind: str          # "derived", "temp" or "coef"
+    name: str          # variable name, or the power of t for "coef"
+    text: str          # the printed expression
+    origin: str | None # a #line directive or origin comment
+
+
+@dataclass(frozen=True)
+class FragmentItem:
+    text: str
+    origin: str | None
+
+
+def _finish(text: str, target: Target, out_name: str) -> str:
+    """Replace @@RESET@@ with a directive back to the generated file itself."""
+    lines = re.sub(r"\n{3,}", "\n\n", text).split("\n")
+    for i, line in enumerate(lines):
+        if line == "@@RESET@@" and target.line_directive:
+            # the line after the directive is line i + 2 of this file
+            lines[i] = target.line_directive.format(line=i + 2 + target.line_offset, file=out_name)
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def render_function(target: Target, fn: FunctionIR, header: list[str], variable: str,
+                    mxm_name: str, out_name: str, line_directives: bool) -> str:
+    origin = target.origin_line(fn.origin.line, mxm_name) if line_directives else None
+    body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
+    body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
+    body += [BodyLine("coef", str(k), target.expr(c), origin) for k, c in enumerate(fn.coefficients)]
+    if origin is not None and target.line_directive is None:
+        # an origin comment once is enough where the language has no directives
+        body = [body[0]] + [BodyLine(b.kind, b.name, b.text, None) for b in body[1:]]
+    out_array = "coef"
+    while out_array in fn.params or out_array in {a.name for a in fn.derived + fn.temps}:
+        out_array += "_"
+    tpl = environment().get_template(f"{target.name}/function.j2")
+    text = tpl.render(target=target, fn=fn, out=out_array, header=header, variable=variable, body=body,
+                      params=list(zip(fn.params, fn.param_docs)),
+                      locals=[a.name for a in fn.derived + fn.temps],
+                      reset=bool(line_directives and target.line_directive))
+    return _finish(text, target, out_name)
+
+
+def render_fragment(target: Target, items: list[FragmentItem], header: list[str], out_name: str,
+                    line_directives: bool) -> str:
+    tpl = environment().get_template(f"{target.name}/fragment.j2")
+    text = tpl.render(target=target, items=items, header=header,
+                      reset=bool(line_directives and target.line_directive))
+    return _finish(text, target, out_name)
+
+
+def inline_derived(n: Node, derived: dict[str, Node]) -> Node:
+    """Put derived inputs (sin(f), 1/x) back in place, for fragments without locals."""
+    if n[0] == "ref" and n[1] in derived:
+        return inline_derived(derived[n[1]], derived)
+    if n[0] in ("lit", "ref"):
+        return n
+    return (n[0],) + tuple(inline_derived(c, derived) if isinstance(c, tuple) else c for c in n[1:])

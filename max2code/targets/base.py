@@ -1,0 +1,101 @@
+"""The printer shared by all targets: a `_print_<kind>` per node kind and
+one precedence table.  A target subclass sets its properties (literal
+form, call names, comment style, line directives, file layout template)
+and overrides a `_print_` method only where its syntax differs."""
+from __future__ import annotations
+
+from typing import ClassVar
+
+from max2code.lower import Node
+
+# precedence: higher binds tighter
+PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "neg": 3, "call": 4, "lit": 4, "ref": 4}
+
+
+class Target:
+    name: ClassVar[str]
+    extension: ClassVar[str]                   # default output file extension
+    comment: ClassVar[tuple[str, str]]         # (open, close) for a line comment
+    line_directive: ClassVar[str | None] = None   # format with {line} {file}; None: origin comments
+    line_offset: ClassVar[int] = 0             # added to the line in a directive (gm2 needs 1)
+    exponent_letter: ClassVar[str] = "e"
+    calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})"}
+    statement_end: ClassVar[str] = ";"
+
+    # ---- evaluation harness (templates/<lang>/harness.j2) ---------------
+    harness_source: ClassVar[str]
+
+    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
+        """Commands that compile the harness at `src` into `exe`."""
+        raise NotImplementedError(type(self).__name__)
+
+    def harness_run(self, src: str, exe: str) -> list[str]:
+        """The command that runs the built harness."""
+        raise NotImplementedError(type(self).__name__)
+
+    # ---- expressions --------------------------------------------------
+    def expr(self, n: Node) -> str:
+        return getattr(self, "_print_" + {"+": "add", "-": "sub", "*": "mul", "/": "div"}.get(n[0], n[0]))(n)
+
+    def _operand(self, n: Node, parent_prec: int, right: bool = False) -> str:
+        prec = PRECEDENCE[n[0]]
+        text = self.expr(n)
+        # negations are always parenthesised as operands (Modula-2 needs it, the rest read better)
+        if n[0] == "neg" or prec < parent_prec or (right and prec == parent_prec):
+            return f"({text})"
+        return text
+
+    def _binary(self, n: Node, op: str) -> str:
+        p = PRECEDENCE[n[0]]
+        # + and * are printed left-associative; the right operand of any
+        # operator of the same precedence is parenthesised, so the
+        # evaluation order is exactly the tree's.
+        return f"{self._operand(n[1], p)} {op} {self._operand(n[2], p, right=True)}"
+
+    def _print_add(self, n: Node) -> str:
+        return self._binary(n, "+")
+
+    def _print_sub(self, n: Node) -> str:
+        return self._binary(n, "-")
+
+    def _print_mul(self, n: Node) -> str:
+        p = PRECEDENCE["*"]
+        return f"{self._operand(n[1], p)}*{self._operand(n[2], p, right=True)}"
+
+    def _print_div(self, n: Node) -> str:
+        p = PRECEDENCE["/"]
+        return f"{self._operand(n[1], p)}/{self._operand(n[2], p, right=True)}"
+
+    def _print_neg(self, n: Node) -> str:
+        return "-" + self._operand(n[1], PRECEDENCE["neg"])
+
+    def _print_ref(self, n: Node) -> str:
+        return n[1]
+
+    def _print_call(self, n: Node) -> str:
+        return self.calls[n[1]].format(self.expr(n[2]))
+
+    def _print_lit(self, n: Node) -> str:
+        return self.real_literal(n[1])
+
+    def real_literal(self, x: float) -> str:
+        """A real literal that reads back as exactly `x` (never an integer)."""
+        if x != x or x in (float("inf"), float("-inf")):
+            raise ValueError("non-finite constant in generated code")
+        s = repr(float(x))
+        mant, _, exp = s.partition("e")
+        if "." not in mant:
+            mant += ".0"
+        if exp:
+            return f"{mant}{self.exponent_letter}{int(exp)}"
+        return mant
+
+    # ---- lines --------------------------------------------------------
+    def origin_line(self, line: int, file: str) -> str:
+        """A #line directive, or an origin comment where the language has none."""
+        if self.line_directive is not None:
+            return self.line_directive.format(line=line + self.line_offset, file=file)
+        return f"{self.comment[0]}from {file}:{line}{self.comment[1]}"
+
+    def comment_line(self, text: str) -> str:
+        return f"{self.comment[0]}{text}{self.comment[1]}"

@@ -1,0 +1,18 @@
+"""C (C11, <math.h>)."""
+from max2code.targets.base import Target
+
+
+class C(Target):
+    name = "c"
+    extension = ".c"
+    comment = ("/* ", " */")
+    line_directive = '#line {line} "{file}"'
+
+    harness_source = "harness.c"
+    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
+        """Commands that compile the harness (warnings are errors)."""
+        return [["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off",
+                 *[f"-I{d}" for d in include_dirs], src, "-o", exe, "-lm"]]
+
+    def harness_run(self, src: str, exe: str) -> list[str]:
+        return [exe]

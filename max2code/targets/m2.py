@@ -1,0 +1,20 @@
+"""ISO Modula-2 (gm2 -fiso -fcpp): REAL is a C double; sin/cos from RealMath."""
+from max2code.targets.base import Target
+
+
+class Modula2(Target):
+    name = "m2"
+    extension = ".mxd"
+    comment = ("(* ", " *)")
+    line_directive = '#line {line} "{file}"'
+    line_offset = 1          # gm2 12 reports a line one less than the #line directive gives
+    exponent_letter = "E"    # ISO Modula-2 real literal: 1.0E-5
+
+    harness_source = "harness.mod"
+    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
+        """Commands that compile the harness: gm2 -fiso -fcpp, warnings are errors."""
+        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2",
+                 *[f"-I{d}" for d in include_dirs], src, "-o", exe, "-lm"]]
+
+    def harness_run(self, src: str, exe: str) -> list[str]:
+        return [exe]

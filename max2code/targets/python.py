@@ -1,0 +1,20 @@
+"""Python 3 (floats; math.sin / math.cos)."""
+import sys
+
+from max2code.targets.base import Target
+
+
+class Python(Target):
+    name = "python"
+    extension = ".py"
+    comment = ("# ", "")
+    calls = {"sin": "math.sin({})", "cos": "math.cos({})", "sqrt": "math.sqrt({})"}
+    statement_end = ""
+
+    harness_source = "harness.py"
+    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
+        """Byte-compile: a syntax error fails here, as a compile error would."""
+        return [[sys.executable, "-W", "error", "-m", "py_compile", src]]
+
+    def harness_run(self, src: str, exe: str) -> list[str]:
+        return [sys.executable, "-W", "error", src]

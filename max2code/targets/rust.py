@@ -1,0 +1,17 @@
+"""Rust (f64)."""
+from max2code.targets.base import Target
+
+
+class Rust(Target):
+    name = "rust"
+    extension = ".rs"
+    comment = ("// ", "")
+    calls = {"sin": "f64::sin({})", "cos": "f64::cos({})", "sqrt": "f64::sqrt({})"}
+
+    harness_source = "harness.rs"
+    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
+        """rustc with every warning denied."""
+        return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", src, "-o", exe]]
+
+    def harness_run(self, src: str, exe: str) -> list[str]:
+        return [exe]

@@ -1,0 +1,1 @@
+"""max2code runtime: root solvers and simulator (Python)."""
