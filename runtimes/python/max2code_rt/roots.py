@@ -1,0 +1,351 @@
+"""Smallest real root of a polynomial in (lo, hi]: the Python runtime.
+
+Pure Python on purpose: it performs the same IEEE operations in the same order
+as the C, Rust and Modula-2 runtimes, so the four agree bit for bit.  The
+algorithm and its contract are specified in docs/roots.md.
+"""
+from __future__ import annotations
+
+import math
+
+__all__ = ["smallest_root", "MAX_DEGREE"]
+
+MAX_DEGREE = 16
+EPS = 2.0 ** -52          # unit roundoff times two (spacing of doubles at 1)
+SPLITTER = 134217729.0    # 2^27 + 1, Veltkamp splitting constant
+TINY = 2.0 ** -1000       # absolute floor of the touching bound
+SIXTEENTH = 2.0 ** -16    # bisection step from an end at zero
+MAXIT = 100               # bracketed Newton step limit
+
+_isfinite = math.isfinite
+_fabs = math.fabs
+_sqrt = math.sqrt
+
+
+def _two_prod(a: float, b: float) -> tuple[float, float]:
+    """Error-free product: a*b = p + e exactly (Dekker, no FMA)."""
+    p = a * b
+    t = SPLITTER * a
+    ah = t - (t - a)
+    al = a - ah
+    t = SPLITTER * b
+    bh = t - (t - b)
+    bl = b - bh
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return p, e
+
+
+def _comp_horner(a: list[float], n: int, x: float) -> float:
+    """p(x) by compensated Horner: as accurate as Horner in twice the precision."""
+    s = a[n]
+    c = 0.0
+    for i in range(n - 1, -1, -1):
+        # TwoProduct(s, x), inlined
+        p = s * x
+        t = SPLITTER * s
+        sh = t - (t - s)
+        sl = s - sh
+        t = SPLITTER * x
+        xh = t - (t - x)
+        xl = x - xh
+        pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl
+        # TwoSum(p, a[i])
+        ai = a[i]
+        s = p + ai
+        z = s - p
+        se = (p - (s - z)) + (ai - z)
+        c = c * x + (pe + se)
+    return s + c
+
+
+def _sign_top(a: list[float], n: int, x: float) -> int:
+    """Sign of p(x) in {-1, 0, +1}; 0 means zero within the rounding bound."""
+    ax = _fabs(x)
+    v = a[n]
+    pt = _fabs(v)
+    for i in range(n - 1, -1, -1):
+        v = v * x + a[i]
+        pt = pt * ax + _fabs(a[i])
+    if _fabs(v) > 2.0 * n * EPS * pt:
+        return 1 if v > 0.0 else -1
+    r = _comp_horner(a, n, x)
+    bound = (2.0 * n * EPS) * (2.0 * n * EPS) * pt + TINY
+    if _fabs(r) <= bound:
+        return 0
+    return 1 if r > 0.0 else -1
+
+
+def _sign_plain(a: list[float], n: int, x: float) -> int:
+    v = a[n]
+    for i in range(n - 1, -1, -1):
+        v = v * x + a[i]
+    if v > 0.0:
+        return 1
+    if v < 0.0:
+        return -1
+    return 0
+
+
+def _midpoint(xa: float, xb: float, half: float) -> float:
+    """Bisection point of [xa, xb] (half = (xb - xa)/2): geometric when the
+    bracket spans more than a factor 8 on one side of zero, so that roots far
+    smaller than the bracket are reached in few steps."""
+    if xa < 0.0 < xb:
+        return 0.0
+    if xa > 0.0 and xb > 8.0 * xa:
+        return _sqrt(xa) * _sqrt(xb)
+    if xb < 0.0 and xa < 8.0 * xb:
+        return -(_sqrt(-xa) * _sqrt(-xb))
+    if xa == 0.0 and xb > 0.0:
+        return xb * SIXTEENTH
+    if xb == 0.0 and xa < 0.0:
+        return xa * SIXTEENTH
+    return xa + half
+
+
+def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[float, float, float]:
+    """Root of p in (lo, hi) where p(lo) has sign slo and p(hi) the other.
+
+    Returns (x, a, b): the root and the final bracket."""
+    xa = lo
+    xb = hi
+    x = 0.5 * (xa + xb)
+    dx = xb - xa
+    dxold = dx
+    neg = slo < 0
+    for _ in range(MAXIT):
+        v = a[n]
+        d = 0.0
+        for i in range(n - 1, -1, -1):
+            d = d * x + v
+            v = v * x + a[i]
+        if v == 0.0:
+            return x, xa, xb
+        if (v < 0.0) == neg:
+            xa = x
+        else:
+            xb = x
+        if d != 0.0 and _fabs(4.0 * v) < _fabs(dxold * d):
+            step = v / d
+            xn = x - step
+            if xa < xn < xb:
+                dxold = dx
+                dx = step
+            else:
+                dxold = dx
+                dx = 0.5 * (xb - xa)
+                xn = _midpoint(xa, xb, dx)
+        else:
+            dxold = dx
+            dx = 0.5 * (xb - xa)
+            xn = _midpoint(xa, xb, dx)
+        if not (xa < xn < xb):
+            return x, xa, xb
+        if _fabs(dx) <= EPS * _fabs(xn):
+            return xn, xa, xb
+        x = xn
+    return x, xa, xb
+
+
+def _quadratic(a: float, b: float, c: float) -> list[float]:
+    """Real roots of a x^2 + b x + c (a != 0), ascending; a double root once."""
+    p, pe = _two_prod(b, b)
+    a4 = 4.0 * a
+    q, qe = _two_prod(a4, c)
+    disc = (p - q) + (pe - qe)
+    bound = EPS * EPS * (p + _fabs(q))
+    if disc < -bound:
+        return []
+    if disc <= bound:
+        return [-b / (2.0 * a)]
+    s = _sqrt(disc)
+    if b < 0.0:
+        s = -s
+    q = -0.5 * (b + s)
+    r1 = q / a
+    r2 = c / q
+    if r1 <= r2:
+        return [r1, r2]
+    return [r2, r1]
+
+
+def _roots_between(a: list[float], n: int, crit: list[float], lo: float, hi: float) -> list[float]:
+    """All roots of p (degree n >= 2) in the open interval (lo, hi), ascending,
+    given the ascending roots `crit` of p' in (lo, hi).  Plain signs."""
+    out: list[float] = []
+    xl = lo
+    sl = _sign_plain(a, n, lo)
+    m = len(crit)
+    for i in range(m + 1):
+        if i < m:
+            xr = crit[i]
+            sr = _sign_plain(a, n, xr)
+        else:
+            xr = hi
+            sr = _sign_plain(a, n, hi)
+        if sl == 0 and i > 0:
+            out.append(xl)
+        elif sl * sr < 0:
+            x, _, _ = _newton(a, n, xl, xr, sl)
+            out.append(x)
+        xl = xr
+        sl = sr
+    return out
+
+
+def _scale(c: list[float], n: int) -> list[float]:
+    """Coefficients times an exact power of two so that max |a_i| is in [1, 2)."""
+    m = 0.0
+    for i in range(n + 1):
+        v = _fabs(c[i])
+        if v > m:
+            m = v
+    e = math.frexp(m)[1]
+    k = 1 - e
+    a = list(c[: n + 1])
+    if k > 1000:
+        f = math.ldexp(1.0, 600)
+        a = [v * f for v in a]
+        k -= 600
+    f = math.ldexp(1.0, k)
+    return [v * f for v in a]
+
+
+def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
+    # 1. clip to the root bound
+    an = _fabs(a[n])
+    mx = 0.0
+    for i in range(n):
+        v = _fabs(a[i]) / an
+        if v > mx:
+            mx = v
+    r = 2.0 * (1.0 + mx)
+    cap = math.ldexp(1.0, 900 // n)
+    if r > cap:
+        r = cap
+    if lo < -r:
+        lo = -r
+    if hi > r:
+        hi = r
+    if not (lo < hi):
+        return None
+    # 2. cheap exit: Taylor shift at the midpoint
+    mid = 0.5 * (lo + hi)
+    rad = hi - mid
+    if mid - lo > rad:
+        rad = mid - lo
+    rad = rad * (1.0 + 4.0 * EPS)
+    q = list(a)
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            q[j] = q[j] + mid * q[j + 1]
+    s = _fabs(q[n])
+    for k in range(n - 1, 0, -1):
+        s = s * rad + _fabs(q[k])
+    s = s * rad
+    y = _fabs(mid) + rad
+    pt = _fabs(a[n])
+    for i in range(n - 1, -1, -1):
+        pt = pt * y + _fabs(a[i])
+    if _fabs(q[0]) - s * (1.0 + 4.0 * (n + 1) * EPS) > 8.0 * (n + 1) * EPS * pt:
+        return None
+    # 3. derivative coefficient tables and their roots, bottom up
+    ders = [a]
+    for k in range(1, n - 1):
+        prev = ders[k - 1]
+        ders.append([prev[i + 1] * (i + 1) for i in range(n - k + 1)])
+    d2 = ders[n - 2]
+    crit = [x for x in _quadratic(d2[2], d2[1], d2[0]) if lo < x < hi]
+    for k in range(n - 3, 0, -1):
+        crit = _roots_between(ders[k], n - k, crit, lo, hi)
+    # 4. top level: first root, careful signs
+    xl = lo
+    sl = _sign_top(a, n, lo)
+    m = len(crit)
+    for i in range(m + 1):
+        if sl == 0 and i > 0:
+            return xl
+        if i < m:
+            xr = crit[i]
+        else:
+            xr = hi
+        sr = _sign_top(a, n, xr)
+        if sl * sr < 0:
+            x, xa, xb = _newton(a, n, xl, xr, sl)
+            x = _polish(a, n, x, xa, xb)
+            if not (x > xl):
+                x = xr
+            if x > xr:
+                x = xr
+            return x
+        xl = xr
+        sl = sr
+    if sl == 0:
+        return hi
+    return None
+
+
+def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
+    """Up to two Newton steps with a compensated p(x) when Horner's accuracy
+    at x is not already within a few ulps."""
+    for _ in range(2):
+        ax = _fabs(x)
+        v = a[n]
+        d = 0.0
+        pt = _fabs(v)
+        for i in range(n - 1, -1, -1):
+            d = d * x + v
+            v = v * x + a[i]
+            pt = pt * ax + _fabs(a[i])
+        if n * pt <= 8.0 * _fabs(x * d):
+            return x
+        if d == 0.0:
+            return x
+        vc = _comp_horner(a, n, x)
+        if vc == 0.0:
+            return x
+        xn = x - vc / d
+        if not (xa <= xn <= xb) or xn == x:
+            return x
+        x = xn
+    return x
+
+
+def smallest_root(coeffs, lo: float, hi: float) -> float | None:
+    """Smallest real root t of sum(coeffs[i] * t**i) with lo < t <= hi, or None.
+
+    Coefficients ascending, degree 0..16 (see docs/roots.md for the contract)."""
+    lo = float(lo)
+    hi = float(hi)
+    c = [float(v) for v in coeffs]
+    if len(c) > MAX_DEGREE + 1:
+        raise ValueError(f"degree {len(c) - 1} exceeds {MAX_DEGREE}")
+    if not (_isfinite(lo) and _isfinite(hi)) or not (lo < hi):
+        return None
+    for v in c:
+        if not _isfinite(v):
+            return None
+    n = len(c) - 1
+    while n >= 0 and c[n] == 0.0:
+        n -= 1
+    if n <= 0:
+        return None
+    a = _scale(c, n)
+    while n >= 0 and a[n] == 0.0:     # underflowed to zero in the scaling
+        n -= 1
+    if n <= 0:
+        return None
+    if n == 1:
+        t = -a[0] / a[1]
+        if lo < t <= hi:
+            return t + 0.0
+        return None
+    if n == 2:
+        for t in _quadratic(a[2], a[1], a[0]):
+            if lo < t <= hi:
+                return t + 0.0
+        return None
+    t = _general(a, n, lo, hi)
+    if t is None:
+        return None
+    return t + 0.0

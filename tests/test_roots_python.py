@@ -1,0 +1,151 @@
+"""Focused and property tests of the pure-Python root solver (the reference
+runtime whose bits the C, Rust and Modula-2 runtimes must reproduce)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from max2code_rt.roots import smallest_root
+
+
+def from_roots(roots, lead=1.0):
+    """Ascending coefficients of lead * prod (t - r)."""
+    c = [lead]
+    for r in roots:
+        nxt = [0.0] * (len(c) + 1)
+        for i, v in enumerate(c):
+            nxt[i + 1] += v
+            nxt[i] -= r * v
+        c = nxt
+    return c
+
+
+def horner(c, x):
+    v = 0.0
+    for a in reversed(c):
+        v = v * x + a
+    return v
+
+
+@pytest.mark.parametrize("c,lo,hi,want", [
+    ([-0.5, 1.0], 0.0, 1.0, 0.5),
+    ([-1.0, 1.0], 0.0, 1.0, 1.0),            # root at hi counts
+    ([0.0, 1.0], 0.0, 1.0, None),            # root at lo does not
+    ([0.25, -1.0, 1.0], 0.0, 1.0, 0.5),      # exact double root (touching)
+    ([1.0, 0.0, 1.0], -5.0, 5.0, None),      # complex pair
+    ([-0.25, 0.0, 1.0], -1.0, 1.0, -0.5),
+    ([0.75, -2.75, 2.0, 1.0], 0.0, 2.0, 0.5),  # (t-1/2)^2 (t+3)
+    ([0.625, -3.875, 8.25, -6.5, 1.0], 0.0, 2.0, 0.5),  # (t-1/2)^3 (t-5)
+    ([0.0, 0.0, 0.0], 0.0, 1.0, None),       # identically zero
+    ([3.0], 0.0, 1.0, None),                 # nonzero constant
+    ([-0.5, 1.0, 0.0, 0.0], 0.0, 1.0, 0.5),  # zero top coefficients dropped
+    ([-0.5, 1.0, -0.0], 0.0, 1.0, 0.5),
+    ([-0.5, 1.0], 1.0, 0.0, None),           # lo >= hi
+    ([-0.5, 1.0], 0.5, 0.5, None),
+    ([math.nan, 1.0], 0.0, 1.0, None),
+    ([-0.5, math.inf], 0.0, 1.0, None),
+    ([-0.5, 1.0], math.nan, 1.0, None),
+    ([-0.5, 1.0], 0.0, math.inf, None),
+    ([-0.5, 1.0], -math.inf, 1.0, None),
+])
+def test_contract(c, lo, hi, want):
+    got = smallest_root(c, lo, hi)
+    assert got == want
+
+
+def test_zero_answer_is_positive_zero():
+    t = smallest_root([0.0, 1.0], -1.0, 1.0)
+    assert t == 0.0 and math.copysign(1.0, t) == 1.0
+
+
+def test_complex_pair_near_axis_is_none():
+    # (t - 2^-10)^2 + 1e-18: complex pair 1e-9 from the real axis, exact doubles
+    a = 2.0 ** -10
+    c = [a * a + 1e-18, -2.0 * a, 1.0]
+    assert smallest_root(c, 0.0, 1.0) is None
+    # the same pair times (t - 3)(t + 2)
+    c4 = [0.0] * 5
+    for i, ci in enumerate(c):
+        for j, dj in enumerate([-6.0, -1.0, 1.0]):
+            c4[i + j] += ci * dj
+    assert smallest_root(c4, 0.0, 1.0) is None
+
+
+def test_tiny_leading_coefficient_is_genuine():
+    # 1e-15 t^3 + t - 0.5: root near 0.5, and a large root pair
+    t = smallest_root([-0.5, 1.0, 0.0, 1e-15], 0.0, 1.0)
+    assert t is not None and abs(t - 0.5) < 1e-14
+    c = [-1.0, 0.0, 1.0, 1e-15]           # t^2 - 1 + tiny t^3: roots near +-1, -1e15
+    assert abs(smallest_root(c, -2e15, 2.0) - (-1e15 + 0.0)) / 1e15 < 1e-12
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200, 2.0 ** -1000, 2.0 ** 1000, 3.0, -7.0])
+def test_scaling(scale):
+    c = from_roots([0.2, 0.45, 0.9, 3.0])
+    base = smallest_root(c, 0.0, 1.0)
+    assert abs(base - 0.2) < 1e-15
+    got = smallest_root([v * scale for v in c], 0.0, 1.0)
+    assert abs(got - base) <= 4e-16
+
+
+def test_degree_16():
+    rs = [0.05 * (k + 1) for k in range(16)]
+    c = from_roots(rs)
+    t = smallest_root(c, 0.0, 1.0)
+    assert abs(t - 0.05) < 1e-12
+
+
+def test_degree_17_rejected():
+    with pytest.raises(ValueError):
+        smallest_root([1.0] * 18, 0.0, 1.0)
+
+
+roots_st = st.lists(st.floats(-4.0, 4.0, allow_nan=False).filter(lambda r: r == 0.0 or abs(r) > 1e-6),
+                    min_size=1, max_size=8)
+
+
+@settings(max_examples=200, deadline=None)
+@given(roots=roots_st, lo=st.floats(-3.0, 3.0), width=st.floats(0.01, 4.0),
+       lead=st.floats(0.1, 10.0), sign=st.sampled_from([1.0, -1.0]))
+def test_property_known_roots(roots, lo, width, lead, sign):
+    hi = lo + width
+    c = from_roots(roots, sign * lead)
+    t = smallest_root(c, lo, hi)
+    if t is not None:
+        assert lo < t <= hi
+        scale = sum(abs(a) * abs(t) ** i for i, a in enumerate(c))
+        # |p(t)| small relative to the evaluation scale; a root of multiplicity m
+        # in the cluster leaves about eps^(1/m) * p'... so use a loose bound
+        assert abs(horner(c, t)) <= 1e-6 * scale
+    # a root well inside (lo, hi] that is isolated must be found, and nothing
+    # before it
+    isolated = sorted(r for i, r in enumerate(roots) if lo + 1e-3 < r <= hi - 1e-3
+                      and all(abs(r - s) > 1e-3 for j, s in enumerate(roots) if j != i))
+    if isolated:
+        assert t is not None
+        assert t <= isolated[0] + 1e-9
+
+
+@settings(max_examples=150, deadline=None)
+@given(c=st.lists(st.floats(-10.0, 10.0, allow_nan=False), min_size=2, max_size=17),
+       k=st.integers(-900, 900))
+def test_property_power_of_two_scaling(c, k):
+    assume(any(v != 0.0 for v in c))
+    a = smallest_root(c, 0.0, 1.0)
+    b = smallest_root([math.ldexp(v, k) for v in c], 0.0, 1.0)
+    # scaling by 2^k is exact unless it lands in the subnormal range
+    if all(v == 0.0 or abs(math.ldexp(v, k)) >= 2.0 ** -1000 for v in c):
+        assert a == b
+
+
+@settings(max_examples=150, deadline=None)
+@given(c=st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=0, max_size=17),
+       lo=st.floats(allow_nan=True, allow_infinity=True),
+       hi=st.floats(allow_nan=True, allow_infinity=True))
+def test_property_never_crashes(c, lo, hi):
+    t = smallest_root(c, lo, hi)
+    if t is not None:
+        assert math.isfinite(t) and lo < t <= hi
