@@ -103,6 +103,13 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    except Exception as exc:  # a bug: say so in one line, never a traceback
+        where = f"{argv[-1]}: " if argv else ""
+        print(f"{where}internal error: {type(exc).__name__}: {exc} (please report this; "
+              "set MAX2CODE_DEBUG=1 for the traceback)", file=sys.stderr)
+        if os.environ.get("MAX2CODE_DEBUG"):
+            raise
+        return 2
 
 
 if __name__ == "__main__":

@@ -245,16 +245,15 @@ def naive_multiplications(p: NumPoly) -> int:
 
 
 def count_multiplications(roots: list[Node]) -> int:
-    seen: set[Node] = set()
-
-    def go(n: Node) -> int:
-        if n in seen or n[0] in ("lit", "ref"):
-            return 0
-        seen.add(n)
-        own = 1 if n[0] in ("*", "/") else 0
-        return own + sum(go(c) for c in n[1:] if isinstance(c, tuple))
-
-    return sum(go(r) for r in roots)
+    """Multiplications and divisions as printed: each statement is a tree."""
+    total, stack = 0, list(roots)
+    while stack:
+        n = stack.pop()
+        if n[0] in ("lit", "ref"):
+            continue
+        total += n[0] in ("*", "/")
+        stack.extend(c for c in n[1:] if isinstance(c, tuple))
+    return total
 
 
 def share(roots: list[Node], reserved: set[str], prefix: str = "w") -> tuple[list[Assign], list[Node]]:

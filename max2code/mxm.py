@@ -60,8 +60,13 @@ class MxmModule:
     source_lines: int = field(default=0)
 
     def blocks_for(self, lang: str) -> tuple[Block, ...]:
-        """Blocks that apply to `lang`: tagged for it, or untagged."""
-        return tuple(b for b in self.blocks if b.lang in (None, lang))
+        """Blocks that apply to `lang`: of each kind, those tagged `for lang`
+        if there are any, else the untagged ones."""
+        out = []
+        for kind in ("initialise", "term", "finalise"):
+            tagged = [b for b in self.blocks if b.kind == kind and b.lang == lang]
+            out += tagged or [b for b in self.blocks if b.kind == kind and b.lang is None]
+        return tuple(out)
 
 
 _FRIENDLY = {
@@ -132,7 +137,8 @@ class _Build(Transformer):
     def _block(self, kind, index, items):
         lang = items[0] if len(items) == 2 else None
         tok = items[-1]
-        return Block(kind, index, lang, str(tok)[1:-1], _span(self.path, tok, 1))
+        skip = 2 if tok.type == "RAW_BLOCK" else 1
+        return Block(kind, index, lang, str(tok)[skip:-skip], _span(self.path, tok, skip))
 
     def initialise(self, items):
         return self._block("initialise", None, items)
@@ -169,7 +175,7 @@ def _syntax_error(path: str, text: str, exc: UnexpectedInput) -> SourceError:
         lines = text.splitlines() or [""]
         line, col = len(lines), len(lines[-1]) + 1
         exp = ", ".join(sorted(_friendly(t) for t in exc.expected))
-        if not text.strip():
+        if not re.sub(r"//[^\n]*", "", text).strip():
             return SourceError(Span(path, 1, 1), "empty file: expected a header, blocks and the Maxima text ('begin' ... 'end')")
         return SourceError(Span(path, line, col), f"unexpected end of file; expected {exp}")
     if isinstance(exc, UnexpectedCharacters):
@@ -185,6 +191,8 @@ def _syntax_error(path: str, text: str, exc: UnexpectedInput) -> SourceError:
         return SourceError(Span(path, line, col), f"unexpected '{found}'{exp}")
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
+        if str(tok) == "begin":
+            return SourceError(Span(path, line, col), "'begin' has no matching 'end' (the Maxima text must close with 'end' at the start of a line)")
         exp = ", ".join(sorted(_friendly(t) for t in exc.expected))
         shown = str(tok).splitlines()[0][:30] if str(tok) else tok.type
         return SourceError(Span(path, line, col), f"unexpected '{shown}'; expected {exp}")
@@ -212,7 +220,7 @@ def _check(path: str, text: str, items: list) -> MxmModule:
     params: list[Parameter] = []
     options: list[Option] = []
     blocks: list[Block] = []
-    seen_terms: list[int] = []
+    seen_terms: dict[str | None, list[int]] = {}   # per language tag
     maxima = None
     for item in items:
         if isinstance(item, tuple) and item and item[0] == "terms":
@@ -237,13 +245,13 @@ def _check(path: str, text: str, items: list) -> MxmModule:
             options.append(o)
         elif isinstance(item, tuple) and item and isinstance(item[0], Block):
             block, nspan = item
-            expected = len([k for k in seen_terms if True])
-            if block.index != expected:
-                raise SourceError(nspan, f"term {block.index} is out of order: expected term {expected} (terms count up from 0)")
-            seen_terms.append(block.index)
+            seq = seen_terms.setdefault(block.lang, [])
+            if block.index != len(seq):
+                raise SourceError(nspan, f"term {block.index} is out of order: expected term {len(seq)} (terms count up from 0)")
+            seq.append(block.index)
             blocks.append(block)
         elif isinstance(item, Block):
-            if item.kind == "initialise" and (seen_terms or any(b.kind == "finalise" for b in blocks)):
+            if item.kind == "initialise" and any(b.kind in ("term", "finalise") and b.lang == item.lang for b in blocks):
                 raise SourceError(item.span, "'initialise' must come before the 'term' and 'finalise' blocks")
             if item.kind == "finalise" and any(b.kind == "finalise" and b.lang == item.lang for b in blocks):
                 raise SourceError(item.span, "'finalise' is given twice")
@@ -256,8 +264,10 @@ def _check(path: str, text: str, items: list) -> MxmModule:
     dialect, mtext, mspan = maxima
     if not mtext.strip():
         raise SourceError(mspan, "the Maxima text is empty: expected the polynomial's equation")
-    if terms is not None and seen_terms and len(seen_terms) != terms:
-        raise SourceError(terms_span, f"'polynomial terms {terms}' but the file has {len(seen_terms)} term blocks (term 0 to term {len(seen_terms) - 1})")
+    for lang, seq in sorted(seen_terms.items(), key=lambda kv: kv[0] or ""):
+        if terms is not None and len(seq) != terms:
+            which = f" for {lang}" if lang else ""
+            raise SourceError(terms_span, f"'polynomial terms {terms}' but the file has {len(seq)} term blocks{which} (term 0 to term {len(seq) - 1})")
     if variable in {p.name for p in params}:
         raise SourceError(next(p.span for p in params if p.name == variable), f"'{variable}' is the polynomial's variable and cannot be a parameter")
     return MxmModule(

@@ -200,15 +200,19 @@ def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_
     def origin(b):
         return tgt.origin_line(b.span.line, mxm_name) if line_directives else None
 
+    def placed(b):
+        # with directives, pad the first line so that columns match the .mxm too
+        return " " * (b.span.column - 1) + b.text if line_directives else b.text.strip("\n")
+
     for b in blocks:
         if b.kind == "initialise":
-            items.append(FragmentItem(b.text, origin(b)))
+            items.append(FragmentItem(placed(b), origin(b)))
     for b in terms:
         expr = tgt.expr(lw_coeffs[b.index])
-        items.append(FragmentItem(f"{b.text.rstrip()} {expr}{tgt.statement_end}", origin(b)))
+        items.append(FragmentItem(f"{placed(b).rstrip()} {expr}{tgt.statement_end}", origin(b)))
     for b in blocks:
         if b.kind == "finalise":
-            items.append(FragmentItem(b.text, origin(b)))
+            items.append(FragmentItem(placed(b), origin(b)))
     return render_fragment(tgt, items, header, out_name, line_directives)
 
 

@@ -20,12 +20,6 @@ class MaximaOutputError(ValueError):
         self.column = column
 
 
-@functools.lru_cache(maxsize=1)
-def _parser() -> Lark:
-    text = resources.files("max2code").joinpath("grammar/maxima_output.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", strict=True, maybe_placeholders=False)
-
-
 def _flat(cls, items):
     out = []
     for it in items:
@@ -90,6 +84,14 @@ class _ToExpr(Transformer):
         return Eq(lhs, rhs)
 
 
+@functools.lru_cache(maxsize=1)
+def _parser() -> Lark:
+    # the transformer runs inside the LALR parser: no tree is built, so a
+    # sum of thousands of terms does not recurse thousands deep
+    text = resources.files("max2code").joinpath("grammar/maxima_output.lark").read_text(encoding="utf-8")
+    return Lark(text, parser="lalr", strict=True, maybe_placeholders=False, transformer=_ToExpr())
+
+
 def _negate(e: Expr) -> Expr:
     if isinstance(e, Num):
         return Num(-e.value)
@@ -99,7 +101,7 @@ def _negate(e: Expr) -> Expr:
 def read_expr(text: str) -> Expr:
     """Parse one Maxima output string."""
     try:
-        return _ToExpr().transform(_parser().parse(text))
+        return _parser().parse(text)
     except UnexpectedInput as exc:
         col = getattr(exc, "column", 1) or 1
         near = text[max(0, col - 20):col + 20]
