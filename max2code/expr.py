@@ -143,9 +143,12 @@ def to_poly(e: Expr, atoms: dict[str, Expr] | None = None) -> tuple[dict[Monomia
                 acc = _mul_terms(acc, go(f))
             return acc
         if isinstance(x, Pow):
-            if not (isinstance(x.exp, Num) and x.exp.value.denominator == 1):
+            exp = go(x.exp)
+            if not exp:
+                return {(): Fraction(1)}
+            if list(exp) != [()] or exp[()].denominator != 1:
                 raise NotPolynomial(f"non-integer power {to_maxima(x)}")
-            n = int(x.exp.value)
+            n = int(exp[()])
             base = go(x.base)
             if n < 0:
                 if len(base) == 1:
