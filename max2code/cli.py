@@ -34,7 +34,7 @@ def _generate_parser() -> argparse.ArgumentParser:
         ),
         epilog="example: max2code --lang=m2 point-line.mxm -o point-line.mxd",
     )
-    p.add_argument("--lang", "-l", required=True, choices=sorted(LANGUAGES),
+    p.add_argument("--lang", "-l", choices=sorted(LANGUAGES),
                    help="target language")
     p.add_argument("file", help="the .mxm file")
     p.add_argument("-o", "--output", default="-",
@@ -45,6 +45,14 @@ def _generate_parser() -> argparse.ArgumentParser:
                    help="override an 'option' declared in the .mxm file, e.g. -D order=6")
     p.add_argument("--naive", action="store_true",
                    help="print each coefficient as its plain expansion (no shared subexpressions)")
+    p.add_argument("--effects", metavar="LIST",
+                   help="the effects your world uses, comma-separated from: acceleration, orbit "
+                        "(e.g. --effects=acceleration for gravity without rotation; 'none' for neither); "
+                        "only the variants such a world reaches are generated.  Default: all")
+    p.add_argument("--no-variants", action="store_true",
+                   help="only the full equation, no variants and no selection logic")
+    p.add_argument("--list-variants", action="store_true",
+                   help="print the variants as JSON (name, conditions, degree, terms, multiplications) and exit")
     p.add_argument("--no-cache", action="store_true", help="do not read or write the Maxima result cache")
     p.add_argument("--maxima-timeout", type=float, default=300.0, metavar="SECONDS",
                    help="give up on Maxima after this many seconds (default 300)")
@@ -65,7 +73,15 @@ def _parse_options(items: list[str]) -> dict[str, str]:
 def generate_main(argv: list[str]) -> int:
     from max2code.pipeline import GenerateRequest, generate_file
 
-    args = _generate_parser().parse_args(argv)
+    parser = _generate_parser()
+    args = parser.parse_args(argv)
+    effects = None
+    if args.effects is not None:
+        effects = tuple(e.strip() for e in args.effects.split(",") if e.strip() and e.strip() != "none")
+    if args.list_variants:
+        return list_variants(args, effects)
+    if not args.lang:
+        parser.error("--lang is required (c, m2, python or rust)")
     req = GenerateRequest(
         path=args.file,
         lang=args.lang,
@@ -76,6 +92,8 @@ def generate_main(argv: list[str]) -> int:
         maxima_timeout=args.maxima_timeout,
         progress=not args.quiet,
         out_name=None if args.output == "-" else os.path.basename(args.output),
+        variants=not args.no_variants,
+        effects=effects,
     )
     result = generate_file(req)
     text = result.text
@@ -83,6 +101,27 @@ def generate_main(argv: list[str]) -> int:
         sys.stdout.write(text)
     else:
         with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+    return 0
+
+
+def list_variants(args, effects) -> int:
+    import json
+
+    from max2code.mxm import read_mxm
+    from max2code.pipeline import derive
+    from max2code.variants import derive_variants
+
+    mod = read_mxm(args.file)
+    d = derive(mod, _parse_options(args.option), use_cache=not args.no_cache,
+               timeout=args.maxima_timeout, progress=not args.quiet)
+    vs = derive_variants(d, effects=effects, use_cache=not args.no_cache, timeout=args.maxima_timeout,
+                         progress=not args.quiet)
+    text = json.dumps([v.describe() for v in vs], indent=2) + "\n"
+    if args.output == "-":
+        sys.stdout.write(text)
+    else:
+        with open(args.output, "w", encoding="utf-8") as fh:
             fh.write(text)
     return 0
 

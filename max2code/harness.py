@@ -25,7 +25,7 @@ class Harness:
     run_cmd: list[str]
     nparams: int
 
-    def evaluate(self, param_sets: list[list[float]], timeout: float = 120) -> list[list[float]]:
+    def evaluate(self, param_sets: list[list[float]], timeout: float = 300) -> list[list[float]]:
         text = "\n".join(" ".join(repr(float(x)) for x in ps) for ps in param_sets) + "\n"
         proc = subprocess.run(self.run_cmd, input=text, capture_output=True, text=True,
                               timeout=timeout, cwd=self.workdir)
@@ -34,8 +34,11 @@ class Harness:
         return [[float(w) for w in line.split()] for line in proc.stdout.splitlines()]
 
 
-def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str) -> Harness:
-    """Write the generated file and the harness into `workdir` and compile them."""
+def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, entry: str | None = None,
+                  max_degree: int | None = None) -> Harness:
+    """Write the generated file and the harness into `workdir` and compile them.
+    With `entry` (a selection function's name) the harness calls it and prints
+    the selected degree, then that many + 1 coefficients (-1 when unsupported)."""
     tgt = get_target(lang)
     os.makedirs(workdir, exist_ok=True)
     gen_name = "generated" + tgt.extension
@@ -43,7 +46,8 @@ def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str) 
         fh.write(generated_text)
     src = os.path.join(workdir, tgt.harness_source)
     text = environment().get_template(f"{lang}/harness.j2").render(
-        generated=gen_name, name=fn.name, nparams=len(fn.params), nterms=fn.degree + 1)
+        generated=gen_name, name=entry or fn.name, nparams=len(fn.params),
+        nterms=(max_degree if entry else fn.degree) + 1, entry=bool(entry))
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
     exe = os.path.join(workdir, "harness")

@@ -27,11 +27,17 @@ class Block:
     span: Span           # where the text starts (just after "{")
 
 
+# What a parameter can describe (`parameter a "doc" : body 1 position`).
+EFFECTS = ("position", "velocity", "acceleration", "orbit_radius", "angular_velocity", "phase", "radius")
+
+
 @dataclass(frozen=True)
 class Parameter:
     name: str
     doc: str
     span: Span
+    body: int | None = None     # which body it belongs to
+    effect: str | None = None   # one of EFFECTS
 
 
 @dataclass(frozen=True)
@@ -72,7 +78,7 @@ class MxmModule:
 _FRIENDLY = {
     "INT": "a whole number", "NAME": "a name", "NUMBER": "a number", "STRING": 'a "string"',
     "BRACE_BLOCK": "a { ... } block", "MAXIMA_TEXT": "'begin' ... 'end'", "EQUAL": "'='",
-    "$END": "end of file",
+    "$END": "end of file", "COLON": "':'",
 }
 
 
@@ -119,8 +125,19 @@ class _Build(Transformer):
         return ("variable", str(name), _span(self.path, name))
 
     def parameter_decl(self, items):
-        doc = items[1][1:-1] if len(items) > 1 else ""
-        return ("parameter", Parameter(str(items[0]), doc, _span(self.path, items[0])))
+        role = items[-1] if items and isinstance(items[-1], tuple) else None
+        rest = items[:-1] if role else items
+        doc = rest[1][1:-1] if len(rest) > 1 else ""
+        body, effect = (role[0], role[1]) if role else (None, None)
+        return ("parameter", Parameter(str(rest[0]), doc, _span(self.path, rest[0]), body, effect))
+
+    def role(self, items):
+        body, effect = items
+        if str(effect) not in EFFECTS:
+            raise SourceError(_span(self.path, effect), f"unknown effect '{effect}'; expected one of: {', '.join(EFFECTS)}")
+        if int(body) < 1:
+            raise SourceError(_span(self.path, body), "bodies are numbered from 1")
+        return (int(body), str(effect))
 
     def option_decl(self, items):
         name, num = items[0], items[1]
@@ -206,7 +223,9 @@ def parse_mxm(text: str, path: str = "<string>") -> MxmModule:
         items = _Build(path).transform(tree)
     except UnexpectedInput as exc:
         raise _syntax_error(path, text, exc) from None
-    except VisitError as exc:  # a bad number in an option, for example
+    except VisitError as exc:  # a bad number in an option, an unknown effect
+        if isinstance(exc.orig_exc, SourceError):
+            raise exc.orig_exc from None
         raise SourceError(Span(path, 1, 1), f"invalid value: {exc.orig_exc}") from None
     return _check(path, text, items)
 

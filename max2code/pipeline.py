@@ -20,7 +20,7 @@ from max2code.lower import FunctionIR, Lowering, horner, lower
 from max2code.maxima import MaximaResult, Statement, run_maxima, split_statements
 from max2code.mxm import MxmModule, read_mxm
 from max2code.reader import MaximaOutputError, read_expr
-from max2code.render import FragmentItem, inline_derived, render_fragment, render_function
+from max2code.render import FragmentItem, Selection, SelectionCase, inline_derived, render_fragment, render_module
 from max2code.targets import target as get_target
 
 
@@ -35,6 +35,8 @@ class GenerateRequest:
     maxima_timeout: float = 300.0
     progress: bool = False
     out_name: str | None = None     # the generated file's name, for #line directives back to it
+    variants: bool = True           # with parameter roles: every variant and the selection logic
+    effects: tuple[str, ...] | None = None   # the world's effects (None: all); see variants.WORLD_EFFECTS
 
 
 @dataclass(frozen=True)
@@ -52,7 +54,8 @@ class Derivation:
 class GeneratedFile:
     text: str
     derivation: Derivation
-    function: FunctionIR
+    function: FunctionIR             # the most general function in the file
+    variants: tuple = ()             # variants.Variant, cheapest first, when generated
 
     @property
     def code_lines(self) -> int:
@@ -171,9 +174,22 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     blocks = mod.blocks_for(req.lang)
     if any(b.kind == "term" for b in blocks):
         text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives)
-    else:
-        text = render_function(tgt, fn, header, mod.variable, mxm_name, out_name, req.line_directives)
-    return GeneratedFile(text, d, fn)
+        return GeneratedFile(text, d, fn)
+    if not (req.variants and any(p.body is not None for p in mod.parameters)):
+        text = render_module(tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives)
+        return GeneratedFile(text, d, fn)
+    from max2code.variants import WORLD_EFFECTS, derive_variants, switches_of
+    vs = derive_variants(d, effects=req.effects, use_cache=req.use_cache, timeout=req.maxima_timeout,
+                         progress=req.progress, shared=req.shared)
+    general = max(vs, key=lambda v: (-len(v.zeros), v.cost))
+    effects = ", ".join(req.effects if req.effects is not None else WORLD_EFFECTS) or "none"
+    header = header_lines(d, general.function) + [
+        f"Variants: {len(vs)} for effects: {effects}; {mod.equation}_coefficients picks the cheapest exact one."]
+    ordered = [general] + [v for v in vs if v is not general]
+    functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
+    selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
+    text = render_module(tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives)
+    return GeneratedFile(text, d, general.function, tuple(vs))
 
 
 def _origin(d: Derivation):
@@ -214,6 +230,23 @@ def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_
         if b.kind == "finalise":
             items.append(FragmentItem(placed(b), origin(b)))
     return render_fragment(tgt, items, header, out_name, line_directives)
+
+
+def build_selection(name: str, variants, switches, effects: str) -> Selection:
+    """For every mask of switches, the cheapest variant exact for it (the
+    variants come cheapest first)."""
+    by_variant: dict[str, list[int]] = {}
+    complete = True
+    for mask in range(1 << len(switches)):
+        zero = {p for i, s in enumerate(switches) if mask >> i & 1 for p in s.params}
+        best = next((v for v in variants if set(v.zeros) <= zero), None)
+        if best is None:
+            complete = False
+        else:
+            by_variant.setdefault(best.name, []).append(mask)
+    cases = tuple(SelectionCase(v.name, v.degree, tuple(by_variant[v.name])) for v in variants if v.name in by_variant)
+    return Selection(name, tuple((s.label, s.params) for s in switches), cases,
+                     max(v.degree for v in variants), effects, complete)
 
 
 def generate_file(req: GenerateRequest) -> GeneratedFile:

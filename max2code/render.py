@@ -50,8 +50,26 @@ def _finish(text: str, target: Target, out_name: str) -> str:
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
-def render_function(target: Target, fn: FunctionIR, header: list[str], variable: str,
-                    mxm_name: str, out_name: str, line_directives: bool) -> str:
+@dataclass(frozen=True)
+class SelectionCase:
+    name: str                 # the variant's function
+    degree: int
+    masks: tuple[int, ...]    # the switch masks for which it is the cheapest exact variant
+
+
+@dataclass(frozen=True)
+class Selection:
+    """Selection logic: bit i of the mask is set when every parameter of
+    switches[i] is exactly zero; each mask maps to one variant."""
+    name: str                                       # the entry function
+    switches: tuple[tuple[str, tuple[str, ...]], ...]   # (label, parameters)
+    cases: tuple[SelectionCase, ...]                # cheapest first
+    max_degree: int
+    effects: str                                    # the effects the code was generated for
+    complete: bool                                  # every mask has a variant (no effect left out)
+
+
+def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, line_directives: bool) -> dict:
     origin = target.origin_line(fn.origin.line, mxm_name) if line_directives else None
     body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
     body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
@@ -62,10 +80,25 @@ def render_function(target: Target, fn: FunctionIR, header: list[str], variable:
     out_array = "coef"
     while out_array in fn.params or out_array in {a.name for a in fn.derived + fn.temps}:
         out_array += "_"
-    tpl = environment().get_template(f"{target.name}/function.j2")
-    text = tpl.render(target=target, fn=fn, out=out_array, header=header, variable=variable, body=body,
-                      params=list(zip(fn.params, fn.param_docs)),
-                      locals=[a.name for a in fn.derived + fn.temps],
+    return {"fn": fn, "body": body, "locals": [a.name for a in fn.derived + fn.temps], "out": out_array, "note": note}
+
+
+def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selection: Selection | None,
+                  header: list[str], variable: str, mxm_name: str, out_name: str, line_directives: bool) -> str:
+    """A file of coefficient functions (the full equation and its variants)
+    and, when given, the selection logic that picks among them."""
+    first = functions[0][0]
+    ctx = [_function_context(target, fn, note, mxm_name, line_directives) for fn, note in functions]
+    for i, c in enumerate(ctx):
+        c["first"] = i == 0
+    by_mask: list[str | None] = []
+    if selection is not None:
+        names = {m: c.name for c in selection.cases for m in c.masks}
+        by_mask = [names.get(m) for m in range(1 << len(selection.switches))]
+    tpl = environment().get_template(f"{target.name}/file.j2")
+    text = tpl.render(target=target, functions=ctx, selection=selection, selection_by_mask=by_mask,
+                      header=header, variable=variable,
+                      params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))
     return _finish(text, target, out_name)
 

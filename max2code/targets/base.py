@@ -90,6 +90,14 @@ class Target:
             return f"{mant}{self.exponent_letter}{int(exp)}"
         return mant
 
+    # ---- selection logic -----------------------------------------------
+    equals: ClassVar[str] = "=="
+    logical_and: ClassVar[str] = "&&"
+
+    def zero_test(self, names) -> str:
+        """An exact test that every parameter in `names` is zero."""
+        return f" {self.logical_and} ".join(f"{n} {self.equals} {self.real_literal(0.0)}" for n in names)
+
     # ---- lines --------------------------------------------------------
     def origin_line(self, line: int, file: str) -> str:
         """A #line directive, or an origin comment where the language has none."""

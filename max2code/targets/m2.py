@@ -9,6 +9,9 @@ class Modula2(Target):
     line_directive = '#line {line} "{file}"'
     line_offset = 1          # gm2 12 reports a line one less than the #line directive gives
     exponent_letter = "E"    # ISO Modula-2 real literal: 1.0E-5
+    def zero_test(self, names) -> str:
+        # AND binds tighter than = in Modula-2: parenthesise each test
+        return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
 
     harness_source = "harness.mod"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:

@@ -10,6 +10,7 @@ class Python(Target):
     comment = ("# ", "")
     calls = {"sin": "math.sin({})", "cos": "math.cos({})", "sqrt": "math.sqrt({})"}
     statement_end = ""
+    logical_and = "and"
 
     harness_source = "harness.py"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
