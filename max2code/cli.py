@@ -17,6 +17,7 @@ from max2code.errors import Max2CodeError
 SUBCOMMANDS: dict[str, str] = {
     "conformance": "max2code.conformance.runner:main",
     "table": "max2code.report:main",
+    "bench-variants": "max2code.bench_variants:main",
 }
 
 
