@@ -2,7 +2,8 @@
 
 For each equation: lines of .mxm, lines of Maxima output (its 2D display of
 the expanded polynomial at 79 columns, as the paper counted, and characters
-of the 1D form), lines of generated code per language, multiplications of
+of the 1D form), lines of generated code per language for the equation
+alone (`--no-variants`, as the paper's figure counts one equation), multiplications of
 the plain expansion and of our shared-subexpression code, and generation
 time with Maxima (cold) and from the cache (warm).
 """
@@ -63,13 +64,13 @@ def measure(paths: list[str]) -> list[dict]:
             _progress(step, steps, f"{path}: Maxima display"); step += 1
             row["maxima_lines"] = maxima_display_lines(path)
             _progress(step, steps, f"{path}: cold generation"); step += 1
-            row["cold_s"] = _cli_seconds(["--lang=c", path, "-o", os.devnull, "-q", "--no-cache"], env)
-            _cli_seconds(["--lang=c", path, "-o", os.devnull, "-q"], env)   # fill the cache
+            row["cold_s"] = _cli_seconds(["--lang=c", path, "-o", os.devnull, "-q", "--no-cache", "--no-variants"], env)
+            _cli_seconds(["--lang=c", path, "-o", os.devnull, "-q", "--no-variants"], env)   # fill the cache
             _progress(step, steps, f"{path}: warm generation"); step += 1
-            row["warm_s"] = min(_cli_seconds(["--lang=c", path, "-o", os.devnull, "-q"], env) for _ in range(3))
+            row["warm_s"] = min(_cli_seconds(["--lang=c", path, "-o", os.devnull, "-q", "--no-variants"], env) for _ in range(3))
             for lang in langs:
                 _progress(step, steps, f"{path}: {lang}"); step += 1
-                g = generate_file(GenerateRequest(path=path, lang=lang, line_directives=False))
+                g = generate_file(GenerateRequest(path=path, lang=lang, line_directives=False, variants=False))
                 row[f"lines_{lang}"] = g.text.count("\n")
                 row["maxima_chars"] = len(g.derivation.maxima_text)
                 row["degree"] = g.function.degree
