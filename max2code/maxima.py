@@ -106,7 +106,8 @@ def split_statements(text: str, start: Span) -> list[Statement]:
     return out
 
 
-def _is_quit(stmt: Statement) -> bool:
+def is_quit(stmt: Statement) -> bool:
+    """A `quit();` statement: it would stop Maxima before the result is read."""
     return re.fullmatch(r"\s*(quit|quit\s*\(\s*\))\s*[;$]\s*", stmt.text) is not None
 
 
@@ -230,7 +231,7 @@ def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str,
     the value of the last statement, nouns evaluated, `lhs = rhs` as `lhs - rhs`).  Raises SourceError on any Maxima failure."""
     exe = maxima_command()
     version = maxima_version(exe)
-    stmts = [s for s in statements if not _is_quit(s)]
+    stmts = [s for s in statements if not is_quit(s)]
     if not stmts:
         raise SourceError(fallback, "the Maxima text has no statement besides quit()")
     key_src = json.dumps({"driver": DRIVER_VERSION, "maxima": version, "prelude": prelude,

@@ -17,7 +17,8 @@ from max2code.collect import Polynomial, collect
 from max2code.errors import SourceError
 from max2code.expr import NotPolynomial, Sym
 from max2code.lower import FunctionIR, Lowering, horner, lower
-from max2code.maxima import MaximaResult, Statement, run_maxima, split_statements
+from max2code.errors import Span
+from max2code.maxima import MaximaResult, Statement, is_quit, run_maxima, split_statements
 from max2code.mxm import MxmModule, read_mxm
 from max2code.reader import MaximaOutputError, read_expr
 from max2code.render import FragmentItem, Selection, SelectionCase, inline_derived, render_fragment, render_module
@@ -48,6 +49,9 @@ class Derivation:
     maxima: MaximaResult
     check: MaximaResult
     options: dict[str, Fraction]
+    statements: tuple[Statement, ...]   # the Maxima text, split
+    prelude: tuple[str, ...]            # the options as Maxima assignments
+    origin: Span                        # the statement whose value is the polynomial
 
 
 @dataclass(frozen=True)
@@ -87,7 +91,7 @@ def derive(mod: MxmModule, overrides: dict[str, str] | None = None, *, use_cache
     options = _options(mod, overrides or {})
     prelude = [f"{name}: {v.numerator}/{v.denominator}$" for name, v in sorted(options.items())]
     stmts = split_statements(mod.maxima_text, mod.maxima_span)
-    real = [s for s in stmts if not s.text.strip().startswith(":lisp")]
+    real = [s for s in stmts if not s.text.strip().startswith(":lisp") and not is_quit(s)]
     origin = real[-1].span if real else mod.maxima_span
     _note(progress, f"{mod.path}: Maxima expands the polynomial ...")
     res = run_maxima(prelude, stmts, {"poly": "expand(__m2c_p)"}, fallback=origin,
@@ -113,7 +117,7 @@ def derive(mod: MxmModule, overrides: dict[str, str] | None = None, *, use_cache
     if check.items["d"].strip() != "0":
         raise SourceError(origin, "internal error: the collected coefficients differ from Maxima's polynomial "
                                   f"(difference {check.items['d'][:80]}); please report this")
-    return Derivation(mod, poly, text, res, check, options)
+    return Derivation(mod, poly, text, res, check, options, tuple(stmts), tuple(prelude), origin)
 
 
 def _mentions_variable(text: str, var: str) -> bool:
@@ -167,7 +171,7 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     tgt = get_target(req.lang)
     params, docs = parameters_of(d)
     # temporaries must not shadow the function's own name
-    fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, _origin(d), shared=req.shared)
+    fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)
     header = header_lines(d, fn)
     mxm_name = mod.path
     out_name = req.out_name or (os.path.splitext(os.path.basename(mod.path))[0] + tgt.extension)
@@ -190,12 +194,6 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
     text = render_module(tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives)
     return GeneratedFile(text, d, general.function, tuple(vs))
-
-
-def _origin(d: Derivation):
-    stmts = split_statements(d.module.maxima_text, d.module.maxima_span)
-    real = [s for s in stmts if not s.text.strip().startswith(":lisp") and not s.text.strip().startswith("quit")]
-    return real[-1].span if real else d.module.maxima_span
 
 
 def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives) -> str:

@@ -16,9 +16,9 @@ import sys
 import tempfile
 import time
 
-from max2code.maxima import run_maxima, split_statements
+from max2code.maxima import run_maxima
 from max2code.mxm import read_mxm
-from max2code.pipeline import GenerateRequest, generate_file
+from max2code.pipeline import GenerateRequest, derive, generate_file
 from max2code.targets import LANGUAGES
 
 DEFAULT = ["equations/circle-circle.mxm", "equations/point-line.mxm"]
@@ -32,13 +32,11 @@ def _progress(i: int, n: int, what: str) -> None:
 
 def maxima_display_lines(path: str) -> int:
     """Lines Maxima prints when it displays the expanded polynomial (2D, linel 79)."""
-    mod = read_mxm(path)
-    stmts = split_statements(mod.maxima_text, mod.maxima_span)
-    prelude = [f"{o.name}: {o.value.numerator}/{o.value.denominator}$" for o in mod.options]
+    d = derive(read_mxm(path))
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "display.txt")
         item = f'block([display2d: true, linel: 79], with_stdout("{out}", print(expand(__m2c_p))), 0)'
-        run_maxima(prelude, stmts, {"shown": item}, fallback=mod.maxima_span, use_cache=False)
+        run_maxima(list(d.prelude), list(d.statements), {"shown": item}, fallback=d.origin, use_cache=False)
         with open(out, encoding="utf-8") as fh:
             return sum(1 for line in fh if line.strip())
 

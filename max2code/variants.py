@@ -17,7 +17,7 @@ from max2code.collect import Polynomial, collect
 from max2code.errors import SourceError
 from max2code.expr import NotPolynomial
 from max2code.lower import FunctionIR, lower
-from max2code.maxima import Statement, run_maxima, split_statements
+from max2code.maxima import Statement, run_maxima
 from max2code.reader import MaximaOutputError, read_expr
 
 # kind of switch -> (the effect whose parameters become zero, short name)
@@ -104,17 +104,15 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
     free = [s for s in switches if s not in forced]
     combos = [tuple(sorted(forced + list(c))) for r in range(len(free) + 1) for c in itertools.combinations(free, r)]
 
-    stmts = split_statements(mod.maxima_text, mod.maxima_span)
-    real = [s for s in stmts if not s.text.strip().startswith(":lisp")]
-    origin = real[-1].span if real else mod.maxima_span
-    prelude = [f"{n}: {v.numerator}/{v.denominator}$" for n, v in sorted(derivation.options.items())]
+    origin = derivation.origin
     items = {}
     for i, combo in enumerate(combos):
         zeros = sorted({p for s in combo for p in s.params})
         subst = ", ".join(f"{p} = 0" for p in zeros)
         items[f"v{i}"] = f"expand(subst([{subst}], __m2c_p))" if zeros else "expand(__m2c_p)"
     _progress(progress, 0, len(combos) + 2, "Maxima folds the zeros of every variant")
-    res = run_maxima(prelude, stmts, items, fallback=origin, timeout=timeout, use_cache=use_cache)
+    res = run_maxima(list(derivation.prelude), list(derivation.statements), items, fallback=origin,
+                     timeout=timeout, use_cache=use_cache)
     polys: list[Polynomial] = []
     for i in range(len(combos)):
         try:
