@@ -1,0 +1,233 @@
+"""Generate the "roots" conformance cases (deterministic, fixed seed):
+
+    python -m max2code.conformance.gencases [--out tests/conformance]
+
+writes roots_hard.jsonl (hand-picked hard and degenerate inputs) and
+roots_random.jsonl (random polynomials of degree 1..16).  Reference answers
+come from max2code.conformance.reference (exact rationals + mpmath), computed
+from the exact double coefficients stored in the case.  The generated files are
+committed, so a conformance run never needs mpmath.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import random
+from multiprocessing import Pool
+from pathlib import Path
+
+from max2code.conformance.reference import reference
+
+SEED = 20221117
+
+
+def from_roots(roots, lead=1.0):
+    """Ascending coefficients (rounded doubles) of lead * prod (t - r)."""
+    c = [lead]
+    for r in roots:
+        nxt = [0.0] * (len(c) + 1)
+        for i, v in enumerate(c):
+            nxt[i + 1] += v
+            nxt[i] -= r * v
+        c = nxt
+    return c
+
+
+def times(c, d):
+    out = [0.0] * (len(c) + len(d) - 1)
+    for i, a in enumerate(c):
+        for j, b in enumerate(d):
+            out[i + j] += a * b
+    return out
+
+
+def enc(x: float):
+    return x if math.isfinite(x) else ("nan" if math.isnan(x) else ("inf" if x > 0 else "-inf"))
+
+
+def case(cid, coeffs, lo, hi, note=""):
+    return {"id": cid, "op": "roots", "coeffs": [float(v) for v in coeffs], "lo": float(lo), "hi": float(hi),
+            "note": note}
+
+
+def hard_cases() -> list[dict]:
+    out = []
+    add = lambda *a: out.append(case(*a))  # noqa: E731
+    # exact multiple roots (dyadic, so the doubles hold them exactly)
+    add("double-d2", from_roots([0.5, 0.5]), 0.0, 1.0, "exact double root, touching")
+    add("double-d3", from_roots([0.5, 0.5, -3.0]), 0.0, 2.0, "exact double root")
+    add("double-d4-later", from_roots([0.25, 0.25, 0.75, 3.0]), 0.0, 1.0, "touching at 0.25 before a crossing")
+    add("double-d5-touch-first", from_roots([0.375, 0.375, 0.625, 0.625, 2.0]), 0.0, 1.0, "two touchings")
+    add("double-neg-lead", from_roots([0.5, 0.5, 0.75], -2.0), 0.0, 1.0, "negative leading coefficient")
+    add("triple-d3", from_roots([0.5, 0.5, 0.5]), 0.0, 1.0, "exact triple root")
+    add("triple-d4", from_roots([0.5, 0.5, 0.5, 5.0]), 0.0, 2.0, "exact triple root")
+    add("triple-d6", from_roots([0.25, 0.25, 0.25, -1.0, 2.0, 3.0]), 0.0, 1.0, "exact triple root")
+    add("quadruple-d5", from_roots([0.25] * 4 + [0.75]), 0.0, 1.0, "exact quadruple root (touching)")
+    add("quadruple-d8", from_roots([0.625] * 4 + [-0.5, 2.0, 3.0, -4.0]), 0.0, 1.0, "exact quadruple root")
+    add("double-at-hi", from_roots([1.0, 1.0, -2.0]), 0.0, 1.0, "double root exactly at hi")
+    add("double-at-lo", from_roots([0.0, 0.0, 0.5]), 0.0, 1.0, "double root at lo (excluded), next root")
+    # nearly multiple (rounded coefficients: mpmath decides on the exact doubles)
+    for k, r in enumerate([0.3, 0.7, 0.1, 1.0 / 3.0]):
+        add(f"near-double-{k}", from_roots([r, r, 2.5]), 0.0, 1.0, f"(t-{r})^2 (t-2.5), rounded")
+        add(f"near-triple-{k}", from_roots([r, r, r, -1.5]), 0.0, 1.0, f"(t-{r})^3 (t+1.5), rounded")
+    # clusters 1e-8 apart
+    for deg in (3, 4, 6, 8):
+        rs = [0.5, 0.5 + 1e-8] + [1.5 + 0.25 * k for k in range(deg - 2)]
+        add(f"cluster-1e-8-d{deg}", from_roots(rs), 0.0, 1.0, "two roots 1e-8 apart")
+    add("cluster3-1e-8-d5", from_roots([0.4, 0.4 + 1e-8, 0.4 + 2e-8, -1.0, 3.0]), 0.0, 1.0, "three roots 1e-8 apart")
+    add("cluster-1e-8-above-lo", from_roots([0.25 + 1e-8, 0.25 + 2e-8, 3.0]), 0.25, 1.0, "cluster just above lo")
+    # complex pairs near the real axis (no root)
+    a = 2.0 ** -10
+    pair = [a * a + 1e-18, -2.0 * a, 1.0]
+    add("complex-1e-9-d2", pair, 0.0, 1.0, "(t-2^-10)^2 + (1e-9)^2: no real root")
+    add("complex-1e-9-d4", times(pair, [-6.0, -1.0, 1.0]), 0.0, 1.0, "pair 1e-9 from the axis times (t-3)(t+2)")
+    add("complex-1e-9-d6", times(times(pair, [-6.0, -1.0, 1.0]), [4.0, 0.0, 1.0]), 0.0, 1.0, "pair near axis, degree 6")
+    add("complex-1e-9-then-root", times(pair, [-0.75, 1.0]), 0.0, 1.0, "pair near axis then a root at 0.75")
+    pair2 = [0.25 + 1e-14, -1.0, 1.0]
+    add("complex-1e-7-d2", pair2, 0.0, 1.0, "(t-1/2)^2 + 1e-14: pair 1e-7 from the axis")
+    add("complex-1e-7-d5", times(pair2, from_roots([2.0, -3.0, 4.0])), 0.0, 1.0, "pair 1e-7 from the axis, degree 5")
+    # roots near lo and hi
+    add("root-at-lo", from_roots([0.25, 0.7, 2.0]), 0.25, 1.0, "root exactly at lo does not count")
+    add("root-above-lo", from_roots([0.25 + 1e-12, 0.7, 2.0]), 0.25, 1.0, "root 1e-12 above lo")
+    add("root-below-lo", from_roots([0.25 - 1e-12, 0.7, 2.0]), 0.25, 1.0, "root 1e-12 below lo")
+    add("root-at-hi", from_roots([0.75, 1.5, -2.0]), 0.0, 0.75, "root exactly at hi counts")
+    add("root-below-hi", from_roots([0.75 - 1e-12, 1.5, -2.0]), 0.0, 0.75, "root 1e-12 below hi")
+    add("root-above-hi", from_roots([0.75 + 1e-12, 1.5, -2.0]), 0.0, 0.75, "root 1e-12 above hi")
+    add("root-at-hi-d1", [-0.75, 1.0], 0.0, 0.75, "linear root at hi")
+    add("root-at-lo-d1", [-0.25, 1.0], 0.25, 0.75, "linear root at lo")
+    add("root-at-zero", from_roots([0.0, 1.0, 1.0]), -0.5, 0.5, "root exactly at 0 inside (lo, hi]")
+    add("root-at-zero-lo", from_roots([0.0, 0.5, 2.0]), 0.0, 1.0, "root at lo = 0 excluded")
+    # tiny leading coefficient
+    add("tiny-lead-d3", [-0.5, 1.0, 0.25, 1e-15], 0.0, 1.0, "leading coefficient 1e-15 of the others")
+    add("tiny-lead-d3-far", [-0.5, 1.0, 0.25, 1e-15], -1e16, 1.0, "the large root of a 1e-15 leading coefficient")
+    add("tiny-lead-d5", [0.3, -1.2, 0.5, 0.7, -0.2, 1e-15], 0.0, 1.0, "degree 5, leading 1e-15")
+    add("tiny-lead-d8", from_roots([0.2, 0.4, 0.6, 0.8, 1.5, -1.0, 2.0], 1.0) + [1e-15], 0.0, 1.0,
+        "degree 8, leading 1e-15")
+    add("tiny-lead-d2", [-0.5, 1.0, 1e-15], 0.0, 1.0, "quadratic, leading 1e-15")
+    add("tiny-lead-d2-far", [-0.5, 1.0, 1e-15], -2e15, 0.0, "quadratic, the far root")
+    # roots spread 1e-6 .. 1e6
+    spread = [1e-6, 1e-3, 1.0, 1e3, 1e6]
+    add("spread-d5", from_roots(spread), 0.0, 1e7, "roots 1e-6 .. 1e6")
+    add("spread-d5-skip", from_roots(spread), 1e-5, 1e7, "roots 1e-6 .. 1e6, first excluded")
+    add("spread-d5-big", from_roots(spread), 10.0, 1e7, "roots 1e-6 .. 1e6, from 10")
+    add("spread-d5-last", from_roots(spread), 1e4, 1e7, "roots 1e-6 .. 1e6, the last")
+    add("spread-d7", from_roots([1e-6, -1e-4, 1e-2, 1.0, -1e2, 1e4, 1e6]), 0.0, 1e7, "roots +-1e-6 .. 1e6")
+    add("spread-d10", from_roots([10.0 ** k for k in range(-6, 4)]), 1e-5, 1e7, "roots 1e-6 .. 1e3, degree 10")
+    # scaling by 1e-200 and 1e200
+    bases = {
+        "d3": (from_roots([0.2, 0.45, 3.0]), 0.0, 1.0),
+        "d6": (from_roots([0.35, 0.6, -1.0, 2.0, 0.9, 4.0], -3.0), 0.0, 1.0),
+        "double": (from_roots([0.5, 0.5, 0.75]), 0.0, 1.0),
+        "complex": (times(pair, [-6.0, -1.0, 1.0]), 0.0, 1.0),
+        "d2": ([0.06, -0.5, 1.0], 0.0, 1.0),
+        "d1": ([-0.3, 1.0], 0.0, 1.0),
+    }
+    for name, (c, lo, hi) in bases.items():
+        for s, tag in ((1e-200, "1e-200"), (1e200, "1e200"), (2.0 ** -1000, "2^-1000")):
+            add(f"scaled-{tag}-{name}", [v * s for v in c], lo, hi, f"{name} times {tag}")
+    # high degree
+    add("wilkinson-d16", from_roots([0.05 * (k + 1) for k in range(16)]), 0.0, 1.0, "roots 0.05 .. 0.8")
+    add("wilkinson-d16-mid", from_roots([0.05 * (k + 1) for k in range(16)]), 0.42, 1.0, "roots 0.05 .. 0.8 from 0.42")
+    add("chebyshev-like-d16", [(-1.0) ** k / (k + 1) for k in range(17)], -1.0, 1.0, "alternating coefficients")
+    add("power-d16", [-(2.0 ** -16)] + [0.0] * 15 + [1.0], 0.0, 1.0, "t^16 - 2^-16: root 1/2")
+    add("power-d9-neg", [2.0 ** -9] + [0.0] * 8 + [1.0], -1.0, 0.0, "t^9 + 2^-9: root -1/2")
+    add("no-root-d8", [1.0 + k * 0.125 for k in range(9)], 0.0, 1.0, "positive coefficients, no root on (0,1]")
+    add("no-root-d12-wiggle", times(from_roots([1.2, 1.3, 1.4, 1.5, 1.6]), [2.0, 0.0, 1.0] * 1)
+        + [0.0] * 5, -1.0, 1.0, "wiggles outside the interval, trailing zero coefficients")
+    # degenerate inputs
+    nan, inf = math.nan, math.inf
+    add("degenerate-all-zero", [0.0, 0.0, 0.0, 0.0], 0.0, 1.0, "identically zero: none")
+    add("degenerate-empty", [], 0.0, 1.0, "no coefficients: none")
+    add("degenerate-constant", [2.5], 0.0, 1.0, "nonzero constant: none")
+    add("degenerate-constant-padded", [2.5, 0.0, -0.0, 0.0], 0.0, 1.0, "constant with zero top coefficients")
+    add("degenerate-zero-top-d1", [-0.5, 1.0, 0.0, 0.0, 0.0], 0.0, 1.0, "zero top coefficients dropped")
+    add("degenerate-zero-top-d3", from_roots([0.2, 0.4, 0.9]) + [0.0] * 13, 0.0, 1.0, "degree 16 with 13 zero tops")
+    add("degenerate-negzero-top", [-0.5, 1.0, -0.0], 0.0, 1.0, "-0.0 top coefficient dropped")
+    add("degenerate-nan-coeff", [-0.5, nan, 1.0], 0.0, 1.0, "NaN coefficient")
+    add("degenerate-inf-coeff", [-0.5, 1.0, inf], 0.0, 1.0, "infinite coefficient")
+    add("degenerate-neginf-coeff", [-inf, 1.0, 1.0], 0.0, 1.0, "-inf coefficient")
+    add("degenerate-nan-lo", [-0.5, 1.0], nan, 1.0, "NaN lo")
+    add("degenerate-nan-hi", [-0.5, 1.0], 0.0, nan, "NaN hi")
+    add("degenerate-inf-hi", [-0.5, 1.0], 0.0, inf, "infinite hi")
+    add("degenerate-neginf-lo", [-0.5, 1.0], -inf, 1.0, "-inf lo")
+    add("degenerate-lo-eq-hi", [-0.5, 1.0], 0.5, 0.5, "lo == hi")
+    add("degenerate-lo-gt-hi", from_roots([0.5, 0.6, 0.7]), 1.0, 0.0, "lo > hi")
+    add("degenerate-huge-range", from_roots([0.5, 0.6, 0.7]), -1e308, 1e308, "huge but finite interval")
+    add("degenerate-subnormal-coeffs", [-5e-324, 1e-323, 0.0, 5e-324], 0.0, 1.0, "subnormal coefficients")
+    add("degenerate-overflowing", [1e308, -1e308, 1e308, -1e308], 0.0, 2.0, "coefficients near overflow")
+    add("degenerate-lead-underflow", [1e300, -1e300, 1e-300], 0.0, 2.0, "leading coefficient 1e-600 relative")
+    for c in out:
+        c["coeffs"] = [enc(v) for v in c["coeffs"]]
+        c["lo"], c["hi"] = enc(c["lo"]), enc(c["hi"])
+    return out
+
+
+def random_cases(per_degree: int = 150) -> list[dict]:
+    rng = random.Random(SEED)
+    out = []
+    for deg in range(1, 17):
+        for k in range(per_degree):
+            kind = k % 3
+            if kind == 0:
+                # random coefficients, random sign pattern, interval (0, 1]
+                c = [rng.gauss(0.0, 1.0) for _ in range(deg + 1)]
+                lo, hi, note = 0.0, 1.0, "gaussian coefficients"
+            elif kind == 1:
+                # known roots: some inside (0, 1], some outside, complex pairs
+                rs, c = [], [rng.choice([-1.0, 1.0]) * rng.uniform(0.1, 10.0)]
+                left = deg
+                while left > 0:
+                    if left >= 2 and rng.random() < 0.3:
+                        re, im = rng.uniform(-1.0, 2.0), rng.uniform(0.01, 1.0)
+                        c = times(c, [re * re + im * im, -2.0 * re, 1.0])
+                        left -= 2
+                    else:
+                        r = rng.uniform(-1.0, 2.0)
+                        rs.append(r)
+                        c = times(c, [-r, 1.0])
+                        left -= 1
+                lo, hi, note = 0.0, 1.0, "random real roots and complex pairs"
+            else:
+                # random interval and scale
+                c = [rng.uniform(-1.0, 1.0) * 10.0 ** rng.randint(-3, 3) for _ in range(deg + 1)]
+                lo = rng.uniform(-2.0, 1.0)
+                hi = lo + 10.0 ** rng.uniform(-2.0, 1.0)
+                note = "uniform coefficients of mixed magnitude, random interval"
+            out.append(case(f"random-d{deg}-{k:03d}", c, lo, hi, note))
+    return out
+
+
+def _with_reference(c: dict) -> dict:
+    from max2code.conformance.runner import num
+    coeffs = [num(v) for v in c["coeffs"]]
+    ref = reference(coeffs, num(c["lo"]), num(c["hi"]))
+    c = dict(c)
+    c["expect"] = ref["expect"]
+    c["roots"] = ref["roots"]
+    return c
+
+
+def write(path: Path, cases: list[dict], jobs: int) -> None:
+    with Pool(jobs) as pool:
+        done = pool.map(_with_reference, cases, chunksize=8)
+    with open(path, "w", encoding="utf-8", newline="\n") as fh:
+        for c in done:
+            fh.write(json.dumps(c, allow_nan=False) + "\n")
+    print(f"wrote {len(done)} cases to {path}")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parents[2] / "tests" / "conformance")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--per-degree", type=int, default=150)
+    args = ap.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    write(args.out / "roots_hard.jsonl", hard_cases(), args.jobs)
+    write(args.out / "roots_random.jsonl", random_cases(args.per_degree), args.jobs)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,346 @@
+"""Conformance runner: `python -m max2code.conformance.runner --lang LANG [--cases F]`
+(also `max2code conformance ...`).
+
+Cases are JSON lines under tests/conformance/ (`{"id", "op", ...}`); each op
+is a handler in OPS that turns a case into one wire line for the testee and
+judges the testee's answer.  A case whose op has no handler is a failure (not
+a crash), so a new op (e.g. "toc") is one more entry in OPS.
+
+Each runtime has a testee program speaking the line protocol of docs/roots.md
+("Conformance suite"): doubles cross the process boundary as the 16 hex digits
+of their IEEE-754 bits, so nothing is lost in printing or parsing.
+
+tests/conformance/expected_failures/<lang>.txt lists case ids expected to fail
+("ID  reason" per line); a listed case that passes is a failure, so the list
+can only shrink.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+CASES_DIR = ROOT / "tests" / "conformance"
+XFAIL_DIR = CASES_DIR / "expected_failures"
+BUILD = ROOT / "build"
+
+ALL_LANGS = ("python", "c", "rust", "m2")
+BASELINES = ("gsl",)
+
+
+# --------------------------------------------------------------------- wire
+def hex_of(x: float) -> str:
+    return "%016x" % struct.unpack("<Q", struct.pack("<d", x))[0]
+
+
+def float_of(h: str) -> float:
+    return struct.unpack("<d", struct.pack("<Q", int(h, 16)))[0]
+
+
+def num(v) -> float:
+    """A case number: a JSON number or one of the strings nan, inf, -inf."""
+    if isinstance(v, str):
+        return float(v)
+    return float(v)
+
+
+# ---------------------------------------------------------------------- ops
+@dataclass
+class Verdict:
+    ok: bool
+    shown: str               # the answer as printed
+    relerr: float | None = None
+    why: str = ""
+
+
+class RootsOp:
+    """op "roots": smallest root of sum coeffs[i] t^i in (lo, hi]."""
+
+    name = "roots"
+
+    def wire(self, case: dict, seq: int) -> str:
+        c = [num(v) for v in case["coeffs"]]
+        return " ".join(["roots", str(seq), hex_of(num(case["lo"])), hex_of(num(case["hi"])),
+                         str(len(c))] + [hex_of(v) for v in c])
+
+    def degree(self, case: dict) -> int:
+        return len(case["coeffs"]) - 1
+
+    def judge(self, case: dict, answer: str) -> Verdict:
+        lo, hi = num(case["lo"]), num(case["hi"])
+        roots = case.get("roots", [])
+        if answer.startswith("error"):
+            return Verdict(False, answer, why="testee error")
+        if answer == "none":
+            sure = [r for r, _m, tol in roots if lo + tol < r <= hi - tol]
+            if sure:
+                return Verdict(False, "none", why=f"missed root {sure[0]!r}")
+            return Verdict(True, "none")
+        try:
+            t = float_of(answer)
+        except ValueError:
+            return Verdict(False, answer, why="unreadable answer")
+        shown = repr(t)
+        if not (lo < t <= hi):
+            return Verdict(False, shown, why="answer outside (lo, hi]")
+        for j, (r, _m, tol) in enumerate(roots):
+            if abs(t - r) <= tol:
+                skipped = [ri for ri, _mi, toli in roots[:j] if not ri <= lo + toli]
+                if skipped:
+                    return Verdict(False, shown, why=f"skipped smaller root {skipped[0]!r}")
+                rel = abs(t - r) / abs(r) if r != 0.0 else abs(t)
+                return Verdict(True, shown, relerr=rel)
+        want = case.get("expect")
+        return Verdict(False, shown, why=f"not a root (expected {want!r})")
+
+
+OPS: dict[str, object] = {"roots": RootsOp()}
+
+
+# ------------------------------------------------------------------ testees
+def _run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
+    r = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"build failed: {' '.join(cmd)}\n{r.stdout}")
+
+
+def rust_env() -> dict:
+    env = dict(os.environ)
+    env["CARGO_TARGET_DIR"] = str(BUILD / "rust")
+    env["RUSTFLAGS"] = "-Dwarnings"
+    return env
+
+
+def build_testee(lang: str) -> list[str]:
+    """Build the testee of `lang` if needed (into build/) and return its command."""
+    if lang == "python":
+        return [sys.executable, "-m", "max2code_rt.testee"]
+    if lang in ("c", "gsl"):
+        _run(["make", "-s", "-C", str(ROOT / "runtimes" / "c"), f"BUILD={BUILD / 'c'}",
+              str(BUILD / "c" / "m2c_testee")], ROOT)
+        return [str(BUILD / "c" / "m2c_testee")] + (["--gsl"] if lang == "gsl" else [])
+    if lang == "rust":
+        _run(["cargo", "build", "--release", "--quiet", "--bin", "max2code_rt_testee"],
+             ROOT / "runtimes" / "rust", rust_env())
+        return [str(BUILD / "rust" / "release" / "max2code_rt_testee")]
+    if lang == "m2":
+        _run(["make", "-s", "-C", str(ROOT / "runtimes" / "m2"), f"BUILD={BUILD / 'm2'}",
+              str(BUILD / "m2" / "roots_testee")], ROOT)
+        return [str(BUILD / "m2" / "roots_testee")]
+    raise ValueError(f"unknown language {lang!r}")
+
+
+# ------------------------------------------------------------------- runner
+@dataclass
+class Result:
+    case_id: str
+    degree: int | None
+    verdict: Verdict
+    raw: str | None          # the testee's raw answer (bits) for agreement checks
+    status: str = ""         # pass, FAIL, xfail, XPASS
+
+
+@dataclass
+class Report:
+    lang: str
+    results: list[Result] = field(default_factory=list)
+    seconds: float = 0.0
+    error: str = ""
+
+    def count(self, status: str) -> int:
+        return sum(1 for r in self.results if r.status == status)
+
+    @property
+    def ok(self) -> bool:
+        return not self.error and self.count("FAIL") == 0 and self.count("XPASS") == 0
+
+    def max_relerr_by_degree(self) -> dict[int, float]:
+        out: dict[int, float] = {}
+        for r in self.results:
+            if r.degree is None:
+                continue
+            e = r.verdict.relerr
+            cur = out.get(r.degree, 0.0)
+            if e is not None and e > cur:
+                cur = e
+            out[r.degree] = cur
+        return out
+
+
+def load_cases(paths: list[Path]) -> list[dict]:
+    cases = []
+    for p in paths:
+        with open(p, encoding="utf-8") as fh:
+            for n, line in enumerate(fh, 1):
+                line = line.strip()
+                if not line:
+                    continue
+                case = json.loads(line)
+                case.setdefault("id", f"{p.name}:{n}")
+                cases.append(case)
+    return cases
+
+
+def default_case_files() -> list[Path]:
+    return sorted(CASES_DIR.glob("*.jsonl"))
+
+
+def load_xfail(lang: str) -> dict[str, str]:
+    p = XFAIL_DIR / f"{lang}.txt"
+    out: dict[str, str] = {}
+    if p.exists():
+        for line in p.read_text(encoding="utf-8").splitlines():
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            cid, _, reason = line.partition(" ")
+            out[cid] = reason.strip()
+    return out
+
+
+def run_lang(lang: str, cases: list[dict]) -> Report:
+    rep = Report(lang)
+    t0 = time.monotonic()
+    try:
+        cmd = build_testee(lang)
+    except (RuntimeError, OSError) as exc:
+        rep.error = str(exc)
+        return rep
+    lines, index = [], {}
+    for seq, case in enumerate(cases):
+        op = OPS.get(case.get("op"))
+        if op is None:
+            continue
+        try:
+            lines.append(op.wire(case, seq))
+            index[seq] = case
+        except (KeyError, TypeError, ValueError) as exc:
+            case["_bad"] = f"malformed case: {exc}"
+    try:
+        proc = subprocess.run(cmd, input="\n".join(lines) + "\n", stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, cwd=ROOT, timeout=600)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        rep.error = f"testee {cmd[0]} failed: {exc}"
+        return rep
+    answers: dict[int, str] = {}
+    for line in proc.stdout.splitlines():
+        seq, _, ans = line.strip().partition(" ")
+        if seq.isdigit():
+            answers[int(seq)] = ans.strip()
+    if proc.returncode != 0:
+        rep.error = f"testee exited with {proc.returncode}: {proc.stderr.strip()[:500]}"
+    xfail = load_xfail(lang)
+    for seq, case in enumerate(cases):
+        cid = str(case.get("id"))
+        op = OPS.get(case.get("op"))
+        if op is None:
+            res = Result(cid, None, Verdict(False, "-", why=f"unknown op {case.get('op')!r}"), None)
+        elif "_bad" in case:
+            res = Result(cid, None, Verdict(False, "-", why=case["_bad"]), None)
+        elif seq not in answers:
+            res = Result(cid, op.degree(case), Verdict(False, "-", why="no answer from testee"), None)
+        else:
+            res = Result(cid, op.degree(case), op.judge(case, answers[seq]), answers[seq])
+        if cid in xfail:
+            res.status = "XPASS" if res.verdict.ok else "xfail"
+        else:
+            res.status = "pass" if res.verdict.ok else "FAIL"
+        rep.results.append(res)
+    rep.seconds = time.monotonic() - t0
+    return rep
+
+
+def print_report(rep: Report, quiet: bool, out=sys.stdout) -> None:
+    if rep.error:
+        print(f"[{rep.lang}] ERROR {rep.error}", file=out)
+    for r in rep.results:
+        if quiet and r.status in ("pass", "xfail"):
+            continue
+        why = f"  ({r.verdict.why})" if r.verdict.why else ""
+        if r.status == "XPASS":
+            why = "  (listed in expected_failures but passes: remove it)"
+        err = f"  relerr={r.verdict.relerr:.2e}" if r.verdict.relerr is not None else ""
+        print(f"[{rep.lang}] {r.status:5s} {r.case_id}: t={r.verdict.shown}{err}{why}", file=out)
+    print(f"[{rep.lang}] {len(rep.results)} cases: {rep.count('pass')} passed, "
+          f"{rep.count('FAIL')} failed, {rep.count('xfail')} expected failures, "
+          f"{rep.count('XPASS')} unexpected passes ({rep.seconds:.1f} s)", file=out)
+
+
+def accuracy_table(reports: list[Report]) -> str:
+    degs = sorted({d for rep in reports for d in rep.max_relerr_by_degree()})
+    head = "max relative error vs mpmath, by degree\n" + "degree " + "".join(f"{rep.lang:>10s}" for rep in reports)
+    rows = [head]
+    for d in degs:
+        cells = []
+        for rep in reports:
+            e = rep.max_relerr_by_degree().get(d)
+            cells.append(f"{'-' if e is None else f'{e:.1e}':>10s}")
+        rows.append(f"{d:6d} " + "".join(cells))
+    return "\n".join(rows)
+
+
+def agreement(reports: list[Report]) -> list[str]:
+    """Case ids on which the runtimes' raw answers differ."""
+    by_id: dict[str, set] = {}
+    for rep in reports:
+        for r in rep.results:
+            if r.raw is not None:
+                by_id.setdefault(r.case_id, set()).add(r.raw)
+    return [cid for cid, answers in by_id.items() if len(answers) > 1]
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="max2code conformance",
+                                 description="Run the conformance cases against a runtime's testee.")
+    ap.add_argument("--lang", required=True, choices=ALL_LANGS + BASELINES + ("all",),
+                    help="runtime to test; 'all' runs python, c, rust and m2 and checks they agree bit for bit; "
+                         "'gsl' is the C GSL baseline")
+    ap.add_argument("--cases", action="append", type=Path,
+                    help="a .jsonl case file (repeatable; default: every tests/conformance/*.jsonl)")
+    ap.add_argument("--quiet", "-q", action="store_true", help="print only failures and the summary")
+    ap.add_argument("--list-failures", action="store_true",
+                    help="print the failing cases in the expected_failures format (ID reason) and exit 0")
+    args = ap.parse_args(argv)
+    files = args.cases or default_case_files()
+    cases = load_cases(files)
+    langs = list(ALL_LANGS) if args.lang == "all" else [args.lang]
+    reports = []
+    for lang in langs:
+        rep = run_lang(lang, cases)
+        if args.list_failures:
+            for r in rep.results:
+                if r.status in ("FAIL", "xfail"):
+                    print(f"{r.case_id} {lang}: {r.verdict.why}; answered {r.verdict.shown}")
+            continue
+        print_report(rep, args.quiet)
+        reports.append(rep)
+    if args.list_failures:
+        return 0
+    print(accuracy_table(reports))
+    ok = all(rep.ok for rep in reports)
+    if len(reports) > 1:
+        diff = agreement(reports)
+        if diff:
+            ok = False
+            print(f"bit-for-bit agreement: NO, {len(diff)} cases differ: {', '.join(diff[:10])}"
+                  + (" ..." if len(diff) > 10 else ""))
+            for cid in diff[:10]:
+                row = [f"{rep.lang}={next((r.verdict.shown for r in rep.results if r.case_id == cid), '-')}"
+                       for rep in reports]
+                print(f"  {cid}: " + " ".join(row))
+        else:
+            print(f"bit-for-bit agreement: yes, {', '.join(langs)} agree on all {len(cases)} cases")
+    print("conformance: " + ("OK" if ok else "FAILED"))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
