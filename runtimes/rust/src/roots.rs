@@ -1,0 +1,509 @@
+//! Smallest real root of `c[0] + c[1] t + ... + c[n] t^n` with `lo < t <= hi`.
+//! Contract and algorithm: docs/roots.md. `t` is in the caller's time unit.
+
+/// Largest supported degree.
+pub const MAX_DEGREE: usize = 16;
+
+const N1: usize = MAX_DEGREE + 1;
+const EPS: f64 = 2.220446049250313e-16; // 2^-52, spacing of doubles at 1
+const SPLITTER: f64 = 134217729.0; // 2^27 + 1, Veltkamp splitting constant
+const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching bound
+const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
+const MAXIT: usize = 100; // bracketed Newton step limit
+
+/// 2^k for -1022 <= k <= 1023 (exact).
+fn pow2(k: i32) -> f64 {
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// Binary exponent e of a finite nonzero x with x = f 2^e, 0.5 <= |f| < 1 (C frexp).
+fn frexp_exp(x: f64) -> i32 {
+    let bits = x.to_bits();
+    let field = ((bits >> 52) & 0x7ff) as i32;
+    if field == 0 {
+        // subnormal: scale into the normal range first
+        return frexp_exp(x * pow2(64)) - 64;
+    }
+    field - 1022
+}
+
+/// Error-free product a*b = p + e (Dekker, no FMA).
+#[inline(always)]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    let t = SPLITTER * a;
+    let ah = t - (t - a);
+    let al = a - ah;
+    let t = SPLITTER * b;
+    let bh = t - (t - b);
+    let bl = b - bh;
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+/// p(x) by compensated Horner.
+fn comp_horner(a: &[f64], n: usize, x: f64) -> f64 {
+    let mut s = a[n];
+    let mut c = 0.0;
+    for i in (0..n).rev() {
+        let (p, pe) = two_prod(s, x);
+        let ai = a[i];
+        s = p + ai;
+        let z = s - p;
+        let se = (p - (s - z)) + (ai - z);
+        c = c * x + (pe + se);
+    }
+    s + c
+}
+
+/// Sign of p(x): -1, 0 (zero within the compensated bound), +1.
+fn sign_top(a: &[f64], n: usize, x: f64) -> i32 {
+    let ax = x.abs();
+    let mut v = a[n];
+    let mut pt = v.abs();
+    for i in (0..n).rev() {
+        v = v * x + a[i];
+        pt = pt * ax + a[i].abs();
+    }
+    let nf = n as f64;
+    if v.abs() > 2.0 * nf * EPS * pt {
+        return if v > 0.0 { 1 } else { -1 };
+    }
+    let r = comp_horner(a, n, x);
+    let bound = (2.0 * nf * EPS) * (2.0 * nf * EPS) * pt + TINY;
+    if r.abs() <= bound {
+        0
+    } else if r > 0.0 {
+        1
+    } else {
+        -1
+    }
+}
+
+/// Sign of the plain Horner value: -1, 0 (exactly zero), +1.
+fn sign_plain(a: &[f64], n: usize, x: f64) -> i32 {
+    let mut v = a[n];
+    for i in (0..n).rev() {
+        v = v * x + a[i];
+    }
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Bisection point of [xa, xb]; half = (xb - xa)/2.
+fn midpoint(xa: f64, xb: f64, half: f64) -> f64 {
+    if xa < 0.0 && 0.0 < xb {
+        return 0.0;
+    }
+    if xa > 0.0 && xb > 8.0 * xa {
+        return xa.sqrt() * xb.sqrt();
+    }
+    if xb < 0.0 && xa < 8.0 * xb {
+        return -((-xa).sqrt() * (-xb).sqrt());
+    }
+    if xa == 0.0 && xb > 0.0 {
+        return xb * SIXTEENTH;
+    }
+    if xb == 0.0 && xa < 0.0 {
+        return xa * SIXTEENTH;
+    }
+    xa + half
+}
+
+/// Root of p in (lo, hi), p(lo) of sign slo (nonzero); returns (x, a, b)
+/// with the final bracket [a, b].
+fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
+    let mut xa = lo;
+    let mut xb = hi;
+    let mut x = 0.5 * (xa + xb);
+    let mut dx = xb - xa;
+    let mut dxold = dx;
+    let neg = slo < 0;
+    for _ in 0..MAXIT {
+        let mut v = a[n];
+        let mut d = 0.0;
+        for i in (0..n).rev() {
+            d = d * x + v;
+            v = v * x + a[i];
+        }
+        if v == 0.0 {
+            break;
+        }
+        if (v < 0.0) == neg {
+            xa = x;
+        } else {
+            xb = x;
+        }
+        let mut xn;
+        if d != 0.0 && (4.0 * v).abs() < (dxold * d).abs() {
+            let step = v / d;
+            xn = x - step;
+            if xa < xn && xn < xb {
+                dxold = dx;
+                dx = step;
+            } else {
+                dxold = dx;
+                dx = 0.5 * (xb - xa);
+                xn = midpoint(xa, xb, dx);
+            }
+        } else {
+            dxold = dx;
+            dx = 0.5 * (xb - xa);
+            xn = midpoint(xa, xb, dx);
+        }
+        if !(xa < xn && xn < xb) {
+            break;
+        }
+        if dx.abs() <= EPS * xn.abs() {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    (x, xa, xb)
+}
+
+/// Up to two compensated Newton steps inside [xa, xb].
+fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
+    for _ in 0..2 {
+        let ax = x.abs();
+        let mut v = a[n];
+        let mut d = 0.0;
+        let mut pt = v.abs();
+        for i in (0..n).rev() {
+            d = d * x + v;
+            v = v * x + a[i];
+            pt = pt * ax + a[i].abs();
+        }
+        if (n as f64) * pt <= 8.0 * (x * d).abs() {
+            return x;
+        }
+        if d == 0.0 {
+            return x;
+        }
+        let vc = comp_horner(a, n, x);
+        if vc == 0.0 {
+            return x;
+        }
+        let xn = x - vc / d;
+        if !(xa <= xn && xn <= xb) || xn == x {
+            return x;
+        }
+        x = xn;
+    }
+    x
+}
+
+/// Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns the count.
+fn quadratic(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
+    let (p, pe) = two_prod(b, b);
+    let a4 = 4.0 * a;
+    let (q, qe) = two_prod(a4, c);
+    let disc = (p - q) + (pe - qe);
+    let bound = EPS * EPS * (p + q.abs());
+    if disc < -bound {
+        return 0;
+    }
+    if disc <= bound {
+        r[0] = -b / (2.0 * a);
+        return 1;
+    }
+    let mut s = disc.sqrt();
+    if b < 0.0 {
+        s = -s;
+    }
+    let qq = -0.5 * (b + s);
+    let r1 = qq / a;
+    let r2 = c / qq;
+    if r1 <= r2 {
+        r[0] = r1;
+        r[1] = r2;
+    } else {
+        r[0] = r2;
+        r[1] = r1;
+    }
+    2
+}
+
+/// All roots of p (degree n) in the open (lo, hi), ascending, given the
+/// ascending roots `crit` of p' there; returns the count written to `out`.
+fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut [f64]) -> usize {
+    let mut k = 0;
+    let mut xl = lo;
+    let mut sl = sign_plain(a, n, lo);
+    let m = crit.len();
+    for i in 0..=m {
+        let xr = if i < m { crit[i] } else { hi };
+        let sr = sign_plain(a, n, xr);
+        if sl == 0 && i > 0 {
+            out[k] = xl;
+            k += 1;
+        } else if sl * sr < 0 {
+            out[k] = newton(a, n, xl, xr, sl).0;
+            k += 1;
+        }
+        xl = xr;
+        sl = sr;
+    }
+    k
+}
+
+/// The general method for degree n >= 3 (a scaled).
+fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
+    // 1. clip to the root bound
+    let an = a[n].abs();
+    let mut mx = 0.0;
+    for &ai in &a[..n] {
+        let v = ai.abs() / an;
+        if v > mx {
+            mx = v;
+        }
+    }
+    let mut r = 2.0 * (1.0 + mx);
+    let cap = pow2(900 / n as i32);
+    if r > cap {
+        r = cap;
+    }
+    if lo < -r {
+        lo = -r;
+    }
+    if hi > r {
+        hi = r;
+    }
+    if !(lo < hi) {
+        return None;
+    }
+    // 2. cheap exit: Taylor shift at the midpoint
+    let mid = 0.5 * (lo + hi);
+    let mut rad = hi - mid;
+    if mid - lo > rad {
+        rad = mid - lo;
+    }
+    rad = rad * (1.0 + 4.0 * EPS);
+    let mut q = *a;
+    for i in 0..n {
+        for j in (i..n).rev() {
+            q[j] = q[j] + mid * q[j + 1];
+        }
+    }
+    let mut s = q[n].abs();
+    for k in (1..n).rev() {
+        s = s * rad + q[k].abs();
+    }
+    s = s * rad;
+    let y = mid.abs() + rad;
+    let mut pt = a[n].abs();
+    for i in (0..n).rev() {
+        pt = pt * y + a[i].abs();
+    }
+    let n1 = (n + 1) as f64;
+    if q[0].abs() - s * (1.0 + 4.0 * n1 * EPS) > 8.0 * n1 * EPS * pt {
+        return None;
+    }
+    // 3. derivative tables and their roots, bottom up
+    let mut ders = [[0.0f64; N1]; MAX_DEGREE - 1];
+    ders[0] = *a;
+    for k in 1..n - 1 {
+        for i in 0..=n - k {
+            ders[k][i] = ders[k - 1][i + 1] * (i + 1) as f64;
+        }
+    }
+    let mut crit = [0.0f64; MAX_DEGREE];
+    let mut next = [0.0f64; MAX_DEGREE];
+    let mut qr = [0.0f64; 2];
+    let d2 = &ders[n - 2];
+    let nq = quadratic(d2[2], d2[1], d2[0], &mut qr);
+    let mut m = 0;
+    for &x in &qr[..nq] {
+        if lo < x && x < hi {
+            crit[m] = x;
+            m += 1;
+        }
+    }
+    for k in (1..n - 2).rev() {
+        let m2 = roots_between(&ders[k], n - k, &crit[..m], lo, hi, &mut next);
+        crit[..m2].copy_from_slice(&next[..m2]);
+        m = m2;
+    }
+    // 4. top level: first root, careful signs
+    let mut xl = lo;
+    let mut sl = sign_top(a, n, lo);
+    for i in 0..=m {
+        if sl == 0 && i > 0 {
+            return Some(xl);
+        }
+        let xr = if i < m { crit[i] } else { hi };
+        let sr = sign_top(a, n, xr);
+        if sl * sr < 0 {
+            let (x0, xa, xb) = newton(a, n, xl, xr, sl);
+            let mut x = polish(a, n, x0, xa, xb);
+            if !(x > xl) {
+                x = xr;
+            }
+            if x > xr {
+                x = xr;
+            }
+            return Some(x);
+        }
+        xl = xr;
+        sl = sr;
+    }
+    if sl == 0 {
+        return Some(hi);
+    }
+    None
+}
+
+/// `a[0..=n]` = `c[0..=n]` times the power of two putting max |c_i| in [1, 2);
+/// returns the degree left after dropping top coefficients that underflowed.
+fn scale(c: &[f64], mut n: usize, a: &mut [f64; N1]) -> Option<usize> {
+    let mut m = 0.0;
+    for &ci in &c[..=n] {
+        if ci.abs() > m {
+            m = ci.abs();
+        }
+    }
+    let mut k = 1 - frexp_exp(m);
+    a[..=n].copy_from_slice(&c[..=n]);
+    if k > 1000 {
+        let f = pow2(600);
+        for v in a[..=n].iter_mut() {
+            *v = *v * f;
+        }
+        k -= 600;
+    }
+    // 2^k for k = -1023 is subnormal: build it as 2^-1022 / 2 (exact)
+    let f = if k < -1022 { pow2(-1022) * 0.5 } else { pow2(k) };
+    for v in a[..=n].iter_mut() {
+        *v = *v * f;
+    }
+    loop {
+        if a[n] != 0.0 {
+            return Some(n);
+        }
+        if n == 0 {
+            return None;
+        }
+        n -= 1;
+    }
+}
+
+/// Smallest real root `t` of `c[0] + c[1] t + ... + c[n] t^n` with
+/// `lo < t <= hi`, or `None` (also for NaN/inf input, `lo >= hi`, all-zero or
+/// constant polynomials, and more than `MAX_DEGREE + 1` coefficients).
+pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    if c.len() > N1 {
+        return None;
+    }
+    if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
+        return None;
+    }
+    if c.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let mut n = c.iter().rposition(|&v| v != 0.0)?;
+    if n == 0 {
+        return None;
+    }
+    let mut a = [0.0f64; N1];
+    n = scale(c, n, &mut a)?;
+    if n == 0 {
+        return None;
+    }
+    let x = if n == 1 {
+        let x = -a[0] / a[1];
+        if !(lo < x && x <= hi) {
+            return None;
+        }
+        x
+    } else if n == 2 {
+        let mut r = [0.0f64; 2];
+        let nr = quadratic(a[2], a[1], a[0], &mut r);
+        *r[..nr].iter().find(|&&x| lo < x && x <= hi)?
+    } else {
+        general(&a, n, lo, hi)?
+    };
+    Some(x + 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn from_roots(roots: &[f64]) -> Vec<f64> {
+        let mut c = vec![1.0];
+        for &r in roots {
+            let mut nxt = vec![0.0; c.len() + 1];
+            for (i, &v) in c.iter().enumerate() {
+                nxt[i + 1] += v;
+                nxt[i] -= r * v;
+            }
+            c = nxt;
+        }
+        c
+    }
+
+    #[test]
+    fn contract_edges() {
+        assert_eq!(smallest_root(&[-0.5, 1.0], 0.0, 1.0), Some(0.5));
+        assert_eq!(smallest_root(&[-1.0, 1.0], 0.0, 1.0), Some(1.0));
+        assert_eq!(smallest_root(&[0.0, 1.0], 0.0, 1.0), None);
+        assert_eq!(smallest_root(&[0.0, 0.0, 0.0], 0.0, 1.0), None);
+        assert_eq!(smallest_root(&[], 0.0, 1.0), None);
+        assert_eq!(smallest_root(&[2.0], 0.0, 1.0), None);
+        assert_eq!(smallest_root(&[-0.5, 1.0, 0.0, -0.0], 0.0, 1.0), Some(0.5));
+        assert_eq!(smallest_root(&[-0.5, 1.0], 1.0, 0.0), None);
+        assert_eq!(smallest_root(&[-0.5, f64::NAN], 0.0, 1.0), None);
+        assert_eq!(smallest_root(&[-0.5, 1.0], 0.0, f64::INFINITY), None);
+        assert_eq!(smallest_root(&[1.0; 18], 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn touching_and_complex() {
+        assert_eq!(smallest_root(&from_roots(&[0.5, 0.5]), 0.0, 1.0), Some(0.5));
+        assert_eq!(smallest_root(&from_roots(&[0.5, 0.5, -3.0]), 0.0, 2.0), Some(0.5));
+        assert_eq!(smallest_root(&from_roots(&[0.5, 0.5, 0.5, 5.0]), 0.0, 2.0), Some(0.5));
+        let a = 2f64.powi(-10);
+        assert_eq!(smallest_root(&[a * a + 1e-18, -2.0 * a, 1.0], 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn zero_is_positive() {
+        let t = smallest_root(&[0.0, 1.0], -1.0, 1.0).unwrap();
+        assert_eq!(t.to_bits(), 0);
+    }
+
+    #[test]
+    fn scaling_is_exact() {
+        let c = from_roots(&[0.2, 0.45, 0.9, 3.0]);
+        let base = smallest_root(&c, 0.0, 1.0).unwrap();
+        assert!((base - 0.2).abs() < 1e-15);
+        for s in [2f64.powi(-1000), 2f64.powi(1000), 0.125, -8.0] {
+            let cs: Vec<f64> = c.iter().map(|v| v * s).collect();
+            assert_eq!(smallest_root(&cs, 0.0, 1.0), Some(base));
+        }
+    }
+
+    #[test]
+    fn spread_and_degree_16() {
+        let c = from_roots(&[1e-6, 1e-3, 1.0, 1e3, 1e6]);
+        let t = smallest_root(&c, 0.0, 1e7).unwrap();
+        assert!((t - 1e-6).abs() < 1e-18);
+        let rs: Vec<f64> = (1..=16).map(|k| 0.05 * k as f64).collect();
+        let t = smallest_root(&from_roots(&rs), 0.0, 1.0).unwrap();
+        assert!((t - 0.05).abs() < 1e-12);
+    }
+
+    #[test]
+    fn frexp_matches_c() {
+        assert_eq!(frexp_exp(1.0), 1);
+        assert_eq!(frexp_exp(0.75), 0);
+        assert_eq!(frexp_exp(f64::MAX), 1024);
+        assert_eq!(frexp_exp(5e-324), -1073);
+        assert_eq!(frexp_exp(2.2250738585072014e-308), -1021);
+    }
+}
