@@ -33,7 +33,7 @@ XFAIL_DIR = CASES_DIR / "expected_failures"
 BUILD = ROOT / "build"
 
 ALL_LANGS = ("python", "c", "rust", "m2")
-BASELINES = ("gsl",)
+BASELINES = ("gsl", "gsl-m2")
 
 
 # --------------------------------------------------------------------- wire
@@ -131,10 +131,11 @@ def build_testee(lang: str) -> list[str]:
         _run(["cargo", "build", "--release", "--quiet", "--bin", "max2code_rt_testee"],
              ROOT / "runtimes" / "rust", rust_env())
         return [str(BUILD / "rust" / "release" / "max2code_rt_testee")]
-    if lang == "m2":
+    if lang in ("m2", "gsl-m2"):
+        prog = "roots_testee" if lang == "m2" else "roots_gsl_testee"
         _run(["make", "-s", "-C", str(ROOT / "runtimes" / "m2"), f"BUILD={BUILD / 'm2'}",
-              str(BUILD / "m2" / "roots_testee")], ROOT)
-        return [str(BUILD / "m2" / "roots_testee")]
+              str(BUILD / "m2" / prog)], ROOT)
+        return [str(BUILD / "m2" / prog)]
     raise ValueError(f"unknown language {lang!r}")
 
 
@@ -302,7 +303,7 @@ def main(argv: list[str] | None = None) -> int:
                                  description="Run the conformance cases against a runtime's testee.")
     ap.add_argument("--lang", required=True, choices=ALL_LANGS + BASELINES + ("all",),
                     help="runtime to test; 'all' runs python, c, rust and m2 and checks they agree bit for bit; "
-                         "'gsl' is the C GSL baseline")
+                         "'gsl' and 'gsl-m2' are the GSL companion-matrix baselines (C, Modula-2)")
     ap.add_argument("--cases", action="append", type=Path,
                     help="a .jsonl case file (repeatable; default: every tests/conformance/*.jsonl)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only failures and the summary")

@@ -1,0 +1,9 @@
+MODULE RootsTestee ;
+
+(* Conformance testee of the Modula-2 runtime (wire format: Wire.def). *)
+
+FROM Wire IMPORT Serve ;
+
+BEGIN
+   Serve (FALSE)
+END RootsTestee.
