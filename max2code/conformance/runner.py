@@ -259,7 +259,8 @@ def run_lang(lang: str, cases: list[dict]) -> Report:
     return rep
 
 
-def print_report(rep: Report, quiet: bool, out=sys.stdout) -> None:
+def print_report(rep: Report, quiet: bool, out=None) -> None:
+    out = out or sys.stdout
     if rep.error:
         print(f"[{rep.lang}] ERROR {rep.error}", file=out)
     for r in rep.results:

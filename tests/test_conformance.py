@@ -1,0 +1,121 @@
+"""The conformance suite of the four root-solver runtimes, run through the
+runner (which builds each testee into build/ when needed), plus tests of the
+runner's own rules (unknown ops, expected failures, acceptance)."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from max2code.conformance import runner as R
+
+LANGS = list(R.ALL_LANGS)
+_reports: dict[str, R.Report] = {}
+
+
+def report(lang: str) -> R.Report:
+    if lang not in _reports:
+        _reports[lang] = R.run_lang(lang, R.load_cases(R.default_case_files()))
+    return _reports[lang]
+
+
+@pytest.mark.parametrize("lang", LANGS)
+def test_conformance(lang, capsys):
+    rep = report(lang)
+    with capsys.disabled():
+        print()
+        R.print_report(rep, quiet=True)
+        print(R.accuracy_table([rep]))
+    assert not rep.error, rep.error
+    assert len(rep.results) >= 2000
+    bad = [f"{r.case_id}: {r.status} {r.verdict.why}" for r in rep.results if r.status in ("FAIL", "XPASS")]
+    assert not bad, "\n".join(bad[:20])
+
+
+def test_runtimes_agree_bit_for_bit(capsys):
+    reps = [report(lang) for lang in LANGS]
+    with capsys.disabled():
+        print()
+        print(R.accuracy_table(reps))
+    assert R.agreement(reps) == []
+
+
+def test_main_cli_quiet(capsys):
+    assert R.main(["--lang", "python", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "conformance: OK" in out and "max relative error" in out
+
+
+def write_cases(tmp_path, cases):
+    p = tmp_path / "cases.jsonl"
+    p.write_text("".join(json.dumps(c) + "\n" for c in cases))
+    return p
+
+
+GOOD = {"id": "lin", "op": "roots", "coeffs": [-0.5, 1.0], "lo": 0.0, "hi": 1.0,
+        "expect": 0.5, "roots": [[0.5, 1, 5e-13]]}
+
+
+def test_unknown_op_is_a_failure_not_a_crash(tmp_path, capsys):
+    p = write_cases(tmp_path, [GOOD, {"id": "later", "op": "toc", "args": [1, 2]}])
+    assert R.main(["--lang", "python", "--cases", str(p)]) == 1
+    out = capsys.readouterr().out
+    assert "FAIL  later" in out and "unknown op 'toc'" in out
+    assert "pass  lin" in out
+
+
+def test_listed_failure_that_passes_fails_the_run(tmp_path, monkeypatch, capsys):
+    p = write_cases(tmp_path, [GOOD])
+    (tmp_path / "python.txt").write_text("lin supposedly broken\n")
+    monkeypatch.setattr(R, "XFAIL_DIR", tmp_path)
+    assert R.main(["--lang", "python", "--cases", str(p)]) == 1
+    assert "XPASS" in capsys.readouterr().out
+
+
+def test_listed_failure_that_fails_is_tolerated(tmp_path, monkeypatch):
+    wrong = dict(GOOD, id="wrong", roots=[[0.25, 1, 1e-13]], expect=0.25)
+    p = write_cases(tmp_path, [GOOD, wrong])
+    assert R.main(["--lang", "c", "--cases", str(p)]) == 1
+    (tmp_path / "c.txt").write_text("wrong  reference deliberately off\n")
+    monkeypatch.setattr(R, "XFAIL_DIR", tmp_path)
+    assert R.main(["--lang", "c", "--cases", str(p)]) == 0
+
+
+@pytest.mark.parametrize("answer,ok", [
+    ("none", False),                      # misses a sure root
+    (R.hex_of(0.5), True),
+    (R.hex_of(0.5 + 1e-13), True),        # within tolerance
+    (R.hex_of(0.5 + 1e-9), False),
+    (R.hex_of(1.5), False),               # outside (lo, hi]
+    ("error unknown-op", False),
+    ("zz", False),
+])
+def test_judge(answer, ok):
+    assert R.RootsOp().judge(GOOD, answer).ok is ok
+
+
+def test_judge_boundary_rules():
+    op = R.RootsOp()
+    near_lo = {"coeffs": [0, 1], "lo": 0.25, "hi": 1.0, "roots": [[0.25 + 1e-14, 1, 1e-12], [0.75, 1, 1e-12]]}
+    assert op.judge(near_lo, R.hex_of(0.25 + 1e-14)).ok        # the root just above lo
+    assert op.judge(near_lo, R.hex_of(0.75)).ok                 # or skip it (within tol of lo)
+    near_hi = {"coeffs": [0, 1], "lo": 0.0, "hi": 1.0, "roots": [[1.0 + 1e-14, 1, 1e-12]]}
+    assert op.judge(near_hi, "none").ok
+    assert op.judge(near_hi, R.hex_of(1.0)).ok
+    sure = {"coeffs": [0, 1], "lo": 0.0, "hi": 1.0, "roots": [[0.3, 1, 1e-12], [0.6, 1, 1e-12]]}
+    assert not op.judge(sure, R.hex_of(0.6)).ok                 # skipped a smaller root
+
+
+def test_case_files_are_well_formed():
+    cases = R.load_cases(R.default_case_files())
+    ids = [c["id"] for c in cases]
+    assert len(ids) == len(set(ids))
+    for c in cases:
+        assert c["op"] in R.OPS
+        assert "expect" in c and "roots" in c
+        lo, hi = R.num(c["lo"]), R.num(c["hi"])
+        e = c["expect"]
+        if e is not None:
+            assert lo < e <= hi
+    degrees = {len(c["coeffs"]) - 1 for c in cases if c["id"].startswith("random-")}
+    assert degrees == set(range(1, 17))
