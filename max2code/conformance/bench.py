@@ -1,0 +1,162 @@
+"""Root-solver benchmark: `python -m max2code.conformance.bench` (or
+`python bench/roots.py`).
+
+Prints the median time per solve (ns) for degrees 2, 3, 4, 6, 8 for each
+runtime (C, Rust, Modula-2, Python) against GSL's companion-matrix solver
+(from C and from Modula-2) and numpy.roots, on the same polynomials: a fixed
+seed mixes polynomials built from random roots (some in (0, 1], some not,
+some complex pairs) and polynomials with Gaussian coefficients, all asked for
+the smallest root in (0, 1].  Native runtimes are built with -O2 and timed
+in-process with a monotonic clock around a pass over all polynomials of a
+degree; the median is over passes.  Figures, not tests.
+"""
+from __future__ import annotations
+
+import argparse
+import random
+import statistics
+import subprocess
+import sys
+import time
+
+from max2code.conformance import runner as R
+
+DEGREES = (2, 3, 4, 6, 8)
+
+
+def polynomials(per_degree: int, seed: int = 7) -> dict[int, list[list[float]]]:
+    rng = random.Random(seed)
+    out: dict[int, list[list[float]]] = {}
+    for deg in DEGREES:
+        polys = []
+        for k in range(per_degree):
+            if k % 2 == 0:
+                c = [rng.gauss(0.0, 1.0) for _ in range(deg + 1)]
+            else:
+                c = [rng.uniform(0.5, 2.0) * rng.choice([-1.0, 1.0])]
+                left = deg
+                while left > 0:
+                    if left >= 2 and rng.random() < 0.3:
+                        re, im = rng.uniform(-1.0, 2.0), rng.uniform(0.05, 1.0)
+                        q = [re * re + im * im, -2.0 * re, 1.0]
+                        left -= 2
+                    else:
+                        q = [-rng.uniform(-1.0, 2.5), 1.0]
+                        left -= 1
+                nc = [0.0] * (len(c) + len(q) - 1)
+                for i, a in enumerate(c):
+                    for j, b in enumerate(q):
+                        nc[i + j] += a * b
+                c = nc
+            polys.append(c)
+        out[deg] = polys
+    return out
+
+
+def wire(polys: dict[int, list[list[float]]]) -> str:
+    lines = []
+    seq = 0
+    for deg, ps in polys.items():
+        for c in ps:
+            lines.append(R.RootsOp().wire({"coeffs": c, "lo": 0.0, "hi": 1.0}, seq))
+            seq += 1
+    return "\n".join(lines) + "\n"
+
+
+def parse(out: str) -> dict[int, float]:
+    res = {}
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) >= 2:
+            res[int(parts[0])] = float(parts[1])
+    return res
+
+
+def native(cmd: list[str], text: str) -> dict[int, float]:
+    r = subprocess.run(cmd, input=text, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=True)
+    return parse(r.stdout)
+
+
+def time_python(fn, polys: list[list[float]], reps: int) -> float:
+    times = []
+    for r in range(reps + 1):
+        t0 = time.perf_counter_ns()
+        for c in polys:
+            fn(c)
+        dt = (time.perf_counter_ns() - t0) / len(polys)
+        if r:
+            times.append(dt)
+    return statistics.median(times)
+
+
+def numpy_smallest(c: list[float]):
+    import numpy as np
+    roots = np.roots(c[::-1])
+    best = None
+    for z in roots:
+        if abs(z.imag) <= 1e-7 * max(1.0, abs(z.real)) and 0.0 < z.real <= 1.0:
+            if best is None or z.real < best:
+                best = float(z.real)
+    return best
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--per-degree", type=int, default=1000, help="polynomials per degree (default 1000)")
+    ap.add_argument("--reps", type=int, default=41, help="timed passes for native runtimes (default 41)")
+    ap.add_argument("--py-reps", type=int, default=5, help="timed passes for Python and numpy (default 5)")
+    args = ap.parse_args(argv)
+    polys = polynomials(args.per_degree)
+    text = wire(polys)
+    steps = ["build C", "build Rust", "build Modula-2", "C", "GSL (C)", "Rust", "Modula-2", "GSL (M2)",
+             "Python", "numpy.roots"]
+    cols: dict[str, dict[int, float]] = {}
+
+    def progress(i: int, what: str) -> None:
+        bar = "#" * (i + 1) + "." * (len(steps) - i - 1)
+        print(f"\r[{bar}] {i + 1}/{len(steps)} {what:<16s}", end="", file=sys.stderr, flush=True)
+
+    progress(0, steps[0])
+    R.build_testee("c")
+    R._run(["make", "-s", "-C", str(R.ROOT / "runtimes" / "c"), f"BUILD={R.BUILD / 'c'}",
+            str(R.BUILD / "c" / "m2c_bench")], R.ROOT)
+    progress(1, steps[1])
+    R._run(["cargo", "build", "--release", "--quiet", "--bin", "max2code_rt_bench"],
+           R.ROOT / "runtimes" / "rust", R.rust_env())
+    progress(2, steps[2])
+    R._run(["make", "-s", "-C", str(R.ROOT / "runtimes" / "m2"), f"BUILD={R.BUILD / 'm2'}",
+            str(R.BUILD / "m2" / "roots_bench")], R.ROOT)
+    reps = str(args.reps)
+    progress(3, steps[3])
+    cols["C"] = native([str(R.BUILD / "c" / "m2c_bench"), "m2c", reps], text)
+    progress(4, steps[4])
+    cols["GSL (C)"] = native([str(R.BUILD / "c" / "m2c_bench"), "gsl", reps], text)
+    progress(5, steps[5])
+    cols["Rust"] = native([str(R.BUILD / "rust" / "release" / "max2code_rt_bench"), reps], text)
+    progress(6, steps[6])
+    cols["Modula-2"] = native([str(R.BUILD / "m2" / "roots_bench")], f"bench m2 {reps}\n" + text)
+    progress(7, steps[7])
+    cols["GSL (M2)"] = native([str(R.BUILD / "m2" / "roots_bench")], f"bench gsl {reps}\n" + text)
+    from max2code_rt.roots import smallest_root
+    cols["Python"], cols["numpy.roots"] = {}, {}
+    for deg in DEGREES:
+        progress(8, f"{steps[8]} d{deg}")
+        cols["Python"][deg] = time_python(lambda c: smallest_root(c, 0.0, 1.0), polys[deg], args.py_reps)
+    for deg in DEGREES:
+        progress(9, f"{steps[9]} d{deg}")
+        cols["numpy.roots"][deg] = time_python(numpy_smallest, polys[deg], args.py_reps)
+    print(file=sys.stderr)
+    names = list(cols)
+    print(f"median ns per solve, smallest root in (0, 1], {args.per_degree} polynomials per degree")
+    print("degree " + "".join(f"{n:>13s}" for n in names))
+    for deg in DEGREES:
+        print(f"{deg:6d} " + "".join(f"{cols[n].get(deg, float('nan')):13.1f}" for n in names))
+    found = {}
+    for deg in DEGREES:
+        found[deg] = sum(1 for c in polys[deg] if smallest_root(c, 0.0, 1.0) is not None)
+    print("polynomials with a root in (0, 1]: " + ", ".join(f"d{d} {found[d]}/{len(polys[d])}" for d in DEGREES))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
