@@ -43,11 +43,12 @@ def polynomials(per_degree: int, seed: int = 7) -> dict[int, list[list[float]]]:
                     else:
                         q = [-rng.uniform(-1.0, 2.5), 1.0]
                         left -= 1
-                nc = [0.0] * (len(c) + len(q) - 1)
-                for i, a in enumerate(c):
-                    for j, b in enumerate(q):
-                        nc[i + j] += a * b
-                c = nc
+                    nc = [0.0] * (len(c) + len(q) - 1)
+                    for i, a in enumerate(c):
+                        for j, b in enumerate(q):
+                            nc[i + j] += a * b
+                    c = nc
+            assert len(c) == deg + 1
             polys.append(c)
         out[deg] = polys
     return out

@@ -291,12 +291,14 @@ def accuracy_table(reports: list[Report]) -> str:
 
 def agreement(reports: list[Report]) -> list[str]:
     """Case ids on which the runtimes' raw answers differ."""
-    by_id: dict[str, set] = {}
+    by_id: dict[str, list] = {}
     for rep in reports:
-        for r in rep.results:
-            if r.raw is not None:
-                by_id.setdefault(r.case_id, set()).add(r.raw)
-    return [cid for cid, answers in by_id.items() if len(answers) > 1]
+        raw = {r.case_id: r.raw for r in rep.results}
+        for cid in set(raw) | set(by_id):
+            by_id.setdefault(cid, []).append(raw.get(cid))
+    return [cid for cid, answers in by_id.items()
+            if len(answers) != len(reports) or None in answers and any(a is not None for a in answers)
+            or len(set(answers)) > 1]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -17,7 +17,8 @@ TYPE
 VAR
    Eps,                       (* 2^-52, spacing of doubles at 1 *)
    Tiny,                      (* 2^-1000, floor of the touching bound *)
-   Sixteenth: REAL ;          (* 2^-16, bisection step from an end at 0 *)
+   Sixteenth,                 (* 2^-16, bisection step from an end at 0 *)
+   NewtonTol: REAL ;          (* 2^-30: an accepted Newton step this small (relative) has converged *)
 
 
 PROCEDURE IsFinite (x: REAL) : BOOLEAN ;
@@ -133,7 +134,7 @@ END Midpoint ;
 PROCEDURE Newton (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
                   VAR xa, xb: REAL) : REAL ;
 VAR
-   x, dx, dxold, v, d, step, xn: REAL ;
+   x, dx, dxold, v, d, step, xn, tol: REAL ;
    neg: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
@@ -143,6 +144,7 @@ BEGIN
    dx := xb - xa ;
    dxold := dx ;
    neg := slo < 0 ;
+   tol := Eps ;
    FOR it := 1 TO MaxIt DO
       v := a[n] ;
       d := 0.0 ;
@@ -159,19 +161,22 @@ BEGIN
          IF (xa < xn) AND (xn < xb)
          THEN
             dxold := dx ;
-            dx := step
+            dx := step ;
+            tol := NewtonTol
          ELSE
             dxold := dx ;
             dx := 0.5 * (xb - xa) ;
-            xn := Midpoint (xa, xb, dx)
+            xn := Midpoint (xa, xb, dx) ;
+            tol := Eps
          END
       ELSE
          dxold := dx ;
          dx := 0.5 * (xb - xa) ;
-         xn := Midpoint (xa, xb, dx)
+         xn := Midpoint (xa, xb, dx) ;
+         tol := Eps
       END ;
       IF NOT ((xa < xn) AND (xn < xb)) THEN RETURN x END ;
-      IF ABS (dx) <= Eps * ABS (xn) THEN RETURN xn END ;
+      IF ABS (dx) <= tol * ABS (xn) THEN RETURN xn END ;
       x := xn
    END ;
    RETURN x
@@ -462,5 +467,6 @@ END SmallestRoot ;
 BEGIN
    Eps := ldexp (1.0, -52) ;
    Tiny := ldexp (1.0, -1000) ;
-   Sixteenth := ldexp (1.0, -16)
+   Sixteenth := ldexp (1.0, -16) ;
+   NewtonTol := ldexp (1.0, -30)
 END Roots.

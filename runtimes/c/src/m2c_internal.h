@@ -8,6 +8,7 @@
 #define M2C_SPLITTER 134217729.0 /* 2^27 + 1, Veltkamp splitting constant */
 #define M2C_TINY 0x1p-1000       /* absolute floor of the touching bound */
 #define M2C_SIXTEENTH 0x1p-16    /* bisection step from a bracket end at 0 */
+#define M2C_NEWTON_TOL 0x1p-30   /* an accepted Newton step this small (relative) has converged */
 #define M2C_MAXIT 100            /* bracketed Newton step limit */
 
 /* Error-free product a*b = *p + *e (Dekker, no FMA). */

@@ -27,6 +27,7 @@ double m2c_newton(const double *a, int n, double lo, double hi, int slo,
     double dx = xb - xa;
     double dxold = dx;
     int neg = slo < 0;
+    double tol = M2C_EPS;
     for (int it = 0; it < M2C_MAXIT; it++) {
         double v = a[n];
         double d = 0.0;
@@ -47,19 +48,22 @@ double m2c_newton(const double *a, int n, double lo, double hi, int slo,
             if (xa < xn && xn < xb) {
                 dxold = dx;
                 dx = step;
+                tol = M2C_NEWTON_TOL;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
                 xn = midpoint(xa, xb, dx);
+                tol = M2C_EPS;
             }
         } else {
             dxold = dx;
             dx = 0.5 * (xb - xa);
             xn = midpoint(xa, xb, dx);
+            tol = M2C_EPS;
         }
         if (!(xa < xn && xn < xb))
             break;
-        if (fabs(dx) <= M2C_EPS * fabs(xn)) {
+        if (fabs(dx) <= tol * fabs(xn)) {
             x = xn;
             break;
         }

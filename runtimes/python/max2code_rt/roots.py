@@ -15,6 +15,7 @@ EPS = 2.0 ** -52          # unit roundoff times two (spacing of doubles at 1)
 SPLITTER = 134217729.0    # 2^27 + 1, Veltkamp splitting constant
 TINY = 2.0 ** -1000       # absolute floor of the touching bound
 SIXTEENTH = 2.0 ** -16    # bisection step from an end at zero
+NEWTON_TOL = 2.0 ** -30   # an accepted Newton step this small (relative) has converged
 MAXIT = 100               # bracketed Newton step limit
 
 _isfinite = math.isfinite
@@ -131,17 +132,20 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[flo
             if xa < xn < xb:
                 dxold = dx
                 dx = step
+                tol = NEWTON_TOL
             else:
                 dxold = dx
                 dx = 0.5 * (xb - xa)
                 xn = _midpoint(xa, xb, dx)
+                tol = EPS
         else:
             dxold = dx
             dx = 0.5 * (xb - xa)
             xn = _midpoint(xa, xb, dx)
+            tol = EPS
         if not (xa < xn < xb):
             return x, xa, xb
-        if _fabs(dx) <= EPS * _fabs(xn):
+        if _fabs(dx) <= tol * _fabs(xn):
             return xn, xa, xb
         x = xn
     return x, xa, xb

@@ -9,6 +9,7 @@ const EPS: f64 = 2.220446049250313e-16; // 2^-52, spacing of doubles at 1
 const SPLITTER: f64 = 134217729.0; // 2^27 + 1, Veltkamp splitting constant
 const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching bound
 const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
+const NEWTON_TOL: f64 = 9.313225746154785e-10; // 2^-30: an accepted Newton step this small (relative) has converged
 const MAXIT: usize = 100; // bracketed Newton step limit
 
 /// 2^k for -1022 <= k <= 1023 (exact).
@@ -123,6 +124,7 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
     let mut dx = xb - xa;
     let mut dxold = dx;
     let neg = slo < 0;
+    let mut tol: f64;
     for _ in 0..MAXIT {
         let mut v = a[n];
         let mut d = 0.0;
@@ -145,20 +147,23 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
             if xa < xn && xn < xb {
                 dxold = dx;
                 dx = step;
+                tol = NEWTON_TOL;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
                 xn = midpoint(xa, xb, dx);
+                tol = EPS;
             }
         } else {
             dxold = dx;
             dx = 0.5 * (xb - xa);
             xn = midpoint(xa, xb, dx);
+            tol = EPS;
         }
         if !(xa < xn && xn < xb) {
             break;
         }
-        if dx.abs() <= EPS * xn.abs() {
+        if dx.abs() <= tol * xn.abs() {
             x = xn;
             break;
         }
