@@ -61,13 +61,14 @@ def _comp_horner(a: list[float], n: int, x: float) -> float:
 
 def _sign_top(a: list[float], n: int, x: float) -> int:
     """Sign of p(x) in {-1, 0, +1}; 0 means zero within the rounding bound."""
-    ax = _fabs(x)
+    fabs = _fabs
+    ax = fabs(x)
     v = a[n]
-    pt = _fabs(v)
-    for i in range(n - 1, -1, -1):
-        v = v * x + a[i]
-        pt = pt * ax + _fabs(a[i])
-    if _fabs(v) > 2.0 * n * EPS * pt:
+    pt = fabs(v)
+    for ai in a[n - 1::-1]:
+        v = v * x + ai
+        pt = pt * ax + fabs(ai)
+    if fabs(v) > 2.0 * n * EPS * pt:
         return 1 if v > 0.0 else -1
     r = _comp_horner(a, n, x)
     bound = (2.0 * n * EPS) * (2.0 * n * EPS) * pt + TINY
@@ -78,8 +79,8 @@ def _sign_top(a: list[float], n: int, x: float) -> int:
 
 def _sign_plain(a: list[float], n: int, x: float) -> int:
     v = a[n]
-    for i in range(n - 1, -1, -1):
-        v = v * x + a[i]
+    for ai in a[n - 1::-1]:
+        v = v * x + ai
     if v > 0.0:
         return 1
     if v < 0.0:
@@ -114,19 +115,22 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[flo
     dx = xb - xa
     dxold = dx
     neg = slo < 0
+    an = a[n]
+    rest = a[n - 1::-1]
+    fabs = _fabs
     for _ in range(MAXIT):
-        v = a[n]
+        v = an
         d = 0.0
-        for i in range(n - 1, -1, -1):
+        for ai in rest:
             d = d * x + v
-            v = v * x + a[i]
+            v = v * x + ai
         if v == 0.0:
             return x, xa, xb
         if (v < 0.0) == neg:
             xa = x
         else:
             xb = x
-        if d != 0.0 and _fabs(4.0 * v) < _fabs(dxold * d):
+        if d != 0.0 and fabs(4.0 * v) < fabs(dxold * d):
             step = v / d
             xn = x - step
             if xa < xn < xb:
@@ -145,7 +149,7 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[flo
             tol = EPS
         if not (xa < xn < xb):
             return x, xa, xb
-        if _fabs(dx) <= tol * _fabs(xn):
+        if fabs(dx) <= tol * fabs(xn):
             return xn, xa, xb
         x = xn
     return x, xa, xb
