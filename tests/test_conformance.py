@@ -119,3 +119,46 @@ def test_case_files_are_well_formed():
             assert lo < e <= hi
     degrees = {len(c["coeffs"]) - 1 for c in cases if c["id"].startswith("random-")}
     assert degrees == set(range(1, 17))
+
+
+def raw_answers(lang: str, polys: list[tuple[list[float], float, float]]) -> list[str]:
+    import subprocess
+    cmd = R.build_testee(lang)
+    text = "\n".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, i)
+                     for i, (c, lo, hi) in enumerate(polys)) + "\n"
+    out = subprocess.run(cmd, input=text, stdout=subprocess.PIPE, text=True, check=True, cwd=R.ROOT).stdout
+    return [line.split(" ", 1)[1] for line in out.splitlines()]
+
+
+def test_differential_random_bits():
+    """Fresh random inputs (not in the case files), including nasty ones:
+    the four runtimes must return identical bits."""
+    import random
+    rng = random.Random(99)
+    polys = []
+    for k in range(3000):
+        deg = rng.randint(0, 16)
+        kind = k % 4
+        if kind == 0:
+            c = [rng.gauss(0, 1) for _ in range(deg + 1)]
+        elif kind == 1:
+            c = [rng.choice([0.0, 1.0, -1.0, 0.5, 0.25]) for _ in range(deg + 1)]
+        elif kind == 2:
+            c = [rng.uniform(-1, 1) * 10.0 ** rng.randint(-300, 300) for _ in range(deg + 1)]
+        else:
+            r = [rng.choice([0.25, 0.5, 0.75, rng.random()]) for _ in range(deg)]
+            c = [1.0]
+            for x in r:
+                c = [0.0] + c
+                for i in range(len(c) - 1):
+                    c[i] -= x * c[i + 1]
+        lo = rng.choice([0.0, -1.0, rng.uniform(-2, 1), 0.25])
+        hi = lo + rng.choice([1.0, 1e-9, 1e6, rng.uniform(0, 3)])
+        polys.append((c, lo, hi))
+    answers = {lang: raw_answers(lang, polys) for lang in LANGS}
+    base = answers["python"]
+    for lang in LANGS[1:]:
+        diff = [i for i, (a, b) in enumerate(zip(base, answers[lang])) if a != b]
+        assert len(answers[lang]) == len(base) and not diff, (lang, [polys[i] for i in diff[:3]])
+    found = [a for a in base if a != "none"]
+    assert len(found) > 300

@@ -59,6 +59,7 @@ class Verdict:
     shown: str               # the answer as printed
     relerr: float | None = None
     why: str = ""
+    wellcond: bool = False   # matched a simple root whose tolerance is the 1e-12 relative floor
 
 
 class RootsOp:
@@ -91,13 +92,14 @@ class RootsOp:
         shown = repr(t)
         if not (lo < t <= hi):
             return Verdict(False, shown, why="answer outside (lo, hi]")
-        for j, (r, _m, tol) in enumerate(roots):
+        for j, (r, m, tol) in enumerate(roots):
             if abs(t - r) <= tol:
                 skipped = [ri for ri, _mi, toli in roots[:j] if not ri <= lo + toli]
                 if skipped:
                     return Verdict(False, shown, why=f"skipped smaller root {skipped[0]!r}")
                 rel = abs(t - r) / abs(r) if r != 0.0 else abs(t)
-                return Verdict(True, shown, relerr=rel)
+                well = m == 1 and tol <= 1.000001e-12 * abs(r)
+                return Verdict(True, shown, relerr=rel, wellcond=well)
         want = case.get("expect")
         return Verdict(False, shown, why=f"not a root (expected {want!r})")
 
@@ -163,10 +165,10 @@ class Report:
     def ok(self) -> bool:
         return not self.error and self.count("FAIL") == 0 and self.count("XPASS") == 0
 
-    def max_relerr_by_degree(self) -> dict[int, float]:
+    def max_relerr_by_degree(self, well_only: bool = False) -> dict[int, float]:
         out: dict[int, float] = {}
         for r in self.results:
-            if r.degree is None:
+            if r.degree is None or (well_only and not r.verdict.wellcond):
                 continue
             e = r.verdict.relerr
             cur = out.get(r.degree, 0.0)
@@ -277,15 +279,21 @@ def print_report(rep: Report, quiet: bool, out=None) -> None:
 
 
 def accuracy_table(reports: list[Report]) -> str:
-    degs = sorted({d for rep in reports for d in rep.max_relerr_by_degree()})
-    head = "max relative error vs mpmath, by degree\n" + "degree " + "".join(f"{rep.lang:>10s}" for rep in reports)
-    rows = [head]
+    """Max relative error per degree: over all matched roots, and over simple
+    well-conditioned roots only (tolerance at the 1e-12 relative floor)."""
+    alls = [rep.max_relerr_by_degree() for rep in reports]
+    wells = [rep.max_relerr_by_degree(well_only=True) for rep in reports]
+    degs = sorted({d for m in alls for d in m})
+    names = "".join(f"{rep.lang:>10s}" for rep in reports)
+    rows = ["max relative error vs mpmath, by degree: all roots | simple well-conditioned roots",
+            "degree " + names + "  |" + names]
+
+    def cell(e):
+        return f"{'-' if e is None else f'{e:.1e}':>10s}"
+
     for d in degs:
-        cells = []
-        for rep in reports:
-            e = rep.max_relerr_by_degree().get(d)
-            cells.append(f"{'-' if e is None else f'{e:.1e}':>10s}")
-        rows.append(f"{d:6d} " + "".join(cells))
+        rows.append(f"{d:6d} " + "".join(cell(m.get(d)) for m in alls) + "  |"
+                    + "".join(cell(m.get(d)) for m in wells))
     return "\n".join(rows)
 
 

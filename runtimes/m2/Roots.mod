@@ -183,7 +183,8 @@ BEGIN
 END Newton ;
 
 
-(* Up to two compensated Newton steps inside [xa, xb]. *)
+(* A last Newton step inside [xa, xb]: plain when Horner is accurate enough
+   at x, else up to two steps with compensated Horner. *)
 PROCEDURE Polish (VAR a: Coeffs; n: INTEGER; x, xa, xb: REAL) : REAL ;
 VAR
    ax, v, d, pt, vc, xn: REAL ;
@@ -199,12 +200,18 @@ BEGIN
          v := v * x + a[i] ;
          pt := pt * ax + ABS (a[i])
       END ;
-      IF VAL (REAL, n) * pt <= 8.0 * ABS (x * d) THEN RETURN x END ;
       IF d = 0.0 THEN RETURN x END ;
+      IF VAL (REAL, n) * pt <= 8.0 * ABS (x * d)
+      THEN
+         (* Horner is accurate enough here: one plain Newton step *)
+         xn := x - v / d ;
+         IF (xa < xn) AND (xn <= xb) THEN RETURN xn END ;
+         RETURN x
+      END ;
       vc := CompHorner (a, n, x) ;
       IF vc = 0.0 THEN RETURN x END ;
       xn := x - vc / d ;
-      IF (NOT ((xa <= xn) AND (xn <= xb))) OR (xn = x) THEN RETURN x END ;
+      IF (NOT ((xa < xn) AND (xn <= xb))) OR (xn = x) THEN RETURN x END ;
       x := xn
    END ;
    RETURN x
@@ -360,7 +367,7 @@ BEGIN
       IF sl * sr < 0
       THEN
          x := Newton (a, n, xl, xr, sl, xa, xb) ;
-         x := Polish (a, n, x, xa, xb) ;
+         x := Polish (a, n, x, xl, xr) ;   (* the monotone piece bounds the polish *)
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
          t := x ;

@@ -100,7 +100,7 @@ int m2c_general(const double *a, int n, double lo, double hi, double *t)
         if (sl * sr < 0) {
             double xa, xb;
             double x = m2c_newton(a, n, xl, xr, sl, &xa, &xb);
-            x = m2c_polish(a, n, x, xa, xb);
+            x = m2c_polish(a, n, x, xl, xr); /* the monotone piece bounds the polish */
             if (!(x > xl))
                 x = xr;
             if (x > xr)

@@ -39,7 +39,8 @@ int m2c_sign_plain(const double *a, int n, double x);
 double m2c_newton(const double *a, int n, double lo, double hi, int slo,
                   double *xa, double *xb);
 
-/* Up to two compensated Newton steps inside [xa, xb]. */
+/* A last Newton step inside [xa, xb]: plain when Horner is accurate enough
+ * at x, else up to two steps with compensated Horner. */
 double m2c_polish(const double *a, int n, double x, double xa, double xb);
 
 /* Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns count. */

@@ -86,15 +86,20 @@ double m2c_polish(const double *a, int n, double x, double xa, double xb)
             v = v * x + a[i];
             pt = pt * ax + fabs(a[i]);
         }
-        if (n * pt <= 8.0 * fabs(x * d))
-            return x;
         if (d == 0.0)
             return x;
+        if (n * pt <= 8.0 * fabs(x * d)) {
+            /* Horner is accurate enough here: one plain Newton step */
+            double xn = x - v / d;
+            if (xa < xn && xn <= xb)
+                return xn;
+            return x;
+        }
         double vc = m2c_comp_horner(a, n, x);
         if (vc == 0.0)
             return x;
         double xn = x - vc / d;
-        if (!(xa <= xn && xn <= xb) || xn == x)
+        if (!(xa < xn && xn <= xb) || xn == x)
             return x;
         x = xn;
     }

@@ -279,8 +279,8 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             xr = hi
         sr = _sign_top(a, n, xr)
         if sl * sr < 0:
-            x, xa, xb = _newton(a, n, xl, xr, sl)
-            x = _polish(a, n, x, xa, xb)
+            x, _, _ = _newton(a, n, xl, xr, sl)
+            x = _polish(a, n, x, xl, xr)   # the monotone piece bounds the polish
             if not (x > xl):
                 x = xr
             if x > xr:
@@ -294,8 +294,8 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
 
 
 def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
-    """Up to two Newton steps with a compensated p(x) when Horner's accuracy
-    at x is not already within a few ulps."""
+    """A last Newton step: plain when Horner's accuracy at x is within a few
+    ulps, else up to two steps with a compensated p(x)."""
     for _ in range(2):
         ax = _fabs(x)
         v = a[n]
@@ -305,15 +305,19 @@ def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
             d = d * x + v
             v = v * x + a[i]
             pt = pt * ax + _fabs(a[i])
-        if n * pt <= 8.0 * _fabs(x * d):
-            return x
         if d == 0.0:
+            return x
+        if n * pt <= 8.0 * _fabs(x * d):
+            # Horner is accurate enough here: one plain Newton step
+            xn = x - v / d
+            if xa < xn <= xb:
+                return xn
             return x
         vc = _comp_horner(a, n, x)
         if vc == 0.0:
             return x
         xn = x - vc / d
-        if not (xa <= xn <= xb) or xn == x:
+        if not (xa < xn <= xb) or xn == x:
             return x
         x = xn
     return x

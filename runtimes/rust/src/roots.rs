@@ -172,7 +172,8 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
     (x, xa, xb)
 }
 
-/// Up to two compensated Newton steps inside [xa, xb].
+/// A last Newton step inside [xa, xb]: plain when Horner is accurate enough
+/// at x, else up to two steps with compensated Horner.
 fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
     for _ in 0..2 {
         let ax = x.abs();
@@ -184,10 +185,15 @@ fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
             v = v * x + a[i];
             pt = pt * ax + a[i].abs();
         }
-        if (n as f64) * pt <= 8.0 * (x * d).abs() {
+        if d == 0.0 {
             return x;
         }
-        if d == 0.0 {
+        if (n as f64) * pt <= 8.0 * (x * d).abs() {
+            // Horner is accurate enough here: one plain Newton step
+            let xn = x - v / d;
+            if xa < xn && xn <= xb {
+                return xn;
+            }
             return x;
         }
         let vc = comp_horner(a, n, x);
@@ -195,7 +201,7 @@ fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
             return x;
         }
         let xn = x - vc / d;
-        if !(xa <= xn && xn <= xb) || xn == x {
+        if !(xa < xn && xn <= xb) || xn == x {
             return x;
         }
         x = xn;
@@ -344,8 +350,8 @@ fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
         let xr = if i < m { crit[i] } else { hi };
         let sr = sign_top(a, n, xr);
         if sl * sr < 0 {
-            let (x0, xa, xb) = newton(a, n, xl, xr, sl);
-            let mut x = polish(a, n, x0, xa, xb);
+            let (x0, _, _) = newton(a, n, xl, xr, sl);
+            let mut x = polish(a, n, x0, xl, xr); // the monotone piece bounds the polish
             if !(x > xl) {
                 x = xr;
             }
