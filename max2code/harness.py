@@ -35,10 +35,12 @@ class Harness:
 
 
 def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, entry: str | None = None,
-                  max_degree: int | None = None) -> Harness:
+                  max_degree: int | None = None, toc: str | None = None) -> Harness:
     """Write the generated file and the harness into `workdir` and compile them.
     With `entry` (a selection function's name) the harness calls it and prints
-    the selected degree, then that many + 1 coefficients (-1 when unsupported)."""
+    the selected degree, then that many + 1 coefficients (-1 when unsupported).
+    With `toc` (a time-of-contact entry's name) each input line is the
+    parameters then lo and hi, and the harness prints `status t`."""
     tgt = get_target(lang)
     os.makedirs(workdir, exist_ok=True)
     gen_name = "generated" + tgt.extension
@@ -47,7 +49,7 @@ def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, 
     src = os.path.join(workdir, tgt.harness_source)
     text = environment().get_template(f"{lang}/harness.j2").render(
         generated=gen_name, name=entry or fn.name, nparams=len(fn.params),
-        nterms=(max_degree if entry else fn.degree) + 1, entry=bool(entry))
+        nterms=(max_degree if entry else fn.degree) + 1, entry=bool(entry), toc=toc)
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
     exe = os.path.join(workdir, "harness")

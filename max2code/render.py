@@ -96,7 +96,8 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
         names = {m: c.name for c in selection.cases for m in c.masks}
         by_mask = [names.get(m) for m in range(1 << len(selection.switches))]
     tpl = environment().get_template(f"{target.name}/file.j2")
-    text = tpl.render(target=target, functions=ctx, selection=selection, selection_by_mask=by_mask,
+    toc = selection.name.replace("_coefficients", "_toc") if selection is not None else None
+    text = tpl.render(target=target, functions=ctx, selection=selection, selection_by_mask=by_mask, toc=toc,
                       header=header, variable=variable,
                       params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))

@@ -156,3 +156,34 @@ def test_effects_restrict_generation(lang, tmp_path):
 def test_list_variants_with_effects_none():
     vs = list_variants("point-line", "--effects=none")
     assert [v["name"] for v in vs] == ["point_line_no_accel1_no_orbit1_no_accel2_no_orbit2"]
+
+
+@pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
+def test_toc_entry_same_bits_in_every_language_and_matches_the_full_equation(eq, tmp_path):
+    rng = random.Random(f"toc-{eq}")
+    sets = [sample_with_effects_off(eq, rng) for _ in range(300)]
+    if eq == "circle-circle":   # start circle 2 near circle 1, so that many pairs touch
+        for s in sets:
+            s["g"] = s["a"] + rng.uniform(-6, 6)
+            s["r"] = s["m"] + rng.uniform(-6, 6)
+    horizons = [rng.choice([1.0, 5.0, 20.0]) for _ in sets]
+    answers = {}
+    for lang in LANGS:
+        g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", f"{eq}.mxm"), lang=lang, out_name="generated"))
+        toc = g.derivation.module.equation + "_toc"
+        h = build_harness(lang, g.text, g.function, str(tmp_path / lang), toc=toc)
+        answers[lang] = h.evaluate([[s[n] for n in g.function.params] + [0.0, hz] for s, hz in zip(sets, horizons)])
+        if lang == "c":
+            full = build_harness(lang, g.text, g.function, str(tmp_path / "full"))
+            full_coef = full.evaluate([[s[n] for n in g.function.params] for s in sets])
+    for lang in LANGS[1:]:
+        assert answers[lang] == answers["c"], f"{lang} differs from c"
+    found = 0
+    for (status, t), coef, hz in zip(answers["c"], full_coef, horizons):
+        expect = smallest_root(coef, 0.0, hz)
+        assert status in (0.0, 1.0)
+        assert (status == 1.0) == (expect is not None), (status, t, expect)
+        if expect is not None:
+            found += 1
+            assert abs(t - expect) <= 1e-12 * abs(expect) + 1e-15, (t, expect)
+    assert found >= 30   # the random sets do collide often enough to test the roots

@@ -33,6 +33,11 @@ class Target:
         """The command that runs the built harness."""
         raise NotImplementedError(type(self).__name__)
 
+    def runtime_flags(self) -> list[str]:
+        """Compiler arguments that make this checkout's runtime (its root
+        solver) available to generated code; builds the runtime if needed."""
+        return []
+
     # ---- expressions --------------------------------------------------
     def expr(self, n: Node) -> str:
         return getattr(self, "_print_" + {"+": "add", "-": "sub", "*": "mul", "/": "div"}.get(n[0], n[0]))(n)

@@ -12,7 +12,12 @@ class C(Target):
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
         """Commands that compile the harness (warnings are errors)."""
         return [["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off",
-                 *[f"-I{d}" for d in include_dirs], src, "-o", exe, "-lm"]]
+                 *[f"-I{d}" for d in include_dirs], src, "-o", exe, *self.runtime_flags(), "-lm"]]
+
+    def runtime_flags(self) -> list[str]:
+        from max2code import runtimes
+        lib = runtimes.c_library()
+        return [f"-I{runtimes.ROOT / 'runtimes' / 'c' / 'include'}", str(lib)]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]

@@ -17,7 +17,12 @@ class Modula2(Target):
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
         """Commands that compile the harness: gm2 -fiso -fcpp, warnings are errors."""
         return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2",
-                 *[f"-I{d}" for d in include_dirs], src, "-o", exe, "-lm"]]
+                 *[f"-I{d}" for d in include_dirs], *self.runtime_flags(), src, "-o", exe, "-lm"]]
+
+    def runtime_flags(self) -> list[str]:
+        from max2code import runtimes
+        objs = runtimes.m2_objects()
+        return [f"-I{runtimes.ROOT / 'runtimes' / 'm2'}", *map(str, objs)]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]

@@ -11,7 +11,12 @@ class Rust(Target):
     harness_source = "harness.rs"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
         """rustc with every warning denied."""
-        return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", src, "-o", exe]]
+        return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", *self.runtime_flags(), src, "-o", exe]]
+
+    def runtime_flags(self) -> list[str]:
+        from max2code import runtimes
+        rlib = runtimes.rust_library()
+        return ["--extern", f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}"]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
