@@ -10,15 +10,18 @@ CONST
    N1 = MaxDegree + 1 ;
    Splitter = 134217729.0 ;   (* 2^27 + 1, Veltkamp splitting constant *)
    MaxIt = 100 ;              (* bracketed Newton step limit *)
+   BernDepth = 12 ;           (* Bernstein subdivision depth limit *)
 
 TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
 
 VAR
+   Fact: Coeffs ;             (* i! for 0 <= i <= 16 (exact) *)
    Eps,                       (* 2^-52, spacing of doubles at 1 *)
    Tiny,                      (* 2^-1000, floor of the touching bound *)
    Sixteenth,                 (* 2^-16, bisection step from an end at 0 *)
-   NewtonTol: REAL ;          (* 2^-30: an accepted Newton step this small (relative) has converged *)
+   NewtonTol: REAL ;
+   Init: INTEGER ;          (* 2^-30: an accepted Newton step this small (relative) has converged *)
 
 
 PROCEDURE IsFinite (x: REAL) : BOOLEAN ;
@@ -129,18 +132,18 @@ BEGIN
 END Midpoint ;
 
 
-(* Root of p in (lo, hi), p(lo) of sign slo (nonzero); xa, xb receive the
-   final bracket. *)
+(* Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other,
+   starting at x0 (lo < x0 < hi). *)
 PROCEDURE Newton (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
-                  VAR xa, xb: REAL) : REAL ;
+                  x0: REAL) : REAL ;
 VAR
-   x, dx, dxold, v, d, step, xn, tol: REAL ;
+   x, xa, xb, dx, dxold, v, d, step, xn, tol: REAL ;
    neg: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
    xa := lo ;
    xb := hi ;
-   x := 0.5 * (xa + xb) ;
+   x := x0 ;
    dx := xb - xa ;
    dxold := dx ;
    neg := slo < 0 ;
@@ -183,25 +186,27 @@ BEGIN
 END Newton ;
 
 
-(* A last Newton step inside [xa, xb]: plain when Horner is accurate enough
-   at x, else up to two steps with compensated Horner. *)
+(* A last Newton step inside (xa, xb]: plain when the running error bound
+   of Horner at x is within a few ulps of x, else up to two steps with
+   compensated Horner. *)
 PROCEDURE Polish (VAR a: Coeffs; n: INTEGER; x, xa, xb: REAL) : REAL ;
 VAR
-   ax, v, d, pt, vc, xn: REAL ;
+   ax, v, d, mu, vc, xn: REAL ;
    i, k: INTEGER ;
 BEGIN
    FOR k := 1 TO 2 DO
       ax := ABS (x) ;
       v := a[n] ;
       d := 0.0 ;
-      pt := ABS (v) ;
+      mu := 0.5 * ABS (v) ;
       FOR i := n - 1 TO 0 BY -1 DO
          d := d * x + v ;
          v := v * x + a[i] ;
-         pt := pt * ax + ABS (a[i])
+         mu := mu * ax + ABS (v)
       END ;
       IF d = 0.0 THEN RETURN x END ;
-      IF VAL (REAL, n) * pt <= 8.0 * ABS (x * d)
+      (* running error bound of Horner (Higham, Alg. 5.1): |v - p(x)| <= eps (mu - |v|/2) *)
+      IF mu <= 2.0 * ABS (x * d)
       THEN
          (* Horner is accurate enough here: one plain Newton step *)
          xn := x - v / d ;
@@ -258,7 +263,7 @@ PROCEDURE RootsBetween (VAR a: Coeffs; n: INTEGER; VAR crit: Coeffs; m: INTEGER;
                         lo, hi: REAL; VAR out: Coeffs) : INTEGER ;
 VAR
    k, i, sl, sr: INTEGER ;
-   xl, xr, xa, xb: REAL ;
+   xl, xr: REAL ;
 BEGIN
    k := 0 ;
    xl := lo ;
@@ -272,7 +277,7 @@ BEGIN
          INC (k)
       ELSIF sl * sr < 0
       THEN
-         out[k] := Newton (a, n, xl, xr, sl, xa, xb) ;
+         out[k] := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr)) ;
          INC (k)
       END ;
       xl := xr ;
@@ -282,55 +287,16 @@ BEGIN
 END RootsBetween ;
 
 
-(* The general method for degree n >= 3 (a scaled). *)
-PROCEDURE General (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+(* The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
+   derivatives bottom up, then the first root of p with careful signs. *)
+PROCEDURE ByDerivatives (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
-   an, mx, v, r, cap, mid, rad, s, y, pt, n1, xl, xr, xa, xb, x: REAL ;
-   q, crit, next: Coeffs ;
+   xl, xr, x: REAL ;
+   crit, next: Coeffs ;
    ders: ARRAY [0..MaxDegree - 2] OF Coeffs ;
    qr: ARRAY [0..1] OF REAL ;
-   i, j, k, m, m2, nq, sl, sr: INTEGER ;
+   i, k, m, m2, nq, sl, sr: INTEGER ;
 BEGIN
-   (* 1. clip to the root bound *)
-   an := ABS (a[n]) ;
-   mx := 0.0 ;
-   FOR i := 0 TO n - 1 DO
-      v := ABS (a[i]) / an ;
-      IF v > mx THEN mx := v END
-   END ;
-   r := 2.0 * (1.0 + mx) ;
-   cap := ldexp (1.0, 900 DIV n) ;
-   IF r > cap THEN r := cap END ;
-   IF lo < -r THEN lo := -r END ;
-   IF hi > r THEN hi := r END ;
-   IF NOT (lo < hi) THEN RETURN FALSE END ;
-   (* 2. cheap exit: Taylor shift at the midpoint *)
-   mid := 0.5 * (lo + hi) ;
-   rad := hi - mid ;
-   IF mid - lo > rad THEN rad := mid - lo END ;
-   rad := rad * (1.0 + 4.0 * Eps) ;
-   q := a ;
-   FOR i := 0 TO n - 1 DO
-      FOR j := n - 1 TO i BY -1 DO
-         q[j] := q[j] + mid * q[j + 1]
-      END
-   END ;
-   s := ABS (q[n]) ;
-   FOR k := n - 1 TO 1 BY -1 DO
-      s := s * rad + ABS (q[k])
-   END ;
-   s := s * rad ;
-   y := ABS (mid) + rad ;
-   pt := ABS (a[n]) ;
-   FOR i := n - 1 TO 0 BY -1 DO
-      pt := pt * y + ABS (a[i])
-   END ;
-   n1 := VAL (REAL, n + 1) ;
-   IF ABS (q[0]) - s * (1.0 + 4.0 * n1 * Eps) > 8.0 * n1 * Eps * pt
-   THEN
-      RETURN FALSE
-   END ;
-   (* 3. derivative tables and their roots, bottom up *)
    ders[0] := a ;
    FOR k := 1 TO n - 2 DO
       FOR i := 0 TO n - k DO
@@ -353,7 +319,6 @@ BEGIN
       END ;
       m := m2
    END ;
-   (* 4. top level: first root, careful signs *)
    xl := lo ;
    sl := SignTop (a, n, lo) ;
    FOR i := 0 TO m DO
@@ -366,7 +331,7 @@ BEGIN
       sr := SignTop (a, n, xr) ;
       IF sl * sr < 0
       THEN
-         x := Newton (a, n, xl, xr, sl, xa, xb) ;
+         x := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr)) ;
          x := Polish (a, n, x, xl, xr) ;   (* the monotone piece bounds the polish *)
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
@@ -382,6 +347,160 @@ BEGIN
       RETURN TRUE
    END ;
    RETURN FALSE
+END ByDerivatives ;
+
+
+(* Sign variations of b[0..n], or -1 when one of them is within e of zero;
+   mx receives max |b_i|. *)
+PROCEDURE Variations (VAR b: Coeffs; n: INTEGER; e: REAL; VAR mx: REAL) : INTEGER ;
+VAR
+   m, ab: REAL ;
+   unsure: BOOLEAN ;
+   i, v: INTEGER ;
+   neg, negi: BOOLEAN ;
+BEGIN
+   m := ABS (b[0]) ;
+   unsure := m <= e ;
+   neg := b[0] < 0.0 ;
+   v := 0 ;
+   FOR i := 1 TO n DO
+      ab := ABS (b[i]) ;
+      IF ab > m THEN m := ab END ;
+      IF ab <= e THEN unsure := TRUE END ;
+      negi := b[i] < 0.0 ;
+      IF negi # neg THEN INC (v) END ;
+      neg := negi
+   END ;
+   mx := m ;
+   IF unsure THEN RETURN -1 END ;
+   RETURN v
+END Variations ;
+
+
+(* The general method for degree n >= 3 (a scaled): clip to the root bound,
+   Bernstein subdivision left to right (no root / one simple root / split),
+   the derivative method where the Bernstein signs are unsure. *)
+PROCEDURE General (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   mx, r, cap, w, f, y, pt, e, nf, xl, xr, xm, bm, s, x0, x: REAL ;
+   b, c: Coeffs ;
+   stb: ARRAY [0..BernDepth - 1] OF Coeffs ;
+   ste, stl, stu: ARRAY [0..BernDepth - 1] OF REAL ;
+   std: ARRAY [0..BernDepth - 1] OF INTEGER ;
+   i, j, k, v, sp, depth, sl: INTEGER ;
+   split, neg, negi: BOOLEAN ;
+BEGIN
+   (* 1. clip to the root bound *)
+   mx := 0.0 ;
+   FOR i := 0 TO n - 1 DO
+      IF ABS (a[i]) > mx THEN mx := ABS (a[i]) END
+   END ;
+   mx := mx / ABS (a[n]) ;   (* = max |a_i|/|a_n| (rounding is monotone) *)
+   r := 2.0 * (1.0 + mx) ;
+   cap := ldexp (1.0, 900 DIV n) ;
+   IF r > cap THEN r := cap END ;
+   IF lo < -r THEN lo := -r END ;
+   IF hi > r THEN hi := r END ;
+   IF NOT (lo < hi) THEN RETURN FALSE END ;
+   (* 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e *)
+   FOR i := 0 TO n DO
+      b[i] := a[i]
+   END ;
+   IF lo # 0.0
+   THEN
+      FOR i := 0 TO n - 1 DO
+         FOR j := n - 1 TO i BY -1 DO
+            b[j] := b[j] + lo * b[j + 1]
+         END
+      END
+   END ;
+   w := hi - lo ;
+   f := 1.0 ;
+   FOR j := 0 TO n DO
+      b[j] := b[j] * f * (Fact[j] * Fact[n - j]) ;
+      f := f * w
+   END ;
+   FOR k := 1 TO n DO
+      FOR j := n TO k BY -1 DO
+         b[j] := b[j] + b[j - 1]
+      END
+   END ;
+   y := ABS (lo) + w ;
+   pt := ABS (a[n]) ;
+   FOR i := n - 1 TO 0 BY -1 DO
+      pt := pt * y + ABS (a[i])
+   END ;
+   nf := VAL (REAL, n) ;
+   e := 8.0 * VAL (REAL, n + 1) * Eps * pt * Fact[n] + Tiny ;
+   (* 3. subdivision, left to right *)
+   sp := 0 ;
+   depth := 0 ;
+   xl := lo ;
+   xr := hi ;
+   LOOP
+      v := Variations (b, n, e, bm) ;
+      IF v = 1
+      THEN
+         (* one simple root in (xl, xr): start where the control polygon crosses *)
+         (* (gm2 -O2 mis-evaluates "(x < 0.0) = (y < 0.0)": compare flags) *)
+         i := 0 ;
+         neg := b[0] < 0.0 ;
+         negi := b[1] < 0.0 ;
+         WHILE negi = neg DO
+            INC (i) ;
+            negi := b[i + 1] < 0.0
+         END ;
+         s := (VAL (REAL, i) + b[i] / (b[i] - b[i + 1])) / nf ;
+         x0 := xl + (xr - xl) * s ;
+         IF NOT ((xl < x0) AND (x0 < xr)) THEN x0 := 0.5 * (xl + xr) END ;
+         IF b[0] < 0.0 THEN sl := -1 ELSE sl := 1 END ;
+         x := Newton (a, n, xl, xr, sl, x0) ;
+         x := Polish (a, n, x, xl, xr) ;
+         IF NOT (x > xl) THEN x := xr END ;
+         IF x > xr THEN x := xr END ;
+         t := x ;
+         RETURN TRUE
+      END ;
+      split := FALSE ;
+      IF (v # 0) AND ((depth = BernDepth) OR
+                      ((v < 0) AND ((ABS (b[0]) <= e) OR (ABS (b[n]) <= e))))
+      THEN
+         IF ByDerivatives (a, n, xl, xr, t) THEN RETURN TRUE END
+      ELSIF v # 0
+      THEN
+         (* de Casteljau at 1/2: left half in b, right half pushed *)
+         c := b ;
+         stb[sp][n] := c[n] ;
+         FOR k := 1 TO n DO
+            FOR i := 0 TO n - k DO
+               c[i] := 0.5 * (c[i] + c[i + 1])
+            END ;
+            b[k] := c[0] ;
+            stb[sp][n - k] := c[n - k]
+         END ;
+         xm := 0.5 * (xl + xr) ;
+         e := e + nf * Eps * bm ;
+         INC (depth) ;
+         ste[sp] := e ;
+         stl[sp] := xm ;
+         stu[sp] := xr ;
+         std[sp] := depth ;
+         INC (sp) ;
+         xr := xm ;
+         split := TRUE
+      END ;
+      IF NOT split
+      THEN
+         (* no root in (xl, xr]: the next pending interval *)
+         IF sp = 0 THEN RETURN FALSE END ;
+         DEC (sp) ;
+         b := stb[sp] ;
+         e := ste[sp] ;
+         xl := stl[sp] ;
+         xr := stu[sp] ;
+         depth := std[sp]
+      END
+   END
 END General ;
 
 
@@ -472,6 +591,10 @@ END SmallestRoot ;
 
 
 BEGIN
+   Fact[0] := 1.0 ;
+   FOR Init := 1 TO MaxDegree DO
+      Fact[Init] := Fact[Init - 1] * VAL (REAL, Init)
+   END ;
    Eps := ldexp (1.0, -52) ;
    Tiny := ldexp (1.0, -1000) ;
    Sixteenth := ldexp (1.0, -16) ;

@@ -1,11 +1,23 @@
-/* The general method (degree >= 3): clip to the root bound, cheap exit,
- * derivative roots bottom up, first root at the top (t in x units). */
+/* Degree >= 1 after stripping: exact scaling, degrees 1 and 2, and the
+ * general method for degree >= 3 (docs/roots.md step 6): clip to the root
+ * bound, Bernstein coefficients on the interval, subdivision left to right
+ * (no root / one simple root / split), and the derivative method where the
+ * Bernstein signs are unsure.  One copy per degree (a constant n, unrolled);
+ * t in the caller's time unit. */
 #include <math.h>
 #include "m2c_internal.h"
 #include "m2c_roots.h"
 
-int m2c_roots_between(const double *a, int n, const double *crit, int m,
-                      double lo, double hi, double *out)
+/* i! for 0 <= i <= 16 (exact in a double). */
+static const double FACT[M2C_MAX_DEGREE + 1] = {
+    1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362880.0,
+    3628800.0, 39916800.0, 479001600.0, 6227020800.0, 87178291200.0,
+    1307674368000.0, 20922789888000.0};
+
+/* All roots of p (degree n) in the open (lo, hi), ascending, given the m
+ * ascending roots crit of p' there; returns the count written to out. */
+static int roots_between(const double *a, int n, const double *crit, int m,
+                         double lo, double hi, double *out)
 {
     int k = 0;
     double xl = lo;
@@ -13,62 +25,23 @@ int m2c_roots_between(const double *a, int n, const double *crit, int m,
     for (int i = 0; i <= m; i++) {
         double xr = i < m ? crit[i] : hi;
         int sr = m2c_sign_plain(a, n, xr);
-        if (sl == 0 && i > 0) {
+        if (sl == 0 && i > 0)
             out[k++] = xl;
-        } else if (sl * sr < 0) {
-            double xa, xb;
-            out[k++] = m2c_newton(a, n, xl, xr, sl, &xa, &xb);
-        }
+        else if (sl * sr < 0)
+            out[k++] = m2c_newton_impl(a, n, xl, xr, sl, 0.5 * (xl + xr), M2C_NEWTON_TOL);
         xl = xr;
         sl = sr;
     }
     return k;
 }
 
-int m2c_general(const double *a, int n, double lo, double hi, double *t)
+/* The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
+ * derivatives bottom up, then the first root of p with careful signs. */
+static int by_derivatives(const double *a, int n, double lo, double hi, double *t)
 {
-    /* 1. clip to the root bound */
-    double an = fabs(a[n]);
-    double mx = 0.0;
-    for (int i = 0; i < n; i++) {
-        double v = fabs(a[i]) / an;
-        if (v > mx)
-            mx = v;
-    }
-    double r = 2.0 * (1.0 + mx);
-    double cap = ldexp(1.0, 900 / n);
-    if (r > cap)
-        r = cap;
-    if (lo < -r)
-        lo = -r;
-    if (hi > r)
-        hi = r;
-    if (!(lo < hi))
-        return 0;
-    /* 2. cheap exit: Taylor shift at the midpoint */
-    double mid = 0.5 * (lo + hi);
-    double rad = hi - mid;
-    if (mid - lo > rad)
-        rad = mid - lo;
-    rad = rad * (1.0 + 4.0 * M2C_EPS);
-    double q[M2C_MAX_DEGREE + 1] = {0};
-    for (int i = 0; i <= n; i++)
-        q[i] = a[i];
-    for (int i = 0; i < n; i++)
-        for (int j = n - 1; j >= i; j--)
-            q[j] = q[j] + mid * q[j + 1];
-    double s = fabs(q[n]);
-    for (int k = n - 1; k > 0; k--)
-        s = s * rad + fabs(q[k]);
-    s = s * rad;
-    double y = fabs(mid) + rad;
-    double pt = fabs(a[n]);
-    for (int i = n - 1; i >= 0; i--)
-        pt = pt * y + fabs(a[i]);
-    if (fabs(q[0]) - s * (1.0 + 4.0 * (n + 1) * M2C_EPS) > 8.0 * (n + 1) * M2C_EPS * pt)
-        return 0;
-    /* 3. derivative tables and their roots, bottom up */
     double ders[M2C_MAX_DEGREE - 1][M2C_MAX_DEGREE + 1];
+    if (n < 3 || n > M2C_MAX_DEGREE) /* never: callers pass 3 <= n <= 16 */
+        return 0;
     for (int i = 0; i <= n; i++)
         ders[0][i] = a[i];
     for (int k = 1; k < n - 1; k++)
@@ -82,12 +55,11 @@ int m2c_general(const double *a, int n, double lo, double hi, double *t)
         if (lo < qr[i] && qr[i] < hi)
             crit[m++] = qr[i];
     for (int k = n - 3; k > 0; k--) {
-        int m2 = m2c_roots_between(ders[k], n - k, crit, m, lo, hi, next);
+        int m2 = roots_between(ders[k], n - k, crit, m, lo, hi, next);
         for (int i = 0; i < m2; i++)
             crit[i] = next[i];
         m = m2;
     }
-    /* 4. top level: first root, careful signs */
     double xl = lo;
     int sl = m2c_sign_top(a, n, lo);
     for (int i = 0; i <= m; i++) {
@@ -98,9 +70,8 @@ int m2c_general(const double *a, int n, double lo, double hi, double *t)
         double xr = i < m ? crit[i] : hi;
         int sr = m2c_sign_top(a, n, xr);
         if (sl * sr < 0) {
-            double xa, xb;
-            double x = m2c_newton(a, n, xl, xr, sl, &xa, &xb);
-            x = m2c_polish(a, n, x, xl, xr); /* the monotone piece bounds the polish */
+            double x = m2c_newton_impl(a, n, xl, xr, sl, 0.5 * (xl + xr), M2C_NEWTON_TOL);
+            x = m2c_polish_impl(a, n, x, xl, xr); /* the monotone piece bounds the polish */
             if (!(x > xl))
                 x = xr;
             if (x > xr)
@@ -116,4 +87,191 @@ int m2c_general(const double *a, int n, double lo, double hi, double *t)
         return 1;
     }
     return 0;
+}
+
+/* Sign variations of b[0..n], or -1 when one of them is within e of zero;
+ * *mx receives max |b_i|. */
+M2C_INLINE int variations(const double *b, int n, double e, double *mx)
+{
+    double m = fabs(b[0]);
+    int unsure = m <= e;
+    int v = 0;
+    M2C_UNROLL
+    for (int i = 1; i <= n; i++) {
+        double ab = fabs(b[i]);
+        m = ab > m ? ab : m;
+        unsure |= ab <= e;
+        v += (b[i] < 0.0) != (b[i - 1] < 0.0);
+    }
+    *mx = m;
+    return unsure ? -1 : v;
+}
+
+M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double *t)
+{
+    /* 1. clip to the root bound */
+    double mx = 0.0;
+    M2C_UNROLL
+    for (int i = 0; i < n; i++) {
+        double v = fabs(a[i]);
+        if (v > mx)
+            mx = v;
+    }
+    mx = mx / fabs(a[n]); /* = max |a_i|/|a_n| (rounding is monotone) */
+    double r = 2.0 * (1.0 + mx);
+    double cap = m2c_pow2(900 / n);
+    if (r > cap)
+        r = cap;
+    if (lo < -r)
+        lo = -r;
+    if (hi > r)
+        hi = r;
+    if (!(lo < hi))
+        return 0;
+    /* 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e */
+    double b[M2C_MAX_DEGREE + 1];
+    M2C_UNROLL
+    for (int i = 0; i <= n; i++)
+        b[i] = a[i];
+    if (lo != 0.0) {
+        M2C_UNROLL
+        for (int i = 0; i < n; i++) {
+            M2C_UNROLL
+            for (int j = n - 1; j >= i; j--)
+                b[j] = b[j] + lo * b[j + 1];
+        }
+    }
+    double w = hi - lo;
+    double f = 1.0;
+    M2C_UNROLL
+    for (int j = 0; j <= n; j++) {
+        b[j] = b[j] * f * (FACT[j] * FACT[n - j]);
+        f = f * w;
+    }
+    M2C_UNROLL
+    for (int k = 1; k <= n; k++) {
+        M2C_UNROLL
+        for (int j = n; j >= k; j--)
+            b[j] = b[j] + b[j - 1];
+    }
+    double y = fabs(lo) + w;
+    double pt = fabs(a[n]);
+    M2C_UNROLL
+    for (int i = n - 1; i >= 0; i--)
+        pt = pt * y + fabs(a[i]);
+    double e = 8.0 * (n + 1) * M2C_EPS * pt * FACT[n] + M2C_TINY;
+    /* 3. subdivision, left to right */
+    double stb[M2C_BERN_DEPTH][M2C_MAX_DEGREE + 1];
+    double ste[M2C_BERN_DEPTH], stl[M2C_BERN_DEPTH], stu[M2C_BERN_DEPTH];
+    int std[M2C_BERN_DEPTH];
+    int sp = 0;
+    int depth = 0;
+    double xl = lo, xr = hi;
+    for (;;) {
+        double bm;
+        int v = variations(b, n, e, &bm);
+        if (v == 1) {
+            /* one simple root in (xl, xr): start where the control polygon crosses */
+            int i = 0;
+            while ((b[i + 1] < 0.0) == (b[i] < 0.0))
+                i++;
+            double s = ((double)i + b[i] / (b[i] - b[i + 1])) / (double)n;
+            double x0 = xl + (xr - xl) * s;
+            if (!(xl < x0 && x0 < xr))
+                x0 = 0.5 * (xl + xr);
+            double x = m2c_newton_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_NEWTON_TOL);
+            x = m2c_polish_impl(a, n, x, xl, xr);
+            if (!(x > xl))
+                x = xr;
+            if (x > xr)
+                x = xr;
+            *t = x;
+            return 1;
+        }
+        if (v != 0) {
+            if (depth == M2C_BERN_DEPTH || (v < 0 && (fabs(b[0]) <= e || fabs(b[n]) <= e))) {
+                if (by_derivatives(a, n, xl, xr, t))
+                    return 1;
+            } else {
+                /* de Casteljau at 1/2: left half in b, right half pushed */
+                double c[M2C_MAX_DEGREE + 1];
+                double *rb = stb[sp];
+                M2C_UNROLL
+                for (int i = 0; i <= n; i++)
+                    c[i] = b[i];
+                rb[n] = c[n];
+                M2C_UNROLL
+                for (int k = 1; k <= n; k++) {
+                    M2C_UNROLL
+                    for (int i = 0; i <= n - k; i++)
+                        c[i] = 0.5 * (c[i] + c[i + 1]);
+                    b[k] = c[0];
+                    rb[n - k] = c[n - k];
+                }
+                double xm = 0.5 * (xl + xr);
+                e = e + n * M2C_EPS * bm;
+                depth++;
+                ste[sp] = e;
+                stl[sp] = xm;
+                stu[sp] = xr;
+                std[sp] = depth;
+                sp++;
+                xr = xm;
+                continue;
+            }
+        }
+        /* no root in (xl, xr]: the next pending interval */
+        if (sp == 0)
+            return 0;
+        sp--;
+        M2C_UNROLL
+        for (int i = 0; i <= n; i++)
+            b[i] = stb[sp][i];
+        e = ste[sp];
+        xl = stl[sp];
+        xr = stu[sp];
+        depth = std[sp];
+    }
+}
+
+M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *t)
+{
+    double a[M2C_MAX_DEGREE + 1];
+    int n2 = m2c_scale_impl(c, n, a);
+    if (n2 != n)
+        return n2 > 0 && m2c_solve(a, n2, lo, hi, t); /* underflow: rescale (exact no-op) */
+    if (n == 1) {
+        double x = -a[0] / a[1];
+        if (!(lo < x && x <= hi))
+            return 0;
+        *t = x;
+        return 1;
+    }
+    if (n == 2) {
+        double r[2];
+        int nr = m2c_quadratic(a[2], a[1], a[0], r);
+        for (int i = 0; i < nr; i++) {
+            if (lo < r[i] && r[i] <= hi) {
+                *t = r[i];
+                return 1;
+            }
+        }
+        return 0;
+    }
+    return general_impl(a, n, lo, hi, t);
+}
+
+#define M2C_CASE(N) \
+    case N:         \
+        return solve_impl(c, N, lo, hi, t);
+
+int m2c_solve(const double *c, int n, double lo, double hi, double *t)
+{
+    switch (n) {
+        M2C_CASE(1) M2C_CASE(2) M2C_CASE(3) M2C_CASE(4) M2C_CASE(5) M2C_CASE(6)
+        M2C_CASE(7) M2C_CASE(8) M2C_CASE(9) M2C_CASE(10) M2C_CASE(11) M2C_CASE(12)
+        M2C_CASE(13) M2C_CASE(14) M2C_CASE(15) M2C_CASE(16)
+    default:
+        return 0;
+    }
 }

@@ -1,18 +1,38 @@
 /* Internal pieces of the root solver, shared by the files in src/.
  * Every function follows docs/roots.md operation for operation, so that the
- * C, Rust, Python and Modula-2 runtimes compute the same bits. */
+ * C, Rust, Python and Modula-2 runtimes compute the same bits.  The hot
+ * pieces are static inline (always inlined) so that the per-degree copies of
+ * the general method (m2c_general.c) run with a constant degree: fully
+ * unrolled loops with the coefficients in registers, the same operations. */
 #ifndef M2C_INTERNAL_H
 #define M2C_INTERNAL_H
 
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
 #define M2C_EPS 0x1p-52          /* spacing of doubles at 1 (2 u) */
 #define M2C_SPLITTER 134217729.0 /* 2^27 + 1, Veltkamp splitting constant */
-#define M2C_TINY 0x1p-1000       /* absolute floor of the touching bound */
+#define M2C_TINY 0x1p-1000       /* absolute floor of the touching and Bernstein bounds */
 #define M2C_SIXTEENTH 0x1p-16    /* bisection step from a bracket end at 0 */
 #define M2C_NEWTON_TOL 0x1p-30   /* an accepted Newton step this small (relative) has converged */
 #define M2C_MAXIT 100            /* bracketed Newton step limit */
+#define M2C_BERN_DEPTH 12        /* Bernstein subdivision depth limit */
+
+#define M2C_INLINE static inline __attribute__((always_inline))
+#define M2C_UNROLL _Pragma("GCC unroll 17")
+
+/* 2^k for -1022 <= k <= 1023 (exact). */
+M2C_INLINE double m2c_pow2(int k)
+{
+    uint64_t u = (uint64_t)(k + 1023) << 52;
+    double d;
+    memcpy(&d, &u, sizeof d);
+    return d;
+}
 
 /* Error-free product a*b = *p + *e (Dekker, no FMA). */
-static inline void m2c_two_prod(double a, double b, double *p, double *e)
+M2C_INLINE void m2c_two_prod(double a, double b, double *p, double *e)
 {
     double q = a * b;
     double t = M2C_SPLITTER * a;
@@ -34,28 +54,185 @@ int m2c_sign_top(const double *a, int n, double x);
 /* Sign of the plain Horner value of p(x): -1, 0 (exactly zero), +1. */
 int m2c_sign_plain(const double *a, int n, double x);
 
-/* Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other;
- * *xa, *xb receive the final bracket. */
-double m2c_newton(const double *a, int n, double lo, double hi, int slo,
-                  double *xa, double *xb);
+/* Bisection point of [xa, xb]; half = (xb - xa)/2. */
+double m2c_midpoint(double xa, double xb, double half);
 
-/* A last Newton step inside [xa, xb]: plain when Horner is accurate enough
+/* Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other,
+ * starting at x0 (lo < x0 < hi); an accepted Newton step of at most
+ * tol*|x| ends it. */
+M2C_INLINE double m2c_newton_impl(const double *a, int n, double lo, double hi, int slo,
+                                  double x0, double tolnewton)
+{
+    double xa = lo, xb = hi;
+    double x = x0;
+    double dx = xb - xa;
+    double dxold = dx;
+    int neg = slo < 0;
+    double tol = M2C_EPS;
+    for (int it = 0; it < M2C_MAXIT; it++) {
+        double v = a[n];
+        double d = 0.0;
+        M2C_UNROLL
+        for (int i = n - 1; i >= 0; i--) {
+            d = d * x + v;
+            v = v * x + a[i];
+        }
+        if (v == 0.0)
+            break;
+        if ((v < 0.0) == neg)
+            xa = x;
+        else
+            xb = x;
+        double xn;
+        if (d != 0.0 && fabs(4.0 * v) < fabs(dxold * d)) {
+            double step = v / d;
+            xn = x - step;
+            if (xa < xn && xn < xb) {
+                dxold = dx;
+                dx = step;
+                tol = tolnewton;
+            } else {
+                dxold = dx;
+                dx = 0.5 * (xb - xa);
+                xn = m2c_midpoint(xa, xb, dx);
+                tol = M2C_EPS;
+            }
+        } else {
+            dxold = dx;
+            dx = 0.5 * (xb - xa);
+            xn = m2c_midpoint(xa, xb, dx);
+            tol = M2C_EPS;
+        }
+        if (!(xa < xn && xn < xb))
+            break;
+        if (fabs(dx) <= tol * fabs(xn)) {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    return x;
+}
+
+/* A last Newton step inside (xa, xb]: plain when Horner is accurate enough
  * at x, else up to two steps with compensated Horner. */
-double m2c_polish(const double *a, int n, double x, double xa, double xb);
+M2C_INLINE double m2c_polish_impl(const double *a, int n, double x, double xa, double xb)
+{
+    for (int k = 0; k < 2; k++) {
+        double ax = fabs(x);
+        double v = a[n];
+        double d = 0.0;
+        double mu = 0.5 * fabs(v);
+        M2C_UNROLL
+        for (int i = n - 1; i >= 0; i--) {
+            d = d * x + v;
+            v = v * x + a[i];
+            mu = mu * ax + fabs(v);
+        }
+        if (d == 0.0)
+            return x;
+        /* running error bound of Horner (Higham, Alg. 5.1): |v - p(x)| <= eps (mu - |v|/2) */
+        if (mu <= 2.0 * fabs(x * d)) {
+            /* Horner is accurate enough here: one plain Newton step */
+            double xn = x - v / d;
+            if (xa < xn && xn <= xb)
+                return xn;
+            return x;
+        }
+        double vc = m2c_comp_horner(a, n, x);
+        if (vc == 0.0)
+            return x;
+        double xn = x - vc / d;
+        if (!(xa < xn && xn <= xb) || xn == x)
+            return x;
+        x = xn;
+    }
+    return x;
+}
 
 /* Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns count. */
-int m2c_quadratic(double a, double b, double c, double r[2]);
+M2C_INLINE int m2c_quadratic(double a, double b, double c, double r[2])
+{
+    double p, pe, q, qe;
+    m2c_two_prod(b, b, &p, &pe);
+    double a4 = 4.0 * a;
+    m2c_two_prod(a4, c, &q, &qe);
+    double disc = (p - q) + (pe - qe);
+    double bound = M2C_EPS * M2C_EPS * (p + fabs(q));
+    if (disc < -bound)
+        return 0;
+    if (disc <= bound) {
+        r[0] = -b / (2.0 * a);
+        return 1;
+    }
+    double s = sqrt(disc);
+    if (b < 0.0)
+        s = -s;
+    double qq = -0.5 * (b + s);
+    double r1 = qq / a;
+    double r2 = c / qq;
+    if (r1 <= r2) {
+        r[0] = r1;
+        r[1] = r2;
+    } else {
+        r[0] = r2;
+        r[1] = r1;
+    }
+    return 2;
+}
 
-/* All roots of p (degree n) in the open (lo, hi), ascending, given the
- * m ascending roots crit of p' there; returns the count written to out. */
-int m2c_roots_between(const double *a, int n, const double *crit, int m,
-                      double lo, double hi, double *out);
+/* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp). */
+M2C_INLINE int m2c_frexp_exp(double x)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    int field = (int)((u >> 52) & 0x7ff);
+    if (field == 0) { /* subnormal: scale into the normal range first */
+        x = x * m2c_pow2(64);
+        memcpy(&u, &x, sizeof u);
+        return (int)((u >> 52) & 0x7ff) - 1022 - 64;
+    }
+    return field - 1022;
+}
 
 /* a[0..] = c[0..n] times the power of two that puts max |c_i| in [1, 2);
  * returns the degree left after dropping top coefficients that underflowed. */
+M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
+{
+    double m = 0.0;
+    M2C_UNROLL
+    for (int i = 0; i <= n; i++) {
+        double v = fabs(c[i]);
+        if (v > m)
+            m = v;
+    }
+    int k = 1 - m2c_frexp_exp(m);
+    if (k > 1000) {
+        double f = m2c_pow2(600);
+        M2C_UNROLL
+        for (int i = 0; i <= n; i++)
+            a[i] = c[i] * f;
+        k -= 600;
+    } else {
+        M2C_UNROLL
+        for (int i = 0; i <= n; i++)
+            a[i] = c[i];
+    }
+    /* 2^-1023 is subnormal: 2^-1022 / 2 (exact) */
+    double f = k < -1022 ? m2c_pow2(-1022) * 0.5 : m2c_pow2(k);
+    M2C_UNROLL
+    for (int i = 0; i <= n; i++)
+        a[i] = a[i] * f;
+    while (n >= 0 && a[n] == 0.0) /* underflowed to zero in the scaling */
+        n--;
+    return n;
+}
+
+/* m2c_scale_impl, not inlined (the GSL baseline). */
 int m2c_scale(const double *c, int n, double *a);
 
-/* The general method for degree n >= 3 (a scaled); 1 and *t when found. */
-int m2c_general(const double *a, int n, double lo, double hi, double *t);
+/* Degree n >= 1 of c (exactly-zero top coefficients stripped), lo < hi
+ * finite: the answer of docs/roots.md steps 3-6; 1 and *t when found. */
+int m2c_solve(const double *c, int n, double lo, double hi, double *t);
 
 #endif

@@ -105,13 +105,12 @@ def _midpoint(xa: float, xb: float, half: float) -> float:
     return xa + half
 
 
-def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[float, float, float]:
-    """Root of p in (lo, hi) where p(lo) has sign slo and p(hi) the other.
-
-    Returns (x, a, b): the root and the final bracket."""
+def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -> float:
+    """Root of p in (lo, hi) where p(lo) has sign slo and p(hi) the other,
+    starting at x0 (lo < x0 < hi)."""
     xa = lo
     xb = hi
-    x = 0.5 * (xa + xb)
+    x = x0
     dx = xb - xa
     dxold = dx
     neg = slo < 0
@@ -125,7 +124,7 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[flo
             d = d * x + v
             v = v * x + ai
         if v == 0.0:
-            return x, xa, xb
+            return x
         if (v < 0.0) == neg:
             xa = x
         else:
@@ -148,11 +147,11 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int) -> tuple[flo
             xn = _midpoint(xa, xb, dx)
             tol = EPS
         if not (xa < xn < xb):
-            return x, xa, xb
+            return x
         if fabs(dx) <= tol * fabs(xn):
-            return xn, xa, xb
+            return xn
         x = xn
-    return x, xa, xb
+    return x
 
 
 def _quadratic(a: float, b: float, c: float) -> list[float]:
@@ -194,8 +193,7 @@ def _roots_between(a: list[float], n: int, crit: list[float], lo: float, hi: flo
         if sl == 0 and i > 0:
             out.append(xl)
         elif sl * sr < 0:
-            x, _, _ = _newton(a, n, xl, xr, sl)
-            out.append(x)
+            out.append(_newton(a, n, xl, xr, sl, 0.5 * (xl + xr)))
         xl = xr
         sl = sr
     return out
@@ -219,45 +217,14 @@ def _scale(c: list[float], n: int) -> list[float]:
     return [v * f for v in a]
 
 
-def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
-    # 1. clip to the root bound
-    an = _fabs(a[n])
-    mx = 0.0
-    for i in range(n):
-        v = _fabs(a[i]) / an
-        if v > mx:
-            mx = v
-    r = 2.0 * (1.0 + mx)
-    cap = math.ldexp(1.0, 900 // n)
-    if r > cap:
-        r = cap
-    if lo < -r:
-        lo = -r
-    if hi > r:
-        hi = r
-    if not (lo < hi):
-        return None
-    # 2. cheap exit: Taylor shift at the midpoint
-    mid = 0.5 * (lo + hi)
-    rad = hi - mid
-    if mid - lo > rad:
-        rad = mid - lo
-    rad = rad * (1.0 + 4.0 * EPS)
-    q = list(a)
-    for i in range(n):
-        for j in range(n - 1, i - 1, -1):
-            q[j] = q[j] + mid * q[j + 1]
-    s = _fabs(q[n])
-    for k in range(n - 1, 0, -1):
-        s = s * rad + _fabs(q[k])
-    s = s * rad
-    y = _fabs(mid) + rad
-    pt = _fabs(a[n])
-    for i in range(n - 1, -1, -1):
-        pt = pt * y + _fabs(a[i])
-    if _fabs(q[0]) - s * (1.0 + 4.0 * (n + 1) * EPS) > 8.0 * (n + 1) * EPS * pt:
-        return None
-    # 3. derivative coefficient tables and their roots, bottom up
+# i! for 0 <= i <= 16 (exact)
+_FACT = [float(math.factorial(i)) for i in range(MAX_DEGREE + 1)]
+BERN_DEPTH = 12           # Bernstein subdivision depth limit
+
+
+def _by_derivatives(a: list[float], n: int, lo: float, hi: float) -> float | None:
+    """The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
+    derivatives bottom up, then the first root of p with careful signs."""
     ders = [a]
     for k in range(1, n - 1):
         prev = ders[k - 1]
@@ -266,7 +233,6 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
     crit = [x for x in _quadratic(d2[2], d2[1], d2[0]) if lo < x < hi]
     for k in range(n - 3, 0, -1):
         crit = _roots_between(ders[k], n - k, crit, lo, hi)
-    # 4. top level: first root, careful signs
     xl = lo
     sl = _sign_top(a, n, lo)
     m = len(crit)
@@ -279,7 +245,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             xr = hi
         sr = _sign_top(a, n, xr)
         if sl * sr < 0:
-            x, _, _ = _newton(a, n, xl, xr, sl)
+            x = _newton(a, n, xl, xr, sl, 0.5 * (xl + xr))
             x = _polish(a, n, x, xl, xr)   # the monotone piece bounds the polish
             if not (x > xl):
                 x = xr
@@ -293,22 +259,131 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
     return None
 
 
+def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
+    fabs = _fabs
+    # 1. clip to the root bound
+    mx = 0.0
+    for i in range(n):
+        v = fabs(a[i])
+        if v > mx:
+            mx = v
+    mx = mx / fabs(a[n])        # = max |a_i|/|a_n| (rounding is monotone)
+    r = 2.0 * (1.0 + mx)
+    cap = math.ldexp(1.0, 900 // n)
+    if r > cap:
+        r = cap
+    if lo < -r:
+        lo = -r
+    if hi > r:
+        hi = r
+    if not (lo < hi):
+        return None
+    # 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
+    b = list(a)
+    if lo != 0.0:
+        for i in range(n):
+            for j in range(n - 1, i - 1, -1):
+                b[j] = b[j] + lo * b[j + 1]
+    w = hi - lo
+    f = 1.0
+    fact = _FACT
+    for j in range(n + 1):
+        b[j] = b[j] * f * (fact[j] * fact[n - j])
+        f = f * w
+    for k in range(1, n + 1):
+        prev = b[k - 1]
+        for j in range(k, n + 1):
+            cur = b[j]
+            b[j] = cur + prev
+            prev = cur
+    y = fabs(lo) + w
+    pt = fabs(a[n])
+    for i in range(n - 1, -1, -1):
+        pt = pt * y + fabs(a[i])
+    e = 8.0 * (n + 1) * EPS * pt * fact[n] + TINY
+    # 3. subdivision, left to right
+    stack = []
+    depth = 0
+    xl = lo
+    xr = hi
+    nf = float(n)
+    while True:
+        # sign variations, or -1 when a coefficient is within e of zero
+        b0 = b[0]
+        m = fabs(b0)
+        unsure = m <= e
+        v = 0
+        neg = b0 < 0.0
+        for bi in b[1:]:
+            ab = fabs(bi)
+            if ab > m:
+                m = ab
+            if ab <= e:
+                unsure = True
+            if (bi < 0.0) != neg:
+                v += 1
+                neg = not neg
+        if unsure:
+            v = -1
+        if v == 1:
+            # one simple root in (xl, xr): start where the control polygon crosses
+            i = 0
+            while (b[i + 1] < 0.0) == (b[i] < 0.0):
+                i += 1
+            s = (i + b[i] / (b[i] - b[i + 1])) / nf
+            x0 = xl + (xr - xl) * s
+            if not (xl < x0 < xr):
+                x0 = 0.5 * (xl + xr)
+            x = _newton(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
+            x = _polish(a, n, x, xl, xr)
+            if not (x > xl):
+                x = xr
+            if x > xr:
+                x = xr
+            return x
+        if v != 0:
+            if depth == BERN_DEPTH or (v < 0 and (fabs(b0) <= e or fabs(b[n]) <= e)):
+                t = _by_derivatives(a, n, xl, xr)
+                if t is not None:
+                    return t
+            else:
+                # de Casteljau at 1/2: left half in b, right half pushed
+                c = list(b)
+                rb = list(b)
+                for k in range(1, n + 1):
+                    for i in range(n - k + 1):
+                        c[i] = 0.5 * (c[i] + c[i + 1])
+                    b[k] = c[0]
+                    rb[n - k] = c[n - k]
+                xm = 0.5 * (xl + xr)
+                e = e + nf * EPS * m
+                depth += 1
+                stack.append((rb, e, xm, xr, depth))
+                xr = xm
+                continue
+        # no root in (xl, xr]: the next pending interval
+        if not stack:
+            return None
+        b, e, xl, xr, depth = stack.pop()
+
+
 def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
-    """A last Newton step: plain when Horner's accuracy at x is within a few
-    ulps, else up to two steps with a compensated p(x)."""
+    """A last Newton step: plain when the running error bound of Horner at x
+    is within a few ulps of x, else up to two steps with a compensated p(x)."""
+    fabs = _fabs
     for _ in range(2):
-        ax = _fabs(x)
+        ax = fabs(x)
         v = a[n]
         d = 0.0
-        pt = _fabs(v)
+        mu = 0.5 * fabs(v)
         for i in range(n - 1, -1, -1):
             d = d * x + v
             v = v * x + a[i]
-            pt = pt * ax + _fabs(a[i])
+            mu = mu * ax + fabs(v)
         if d == 0.0:
             return x
-        if n * pt <= 8.0 * _fabs(x * d):
-            # Horner is accurate enough here: one plain Newton step
+        # running error bound of Horner (Higham, Alg. 5.1): |v - p(x)| <= eps (mu - |v|/2)
+        if mu <= 2.0 * fabs(x * d):
             xn = x - v / d
             if xa < xn <= xb:
                 return xn

@@ -11,6 +11,12 @@ const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching boun
 const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
 const NEWTON_TOL: f64 = 9.313225746154785e-10; // 2^-30: an accepted Newton step this small (relative) has converged
 const MAXIT: usize = 100; // bracketed Newton step limit
+const BERN_DEPTH: usize = 12; // Bernstein subdivision depth limit
+/// i! for 0 <= i <= 16 (exact).
+const FACT: [f64; N1] = [
+    1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362880.0, 3628800.0, 39916800.0,
+    479001600.0, 6227020800.0, 87178291200.0, 1307674368000.0, 20922789888000.0,
+];
 
 /// 2^k for -1022 <= k <= 1023 (exact).
 fn pow2(k: i32) -> f64 {
@@ -115,12 +121,13 @@ fn midpoint(xa: f64, xb: f64, half: f64) -> f64 {
     xa + half
 }
 
-/// Root of p in (lo, hi), p(lo) of sign slo (nonzero); returns (x, a, b)
-/// with the final bracket [a, b].
-fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
+/// Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other,
+/// starting at x0 (lo < x0 < hi).
+#[inline(always)]
+fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
     let mut xa = lo;
     let mut xb = hi;
-    let mut x = 0.5 * (xa + xb);
+    let mut x = x0;
     let mut dx = xb - xa;
     let mut dxold = dx;
     let neg = slo < 0;
@@ -169,26 +176,29 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32) -> (f64, f64, f64) {
         }
         x = xn;
     }
-    (x, xa, xb)
+    x
 }
 
-/// A last Newton step inside [xa, xb]: plain when Horner is accurate enough
-/// at x, else up to two steps with compensated Horner.
+/// A last Newton step inside (xa, xb]: plain when the running error bound
+/// of Horner at x is within a few ulps of x, else up to two steps with
+/// compensated Horner.
+#[inline(always)]
 fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
     for _ in 0..2 {
         let ax = x.abs();
         let mut v = a[n];
         let mut d = 0.0;
-        let mut pt = v.abs();
+        let mut mu = 0.5 * v.abs();
         for i in (0..n).rev() {
             d = d * x + v;
             v = v * x + a[i];
-            pt = pt * ax + a[i].abs();
+            mu = mu * ax + v.abs();
         }
         if d == 0.0 {
             return x;
         }
-        if (n as f64) * pt <= 8.0 * (x * d).abs() {
+        // running error bound of Horner (Higham, Alg. 5.1): |v - p(x)| <= eps (mu - |v|/2)
+        if mu <= 2.0 * (x * d).abs() {
             // Horner is accurate enough here: one plain Newton step
             let xn = x - v / d;
             if xa < xn && xn <= xb {
@@ -210,6 +220,7 @@ fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
 }
 
 /// Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns the count.
+#[inline(always)]
 fn quadratic(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
     let (p, pe) = two_prod(b, b);
     let a4 = 4.0 * a;
@@ -254,7 +265,7 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
             out[k] = xl;
             k += 1;
         } else if sl * sr < 0 {
-            out[k] = newton(a, n, xl, xr, sl).0;
+            out[k] = newton(a, n, xl, xr, sl, 0.5 * (xl + xr));
             k += 1;
         }
         xl = xr;
@@ -263,59 +274,9 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
     k
 }
 
-/// The general method for degree n >= 3 (a scaled).
-fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
-    // 1. clip to the root bound
-    let an = a[n].abs();
-    let mut mx = 0.0;
-    for &ai in &a[..n] {
-        let v = ai.abs() / an;
-        if v > mx {
-            mx = v;
-        }
-    }
-    let mut r = 2.0 * (1.0 + mx);
-    let cap = pow2(900 / n as i32);
-    if r > cap {
-        r = cap;
-    }
-    if lo < -r {
-        lo = -r;
-    }
-    if hi > r {
-        hi = r;
-    }
-    if !(lo < hi) {
-        return None;
-    }
-    // 2. cheap exit: Taylor shift at the midpoint
-    let mid = 0.5 * (lo + hi);
-    let mut rad = hi - mid;
-    if mid - lo > rad {
-        rad = mid - lo;
-    }
-    rad = rad * (1.0 + 4.0 * EPS);
-    let mut q = *a;
-    for i in 0..n {
-        for j in (i..n).rev() {
-            q[j] = q[j] + mid * q[j + 1];
-        }
-    }
-    let mut s = q[n].abs();
-    for k in (1..n).rev() {
-        s = s * rad + q[k].abs();
-    }
-    s = s * rad;
-    let y = mid.abs() + rad;
-    let mut pt = a[n].abs();
-    for i in (0..n).rev() {
-        pt = pt * y + a[i].abs();
-    }
-    let n1 = (n + 1) as f64;
-    if q[0].abs() - s * (1.0 + 4.0 * n1 * EPS) > 8.0 * n1 * EPS * pt {
-        return None;
-    }
-    // 3. derivative tables and their roots, bottom up
+/// The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
+/// derivatives bottom up, then the first root of p with careful signs.
+fn by_derivatives(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
     let mut ders = [[0.0f64; N1]; MAX_DEGREE - 1];
     ders[0] = *a;
     for k in 1..n - 1 {
@@ -340,7 +301,6 @@ fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
         crit[..m2].copy_from_slice(&next[..m2]);
         m = m2;
     }
-    // 4. top level: first root, careful signs
     let mut xl = lo;
     let mut sl = sign_top(a, n, lo);
     for i in 0..=m {
@@ -350,7 +310,7 @@ fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
         let xr = if i < m { crit[i] } else { hi };
         let sr = sign_top(a, n, xr);
         if sl * sr < 0 {
-            let (x0, _, _) = newton(a, n, xl, xr, sl);
+            let x0 = newton(a, n, xl, xr, sl, 0.5 * (xl + xr));
             let mut x = polish(a, n, x0, xl, xr); // the monotone piece bounds the polish
             if !(x > xl) {
                 x = xr;
@@ -369,27 +329,187 @@ fn general(a: &[f64; N1], n: usize, mut lo: f64, mut hi: f64) -> Option<f64> {
     None
 }
 
+/// Sign variations of b[0..=n], or -1 when one of them is within e of zero;
+/// also max |b_i|.
+#[inline(always)]
+fn variations(b: &[f64; N1], n: usize, e: f64) -> (i32, f64) {
+    let mut m = b[0].abs();
+    let mut unsure = m <= e;
+    let mut v = 0;
+    for i in 1..n + 1 {
+        let ab = b[i].abs();
+        m = if ab > m { ab } else { m };
+        unsure |= ab <= e;
+        v += ((b[i] < 0.0) != (b[i - 1] < 0.0)) as i32;
+    }
+    (if unsure { -1 } else { v }, m)
+}
+
+/// The general method for degree n = N >= 3 (a scaled; one copy per degree,
+/// so the loops unroll): clip to the root bound, Bernstein subdivision left
+/// to right, the derivative method where the Bernstein signs are unsure.
+fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f64> {
+    let n = N;
+    // 1. clip to the root bound
+    let mut mx = 0.0;
+    for &ai in &a[..n] {
+        let v = ai.abs();
+        if v > mx {
+            mx = v;
+        }
+    }
+    mx = mx / a[n].abs(); // = max |a_i|/|a_n| (rounding is monotone)
+    let mut r = 2.0 * (1.0 + mx);
+    let cap = pow2(900 / n as i32);
+    if r > cap {
+        r = cap;
+    }
+    if lo < -r {
+        lo = -r;
+    }
+    if hi > r {
+        hi = r;
+    }
+    if !(lo < hi) {
+        return None;
+    }
+    // 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
+    let mut b = [0.0f64; N1];
+    for i in 0..n + 1 {
+        b[i] = a[i];
+    }
+    if lo != 0.0 {
+        for i in 0..n {
+            for j in (i..n).rev() {
+                b[j] = b[j] + lo * b[j + 1];
+            }
+        }
+    }
+    let w = hi - lo;
+    let mut f = 1.0;
+    for j in 0..n + 1 {
+        b[j] = b[j] * f * (FACT[j] * FACT[n - j]);
+        f = f * w;
+    }
+    for k in 1..n + 1 {
+        for j in (k..n + 1).rev() {
+            b[j] = b[j] + b[j - 1];
+        }
+    }
+    let y = lo.abs() + w;
+    let mut pt = a[n].abs();
+    for i in (0..n).rev() {
+        pt = pt * y + a[i].abs();
+    }
+    let nf = n as f64;
+    let e = 8.0 * (nf + 1.0) * EPS * pt * FACT[n] + TINY;
+    // 3. subdivision, left to right
+    subdivide::<N>(a, &b, e, lo, hi, 0)
+}
+
+/// Step 3 on [xl, xr] with the n!-scaled Bernstein coefficients b and their
+/// error bound e: the root in (xl, xr], or None (the caller goes on right).
+fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+    let n = N;
+    let nf = n as f64;
+    let (v, bm) = variations(b, n, e);
+    if v == 1 {
+        // one simple root in (xl, xr): start where the control polygon crosses
+        let mut i = 0;
+        while (b[i + 1] < 0.0) == (b[i] < 0.0) {
+            i += 1;
+        }
+        let s = (i as f64 + b[i] / (b[i] - b[i + 1])) / nf;
+        let mut x0 = xl + (xr - xl) * s;
+        if !(xl < x0 && x0 < xr) {
+            x0 = 0.5 * (xl + xr);
+        }
+        let x1 = newton(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0);
+        let mut x = polish(a, n, x1, xl, xr);
+        if !(x > xl) {
+            x = xr;
+        }
+        if x > xr {
+            x = xr;
+        }
+        return Some(x);
+    }
+    if v == 0 {
+        return None;
+    }
+    if depth == BERN_DEPTH || (v < 0 && (b[0].abs() <= e || b[n].abs() <= e)) {
+        return by_derivatives(a, n, xl, xr);
+    }
+    // de Casteljau at 1/2: left half, then right half
+    let mut c = [0.0f64; N1];
+    let mut lb = [0.0f64; N1];
+    let mut rb = [0.0f64; N1];
+    for i in 0..n + 1 {
+        c[i] = b[i];
+    }
+    lb[0] = c[0];
+    rb[n] = c[n];
+    for k in 1..n + 1 {
+        for i in 0..n - k + 1 {
+            c[i] = 0.5 * (c[i] + c[i + 1]);
+        }
+        lb[k] = c[0];
+        rb[n - k] = c[n - k];
+    }
+    let xm = 0.5 * (xl + xr);
+    let e2 = e + nf * EPS * bm;
+    if let Some(t) = subdivide::<N>(a, &lb, e2, xl, xm, depth + 1) {
+        return Some(t);
+    }
+    subdivide::<N>(a, &rb, e2, xm, xr, depth + 1)
+}
+
+fn general_dispatch(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
+    match n {
+        3 => general::<3>(a, lo, hi),
+        4 => general::<4>(a, lo, hi),
+        5 => general::<5>(a, lo, hi),
+        6 => general::<6>(a, lo, hi),
+        7 => general::<7>(a, lo, hi),
+        8 => general::<8>(a, lo, hi),
+        9 => general::<9>(a, lo, hi),
+        10 => general::<10>(a, lo, hi),
+        11 => general::<11>(a, lo, hi),
+        12 => general::<12>(a, lo, hi),
+        13 => general::<13>(a, lo, hi),
+        14 => general::<14>(a, lo, hi),
+        15 => general::<15>(a, lo, hi),
+        16 => general::<16>(a, lo, hi),
+        _ => None,
+    }
+}
+
 /// `a[0..=n]` = `c[0..=n]` times the power of two putting max |c_i| in [1, 2);
 /// returns the degree left after dropping top coefficients that underflowed.
+#[inline(always)]
 fn scale(c: &[f64], mut n: usize, a: &mut [f64; N1]) -> Option<usize> {
+    let c = &c[..n + 1];
     let mut m = 0.0;
-    for &ci in &c[..=n] {
+    for &ci in c {
         if ci.abs() > m {
             m = ci.abs();
         }
     }
     let mut k = 1 - frexp_exp(m);
-    a[..=n].copy_from_slice(&c[..=n]);
     if k > 1000 {
         let f = pow2(600);
-        for v in a[..=n].iter_mut() {
-            *v = *v * f;
+        for i in 0..c.len() {
+            a[i] = c[i] * f;
         }
         k -= 600;
+    } else {
+        for i in 0..c.len() {
+            a[i] = c[i];
+        }
     }
     // 2^k for k = -1023 is subnormal: build it as 2^-1022 / 2 (exact)
     let f = if k < -1022 { pow2(-1022) * 0.5 } else { pow2(k) };
-    for v in a[..=n].iter_mut() {
+    for v in a[..c.len()].iter_mut() {
         *v = *v * f;
     }
     loop {
@@ -436,7 +556,7 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
         let nr = quadratic(a[2], a[1], a[0], &mut r);
         *r[..nr].iter().find(|&&x| lo < x && x <= hi)?
     } else {
-        general(&a, n, lo, hi)?
+        general_dispatch(&a, n, lo, hi)?
     };
     Some(x + 0.0)
 }
