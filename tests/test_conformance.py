@@ -57,10 +57,12 @@ GOOD = {"id": "lin", "op": "roots", "coeffs": [-0.5, 1.0], "lo": 0.0, "hi": 1.0,
 
 
 def test_unknown_op_is_a_failure_not_a_crash(tmp_path, capsys):
-    p = write_cases(tmp_path, [GOOD, {"id": "later", "op": "toc", "args": [1, 2]}])
+    p = write_cases(tmp_path, [GOOD, {"id": "later", "op": "spin", "args": [1, 2]},
+                               {"id": "bad-toc", "op": "toc", "equation": "no-such-equation", "params": {}, "horizon": 1}])
     assert R.main(["--lang", "python", "--cases", str(p)]) == 1
     out = capsys.readouterr().out
-    assert "FAIL  later" in out and "unknown op 'toc'" in out
+    assert "FAIL  later" in out and "unknown op 'spin'" in out
+    assert "FAIL  bad-toc" in out and "malformed toc case" in out
     assert "pass  lin" in out
 
 
@@ -112,6 +114,10 @@ def test_case_files_are_well_formed():
     assert len(ids) == len(set(ids))
     for c in cases:
         assert c["op"] in R.OPS
+        if c["op"] == "toc":
+            assert c["equation"] in ("circle-circle", "point-line") and c["horizon"] > 0 and "expect" in c
+            assert c["expect"] is None or 0 < c["expect"] <= c["horizon"]
+            continue
         assert "expect" in c and "roots" in c
         lo, hi = R.num(c["lo"]), R.num(c["hi"])
         e = c["expect"]

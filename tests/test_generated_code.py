@@ -7,8 +7,8 @@ import pytest
 
 from conftest import EQUATIONS, LANGS
 from max2code.harness import build_harness
-from reference_equations import EQUATIONS as REFERENCE
-from reference_equations import scale as reference_scale
+from max2code.conformance.motion_ref import EQUATIONS as REFERENCE
+from max2code.conformance.motion_ref import scale as reference_scale
 
 N_SETS = 200
 REL_TOL = 1e-12

@@ -12,8 +12,8 @@ from conftest import LANGS, ROOT
 from max2code.harness import build_harness
 from max2code.pipeline import GenerateRequest, generate_file
 from max2code_rt.roots import smallest_root
-from reference_equations import EQUATIONS as REFERENCE
-from reference_equations import scale as reference_scale
+from max2code.conformance.motion_ref import EQUATIONS as REFERENCE
+from max2code.conformance.motion_ref import scale as reference_scale
 from test_generated_code import SAMPLERS
 
 ORDER = 4

@@ -1,0 +1,185 @@
+"""The conformance op "toc": time of contact through the generated entry
+functions (`NAME_toc`), with their variant selection and the runtime's
+solver.
+
+Case: {"id", "op": "toc", "equation": "circle-circle" | "point-line",
+       "params": {letter: value}, "horizon": T, "expect": t | null, "tol": abs}
+The answer is the smallest t in (0, T] at which the equation's polynomial
+(the bundled .mxm at its default Taylor order) is zero.  References come
+from motion_ref (polynomial arithmetic at 60 digits, independent of Maxima
+and of max2code) and mpmath.polyroots; `tol` bounds the error a double
+evaluation of the coefficients can cause (condition of the root) plus 1e-12
+relative.
+"""
+from __future__ import annotations
+
+import json
+import random
+import sys
+import tempfile
+from pathlib import Path
+
+import mpmath
+
+from max2code.conformance.motion_ref import EQUATIONS, scale
+
+ROOT = Path(__file__).resolve().parents[2]
+ORDER = 4
+EPS = 2.0 ** -52
+CASE_FILE = ROOT / "tests" / "conformance" / "toc.jsonl"
+
+
+def reference(equation: str, params: dict, horizon: float):
+    """(t or None, tolerance, reason-to-skip or None) for one case."""
+    with mpmath.workdps(60):
+        coef = EQUATIONS[equation](params, ORDER)
+        sk = scale(equation, params, ORDER)
+        while len(coef) > 1 and coef[-1] == 0:
+            coef, sk = coef[:-1], sk[:-1]
+        if len(coef) < 2:
+            return None, 0.0, "constant polynomial"
+        roots = mpmath.polyroots(list(reversed(coef)), maxsteps=400, extraprec=400)
+        real = sorted(mpmath.re(r) for r in roots if abs(mpmath.im(r)) <= mpmath.mpf(10) ** -30 * max(1, abs(r)))
+        near = [r for r in roots if abs(mpmath.im(r)) < 1e-6 * max(1, abs(r)) and -1e-6 < mpmath.re(r) <= horizon * (1 + 1e-6)]
+        inside = [r for r in real if 0 < r <= horizon]
+        deriv = [k * c for k, c in enumerate(coef)][1:]
+
+        def tol_at(r):
+            p1 = abs(mpmath.polyval(list(reversed(deriv)), r))
+            noise = 64 * EPS * sum(s * abs(r) ** k for k, s in enumerate(sk))
+            return float(1e-12 * abs(r) + noise / p1) if p1 else float("inf")
+
+        if len(near) > len(inside) and not inside:
+            return None, 0.0, "a near-real root close to the window: ambiguous"
+        if not inside:
+            return None, 0.0, None
+        r = inside[0]
+        tol = tol_at(r)
+        if tol > 1e-6 * max(1.0, float(abs(r))) or r < 1e-9 or horizon - r < 1e-9:
+            return None, 0.0, "ill-conditioned or at a window edge"
+        return float(r), tol, None
+
+
+def _sample(equation: str, rng: random.Random) -> dict:
+    if equation == "point-line":
+        p = {}
+        for pos, vel, acc, rad, w, ph in (("a", "b", "c", "d", "e", "f"), ("g", "h", "i", "j", "k", "l")):
+            p.update({pos: rng.uniform(-3, 3), vel: rng.uniform(-3, 3), acc: rng.uniform(-2, 2),
+                      rad: rng.uniform(0, 1), w: rng.uniform(-2, 2), ph: rng.uniform(-3.1, 3.1)})
+        off = {"d": ["d"], "c": ["c"], "j": ["j"], "i": ["i"]}
+    else:
+        a, m = rng.uniform(-10, 10), rng.uniform(-10, 10)
+        p = {"a": a, "b": rng.uniform(-3, 3), "c": rng.uniform(-1, 1), "d": rng.uniform(0, 1), "e": rng.uniform(-1, 1),
+             "f": rng.uniform(-3.1, 3.1), "m": m, "n": rng.uniform(-3, 3), "o": rng.uniform(-1, 1),
+             "p": rng.uniform(-1, 1), "q": rng.uniform(-3.1, 3.1),
+             "g": a + rng.uniform(-6, 6), "h": rng.uniform(-3, 3), "i": rng.uniform(-1, 1), "j": rng.uniform(0, 1),
+             "k": rng.uniform(-1, 1), "l": rng.uniform(-3.1, 3.1), "r": m + rng.uniform(-6, 6),
+             "s": rng.uniform(-3, 3), "u": rng.uniform(-1, 1), "v": rng.uniform(-1, 1), "w": rng.uniform(-3.1, 3.1),
+             "x": rng.uniform(0.1, 1.5), "z": rng.uniform(0.1, 1.5)}
+        off = {"d": ["d"], "c": ["c", "o"], "x": ["x"], "j": ["j"], "i": ["i", "u"], "z": ["z"]}
+    for names in off.values():
+        if rng.random() < 0.4:
+            for n in names:
+                p[n] = 0.0
+    return p
+
+
+def generate(n_per_equation: int = 150, seed: int = 2026) -> list[dict]:
+    """Random cases with references; ambiguous ones are skipped (counted on stderr)."""
+    rng = random.Random(seed)
+    cases, skipped = [], 0
+    for equation in ("circle-circle", "point-line"):
+        made = 0
+        while made < n_per_equation:
+            params = _sample(equation, rng)
+            horizon = rng.choice([0.5, 2.0, 5.0])
+            t, tol, why = reference(equation, params, horizon)
+            if why:
+                skipped += 1
+                continue
+            cases.append({"id": f"toc-{equation}-{made:03d}", "op": "toc", "equation": equation,
+                          "params": params, "horizon": horizon, "expect": t, "tol": tol})
+            made += 1
+    print(f"toc cases: {len(cases)} written, {skipped} ambiguous draws skipped", file=sys.stderr)
+    return cases
+
+
+def _malformed(case: dict) -> str:
+    if case.get("equation") not in EQUATIONS:
+        return f"unknown equation {case.get('equation')!r} (known: {', '.join(sorted(EQUATIONS))})"
+    if not isinstance(case.get("params"), dict):
+        return "params must be an object of letter: number"
+    h = case.get("horizon")
+    if not isinstance(h, (int, float)) or not h > 0:
+        return "horizon must be a positive number"
+    return ""
+
+
+class TocOp:
+    """op "toc": answered by a harness compiled from the generated code of the
+    case's equation (templates/<lang>/harness.j2, toc mode)."""
+
+    name = "toc"
+    testee_langs = ("python", "c", "rust", "m2")
+
+    def degree(self, case: dict):
+        return None
+
+    def batch(self, lang: str, cases: dict[int, dict]) -> dict[int, str]:
+        from max2code.harness import build_harness
+        from max2code.pipeline import GenerateRequest, generate_file
+
+        if lang not in self.testee_langs:
+            raise ValueError(f"the toc op has no testee for {lang}")
+        answers: dict[int, str] = {}
+        by_eq: dict[str, list[int]] = {}
+        for seq, case in cases.items():
+            why = _malformed(case)
+            if why:
+                answers[seq] = f"error: malformed toc case: {why}"
+            else:
+                by_eq.setdefault(case["equation"], []).append(seq)
+        for equation, seqs in sorted(by_eq.items()):
+            path = ROOT / "equations" / f"{equation}.mxm"
+            g = generate_file(GenerateRequest(path=str(path), lang=lang, out_name="generated"))
+            toc = g.derivation.module.equation + "_toc"
+            with tempfile.TemporaryDirectory(prefix=f"toc-{lang}-") as tmp:
+                h = build_harness(lang, g.text, g.function, tmp, toc=toc)
+                missing = {s: [n for n in g.function.params if n not in cases[s]["params"]] for s in seqs}
+                for s in [s for s in seqs if missing[s]]:
+                    answers[s] = f"error: malformed toc case: missing parameters {', '.join(missing[s])}"
+                seqs = [s for s in seqs if not missing[s]]
+                rows = [[float(cases[s]["params"][n]) for n in g.function.params] + [0.0, float(cases[s]["horizon"])]
+                        for s in seqs]
+                for s, (status, t) in zip(seqs, h.evaluate(rows) if rows else []):
+                    answers[s] = {1.0: repr(t), 0.0: "none"}.get(status, "unsupported")
+        return answers
+
+    def judge(self, case: dict, answer: str):
+        from max2code.conformance.runner import Verdict
+
+        expect, tol = case.get("expect"), float(case.get("tol", 0.0))
+        if answer.startswith("error"):
+            return Verdict(False, "-", why=answer[len("error: "):])
+        if answer == "unsupported":
+            return Verdict(False, answer, why="the entry refused the parameters")
+        if answer == "none":
+            return Verdict(expect is None, "none", why="" if expect is None else f"missed contact at {expect!r}")
+        t = float(answer)
+        if expect is None:
+            return Verdict(False, answer, why="invented a contact")
+        err = abs(t - expect)
+        return Verdict(err <= tol, answer, relerr=err / abs(expect), why="" if err <= tol else f"expected {expect!r} +- {tol:.1e}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    cases = generate()
+    with open(CASE_FILE, "w", encoding="utf-8") as fh:
+        for c in cases:
+            fh.write(json.dumps(c, sort_keys=True) + "\n")
+    print(f"wrote {CASE_FILE}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
