@@ -464,22 +464,47 @@ fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: 
     subdivide::<N>(a, &rb, e2, xm, xr, depth + 1)
 }
 
-fn general_dispatch(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
+/// Steps 3-6 for a stripped degree n = N >= 1 (one copy per degree).
+fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    let mut a = [0.0f64; N1];
+    let n = scale(c, N, &mut a)?;
+    if n != N {
+        // top coefficients underflowed in the scaling: rescaling is exact no-op
+        return dispatch(&a[..n + 1], n, lo, hi);
+    }
+    if N == 1 {
+        let x = -a[0] / a[1];
+        if !(lo < x && x <= hi) {
+            return None;
+        }
+        Some(x)
+    } else if N == 2 {
+        let mut r = [0.0f64; 2];
+        let nr = quadratic(a[2], a[1], a[0], &mut r);
+        r[..nr].iter().copied().find(|&x| lo < x && x <= hi)
+    } else {
+        general::<N>(&a, lo, hi)
+    }
+}
+
+fn dispatch(c: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     match n {
-        3 => general::<3>(a, lo, hi),
-        4 => general::<4>(a, lo, hi),
-        5 => general::<5>(a, lo, hi),
-        6 => general::<6>(a, lo, hi),
-        7 => general::<7>(a, lo, hi),
-        8 => general::<8>(a, lo, hi),
-        9 => general::<9>(a, lo, hi),
-        10 => general::<10>(a, lo, hi),
-        11 => general::<11>(a, lo, hi),
-        12 => general::<12>(a, lo, hi),
-        13 => general::<13>(a, lo, hi),
-        14 => general::<14>(a, lo, hi),
-        15 => general::<15>(a, lo, hi),
-        16 => general::<16>(a, lo, hi),
+        1 => solve::<1>(c, lo, hi),
+        2 => solve::<2>(c, lo, hi),
+        3 => solve::<3>(c, lo, hi),
+        4 => solve::<4>(c, lo, hi),
+        5 => solve::<5>(c, lo, hi),
+        6 => solve::<6>(c, lo, hi),
+        7 => solve::<7>(c, lo, hi),
+        8 => solve::<8>(c, lo, hi),
+        9 => solve::<9>(c, lo, hi),
+        10 => solve::<10>(c, lo, hi),
+        11 => solve::<11>(c, lo, hi),
+        12 => solve::<12>(c, lo, hi),
+        13 => solve::<13>(c, lo, hi),
+        14 => solve::<14>(c, lo, hi),
+        15 => solve::<15>(c, lo, hi),
+        16 => solve::<16>(c, lo, hi),
         _ => None,
     }
 }
@@ -536,28 +561,11 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if c.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let mut n = c.iter().rposition(|&v| v != 0.0)?;
+    let n = c.iter().rposition(|&v| v != 0.0)?;
     if n == 0 {
         return None;
     }
-    let mut a = [0.0f64; N1];
-    n = scale(c, n, &mut a)?;
-    if n == 0 {
-        return None;
-    }
-    let x = if n == 1 {
-        let x = -a[0] / a[1];
-        if !(lo < x && x <= hi) {
-            return None;
-        }
-        x
-    } else if n == 2 {
-        let mut r = [0.0f64; 2];
-        let nr = quadratic(a[2], a[1], a[0], &mut r);
-        *r[..nr].iter().find(|&&x| lo < x && x <= hi)?
-    } else {
-        general_dispatch(&a, n, lo, hi)?
-    };
+    let x = dispatch(c, n, lo, hi)?;
     Some(x + 0.0)
 }
 
