@@ -126,7 +126,12 @@ def test_property_known_roots(roots, lo, width, lead, sign):
                       and all(abs(r - s) > 1e-3 for j, s in enumerate(roots) if j != i))
     if isolated:
         assert t is not None
-        assert t <= isolated[0] + 1e-9
+        # 1e-6, not 1e-9: the coefficients are rounded, and next to a cluster
+        # (e.g. a triple root at lo) the rounded polynomial's root moves by
+        # ~1e-9 (roots [1, 1, 1, 1.25, 1.125, 1.1077532311419427] in (1, 2]:
+        # the exact root of the doubles is 1.10775323247119...); skipping the
+        # root would land >= 1e-3 further
+        assert t <= isolated[0] + 1e-6
 
 
 @settings(max_examples=150, deadline=None)
