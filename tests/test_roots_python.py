@@ -11,16 +11,7 @@ from hypothesis import strategies as st
 from max2code_rt.roots import smallest_root
 
 
-def from_roots(roots, lead=1.0):
-    """Ascending coefficients of lead * prod (t - r)."""
-    c = [lead]
-    for r in roots:
-        nxt = [0.0] * (len(c) + 1)
-        for i, v in enumerate(c):
-            nxt[i + 1] += v
-            nxt[i] -= r * v
-        c = nxt
-    return c
+from max2code.conformance.gencases import from_roots
 
 
 def horner(c, x):

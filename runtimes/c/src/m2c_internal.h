@@ -8,6 +8,7 @@
 #define M2C_INTERNAL_H
 
 #include <math.h>
+#include "m2c_roots.h"
 #include <stdint.h>
 #include <string.h>
 
@@ -234,5 +235,27 @@ int m2c_scale(const double *c, int n, double *a);
 /* Degree n >= 1 of c (exactly-zero top coefficients stripped), lo < hi
  * finite: the answer of docs/roots.md steps 3-6; 1 and *t when found. */
 int m2c_solve(const double *c, int n, double lo, double hi, double *t);
+
+/* The contract's input rules, shared by the solver and the GSL baseline:
+ * -1 for a bad degree or NULL pointer, 0 when the answer is "none" (NaN/inf,
+ * lo >= hi, all-zero or constant polynomial), else 1 with *n the degree left
+ * after dropping exactly-zero top coefficients. */
+static inline int m2c_check_input(const double *c, int degree, double lo, double hi, const double *t, int *n)
+{
+    if (c == 0 || t == 0 || degree < 0 || degree > M2C_MAX_DEGREE)
+        return -1;
+    if (!(isfinite(lo) && isfinite(hi)) || !(lo < hi))
+        return 0;
+    for (int i = 0; i <= degree; i++)
+        if (!isfinite(c[i]))
+            return 0;
+    int m = degree;
+    while (m >= 0 && c[m] == 0.0)
+        m--;
+    if (m <= 0)
+        return 0;
+    *n = m;
+    return 1;
+}
 
 #endif
