@@ -11,36 +11,29 @@ import argparse
 import os
 import random
 import subprocess
-import sys
 import tempfile
 
 from max2code.errors import Max2CodeError
 from max2code.pipeline import GenerateRequest, generate_file
+from max2code.progress import bar
 from max2code.render import environment
 from max2code.targets import target as get_target
 
+# optimised builds; each target adds how to link its runtime (generated files call its solver)
 BUILD = {
-    "c": lambda src, exe: ["gcc", "-std=c11", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror", src, "-o", exe, "-lm"],
-    "rust": lambda src, exe: ["rustc", "--edition", "2021", "-C", "opt-level=3", "-D", "warnings", src, "-o", exe],
+    "c": lambda tgt, src, exe: ["gcc", "-std=c11", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+                                src, "-o", exe, *tgt.runtime_flags(), "-lm"],
+    "rust": lambda tgt, src, exe: ["rustc", "--edition", "2021", "-C", "opt-level=3", "-D", "warnings",
+                                   *tgt.runtime_flags(), src, "-o", exe],
 }
 SOURCE = {"c": "bench.c", "rust": "bench.rs"}
 
 
 def _params(g, rng, zeros=()):
-    from_sampler = _sampler(g.derivation.module.equation)
-    p = from_sampler(rng)
-    for z in zeros:
-        p[z] = 0.0
-    return [p[n] for n in g.function.params]
-
-
-def _sampler(equation):
-    def sample(rng):
-        return {n: rng.uniform(-3.0, 3.0) if n not in ("x", "z") else rng.uniform(0.1, 2.0) for n in _NAMES[equation]}
-    return sample
-
-
-_NAMES: dict[str, tuple[str, ...]] = {}
+    """A random parameter set (radii positive) with `zeros` set to 0."""
+    radii = {p.name for p in g.derivation.module.parameters if p.effect == "radius"}
+    return [0.0 if n in zeros else rng.uniform(0.1, 2.0) if n in radii else rng.uniform(-3.0, 3.0)
+            for n in g.function.params]
 
 
 def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
@@ -49,7 +42,6 @@ def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
     for lang in ("c", "rust"):
         g = generate_file(GenerateRequest(path=path, lang=lang, out_name="generated"))
         eq = g.derivation.module.equation
-        _NAMES[eq] = g.function.params
         vs = list(g.variants)
         full_index = next(i for i, v in enumerate(vs) if v.name == g.function.name)
         rng = random.Random(2026)
@@ -71,7 +63,7 @@ def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
                     reps=reps, trials=trials))
             exe = os.path.join(tmp, "bench")
             progress(f"{eq}: compiling the {lang} benchmark")
-            proc = subprocess.run(BUILD[lang](src, exe), capture_output=True, text=True)
+            proc = subprocess.run(BUILD[lang](tgt, src, exe), capture_output=True, text=True)
             if proc.returncode != 0:
                 raise Max2CodeError(f"max2code bench: the {lang} benchmark did not compile:\n{proc.stderr[-3000:]}")
             progress(f"{eq}: timing {len(vs) + 2} functions in {lang}")
@@ -93,12 +85,15 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--trials", type=int, default=5, help="trials; the median is reported (default 5)")
     args = ap.parse_args(argv)
 
-    def progress(msg):
-        print(f"\rmax2code bench: {msg:<70}", end="", file=sys.stderr, flush=True)
+    steps = [0, 4 * len(args.files)]   # compile and time, in two languages, per file
 
-    for path in args.files:
-        rows, mixed = run(path, args.sets, args.reps, args.trials, progress)
-        print(file=sys.stderr)
+    def progress(msg):
+        bar(steps[0], steps[1], msg, prefix="max2code bench")
+        steps[0] += 1
+
+    results = [(path, *run(path, args.sets, args.reps, args.trials, progress)) for path in args.files]
+    bar(steps[1], steps[1], "done", prefix="max2code bench")
+    for path, rows, mixed in results:
         print(f"\n{os.path.basename(path)}: ns per coefficient evaluation (median of {args.trials} trials)\n")
         print("| variant | degree | multiplications | C ns | Rust ns |")
         print("|---|---|---|---|---|")

@@ -164,26 +164,3 @@ def to_poly(e: Expr, atoms: dict[str, Expr] | None = None) -> tuple[dict[Monomia
         raise TypeError(x)
 
     return go(e), atoms
-
-
-def evaluate(e: Expr, env: dict[str, object], funcs: dict[str, object]):
-    """Evaluate an Expr with numbers from `env` (by symbol name) and `funcs`."""
-    if isinstance(e, Num):
-        return env.get("__num__", lambda q: q)(e.value)
-    if isinstance(e, Sym):
-        return env[e.name]
-    if isinstance(e, Call):
-        return funcs[e.func](*[evaluate(a, env, funcs) for a in e.args])
-    if isinstance(e, Add):
-        s = evaluate(e.terms[0], env, funcs)
-        for t in e.terms[1:]:
-            s = s + evaluate(t, env, funcs)
-        return s
-    if isinstance(e, Mul):
-        p = evaluate(e.factors[0], env, funcs)
-        for f in e.factors[1:]:
-            p = p * evaluate(f, env, funcs)
-        return p
-    if isinstance(e, Pow):
-        return evaluate(e.base, env, funcs) ** int(e.exp.value)  # type: ignore[union-attr]
-    raise TypeError(e)

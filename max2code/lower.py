@@ -16,7 +16,7 @@ import mpmath
 
 from max2code.collect import Polynomial
 from max2code.errors import Span
-from max2code.expr import Call, Expr, Num, Poly, Sym, to_maxima
+from max2code.expr import Call, Expr, Poly, Sym, to_maxima
 
 # Nodes are plain tuples, so equal subexpressions are equal values:
 #   ("lit", float)  ("ref", name)  ("neg", a)  ("call", func, a)

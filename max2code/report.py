@@ -18,6 +18,7 @@ import time
 
 from max2code.maxima import run_maxima
 from max2code.mxm import read_mxm
+from max2code.progress import bar
 from max2code.pipeline import GenerateRequest, derive, generate_file
 from max2code.targets import LANGUAGES
 
@@ -25,9 +26,7 @@ DEFAULT = ["equations/circle-circle.mxm", "equations/point-line.mxm"]
 
 
 def _progress(i: int, n: int, what: str) -> None:
-    width = 24
-    done = int(width * i / n)
-    print(f"\r[{'#' * done}{'.' * (width - done)}] {i}/{n} {what:<50}", end="", file=sys.stderr, flush=True)
+    bar(i, n, what, prefix="max2code table")
 
 
 def maxima_display_lines(path: str) -> int:
@@ -76,7 +75,6 @@ def measure(paths: list[str]) -> list[dict]:
                 row["mult_shared"] = g.function.multiplications
             rows.append(row)
     _progress(steps, steps, "done")
-    print(file=sys.stderr)
     return rows
 
 

@@ -10,7 +10,6 @@ cost, cheapest first: the order in which the selection logic tests them.
 from __future__ import annotations
 
 import itertools
-import sys
 from dataclasses import dataclass
 
 from max2code.collect import Polynomial, collect
@@ -18,6 +17,7 @@ from max2code.errors import SourceError
 from max2code.expr import NotPolynomial
 from max2code.lower import FunctionIR, lower
 from max2code.maxima import Statement, run_maxima
+from max2code.progress import bar
 from max2code.reader import MaximaOutputError, read_expr
 
 # kind of switch -> (the effect whose parameters become zero, short name)
@@ -83,10 +83,7 @@ def switches_of(derivation) -> list[Switch]:
 
 def _progress(on: bool, i: int, n: int, what: str) -> None:
     if on:
-        width = 24
-        done = int(width * i / max(n, 1))
-        print(f"\rmax2code: [{'#' * done}{'.' * (width - done)}] {i}/{n} {what:<40}", end="" if i < n else "\n",
-              file=sys.stderr, flush=True)
+        bar(i, n, what)
 
 
 def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_cache: bool = True,
@@ -137,9 +134,7 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
         members.sort(key=lambda i: (len({p for s in combos[i] for p in s.params}), [s.label for s in combos[i]]))
         best = combos[members[0]]
         zeros = tuple(sorted({p for s in best for p in s.params}))
-        name = mod.equation + "".join("_" + s.label for s in best) if best != tuple(sorted(forced)) or forced else mod.equation
-        if not best:
-            name = mod.equation
+        name = mod.equation + "".join("_" + s.label for s in best)
         _progress(progress, min(2 + n, len(combos) + 1), len(combos) + 2, f"lowering {name}")
         fn = lower(poly, name, mod.doc, params, docs, origin, shared=shared)
         aliases = tuple("+".join(s.label for s in combos[i]) or "full" for i in members[1:])
