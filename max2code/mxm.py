@@ -28,7 +28,7 @@ class Block:
 
 
 # What a parameter can describe (`parameter a "doc" : body 1 position`).
-EFFECTS = ("position", "velocity", "acceleration", "orbit_radius", "angular_velocity", "phase", "radius")
+EFFECTS = ("position", "velocity", "acceleration", "orbit_radius", "angular_velocity", "phase", "radius", "spin")
 
 
 @dataclass(frozen=True)

@@ -97,7 +97,14 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
         by_mask = [names.get(m) for m in range(1 << len(selection.switches))]
     tpl = environment().get_template(f"{target.name}/file.j2")
     toc = selection.name.replace("_coefficients", "_toc") if selection is not None else None
+    which = selection.name.replace("_coefficients", "_variant") if selection is not None else None
+    # for each mask, the index of its variant in selection.cases (-1: none)
+    index_by_mask = [] if selection is None else [
+        next((i for i, c in enumerate(selection.cases) if m in c.masks), -1) for m in range(1 << len(selection.switches))]
     text = tpl.render(target=target, functions=ctx, selection=selection, selection_by_mask=by_mask, toc=toc,
+                      variant_fn=which, index_by_mask=index_by_mask,
+                      variant_unused=[] if selection is None else
+                      [p for p in first.params if all(p not in zs for _, zs in selection.switches)],
                       header=header, variable=variable,
                       params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))

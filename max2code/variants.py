@@ -23,7 +23,10 @@ from max2code.reader import MaximaOutputError, read_expr
 # kind of switch -> (the effect whose parameters become zero, short name)
 KINDS = {"orbit": ("orbit_radius", "no_orbit"),
          "acceleration": ("acceleration", "no_accel"),
-         "radius": ("radius", "point")}
+         "radius": ("radius", "point"),
+         "spin": ("spin", "no_spin")}
+# the world effect each kind of switch belongs to (None: a shape, always available)
+WORLD_EFFECT_OF = {"orbit": "orbit", "spin": "orbit", "acceleration": "acceleration", "radius": None}
 # effects a world may leave out with --effects; a zero radius (a point) is a
 # shape, always available
 WORLD_EFFECTS = ("acceleration", "orbit")
@@ -97,7 +100,7 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
         if e not in WORLD_EFFECTS:
             raise SourceError(mod.maxima_span, f"unknown effect '{e}' for --effects; expected: {', '.join(WORLD_EFFECTS)}")
     switches = switches_of(derivation)
-    forced = [s for s in switches if s.kind in WORLD_EFFECTS and s.kind not in allowed]
+    forced = [s for s in switches if WORLD_EFFECT_OF[s.kind] is not None and WORLD_EFFECT_OF[s.kind] not in allowed]
     free = [s for s in switches if s not in forced]
     combos = [tuple(sorted(forced + list(c))) for r in range(len(free) + 1) for c in itertools.combinations(free, r)]
 

@@ -33,6 +33,16 @@ class Target:
         """The command that runs the built harness."""
         raise NotImplementedError(type(self).__name__)
 
+    # ---- the simulator (docs/simulator.md) ------------------------------
+    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+        """Commands that build this language's simulator in `workdir` from the
+        generated files (equation name -> file name in workdir)."""
+        raise NotImplementedError(f"no simulator for {self.name} yet")
+
+    def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
+        """The command that runs the built simulator (compiled scene on stdin)."""
+        raise NotImplementedError(f"no simulator for {self.name} yet")
+
     def runtime_flags(self) -> list[str]:
         """Compiler arguments that make this checkout's runtime (its root
         solver) available to generated code; builds the runtime if needed."""

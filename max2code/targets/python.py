@@ -19,3 +19,11 @@ class Python(Target):
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [sys.executable, "-W", "error", src]
+
+    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+        """Byte-compile the generated modules (the simulator is max2code_rt.sim)."""
+        return [[sys.executable, "-W", "error", "-m", "py_compile", *generated.values()]]
+
+    def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
+        return [sys.executable, "-W", "error", "-m", "max2code_rt.sim_main",
+                generated["circle_circle"], generated["point_edge"]]

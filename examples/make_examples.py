@@ -1,0 +1,81 @@
+"""Write the example scenes of this folder (run from the project root:
+`python examples/make_examples.py`).  The JSON files are committed; this
+script says how their numbers were chosen."""
+import json
+import math
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def box(w, h, thick=0.1, restitution=1.0, x0=0.0, y0=0.0):
+    """Four fixed walls around [x0, x0+w] x [y0, y0+h]."""
+    def wall(name, cx, cy, hw, hh):
+        return {"name": name, "shape": "polygon", "fixed": True, "restitution": restitution, "position": [cx, cy],
+                "vertices": [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]]}
+    t = thick / 2
+    return [wall("floor", x0 + w / 2, y0 - t, w / 2 + thick, t), wall("ceiling", x0 + w / 2, y0 + h + t, w / 2 + thick, t),
+            wall("left", x0 - t, y0 + h / 2, t, h / 2), wall("right", x0 + w + t, y0 + h / 2, t, h / 2)]
+
+
+def write(name, scene):
+    with open(os.path.join(HERE, name), "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
+# a pool table (2.54 m x 1.27 m), 15 balls racked touching, the cue ball shot at 6 m/s
+r, m = 0.028575, 0.17
+balls = [{"name": "cue", "shape": "circle", "radius": r, "mass": m, "restitution": 0.96,
+          "position": [0.635, 0.635], "velocity": [6.0, 0.01]}]
+apex = 1.905
+k = 1
+for row in range(5):
+    for i in range(row + 1):
+        x = apex + row * r * math.sqrt(3.0) * 1.0000001
+        y = 0.635 + (i - row / 2) * 2 * r * 1.0000001
+        balls.append({"name": f"ball{k}", "shape": "circle", "radius": r, "mass": m, "restitution": 0.96,
+                      "position": [round(x, 12), round(y, 12)]})
+        k += 1
+write("billiard-break.json", {"name": "billiard break", "end_time": 4.0, "frame_rate": 60,
+                              "bodies": box(2.54, 1.27, restitution=0.9) + balls})
+
+# 24 balls under gravity in a 2 m box, restitution 0.9: they settle on the floor
+balls = []
+for i in range(24):
+    balls.append({"name": f"ball{i}", "shape": "circle", "radius": 0.08, "mass": 1.0, "restitution": 0.9,
+                  "position": [0.25 + (i % 6) * 0.3, 0.6 + (i // 6) * 0.35],
+                  "velocity": [math.cos(i * 1.7) * 1.5, math.sin(i * 2.3) * 1.5]})
+write("gravity-box.json", {"name": "balls bouncing under gravity in a box", "end_time": 4.0, "frame_rate": 60,
+                           "gravity": [0.0, -9.81], "bodies": box(2.0, 2.0) + balls})
+
+# spinning polygons in a box, no gravity, restitution 1
+shapes = {"triangle": 3, "square": 4, "pentagon": 5, "hexagon": 6}
+bodies = []
+for i in range(8):
+    n = list(shapes.values())[i % 4]
+    rad = 0.12 + 0.02 * (i % 3)
+    verts = [[round(rad * math.cos(2 * math.pi * k / n), 12), round(rad * math.sin(2 * math.pi * k / n), 12)]
+             for k in range(n)]
+    bodies.append({"name": f"{list(shapes)[i % 4]}{i}", "shape": "polygon", "mass": 1.0 + 0.25 * i,
+                   "position": [0.4 + (i % 4) * 0.55, 0.5 + (i // 4) * 0.8], "vertices": verts,
+                   "velocity": [math.cos(i * 2.1), math.sin(i * 1.3)], "angle": 0.3 * i,
+                   "angular_velocity": [3.0, -2.0, 5.0, -4.0][i % 4]})
+write("spinning-polygons.json", {"name": "spinning polygons in a box", "end_time": 3.0, "frame_rate": 60,
+                                 "bodies": box(2.4, 1.8) + bodies})
+
+# Newton's cradle: five touching balls in a row, the first one swung in at 1 m/s
+balls = [{"name": "striker", "shape": "circle", "radius": 0.05, "mass": 1.0, "position": [0.2, 0.5],
+          "velocity": [1.0, 0.0]}]
+for i in range(5):
+    balls.append({"name": f"ball{i}", "shape": "circle", "radius": 0.05, "mass": 1.0,
+                  "position": [0.5 + 0.1 * i, 0.5]})
+write("newtons-cradle.json", {"name": "Newton's cradle", "end_time": 3.0, "frame_rate": 60,
+                              "bodies": box(1.4, 1.0) + balls})
+
+# a ball dropped on a floor under gravity, restitution 0.5: it comes to rest
+write("resting-ball.json", {"name": "a ball coming to rest on a floor", "end_time": 5.0, "frame_rate": 30,
+                            "gravity": [0.0, -9.81],
+                            "bodies": box(1.0, 1.0)[:1] + [{"name": "ball", "shape": "circle", "radius": 0.1,
+                                                             "mass": 1.0, "restitution": 0.5,
+                                                             "position": [0.5, 0.6]}]})

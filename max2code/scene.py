@@ -1,0 +1,485 @@
+"""Scenes: read and check a JSON scene (docs/simulator.md), and compile it
+to the flat text every runtime's simulator reads.
+
+Everything a runtime would otherwise compute with functions that might round
+differently between languages (atan2, hypot, the polygon's centroid and
+moment of inertia, the grid) is computed here once, in Python, and handed
+over as exact doubles.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+SHAPES = ("circle", "polygon")
+SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": "frames per second (0: none)",
+              "gravity": "[x, y] acceleration of every movable body (m/s^2)",
+              "tolerance": "distance tolerance (m)", "rest_speed": "smallest separation speed of a contact (m/s)",
+              "taylor_order": "Taylor order of the turns' sin and cos", "bodies": "the bodies",
+              "inputs": "scripted velocity changes", "max_events_at_one_time": "guard against a stuck scene",
+              "comment": "free text"}
+BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
+             "angle", "angular_velocity", "orbit", "restitution", "comment"}
+ORBIT_KEYS = {"radius", "angle"}
+INPUT_KEYS = {"time", "body", "set_velocity", "add_velocity"}
+
+
+class SceneError(Exception):
+    """A bad scene: the message names the file and the field."""
+
+
+@dataclass
+class Body:
+    name: str
+    polygon: bool
+    fixed: bool
+    mass: float               # inf when fixed
+    inertia: float            # about the centre of mass; inf when fixed; 0 for circles (they never turn by contact)
+    restitution: float
+    position: tuple[float, float]
+    velocity: tuple[float, float]
+    acceleration: tuple[float, float]   # gravity included for movable bodies
+    angle: float
+    angular_velocity: float
+    radius: float = 0.0
+    orbit_radius: float = 0.0
+    orbit_angle: float = 0.0
+    vertices: list[tuple[float, float]] = field(default_factory=list)   # about the centre of mass, counter-clockwise
+
+    @property
+    def bound(self) -> float:
+        """Radius of a circle about the centre of rotation holding the whole body."""
+        if self.polygon:
+            return max(math.hypot(x, y) for x, y in self.vertices)
+        return self.orbit_radius + self.radius
+
+    @property
+    def turns(self) -> bool:
+        return self.angular_velocity != 0.0 and (self.polygon or self.orbit_radius > 0.0)
+
+
+@dataclass
+class Input:
+    time: float
+    body: int
+    mode: int          # 0: set velocity, 1: add velocity
+    velocity: tuple[float, float]
+
+
+@dataclass
+class Scene:
+    path: str
+    name: str
+    end_time: float
+    frame_rate: float
+    gravity: tuple[float, float]
+    tolerance: float
+    rest_speed: float
+    taylor_order: int
+    max_same: int
+    bodies: list[Body]
+    inputs: list[Input]
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        """The world effects the scene uses (variants.WORLD_EFFECTS)."""
+        out = []
+        if any(b.acceleration != (0.0, 0.0) for b in self.bodies):
+            out.append("acceleration")
+        if any(b.turns for b in self.bodies):
+            out.append("orbit")
+        return tuple(out)
+
+
+# ---------------------------------------------------------------- reading
+class _Reader:
+    def __init__(self, path: str):
+        self.path = path
+
+    def fail(self, where: str, msg: str):
+        raise SceneError(f"{self.path}: {where}: {msg}")
+
+    def keys(self, obj, allowed, where: str, required=()):
+        if not isinstance(obj, dict):
+            self.fail(where, f"expected an object, got {type(obj).__name__}")
+        for k in obj:
+            if k not in allowed:
+                self.fail(f"{where}.{k}" if where else k, f"unknown key (expected one of: {', '.join(sorted(allowed))})")
+        for k in required:
+            if k not in obj:
+                self.fail(where or "scene", f"missing required key '{k}'")
+
+    def number(self, obj, key, where, default=None, *, positive=False, nonneg=False):
+        name = f"{where}.{key}" if where else key
+        if key not in obj:
+            if default is None:
+                self.fail(where or "scene", f"missing required key '{key}'")
+            return float(default)
+        v = obj[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            self.fail(name, f"expected a number, got {json.dumps(v)}")
+        v = float(v)
+        if not math.isfinite(v):
+            self.fail(name, f"must be finite, got {v}")
+        if positive and not v > 0.0:
+            self.fail(name, f"must be positive, got {v}")
+        if nonneg and v < 0.0:
+            self.fail(name, f"must not be negative, got {v}")
+        return v
+
+    def vec(self, obj, key, where, default=(0.0, 0.0)):
+        name = f"{where}.{key}" if where else key
+        if key not in obj:
+            if default is None:
+                self.fail(where, f"missing required key '{key}'")
+            return default
+        v = obj[key]
+        if not (isinstance(v, list) and len(v) == 2):
+            self.fail(name, f"expected [x, y], got {json.dumps(v)}")
+        out = []
+        for i, x in enumerate(v):
+            if isinstance(x, bool) or not isinstance(x, (int, float)):
+                self.fail(f"{name}[{i}]", f"expected a number, got {json.dumps(x)}")
+            if not math.isfinite(float(x)):
+                self.fail(f"{name}[{i}]", f"must be finite, got {x}")
+            out.append(float(x))
+        return (out[0], out[1])
+
+
+def _polygon(rd: _Reader, raw, where: str):
+    """Counter-clockwise vertices about the centroid, the centroid, area and
+    the second moment of area about the centroid."""
+    if not isinstance(raw, list) or len(raw) < 3:
+        rd.fail(f"{where}.vertices", "a polygon needs a list of at least 3 [x, y] vertices")
+    pts = []
+    for i, p in enumerate(raw):
+        pts.append(rd.vec({"vertices[%d]" % i: p}, "vertices[%d]" % i, where, None))
+    area2 = sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1] for i in range(len(pts)))
+    if area2 == 0.0:
+        rd.fail(f"{where}.vertices", "the polygon has zero area")
+    if area2 < 0.0:
+        pts.reverse()
+        area2 = -area2
+    n = len(pts)
+    scale = max(math.hypot(x, y) for x, y in pts) or 1.0
+    for i in range(n):
+        (x0, y0), (x1, y1), (x2, y2) = pts[i - 1], pts[i], pts[(i + 1) % n]
+        cross = (x1 - x0) * (y2 - y1) - (y1 - y0) * (x2 - x1)
+        if cross <= 1e-12 * scale * scale:
+            rd.fail(f"{where}.vertices", f"the polygon is not strictly convex at vertex {i} ({x1}, {y1})")
+    cx = cy = 0.0
+    for i in range(n):
+        (x0, y0), (x1, y1) = pts[i], pts[(i + 1) % n]
+        c = x0 * y1 - x1 * y0
+        cx += (x0 + x1) * c
+        cy += (y0 + y1) * c
+    cx /= 3.0 * area2
+    cy /= 3.0 * area2
+    local = [(x - cx, y - cy) for x, y in pts]
+    second = 0.0
+    for i in range(n):
+        (x0, y0), (x1, y1) = local[i], local[(i + 1) % n]
+        c = x0 * y1 - x1 * y0
+        second += c * (x0 * x0 + x0 * x1 + x1 * x1 + y0 * y0 + y0 * y1 + y1 * y1)
+    second /= 12.0            # integral of r^2 over the area
+    return local, (cx, cy), area2 / 2.0, second
+
+
+def load_scene(path: str) -> Scene:
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read: {exc.strerror}") from None
+    return parse_scene(text, path)
+
+
+def parse_scene(text: str, path: str = "<scene>") -> Scene:
+    rd = _Reader(path)
+    try:
+        raw = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON: {exc.msg}") from None
+    except RecursionError:
+        raise SceneError(f"{path}: not valid JSON: nested too deeply") from None
+    rd.keys(raw, SCENE_KEYS, "", required=("end_time", "bodies"))
+    if "name" in raw and not isinstance(raw["name"], str):
+        rd.fail("name", "expected a string")
+    end = rd.number(raw, "end_time", "", positive=True)
+    fps = rd.number(raw, "frame_rate", "", 0.0, nonneg=True)
+    gravity = rd.vec(raw, "gravity", "")
+    tol = rd.number(raw, "tolerance", "", 1e-9, positive=True)
+    rest = rd.number(raw, "rest_speed", "", 0.05, nonneg=True)
+    order = rd.number(raw, "taylor_order", "", 4, positive=True)
+    if order != int(order) or not 1 <= order <= 7:
+        rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree 16 at most), got {order}")
+    max_same = rd.number(raw, "max_events_at_one_time", "", 100000, positive=True)
+    if not isinstance(raw["bodies"], list) or not raw["bodies"]:
+        rd.fail("bodies", "expected a non-empty list of bodies")
+
+    bodies: list[Body] = []
+    names: dict[str, int] = {}
+    for k, b in enumerate(raw["bodies"]):
+        where = f"bodies[{k}]"
+        rd.keys(b, BODY_KEYS, where, required=("shape", "position"))
+        name = b.get("name", f"body{k}")
+        if not isinstance(name, str) or not name:
+            rd.fail(f"{where}.name", "expected a non-empty string")
+        if name in names:
+            rd.fail(f"{where}.name", f"'{name}' is already the name of bodies[{names[name]}]")
+        names[name] = k
+        where = f"bodies[{k}] ({name})"
+        shape = b["shape"]
+        if shape not in SHAPES:
+            rd.fail(f"{where}.shape", f"expected one of {', '.join(SHAPES)}, got {json.dumps(shape)}")
+        fixed = b.get("fixed", False)
+        if not isinstance(fixed, bool):
+            rd.fail(f"{where}.fixed", "expected true or false")
+        if fixed:
+            if "mass" in b:
+                rd.fail(f"{where}.mass", "a fixed body has no mass (it is not moved by contacts)")
+            mass = math.inf
+        else:
+            mass = rd.number(b, "mass", where, positive=True)
+        restitution = rd.number(b, "restitution", where, 1.0, nonneg=True)
+        if restitution > 1.0:
+            rd.fail(f"{where}.restitution", f"must be at most 1, got {restitution}")
+        pos = rd.vec(b, "position", where, None)
+        vel = rd.vec(b, "velocity", where)
+        acc = rd.vec(b, "acceleration", where)
+        if not fixed:
+            acc = (acc[0] + gravity[0], acc[1] + gravity[1])
+        angle = rd.number(b, "angle", where, 0.0)
+        omega = rd.number(b, "angular_velocity", where, 0.0)
+        body = Body(name, shape == "polygon", fixed, mass, math.inf if fixed else 0.0, restitution,
+                    pos, vel, acc, angle, omega)
+        if shape == "circle":
+            if "vertices" in b:
+                rd.fail(f"{where}.vertices", "a circle has no vertices")
+            body.radius = rd.number(b, "radius", where, positive=True)
+            if "orbit" in b:
+                rd.keys(b["orbit"], ORBIT_KEYS, f"{where}.orbit", required=("radius",))
+                body.orbit_radius = rd.number(b["orbit"], "radius", f"{where}.orbit", positive=True)
+                body.orbit_angle = rd.number(b["orbit"], "angle", f"{where}.orbit", 0.0)
+                if not fixed:
+                    rd.fail(f"{where}.orbit", "an orbiting circle must be fixed (its orbit is prescribed motion)")
+            elif omega != 0.0:
+                rd.fail(f"{where}.angular_velocity", "a circle turns only about an orbit's centre: give 'orbit' or leave it out")
+        else:
+            if "radius" in b or "orbit" in b:
+                rd.fail(f"{where}.{'radius' if 'radius' in b else 'orbit'}", "a polygon has vertices, not a radius or orbit")
+            if "vertices" not in b:
+                rd.fail(where, "missing required key 'vertices'")
+            local, (cx, cy), area, second = _polygon(rd, b["vertices"], where)
+            # the centre of mass becomes the body's position
+            ca, sa = math.cos(angle), math.sin(angle)
+            body.position = (pos[0] + ca * cx - sa * cy, pos[1] + sa * cx + ca * cy)
+            body.vertices = local
+            if not fixed:
+                body.inertia = mass * second / area
+        bodies.append(body)
+
+    inputs: list[Input] = []
+    raw_inputs = raw.get("inputs", [])
+    if not isinstance(raw_inputs, list):
+        rd.fail("inputs", "expected a list")
+    for k, e in enumerate(raw_inputs):
+        where = f"inputs[{k}]"
+        rd.keys(e, INPUT_KEYS, where, required=("time", "body"))
+        t = rd.number(e, "time", where, nonneg=True)
+        if t > end:
+            rd.fail(f"{where}.time", f"is after end_time ({t} > {end})")
+        if e["body"] not in names:
+            rd.fail(f"{where}.body", f"no body is named {json.dumps(e['body'])}")
+        bi = names[e["body"]]
+        if bodies[bi].fixed:
+            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only")
+        modes = [m for m in ("set_velocity", "add_velocity") if m in e]
+        if len(modes) != 1:
+            rd.fail(where, "give exactly one of set_velocity, add_velocity")
+        inputs.append(Input(t, bi, 0 if modes[0] == "set_velocity" else 1, rd.vec(e, modes[0], where, None)))
+
+    scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs)
+    _check_overlaps(scene)
+    return scene
+
+
+# ---------------------------------------------------------------- geometry
+def world_vertices(b: Body) -> list[tuple[float, float]]:
+    ca, sa = math.cos(b.angle), math.sin(b.angle)
+    return [(b.position[0] + ca * x - sa * y, b.position[1] + sa * x + ca * y) for x, y in b.vertices]
+
+
+def circle_centre(b: Body) -> tuple[float, float]:
+    if b.orbit_radius == 0.0:
+        return b.position
+    a = b.angle + b.orbit_angle
+    return (b.position[0] + b.orbit_radius * math.cos(a), b.position[1] + b.orbit_radius * math.sin(a))
+
+
+def penetration(a: Body, b: Body) -> float:
+    """How deep two bodies overlap at t = 0 (<= 0: apart or touching)."""
+    if not a.polygon and not b.polygon:
+        (x1, y1), (x2, y2) = circle_centre(a), circle_centre(b)
+        return a.radius + b.radius - math.hypot(x2 - x1, y2 - y1)
+    if not a.polygon or not b.polygon:
+        c, p = (a, b) if not a.polygon else (b, a)
+        (x, y), pts = circle_centre(c), world_vertices(p)
+        n = len(pts)
+        # signed distance from the centre to the polygon
+        inside_depth = math.inf
+        outside = 0.0
+        for i in range(n):
+            (x0, y0), (x1, y1) = pts[i], pts[(i + 1) % n]
+            ex, ey = x1 - x0, y1 - y0
+            ln = math.hypot(ex, ey)
+            d = ((x - x0) * ey - (y - y0) * ex) / ln          # > 0 outside this edge
+            inside_depth = min(inside_depth, -d)
+            u = max(0.0, min(1.0, ((x - x0) * ex + (y - y0) * ey) / (ln * ln)))
+            dist = math.hypot(x - (x0 + u * ex), y - (y0 + u * ey))
+            outside = dist if i == 0 else min(outside, dist)
+        if inside_depth > 0.0:
+            return c.radius + inside_depth
+        return c.radius - outside
+    # two polygons: separating axes
+    pa, pb = world_vertices(a), world_vertices(b)
+    depth = math.inf
+    for pts, other in ((pa, pb), (pb, pa)):
+        n = len(pts)
+        for i in range(n):
+            (x0, y0), (x1, y1) = pts[i], pts[(i + 1) % n]
+            ex, ey = x1 - x0, y1 - y0
+            ln = math.hypot(ex, ey)
+            nx, ny = ey / ln, -ex / ln
+            lo = min((x - x0) * nx + (y - y0) * ny for x, y in other)
+            depth = min(depth, -lo)
+    return depth
+
+
+def _check_overlaps(scene: Scene) -> None:
+    """Bodies must not overlap at t = 0 beyond the tolerance (touching is fine).
+    Pairs are found through a grid, so this stays fast for 10^5 bodies."""
+    bodies = scene.bodies
+    if not bodies:
+        return
+    cell = 2.0 * max(b.bound for b in bodies if not b.fixed) if any(not b.fixed for b in bodies) else 1.0
+    grid: dict[tuple[int, int], list[int]] = {}
+    big = []
+    for i, b in enumerate(bodies):
+        if b.bound > cell / 2.0:
+            big.append(i)
+            continue
+        grid.setdefault((math.floor(b.position[0] / cell), math.floor(b.position[1] / cell)), []).append(i)
+    pairs = set()
+    for (cx, cy), members in grid.items():
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for j in grid.get((cx + dx, cy + dy), ()):
+                    for i in members:
+                        if i < j:
+                            pairs.add((i, j))
+    for i in big:
+        for j in range(len(bodies)):
+            if j != i:
+                pairs.add((min(i, j), max(i, j)))
+    for i, j in sorted(pairs):
+        a, b = bodies[i], bodies[j]
+        if a.fixed and b.fixed:
+            continue
+        reach = a.bound + b.bound
+        if (a.position[0] - b.position[0]) ** 2 + (a.position[1] - b.position[1]) ** 2 > reach * reach:
+            continue
+        d = penetration(a, b)
+        if d > scene.tolerance:
+            raise SceneError(f"{scene.path}: bodies[{i}] ({a.name}) and bodies[{j}] ({b.name}) overlap at t = 0 "
+                             f"by {d:.3g} m (tolerance {scene.tolerance:g})")
+
+
+# ---------------------------------------------------------------- compiling
+def window_angle(scene: Scene) -> float:
+    """Largest angle a turn may sweep in one prediction so that the Taylor
+    polynomials of order n stay within the tolerance: the remainder of sin
+    and cos is at most a^(n+1)/(n+1)!, times the lever (the sum of two
+    bounding radii at most)."""
+    turning = [b.bound for b in scene.bodies if b.turns]
+    if not turning:
+        return 0.5
+    # near a contact the lever is at most the two bodies' bounding radii
+    lever = 2.0 * max(turning) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
+    n = scene.taylor_order
+    return min(0.5, (math.factorial(n + 1) * scene.tolerance / lever) ** (1.0 / (n + 1)))
+
+
+@dataclass(frozen=True)
+class Grid:
+    x0: float
+    y0: float
+    cw: float
+    ch: float
+    nx: int
+    ny: int
+    large: tuple[bool, ...]
+
+
+def make_grid(scene: Scene) -> Grid:
+    """A uniform grid whose cells are at least as wide as the largest movable
+    body: bodies in cells that are not neighbours cannot touch.  Bodies larger
+    than half a cell (fixed walls) are kept in a separate list instead."""
+    movable = [b for b in scene.bodies if not b.fixed]
+    size = 2.0 * max((b.bound for b in movable), default=1.0) * (1.0 + 1e-6)
+    large = tuple(b.bound * 2.0 > size for b in scene.bodies)
+    small = [b for b, lg in zip(scene.bodies, large) if not lg]
+    if not small:
+        return Grid(0.0, 0.0, size, size, 1, 1, large)
+    xs = [b.position[0] for b in small]
+    ys = [b.position[1] for b in small]
+    x0, y0 = min(xs) - size, min(ys) - size
+    w, h = max(xs) - min(xs) + 2.0 * size, max(ys) - min(ys) + 2.0 * size
+    limit = max(16, 4 * len(small))
+    nx, ny = max(1, int(w // size)), max(1, int(h // size))
+    while nx * ny > limit:
+        nx, ny = max(1, nx // 2), max(1, ny // 2)
+    return Grid(x0, y0, w / nx, h / ny, nx, ny, large)
+
+
+def _r(x: float) -> str:
+    return repr(float(x))
+
+
+def compile_scene(scene: Scene) -> str:
+    """The flat text a runtime's simulator reads (docs/simulator.md)."""
+    g = make_grid(scene)
+    out = ["m2c-scene 1",
+           f"end {_r(scene.end_time)}",
+           f"frame {_r(1.0 / scene.frame_rate if scene.frame_rate > 0 else 0.0)}",
+           f"tolerance {_r(scene.tolerance)}",
+           f"rest_speed {_r(scene.rest_speed)}",
+           f"window_angle {_r(window_angle(scene))}",
+           f"max_same_time {scene.max_same}",
+           f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
+           f"bodies {len(scene.bodies)}"]
+    for b, large in zip(scene.bodies, g.large):
+        inv_m = 0.0 if b.fixed else 1.0 / b.mass
+        inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
+        out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
+                             _r(inv_m), _r(inv_i), _r(b.restitution),
+                             _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
+                             _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
+                             _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
+                             "1" if large else "0", str(len(b.vertices))]))
+        n = len(b.vertices)
+        for k in range(n):
+            (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
+            ex, ey = x1 - x0, y1 - y0
+            ln = math.hypot(ex, ey)
+            nx, ny = ey / ln, -ex / ln                  # outward: the polygon is counter-clockwise
+            tx, ty = ex / ln, ey / ln
+            out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
+                                 _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
+                                 _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1)]))
+    out.append(f"inputs {len(scene.inputs)}")
+    for e in scene.inputs:
+        out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")
+    out.append("end")
+    return "\n".join(out) + "\n"

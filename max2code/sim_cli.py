@@ -1,0 +1,144 @@
+"""`max2code simulate` and `max2code crosscheck` (docs/simulator.md)."""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from dataclasses import dataclass
+
+from max2code.errors import Max2CodeError
+from max2code.scene import SceneError, load_scene
+from max2code.simulate import LANGS, SimulateError, Trace, run_scene
+
+
+class SimCliError(Max2CodeError):
+    pass
+
+
+def _load(path: str):
+    try:
+        return load_scene(path)
+    except SceneError as exc:
+        raise SimCliError(str(exc)) from None
+
+
+def _run(scene, lang: str, progress: bool) -> Trace:
+    try:
+        return run_scene(scene, lang, progress=progress)
+    except SimulateError as exc:
+        raise SimCliError(str(exc)) from None
+
+
+def simulate_main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="max2code simulate",
+                                description="Run a JSON scene in one runtime and write its trace: one JSON line per "
+                                            "event, then the final state and the statistics.")
+    p.add_argument("scene", help="scene file (JSON, docs/simulator.md)")
+    p.add_argument("--lang", choices=LANGS, default="c", help="which runtime's simulator (default c)")
+    p.add_argument("-o", "--output", help="write the trace here instead of stdout")
+    p.add_argument("--no-frames", action="store_true", help="leave the frame events out of the trace")
+    p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
+    args = p.parse_args(argv)
+    scene = _load(args.scene)
+    trace = _run(scene, args.lang, not args.quiet)
+    lines = [json.dumps(e, separators=(",", ":")) for e in trace.events
+             if not (args.no_frames and e["kind"] == "frame")]
+    lines += [json.dumps(trace.final, separators=(",", ":")), json.dumps(trace.stats, separators=(",", ":"))]
+    text = "\n".join(lines) + "\n"
+    if args.output:
+        with open(args.output, "w", encoding="utf-8") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+    if not args.quiet:
+        ev = trace.stats["events"]
+        used = ", ".join(f"{k} {v}" for k, v in trace.stats["predictions"].items())
+        print(f"max2code simulate: {scene.path} in {args.lang}: {ev.get('collisions', 0)} collisions, "
+              f"{ev.get('inputs', 0)} inputs, {ev.get('frames', 0)} frames, {ev.get('cells', 0)} cell crossings, "
+              f"{ev.get('horizons', 0)} re-predictions at a horizon; effects: {', '.join(scene.effects) or 'none'}; "
+              f"predictions per variant: {used}", file=sys.stderr)
+    return 0
+
+
+@dataclass
+class Difference:
+    index: int          # event index, or -1 for the final state
+    what: str
+
+
+def compare(a: Trace, b: Trace, rel: float = 1e-9) -> Difference | None:
+    """The first place where two traces disagree: kinds, bodies, features,
+    times within `rel` relative; then the final states."""
+    for k, (x, y) in enumerate(zip(a.events, b.events)):
+        if x["kind"] != y["kind"] or x.get("bodies") != y.get("bodies") or x.get("feature") != y.get("feature"):
+            return Difference(k, f"event {k}: {a.lang} has {_short(x)}, {b.lang} has {_short(y)}")
+        dt = abs(x["t"] - y["t"])
+        if dt > rel * max(abs(x["t"]), abs(y["t"])):
+            return Difference(k, f"event {k} ({_short(x)}): times differ by {dt:.3g} s "
+                                 f"({dt / max(abs(x['t']), abs(y['t'])):.3g} relative)")
+    if len(a.events) != len(b.events):
+        k = min(len(a.events), len(b.events))
+        extra, who = (a.events[k], a.lang) if len(a.events) > k else (b.events[k], b.lang)
+        return Difference(k, f"event {k}: only {who} has it: {_short(extra)}")
+    for fa, fb in zip(a.final["bodies"], b.final["bodies"]):
+        for key in ("position", "velocity"):
+            for u, v in zip(fa[key], fb[key]):
+                if abs(u - v) > rel * max(1.0, abs(u), abs(v)):
+                    return Difference(-1, f"final {key} of {fa['body']}: {u!r} in {a.lang}, {v!r} in {b.lang}")
+    return None
+
+
+def _short(e: dict) -> str:
+    s = f"{e['kind']} at t={e['t']!r}"
+    if "bodies" in e:
+        s += " of " + "+".join(e["bodies"])
+    if "feature" in e:
+        s += f" ({e['feature']})"
+    return s
+
+
+def crosscheck(scene, langs=LANGS, progress: bool = False) -> tuple[dict[str, Trace], list[str]]:
+    """Run the scene in every language; returns the traces and the
+    disagreements with the first language (empty: all agree)."""
+    traces = {lang: _run(scene, lang, progress) for lang in langs}
+    ref = traces[langs[0]]
+    problems = []
+    for lang in langs[1:]:
+        d = compare(ref, traces[lang])
+        if d is not None:
+            problems.append(f"{ref.lang} vs {lang}: {d.what}")
+    return traces, problems
+
+
+def crosscheck_main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="max2code crosscheck",
+                                description="Run a scene in all four runtimes and report agreement, or the first "
+                                            "event where they differ and by how much.")
+    p.add_argument("scenes", nargs="+", help="scene files (JSON)")
+    p.add_argument("--langs", default=",".join(LANGS), help=f"comma-separated runtimes (default {','.join(LANGS)})")
+    args = p.parse_args(argv)
+    langs = tuple(x for x in args.langs.split(",") if x)
+    for lang in langs:
+        if lang not in LANGS:
+            raise SimCliError(f"--langs: unknown runtime '{lang}' (expected {', '.join(LANGS)})")
+    status = 0
+    for path in args.scenes:
+        scene = _load(path)
+        traces, problems = crosscheck(scene, langs)
+        ref = traces[langs[0]]
+        same_bytes = all(t.raw == ref.raw for t in traces.values())
+        n = len(ref.events)
+        if problems:
+            status = 1
+            for pr in problems:
+                print(f"{path}: DIFFER: {pr}")
+        else:
+            worst = 0.0
+            for t in traces.values():
+                for x, y in zip(ref.events, t.events):
+                    if x["t"] != y["t"]:
+                        worst = max(worst, abs(x["t"] - y["t"]) / max(abs(x["t"]), abs(y["t"])))
+            print(f"{path}: {' '.join(langs)} agree on {n} events"
+                  + (" (identical bytes)" if same_bytes else f" (largest time difference {worst:.3g} relative)"))
+    return status

@@ -1,0 +1,550 @@
+"""The discrete-event simulator: the Python runtime, and the reference for
+the C, Rust and Modula-2 ones (docs/simulator.md).
+
+It reads a compiled scene (the flat text format of docs/simulator.md, made
+by `max2code simulate` from a JSON scene) and writes the flat trace.  Every
+prediction goes through the generated entry functions of
+equations/circle-circle.mxm and equations/point-edge.mxm (the module objects
+`cc` and `pe` hold `circle_circle_coefficients`, `circle_circle_variant`,
+`point_edge_coefficients`, `point_edge_variant`), and through the runtime's
+root solver.  The four runtimes perform the same IEEE double operations in
+the same order, so they write the same bytes.
+"""
+from __future__ import annotations
+
+import heapq
+import math
+
+from max2code_rt.roots import smallest_root
+
+HALF_PI = 1.5707963267948966   # pi/2 rounded to double (cos x = sin(x + pi/2))
+
+# event kinds, in the order they are handled at equal times
+INPUT, COLLISION, CELL, HORIZON, FRAME = 0, 1, 2, 3, 4
+KIND_NAMES = ("input", "collision", "cell", "horizon", "frame")
+# contact features: circle-circle (also circle-vertex) and point-edge
+CC, PE = 0, 1
+FEATURE_NAMES = ("circle-circle", "point-edge")
+STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features")
+
+
+class SimError(Exception):
+    pass
+
+
+class Vertex:
+    """One vertex of a polygon and the edge that starts at it (to the next
+    vertex), in the body's frame: all precomputed by the scene compiler."""
+    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2")
+
+    def __init__(self, vals):
+        self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2 = vals
+
+
+class Body:
+    __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "px", "py", "vx", "vy", "ax", "ay",
+                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy")
+
+
+def _always(s: float) -> bool:
+    return True
+
+
+def _fmt(x: float) -> str:
+    return "%.17g" % x
+
+
+class Scene:
+    """A compiled scene, read from the flat format."""
+
+    def __init__(self, text: str):
+        tok = text.split()
+        pos = [0]
+
+        def word(expect=None):
+            w = tok[pos[0]]
+            pos[0] += 1
+            if expect is not None and w != expect:
+                raise SimError(f"scene: expected '{expect}', found '{w}'")
+            return w
+
+        def num():
+            return float(word())
+
+        def integer():
+            return int(word())
+
+        word("m2c-scene")
+        if integer() != 1:
+            raise SimError("scene: unknown version")
+        word("end"); self.end = num()
+        word("frame"); self.frame_dt = num()
+        word("tolerance"); self.tol = num()
+        word("rest_speed"); self.rest_speed = num()
+        word("window_angle"); self.alpha = num()
+        word("max_same_time"); self.max_same = integer()
+        word("grid"); self.x0 = num(); self.y0 = num(); self.cw = num(); self.ch = num()
+        self.nx = integer(); self.ny = integer()
+        word("bodies"); n = integer()
+        self.bodies: list[Body] = []
+        for i in range(n):
+            word("body")
+            b = Body()
+            b.idx = i
+            b.polygon = integer() == 1
+            b.fixed = integer() == 1
+            b.inv_m, b.inv_i, b.e = num(), num(), num()
+            b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
+            b.ang, b.om = num(), num()
+            b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
+            b.large = integer() == 1
+            nv = integer()
+            b.verts = []
+            for _ in range(nv):
+                word("v")
+                b.verts.append(Vertex([num() for _ in range(8)]))
+            b.tb = 0.0
+            b.stamp = 0
+            b.cx = b.cy = 0
+            self.bodies.append(b)
+        word("inputs"); k = integer()
+        self.inputs = []
+        for _ in range(k):
+            word("input")
+            self.inputs.append((num(), integer(), integer(), num(), num()))
+        word("end")
+
+
+class Simulator:
+    def __init__(self, scene: Scene, cc, pe, out):
+        self.s = scene
+        self.cc_coef = cc.circle_circle_coefficients
+        self.cc_var = cc.circle_circle_variant
+        self.pe_coef = pe.point_edge_coefficients
+        self.pe_var = pe.point_edge_variant
+        self.cc_counts = [0] * len(cc.CIRCLE_CIRCLE_VARIANT_NAMES)
+        self.pe_counts = [0] * len(pe.POINT_EDGE_VARIANT_NAMES)
+        self.out = out
+        self.heap: list = []
+        self.seq = 0
+        self.stats = [0] * len(STAT_NAMES)
+        self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
+        self.large: list[Body] = [b for b in scene.bodies if b.large]
+
+    # ---- motion -----------------------------------------------------------
+    @staticmethod
+    def advance(b: Body, t: float) -> None:
+        dt = t - b.tb
+        b.px = b.px + (b.vx + 0.5 * b.ax * dt) * dt
+        b.py = b.py + (b.vy + 0.5 * b.ay * dt) * dt
+        b.vx = b.vx + b.ax * dt
+        b.vy = b.vy + b.ay * dt
+        b.ang = b.ang + b.om * dt
+        b.tb = t
+
+    @staticmethod
+    def state_at(b: Body, t: float):
+        """Centre, velocity and angle at time t (the body is not changed)."""
+        dt = t - b.tb
+        return (b.px + (b.vx + 0.5 * b.ax * dt) * dt, b.py + (b.vy + 0.5 * b.ay * dt) * dt,
+                b.vx + b.ax * dt, b.vy + b.ay * dt, b.ang + b.om * dt)
+
+    @staticmethod
+    def turn_rate(b: Body) -> float:
+        if b.polygon or b.orbit > 0.0:
+            return math.fabs(b.om)
+        return 0.0
+
+    # ---- the event queue --------------------------------------------------
+    def push(self, t: float, kind: int, a: int, b: int, feat: int, i: int, j: int) -> None:
+        bodies = self.s.bodies
+        sa = bodies[a].stamp if a >= 0 else 0
+        sb = bodies[b].stamp if b >= 0 else 0
+        heapq.heappush(self.heap, (t, kind, self.seq, a, b, feat, i, j, sa, sb))
+        self.seq += 1
+
+    # ---- grid -------------------------------------------------------------
+    def cell_of(self, x: float, y: float) -> tuple[int, int]:
+        s = self.s
+        ix = math.floor((x - s.x0) / s.cw)
+        iy = math.floor((y - s.y0) / s.ch)
+        ix = 0 if ix < 0 else (s.nx - 1 if ix > s.nx - 1 else ix)
+        iy = 0 if iy < 0 else (s.ny - 1 if iy > s.ny - 1 else iy)
+        return int(ix), int(iy)
+
+    def cell_remove(self, b: Body) -> None:
+        lst = self.cells[b.cy * self.s.nx + b.cx]
+        k = lst.index(b)
+        last = lst.pop()
+        if k < len(lst):
+            lst[k] = last
+
+    def cell_add(self, b: Body) -> None:
+        self.cells[b.cy * self.s.nx + b.cx].append(b)
+
+    def candidates(self, b: Body, x_lo: int, x_hi: int, y_lo: int, y_hi: int):
+        s = self.s
+        for jy in range(max(y_lo, 0), min(y_hi, s.ny - 1) + 1):
+            for jx in range(max(x_lo, 0), min(x_hi, s.nx - 1) + 1):
+                for o in self.cells[jy * s.nx + jx]:
+                    if o is not b:
+                        yield o
+
+    # ---- first valid root of one feature ----------------------------------
+    def first_contact(self, c: list[float], deg: int, w: float, kappa: float, check) -> float | None:
+        """The smallest s in [0, w] where the gap c(s) reaches zero while
+        decreasing and check(s) holds.  At s = 0 the gap counts as zero
+        within kappa: approaching means contact now, separating never."""
+        if deg >= 1 and math.fabs(c[0]) <= kappa and c[1] < 0.0 and check(0.0):
+            return 0.0
+        lo = 0.0
+        for _ in range(deg + 2):
+            s = smallest_root(c[:deg + 1], lo, w)
+            if s is None:
+                return None
+            d = 0.0
+            for k in range(deg, 0, -1):
+                d = d * s + k * c[k]
+            if d < 0.0 and check(s):
+                return s
+            lo = s
+        return None
+
+    # ---- features ---------------------------------------------------------
+    def circle_params(self, b: Body, now: float, v: Vertex | None):
+        """circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
+        circle's centre (v None) or of a polygon's vertex, at time now."""
+        x, y, vx, vy, ang = self.state_at(b, now)
+        if v is None:
+            d, phase = b.orbit, ang + b.ophase
+        else:
+            d, phase = v.rho, ang + v.beta
+        om = b.om
+        if om == 0.0 and d != 0.0:
+            # an orbit that does not turn is a fixed offset: fold it in
+            x = x + d * math.cos(phase)
+            y = y + d * math.sin(phase)
+            d = 0.0
+        if d == 0.0:
+            om = 0.0
+            phase = 0.0
+        return x, vx, b.ax, d, om, phase + HALF_PI, y, vy, b.ay, om, phase
+
+    def predict_cc(self, A: Body, B: Body, vb: Vertex | None, rb: float, now: float, w: float):
+        """Circle of A against circle of B (vb None) or vertex vb of B (radius 0)."""
+        a, b_, c, d, e, f, m, n, o, p, q = self.circle_params(A, now, None)
+        g, h, i, j, k, l, r, s_, u, v, ww = self.circle_params(B, now, vb)
+        # only differences of the centres' motions matter: circle 1 moves
+        # relative to circle 2's centre of rotation, so that a common gravity
+        # cancels (no_accel variants) and far from the origin nothing is lost
+        args = (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
+                0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A.r, rb)
+        coef = self.cc_coefficients(args)
+        tol = self.s.tol
+        kappa = tol * (2.0 * (A.r + rb) + tol)
+        return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
+
+    def cc_coefficients(self, args) -> list[float]:
+        idx = self.cc_var(*args)
+        if idx < 0:
+            raise SimError("circle_circle: the scene uses an effect the generated code leaves out")
+        self.cc_counts[idx] += 1
+        self.stats[7] += 1
+        return self.cc_coef(*args)
+
+    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
+        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y."""
+        ed = Y.verts[j]
+        x1, y1, u1, v1, ang1 = self.state_at(X, now)
+        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
+        if vx_ is None:
+            rho, beta, rad = X.orbit, X.ophase, X.r
+        else:
+            rho, beta, rad = vx_.rho, vx_.beta, 0.0
+        phn = ang2 + ed.psi
+        args = (x1 - x2, u1 - u2, X.ax - Y.ax, y1 - y2, v1 - v2, X.ay - Y.ay,
+                rho, X.om - Y.om, (ang1 + beta) - phn, Y.om, phn, ed.h + rad)
+        idx = self.pe_var(*args)
+        if idx < 0:
+            raise SimError("point_edge: the scene uses an effect the generated code leaves out")
+        self.pe_counts[idx] += 1
+        self.stats[7] += 1
+        coef = self.pe_coef(*args)
+        tol = self.s.tol
+
+        def inside(s: float) -> bool:
+            t = now + s
+            px, py = self.point_at(X, vx_, t)
+            qx, qy, _, _, qa = self.state_at(Y, t)
+            th = qa + ed.psi
+            along = (px - qx) * -math.sin(th) + (py - qy) * math.cos(th)
+            return ed.s1 - tol <= along <= ed.s2 + tol
+
+        return self.first_contact(coef, len(coef) - 1, w, tol, inside)
+
+    def point_at(self, b: Body, v: Vertex | None, t: float) -> tuple[float, float]:
+        """World position of a circle's centre (v None) or of a vertex, at t."""
+        x, y, _, _, ang = self.state_at(b, t)
+        d, beta = (b.orbit, b.ophase) if v is None else (v.rho, v.beta)
+        if d == 0.0:
+            return x, y
+        return x + d * math.cos(ang + beta), y + d * math.sin(ang + beta)
+
+    # ---- pairs ------------------------------------------------------------
+    def predict_pair(self, A: Body, B: Body, now: float) -> None:
+        """Schedule the first contact of A and B after now, or a horizon
+        event where the Taylor polynomials of their turns stop being good."""
+        s = self.s
+        self.stats[6] += 1
+        w = s.end - now
+        turn = self.turn_rate(A) + self.turn_rate(B)
+        if turn > 0.0:
+            w = min(w, s.alpha / turn)
+        if not (w > 0.0):
+            return
+        best = None   # (s, feature, a, b, i, j)
+        if not A.polygon and not B.polygon:
+            t = self.predict_cc(A, B, None, B.r, now, w)
+            if t is not None:
+                best = (t, CC, A.idx, B.idx, -1, -1)
+        elif self.bounds_may_meet(A, B, now, w):
+            if not A.polygon:
+                best = self.circle_polygon(A, B, now, w, None)
+            elif not B.polygon:
+                best = self.circle_polygon(B, A, now, w, None)
+            else:
+                best = self.vertices_edges(A, B, now, w, None)
+                best = self.vertices_edges(B, A, now, w, best)
+        if best is not None:
+            self.push(now + best[0], COLLISION, best[2], best[3], best[1], best[4], best[5])
+        elif now + w < s.end:
+            self.push(now + w, HORIZON, A.idx, B.idx, -1, -1, -1)
+
+    def bounds_may_meet(self, A: Body, B: Body, now: float, w: float) -> bool:
+        """Whether the bounding circles overlap now or touch within w (exact:
+        they do not turn)."""
+        x1, y1, u1, v1, _ = self.state_at(A, now)
+        x2, y2, u2, v2, _ = self.state_at(B, now)
+        args = (x1 - x2, u1 - u2, A.ax - B.ax, 0.0, 0.0, HALF_PI, y1 - y2, v1 - v2, A.ay - B.ay, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0, A.bound, B.bound)
+        coef = self.cc_coefficients(args)
+        if coef[0] <= 0.0:
+            return True
+        return smallest_root(coef, 0.0, w) is not None
+
+    @staticmethod
+    def _better(best, t, feat, a, b, i, j):
+        if t is not None and (best is None or t < best[0]):
+            return (t, feat, a, b, i, j)
+        return best
+
+    def circle_polygon(self, C: Body, P: Body, now: float, w: float, best):
+        for j in range(len(P.verts)):
+            best = self._better(best, self.predict_pe(C, P, None, j, now, w), PE, C.idx, P.idx, -1, j)
+        for k, v in enumerate(P.verts):
+            best = self._better(best, self.predict_cc(C, P, v, 0.0, now, w), CC, C.idx, P.idx, -1, k)
+        return best
+
+    def vertices_edges(self, A: Body, B: Body, now: float, w: float, best):
+        for i, v in enumerate(A.verts):
+            for j in range(len(B.verts)):
+                best = self._better(best, self.predict_pe(A, B, v, j, now, w), PE, A.idx, B.idx, i, j)
+        return best
+
+    # ---- per body -----------------------------------------------------------
+    def predict_body(self, b: Body, now: float, skip: Body | None) -> None:
+        for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
+            if o is not skip and not (b.fixed and o.fixed):
+                self.predict_pair(b, o, now)
+        for o in self.large:
+            if o is not b and o is not skip and not (b.fixed and o.fixed):
+                self.predict_pair(b, o, now)
+        self.schedule_cell(b, now)
+
+    def schedule_cell(self, b: Body, now: float) -> None:
+        s = self.s
+        if b.large or (b.vx == 0.0 and b.vy == 0.0 and b.ax == 0.0 and b.ay == 0.0):
+            return
+        ulo = now - b.tb
+        uhi = s.end - b.tb
+        best = None
+        for axis in (0, 1):
+            if axis == 0:
+                p, v, a, i, n, origin, size = b.px, b.vx, b.ax, b.cx, s.nx, s.x0, s.cw
+            else:
+                p, v, a, i, n, origin, size = b.py, b.vy, b.ay, b.cy, s.ny, s.y0, s.ch
+            for direction in (1, -1):
+                if direction == 1:
+                    if i >= n - 1:
+                        continue
+                    bound = origin + (i + 1) * size
+                else:
+                    if i <= 0:
+                        continue
+                    bound = origin + i * size
+                c = [p - bound, v, 0.5 * a]
+                lo = ulo
+                for _ in range(3):
+                    u = smallest_root(c, lo, uhi)
+                    if u is None:
+                        break
+                    if (v + a * u) * direction > 0.0:
+                        if best is None or u < best[0]:
+                            best = (u, axis, direction)
+                        break
+                    lo = u
+        if best is not None:
+            self.push(b.tb + best[0], CELL, b.idx, -1, -1, best[1], best[2])
+
+    # ---- handling events ----------------------------------------------------
+    def emit_state(self, b: Body) -> None:
+        self.out.write(f"S {b.idx} {_fmt(b.tb)} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
+                       f"{_fmt(b.ang)} {_fmt(b.om)}\n")
+
+    def collide(self, t: float, feat: int, A: Body, B: Body, i: int, j: int) -> None:
+        self.advance(A, t)
+        self.advance(B, t)
+        vA = A.verts[i] if i >= 0 else None
+        if feat == CC:
+            ax_, ay_ = self.point_at(A, None, t)
+            bx_, by_ = self.point_at(B, B.verts[j] if j >= 0 else None, t)
+            dx, dy = bx_ - ax_, by_ - ay_
+            dist = math.sqrt(dx * dx + dy * dy)
+            if dist > 0.0:
+                nx, ny = dx / dist, dy / dist
+            else:
+                nx, ny = 1.0, 0.0
+            cx, cy = ax_ + A.r * nx, ay_ + A.r * ny
+        else:
+            px, py = self.point_at(A, vA, t)
+            th = B.ang + B.verts[j].psi
+            nx, ny = -math.cos(th), -math.sin(th)       # from A to B: against the edge's outward normal
+            rad = A.r if vA is None else 0.0
+            cx, cy = px + rad * nx, py + rad * ny
+        # velocities of the material points at the contact
+        uax = A.vx - A.om * (cy - A.py)
+        uay = A.vy + A.om * (cx - A.px)
+        ubx = B.vx - B.om * (cy - B.py)
+        uby = B.vy + B.om * (cx - B.px)
+        vn = (ubx - uax) * nx + (uby - uay) * ny
+        imp = 0.0
+        if vn < 0.0:
+            ran = (cx - A.px) * ny - (cy - A.py) * nx
+            rbn = (cx - B.px) * ny - (cy - B.py) * nx
+            k = A.inv_m + B.inv_m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
+            e = A.e * B.e
+            sep = max(e * -vn, min(-vn, self.s.rest_speed))
+            imp = (sep - vn) / k
+            A.vx = A.vx - imp * A.inv_m * nx
+            A.vy = A.vy - imp * A.inv_m * ny
+            A.om = A.om - imp * A.inv_i * ran
+            B.vx = B.vx + imp * B.inv_m * nx
+            B.vy = B.vy + imp * B.inv_m * ny
+            B.om = B.om + imp * B.inv_i * rbn
+        self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {feat} {i} {j} {_fmt(cx)} {_fmt(cy)} "
+                       f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        for b in (A, B):
+            if not b.fixed:
+                b.stamp += 1
+                self.emit_state(b)
+        if not A.fixed:
+            self.predict_body(A, t, None)
+        if not B.fixed:
+            self.predict_body(B, t, A if not A.fixed else None)
+
+    def run(self) -> None:
+        s = self.s
+        bodies = s.bodies
+        for b in bodies:
+            if not b.large:
+                b.cx, b.cy = self.cell_of(b.px, b.py)
+                self.cell_add(b)
+        for k, (t, bi, mode, vx, vy) in enumerate(s.inputs):
+            self.push(t, INPUT, bi, -1, -1, k, mode)
+        if s.frame_dt > 0.0 and s.frame_dt <= s.end:
+            self.push(s.frame_dt, FRAME, -1, -1, -1, 1, -1)
+        for b in bodies:
+            if b.large:
+                continue
+            for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
+                if o.idx > b.idx and not (b.fixed and o.fixed):
+                    self.predict_pair(b, o, 0.0)
+            for o in self.large:
+                if not (b.fixed and o.fixed):
+                    self.predict_pair(b, o, 0.0)
+            self.schedule_cell(b, 0.0)
+        last_t = -1.0
+        same = 0
+        heap = self.heap
+        while heap:
+            ev = heapq.heappop(heap)
+            t, kind, _, a, b, feat, i, j, sa, sb = ev
+            if t > s.end:
+                break
+            if (a >= 0 and bodies[a].stamp != sa) or (b >= 0 and bodies[b].stamp != sb):
+                self.stats[5] += 1
+                continue
+            if t == last_t:
+                same += 1
+                if same > s.max_same:
+                    raise SimError(f"more than {s.max_same} events at t = {_fmt(t)}: the scene is stuck")
+            else:
+                last_t, same = t, 0
+            if kind == COLLISION:
+                self.stats[0] += 1
+                self.collide(t, feat, bodies[a], bodies[b], i, j)
+            elif kind == INPUT:
+                self.stats[1] += 1
+                _, bi, mode, vx, vy = s.inputs[i]
+                body = bodies[a]
+                self.advance(body, t)
+                if mode == 0:
+                    body.vx, body.vy = vx, vy
+                else:
+                    body.vx, body.vy = body.vx + vx, body.vy + vy
+                body.stamp += 1
+                self.out.write(f"E input {_fmt(t)} {a} -1 -1 {i} -1 0 0 0 0 0\n")
+                self.emit_state(body)
+                self.predict_body(body, t, None)
+            elif kind == CELL:
+                self.stats[3] += 1
+                body = bodies[a]
+                self.cell_remove(body)
+                if i == 0:
+                    body.cx += j
+                    col = body.cx + j
+                    news = (col, col, body.cy - 1, body.cy + 1)
+                else:
+                    body.cy += j
+                    row = body.cy + j
+                    news = (body.cx - 1, body.cx + 1, row, row)
+                self.cell_add(body)
+                for o in self.candidates(body, *news):
+                    if not (body.fixed and o.fixed):
+                        self.predict_pair(body, o, t)
+                self.schedule_cell(body, t)
+            elif kind == HORIZON:
+                self.stats[4] += 1
+                self.predict_pair(bodies[a], bodies[b], t)
+            else:
+                self.stats[2] += 1
+                self.out.write(f"E frame {_fmt(t)} -1 -1 -1 -1 -1 0 0 0 0 0\n")
+                nxt = (i + 1) * s.frame_dt
+                if nxt <= s.end:
+                    self.push(nxt, FRAME, -1, -1, -1, i + 1, -1)
+        for b in bodies:
+            self.advance(b, s.end)
+        for b in bodies:
+            self.out.write(f"F {b.idx} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
+                           f"{_fmt(b.ang)} {_fmt(b.om)}\n")
+        for k, name in enumerate(STAT_NAMES):
+            self.out.write(f"N {name} {self.stats[k]}\n")
+        for k, c in enumerate(self.cc_counts):
+            self.out.write(f"V circle_circle {k} {c}\n")
+        for k, c in enumerate(self.pe_counts):
+            self.out.write(f"V point_edge {k} {c}\n")
+
+
+def simulate(scene_text: str, cc, pe, out) -> None:
+    """Run a compiled scene; raises SimError with a message on a stuck or bad scene."""
+    Simulator(Scene(scene_text), cc, pe, out).run()
