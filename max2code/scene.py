@@ -58,6 +58,11 @@ class Body:
     def turns(self) -> bool:
         return self.angular_velocity != 0.0 and (self.polygon or self.orbit_radius > 0.0)
 
+    @property
+    def may_turn(self) -> bool:
+        """Turns now, or may be set turning by a contact off its centre (a movable polygon)."""
+        return self.turns or (self.polygon and not self.fixed)
+
 
 @dataclass
 class Input:
@@ -83,11 +88,12 @@ class Scene:
 
     @property
     def effects(self) -> tuple[str, ...]:
-        """The world effects the scene uses (variants.WORLD_EFFECTS)."""
+        """The world effects the scene uses (variants.WORLD_EFFECTS): a movable
+        polygon counts as turning, since a contact off its centre sets it spinning."""
         out = []
         if any(b.acceleration != (0.0, 0.0) for b in self.bodies):
             out.append("acceleration")
-        if any(b.turns for b in self.bodies):
+        if any(b.may_turn for b in self.bodies):
             out.append("orbit")
         return tuple(out)
 
@@ -402,7 +408,7 @@ def window_angle(scene: Scene) -> float:
     polynomials of order n stay within the tolerance: the remainder of sin
     and cos is at most a^(n+1)/(n+1)!, times the lever (the sum of two
     bounding radii at most)."""
-    turning = [b.bound for b in scene.bodies if b.turns]
+    turning = [b.bound for b in scene.bodies if b.may_turn]
     if not turning:
         return 0.5
     # near a contact the lever is at most the two bodies' bounding radii

@@ -41,7 +41,7 @@ def simulate_main(argv: list[str]) -> int:
     p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
     args = p.parse_args(argv)
     scene = _load(args.scene)
-    trace = _run(scene, args.lang, not args.quiet)
+    trace = _run(scene, args.lang, not args.quiet and sys.stderr.isatty())
     lines = [json.dumps(e, separators=(",", ":")) for e in trace.events
              if not (args.no_frames and e["kind"] == "frame")]
     lines += [json.dumps(trace.final, separators=(",", ":")), json.dumps(trace.stats, separators=(",", ":"))]

@@ -262,8 +262,16 @@ class Simulator:
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
         phn = ang2 + ed.psi
+        wr = X.om - Y.om
+        phr = (ang1 + beta) - phn
+        h = ed.h + rad
+        if wr == 0.0 and rho != 0.0:
+            # the point does not turn relative to the edge: its offset along
+            # the normal is a constant, folded into the line's offset
+            h = h - rho * math.cos(phr)
+            rho = 0.0
         args = (x1 - x2, u1 - u2, X.ax - Y.ax, y1 - y2, v1 - v2, X.ay - Y.ay,
-                rho, X.om - Y.om, (ang1 + beta) - phn, Y.om, phn, ed.h + rad)
+                rho, wr, phr, Y.om, phn, h)
         idx = self.pe_var(*args)
         if idx < 0:
             raise SimError("point_edge: the scene uses an effect the generated code leaves out")

@@ -1,0 +1,87 @@
+"""Random scenes for the simulator tests and the cross-check, reproducible
+from a seed: circles and convex polygons in a box, with or without gravity,
+spin, restitution below 1, scripted inputs and orbiting fixed circles."""
+from __future__ import annotations
+
+import json
+import math
+import random
+
+
+def box(w: float, h: float, thick: float = 0.2, restitution: float = 1.0) -> list[dict]:
+    def wall(name, cx, cy, hw, hh):
+        return {"name": name, "shape": "polygon", "fixed": True, "restitution": restitution, "position": [cx, cy],
+                "vertices": [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]]}
+    t = thick / 2
+    return [wall("floor", w / 2, -t, w / 2 + thick, t), wall("ceiling", w / 2, h + t, w / 2 + thick, t),
+            wall("left", -t, h / 2, t, h / 2), wall("right", w + t, h / 2, t, h / 2)]
+
+
+def random_scene(seed: int, *, bodies: int | None = None, gravity: bool | None = None, spin: bool | None = None,
+                 end_time: float | None = None, restitution_one: bool | None = None) -> dict:
+    rng = random.Random(seed)
+    n = bodies if bodies is not None else rng.randint(3, 10)
+    gravity = rng.random() < 0.5 if gravity is None else gravity
+    spin = rng.random() < 0.5 if spin is None else spin
+    elastic = rng.random() < 0.5 if restitution_one is None else restitution_one
+    cols = max(2, math.ceil(math.sqrt(n)))
+    slot = 0.5
+    w = h = cols * slot
+    out = box(w, h)
+    slots = list(range(cols * cols))
+    rng.shuffle(slots)
+    for k in range(n):
+        sx, sy = slots[k] % cols, slots[k] // cols
+        cx, cy = (sx + 0.5) * slot + rng.uniform(-0.05, 0.05), (sy + 0.5) * slot + rng.uniform(-0.05, 0.05)
+        size = rng.uniform(0.06, 0.16)
+        body = {"name": f"b{k}", "mass": round(rng.uniform(0.5, 3.0), 3), "position": [round(cx, 6), round(cy, 6)],
+                "velocity": [round(rng.uniform(-2, 2), 6), round(rng.uniform(-2, 2), 6)],
+                "restitution": 1.0 if elastic else round(rng.choice([0.6, 0.8, 0.95]), 2)}
+        if rng.random() < 0.5:
+            body.update(shape="circle", radius=round(size, 6))
+        else:
+            m = rng.randint(3, 7)
+            start = rng.uniform(0, 2 * math.pi)
+            body.update(shape="polygon", vertices=[[round(size * math.cos(start + 2 * math.pi * i / m), 9),
+                                                    round(size * math.sin(start + 2 * math.pi * i / m), 9)]
+                                                   for i in range(m)])
+            if spin:
+                body["angular_velocity"] = round(rng.uniform(-6, 6), 4)
+                body["angle"] = round(rng.uniform(-3, 3), 4)
+        out.append(body)
+    scene = {"name": f"random {seed}", "end_time": end_time if end_time is not None else round(rng.uniform(0.8, 2.0), 3),
+             "frame_rate": rng.choice([0, 30]), "bodies": out}
+    if gravity:
+        scene["gravity"] = [0.0, -9.81]
+    if rng.random() < 0.3:
+        scene["inputs"] = [{"time": round(scene["end_time"] / 2, 4), "body": "b0", "add_velocity": [0.5, 1.0]}]
+    if spin and rng.random() < 0.3:
+        # a fixed circle orbiting the box's centre, as the paper's orbiting circles
+        scene["bodies"].append({"name": "orbiter", "shape": "circle", "fixed": True, "radius": 0.05,
+                                "position": [w / 2, h / 2], "orbit": {"radius": 0.1, "angle": 0.0},
+                                "angular_velocity": 2.0})
+    return scene
+
+
+def write_random_scenes(folder, seeds) -> list[str]:
+    """Write scenes seed -> folder/random-SEED.json; returns the paths.
+    A scene whose bodies would overlap (an orbiting circle on a body) is
+    drawn again from the next seed offset."""
+    from max2code.scene import SceneError, parse_scene
+    paths = []
+    for seed in seeds:
+        for attempt in range(20):
+            scene = random_scene(seed * 1000 + attempt)
+            text = json.dumps(scene, indent=1)
+            try:
+                parse_scene(text, f"random-{seed}.json")
+            except SceneError:
+                continue
+            break
+        else:
+            raise RuntimeError(f"no valid random scene for seed {seed}")
+        path = f"{folder}/random-{seed}.json"
+        with open(path, "w") as f:
+            f.write(text + "\n")
+        paths.append(path)
+    return paths
