@@ -49,6 +49,27 @@ class Option:
 
 
 @dataclass(frozen=True)
+class Approximation:
+    """`exact NAME(formals) { text }`: the Maxima function NAME of the text
+    approximates `text` (the exact motion, in the formals and the variable)."""
+    name: str
+    formals: tuple[str, ...]
+    text: str            # Maxima text between the braces, verbatim
+    span: Span           # the declaration (its NAME)
+    text_span: Span      # where the text starts
+
+
+@dataclass(frozen=True)
+class Shift:
+    """`shift NAME { text }`: the parameter's value when the clock restarts at
+    time t (Maxima text in the parameters and the variable)."""
+    param: str
+    text: str
+    span: Span
+    text_span: Span
+
+
+@dataclass(frozen=True)
 class MxmModule:
     """A parsed .mxm file."""
     path: str
@@ -64,6 +85,8 @@ class MxmModule:
     maxima_span: Span                # where maxima_text starts
     dialect: str                     # "begin-end" or "brace"
     source_lines: int = field(default=0)
+    approximations: tuple[Approximation, ...] = ()   # `exact` declarations
+    shifts: tuple[Shift, ...] = ()                   # `shift` declarations
 
     def blocks_for(self, lang: str) -> tuple[Block, ...]:
         """Blocks that apply to `lang`: of each kind, those tagged `for lang`
@@ -143,6 +166,18 @@ class _Build(Transformer):
         name, num = items[0], items[1]
         doc = items[2][1:-1] if len(items) > 2 else ""
         return ("option", Option(str(name), Fraction(str(num)), doc, _span(self.path, name)))
+
+    def formals(self, items):
+        return [(str(n), _span(self.path, n)) for n in items]
+
+    def exact_decl(self, items):
+        name, formals, tok = items
+        return ("exact", Approximation(str(name), tuple(f for f, _ in formals), str(tok)[1:-1],
+                                       _span(self.path, name), _span(self.path, tok, 1)), formals)
+
+    def shift_decl(self, items):
+        name, tok = items
+        return ("shift", Shift(str(name), str(tok)[1:-1], _span(self.path, name), _span(self.path, tok, 1)))
 
     def header(self, items):
         return items[0]
@@ -241,6 +276,8 @@ def _check(path: str, text: str, items: list) -> MxmModule:
     blocks: list[Block] = []
     seen_terms: dict[str | None, list[int]] = {}   # per language tag
     maxima = None
+    approximations: list[Approximation] = []
+    shifts: list[Shift] = []
     for item in items:
         if isinstance(item, tuple) and item and item[0] == "terms":
             if terms is not None:
@@ -262,6 +299,25 @@ def _check(path: str, text: str, items: list) -> MxmModule:
             if any(q.name == o.name for q in options):
                 raise SourceError(o.span, f"option '{o.name}' is declared twice")
             options.append(o)
+        elif isinstance(item, tuple) and item and item[0] == "exact":
+            a, formals = item[1], item[2]
+            if any(q.name == a.name for q in approximations):
+                raise SourceError(a.span, f"'exact {a.name}' is declared twice")
+            seen: set[str] = set()
+            for f, fspan in formals:
+                if f in seen:
+                    raise SourceError(fspan, f"'{f}' appears twice in the arguments of '{a.name}'")
+                seen.add(f)
+            if not a.text.strip():
+                raise SourceError(a.text_span, f"'exact {a.name}' needs the exact expression between the braces")
+            approximations.append(a)
+        elif isinstance(item, tuple) and item and item[0] == "shift":
+            sh = item[1]
+            if any(q.param == sh.param for q in shifts):
+                raise SourceError(sh.span, f"'shift {sh.param}' is declared twice")
+            if not sh.text.strip():
+                raise SourceError(sh.text_span, f"'shift {sh.param}' needs its value at time t between the braces")
+            shifts.append(sh)
         elif isinstance(item, tuple) and item and isinstance(item[0], Block):
             block, nspan = item
             seq = seen_terms.setdefault(block.lang, [])
@@ -293,6 +349,7 @@ def _check(path: str, text: str, items: list) -> MxmModule:
         path=path, equation=equation, doc=doc, variable=variable, terms=terms, terms_span=terms_span,
         parameters=tuple(params), options=tuple(options), blocks=tuple(blocks), maxima_text=mtext,
         maxima_span=mspan, dialect=dialect, source_lines=text.count("\n") + (0 if text.endswith("\n") else 1),
+        approximations=tuple(approximations), shifts=tuple(shifts),
     )
 
 

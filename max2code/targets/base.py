@@ -19,8 +19,29 @@ class Target:
     line_directive: ClassVar[str | None] = None   # format with {line} {file}; None: origin comments
     line_offset: ClassVar[int] = 0             # added to the line in a directive (gm2 needs 1)
     exponent_letter: ClassVar[str] = "e"
-    calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})"}
+    calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "fabs({})"}
     statement_end: ClassVar[str] = ";"
+
+    # ---- single precision (max2code --real=float) ------------------------
+    single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
+    single_calls: ClassVar[dict[str, str]] = {}
+    single_suffix: ClassVar[str] = ""                 # after a single-precision literal
+    single = False                                    # this instance prints single precision
+    renames: dict[str, str] = {}                      # references printed under another name
+
+    def with_real(self, real: str) -> "Target":
+        """This target printing arithmetic in `real` ("double" or "float")."""
+        if real not in ("double", "float"):
+            raise ValueError(f"unknown real type {real!r} (double or float)")
+        if real == "float" and self.single_type is None:
+            raise ValueError(f"{self.name} has no single-precision floating-point type")
+        self.single = real == "float"
+        return self
+
+    @property
+    def real(self) -> str | None:
+        """The type of the generated arithmetic, when it is single precision."""
+        return self.single_type if self.single else None
 
     # ---- evaluation harness (templates/<lang>/harness.j2) ---------------
     harness_source: ClassVar[str]
@@ -85,13 +106,25 @@ class Target:
         return "-" + self._operand(n[1], PRECEDENCE["neg"])
 
     def _print_ref(self, n: Node) -> str:
-        return n[1]
+        return self.renames.get(n[1], n[1])
 
     def _print_call(self, n: Node) -> str:
-        return self.calls[n[1]].format(self.expr(n[2]))
+        return (self.single_calls if self.single else self.calls)[n[1]].format(self.expr(n[2]))
 
     def _print_lit(self, n: Node) -> str:
+        if self.single:
+            return self.single_literal(n[1])
         return self.real_literal(n[1])
+
+    def single_literal(self, x: float) -> str:
+        """The single-precision literal nearest to `x`, in its shortest form."""
+        import struct
+        f = struct.unpack("<f", struct.pack("<f", x))[0]
+        for digits in range(1, 10):
+            text = "%.*g" % (digits, f)
+            if struct.unpack("<f", struct.pack("<f", float(text)))[0] == f:
+                break
+        return self.real_literal(float(text)) + self.single_suffix
 
     def real_literal(self, x: float) -> str:
         """A real literal that reads back as exactly `x` (never an integer)."""

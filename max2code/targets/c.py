@@ -8,6 +8,10 @@ class C(Target):
     comment = ("/* ", " */")
     line_directive = '#line {line} "{file}"'
 
+    single_type = "float"
+    single_calls = {"sin": "sinf({})", "cos": "cosf({})", "sqrt": "sqrtf({})", "abs": "fabsf({})"}
+    single_suffix = "f"
+
     harness_source = "harness.c"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
         """Commands that compile the harness (warnings are errors)."""

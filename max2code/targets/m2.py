@@ -13,6 +13,11 @@ class Modula2(Target):
         # AND binds tighter than = in Modula-2: parenthesise each test
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
 
+    calls = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "ABS({})"}
+    single_type = "SHORTREAL"     # gm2 12 has no ShortMath: sin and cos of REAL, rounded
+    single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",
+                    "sqrt": "VAL(SHORTREAL, sqrt(VAL(REAL, {})))", "abs": "ABS({})"}
+
     harness_source = "harness.mod"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
         """Commands that compile the harness: gm2 -fiso -fcpp, warnings are errors."""

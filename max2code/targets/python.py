@@ -8,7 +8,7 @@ class Python(Target):
     name = "python"
     extension = ".py"
     comment = ("# ", "")
-    calls = {"sin": "math.sin({})", "cos": "math.cos({})", "sqrt": "math.sqrt({})"}
+    calls = {"sin": "math.sin({})", "cos": "math.cos({})", "sqrt": "math.sqrt({})", "abs": "abs({})"}
     statement_end = ""
     logical_and = "and"
 

@@ -6,7 +6,11 @@ class Rust(Target):
     name = "rust"
     extension = ".rs"
     comment = ("// ", "")
-    calls = {"sin": "f64::sin({})", "cos": "f64::cos({})", "sqrt": "f64::sqrt({})"}
+    calls = {"sin": "f64::sin({})", "cos": "f64::cos({})", "sqrt": "f64::sqrt({})", "abs": "f64::abs({})"}
+
+    single_type = "f32"
+    single_calls = {"sin": "f32::sin({})", "cos": "f32::cos({})", "sqrt": "f32::sqrt({})", "abs": "f32::abs({})"}
+    single_suffix = "_f32"
 
     harness_source = "harness.rs"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
