@@ -305,17 +305,25 @@ class Simulator:
         s = self.s
         self.stats[6] += 1
         w = s.end - now
+        if not (w > 0.0):
+            return
+        if A.polygon or B.polygon:
+            # the bounding circles do not turn: until they touch, nothing can
+            meet = self.bounds_meet(A, B, now, w)
+            if meet is None:
+                return
+            if meet > 0.0:
+                self.push(now + meet, HORIZON, A.idx, B.idx, -1, -1, -1)
+                return
         turn = self.turn_rate(A) + self.turn_rate(B)
         if turn > 0.0:
             w = min(w, s.alpha / turn)
-        if not (w > 0.0):
-            return
         best = None   # (s, feature, a, b, i, j)
         if not A.polygon and not B.polygon:
             t = self.predict_cc(A, B, None, B.r, now, w)
             if t is not None:
                 best = (t, CC, A.idx, B.idx, -1, -1)
-        elif self.bounds_may_meet(A, B, now, w):
+        else:
             if not A.polygon:
                 best = self.circle_polygon(A, B, now, w, None)
             elif not B.polygon:
@@ -328,17 +336,19 @@ class Simulator:
         elif now + w < s.end:
             self.push(now + w, HORIZON, A.idx, B.idx, -1, -1, -1)
 
-    def bounds_may_meet(self, A: Body, B: Body, now: float, w: float) -> bool:
-        """Whether the bounding circles overlap now or touch within w (exact:
-        they do not turn)."""
+    def bounds_meet(self, A: Body, B: Body, now: float, w: float) -> float | None:
+        """When the bounding circles first touch within (0, w]: 0.0 when they
+        overlap or touch now (within the tolerance), None when they do not
+        meet (exact: bounding circles do not turn)."""
         x1, y1, u1, v1, _ = self.state_at(A, now)
         x2, y2, u2, v2, _ = self.state_at(B, now)
         args = (x1 - x2, u1 - u2, A.ax - B.ax, 0.0, 0.0, HALF_PI, y1 - y2, v1 - v2, A.ay - B.ay, 0.0, 0.0,
                 0.0, 0.0, 0.0, 0.0, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0, A.bound, B.bound)
         coef = self.cc_coefficients(args)
-        if coef[0] <= 0.0:
-            return True
-        return smallest_root(coef, 0.0, w) is not None
+        tol = self.s.tol
+        if coef[0] <= tol * (2.0 * (A.bound + B.bound) + tol):
+            return 0.0
+        return smallest_root(coef, 0.0, w)
 
     @staticmethod
     def _better(best, t, feat, a, b, i, j):

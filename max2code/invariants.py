@@ -1,0 +1,74 @@
+"""Invariants of a simulated trace, checked at every collision and input
+event: no two bodies overlap by more than a tolerance, and (for scenes whose
+restitutions are all 1) kinetic plus potential energy stays what it was."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from max2code.replay import Replay
+from max2code.scene import Body, Scene, penetration
+
+
+@dataclass
+class InvariantReport:
+    events: int                 # events checked
+    max_overlap: float          # deepest overlap of two bodies seen at an event (m; <= 0: never)
+    overlap_where: str
+    energy0: float              # total energy at t = 0 (J)
+    max_energy_drift: float     # largest |E - E0| / E0 at an event
+    drift_where: str
+
+
+def energy(scene: Scene, rp: Replay, t: float) -> float:
+    """Kinetic (linear and rotational) plus gravitational potential energy
+    of the movable bodies at time t."""
+    gx, gy = scene.gravity
+    total = 0.0
+    for k, b in enumerate(scene.bodies):
+        if b.fixed:
+            continue
+        s = rp.state_at(k, t)
+        total += 0.5 * b.mass * (s.vx * s.vx + s.vy * s.vy) + 0.5 * b.inertia * s.omega * s.omega
+        total -= b.mass * (gx * s.px + gy * s.py)
+    return total
+
+
+def _at(b: Body, s) -> Body:
+    """A copy of the body placed at state s (for scene.penetration)."""
+    return Body(b.name, b.polygon, b.fixed, b.mass, b.inertia, b.restitution, (s.px, s.py), (s.vx, s.vy),
+                b.acceleration, s.angle, s.omega, b.radius, b.orbit_radius, b.orbit_angle, b.vertices)
+
+
+def check(scene: Scene, rp: Replay) -> InvariantReport:
+    bodies = scene.bodies
+    e0 = energy(scene, rp, 0.0)
+    deepest, where = -math.inf, ""
+    drift, dwhere = 0.0, ""
+    times = sorted({e.t for e in rp.events if e.kind in ("collision", "input")})
+    for t in times:
+        placed = [_at(b, rp.state_at(k, t)) for k, b in enumerate(bodies)]
+        # pairs whose bounding circles meet (sort-and-sweep on x)
+        order = sorted(range(len(placed)), key=lambda k: placed[k].position[0] - placed[k].bound)
+        active: list[int] = []
+        for k in order:
+            bk = placed[k]
+            lo = bk.position[0] - bk.bound
+            active = [j for j in active if placed[j].position[0] + placed[j].bound >= lo]
+            for j in active:
+                bj = placed[j]
+                if bj.fixed and bk.fixed:
+                    continue
+                reach = bj.bound + bk.bound
+                if (bj.position[0] - bk.position[0]) ** 2 + (bj.position[1] - bk.position[1]) ** 2 > reach * reach:
+                    continue
+                d = penetration(bj, bk)
+                if d > deepest:
+                    deepest, where = d, f"{bj.name} and {bk.name} at t={t!r}"
+            active.append(k)
+        if e0 != 0.0:
+            e = energy(scene, rp, t)
+            rel = abs(e - e0) / abs(e0)
+            if rel > drift:
+                drift, dwhere = rel, f"t={t!r}"
+    return InvariantReport(len(times), deepest, where, e0, drift, dwhere)
