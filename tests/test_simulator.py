@@ -1,0 +1,200 @@
+"""The simulator: scene checking, the Python reference on the examples,
+zero-time chains, determinism, invariants, and the effects a scene uses."""
+from __future__ import annotations
+
+import glob
+import json
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from max2code.invariants import check
+from max2code.replay import read_trace
+from max2code.scene import SceneError, compile_scene, load_scene, parse_scene
+from max2code.simulate import run_scene
+
+sys.path.insert(0, os.path.dirname(__file__))
+from sim_scenes import random_scene  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
+
+
+def ball(name="a", x=0.0, y=0.0, **kw):
+    b = {"name": name, "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [x, y]}
+    b.update(kw)
+    return b
+
+
+def scene_text(bodies, **kw):
+    s = {"end_time": 1.0, "bodies": bodies}
+    s.update(kw)
+    return json.dumps(s)
+
+
+BAD = [
+    ("unknown scene key", scene_text([ball()], gravty=[0, 1]), "gravty: unknown key"),
+    ("unknown body key", scene_text([ball(velocty=[1, 0])]), "bodies[0].velocty: unknown key"),
+    ("negative mass", scene_text([ball(mass=-1.0)]), "bodies[0] (a).mass: must be positive"),
+    ("zero mass", scene_text([ball(mass=0)]), "bodies[0] (a).mass: must be positive"),
+    ("NaN", '{"end_time": 1, "bodies": [{"shape": "circle", "radius": NaN, "mass": 1, "position": [0, 0]}]}',
+     "bodies[0] (body0).radius: must be finite"),
+    ("infinite position", '{"end_time": 1, "bodies": [{"shape": "circle", "radius": 1, "mass": 1, "position": [Infinity, 0]}]}',
+     "bodies[0] (body0).position[0]: must be finite"),
+    ("non-convex", scene_text([{"name": "p", "shape": "polygon", "mass": 1, "position": [0, 0],
+                                "vertices": [[0, 0], [2, 0], [1, 0.2], [2, 2], [0, 2]]}]),
+     "bodies[0] (p).vertices: the polygon is not strictly convex at vertex 2"),
+    ("two vertices", scene_text([{"name": "p", "shape": "polygon", "mass": 1, "position": [0, 0],
+                                  "vertices": [[0, 0], [1, 0]]}]), "bodies[0] (p).vertices: a polygon needs"),
+    ("overlap", scene_text([ball("a", 0, 0), ball("b", 0.15, 0)]),
+     "bodies[0] (a) and bodies[1] (b) overlap at t = 0 by 0.05"),
+    ("polygon overlap", scene_text([{"name": "p", "shape": "polygon", "mass": 1, "position": [0, 0],
+                                     "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}, ball("b", 1.05, 0.5)]),
+     "bodies[0] (p) and bodies[1] (b) overlap"),
+    ("string number", scene_text([ball(mass="1")]), "bodies[0] (a).mass: expected a number"),
+    ("missing end", json.dumps({"bodies": [ball()]}), "missing required key 'end_time'"),
+    ("duplicate name", scene_text([ball("a", 0, 0), ball("a", 1, 0)]), "bodies[1].name: 'a' is already"),
+    ("orbit on movable", scene_text([ball(orbit={"radius": 0.5})]), "an orbiting circle must be fixed"),
+    ("restitution", scene_text([ball(restitution=1.5)]), "restitution: must be at most 1"),
+    ("input on fixed", scene_text([{"name": "w", "shape": "circle", "radius": 1, "fixed": True, "position": [0, 0]}],
+                                  inputs=[{"time": 0.5, "body": "w", "set_velocity": [1, 0]}]),
+     "inputs[0].body: 'w' is fixed"),
+    ("input unknown body", scene_text([ball()], inputs=[{"time": 0.5, "body": "zz", "add_velocity": [1, 0]}]),
+     'inputs[0].body: no body is named "zz"'),
+    ("not json", "{", "1:2: not valid JSON"),
+    ("bad order", scene_text([ball()], taylor_order=9), "taylor_order: must be an integer from 1 to 7"),
+]
+
+
+@pytest.mark.parametrize("text,expect", [(t, e) for _, t, e in BAD], ids=[n for n, _, _ in BAD])
+def test_bad_scene_names_the_field(text, expect):
+    with pytest.raises(SceneError) as exc:
+        parse_scene(text, "bad.json")
+    msg = str(exc.value)
+    assert msg.startswith("bad.json"), msg
+    assert expect in msg, msg
+
+
+def test_bad_scene_from_the_command_line(tmp_path):
+    p = tmp_path / "bad.json"
+    p.write_text(scene_text([ball(mass=-2.0)]))
+    r = subprocess.run([sys.executable, "-m", "max2code", "simulate", "--lang", "python", str(p)],
+                       capture_output=True, text=True)
+    assert r.returncode == 1
+    assert "Traceback" not in r.stderr
+    assert "bodies[0] (a).mass: must be positive" in r.stderr
+
+
+_json = st.recursive(st.none() | st.booleans() | st.floats(allow_nan=True) | st.integers() | st.text(max_size=5),
+                     lambda kids: st.lists(kids, max_size=4) | st.dictionaries(st.text(max_size=8), kids, max_size=4),
+                     max_leaves=20)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.dictionaries(st.sampled_from(["end_time", "bodies", "gravity", "inputs", "frame_rate", "x"]), _json,
+                       max_size=5))
+def test_scene_parser_never_crashes(obj):
+    try:
+        parse_scene(json.dumps(obj), "h.json")
+    except SceneError as exc:
+        assert str(exc).startswith("h.json")
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_random_scenes_compile(seed):
+    """Random valid scenes parse, or are refused only for an overlap; the
+    compiled text round-trips every number exactly."""
+    try:
+        scene = parse_scene(json.dumps(random_scene(seed)), "r.json")
+    except SceneError as exc:
+        assert "overlap at t = 0" in str(exc)
+        return
+    flat = compile_scene(scene).split()
+    nums = [w for w in flat if w[0].isdigit() or w[0] == "-"]
+    assert all(repr(float(w)) == w for w in nums if "." in w or "e" in w)
+
+
+def _run(path_or_scene, lang="python"):
+    scene = load_scene(path_or_scene) if isinstance(path_or_scene, str) else path_or_scene
+    return scene, run_scene(scene, lang)
+
+
+def test_newtons_cradle_passes_the_momentum_through():
+    scene, tr = _run(os.path.join(ROOT, "examples", "newtons-cradle.json"))
+    hits = [e for e in tr.events if e["kind"] == "collision"]
+    # the striker's momentum runs through the row at one instant: five
+    # zero-time collisions, then the last ball flies off alone
+    first = [e for e in hits if e["t"] == hits[0]["t"]]
+    assert [e["bodies"] for e in first] == [["striker", "ball0"], ["ball0", "ball1"], ["ball1", "ball2"],
+                                           ["ball2", "ball3"], ["ball3", "ball4"]]
+    final = {b["body"]: b for b in tr.final["bodies"]}
+    moving = [n for n, b in final.items() if abs(b["velocity"][0]) > 0.5]
+    assert len(moving) == 1
+    assert max(len([e for e in hits if e["t"] == t]) for t in {e["t"] for e in hits}) <= 5
+
+
+def test_resting_ball_does_not_hang():
+    scene, tr = _run(os.path.join(ROOT, "examples", "resting-ball.json"))
+    hits = [e for e in tr.events if e["kind"] == "collision"]
+    times = [e["t"] for e in hits]
+    assert times == sorted(times) and len(set(times)) == len(times)     # time always advances
+    g = 9.81
+    rest = scene.rest_speed
+    # once resting, the bounces are rest_speed bounces: 2 v / g apart
+    assert min(t2 - t1 for t1, t2 in zip(times[-20:-1], times[-19:])) == pytest.approx(2 * rest / g, rel=1e-6)
+    ball = next(b for b in tr.final["bodies"] if b["body"] == "ball")
+    floor_top = 0.0
+    assert floor_top + 0.1 - 1e-9 <= ball["position"][1] <= floor_top + 0.1 + rest * rest / (2 * g) + 1e-9
+
+
+def test_two_runs_give_identical_traces():
+    path = os.path.join(ROOT, "examples", "spinning-polygons.json")
+    _, a = _run(path)
+    _, b = _run(path)
+    assert a.raw == b.raw and a.raw
+
+
+@pytest.mark.parametrize("gravity", [True, False], ids=["gravity", "no-gravity"])
+def test_invariants_at_every_event(gravity):
+    """Restitution 1, circles and spinning polygons: at every collision and
+    every frame, no overlap beyond the tolerance and energy conserved."""
+    raw = random_scene(3, gravity=gravity, spin=True, restitution_one=True, bodies=9, end_time=3.0)
+    raw["frame_rate"] = 200
+    scene = parse_scene(json.dumps(raw), "long.json")
+    tr = run_scene(scene, "python")
+    rp = read_trace("\n".join(tr.lines()), scene, "long.json")
+    rep = check(scene, rp, kinds=("collision", "input", "frame"))
+    assert rep.events >= 600
+    assert rep.max_overlap <= scene.tolerance, rep
+    assert rep.max_energy_drift <= 1e-9, rep
+
+
+def test_only_the_effects_a_scene_uses():
+    """No rotation: the generated code has no orbiting variant, and every
+    prediction is served by a variant of degree 2 or less."""
+    scene, tr = _run(os.path.join(ROOT, "examples", "gravity-box.json"))
+    assert scene.effects == ("acceleration",)
+    from max2code.simulate import build_simulator
+    b = build_simulator("python", scene.effects, scene.taylor_order)
+    names = [n for v in b.variant_names.values() for n in v]
+    assert all("no_orbit1" in n or n.startswith("point_edge") for n in names)
+    assert all("no_orbit2" in n for n in names if n.startswith("circle_circle"))
+    used = tr.stats["predictions"]
+    assert used and all(n in names for n in used)
+    # a scene with polygons that may turn gets the orbit effect
+    spin = load_scene(os.path.join(ROOT, "examples", "spinning-polygons.json"))
+    assert "orbit" in spin.effects
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
+def test_examples_replay_to_their_final_state(path):
+    scene, tr = _run(path)
+    rp = read_trace("\n".join(tr.lines()), scene, path)
+    err, who = rp.final_error()
+    assert err <= 1e-9, (err, who)
+    assert math.isfinite(sum(b["position"][0] for b in tr.final["bodies"]))
