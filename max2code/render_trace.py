@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from bisect import bisect_left, bisect_right
 import os
 import sys
 from dataclasses import dataclass
@@ -23,7 +24,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 from max2code.errors import Max2CodeError
 from max2code.progress import bar
-from max2code.replay import Replay, TraceError, advance, circle_centre_at, load_trace, polygon_at
+from max2code.replay import Replay, TraceError, advance, circle_centre_at, load_trace
 from max2code.scene import Body, SceneError, load_scene
 
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf",
@@ -282,7 +283,7 @@ def _svg_clock(times: list[float], end: float, width: int, height: int, rep: str
     """Title, a clock (one label per key frame, at most ~400, each shown in
     its own slice of the loop) and a progress bar along the bottom."""
     out = [f'<text x="8" y="20" font-size="15" fill="#222">{escape(title)}</text>',
-           f'<g font-size="14" fill="#222" text-anchor="end" font-variant-numeric="tabular-nums">']
+           '<g font-size="14" fill="#222" text-anchor="end" font-variant-numeric="tabular-nums">']
     step = max(1, math.ceil(len(times) / 400))
     shown = times[::step]
     digits = 2 if end >= 1 else 3
@@ -429,10 +430,9 @@ def frames(rp: Replay, *, gif: str | None, png_dir: str | None, fps: float, widt
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_axis_off()
-    title_text = fig.text(0.01, 1.0 - 15.0 / (fh * dpi), title if title is not None else sc.name,
+    fig.text(0.01, 1.0 - 15.0 / (fh * dpi), title if title is not None else sc.name,
                           va="center", fontsize=10)
     clock = fig.text(0.99, 1.0 - 15.0 / (fh * dpi), "", va="center", ha="right", fontsize=10, family="monospace")
-    del title_text
     patches = []
     for k, b in enumerate(sc.bodies):
         shape = rp.shape_at(k, 0.0)
@@ -444,7 +444,6 @@ def frames(rp: Replay, *, gif: str | None, png_dir: str | None, fps: float, widt
     flash = ax.scatter([], [], s=30, zorder=5)
     cols = sorted((e for e in rp.collisions if e.point is not None), key=lambda e: e.t)
     col_t = [e.t for e in cols]
-    from bisect import bisect_left, bisect_right
     images = []
     if png_dir:
         os.makedirs(png_dir, exist_ok=True)
@@ -493,10 +492,10 @@ def _empty_offsets():
 
 def have_pillow() -> bool:
     try:
-        import PIL  # noqa: F401
+        import PIL
     except ImportError:
         return False
-    return True
+    return bool(PIL.__version__)
 
 
 # ---------------------------------------------------------------- command
@@ -619,4 +618,4 @@ def _write(path: str, text: str) -> None:
 
 
 __all__ = ["RenderError", "TraceError", "animated_svg", "overview", "frames", "sample_times", "view_box",
-           "path_points", "render_main", "polygon_at"]
+           "path_points", "render_main"]

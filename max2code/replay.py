@@ -214,14 +214,16 @@ class _Lines:
                         self.number(obj, "angle", what), self.number(obj, "angular_velocity", what))
 
 
-def read_trace(text: str, scene: Scene, path: str = "<trace>", *, check_final: float | None = 1e-6) -> Replay:
+def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: float | None = 1e-6) -> Replay:
     """Read a JSON-lines trace of `scene` into a Replay.  Errors (bad JSON,
     unknown bodies or kinds, states of fixed bodies, times out of order or
     past the end, a final line that does not list exactly the scene's
-    bodies) name the file and line.  With `check_final`, the replayed final
-    positions must match the trace's within that many metres (times the
-    larger of 1 and the coordinates): a trace of another scene whose bodies
-    happen to share the names fails here."""
+    bodies) name the file and line.  With a `tolerance` (None: no check),
+    the trace must agree with the scene to that many metres (times the
+    larger of 1 and the coordinates): each state change puts the body where
+    the replay has it (collisions and inputs change velocities only), and
+    the final positions are the replayed ones.  A trace of another scene
+    whose bodies happen to share the names fails here."""
     rp = Replay(scene, path)
     rd = _Lines(path, scene, rp.index)
     last_t = 0.0
@@ -234,6 +236,8 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, check_final: f
         except (json.JSONDecodeError, RecursionError) as exc:
             msg = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
             rd.fail(f"not a JSON trace line ({msg}): is this the trace written by 'max2code simulate -o'?")
+        if isinstance(obj, dict) and "end_time" in obj and "bodies" in obj:
+            rd.fail("this is a scene, not a trace (give the scene, then the trace 'max2code simulate -o' wrote)")
         if not isinstance(obj, dict) or not isinstance(obj.get("kind"), str):
             rd.fail("expected an object with a 'kind' (a trace line of 'max2code simulate')")
         kind = obj["kind"]
@@ -290,15 +294,22 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, check_final: f
                         f"{scene.path}: the trace belongs to another scene")
             if k not in ev.bodies:
                 rd.fail(f"{kind}: a state of {scene.bodies[k].name}, which is not in this {kind}")
+            if tolerance is not None:
+                p = advance(rp.states[k][-1], scene.bodies[k], t)
+                d = math.hypot(p.px - st.px, p.py - st.py)
+                if not d <= tolerance * max(1.0, abs(st.px), abs(st.py)):
+                    rd.fail(f"does not match {scene.path}: replayed from the scene, {scene.bodies[k].name} is at "
+                            f"({p.px:.6g}, {p.py:.6g}) at t={t!r}, the trace puts it at ({st.px:.6g}, {st.py:.6g}) "
+                            f"({d:.3g} m apart)")
             rp.add_state(k, st, rd.line)
         rp.events.append(ev)
     if rd.line == 0 or (not rp.events and rp.final is None):
         raise TraceError(f"{path}: empty trace: no events and no final states")
-    if check_final is not None and rp.final:
+    if tolerance is not None and rp.final:
         for k, f in rp.final.items():
             s = rp.state_at(k, scene.end_time)
             d = math.hypot(s.px - f.px, s.py - f.py)
-            if not d <= check_final * max(1.0, abs(f.px), abs(f.py)):
+            if not d <= tolerance * max(1.0, abs(f.px), abs(f.py)):
                 raise TraceError(f"{path}: does not match {scene.path}: replayed from the scene, "
                                  f"{scene.bodies[k].name} ends at ({s.px:.6g}, {s.py:.6g}), the trace says "
                                  f"({f.px:.6g}, {f.py:.6g}) ({d:.3g} m apart)")
