@@ -1,5 +1,22 @@
 """Rust (f64)."""
+from pathlib import Path
+
 from max2code.targets.base import Target
+
+# The simulator binary: the two generated modules and the runtime's
+# simulator (runtimes/rust/src/sim.rs), joined by its sim_main! macro.
+SIM_MAIN = """\
+// The max2code simulator with this scene's generated contact equations
+// (written by max2code/targets/rust.py: do not edit).
+#[path = {cc}]
+#[allow(dead_code)]
+mod circle_circle;
+#[path = {pe}]
+#[allow(dead_code)]
+mod point_edge;
+
+max2code_rt::sim_main!(circle_circle, point_edge);
+"""
 
 
 class Rust(Target):
@@ -24,3 +41,21 @@ class Rust(Target):
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
+
+    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+        """Write main.rs (the generated modules and max2code_rt::sim_main!)
+        and compile it against the runtime's rlib: warnings denied, opt-level 3."""
+        main = Path(workdir) / "main.rs"
+        text = SIM_MAIN.format(cc=_rust_str(generated["circle_circle"]), pe=_rust_str(generated["point_edge"]))
+        if not main.exists() or main.read_text(encoding="utf-8") != text:
+            main.write_text(text, encoding="utf-8")
+        return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=3", "-C", "codegen-units=1",
+                 *self.runtime_flags(), str(main), "-o", str(Path(workdir) / "sim")]]
+
+    def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
+        return [str(Path(workdir) / "sim")]
+
+
+def _rust_str(text: str) -> str:
+    """A Rust string literal holding `text`."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

@@ -1,0 +1,204 @@
+//! The compiled scene: the flat text of docs/simulator.md, read as
+//! `Scene` in runtimes/python/max2code_rt/sim.py reads it.  Numbers are
+//! shortest round-trip decimals; Rust's parser reads them exactly.
+
+/// One vertex of a polygon and the edge that starts at it (to the next
+/// vertex), in the body's frame: all precomputed by the scene compiler.
+#[derive(Clone, Copy, Debug)]
+pub struct Vertex {
+    pub lx: f64,
+    pub ly: f64,
+    pub rho: f64,
+    pub beta: f64,
+    pub psi: f64,
+    pub h: f64,
+    pub s1: f64,
+    pub s2: f64,
+}
+
+/// A body's state at its own last update time `tb`, and its constants.
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub idx: usize,
+    pub polygon: bool,
+    pub fixed: bool,
+    pub large: bool,
+    pub inv_m: f64,
+    pub inv_i: f64,
+    pub e: f64,
+    pub px: f64,
+    pub py: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub ax: f64,
+    pub ay: f64,
+    pub ang: f64,
+    pub om: f64,
+    pub tb: f64,
+    pub r: f64,
+    pub orbit: f64,
+    pub ophase: f64,
+    pub bound: f64,
+    /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
+    pub v0: usize,
+    pub nv: usize,
+    /// bumped whenever the body's motion changes (lazy invalidation)
+    pub stamp: u64,
+    /// grid cell (small bodies)
+    pub cx: i64,
+    pub cy: i64,
+}
+
+/// A scripted velocity change.
+#[derive(Clone, Copy, Debug)]
+pub struct Input {
+    pub t: f64,
+    pub body: i64,
+    pub mode: i64,
+    pub vx: f64,
+    pub vy: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub end: f64,
+    pub frame_dt: f64,
+    pub tol: f64,
+    pub rest_speed: f64,
+    pub alpha: f64,
+    pub max_same: i64,
+    pub x0: f64,
+    pub y0: f64,
+    pub cw: f64,
+    pub ch: f64,
+    pub nx: i64,
+    pub ny: i64,
+    pub bodies: Vec<Body>,
+    /// all polygons' vertices, body after body
+    pub verts: Vec<Vertex>,
+    pub inputs: Vec<Input>,
+}
+
+struct Tokens<'a> {
+    it: std::str::SplitAsciiWhitespace<'a>,
+}
+
+impl<'a> Tokens<'a> {
+    fn word(&mut self) -> Result<&'a str, String> {
+        self.it.next().ok_or_else(|| "scene: unexpected end of the scene".to_string())
+    }
+
+    fn expect(&mut self, w: &str) -> Result<(), String> {
+        let got = self.word()?;
+        if got != w {
+            return Err(format!("scene: expected '{w}', found '{got}'"));
+        }
+        Ok(())
+    }
+
+    fn num(&mut self) -> Result<f64, String> {
+        let w = self.word()?;
+        w.parse::<f64>().map_err(|_| format!("scene: expected a number, found '{w}'"))
+    }
+
+    fn int(&mut self) -> Result<i64, String> {
+        let w = self.word()?;
+        w.parse::<i64>().map_err(|_| format!("scene: expected an integer, found '{w}'"))
+    }
+}
+
+impl Scene {
+    /// Read a compiled scene; the error is the message of an `X` line.
+    pub fn parse(text: &str) -> Result<Scene, String> {
+        let mut tk = Tokens { it: text.split_ascii_whitespace() };
+        tk.expect("m2c-scene")?;
+        if tk.int()? != 1 {
+            return Err("scene: unknown version".to_string());
+        }
+        tk.expect("end")?;
+        let end = tk.num()?;
+        tk.expect("frame")?;
+        let frame_dt = tk.num()?;
+        tk.expect("tolerance")?;
+        let tol = tk.num()?;
+        tk.expect("rest_speed")?;
+        let rest_speed = tk.num()?;
+        tk.expect("window_angle")?;
+        let alpha = tk.num()?;
+        tk.expect("max_same_time")?;
+        let max_same = tk.int()?;
+        tk.expect("grid")?;
+        let (x0, y0, cw, ch) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+        let (nx, ny) = (tk.int()?, tk.int()?);
+        if nx < 1 || ny < 1 {
+            return Err("scene: the grid needs at least one cell".to_string());
+        }
+        tk.expect("bodies")?;
+        let n = tk.int()?;
+        let mut bodies = Vec::with_capacity(n.max(0) as usize);
+        let mut verts = Vec::new();
+        for idx in 0..n.max(0) as usize {
+            tk.expect("body")?;
+            let polygon = tk.int()? == 1;
+            let fixed = tk.int()? == 1;
+            let (inv_m, inv_i, e) = (tk.num()?, tk.num()?, tk.num()?);
+            let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+            let (ang, om) = (tk.num()?, tk.num()?);
+            let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+            let large = tk.int()? == 1;
+            let nv = tk.int()?.max(0) as usize;
+            let v0 = verts.len();
+            for _ in 0..nv {
+                tk.expect("v")?;
+                let mut v = [0.0f64; 8];
+                for x in v.iter_mut() {
+                    *x = tk.num()?;
+                }
+                verts.push(Vertex { lx: v[0], ly: v[1], rho: v[2], beta: v[3], psi: v[4], h: v[5], s1: v[6], s2: v[7] });
+            }
+            bodies.push(Body {
+                idx,
+                polygon,
+                fixed,
+                large,
+                inv_m,
+                inv_i,
+                e,
+                px,
+                py,
+                vx,
+                vy,
+                ax,
+                ay,
+                ang,
+                om,
+                tb: 0.0,
+                r,
+                orbit,
+                ophase,
+                bound,
+                v0,
+                nv,
+                stamp: 0,
+                cx: 0,
+                cy: 0,
+            });
+        }
+        tk.expect("inputs")?;
+        let k = tk.int()?;
+        let mut inputs = Vec::with_capacity(k.max(0) as usize);
+        for _ in 0..k.max(0) {
+            tk.expect("input")?;
+            let t = tk.num()?;
+            let body = tk.int()?;
+            let mode = tk.int()?;
+            let (vx, vy) = (tk.num()?, tk.num()?);
+            if body < 0 || body >= n {
+                return Err(format!("scene: input on body {body}, which does not exist"));
+            }
+            inputs.push(Input { t, body, mode, vx, vy });
+        }
+        tk.expect("end")?;
+        Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, bodies, verts, inputs })
+    }
+}
