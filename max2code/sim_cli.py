@@ -28,6 +28,8 @@ def _run(scene, lang: str, progress: bool) -> Trace:
         return run_scene(scene, lang, progress=progress)
     except SimulateError as exc:
         raise SimCliError(str(exc)) from None
+    except NotImplementedError as exc:
+        raise SimCliError(f"{scene.path}: {exc}") from None
 
 
 def simulate_main(argv: list[str]) -> int:
