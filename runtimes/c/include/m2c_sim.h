@@ -1,0 +1,50 @@
+/* max2code C runtime: the discrete-event 2D collision simulator
+ * (docs/simulator.md), a port of the Python reference
+ * runtimes/python/max2code_rt/sim.py that performs the same IEEE double
+ * operations in the same order and so writes the same bytes.
+ *
+ * It reads a compiled scene (the flat text of max2code/scene.py) and writes
+ * the flat trace.  Every prediction goes through the generated entries of
+ * equations/circle-circle.mxm and equations/point-edge.mxm (declared in
+ * m2c_sim_equations.h, linked in from the generated .c files) and through
+ * m2c_smallest_root.  Times in seconds, lengths in metres, angles in
+ * radians. */
+#ifndef M2C_SIM_H
+#define M2C_SIM_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A compiled scene: the bodies' state at t = 0 and the settings. */
+typedef struct m2c_sim_scene m2c_sim_scene;
+
+/* Reads the flat scene in `text` (NUL-terminated).  Returns the scene, or
+ * NULL with a message in err (as the reference words it) on a bad scene
+ * or when out of memory. */
+m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen);
+
+void m2c_sim_scene_free(m2c_sim_scene *scene);
+
+/* Runs the scene to its end time and writes the flat trace to out.
+ * cc_variants and pe_variants are the numbers of variants the generated
+ * circle_circle_variant and point_edge_variant index (one V line each).
+ * Returns 0, or 1 with the message of the reference's X line in err (a
+ * stuck scene, an effect the generated code leaves out, out of memory); the
+ * trace written so far is flushed first.  The scene's bodies are advanced. */
+int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen);
+
+/* Writes x into buf exactly as C's printf("%.17g", x) and Python's
+ * "%.17g" % x do (a NaN of either sign as "nan", like Python); returns the
+ * length.  buf holds at least M2C_SIM_NUMBER_MAX bytes; no NUL is written. */
+#define M2C_SIM_NUMBER_MAX 32
+int m2c_sim_format_number(char *buf, double x);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,809 @@
+/* The discrete-event simulator (docs/simulator.md): a line-by-line port of
+ * runtimes/python/max2code_rt/sim.py, the reference.  Every floating-point
+ * expression is written as Python evaluates it (left to right, the same
+ * parentheses), compiled with -ffp-contract=off, so the trace has the same
+ * bytes.  Units: s, m, m/s, m/s^2, rad, rad/s. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "m2c_roots.h"
+#include "m2c_sim_equations.h"
+#include "m2c_sim_internal.h"
+
+#define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
+
+enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
+enum { ST_COLLISIONS, ST_INPUTS, ST_FRAMES, ST_CELLS, ST_HORIZONS, ST_STALE, ST_PAIRS, ST_FEATURES, ST_COUNT };
+static const char *const stat_names[ST_COUNT] = { "collisions", "inputs", "frames", "cells",
+                                                  "horizons", "stale", "pairs", "features" };
+
+typedef struct sim {
+    m2c_sim_scene *s;
+    m2c_sim_body *bodies;
+    m2c_sim_heap heap;
+    uint64_t seq;                       /* scheduling counter */
+    long long stats[ST_COUNT];
+    long long *cc_counts, *pe_counts;   /* predictions served per variant */
+    int n_cc, n_pe;
+    m2c_sim_grid grid;
+    int32_t *large;                     /* the bodies outside the grid, by index */
+    int32_t nlarge;
+    m2c_sim_out out;
+    jmp_buf fail;
+    char *err;
+    size_t errlen;
+} sim;
+
+/* The reference's SimError: the message, then back to m2c_sim_run. */
+static _Noreturn void die(sim *m, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(m->err, m->errlen, fmt, ap);
+    va_end(ap);
+    longjmp(m->fail, 1);
+}
+
+/* ---- motion ---------------------------------------------------------------- */
+
+/* Centre (m), velocity (m/s) and angle (rad) of a body at some time. */
+typedef struct motion {
+    double x, y, vx, vy, ang;
+} motion;
+
+static void advance(m2c_sim_body *b, double t)
+{
+    double dt = t - b->tb;
+    b->px = b->px + (b->vx + 0.5 * b->ax * dt) * dt;
+    b->py = b->py + (b->vy + 0.5 * b->ay * dt) * dt;
+    b->vx = b->vx + b->ax * dt;
+    b->vy = b->vy + b->ay * dt;
+    b->ang = b->ang + b->om * dt;
+    b->tb = t;
+}
+
+/* The body's state at t (the body is not changed). */
+static inline motion state_at(const m2c_sim_body *b, double t)
+{
+    double dt = t - b->tb;
+    motion q;
+    q.x = b->px + (b->vx + 0.5 * b->ax * dt) * dt;
+    q.y = b->py + (b->vy + 0.5 * b->ay * dt) * dt;
+    q.vx = b->vx + b->ax * dt;
+    q.vy = b->vy + b->ay * dt;
+    q.ang = b->ang + b->om * dt;
+    return q;
+}
+
+/* rad/s: how fast the body's contact features turn. */
+static inline double turn_rate(const m2c_sim_body *b)
+{
+    if (b->polygon || b->orbit > 0.0)
+        return fabs(b->om);
+    return 0.0;
+}
+
+/* World position (m) of a circle's centre (v NULL) or of a vertex, at t. */
+static inline void point_at(const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x, double *y)
+{
+    motion q = state_at(b, t);
+    double d = v == NULL ? b->orbit : v->rho;
+    double beta = v == NULL ? b->ophase : v->beta;
+    if (d == 0.0) {
+        *x = q.x;
+        *y = q.y;
+        return;
+    }
+    *x = q.x + d * cos(q.ang + beta);
+    *y = q.y + d * sin(q.ang + beta);
+}
+
+/* ---- the event queue --------------------------------------------------------- */
+
+static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat, int32_t i, int32_t j)
+{
+    m2c_sim_event e;
+    e.t = t;
+    e.key = ((uint64_t)kind << M2C_SIM_KIND_SHIFT) | m->seq;
+    e.a = a;
+    e.b = b;
+    e.sa = a >= 0 ? m->bodies[a].stamp : 0u;
+    e.sb = b >= 0 ? m->bodies[b].stamp : 0u;
+    e.feat = feat;
+    e.i = i;
+    e.j = j;
+    if (m2c_sim_heap_push(&m->heap, &e) != 0)
+        die(m, "out of memory (event queue of %zu events)", m->heap.n);
+    m->seq++;
+}
+
+/* ---- grid ---------------------------------------------------------------------- */
+
+static void cell_of(sim *m, double x, double y, int32_t *cx, int32_t *cy)
+{
+    const m2c_sim_scene *s = m->s;
+    double ix = floor((x - s->x0) / s->cw);
+    double iy = floor((y - s->y0) / s->ch);
+    if (ix != ix || iy != iy)
+        die(m, "a body's position is not a number");
+    ix = ix < 0.0 ? 0.0 : (ix > (double)(s->nx - 1) ? (double)(s->nx - 1) : ix);
+    iy = iy < 0.0 ? 0.0 : (iy > (double)(s->ny - 1) ? (double)(s->ny - 1) : iy);
+    *cx = (int32_t)ix;
+    *cy = (int32_t)iy;
+}
+
+static void cell_add(sim *m, m2c_sim_body *b)
+{
+    if (m2c_sim_grid_add(&m->grid, m->bodies, b) != 0)
+        die(m, "out of memory (grid cell)");
+}
+
+/* ---- first valid root of one feature ----------------------------------------- */
+
+/* What point_edge's contact must satisfy: the point lies on the segment. */
+typedef struct pe_check {
+    const m2c_sim_body *X, *Y;
+    const m2c_sim_vertex *vx;           /* X's vertex, NULL for X's circle */
+    const m2c_sim_vertex *ed;           /* the edge of Y */
+    double now, tol;                    /* s, m */
+} pe_check;
+
+static int inside(const pe_check *k, double s)
+{
+    if (k == NULL)
+        return 1;
+    double t = k->now + s;
+    double px, py;
+    point_at(k->X, k->vx, t, &px, &py);
+    motion q = state_at(k->Y, t);
+    double th = q.ang + k->ed->psi;
+    double along = (px - q.x) * -sin(th) + (py - q.y) * cos(th);
+    return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
+}
+
+/* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
+ * decreasing and the check holds.  At s = 0 the gap counts as zero within
+ * kappa: approaching means contact now, separating never. */
+static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double *out)
+{
+    if (deg >= 1 && fabs(c[0]) <= kappa && c[1] < 0.0 && inside(chk, 0.0)) {
+        *out = 0.0;
+        return 1;
+    }
+    double lo = 0.0;
+    for (int it = 0; it < deg + 2; it++) {
+        double s;
+        if (m2c_smallest_root(c, deg, lo, w, &s) != 1)
+            return 0;
+        double d = 0.0;
+        for (int k = deg; k > 0; k--)
+            d = d * s + (double)k * c[k];
+        if (d < 0.0 && inside(chk, s)) {
+            *out = s;
+            return 1;
+        }
+        lo = s;
+    }
+    return 0;
+}
+
+/* ---- features -------------------------------------------------------------------- */
+
+/* circle_circle's coefficients for these 24 parameters; counts the variant. */
+static int cc_coefficients(sim *m, const double *g, double *coef)
+{
+    int idx = circle_circle_variant(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
+                                    g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21], g[22],
+                                    g[23]);
+    if (idx < 0)
+        die(m, "circle_circle: the scene uses an effect the generated code leaves out");
+    if (idx >= m->n_cc)
+        die(m, "circle_circle: variant %d, but the build counts %d variants", idx, m->n_cc);
+    m->cc_counts[idx]++;
+    m->stats[ST_FEATURES]++;
+    return circle_circle_coefficients(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
+                                      g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21],
+                                      g[22], g[23], coef);
+}
+
+/* circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
+ * circle's centre (v NULL) or of a polygon's vertex, at time now. */
+static void circle_params(const m2c_sim_body *b, double now, const m2c_sim_vertex *v, double *o)
+{
+    motion q = state_at(b, now);
+    double x = q.x, y = q.y, d, phase;
+    if (v == NULL) {
+        d = b->orbit;
+        phase = q.ang + b->ophase;
+    } else {
+        d = v->rho;
+        phase = q.ang + v->beta;
+    }
+    double om = b->om;
+    if (om == 0.0 && d != 0.0) {
+        /* an orbit that does not turn is a fixed offset: fold it in */
+        x = x + d * cos(phase);
+        y = y + d * sin(phase);
+        d = 0.0;
+    }
+    if (d == 0.0) {
+        om = 0.0;
+        phase = 0.0;
+    }
+    o[0] = x;
+    o[1] = q.vx;
+    o[2] = b->ax;
+    o[3] = d;
+    o[4] = om;
+    o[5] = phase + HALF_PI;
+    o[6] = y;
+    o[7] = q.vy;
+    o[8] = b->ay;
+    o[9] = om;
+    o[10] = phase;
+}
+
+/* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
+static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, const m2c_sim_vertex *vb, double rb,
+                      double now, double w, double *out)
+{
+    double p1[11], p2[11];
+    circle_params(A, now, NULL, p1);
+    circle_params(B, now, vb, p2);
+    /* only differences of the centres' motions matter: circle 1 moves
+     * relative to circle 2's centre of rotation */
+    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
+                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
+                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], A->r, rb };
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = cc_coefficients(m, g, coef);
+    double tol = m->s->tol;
+    double kappa = tol * (2.0 * (A->r + rb) + tol);
+    return first_contact(coef, deg, w, kappa, NULL, out);
+}
+
+/* Point of X (circle centre with its radius, or vertex vx) against the line
+ * of edge j of Y. */
+static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
+                      double now, double w, double *out)
+{
+    const m2c_sim_vertex *ed = &Y->verts[j];
+    motion q1 = state_at(X, now);
+    motion q2 = state_at(Y, now);
+    double rho, beta, rad;
+    if (vx == NULL) {
+        rho = X->orbit;
+        beta = X->ophase;
+        rad = X->r;
+    } else {
+        rho = vx->rho;
+        beta = vx->beta;
+        rad = 0.0;
+    }
+    double phn = q2.ang + ed->psi;
+    double wr = X->om - Y->om;
+    double phr = (q1.ang + beta) - phn;
+    double h = ed->h + rad;
+    if (wr == 0.0 && rho != 0.0) {
+        /* the point does not turn relative to the edge: its offset along
+         * the normal is a constant, folded into the line's offset */
+        h = h - rho * cos(phr);
+        rho = 0.0;
+    }
+    double px = q1.x - q2.x, u = q1.vx - q2.vx, ax = X->ax - Y->ax;
+    double py = q1.y - q2.y, v = q1.vy - q2.vy, ay = X->ay - Y->ay;
+    int idx = point_edge_variant(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h);
+    if (idx < 0)
+        die(m, "point_edge: the scene uses an effect the generated code leaves out");
+    if (idx >= m->n_pe)
+        die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
+    m->pe_counts[idx]++;
+    m->stats[ST_FEATURES]++;
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
+    pe_check chk = { X, Y, vx, ed, now, m->s->tol };
+    return first_contact(coef, deg, w, m->s->tol, &chk, out);
+}
+
+/* ---- pairs -------------------------------------------------------------------------- */
+
+/* The earliest contact found so far in one pair. */
+typedef struct best {
+    int have;
+    double s;                           /* s after now */
+    int32_t feat, a, b, i, j;
+} best;
+
+static inline void better(best *bs, int found, double t, int32_t feat, int32_t a, int32_t b, int32_t i, int32_t j)
+{
+    if (found && (!bs->have || t < bs->s)) {
+        bs->have = 1;
+        bs->s = t;
+        bs->feat = feat;
+        bs->a = a;
+        bs->b = b;
+        bs->i = i;
+        bs->j = j;
+    }
+}
+
+/* When the bounding circles first touch within (0, w] (s after now): 1 with
+ * *meet = 0 when they overlap or touch now (within the tolerance), 1 with
+ * the time when they touch later, 0 when they do not meet (exact: bounding
+ * circles do not turn). */
+static int bounds_meet(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, double *meet)
+{
+    motion q1 = state_at(A, now);
+    motion q2 = state_at(B, now);
+    double g[24] = { q1.x - q2.x, q1.vx - q2.vx, A->ax - B->ax, 0.0, 0.0, HALF_PI,
+                     q1.y - q2.y, q1.vy - q2.vy, A->ay - B->ay, 0.0, 0.0,
+                     0.0, 0.0, 0.0, 0.0, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0, A->bound, B->bound };
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = cc_coefficients(m, g, coef);
+    double tol = m->s->tol;
+    if (coef[0] <= tol * (2.0 * (A->bound + B->bound) + tol)) {
+        *meet = 0.0;
+        return 1;
+    }
+    return m2c_smallest_root(coef, deg, 0.0, w, meet) == 1;
+}
+
+static void circle_polygon(sim *m, const m2c_sim_body *C, const m2c_sim_body *P, double now, double w, best *bs)
+{
+    double t = 0.0;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        int found = predict_pe(m, C, P, NULL, j, now, w, &t);
+        better(bs, found, t, PE, C->idx, P->idx, -1, j);
+    }
+    for (int32_t k = 0; k < P->nverts; k++) {
+        int found = predict_cc(m, C, P, &P->verts[k], 0.0, now, w, &t);
+        better(bs, found, t, CC, C->idx, P->idx, -1, k);
+    }
+}
+
+static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, best *bs)
+{
+    double t = 0.0;
+    for (int32_t i = 0; i < A->nverts; i++) {
+        for (int32_t j = 0; j < B->nverts; j++) {
+            int found = predict_pe(m, A, B, &A->verts[i], j, now, w, &t);
+            better(bs, found, t, PE, A->idx, B->idx, i, j);
+        }
+    }
+}
+
+/* Schedules the first contact of A and B after now, or a horizon event
+ * where the Taylor polynomials of their turns stop being good. */
+static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
+{
+    const m2c_sim_scene *s = m->s;
+    m->stats[ST_PAIRS]++;
+    double w = s->end - now;
+    if (!(w > 0.0))
+        return;
+    if (A->polygon || B->polygon) {
+        /* the bounding circles do not turn: until they touch, nothing can */
+        double meet = 0.0;
+        if (!bounds_meet(m, A, B, now, w, &meet))
+            return;
+        if (meet > 0.0) {
+            push(m, now + meet, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+            return;
+        }
+    }
+    double turn = turn_rate(A) + turn_rate(B);
+    if (turn > 0.0) {
+        double x = s->alpha / turn;
+        if (x < w)                      /* Python's min(w, x) */
+            w = x;
+    }
+    best bs = { 0, 0.0, 0, 0, 0, 0, 0 };
+    if (!A->polygon && !B->polygon) {
+        double t = 0.0;
+        int found = predict_cc(m, A, B, NULL, B->r, now, w, &t);
+        better(&bs, found, t, CC, A->idx, B->idx, -1, -1);
+    } else if (!A->polygon) {
+        circle_polygon(m, A, B, now, w, &bs);
+    } else if (!B->polygon) {
+        circle_polygon(m, B, A, now, w, &bs);
+    } else {
+        vertices_edges(m, A, B, now, w, &bs);
+        vertices_edges(m, B, A, now, w, &bs);
+    }
+    if (bs.have)
+        push(m, now + bs.s, M2C_SIM_COLLISION, bs.a, bs.b, bs.feat, bs.i, bs.j);
+    else if (now + w < s->end)
+        push(m, now + w, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+}
+
+/* ---- per body ------------------------------------------------------------------------ */
+
+/* Schedules b's next crossing of a cell boundary (a root of a quadratic in
+ * the body's own time since tb). */
+static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
+{
+    const m2c_sim_scene *s = m->s;
+    if (b->large || (b->vx == 0.0 && b->vy == 0.0 && b->ax == 0.0 && b->ay == 0.0))
+        return;
+    double ulo = now - b->tb;
+    double uhi = s->end - b->tb;
+    int have = 0, baxis = 0, bdir = 0;
+    double bu = 0.0;
+    for (int axis = 0; axis < 2; axis++) {
+        double p, v, a, origin, size;
+        int32_t i, n;
+        if (axis == 0) {
+            p = b->px; v = b->vx; a = b->ax; i = b->cx; n = s->nx; origin = s->x0; size = s->cw;
+        } else {
+            p = b->py; v = b->vy; a = b->ay; i = b->cy; n = s->ny; origin = s->y0; size = s->ch;
+        }
+        for (int dir = 1; dir >= -1; dir -= 2) {
+            double bound;
+            if (dir == 1) {
+                if (i >= n - 1)
+                    continue;
+                bound = origin + (double)(i + 1) * size;
+            } else {
+                if (i <= 0)
+                    continue;
+                bound = origin + (double)i * size;
+            }
+            double c[3] = { p - bound, v, 0.5 * a };
+            double lo = ulo;
+            for (int it = 0; it < 3; it++) {
+                double u;
+                if (m2c_smallest_root(c, 2, lo, uhi, &u) != 1)
+                    break;
+                if ((v + a * u) * (double)dir > 0.0) {
+                    if (!have || u < bu) {
+                        have = 1;
+                        bu = u;
+                        baxis = axis;
+                        bdir = dir;
+                    }
+                    break;
+                }
+                lo = u;
+            }
+        }
+    }
+    if (have)
+        push(m, b->tb + bu, M2C_SIM_CELL, b->idx, -1, -1, baxis, bdir);
+}
+
+/* Predicts the pairs of b with every body in the cells x_lo..x_hi,
+ * y_lo..y_hi (clamped to the grid) other than b and skip, in the
+ * reference's order: rows, then columns, then each cell's list.  first:
+ * only bodies after b (the start, where every pair is predicted once). */
+static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *skip, int32_t x_lo, int32_t x_hi,
+                          int32_t y_lo, int32_t y_hi, double now, int first)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
+    int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            for (int32_t k = 0; k < c->n; k++) {
+                const m2c_sim_body *o = &m->bodies[c->items[k]];
+                if (o == b || o == skip || (b->fixed && o->fixed))
+                    continue;
+                if (first && o->idx <= b->idx)
+                    continue;
+                predict_pair(m, b, o, now);
+            }
+        }
+    }
+}
+
+static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
+{
+    predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
+    for (int32_t k = 0; k < m->nlarge; k++) {
+        const m2c_sim_body *o = &m->bodies[m->large[k]];
+        if (o != b && o != skip && !(b->fixed && o->fixed))
+            predict_pair(m, b, o, now);
+    }
+    schedule_cell(m, b, now);
+}
+
+/* ---- handling events ------------------------------------------------------------------ */
+
+static void emit_state(sim *m, const m2c_sim_body *b)
+{
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "S ");
+    p = m2c_sim_put_int(p, b->idx);
+    const double v[7] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om };
+    for (int k = 0; k < 7; k++) {
+        *p++ = ' ';
+        p = m2c_sim_put_num(p, v[k]);
+    }
+    *p++ = '\n';
+    m->out.n += (size_t)(p - start);
+}
+
+static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_body *B, int32_t i, int32_t j)
+{
+    advance(A, t);
+    advance(B, t);
+    const m2c_sim_vertex *vA = i >= 0 ? &A->verts[i] : NULL;
+    double nx, ny, cx, cy;
+    if (feat == CC) {
+        double ax_, ay_, bx_, by_;
+        point_at(A, NULL, t, &ax_, &ay_);
+        point_at(B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
+        double dx = bx_ - ax_, dy = by_ - ay_;
+        double dist = sqrt(dx * dx + dy * dy);
+        if (dist > 0.0) {
+            nx = dx / dist;
+            ny = dy / dist;
+        } else {
+            nx = 1.0;
+            ny = 0.0;
+        }
+        cx = ax_ + A->r * nx;
+        cy = ay_ + A->r * ny;
+    } else {
+        double px, py;
+        point_at(A, vA, t, &px, &py);
+        double th = B->ang + B->verts[j].psi;
+        nx = -cos(th);                  /* from A to B: against the edge's outward normal */
+        ny = -sin(th);
+        double rad = vA == NULL ? A->r : 0.0;
+        cx = px + rad * nx;
+        cy = py + rad * ny;
+    }
+    /* velocities (m/s) of the material points at the contact */
+    double uax = A->vx - A->om * (cy - A->py);
+    double uay = A->vy + A->om * (cx - A->px);
+    double ubx = B->vx - B->om * (cy - B->py);
+    double uby = B->vy + B->om * (cx - B->px);
+    double vn = (ubx - uax) * nx + (uby - uay) * ny;
+    double imp = 0.0;                   /* kg m/s */
+    if (vn < 0.0) {
+        double ran = (cx - A->px) * ny - (cy - A->py) * nx;
+        double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
+        double k = A->inv_m + B->inv_m + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
+        double e = A->e * B->e;
+        double nvn = -vn;
+        double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
+        double ev = e * -vn;
+        double sep = lim > ev ? lim : ev;                                   /* Python's max(e * -vn, lim) */
+        imp = (sep - vn) / k;
+        A->vx = A->vx - imp * A->inv_m * nx;
+        A->vy = A->vy - imp * A->inv_m * ny;
+        A->om = A->om - imp * A->inv_i * ran;
+        B->vx = B->vx + imp * B->inv_m * nx;
+        B->vy = B->vy + imp * B->inv_m * ny;
+        B->om = B->om + imp * B->inv_i * rbn;
+    }
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E collision ");
+    p = m2c_sim_put_num(p, t);
+    const long long ints[5] = { A->idx, B->idx, feat, i, j };
+    for (int k = 0; k < 5; k++) {
+        *p++ = ' ';
+        p = m2c_sim_put_int(p, ints[k]);
+    }
+    const double nums[5] = { cx, cy, nx, ny, imp };
+    for (int k = 0; k < 5; k++) {
+        *p++ = ' ';
+        p = m2c_sim_put_num(p, nums[k]);
+    }
+    *p++ = '\n';
+    m->out.n += (size_t)(p - start);
+    m2c_sim_body *both[2] = { A, B };
+    for (int k = 0; k < 2; k++) {
+        if (!both[k]->fixed) {
+            both[k]->stamp++;
+            emit_state(m, both[k]);
+        }
+    }
+    if (!A->fixed)
+        predict_body(m, A, t, NULL);
+    if (!B->fixed)
+        predict_body(m, B, t, !A->fixed ? A : NULL);
+}
+
+static void run(sim *m)
+{
+    m2c_sim_scene *s = m->s;
+    m2c_sim_body *bodies = m->bodies;
+    for (int32_t k = 0; k < s->nbodies; k++) {
+        m2c_sim_body *b = &bodies[k];
+        if (!b->large) {
+            cell_of(m, b->px, b->py, &b->cx, &b->cy);
+            cell_add(m, b);
+        }
+    }
+    for (int32_t k = 0; k < s->ninputs; k++)
+        push(m, s->inputs[k].t, M2C_SIM_INPUT, s->inputs[k].body, -1, -1, k, s->inputs[k].mode);
+    if (s->frame_dt > 0.0 && s->frame_dt <= s->end)
+        push(m, s->frame_dt, M2C_SIM_FRAME, -1, -1, -1, 1, -1);
+    for (int32_t k = 0; k < s->nbodies; k++) {
+        const m2c_sim_body *b = &bodies[k];
+        if (b->large)
+            continue;
+        predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
+        for (int32_t l = 0; l < m->nlarge; l++) {
+            const m2c_sim_body *o = &bodies[m->large[l]];
+            if (!(b->fixed && o->fixed))
+                predict_pair(m, b, o, 0.0);
+        }
+        schedule_cell(m, b, 0.0);
+    }
+    double last_t = -1.0;
+    long long same = 0;
+    m2c_sim_event ev;
+    while (m->heap.n > 0) {
+        m2c_sim_heap_pop(&m->heap, &ev);
+        double t = ev.t;
+        if (t > s->end)
+            break;
+        if ((ev.a >= 0 && bodies[ev.a].stamp != ev.sa) || (ev.b >= 0 && bodies[ev.b].stamp != ev.sb)) {
+            m->stats[ST_STALE]++;
+            continue;
+        }
+        if (t == last_t) {
+            same++;
+            if (same > s->max_same) {
+                char num[M2C_SIM_NUMBER_MAX + 1];
+                num[m2c_sim_format_number(num, t)] = '\0';
+                die(m, "more than %lld events at t = %s: the scene is stuck", s->max_same, num);
+            }
+        } else {
+            last_t = t;
+            same = 0;
+        }
+        int kind = (int)(ev.key >> M2C_SIM_KIND_SHIFT);
+        if (kind == M2C_SIM_COLLISION) {
+            m->stats[ST_COLLISIONS]++;
+            collide(m, t, ev.feat, &bodies[ev.a], &bodies[ev.b], ev.i, ev.j);
+        } else if (kind == M2C_SIM_INPUT) {
+            m->stats[ST_INPUTS]++;
+            const m2c_sim_input *in = &s->inputs[ev.i];
+            m2c_sim_body *body = &bodies[ev.a];
+            advance(body, t);
+            if (in->mode == 0) {
+                body->vx = in->vx;
+                body->vy = in->vy;
+            } else {
+                body->vx = body->vx + in->vx;
+                body->vy = body->vy + in->vy;
+            }
+            body->stamp++;
+            char *start = m2c_sim_out_reserve(&m->out), *p = start;
+            p = m2c_sim_put_str(p, "E input ");
+            p = m2c_sim_put_num(p, t);
+            *p++ = ' ';
+            p = m2c_sim_put_int(p, ev.a);
+            p = m2c_sim_put_str(p, " -1 -1 ");
+            p = m2c_sim_put_int(p, ev.i);
+            p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
+            m->out.n += (size_t)(p - start);
+            emit_state(m, body);
+            predict_body(m, body, t, NULL);
+        } else if (kind == M2C_SIM_CELL) {
+            m->stats[ST_CELLS]++;
+            m2c_sim_body *body = &bodies[ev.a];
+            m2c_sim_grid_remove(&m->grid, bodies, body);
+            int32_t x_lo, x_hi, y_lo, y_hi;
+            if (ev.i == 0) {
+                body->cx += ev.j;
+                int32_t col = body->cx + ev.j;
+                x_lo = x_hi = col;
+                y_lo = body->cy - 1;
+                y_hi = body->cy + 1;
+            } else {
+                body->cy += ev.j;
+                int32_t row = body->cy + ev.j;
+                x_lo = body->cx - 1;
+                x_hi = body->cx + 1;
+                y_lo = y_hi = row;
+            }
+            cell_add(m, body);
+            predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, t, 0);
+            schedule_cell(m, body, t);
+        } else if (kind == M2C_SIM_HORIZON) {
+            m->stats[ST_HORIZONS]++;
+            predict_pair(m, &bodies[ev.a], &bodies[ev.b], t);
+        } else {
+            m->stats[ST_FRAMES]++;
+            char *start = m2c_sim_out_reserve(&m->out), *p = start;
+            p = m2c_sim_put_str(p, "E frame ");
+            p = m2c_sim_put_num(p, t);
+            p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+            m->out.n += (size_t)(p - start);
+            double nxt = (double)(ev.i + 1) * s->frame_dt;
+            if (nxt <= s->end)
+                push(m, nxt, M2C_SIM_FRAME, -1, -1, -1, ev.i + 1, -1);
+        }
+    }
+    for (int32_t k = 0; k < s->nbodies; k++)
+        advance(&bodies[k], s->end);
+    for (int32_t k = 0; k < s->nbodies; k++) {
+        const m2c_sim_body *b = &bodies[k];
+        char *start = m2c_sim_out_reserve(&m->out), *p = start;
+        p = m2c_sim_put_str(p, "F ");
+        p = m2c_sim_put_int(p, b->idx);
+        const double v[6] = { b->px, b->py, b->vx, b->vy, b->ang, b->om };
+        for (int l = 0; l < 6; l++) {
+            *p++ = ' ';
+            p = m2c_sim_put_num(p, v[l]);
+        }
+        *p++ = '\n';
+        m->out.n += (size_t)(p - start);
+    }
+    for (int k = 0; k < ST_COUNT; k++) {
+        char *start = m2c_sim_out_reserve(&m->out), *p = start;
+        p = m2c_sim_put_str(p, "N ");
+        p = m2c_sim_put_str(p, stat_names[k]);
+        *p++ = ' ';
+        p = m2c_sim_put_int(p, m->stats[k]);
+        *p++ = '\n';
+        m->out.n += (size_t)(p - start);
+    }
+    for (int e = 0; e < 2; e++) {
+        int n = e == 0 ? m->n_cc : m->n_pe;
+        const long long *counts = e == 0 ? m->cc_counts : m->pe_counts;
+        for (int k = 0; k < n; k++) {
+            char *start = m2c_sim_out_reserve(&m->out), *p = start;
+            p = m2c_sim_put_str(p, e == 0 ? "V circle_circle " : "V point_edge ");
+            p = m2c_sim_put_int(p, k);
+            *p++ = ' ';
+            p = m2c_sim_put_int(p, counts[k]);
+            *p++ = '\n';
+            m->out.n += (size_t)(p - start);
+        }
+    }
+}
+
+int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen)
+{
+    sim *m = calloc(1, sizeof *m);
+    if (m == NULL) {
+        snprintf(err, errlen, "out of memory");
+        return 1;
+    }
+    m->s = scene;
+    m->bodies = scene->bodies;
+    m->err = err;
+    m->errlen = errlen;
+    m->n_cc = cc_variants;
+    m->n_pe = pe_variants;
+    volatile int status = 1;
+    if (setjmp(m->fail) == 0) {
+        if (cc_variants < 1 || pe_variants < 1)
+            die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
+        m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
+        m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
+        m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+        if (m->cc_counts == NULL || m->pe_counts == NULL || m->large == NULL || m2c_sim_out_init(&m->out, out) != 0
+            || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
+            die(m, "out of memory");
+        for (int32_t k = 0; k < scene->nbodies; k++)
+            if (scene->bodies[k].large)
+                m->large[m->nlarge++] = k;
+        run(m);
+        status = 0;
+    }
+    if (m->out.buf != NULL) {
+        m2c_sim_out_flush(&m->out);
+        if (m->out.failed && status == 0) {
+            snprintf(err, errlen, "cannot write the trace");
+            status = 1;
+        }
+    }
+    m2c_sim_out_free(&m->out);
+    m2c_sim_grid_free(&m->grid);
+    m2c_sim_heap_free(&m->heap);
+    free(m->cc_counts);
+    free(m->pe_counts);
+    free(m->large);
+    free(m);
+    return status;
+}

@@ -1,0 +1,254 @@
+/* m2c_sim_format_number: a double as printf("%.17g") writes it, without
+ * printf's cost (glibc formats a %.17g in about half a microsecond; a
+ * collision writes 20 numbers).
+ *
+ * Exact and correctly rounded like printf: for a normal x = f 2^e2 the
+ * 17 significant digits are D = round-half-even(x 10^p) with p = 16 - X,
+ * computed in integers (f 5^p in 192 bits and shifted, or f 2^e2 / 10^-p in
+ * 128 bits), with X chosen so that 10^16 <= floor(x 10^p) < 10^17.  Values
+ * outside that exact range (below about 1e-39, above 2^128, subnormals) go
+ * to snprintf itself.  Then %g's rules: fixed notation when -4 <= X < 17,
+ * else d.ddde+XX; trailing zeros and a bare point dropped. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "m2c_sim.h"
+
+__extension__ typedef unsigned __int128 m2c_u128;
+
+#define POW5_MAX 55             /* 5^55 < 2^128 */
+#define POW10_MAX 22            /* 10^22 < 2^74 */
+
+static m2c_u128 pow5[POW5_MAX + 1];
+static m2c_u128 pow10[POW10_MAX + 1];
+static int tables_ready;
+
+static void make_tables(void)
+{
+    pow5[0] = 1;
+    for (int k = 1; k <= POW5_MAX; k++)
+        pow5[k] = pow5[k - 1] * 5u;
+    pow10[0] = 1;
+    for (int k = 1; k <= POW10_MAX; k++)
+        pow10[k] = pow10[k - 1] * 10u;
+    tables_ready = 1;
+}
+
+/* Bit k of the 192-bit m (limbs little-endian). */
+static int bit_at(const uint64_t m[3], int k)
+{
+    return (int)((m[k / 64] >> (k % 64)) & 1u);
+}
+
+/* Whether any of the bits 0 .. k-1 of m is set (k < 192). */
+static int any_below(const uint64_t m[3], int k)
+{
+    int limb = k / 64, b = k % 64;
+    for (int i = 0; i < limb; i++)
+        if (m[i] != 0)
+            return 1;
+    return b != 0 && (m[limb] & ((UINT64_C(1) << b) - 1u)) != 0;
+}
+
+/* floor(m / 2^sh) when it fits 64 bits (0 < sh < 192); -1 if it does not. */
+static int shift_down(const uint64_t m[3], int sh, uint64_t *q)
+{
+    uint64_t r[3];
+    int limb = sh / 64, b = sh % 64;
+    for (int k = 0; k < 3; k++) {
+        int src = k + limb;
+        uint64_t lo = src < 3 ? m[src] : 0u;
+        uint64_t hi = src + 1 < 3 ? m[src + 1] : 0u;
+        r[k] = b != 0 ? (lo >> b) | (hi << (64 - b)) : lo;
+    }
+    if (r[1] != 0 || r[2] != 0)
+        return -1;
+    *q = r[0];
+    return 0;
+}
+
+enum { TOO_SMALL = 1, TOO_LARGE = 2, NO_FAST_PATH = -1 };
+
+/* With p = 16 - x10: *d = floor(f 2^e2 10^p) and *up = whether rounding to
+ * nearest-even adds one.  0, TOO_SMALL (floor < 10^16), TOO_LARGE (floor >=
+ * 10^17) or NO_FAST_PATH. */
+static int scaled(uint64_t f, int e2, int x10, uint64_t *d, int *up)
+{
+    const uint64_t lo17 = UINT64_C(10000000000000000), hi17 = UINT64_C(100000000000000000);
+    int p = 16 - x10;
+    uint64_t q;
+    if (p >= 0) {
+        if (p > POW5_MAX)
+            return NO_FAST_PATH;
+        /* m = f 5^p, exactly, in 192 bits */
+        m2c_u128 pw = pow5[p];
+        m2c_u128 lo = (m2c_u128)f * (uint64_t)pw;
+        m2c_u128 hi = (m2c_u128)f * (uint64_t)(pw >> 64) + (lo >> 64);
+        uint64_t m[3] = { (uint64_t)lo, (uint64_t)hi, (uint64_t)(hi >> 64) };
+        int s = e2 + p;         /* x 10^p = m 2^s */
+        if (s >= 0) {
+            if (m[1] != 0 || m[2] != 0 || s >= 64 || (s > 0 && (m[0] >> (64 - s)) != 0))
+                return NO_FAST_PATH;
+            q = m[0] << s;
+            *up = 0;
+        } else {
+            int sh = -s;
+            if (sh >= 192 || shift_down(m, sh, &q) != 0)
+                return NO_FAST_PATH;
+            if (!bit_at(m, sh - 1))
+                *up = 0;
+            else if (any_below(m, sh - 1))
+                *up = 1;
+            else
+                *up = (int)(q & 1u);     /* a tie: to even */
+        }
+    } else {
+        int k = -p;
+        if (k > POW10_MAX || e2 < 0 || e2 + 53 > 127)
+            return NO_FAST_PATH;
+        m2c_u128 n = (m2c_u128)f << e2;
+        m2c_u128 pw = pow10[k];
+        m2c_u128 qq = n / pw, rr = n % pw;
+        if ((qq >> 64) != 0)
+            return NO_FAST_PATH;
+        q = (uint64_t)qq;
+        m2c_u128 twice = rr * 2u;
+        *up = twice > pw ? 1 : (twice == pw ? (int)(q & 1u) : 0);
+    }
+    if (q < lo17)
+        return TOO_SMALL;
+    if (q >= hi17)
+        return TOO_LARGE;
+    *d = q;
+    return 0;
+}
+
+/* The 17 digits of a normal double f 2^e2: *d in [10^16, 10^17) and the
+ * decimal exponent *x10 of the first digit.  0, or -1 for no fast path. */
+static int decimal17(uint64_t f, int e2, int *x10, uint64_t *d)
+{
+    if (!tables_ready)
+        make_tables();
+    /* floor(log10 x) is this or one more: 2^(e2+52) <= x < 2^(e2+53) */
+    int x = (int)floor((double)(e2 + 52) * 0.30102999566398120);
+    for (int tries = 0; tries < 3; tries++) {
+        uint64_t q = 0;
+        int up = 0;
+        int r = scaled(f, e2, x, &q, &up);
+        if (r == TOO_SMALL) {
+            x--;
+            continue;
+        }
+        if (r == TOO_LARGE) {
+            x++;
+            continue;
+        }
+        if (r != 0)
+            return -1;
+        q += (uint64_t)up;
+        if (q == UINT64_C(100000000000000000)) {
+            q = UINT64_C(10000000000000000);
+            x++;
+        }
+        *d = q;
+        *x10 = x;
+        return 0;
+    }
+    return -1;
+}
+
+static const char two_digits[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+int m2c_sim_format_number(char *buf, double x)
+{
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    int neg = (int)(bits >> 63);
+    int be = (int)((bits >> 52) & 0x7ffu);
+    uint64_t frac = bits & ((UINT64_C(1) << 52) - 1u);
+    char *p = buf;
+    if (be == 0x7ff) {
+        if (frac != 0) {
+            memcpy(p, "nan", 3);        /* Python writes no sign on a NaN */
+            return 3;
+        }
+        if (neg)
+            *p++ = '-';
+        memcpy(p, "inf", 3);
+        return (int)(p - buf) + 3;
+    }
+    if (be == 0 && frac == 0) {
+        if (neg)
+            *p++ = '-';
+        *p++ = '0';
+        return (int)(p - buf);
+    }
+    uint64_t d = 0;
+    int x10 = 0;
+    if (be == 0 || decimal17(frac | (UINT64_C(1) << 52), be - 1075, &x10, &d) != 0) {
+        char tmp[M2C_SIM_NUMBER_MAX + 8];
+        int n = snprintf(tmp, sizeof tmp, "%.17g", x);
+        if (n < 0 || n > M2C_SIM_NUMBER_MAX)
+            n = 0;
+        memcpy(buf, tmp, (size_t)n);
+        return n;
+    }
+    char dg[17];
+    for (int k = 16; k >= 2; k -= 2) {
+        unsigned r = (unsigned)(d % 100u);
+        d /= 100u;
+        dg[k - 1] = two_digits[2 * r];
+        dg[k] = two_digits[2 * r + 1];
+    }
+    dg[0] = (char)('0' + d);
+    int last = 16;                      /* the last digit that is not a trailing zero */
+    while (last > 0 && dg[last] == '0')
+        last--;
+    if (neg)
+        *p++ = '-';
+    if (x10 >= -4 && x10 < 17) {
+        if (x10 >= 0) {
+            for (int k = 0; k <= x10; k++)
+                *p++ = dg[k];
+            if (last > x10) {
+                *p++ = '.';
+                for (int k = x10 + 1; k <= last; k++)
+                    *p++ = dg[k];
+            }
+        } else {
+            *p++ = '0';
+            *p++ = '.';
+            for (int k = 0; k < -x10 - 1; k++)
+                *p++ = '0';
+            for (int k = 0; k <= last; k++)
+                *p++ = dg[k];
+        }
+    } else {
+        *p++ = dg[0];
+        if (last > 0) {
+            *p++ = '.';
+            for (int k = 1; k <= last; k++)
+                *p++ = dg[k];
+        }
+        *p++ = 'e';
+        int ex = x10;
+        if (ex < 0) {
+            *p++ = '-';
+            ex = -ex;
+        } else {
+            *p++ = '+';
+        }
+        if (ex >= 100) {
+            *p++ = (char)('0' + ex / 100);
+            ex %= 100;
+        }
+        *p++ = (char)('0' + ex / 10);
+        *p++ = (char)('0' + ex % 10);
+    }
+    return (int)(p - buf);
+}

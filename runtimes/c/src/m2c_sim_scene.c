@@ -1,0 +1,249 @@
+/* Reading the flat scene (docs/simulator.md, written by max2code/scene.py):
+ * whitespace-separated tokens; the numbers are shortest round-trip decimals,
+ * which strtod reads exactly.  The messages are the reference's. */
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "m2c_sim_internal.h"
+
+typedef struct reader {
+    const char *p;
+    char *err;
+    size_t errlen;
+    int failed;
+} reader;
+
+static int is_space(char c)
+{
+    return c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+static void fail(reader *r, const char *fmt, ...)
+{
+    if (!r->failed) {
+        va_list ap;
+        va_start(ap, fmt);
+        int n = snprintf(r->err, r->errlen, "scene: ");
+        if (n > 0 && (size_t)n < r->errlen)
+            vsnprintf(r->err + n, r->errlen - (size_t)n, fmt, ap);
+        va_end(ap);
+    }
+    r->failed = 1;
+}
+
+/* The next token: *len characters at the returned pointer (0: none left). */
+static const char *token(reader *r, size_t *len)
+{
+    const char *p = r->p;
+    while (*p && is_space(*p))
+        p++;
+    const char *start = p;
+    while (*p && !is_space(*p))
+        p++;
+    r->p = p;
+    *len = (size_t)(p - start);
+    if (*len == 0)
+        fail(r, "unexpected end of the scene");
+    return start;
+}
+
+static void word(reader *r, const char *expect)
+{
+    size_t n;
+    const char *w = token(r, &n);
+    if (r->failed)
+        return;
+    if (n != strlen(expect) || memcmp(w, expect, n) != 0)
+        fail(r, "expected '%s', found '%.*s'", expect, (int)(n > 40 ? 40 : n), w);
+}
+
+static double num(reader *r)
+{
+    size_t n;
+    const char *w = token(r, &n);
+    if (r->failed)
+        return 0.0;
+    char buf[64];
+    if (n >= sizeof buf) {
+        fail(r, "not a number: '%.*s'", 40, w);
+        return 0.0;
+    }
+    memcpy(buf, w, n);
+    buf[n] = '\0';
+    char *end;
+    errno = 0;
+    double x = strtod(buf, &end);
+    if (end != buf + n) {
+        fail(r, "not a number: '%.*s'", (int)n, w);
+        return 0.0;
+    }
+    return x;
+}
+
+static long long integer(reader *r)
+{
+    size_t n;
+    const char *w = token(r, &n);
+    if (r->failed)
+        return 0;
+    char buf[32];
+    if (n >= sizeof buf) {
+        fail(r, "not an integer: '%.*s'", 20, w);
+        return 0;
+    }
+    memcpy(buf, w, n);
+    buf[n] = '\0';
+    char *end;
+    errno = 0;
+    long long v = strtoll(buf, &end, 10);
+    if (end != buf + n || errno != 0) {
+        fail(r, "not an integer: '%.*s'", (int)n, w);
+        return 0;
+    }
+    return v;
+}
+
+static int32_t count(reader *r, long long limit)
+{
+    long long v = integer(r);
+    if (!r->failed && (v < 0 || v > limit))
+        fail(r, "a count out of range");
+    return r->failed ? 0 : (int32_t)v;
+}
+
+void m2c_sim_scene_free(m2c_sim_scene *s)
+{
+    if (s == NULL)
+        return;
+    free(s->bodies);
+    free(s->verts);
+    free(s->inputs);
+    free(s);
+}
+
+m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
+{
+    reader rd = { text, err, errlen, 0 };
+    reader *r = &rd;
+    m2c_sim_scene *s = calloc(1, sizeof *s);
+    if (s == NULL) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    size_t *first = NULL;               /* each body's first vertex in s->verts */
+    size_t nverts = 0, capverts = 0;
+    word(r, "m2c-scene");
+    if (!r->failed && integer(r) != 1 && !r->failed)
+        fail(r, "unknown version");
+    word(r, "end");
+    s->end = num(r);
+    word(r, "frame");
+    s->frame_dt = num(r);
+    word(r, "tolerance");
+    s->tol = num(r);
+    word(r, "rest_speed");
+    s->rest_speed = num(r);
+    word(r, "window_angle");
+    s->alpha = num(r);
+    word(r, "max_same_time");
+    s->max_same = integer(r);
+    word(r, "grid");
+    s->x0 = num(r);
+    s->y0 = num(r);
+    s->cw = num(r);
+    s->ch = num(r);
+    s->nx = count(r, 1 << 30);
+    s->ny = count(r, 1 << 30);
+    if (!r->failed && (s->nx < 1 || s->ny < 1 || (long long)s->nx * s->ny > (1ll << 31)))
+        fail(r, "bad grid");
+    word(r, "bodies");
+    s->nbodies = count(r, 1 << 28);
+    if (!r->failed) {
+        s->bodies = calloc((size_t)s->nbodies + 1, sizeof *s->bodies);
+        first = calloc((size_t)s->nbodies + 1, sizeof *first);
+        if (s->bodies == NULL || first == NULL)
+            fail(r, "out of memory");
+    }
+    for (int32_t i = 0; i < s->nbodies && !r->failed; i++) {
+        m2c_sim_body *b = &s->bodies[i];
+        word(r, "body");
+        b->idx = i;
+        b->polygon = integer(r) == 1;
+        b->fixed = integer(r) == 1;
+        b->inv_m = num(r);
+        b->inv_i = num(r);
+        b->e = num(r);
+        b->px = num(r);
+        b->py = num(r);
+        b->vx = num(r);
+        b->vy = num(r);
+        b->ax = num(r);
+        b->ay = num(r);
+        b->ang = num(r);
+        b->om = num(r);
+        b->r = num(r);
+        b->orbit = num(r);
+        b->ophase = num(r);
+        b->bound = num(r);
+        b->large = integer(r) == 1;
+        b->nverts = count(r, 1 << 20);
+        b->tb = 0.0;
+        b->stamp = 0;
+        b->cx = b->cy = 0;
+        b->slot = -1;
+        first[i] = nverts;
+        for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
+            if (nverts == capverts) {
+                size_t cap = capverts ? 2 * capverts : 64;
+                m2c_sim_vertex *v = realloc(s->verts, cap * sizeof *v);
+                if (v == NULL) {
+                    fail(r, "out of memory");
+                    break;
+                }
+                s->verts = v;
+                capverts = cap;
+            }
+            m2c_sim_vertex *v = &s->verts[nverts++];
+            word(r, "v");
+            v->lx = num(r);
+            v->ly = num(r);
+            v->rho = num(r);
+            v->beta = num(r);
+            v->psi = num(r);
+            v->h = num(r);
+            v->s1 = num(r);
+            v->s2 = num(r);
+        }
+    }
+    word(r, "inputs");
+    s->ninputs = count(r, 1 << 28);
+    if (!r->failed) {
+        s->inputs = calloc((size_t)s->ninputs + 1, sizeof *s->inputs);
+        if (s->inputs == NULL)
+            fail(r, "out of memory");
+    }
+    for (int32_t k = 0; k < s->ninputs && !r->failed; k++) {
+        m2c_sim_input *in = &s->inputs[k];
+        word(r, "input");
+        in->t = num(r);
+        long long body = integer(r);
+        in->mode = (int32_t)integer(r);
+        in->vx = num(r);
+        in->vy = num(r);
+        if (!r->failed && (body < 0 || body >= s->nbodies))
+            fail(r, "an input names no body");
+        in->body = (int32_t)body;
+    }
+    word(r, "end");
+    if (r->failed) {
+        free(first);
+        m2c_sim_scene_free(s);
+        return NULL;
+    }
+    for (int32_t i = 0; i < s->nbodies; i++)
+        s->bodies[i].verts = s->bodies[i].nverts > 0 ? s->verts + first[i] : NULL;
+    free(first);
+    return s;
+}
