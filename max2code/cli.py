@@ -20,6 +20,7 @@ SUBCOMMANDS: dict[str, str] = {
     "bench-variants": "max2code.bench_variants:main",
     "simulate": "max2code.sim_cli:simulate_main",
     "crosscheck": "max2code.sim_cli:crosscheck_main",
+    "event-vs-frame": "max2code.event_vs_frame:main",
     "render": "max2code.render_trace:render_main",
 }
 

@@ -1,0 +1,81 @@
+"""Event versus frame (max2code event-vs-frame): the tunnelling case, the
+pymunk translation and the matcher.  pymunk is a test requirement
+(scripts/setup installs it): a missing pymunk fails here, it is not skipped."""
+import math
+
+import pymunk
+
+from max2code.event_vs_frame import (build_space, free_run, FrameResult, match_events, our_collisions, replay,
+                                     tunnel_scene)
+from max2code.scene import load_scene
+from max2code.runtimes import ROOT
+from max2code.simulate import run_scene
+
+
+def test_tunnelling_case():
+    scene = tunnel_scene()
+    trace = run_scene(scene, "python")
+    cols = our_collisions(scene, trace.events)
+    # ours: exactly one contact, the bullet's surface reaching the wall's face: (1.0 - 0.01 - 0.01 - 0.2) / 30
+    assert [(c.a, c.b) for c in cols] == [(0, 1)]
+    assert math.isclose(cols[0].t, 0.78 / 30.0, rel_tol=1e-12)
+    assert math.isclose(cols[0].approach, 30.0, rel_tol=1e-12) and not cols[0].resting
+    final = {b["body"]: b for b in trace.final["bodies"]}
+    assert final["bullet"]["velocity"][0] < 0.0          # bounced back
+    # pymunk at 1/60 s: the centre goes from 0.7 m to 1.2 m in one step, over the wall untouched
+    err, doubled, early = replay(scene, cols, 0, 1.0 / 60.0)
+    assert math.isnan(err) and doubled == 0 and early == 0
+    res = FrameResult(1.0 / 60.0)
+    free_run(scene, cols, 1.0 / 60.0, res)
+    assert res.free_begins == 0 and res.agree_count == 0 and math.isclose(res.agree_until, cols[0].t)
+    # at 1/1000 s (3 cm a step against a 4 cm span) it is found, at most a step late
+    err, doubled, early = replay(scene, cols, 0, 1.0 / 1000.0)
+    assert 0.0 <= err <= 1.0 / 1000.0 + 1e-12 and doubled == 0
+
+
+def test_pymunk_translation_is_faithful():
+    scene = load_scene(str(ROOT / "examples" / "spinning-polygons.json"))
+    world = build_space(scene)
+    assert world.space.collision_slop == 0.0 and world.space.collision_bias == 0.0
+    assert tuple(world.space.gravity) == scene.gravity
+    shapes = {i: s for s, i in world.index.items()}
+    for i, (b, body) in enumerate(zip(scene.bodies, world.bodies)):
+        shape = shapes[i]
+        assert shape.elasticity == b.restitution and shape.friction == 0.0
+        assert body.angle == b.angle
+        if b.fixed:
+            assert body.body_type == pymunk.Body.STATIC
+            continue
+        assert body.mass == b.mass
+        assert math.isclose(body.moment, b.inertia, rel_tol=1e-12)      # ours, not pymunk's own
+        assert tuple(body.position) == b.position and tuple(body.velocity) == b.velocity
+        assert body.angular_velocity == b.angular_velocity
+        assert body.center_of_gravity == (0, 0)
+        verts = shape.get_vertices()
+        assert len(verts) == len(b.vertices)
+        for v in b.vertices:      # about the centre of mass (pymunk may start the loop elsewhere)
+            assert min(math.hypot(v[0] - w.x, v[1] - w.y) for w in verts) < 1e-15
+    balls = load_scene(str(ROOT / "examples" / "billiard-break.json"))
+    world = build_space(balls)
+    for b, body in zip(balls.bodies, world.bodies):
+        if not b.fixed:
+            assert body.moment == math.inf      # frictionless circles never turn, as in ours
+
+
+def test_matcher_counts_missed_doubled_invented():
+    ours = [(1.0, 0, 1), (2.0, 0, 2), (3.0, 1, 2), (3.02, 1, 2)]
+    theirs = [(1.01, 1, 0),      # ours 0, pair given the other way round
+              (1.03, 0, 1),      # a second begin within the window of ours 0: doubled
+              (2.5, 0, 2),       # too late for ours 1 (missed) and near nothing: invented
+              (3.01, 1, 2),      # ours 2
+              (3.04, 1, 2),      # ours 3 (takes the earliest unused of its pair in its window)
+              (5.0, 0, 1)]       # invented
+    m = match_events(ours, theirs, 0.05)
+    assert m.pairs == [(0, 0), (2, 3), (3, 4)]
+    assert [round(e, 12) for e in m.errors] == [0.01, 0.01, 0.02]
+    assert m.missed == [1]
+    assert m.doubled == [1]
+    assert m.invented == [2, 5]
+    # nothing of theirs: all missed; nothing of ours: all invented
+    assert match_events(ours, [], 0.05).missed == [0, 1, 2, 3]
+    assert match_events([], theirs, 0.05).invented == list(range(len(theirs)))
