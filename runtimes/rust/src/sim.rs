@@ -66,12 +66,32 @@ const ST_PAIRS: usize = 6;
 const ST_FEATURES: usize = 7;
 const SEQ_BITS: u32 = 60;
 
-/// A scheduled event; `key` is kind << 60 | seq, so that (t, key) orders as
-/// Python's (t, kind, seq) tuples.
+/// A scheduled event's place in the heap: `key` is kind << 60 | seq, so
+/// that (t, key) orders as Python's (t, kind, seq) tuples; `slot` indexes
+/// the rest of the event in `Heap::pay`.
 #[derive(Clone, Copy, Debug)]
-struct Event {
+struct Entry {
     t: f64,
     key: u64,
+    slot: u32,
+}
+
+impl Entry {
+    /// Python's tuple `<` on (t, kind, seq, ...): seq is unique, so the
+    /// rest is never reached and the order is total (times are never NaN).
+    #[inline(always)]
+    fn lt(&self, o: &Entry) -> bool {
+        if self.t == o.t {
+            self.key < o.key
+        } else {
+            self.t < o.t
+        }
+    }
+}
+
+/// The rest of a scheduled event.
+#[derive(Clone, Copy, Debug)]
+struct Payload {
     a: i32,
     b: i32,
     feat: i32,
@@ -81,72 +101,90 @@ struct Event {
     sb: u64,
 }
 
-impl Event {
-    /// Python's tuple `<` on (t, kind, seq, ...): seq is unique, so the
-    /// rest is never reached.
-    #[inline(always)]
-    fn lt(&self, o: &Event) -> bool {
-        if self.t == o.t {
-            self.key < o.key
-        } else {
-            self.t < o.t
-        }
-    }
+/// A scheduled event as popped.
+#[derive(Clone, Copy, Debug)]
+struct Event {
+    t: f64,
+    key: u64,
+    p: Payload,
 }
 
-/// A binary min-heap with the exact sift steps of Python's heapq.
+/// A 4-ary min-heap of small entries; the payloads live in a slab whose
+/// slots are reused, so the memory is that of the most events pending at
+/// once.  Any heap pops the same order as Python's heapq: the keys are
+/// unique.
 struct Heap {
-    v: Vec<Event>,
+    v: Vec<Entry>,
+    pay: Vec<Payload>,
+    free: Vec<u32>,
 }
+
+const ARITY: usize = 4;
 
 impl Heap {
+    fn new() -> Heap {
+        Heap { v: Vec::with_capacity(1024), pay: Vec::with_capacity(1024), free: Vec::new() }
+    }
+
     #[inline]
-    fn sift_down(&mut self, start: usize, mut pos: usize) {
-        let item = self.v[pos];
-        while pos > start {
-            let parent = (pos - 1) >> 1;
+    fn push(&mut self, t: f64, key: u64, p: Payload) {
+        let slot = match self.free.pop() {
+            Some(k) => {
+                self.pay[k as usize] = p;
+                k
+            }
+            None => {
+                self.pay.push(p);
+                (self.pay.len() - 1) as u32
+            }
+        };
+        let item = Entry { t, key, slot };
+        let mut pos = self.v.len();
+        self.v.push(item);
+        while pos > 0 {
+            let parent = (pos - 1) / ARITY;
             if item.lt(&self.v[parent]) {
                 self.v[pos] = self.v[parent];
                 pos = parent;
-                continue;
+            } else {
+                break;
             }
-            break;
         }
         self.v[pos] = item;
     }
 
     #[inline]
-    fn push(&mut self, e: Event) {
-        self.v.push(e);
-        let last = self.v.len() - 1;
-        self.sift_down(0, last);
-    }
-
-    #[inline]
     fn pop(&mut self) -> Option<Event> {
         let last = self.v.pop()?;
-        if self.v.is_empty() {
-            return Some(last);
-        }
-        let top = self.v[0];
-        self.v[0] = last;
-        // heapq._siftup: the hole goes to a leaf along the smaller children,
-        // then the moved item sifts up from there
-        let end = self.v.len();
-        let mut pos = 0;
-        let mut child = 1;
-        while child < end {
-            let right = child + 1;
-            if right < end && !self.v[child].lt(&self.v[right]) {
-                child = right;
+        let top = if self.v.is_empty() {
+            last
+        } else {
+            let top = self.v[0];
+            let n = self.v.len();
+            let mut pos = 0;
+            loop {
+                let first = ARITY * pos + 1;
+                if first >= n {
+                    break;
+                }
+                let mut best = first;
+                for c in first + 1..(first + ARITY).min(n) {
+                    if self.v[c].lt(&self.v[best]) {
+                        best = c;
+                    }
+                }
+                if self.v[best].lt(&last) {
+                    self.v[pos] = self.v[best];
+                    pos = best;
+                } else {
+                    break;
+                }
             }
-            self.v[pos] = self.v[child];
-            pos = child;
-            child = 2 * pos + 1;
-        }
-        self.v[pos] = last;
-        self.sift_down(0, pos);
-        Some(top)
+            self.v[pos] = last;
+            top
+        };
+        self.free.push(top.slot);
+        Some(Event { t: top.t, key: top.key, p: self.pay[top.slot as usize] })
     }
 }
 
@@ -162,10 +200,10 @@ struct Queue {
 impl Queue {
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn push(&mut self, bodies: &[Body], t: f64, kind: u64, a: i32, b: i32, feat: i32, i: i64, j: i32) {
-        let sa = if a >= 0 { bodies[a as usize].stamp } else { 0 };
-        let sb = if b >= 0 { bodies[b as usize].stamp } else { 0 };
-        self.heap.push(Event { t, key: (kind << SEQ_BITS) | self.seq, a, b, feat, j, i, sa, sb });
+    fn push(&mut self, stamps: &[u64], t: f64, kind: u64, a: i32, b: i32, feat: i32, i: i64, j: i32) {
+        let sa = if a >= 0 { stamps[a as usize] } else { 0 };
+        let sb = if b >= 0 { stamps[b as usize] } else { 0 };
+        self.heap.push(t, (kind << SEQ_BITS) | self.seq, Payload { a, b, feat, j, i, sa, sb });
         self.seq += 1;
     }
 }
@@ -173,8 +211,60 @@ impl Queue {
 /// The world: the scene, the bodies' states, the grid.
 struct World {
     s: Scene,
-    cells: Vec<Vec<u32>>,
+    /// per body, bumped whenever its motion changes (lazy invalidation)
+    stamps: Vec<u64>,
+    cells: Vec<CellList>,
     large: Vec<u32>,
+}
+
+const CELL_INLINE: usize = 4;
+
+/// One grid cell's list of bodies: the first few inline (a cell rarely
+/// holds more), the rest in a vector.  Python's list operations: append at
+/// the end, remove by moving the last element into the hole.
+#[derive(Clone, Default)]
+struct CellList {
+    n: u32,
+    inline: [u32; CELL_INLINE],
+    more: Vec<u32>,
+}
+
+impl CellList {
+    #[inline(always)]
+    fn get(&self, k: usize) -> u32 {
+        if k < CELL_INLINE {
+            self.inline[k]
+        } else {
+            self.more[k - CELL_INLINE]
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, x: u32) {
+        let n = self.n as usize;
+        if n < CELL_INLINE {
+            self.inline[n] = x;
+        } else {
+            self.more.push(x);
+        }
+        self.n += 1;
+    }
+
+    /// Python's cell_remove: the last element moves into the hole.
+    #[inline]
+    fn remove(&mut self, x: u32) {
+        let n = self.n as usize;
+        let k = (0..n).position(|k| self.get(k) == x).expect("a body is in its cell");
+        let last = if n > CELL_INLINE { self.more.pop().expect("n > inline") } else { self.inline[n - 1] };
+        if k < n - 1 {
+            if k < CELL_INLINE {
+                self.inline[k] = last;
+            } else {
+                self.more[k - CELL_INLINE] = last;
+            }
+        }
+        self.n -= 1;
+    }
 }
 
 /// Buffered trace output.
@@ -310,12 +400,9 @@ impl World {
         (body.cy * self.s.nx + body.cx) as usize
     }
 
-    /// Python's cell_remove: the last element moves into the hole.
     fn cell_remove(&mut self, b: usize) {
         let c = self.cell_index(b);
-        let lst = &mut self.cells[c];
-        let k = lst.iter().position(|&o| o as usize == b).expect("a body is in its cell");
-        lst.swap_remove(k);
+        self.cells[c].remove(b as u32);
     }
 
     fn cell_add(&mut self, b: usize) {
@@ -607,7 +694,7 @@ fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize, no
         match bounds_meet::<E>(w, q, a_, b_, now, win)? {
             None => return Ok(()),
             Some(meet) if meet > 0.0 => {
-                q.push(&s.bodies, now + meet, HORIZON, a_.idx as i32, b_.idx as i32, -1, -1, -1);
+                q.push(&w.stamps, now + meet, HORIZON, a_.idx as i32, b_.idx as i32, -1, -1, -1);
                 return Ok(());
             }
             Some(_) => {}
@@ -635,9 +722,9 @@ fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize, no
         best = vertices_edges::<E>(w, q, b_, a_, now, win, best)?;
     }
     if let Some(bb) = best {
-        q.push(&s.bodies, now + bb.s, COLLISION, bb.a as i32, bb.b as i32, bb.feat, bb.i, bb.j as i32);
+        q.push(&w.stamps, now + bb.s, COLLISION, bb.a as i32, bb.b as i32, bb.feat, bb.i, bb.j as i32);
     } else if now + win < s.end {
-        q.push(&s.bodies, now + win, HORIZON, a_.idx as i32, b_.idx as i32, -1, -1, -1);
+        q.push(&w.stamps, now + win, HORIZON, a_.idx as i32, b_.idx as i32, -1, -1, -1);
     }
     Ok(())
 }
@@ -663,8 +750,9 @@ fn predict_cells<E: Equations>(
     let fixed = s.bodies[b].fixed;
     for jy in y_lo.max(0)..=y_hi.min(s.ny - 1) {
         for jx in x_lo.max(0)..=x_hi.min(s.nx - 1) {
-            for &o in &w.cells[(jy * s.nx + jx) as usize] {
-                let o = o as usize;
+            let cell = &w.cells[(jy * s.nx + jx) as usize];
+            for k in 0..cell.n as usize {
+                let o = cell.get(k) as usize;
                 if o == b || Some(o) == skip || (only_after && o <= b) {
                     continue;
                 }
@@ -732,7 +820,7 @@ fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
         }
     }
     if let Some((u, axis, direction)) = best {
-        q.push(&s.bodies, b.tb + u, CELL, bi as i32, -1, -1, axis, direction);
+        q.push(&w.stamps, b.tb + u, CELL, bi as i32, -1, -1, axis, direction);
     }
 }
 
@@ -849,7 +937,7 @@ fn collide<E: Equations, W: Write>(
         b_fixed = b_.fixed;
         for b in [a_, b_] {
             if !b.fixed {
-                b.stamp += 1;
+                w.stamps[b.idx] += 1;
                 emit_state(out, b)?;
             }
         }
@@ -866,9 +954,10 @@ fn collide<E: Equations, W: Write>(
 fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
     let ncells = (scene.nx * scene.ny) as usize;
     let large = scene.bodies.iter().filter(|b| b.large).map(|b| b.idx as u32).collect();
-    let mut w = World { s: scene, cells: vec![Vec::new(); ncells], large };
+    let stamps = vec![0; scene.bodies.len()];
+    let mut w = World { s: scene, stamps, cells: vec![CellList::default(); ncells], large };
     let mut q = Queue {
-        heap: Heap { v: Vec::with_capacity(1024) },
+        heap: Heap::new(),
         seq: 0,
         stats: [0; 8],
         cc_counts: vec![0; E::CC_VARIANTS],
@@ -885,10 +974,10 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
     }
     for k in 0..w.s.inputs.len() {
         let inp = w.s.inputs[k];
-        q.push(&w.s.bodies, inp.t, INPUT, inp.body as i32, -1, -1, k as i64, inp.mode as i32);
+        q.push(&w.stamps, inp.t, INPUT, inp.body as i32, -1, -1, k as i64, inp.mode as i32);
     }
     if w.s.frame_dt > 0.0 && w.s.frame_dt <= w.s.end {
-        q.push(&w.s.bodies, w.s.frame_dt, FRAME, -1, -1, -1, 1, -1);
+        q.push(&w.stamps, w.s.frame_dt, FRAME, -1, -1, -1, 1, -1);
     }
     for b in 0..n {
         let body = &w.s.bodies[b];
@@ -907,12 +996,13 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
     }
     let mut last_t = -1.0;
     let mut same: i64 = 0;
-    while let Some(ev) = q.heap.pop() {
-        let t = ev.t;
+    while let Some(popped) = q.heap.pop() {
+        let t = popped.t;
+        let ev = popped.p;
         if t > w.s.end {
             break;
         }
-        if (ev.a >= 0 && w.s.bodies[ev.a as usize].stamp != ev.sa) || (ev.b >= 0 && w.s.bodies[ev.b as usize].stamp != ev.sb) {
+        if (ev.a >= 0 && w.stamps[ev.a as usize] != ev.sa) || (ev.b >= 0 && w.stamps[ev.b as usize] != ev.sb) {
             q.stats[ST_STALE] += 1;
             continue;
         }
@@ -929,7 +1019,7 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
             last_t = t;
             same = 0;
         }
-        let kind = ev.key >> SEQ_BITS;
+        let kind = popped.key >> SEQ_BITS;
         match kind {
             COLLISION => {
                 q.stats[ST_COLLISIONS] += 1;
@@ -948,7 +1038,7 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
                     body.vx = body.vx + inp.vx;
                     body.vy = body.vy + inp.vy;
                 }
-                body.stamp += 1;
+                w.stamps[a] += 1;
                 out.s("E input");
                 out.num(t);
                 out.int(a as i64);
@@ -994,7 +1084,7 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
                 out.end_line()?;
                 let nxt = (ev.i + 1) as f64 * w.s.frame_dt;
                 if nxt <= w.s.end {
-                    q.push(&w.s.bodies, nxt, FRAME, -1, -1, -1, ev.i + 1, -1);
+                    q.push(&w.stamps, nxt, FRAME, -1, -1, -1, ev.i + 1, -1);
                 }
             }
         }

@@ -1,11 +1,12 @@
 //! `%.17g` as C's printf and Python's `"%.17g" % x` write it, byte for byte.
 //!
-//! The 17 significant digits come from Rust's exact float formatting
-//! (`{:.16e}`: correctly rounded, ties to even, as glibc and Python's dtoa);
-//! this module only lays them out as `%g` does: exponent form when the
-//! decimal exponent X is below -4 or at least 17 (with a sign and at least
-//! two exponent digits), fixed form otherwise, trailing zeros and a trailing
-//! point removed.
+//! The 17 significant digits are the correctly rounded ones (ties to even,
+//! as glibc's printf and Python's dtoa): for most magnitudes exactly from
+//! 128-bit integer arithmetic (`digits_fast`), otherwise from Rust's exact
+//! float formatting (`{:.16e}`).  They are laid out as `%g` does: exponent
+//! form when the decimal exponent X is below -4 or at least 17 (with a sign
+//! and at least two exponent digits), fixed form otherwise, trailing zeros
+//! and a trailing point removed.
 
 use std::fmt::Write;
 
@@ -28,22 +29,94 @@ impl Write for Small {
     }
 }
 
-/// Append `x` formatted as `%.17g` to `out`.
-pub fn push_g17(out: &mut Vec<u8>, x: f64) {
-    if x.is_nan() {
-        out.extend_from_slice(b"nan");
-        return;
+/// 10^k for 0 <= k <= 38 (exact in u128).
+const fn pow10_table() -> [u128; 39] {
+    let mut t = [1u128; 39];
+    let mut k = 1;
+    while k < 39 {
+        t[k] = t[k - 1] * 10;
+        k += 1;
     }
-    if x.is_infinite() {
-        out.extend_from_slice(if x < 0.0 { b"-inf" } else { b"inf" });
-        return;
+    t
+}
+const POW10: [u128; 39] = pow10_table();
+const D16: u64 = 10_000_000_000_000_000; // 10^16
+const D17: u64 = 100_000_000_000_000_000; // 10^17
+
+/// floor(m 2^e 10^p) and whether rounding to nearest (ties to even) goes
+/// up, exactly; None when the intermediate values would not fit 128 bits.
+#[inline]
+fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
+    let m = u128::from(m);
+    let (q, round_up) = if p >= 0 {
+        if p > 22 {
+            return None;
+        }
+        let n = m * POW10[p as usize];
+        if e >= 0 {
+            if e > 20 {
+                return None;
+            }
+            (n << e, false)
+        } else {
+            let sh = -e;
+            if sh > 127 {
+                return None;
+            }
+            let q = n >> sh;
+            let r = n - (q << sh);
+            let half = 1u128 << (sh - 1);
+            (q, r > half || (r == half && q & 1 == 1))
+        }
+    } else {
+        if e < 0 || e > 74 || -p > 38 {
+            return None;
+        }
+        let n = m << e;
+        let den = POW10[(-p) as usize];
+        let q = n / den;
+        let r = n - q * den;
+        (q, 2 * r > den || (2 * r == den && q & 1 == 1))
+    };
+    Some((q, round_up))
+}
+
+/// The 17 correctly rounded significant digits of finite nonzero |x| as an
+/// integer in [10^16, 10^17), and the decimal exponent X of the first
+/// digit; None when outside the range the 128-bit arithmetic covers.
+#[inline]
+fn digits_fast(x: f64) -> Option<(u64, i32)> {
+    let bits = x.to_bits();
+    let field = ((bits >> 52) & 0x7ff) as i32;
+    let frac = bits & ((1u64 << 52) - 1);
+    let (m, e) = if field == 0 { (frac, -1074) } else { (frac | (1u64 << 52), field - 1075) };
+    if m == 0 {
+        return None;
     }
+    // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
+    let l2 = 63 - m.leading_zeros() as i32 + e;
+    let mut xe = ((i64::from(l2) + 1) * 78913 >> 18) as i32; // floor((l2 + 1) log10 2)
+    for _ in 0..3 {
+        let (q, up) = scaled(m, e, 16 - xe)?;
+        if q >= u128::from(D17) {
+            xe += 1;
+        } else if q < u128::from(D16) {
+            xe -= 1;
+        } else {
+            let d = q as u64 + u64::from(up);
+            // rounding up to 10^17 is 1.0000000000000000 10^(X + 1)
+            return Some(if d == D17 { (D16, xe + 1) } else { (d, xe) });
+        }
+    }
+    None
+}
+
+/// The digits and exponent from Rust's exact formatting (any finite x).
+fn digits_fmt(x: f64, digits: &mut [u8; 17]) -> i32 {
     let mut s = Small { buf: [0; 40], len: 0 };
-    write!(s, "{:.16e}", x).expect("17 digits fit");
-    let text = &s.buf[..s.len];
-    // text: [-]D.DDDDDDDDDDDDDDDDe[-]X
-    let (neg, body) = if text[0] == b'-' { (true, &text[1..]) } else { (false, text) };
-    let mut digits = [0u8; 17];
+    write!(s, "{:.16e}", x.abs()).expect("17 digits fit");
+    let body = &s.buf[..s.len];
+    // body: D.DDDDDDDDDDDDDDDDe[-]X
     digits[0] = body[0];
     digits[1..].copy_from_slice(&body[2..18]);
     debug_assert_eq!(body[18], b'e');
@@ -57,8 +130,42 @@ pub fn push_g17(out: &mut Vec<u8>, x: f64) {
         }
     }
     if exp_neg {
-        exp = -exp;
+        -exp
+    } else {
+        exp
     }
+}
+
+/// Append `x` formatted as `%.17g` to `out`.
+pub fn push_g17(out: &mut Vec<u8>, x: f64) {
+    push_g17_with(out, x, true);
+}
+
+fn push_g17_with(out: &mut Vec<u8>, x: f64, fast: bool) {
+    if x.is_nan() {
+        out.extend_from_slice(b"nan");
+        return;
+    }
+    if x.is_infinite() {
+        out.extend_from_slice(if x < 0.0 { b"-inf" } else { b"inf" });
+        return;
+    }
+    let neg = x.is_sign_negative();
+    if x == 0.0 {
+        out.extend_from_slice(if neg { b"-0" } else { b"0" });
+        return;
+    }
+    let mut digits = [b'0'; 17];
+    let exp = match if fast { digits_fast(x) } else { None } {
+        Some((mut d, xe)) => {
+            for k in (0..17).rev() {
+                digits[k] = b'0' + (d % 10) as u8;
+                d /= 10;
+            }
+            xe
+        }
+        None => digits_fmt(x, &mut digits),
+    };
     let mut nd = 17;
     while nd > 1 && digits[nd - 1] == b'0' {
         nd -= 1;
@@ -105,7 +212,59 @@ pub fn g17(x: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::g17;
+    use super::{g17, push_g17_with};
+
+    fn both(x: f64) -> (Vec<u8>, Vec<u8>) {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        push_g17_with(&mut a, x, true);
+        push_g17_with(&mut b, x, false);
+        (a, b)
+    }
+
+    /// xorshift64*: reproducible bits without a dependency.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+    }
+
+    #[test]
+    fn fast_digits_agree_with_exact_formatting() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let check = |x: f64| {
+            let (a, b) = both(x);
+            assert_eq!(a, b, "{x:e} ({:#x})", x.to_bits());
+        };
+        for _ in 0..300_000 {
+            // any bits, and magnitudes a trace holds (1e-9 .. 1e9)
+            check(f64::from_bits(rng.next()));
+            let u = (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
+            check((u * 41.4 - 20.7).exp() * if rng.next() & 1 == 1 { 1.0 } else { -1.0 });
+        }
+        // ties at the 17th digit (small odd multiples of powers of two),
+        // powers of ten and their neighbours, integers
+        for k in 0..120 {
+            for m in [1u64, 3, 5, 7, 9, 11, 13, 25, 99, 12345] {
+                check(m as f64 * 2f64.powi(-k));
+                check(m as f64 * 2f64.powi(k));
+            }
+        }
+        for k in -30..40 {
+            let p = 10f64.powi(k);
+            check(p);
+            check(f64::from_bits(p.to_bits() + 1));
+            check(f64::from_bits(p.to_bits() - 1));
+        }
+        for i in 0..100_000u64 {
+            check(i as f64);
+            check((1u64 << 53) as f64 - i as f64);
+            check(1e17 + (i * 16) as f64);
+        }
+    }
 
     #[test]
     fn python_vectors() {

@@ -42,8 +42,6 @@ pub struct Body {
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: usize,
     pub nv: usize,
-    /// bumped whenever the body's motion changes (lazy invalidation)
-    pub stamp: u64,
     /// grid cell (small bodies)
     pub cx: i64,
     pub cy: i64,
@@ -179,7 +177,6 @@ impl Scene {
                 bound,
                 v0,
                 nv,
-                stamp: 0,
                 cx: 0,
                 cy: 0,
             });
