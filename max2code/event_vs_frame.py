@@ -539,7 +539,7 @@ def table(results, startup: dict) -> list[str]:
             exact = "within the tolerance" if "orbit" in r.scene.effects else "exact"
             out.append(f"| {r.label} | ours, {o.lang} | {o.collisions} ({r.resting} rest-speed) | - | {exact} | "
                        f"{exact} | 0 | 0 | {_s(r.scene.end_time)} (all) | {_s(o.wall_per_s)} "
-                       f"({_less(o, startup, r.scene.end_time)} less start-up) |")
+                       f"(less start-up: {_less(o, startup, r.scene.end_time)}) |")
         for f in r.frames:
             med = statistics.median(f.errors) if f.errors else math.nan
             mx = max(f.errors) if f.errors else math.nan
