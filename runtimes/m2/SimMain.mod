@@ -263,7 +263,7 @@ END Int ;
 
 PROCEDURE ReadScene ;
 VAR
-   i, k, nv: INTEGER ;
+   i, k, nv, capVerts: INTEGER ;
    b: BodyRef ;
    v: Vertex ;
 BEGIN
@@ -283,7 +283,8 @@ BEGIN
    NBodies := Int () ;
    Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
    NVerts := 0 ;
-   Verts := Grow (NIL, 16, SIZE (Vertex)) ;
+   capVerts := 16 ;
+   Verts := Grow (NIL, capVerts, SIZE (Vertex)) ;
    FOR i := 0 TO NBodies - 1 DO
       Expect ("body") ;
       b := ADR (Bodies^[i]) ;
@@ -300,8 +301,9 @@ BEGIN
       IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
       b^.v0 := NVerts ;
       b^.nv := nv ;
-      IF NVerts + nv > 16 THEN
-         Verts := Grow (Verts, NVerts + nv, SIZE (Vertex))
+      IF NVerts + nv > capVerts THEN
+         WHILE NVerts + nv > capVerts DO capVerts := 2 * capVerts END ;
+         Verts := Grow (Verts, capVerts, SIZE (Vertex))
       END ;
       FOR k := 0 TO nv - 1 DO
          Expect ("v") ;
