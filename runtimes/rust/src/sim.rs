@@ -1218,3 +1218,91 @@ macro_rules! sim_main {
         }
     };
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{CellList, Heap, Payload, CELL_INLINE};
+
+    /// xorshift64*: reproducible numbers without a dependency.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+    }
+
+    fn payload(k: u64) -> Payload {
+        Payload { a: k as i32, b: -1, feat: 0, j: 0, i: k as i64, sa: k, sb: 0 }
+    }
+
+    #[test]
+    fn heap_pops_in_time_then_key_order() {
+        let mut rng = Rng(12345);
+        let mut heap = Heap::new();
+        let mut all: Vec<(f64, u64)> = Vec::new();
+        let mut popped: Vec<(f64, u64, i64)> = Vec::new();
+        for seq in 0..20_000u64 {
+            // few distinct times, so that equal times are ordered by key
+            let t = (rng.next() % 50) as f64 * 0.125;
+            let key = ((rng.next() % 5) << 60) | seq;
+            heap.push(t, key, payload(seq));
+            all.push((t, key));
+            if rng.next() % 3 == 0 {
+                let e = heap.pop().expect("not empty");
+                popped.push((e.t, e.key, e.p.i));
+            }
+        }
+        while let Some(e) = heap.pop() {
+            popped.push((e.t, e.key, e.p.i));
+        }
+        assert_eq!(popped.len(), all.len());
+        // every payload comes back with its entry
+        for &(_, key, i) in &popped {
+            assert_eq!(key & ((1 << 60) - 1), i as u64);
+        }
+        // the slab holds no more than the most events pending at once
+        assert!(heap.pay.len() <= all.len());
+        // with everything pushed first, the pops are the sorted order
+        let mut heap = Heap::new();
+        for (seq, &(t, key)) in all.iter().enumerate() {
+            heap.push(t, key, payload(seq as u64));
+        }
+        let mut sorted = all.clone();
+        sorted.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap().then(x.1.cmp(&y.1)));
+        for &(t, key) in &sorted {
+            let e = heap.pop().expect("not empty");
+            assert_eq!((e.t, e.key), (t, key));
+        }
+        assert!(heap.pop().is_none());
+    }
+
+    #[test]
+    fn cell_list_is_a_python_list_with_last_into_the_hole() {
+        let mut rng = Rng(777);
+        let mut cell = CellList::default();
+        let mut model: Vec<u32> = Vec::new();
+        let mut next = 0u32;
+        for _ in 0..50_000 {
+            if model.is_empty() || (model.len() < 3 * CELL_INLINE && rng.next() % 2 == 0) {
+                cell.push(next);
+                model.push(next);
+                next += 1;
+            } else {
+                let x = model[(rng.next() % model.len() as u64) as usize];
+                cell.remove(x);
+                let k = model.iter().position(|&o| o == x).unwrap();
+                let last = model.pop().unwrap();
+                if k < model.len() {
+                    model[k] = last;
+                }
+            }
+            assert_eq!(cell.n as usize, model.len());
+            for (k, &x) in model.iter().enumerate() {
+                assert_eq!(cell.get(k), x);
+            }
+        }
+    }
+}
