@@ -37,6 +37,8 @@ class GenerateRequest:
     out_name: str | None = None     # the generated file's name, for #line directives back to it
     variants: bool = True           # with parameter roles: every variant and the selection logic
     effects: tuple[str, ...] | None = None   # the world's effects (None: all); see variants.WORLD_EFFECTS
+    exact: bool = False             # also the exact-motion entries (the file's `exact`/`shift`; docs/exact-motion.md)
+    real: str = "double"            # "float": the generated arithmetic in single precision (not Python)
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,7 @@ class GeneratedFile:
     derivation: Derivation
     function: FunctionIR             # the most general function in the file
     variants: tuple = ()             # variants.Variant, cheapest first, when generated
+    exact: object = None             # exact.ExactSection, when the exact-motion entries were generated
 
     @property
     def code_lines(self) -> int:
@@ -161,6 +164,10 @@ def header_lines(d: Derivation, fn: FunctionIR) -> list[str]:
 def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     mod = d.module
     tgt = get_target(req.lang)
+    try:
+        tgt.with_real(req.real)
+    except ValueError as exc:
+        raise SourceError(mod.maxima_span, f"--real={req.real}: {exc}") from None
     params, docs = parameters_of(d)
     # temporaries must not shadow the function's own name
     fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)
@@ -169,11 +176,16 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     out_name = req.out_name or (os.path.splitext(os.path.basename(mod.path))[0] + tgt.extension)
     blocks = mod.blocks_for(req.lang)
     if any(b.kind == "term" for b in blocks):
+        if req.exact or tgt.single:
+            raise SourceError(next(b for b in blocks if b.kind == "term").span,
+                              "--exact and --real=float need the function form (a file without 'term' blocks)")
         text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives)
         return GeneratedFile(text, d, fn)
     if not (req.variants and any(p.body is not None for p in mod.parameters)):
-        text = render_module(tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives)
-        return GeneratedFile(text, d, fn)
+        section, ectx = _exact(d, req, tgt, mod.equation, False, fn.degree)
+        text = render_module(tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives,
+                             exact=ectx)
+        return GeneratedFile(text, d, fn, exact=section)
     from max2code.variants import WORLD_EFFECTS, derive_variants, switches_of
     vs = derive_variants(d, effects=req.effects, use_cache=req.use_cache, timeout=req.maxima_timeout,
                          progress=req.progress, shared=req.shared)
@@ -184,8 +196,19 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     ordered = [general] + [v for v in vs if v is not general]
     functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
-    text = render_module(tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives)
-    return GeneratedFile(text, d, general.function, tuple(vs))
+    section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree)
+    text = render_module(tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives,
+                         exact=ectx)
+    return GeneratedFile(text, d, general.function, tuple(vs), exact=section)
+
+
+def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection: bool, degree: int):
+    """The exact-motion section and its template context, when requested."""
+    if not req.exact:
+        return None, None
+    from max2code.exact import derive_exact, render_context
+    section = derive_exact(d, progress=req.progress, use_cache=req.use_cache, timeout=req.maxima_timeout)
+    return section, render_context(tgt, section, coef_entry, selection, degree)
 
 
 def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives) -> str:

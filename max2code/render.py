@@ -84,7 +84,8 @@ def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, 
 
 
 def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selection: Selection | None,
-                  header: list[str], variable: str, mxm_name: str, out_name: str, line_directives: bool) -> str:
+                  header: list[str], variable: str, mxm_name: str, out_name: str, line_directives: bool,
+                  exact: dict | None = None) -> str:
     """A file of coefficient functions (the full equation and its variants)
     and, when given, the selection logic that picks among them."""
     first = functions[0][0]
@@ -105,7 +106,7 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
                       variant_fn=which, index_by_mask=index_by_mask,
                       variant_unused=[] if selection is None else
                       [p for p in first.params if all(p not in zs for _, zs in selection.switches)],
-                      header=header, variable=variable,
+                      header=header, variable=variable, exact=exact,
                       params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))
     return _finish(text, target, out_name)

@@ -352,6 +352,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.list_failures:
         return 0
     print(accuracy_table(reports))
+    from max2code.conformance.exact_op import summary as exact_summary
+    text = exact_summary(reports, cases)
+    if text:
+        print(text)
     ok = all(rep.ok for rep in reports)
     if len(reports) > 1:
         diff = agreement(reports)

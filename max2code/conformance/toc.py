@@ -132,8 +132,17 @@ class TocOp:
         if lang not in self.testee_langs:
             raise ValueError(f"the toc op has no testee for {lang}")
         answers: dict[int, str] = {}
+        exact = {s: c for s, c in cases.items() if c.get("motion") == "exact"}
+        if exact:   # the exact motion (sin, cos): max2code/conformance/exact_op.py
+            from max2code.conformance import exact_op
+            answers.update(exact_op.batch(lang, exact))
         by_eq: dict[str, list[int]] = {}
         for seq, case in cases.items():
+            if seq in exact:
+                continue
+            if case.get("motion", "taylor") != "taylor":
+                answers[seq] = f"error: malformed toc case: motion must be 'taylor' or 'exact', not {case.get('motion')!r}"
+                continue
             why = _malformed(case)
             if why:
                 answers[seq] = f"error: malformed toc case: {why}"
@@ -158,6 +167,9 @@ class TocOp:
     def judge(self, case: dict, answer: str):
         from max2code.conformance.runner import Verdict
 
+        if case.get("motion") == "exact":
+            from max2code.conformance import exact_op
+            return exact_op.judge(case, answer)
         expect, tol = case.get("expect"), float(case.get("tol", 0.0))
         if answer.startswith("error"):
             return Verdict(False, "-", why=answer[len("error: "):])

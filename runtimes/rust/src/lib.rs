@@ -4,6 +4,7 @@
 //! with the algorithm of docs/roots.md, operation for operation the same as the
 //! C, Python and Modula-2 runtimes, so that the four return the same bits.
 
+pub mod exact;
 pub mod roots;
 pub mod sim;
 

@@ -1,0 +1,628 @@
+"""The exact motion of a .mxm file: the pieces behind exact-motion contact
+times (docs/exact-motion.md), derived by Maxima and checked.
+
+A file declares which Maxima function of its text approximates what
+(`exact SIN(w, phi) { sin(w*t + phi) }`) and how each parameter moves when
+the clock restarts at time t (`shift a { a + b*t + c*t^2/2 }`).  From that:
+
+* the exact gap G(p, t) (the text's value with SIN replaced by the exact
+  expression) and its derivative dG/dt, printed without expanding, so that
+  position differences such as a - g are formed first;
+* the shift p -> p(t0), checked by Maxima: G(p, t0 + t) - G(p(t0), t) = 0;
+* each approximation is checked to be the Taylor polynomial in t of its exact
+  expression, of some degree N; its error on [0, h] is then at most
+  max|d^(N+1)/dt^(N+1) exact| h^(N+1) / (N+1)!, with the maximum bounded by a
+  majorant (|sin|, |cos| <= 1);
+* the truncation bound E(p, h) >= |G - P| on [0, h], P the polynomial: Maxima
+  expands the text with SIN = its polynomial + an error atom e_i, and
+  E = sum over the error monomials of prod(delta_i^k_i) sum_j |c_j| h^j;
+* a rounding scale S(p, t) (a majorant of G's evaluation error, in units of
+  the unit roundoff) and the orbits' angular rates (window sizing).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from fractions import Fraction
+
+from max2code.collect import collect
+from max2code.errors import SourceError, Span
+from max2code.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
+from max2code.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, share
+from max2code.maxima import Statement, run_maxima
+from max2code.reader import MaximaOutputError, read_expr
+
+EPS_PREFIX = "__m2c_eps_"
+
+
+@dataclass(frozen=True)
+class ScalarFn:
+    """One generated function of the exact section: the parameters, then
+    `extra` real inputs; temporaries; and its outputs.
+
+    kind "value": one output.  kind "vector": one output per parameter (the
+    shift).  kind "max": outputs in pairs (weight, rate): the result is the
+    largest rate whose weight is not zero (0 when none)."""
+    name: str
+    doc: str
+    kind: str
+    extra: tuple[str, ...]
+    temps: tuple[Assign, ...]
+    outputs: tuple[Node, ...]
+    unused_params: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class ExactSection:
+    """What the templates print for the exact motion."""
+    name: str                      # the equation
+    params: tuple[str, ...]
+    variable: str
+    gap: ScalarFn
+    gap_dt: ScalarFn
+    scale: ScalarFn
+    shift: ScalarFn
+    rate: ScalarFn
+    truncation: ScalarFn
+    approximations: tuple[str, ...]   # one line per approximation, for the header
+    origin: Span
+
+
+# ---------------------------------------------------------------- Maxima
+def _definition_index(stmts: list[Statement], name: str) -> int | None:
+    pat = re.compile(rf"\s*{re.escape(name)}\s*\([^)]*\)\s*:=")
+    for i, s in enumerate(stmts):
+        if pat.match(s.text):
+            return i
+    return None
+
+
+def _with_inserted(stmts: list[Statement], inserts: dict[int, list[Statement]]) -> list[Statement]:
+    out = []
+    for i, s in enumerate(stmts):
+        out.append(s)
+        out.extend(inserts.get(i, []))
+    return out
+
+
+def _read(text: str, span: Span, what: str) -> Expr:
+    try:
+        return read_expr(text)
+    except MaximaOutputError as exc:
+        raise SourceError(span, f"{what}: max2code cannot read Maxima's result: {exc}") from None
+
+
+def _fresh(k: int) -> list[str]:
+    return [f"__m2c_x{i + 1}" for i in range(k)]
+
+
+@dataclass(frozen=True)
+class _Approx:
+    name: str
+    formals: tuple[str, ...]
+    degree: int                 # N: the approximation is the degree-N Taylor polynomial
+    dn: Expr                    # d^(N+1)/dt^(N+1) of the exact expression, in __m2c_x1..
+    d1: Expr                    # d/dt of the exact expression
+    span: Span
+
+
+def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: float = 300.0):
+    """Run Maxima for the exact pieces of derivation `d` (pipeline.Derivation)."""
+    from max2code.pipeline import _note, parameters_of
+
+    mod = d.module
+    if not mod.approximations:
+        raise SourceError(mod.maxima_span, "--exact needs an 'exact NAME(args) { expression }' declaration "
+                                           "(see docs/mxm-language.md, 'The exact motion')")
+    params, _ = parameters_of(d)
+    t = mod.variable
+    stmts = [s for s in d.statements]
+    where: dict[int, list] = {}
+    for a in mod.approximations:
+        k = _definition_index(stmts, a.name)
+        if k is None:
+            raise SourceError(a.span, f"the Maxima text defines no function '{a.name}' ('{a.name}(...) := ...')")
+        where.setdefault(k, []).append(a)
+    known = set(params)
+    for sh in mod.shifts:
+        if sh.param not in known:
+            raise SourceError(sh.span, f"'shift {sh.param}': '{sh.param}' is not a parameter of the equation")
+    if not mod.shifts:
+        raise SourceError(mod.approximations[0].span, "the exact motion needs 'shift' declarations: how each "
+                                                       "parameter moves when the clock restarts at time t")
+
+    def exact_def(a, fn_name: str | None = None) -> Statement:
+        return Statement(f"{fn_name or a.name}({', '.join(a.formals)}) := ({a.text})$", a.text_span)
+
+    # run 1: the exact text
+    inserts = {k: [exact_def(a) for a in group] for k, group in where.items()}
+    shift_subst = ", ".join(f"{sh.param} = subst(__m2c_t0, {t}, ({sh.text}))" for sh in mod.shifts)
+    items = {"gap": "__m2c_p", "gap_dt": f"diff(__m2c_p, {t})",
+             "shiftcheck": f"expand(psubst([{t} = {t} + __m2c_t0], __m2c_p) - psubst([{shift_subst}], __m2c_p))"}
+    for i, sh in enumerate(mod.shifts):
+        items[f"shift{i}"] = f"({sh.text})"
+    _note(progress, f"{mod.path}: Maxima derives the exact gap, its derivative and checks the shift ...")
+    r1 = run_maxima(list(d.prelude), _with_inserted(stmts, inserts), items, fallback=mod.approximations[0].span,
+                    timeout=timeout, use_cache=use_cache)
+    if r1.items["shiftcheck"].strip() != "0":
+        again = run_maxima(list(d.prelude), _with_inserted(stmts, inserts),
+                           {"c": f"trigsimp(trigexpand({items['shiftcheck']}))"},
+                           fallback=mod.shifts[0].span, timeout=timeout, use_cache=use_cache)
+        if again.items["c"].strip() != "0":
+            raise SourceError(mod.shifts[0].span, "the shifts do not restart the clock: Maxima finds "
+                                                  "gap(p, t0 + t) - gap(shift(p, t0), t) = "
+                                                  f"{again.items['c'][:100]} (not 0)")
+
+    # run 2: each approximation as its polynomial plus an error atom
+    inserts = {}
+    for k, group in where.items():
+        extra = []
+        for a in group:
+            x = _fresh(len(a.formals))
+            extra += [Statement(f"define(__m2c_approx_{a.name}({', '.join(x)}), {a.name}({', '.join(x)}))$", a.span),
+                      Statement(f"{a.name}({', '.join(a.formals)}) := __m2c_approx_{a.name}({', '.join(a.formals)}) + "
+                                f"{EPS_PREFIX}{a.name}({', '.join(a.formals)})$", a.span),
+                      exact_def(a, f"__m2c_exact_{a.name}")]
+        inserts[k] = extra
+    items2 = {"eps": "expand(__m2c_p)"}
+    for i, a in enumerate(mod.approximations):
+        x = ", ".join(_fresh(len(a.formals)))
+        n = f"hipow(expand(__m2c_approx_{a.name}({x})), {t})"
+        items2[f"deg{i}"] = n
+        items2[f"chk{i}"] = f"ratsimp(__m2c_approx_{a.name}({x}) - taylor(__m2c_exact_{a.name}({x}), {t}, 0, {n}))"
+        items2[f"dn{i}"] = f"diff(__m2c_exact_{a.name}({x}), {t}, {n} + 1)"
+        items2[f"d1{i}"] = f"diff(__m2c_exact_{a.name}({x}), {t})"
+    _note(progress, f"{mod.path}: Maxima checks the approximations and derives the truncation bound ...")
+    r2 = run_maxima(list(d.prelude), _with_inserted(stmts, inserts), items2, fallback=mod.approximations[0].span,
+                    timeout=timeout, use_cache=use_cache)
+    approx = []
+    for i, a in enumerate(mod.approximations):
+        if r2.items[f"chk{i}"].strip() != "0":
+            raise SourceError(a.span, f"'{a.name}' is not the Taylor polynomial in {t} of {a.text.strip()} "
+                                      f"(Maxima finds the difference {r2.items[f'chk{i}'][:80]})")
+        approx.append(_Approx(a.name, a.formals, int(r2.items[f"deg{i}"]), _read(r2.items[f"dn{i}"], a.span, a.name),
+                              _read(r2.items[f"d1{i}"], a.span, a.name), a.span))
+
+    origin = mod.approximations[0].span
+    gap = _read(r1.items["gap"], origin, "the exact gap")
+    gap_dt = _read(r1.items["gap_dt"], origin, "the exact gap's derivative")
+    shifts = {sh.param: _read(r1.items[f"shift{i}"], sh.text_span, f"shift {sh.param}") for i, sh in enumerate(mod.shifts)}
+    for e, span, what in [(gap, origin, "the exact gap"), (gap_dt, origin, "its derivative")] + \
+                         [(shifts[sh.param], sh.text_span, f"shift {sh.param}") for sh in mod.shifts]:
+        _check_symbols(e, known | {t}, span, what)
+    try:
+        eps_poly = collect(_read(r2.items["eps"], origin, "the polynomial with error terms"), t)
+    except NotPolynomial as exc:
+        raise SourceError(origin, f"with error terms the text is not a polynomial in {t}: {exc}") from None
+    # at zero error the polynomial must be the one the file generates
+    def trimmed(ps):
+        ps = list(ps)
+        while ps and ps[-1].is_zero():
+            ps.pop()
+        return tuple(ps)
+    if trimmed(_drop_eps(c) for c in eps_poly.coefficients) != trimmed(d.polynomial.coefficients):
+        raise SourceError(origin, "internal error: the polynomial with zero error terms differs from the file's "
+                                  "polynomial; please report this")
+    return _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin)
+
+
+def _drop_eps(p: Poly) -> Poly:
+    terms = {m: c for m, c in p.terms if not any(k.startswith(EPS_PREFIX) for k, _ in m)}
+    return Poly.build(terms, dict(p.atoms))
+
+
+def _check_symbols(e: Expr, allowed: set[str], span: Span, what: str) -> None:
+    if isinstance(e, Sym):
+        if e.name not in allowed and e.name != "%pi":
+            raise SourceError(span, f"{what} uses '{e.name}', which is neither a parameter nor the variable")
+    elif isinstance(e, Call):
+        if e.func not in ("sin", "cos"):
+            raise SourceError(span, f"{what} calls '{e.func}': only sin and cos can be printed")
+        for a in e.args:
+            _check_symbols(a, allowed, span, what)
+    elif isinstance(e, Pow):
+        if not (isinstance(e.exp, Num) and e.exp.value.denominator == 1):
+            raise SourceError(span, f"{what} has a non-integer power {to_maxima(e)}")
+        _check_symbols(e.base, allowed, span, what)
+    elif isinstance(e, Eq):
+        raise SourceError(span, f"{what} is an equation inside an expression")
+    elif isinstance(e, (Add, Mul)):
+        for c in (e.terms if isinstance(e, Add) else e.factors):
+            _check_symbols(c, allowed, span, what)
+
+
+# ---------------------------------------------------------------- lowering
+def _mentions(e: Expr, name: str) -> bool:
+    if isinstance(e, Sym):
+        return e.name == name
+    if isinstance(e, Num):
+        return False
+    if isinstance(e, Call):
+        return any(_mentions(a, name) for a in e.args)
+    if isinstance(e, Add):
+        return any(_mentions(a, name) for a in e.terms)
+    if isinstance(e, Mul):
+        return any(_mentions(a, name) for a in e.factors)
+    if isinstance(e, Pow):
+        return _mentions(e.base, name) or _mentions(e.exp, name)
+    return True
+
+
+def _int_exp(e: Pow) -> int:
+    assert isinstance(e.exp, Num) and e.exp.value.denominator == 1
+    return int(e.exp.value)
+
+
+def _power(x: Node, n: int) -> Node:
+    node = x
+    for _ in range(n - 1):
+        node = mul(node, x)
+    return node
+
+
+def _t_monomial(term: Expr, t: str) -> tuple[int, list[Expr]] | None:
+    """term = (t-free factors) * t^k: (k, factors), else None."""
+    if isinstance(term, Sym) and term.name == t:
+        return 1, []
+    if isinstance(term, Pow) and isinstance(term.base, Sym) and term.base.name == t and _int_exp(term) > 0:
+        return _int_exp(term), []
+    if not _mentions(term, t):
+        return 0, [term]
+    if isinstance(term, Mul):
+        k, rest = 0, []
+        for f in term.factors:
+            sub = _t_monomial(f, t) if _mentions(f, t) else (0, [f])
+            if sub is None or (sub[0] > 0 and sub[1]):
+                return None
+            k += sub[0]
+            rest += sub[1]
+        return k, rest
+    return None
+
+
+def lower_expr(e: Expr, t: str) -> Node:
+    """An expression (sums, products, integer powers, sin, cos) as a Node.
+    Sums are grouped by power of t and put in Horner form in t, the t-free
+    part first: a - g, b - h are formed before anything large is added."""
+    if isinstance(e, Num):
+        return lit(e.value)
+    if isinstance(e, Sym):
+        if e.name == "%pi":
+            return lit(math.pi)
+        return ("ref", e.name)
+    if isinstance(e, Call):
+        return ("call", e.func, lower_expr(e.args[0], t))
+    if isinstance(e, Pow):
+        n = _int_exp(e)
+        base = lower_expr(e.base, t)
+        if n == 0:
+            return lit(1)
+        if n > 0:
+            return _power(base, n)
+        return ("/", lit(1), _power(base, -n))
+    if isinstance(e, Mul):
+        nums = [f for f in e.factors if isinstance(f, Num)]
+        c = Fraction(1)
+        for f in nums:
+            c *= f.value
+        node: Node | None = None
+        for f in e.factors:
+            if isinstance(f, Num):
+                continue
+            x = lower_expr(f, t)
+            node = x if node is None else mul(node, x)
+        if node is None:
+            return lit(c)
+        return mul(lit(c), node) if c != 1 else node
+    if isinstance(e, Add):
+        by_power: dict[int, list[Expr]] = {}
+        others: list[Expr] = []
+        for term in e.terms:
+            m = _t_monomial(term, t)
+            if m is None:
+                others.append(term)
+            else:
+                k, factors = m
+                coef = factors[0] if len(factors) == 1 else (Mul(tuple(factors)) if factors else Num(Fraction(1)))
+                by_power.setdefault(k, []).append(coef)
+        node: Node | None = None
+        for k in range(max(by_power, default=-1), -1, -1):
+            if node is not None:
+                node = mul(node, ("ref", t))
+            coef: Node | None = None    # the coefficient of t^k, summed before it meets the rest
+            for c in by_power.get(k, []):
+                x = lower_expr(c, t)
+                coef = x if coef is None else add(coef, x)
+            if coef is not None:
+                node = coef if node is None else add(node, coef)
+        for term in others:
+            x = lower_expr(term, t)
+            node = x if node is None else add(node, x)
+        return node if node is not None else lit(0)
+    raise TypeError(e)
+
+
+def _abs(n: Node) -> Node:
+    if n[0] == "lit":
+        return n
+    if n[0] == "neg":
+        return _abs(n[1])
+    if n[0] == "call" and n[1] == "abs":
+        return n
+    return ("call", "abs", n)
+
+
+def rounding_scale(e: Expr, t: str) -> Node:
+    """A majorant of the evaluation error of `e` in units of the unit
+    roundoff: every sum becomes a sum of magnitudes, sin(u) and cos(u) count
+    1 + scale(u) (an error in u moves them by as much)."""
+    if isinstance(e, Num):
+        return lit(abs(e.value))
+    if isinstance(e, Sym):
+        return lit(math.pi) if e.name == "%pi" else _abs(("ref", e.name))
+    if isinstance(e, Call):
+        return add(lit(1), rounding_scale(e.args[0], t))
+    if isinstance(e, Add):
+        node = None
+        for x in e.terms:
+            s = rounding_scale(x, t)
+            node = s if node is None else add(node, s)
+        return node
+    if isinstance(e, Mul):
+        node = None
+        for x in e.factors:
+            s = rounding_scale(x, t)
+            node = s if node is None else mul(node, s)
+        return node
+    if isinstance(e, Pow):
+        n = _int_exp(e)
+        if n >= 0:
+            return _power(rounding_scale(e.base, t), n) if n else lit(1)
+        return ("/", lit(1), _abs(_power(lower_expr(e.base, t), -n)))
+    raise TypeError(e)
+
+
+def sup_majorant(e: Expr, t: str, h: str, span: Span, what: str) -> Node:
+    """An upper bound of |e| for t in [0, h]: t-free parts by their value,
+    |sin|, |cos| <= 1, t <= h."""
+    if not _mentions(e, t):
+        return _abs(lower_expr(e, t))
+    if isinstance(e, Sym):
+        return ("ref", h)
+    if isinstance(e, Call):
+        if e.func in ("sin", "cos"):
+            return lit(1)
+        raise SourceError(span, f"{what}: cannot bound {to_maxima(e)}")
+    if isinstance(e, Add):
+        node = None
+        for x in e.terms:
+            s = sup_majorant(x, t, h, span, what)
+            node = s if node is None else add(node, s)
+        return node
+    if isinstance(e, Mul):
+        node = None
+        for x in e.factors:
+            s = sup_majorant(x, t, h, span, what)
+            node = s if node is None else mul(node, s)
+        return node
+    if isinstance(e, Pow) and _int_exp(e) > 0:
+        return _power(sup_majorant(e.base, t, h, span, what), _int_exp(e))
+    raise SourceError(span, f"{what}: cannot bound {to_maxima(e)} over a window")
+
+
+def _substitute(e: Expr, names: dict[str, Expr]) -> Expr:
+    if isinstance(e, Sym):
+        return names.get(e.name, e)
+    if isinstance(e, Num):
+        return e
+    if isinstance(e, Call):
+        return Call(e.func, tuple(_substitute(a, names) for a in e.args))
+    if isinstance(e, Add):
+        return Add(tuple(_substitute(a, names) for a in e.terms))
+    if isinstance(e, Mul):
+        return Mul(tuple(_substitute(a, names) for a in e.factors))
+    if isinstance(e, Pow):
+        return Pow(_substitute(e.base, names), _substitute(e.exp, names))
+    raise TypeError(e)
+
+
+def _scalar(name: str, doc: str, kind: str, params, extra, roots: list[Node], derived: list[Assign]) -> ScalarFn:
+    reserved = set(params) | set(extra) | {a.name for a in derived} | {name}
+    temps, outs = share([a.node for a in derived] + roots, reserved)
+    # derived inputs (sin(f) ...) come first: share() saw them as roots too
+    nd = len(derived)
+    temps = [Assign(a.name, n) for a, n in zip(derived, outs[:nd])] + temps
+    # a derived input that share() itself named stays as computed; keep order by dependency
+    temps = _order(temps)
+    outs = outs[nd:]
+    # keep only the temporaries the outputs need
+    need: set[str] = set()
+    for o in outs:
+        _refs(o, need)
+    for a in reversed(temps):
+        if a.name in need:
+            _refs(a.node, need)
+    temps = [a for a in temps if a.name in need]
+    used: set[str] = set()
+    for a in temps:
+        _refs(a.node, used)
+    for o in outs:
+        _refs(o, used)
+    return ScalarFn(name, doc, kind, tuple(extra), tuple(temps), tuple(outs),
+                    tuple(p for p in params if p not in used))
+
+
+def _refs(n: Node, out: set[str]) -> None:
+    if n[0] == "ref":
+        out.add(n[1])
+    elif n[0] != "lit":
+        for c in n[1:]:
+            if isinstance(c, tuple):
+                _refs(c, out)
+
+
+def _order(temps: list[Assign]) -> list[Assign]:
+    """Temporaries in dependency order (each after the ones it uses), stable."""
+    names = {a.name for a in temps}
+    done: set[str] = set()
+    out: list[Assign] = []
+    pending = list(temps)
+    while pending:
+        rest = []
+        for a in pending:
+            deps: set[str] = set()
+            _refs(a.node, deps)
+            if (deps & names) <= done:
+                out.append(a)
+                done.add(a.name)
+            else:
+                rest.append(a)
+        if len(rest) == len(pending):
+            raise AssertionError("cyclic temporaries")
+        pending = rest
+    return out
+
+
+def _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin) -> ExactSection:
+    name = mod.equation
+    h = t   # the window length is passed in the variable's name
+    by_name = {a.name: a for a in approx}
+
+    def one(fname, doc, node, extra=(t,)):
+        return _scalar(fname, doc, "value", params, extra, [node], [])
+
+    gap_fn = one(f"{name}_gap", "the exact gap at time t (zero at contact)", lower_expr(gap, t))
+    dt_fn = one(f"{name}_gap_dt", "d/dt of the exact gap at time t", lower_expr(gap_dt, t))
+    scale_fn = one(f"{name}_gap_scale", "a majorant of the exact gap's rounding error at time t, in units of the "
+                                        "unit roundoff", rounding_scale(gap, t))
+    shift_fn = _scalar(f"{name}_shift", "the parameters once the clock restarts at time t", "vector", params, (t,),
+                       [lower_expr(shifts[p], t) if p in shifts else ("ref", p) for p in params], [])
+
+    # the error atoms: e_i = EPS_NAME(args); group eps_poly's terms by error monomial and power of t
+    lw = Lowering(tuple(params) + (t,))
+    groups: dict[tuple, dict[int, dict]] = {}
+    atoms_all: dict[str, Expr] = {}
+    for k, c in enumerate(eps_poly.coefficients):
+        atoms = dict(c.atoms)
+        atoms_all.update(atoms)
+        for mono, coef in c.terms:
+            em = tuple((a, e) for a, e in mono if a.startswith(EPS_PREFIX))
+            if not em:
+                continue
+            rest = tuple((a, e) for a, e in mono if not a.startswith(EPS_PREFIX))
+            groups.setdefault(em, {}).setdefault(k, {})[rest] = coef
+    eps_atoms = sorted({a for em in groups for a, _ in em})
+    delta: dict[str, Node] = {}
+    rates: list[tuple[str, Node]] = []
+    for key in eps_atoms:
+        call = atoms_all[key]
+        ap = by_name[call.func[len(EPS_PREFIX):]]
+        if any(_mentions(a, t) for a in call.args):
+            raise SourceError(ap.span, f"'{ap.name}' is called with arguments that depend on {t}: {to_maxima(call)}")
+        names = dict(zip(_fresh(len(ap.formals)), call.args))
+        m = sup_majorant(_substitute(ap.dn, names), t, h, ap.span, f"the error of {to_maxima(call)}")
+        n1 = ap.degree + 1
+        delta[key] = mul(mul(m, _power(("ref", h), n1)), lit(Fraction(1, math.factorial(n1))))
+        rate = _substitute(ap.d1, names)
+        rate_node = sup_majorant(rate, t, h, ap.span, f"the rate of {to_maxima(call)}")
+        if _mentions(rate, t) and _refers(rate_node, h):
+            raise SourceError(ap.span, f"the rate of {to_maxima(call)} depends on {t}: cannot size windows")
+        rates.append((key, rate_node))
+    order = {p: i for i, p in enumerate(params)}
+    bound: Node | None = None
+    weights: dict[str, Node | None] = {k: None for k in eps_atoms}
+    for em in sorted(groups):
+        by_k = groups[em]
+        inner: Node | None = None
+        for k in range(max(by_k), -1, -1):
+            if inner is not None:
+                inner = mul(inner, ("ref", h))
+            if k in by_k:
+                c = _abs(horner(lw.numeric(Poly.build(by_k[k], atoms_all)), order))
+                inner = c if inner is None else add(inner, c)
+        term = inner
+        for a, e in em:
+            term = mul(_power(delta[a], e), term)
+        bound = term if bound is None else add(bound, term)
+        # weight of each error atom: the same coefficient sums at h = 1
+        for a, _ in em:
+            w = None
+            for k in sorted(by_k):
+                c = _abs(horner(lw.numeric(Poly.build(by_k[k], atoms_all)), order))
+                w = c if w is None else add(w, c)
+            weights[a] = w if weights[a] is None else add(weights[a], w)
+    derived = [Assign(n, node) for n, node in lw.derived.values()]
+    trunc_fn = _scalar(f"{name}_truncation", "a bound on |gap - polynomial| for t in [0, h] (h passed as "
+                                             f"{t})", "value", params, (t,), [bound if bound is not None else lit(0)],
+                       derived)
+    rate_roots: list[Node] = []
+    for key, node in rates:
+        rate_roots += [weights[key] or lit(0), node]
+    rate_fn = _scalar(f"{name}_rate", "the largest angular rate (rad/s) among the approximations that matter",
+                      "max", params, (), rate_roots, derived)
+    lines = tuple(f"{a.name}(...) is the degree-{a.degree} Taylor polynomial in {t} of "
+                  f"{next(x.text.strip() for x in mod.approximations if x.name == a.name)}" for a in approx)
+    return ExactSection(name, tuple(params), t, gap_fn, dt_fn, scale_fn, shift_fn, rate_fn, trunc_fn, lines, origin)
+
+
+def _refs_outside_abs(n: Node, out: set[str]) -> None:
+    if n[0] == "ref":
+        out.add(n[1])
+    elif n[0] == "call" and n[1] == "abs" and n[2][0] == "ref":
+        return
+    elif n[0] != "lit":
+        for c in n[1:]:
+            if isinstance(c, tuple):
+                _refs_outside_abs(c, out)
+
+
+def _refers(n: Node, name: str) -> bool:
+    s: set[str] = set()
+    _refs(n, s)
+    return name in s
+
+
+# ---------------------------------------------------------------- rendering
+def _unique(base: str, taken: set[str]) -> str:
+    name = base
+    while name in taken:
+        name += "_"
+    taken.add(name)
+    return name
+
+
+def render_context(target, section: ExactSection, coef_entry: str, coef_selection: bool, coef_degree: int) -> dict:
+    """What templates/<lang>/exact.j2 prints: every function's lines as text."""
+    params = section.params
+    taken = set(params) | {section.variable}
+    fns = {}
+    for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
+        fn: ScalarFn = getattr(section, key)
+        taken |= {a.name for a in fn.temps}
+    single = target.single
+    for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
+        fn = getattr(section, key)
+        inputs = list(params) + list(fn.extra)
+        if single and target.name == "m2":
+            target.renames = {p: p + "_s" for p in inputs}
+        else:
+            target.renames = {}
+        try:
+            temps = [(a.name, target.expr(a.node)) for a in fn.temps]
+            outs = [target.expr(o) for o in fn.outputs]
+        finally:
+            target.renames = {}
+        used = [p for p in inputs if p not in fn.unused_params]
+        plain: set[str] = set()     # referenced other than as abs(name) (gm2 counts only these as uses)
+        for n in [a.node for a in fn.temps] + list(fn.outputs):
+            _refs_outside_abs(n, plain)
+        abs_only = [p for p in used if p not in plain]
+        atomic = [re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*|[0-9.eE_+f-]+", o) is not None for o in outs]
+        fns[key] = {"atomic": atomic, "name": fn.name, "doc": fn.doc, "kind": fn.kind, "extra": list(fn.extra), "temps": temps,
+                    "outputs": outs, "unused": list(fn.unused_params), "used": used, "abs_only": abs_only,
+                    "pairs": [(outs[i], outs[i + 1]) for i in range(0, len(outs), 2)] if fn.kind == "max" else []}
+    local = {b: _unique(b, taken) for b in ("out", "rate", "pv", "mo", "wk", "rk")}
+    return {"section": section, "fns": fns, "params": list(params), "nparams": len(params),
+            "variable": section.variable, "coef_entry": coef_entry, "coef_selection": coef_selection,
+            "coef_degree": coef_degree, "local": local, "name": section.name}

@@ -1,0 +1,248 @@
+IMPLEMENTATION MODULE ExactToc ;
+
+(* The driver of docs/exact-motion.md, transcribed operation for operation
+   from the C runtime (runtimes/c/src/m2c_exact.c). *)
+
+FROM CMath IMPORT ldexp ;
+FROM Roots IMPORT SmallestRoot, IsFinite ;
+
+CONST
+   MaxDepth = 40 ;       (* subdivision levels *)
+   MaxSteps = 200 ;      (* zones visited per level *)
+   PolishSteps = 4 ;     (* Newton steps on the exact gap *)
+   MaxDegree = 16 ;
+
+TYPE
+   Params = ARRAY [0..MaxParams - 1] OF REAL ;
+   Coeffs = ARRAY [0..MaxDegree] OF REAL ;
+
+VAR
+   Floor,                (* 2^-46 = 64 eps: the rounding floor is Floor * scale *)
+   TwoM30: REAL ;        (* 2^-30 *)
+   (* the call being answered (the driver is not reentrant) *)
+   Cur: Motion ;
+   Par: Params ;
+   CurSolver: SolverProc ;
+   CurZeroTol: REAL ;
+
+
+PROCEDURE Defaults (VAR o: Options) ;
+BEGIN
+   o.windowAngle := WindowAngle ;
+   o.refine := TRUE ;
+   o.zeroTol := 0.0 ;
+   o.solver := SmallestRoot
+END Defaults ;
+
+
+PROCEDURE Value (VAR c: Coeffs; n: INTEGER; x: REAL) : REAL ;
+VAR
+   v: REAL ;
+   i: INTEGER ;
+BEGIN
+   v := c[n] ;
+   FOR i := n - 1 TO 0 BY -1 DO
+      v := v * x + c[i]
+   END ;
+   RETURN v
+END Value ;
+
+
+PROCEDURE Slope (VAR c: Coeffs; n: INTEGER; x: REAL) : REAL ;
+VAR
+   d: REAL ;
+   i: INTEGER ;
+BEGIN
+   IF n < 1 THEN RETURN 0.0 END ;
+   d := VAL (REAL, n) * c[n] ;
+   FOR i := n - 1 TO 1 BY -1 DO
+      d := d * x + VAL (REAL, i) * c[i]
+   END ;
+   RETURN d
+END Slope ;
+
+
+PROCEDURE FloorAt (t: REAL) : REAL ;
+BEGIN
+   RETURN Floor * Cur.scale (Par, t)
+END FloorAt ;
+
+
+(* The first root of the exact gap in [t0, t0 + L] (closed) or (t0, t0 + L]:
+   1 with r and its bracket [a, b], 0 for none, -1 on an error. *)
+PROCEDURE FirstRoot (t0, L: REAL; closed: BOOLEAN; depth: INTEGER;
+                     VAR r, a, b: REAL) : INTEGER ;
+VAR
+   pp: Params ;
+   c, q: Coeffs ;
+   n, i, step, st: INTEGER ;
+   e, f, s, mg, x, z, v, d, w, we: REAL ;
+BEGIN
+   Cur.shift (Par, t0, pp) ;
+   n := Cur.coefficients (pp, c) ;
+   IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
+   e := Cur.truncation (pp, L) ;
+   f := FloorAt (t0 + L) ;
+   a := t0 ;
+   b := t0 + L ;
+   IF closed AND (ABS (c[0]) <= f) THEN
+      r := t0 ;
+      RETURN 1
+   END ;
+   IF (e <= f) OR (depth >= MaxDepth) THEN
+      IF NOT CurSolver (c, n, 0.0, L, s) THEN RETURN 0 END ;
+      r := t0 + s ;
+      RETURN 1
+   END ;
+   mg := e + f ;
+   x := 0.0 ;
+   FOR step := 1 TO MaxSteps DO
+      v := Value (c, n, x) ;
+      IF ABS (v) <= mg THEN
+         z := x
+      ELSE
+         FOR i := 0 TO n DO q[i] := c[i] END ;
+         IF v > 0.0 THEN q[0] := c[0] - mg ELSE q[0] := c[0] + mg END ;
+         IF NOT CurSolver (q, n, x, L, z) THEN RETURN 0 END
+      END ;
+      d := Slope (c, n, z) ;
+      w := 0.5 * (L - z) ;
+      IF d # 0.0 THEN
+         we := 8.0 * mg / ABS (d) ;
+         IF we < w THEN w := we END
+      END ;
+      IF NOT (w > 0.0) THEN RETURN 0 END ;
+      st := FirstRoot (t0 + z, w, closed OR (z > 0.0), depth + 1, r, a, b) ;
+      IF st # 0 THEN RETURN st END ;
+      x := z + w ;
+      IF NOT (x < L) THEN RETURN 0 END
+   END ;
+   (* too many zones: this level's polynomial decides the rest *)
+   IF NOT CurSolver (c, n, x, L, s) THEN RETURN 0 END ;
+   a := t0 + x ;
+   b := t0 + L ;
+   r := t0 + s ;
+   RETURN 1
+END FirstRoot ;
+
+
+(* Newton steps on the exact gap, kept while |gap| decreases inside [a, b]
+   and (lo, hi]. *)
+PROCEDURE Polish (x, a, b, lo, hi: REAL) : REAL ;
+VAR
+   g, d, xn, gn: REAL ;
+   i: INTEGER ;
+BEGIN
+   g := Cur.gap (Par, x) ;
+   FOR i := 1 TO PolishSteps DO
+      IF g = 0.0 THEN RETURN x END ;
+      d := Cur.gapDt (Par, x) ;
+      IF NOT (d # 0.0) THEN RETURN x END ;
+      xn := x - g / d ;
+      IF NOT ((xn >= a) AND (xn <= b) AND (xn > lo) AND (xn <= hi)) THEN RETURN x END ;
+      gn := Cur.gap (Par, xn) ;
+      IF NOT (ABS (gn) < ABS (g)) THEN RETURN x END ;
+      x := xn ;
+      g := gn
+   END ;
+   RETURN x
+END Polish ;
+
+
+(* Where a contact at t = 0 that separates has left the zero band. *)
+PROCEDURE Depart (horizon, band0, d0: REAL) : REAL ;
+VAR
+   tau, band: REAL ;
+   i: INTEGER ;
+BEGIN
+   IF d0 > 0.0 THEN tau := 2.0 * band0 / d0 ELSE tau := horizon * TwoM30 END ;
+   IF NOT (tau > 0.0) THEN tau := horizon * TwoM30 END ;
+   FOR i := 1 TO 200 DO
+      IF NOT (tau < horizon) THEN RETURN horizon END ;
+      band := FloorAt (tau) ;
+      IF CurZeroTol > band THEN band := CurZeroTol END ;
+      IF ABS (Cur.gap (Par, tau)) > 2.0 * band THEN RETURN tau END ;
+      tau := 2.0 * tau
+   END ;
+   RETURN horizon
+END Depart ;
+
+
+PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+                        VAR o: Options; VAR t: REAL) : INTEGER ;
+VAR
+   i, st, n: INTEGER ;
+   start, band0, d0, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
+   pp: Params ;
+   c: Coeffs ;
+BEGIN
+   IF (m.nparams < 0) OR (m.nparams > MaxParams) OR (m.maxDegree > MaxDegree)
+      OR (VAL (INTEGER, HIGH (p)) + 1 < m.nparams) THEN
+      RETURN -1
+   END ;
+   IF NOT (o.windowAngle > 0.0) OR NOT IsFinite (o.windowAngle) OR NOT (o.zeroTol >= 0.0) THEN
+      RETURN -1
+   END ;
+   IF NOT IsFinite (horizon) OR NOT (horizon > 0.0) THEN RETURN 0 END ;
+   FOR i := 0 TO m.nparams - 1 DO
+      IF NOT IsFinite (p[i]) THEN RETURN 0 END
+   END ;
+   Cur := m ;
+   FOR i := 0 TO m.nparams - 1 DO Par[i] := p[i] END ;
+   CurSolver := o.solver ;
+   CurZeroTol := o.zeroTol ;
+   start := 0.0 ;
+   band0 := FloorAt (0.0) ;
+   IF o.zeroTol > band0 THEN band0 := o.zeroTol END ;
+   IF ABS (Cur.gap (Par, 0.0)) <= band0 THEN
+      d0 := Cur.gapDt (Par, 0.0) ;
+      IF d0 < 0.0 THEN
+         t := 0.0 ;
+         RETURN 1
+      END ;
+      start := Depart (horizon, band0, d0) ;
+      IF NOT (start < horizon) THEN RETURN 0 END
+   END ;
+   span := horizon - start ;
+   h := span ;
+   rate := Cur.rate (Par) ;
+   IF (rate > 0.0) AND (o.windowAngle / rate < span) THEN h := o.windowAngle / rate END ;
+   IF span / h > MaxWindows THEN RETURN -1 END ;
+   t0 := start ;
+   w := 0.0 ;
+   WHILE t0 < horizon DO
+      t1 := start + (w + 1.0) * h ;
+      IF NOT (t1 < horizon) THEN t1 := horizon END ;
+      L := t1 - t0 ;
+      IF o.refine THEN
+         st := FirstRoot (t0, L, w > 0.0, 0, r, a, b) ;
+         IF st = 1 THEN r := Polish (r, a, b, start, horizon) END
+      ELSE
+         Cur.shift (Par, t0, pp) ;
+         n := Cur.coefficients (pp, c) ;
+         IF (n < 0) OR (n > MaxDegree) THEN
+            st := -1
+         ELSIF CurSolver (c, n, 0.0, L, s) THEN
+            st := 1 ;
+            r := t0 + s
+         ELSE
+            st := 0
+         END
+      END ;
+      IF st < 0 THEN RETURN -1 END ;
+      IF st = 1 THEN
+         IF r > horizon THEN r := horizon END ;
+         t := r + 0.0 ;
+         RETURN 1
+      END ;
+      t0 := t1 ;
+      w := w + 1.0
+   END ;
+   RETURN 0
+END FirstContact ;
+
+
+BEGIN
+   Floor := ldexp (1.0, -46) ;
+   TwoM30 := ldexp (1.0, -30)
+END ExactToc.
