@@ -23,25 +23,34 @@ typedef struct m2c_sim_vertex {
     double s1, s2;          /* m: the edge's extent along its tangent */
 } m2c_sim_vertex;
 
+/* A body, laid out for the predictions: the first 64 bytes hold its motion,
+ * the next 64 what a pair's prediction and the stale test read. */
 typedef struct m2c_sim_body {
     double px, py;          /* m: centre (of rotation) at time tb */
     double vx, vy;          /* m/s: velocity at tb */
     double ax, ay;          /* m/s^2: acceleration (gravity included) */
-    double ang, om;         /* rad, rad/s: angle at tb, angular velocity */
     double tb;              /* s: the time of this state */
-    double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
-    double e;               /* restitution, 0..1 */
+    double om;              /* rad/s: angular velocity */
+    double ang;             /* rad: angle at tb */
     double r;               /* m: circle radius (0 for polygons) */
     double orbit, ophase;   /* m, rad: orbit radius and phase (circles) */
     double bound;           /* m: radius of the bounding circle about the centre */
+    double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
+    uint32_t stamp;         /* bumped when the motion changes (lazy invalidation) */
+    unsigned char polygon, fixed, large;
+    double e;               /* restitution, 0..1 */
     m2c_sim_vertex *verts;  /* nverts vertices (polygons), else NULL */
     int32_t nverts;
     int32_t idx;            /* index in the scene */
-    uint32_t stamp;         /* bumped when the motion changes (lazy invalidation) */
     int32_t cx, cy;         /* grid cell (small bodies) */
     int32_t slot;           /* index in its cell's list */
-    unsigned char polygon, fixed, large;
 } m2c_sim_body;
+
+/* A cache of cos and sin of one angle (rad). */
+typedef struct m2c_sim_trig {
+    double angle, c, s;
+    int valid;
+} m2c_sim_trig;
 
 typedef struct m2c_sim_input {
     double t;               /* s */
@@ -65,36 +74,82 @@ struct m2c_sim_scene {
     m2c_sim_input *inputs;
 };
 
-/* ---- event heap: a binary min-heap ordered by (t, kind, seq) --------------- */
+/* ---- event queue: ordered by (t, kind, seq) ---------------------------------- */
 
 enum { M2C_SIM_INPUT = 0, M2C_SIM_COLLISION = 1, M2C_SIM_CELL = 2, M2C_SIM_HORIZON = 3, M2C_SIM_FRAME = 4 };
-#define M2C_SIM_KIND_SHIFT 56   /* key = kind << 56 | seq: seq is unique, below 2^56 */
 
 typedef struct m2c_sim_event {
-    double t;               /* s */
-    uint64_t key;           /* kind and scheduling counter */
+    double t;               /* s, not negative */
+    int32_t kind;
     int32_t a, b;           /* bodies (-1: none) */
     uint32_t sa, sb;        /* their stamps when scheduled */
     int32_t feat, i, j;     /* feature and its indices (or input / frame number, axis, direction) */
 } m2c_sim_event;
 
-typedef struct m2c_sim_heap {
-    m2c_sim_event *ev;
+/* What the queue orders: 16 bytes.  tb: the bits of t + 0.0 (t >= 0, so
+ * they order as t does); key: kind, then seq (the scheduling counter),
+ * then the slot of `rest` where the event waits. */
+typedef struct m2c_sim_entry {
+    uint64_t tb;
+    uint64_t key;
+} m2c_sim_entry;
+
+typedef struct m2c_sim_bucket {
+    m2c_sim_entry *e;
     size_t n, cap;
+} m2c_sim_bucket;
+
+#ifndef M2C_SIM_SLOT_BITS
+#define M2C_SIM_SLOT_BITS 28        /* events in the queue at once: 2^28 */
+#endif
+#ifndef M2C_SIM_SEQ_BITS
+#define M2C_SIM_SEQ_BITS 33         /* then seq is renumbered (keeping the order) */
+#endif
+
+/* A radix heap on the bits of t (m2c_sim_queue.c): near[] holds, as a
+ * 4-ary heap, the events at or before `last` (the time last reached);
+ * bucket k (1..64) the later ones whose bits first differ from last's at
+ * bit k-1. */
+typedef struct m2c_sim_heap {
+    size_t n;                   /* events queued */
+    uint64_t last;              /* bits of the time last reached */
+    m2c_sim_bucket near;        /* a 4-ary heap */
+    m2c_sim_bucket bucket[65];  /* bucket[0] unused */
+    uint64_t full;              /* bit k-1 set: bucket k is not empty */
+    m2c_sim_event *rest;        /* the events, by slot (cap of them) */
+    size_t cap;
+    uint32_t *free;             /* unused slots (a stack) */
+    size_t nfree, used;         /* slots never used start at `used` */
+    uint64_t seq;               /* the next scheduling counter */
 } m2c_sim_heap;
 
-/* 0, or -1 when out of memory (the heap is unchanged). */
+/* Schedules e (its time must not be negative): 0, or -1 when out of memory
+ * or too many events at once (the queue is unchanged). */
 int m2c_sim_heap_push(m2c_sim_heap *h, const m2c_sim_event *e);
-/* Removes the first event into *e; the heap must not be empty. */
-void m2c_sim_heap_pop(m2c_sim_heap *h, m2c_sim_event *e);
+/* Removes the first event into *e (the queue must not be empty): 0, or -1
+ * when out of memory (an event may then be lost: give up). */
+int m2c_sim_heap_pop(m2c_sim_heap *h, m2c_sim_event *e);
+/* Removes every event for which drop(ctx, e) is true; the others keep their
+ * order (their keys are unchanged). */
+void m2c_sim_heap_sweep(m2c_sim_heap *h, int (*drop)(void *ctx, const m2c_sim_event *e), void *ctx);
 void m2c_sim_heap_free(m2c_sim_heap *h);
 
 /* ---- grid: one list of body indices per cell ------------------------------- */
 
+#define M2C_SIM_CELL_INLINE 6      /* bodies a cell holds without an allocation */
 typedef struct m2c_sim_cell {
-    int32_t *items;
-    int32_t n, cap;
+    int32_t n;              /* bodies in the cell */
+    int32_t cap;            /* 0: they are in u.in, else u.items holds cap of them */
+    union {
+        int32_t in[M2C_SIM_CELL_INLINE];
+        int32_t *items;
+    } u;
 } m2c_sim_cell;
+
+static inline const int32_t *m2c_sim_cell_items(const m2c_sim_cell *c)
+{
+    return c->cap != 0 ? c->u.items : c->u.in;
+}
 
 typedef struct m2c_sim_grid {
     m2c_sim_cell *cells;    /* nx * ny, row-major (cy * nx + cx) */

@@ -24,13 +24,15 @@ typedef struct sim {
     m2c_sim_scene *s;
     m2c_sim_body *bodies;
     m2c_sim_heap heap;
-    uint64_t seq;                       /* scheduling counter */
     long long stats[ST_COUNT];
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
     int n_cc, n_pe;
     m2c_sim_grid grid;
     int32_t *large;                     /* the bodies outside the grid, by index */
     int32_t nlarge;
+    size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
+    m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
+    m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
     m2c_sim_out out;
     jmp_buf fail;
     char *err;
@@ -46,6 +48,27 @@ static _Noreturn void die(sim *m, const char *fmt, ...)
     va_end(ap);
     longjmp(m->fail, 1);
 }
+
+/* cos(a) and sin(a), from the cache when a is the angle (to the bit) it
+ * last held: libm's answer for the same argument, without the call.  A
+ * polygon that does not turn asks for the same angles again and again. */
+static inline void trig(m2c_sim_trig *k, double a, double *c, double *s)
+{
+    if (k->valid && memcmp(&k->angle, &a, sizeof a) == 0) {
+        *c = k->c;
+        *s = k->s;
+        return;
+    }
+    *c = cos(a);
+    *s = sin(a);
+    k->angle = a;
+    k->c = *c;
+    k->s = *s;
+    k->valid = 1;
+}
+
+#define VTRIG(m, v) (&(m)->vtrig[(v) - (m)->s->verts])
+#define ETRIG(m, v) (&(m)->etrig[(v) - (m)->s->verts])
 
 /* ---- motion ---------------------------------------------------------------- */
 
@@ -87,7 +110,7 @@ static inline double turn_rate(const m2c_sim_body *b)
 }
 
 /* World position (m) of a circle's centre (v NULL) or of a vertex, at t. */
-static inline void point_at(const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x, double *y)
+static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x, double *y)
 {
     motion q = state_at(b, t);
     double d = v == NULL ? b->orbit : v->rho;
@@ -97,17 +120,51 @@ static inline void point_at(const m2c_sim_body *b, const m2c_sim_vertex *v, doub
         *y = q.y;
         return;
     }
-    *x = q.x + d * cos(q.ang + beta);
-    *y = q.y + d * sin(q.ang + beta);
+    double c, sn;
+    if (v != NULL) {
+        trig(VTRIG(m, v), q.ang + beta, &c, &sn);
+    } else {
+        c = cos(q.ang + beta);
+        sn = sin(q.ang + beta);
+    }
+    *x = q.x + d * c;
+    *y = q.y + d * sn;
 }
 
 /* ---- the event queue --------------------------------------------------------- */
+
+static int is_stale(const sim *m, const m2c_sim_event *e)
+{
+    return (e->a >= 0 && m->bodies[e->a].stamp != e->sa) || (e->b >= 0 && m->bodies[e->b].stamp != e->sb);
+}
+
+/* The reference pops a stale event and counts it when its time comes (if
+ * it is not after the end).  A stale event stays stale (stamps only grow),
+ * so the queue may drop it earlier and count it then: the same count, and
+ * a queue that holds mostly live events. */
+static int drop_stale(void *ctx, const m2c_sim_event *e)
+{
+    sim *m = ctx;
+    if (!is_stale(m, e))
+        return 0;
+    if (e->t <= m->s->end)
+        m->stats[ST_STALE]++;
+    return 1;
+}
+
+/* Drops the stale events once the queue has doubled since the last sweep. */
+static void sweep(sim *m)
+{
+    m2c_sim_heap_sweep(&m->heap, drop_stale, m);
+    size_t live = m->heap.n;
+    m->sweep_at = 2 * live > 4096 ? 2 * live : 4096;
+}
 
 static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat, int32_t i, int32_t j)
 {
     m2c_sim_event e;
     e.t = t;
-    e.key = ((uint64_t)kind << M2C_SIM_KIND_SHIFT) | m->seq;
+    e.kind = kind;
     e.a = a;
     e.b = b;
     e.sa = a >= 0 ? m->bodies[a].stamp : 0u;
@@ -115,9 +172,12 @@ static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat,
     e.feat = feat;
     e.i = i;
     e.j = j;
+    if (!(t >= 0.0))        /* never: every time is now or later, and now >= 0 */
+        die(m, "an event at a time that is not a number or negative");
     if (m2c_sim_heap_push(&m->heap, &e) != 0)
         die(m, "out of memory (event queue of %zu events)", m->heap.n);
-    m->seq++;
+    if (m->heap.n >= m->sweep_at)
+        sweep(m);
 }
 
 /* ---- grid ---------------------------------------------------------------------- */
@@ -145,6 +205,7 @@ static void cell_add(sim *m, m2c_sim_body *b)
 
 /* What point_edge's contact must satisfy: the point lies on the segment. */
 typedef struct pe_check {
+    sim *m;
     const m2c_sim_body *X, *Y;
     const m2c_sim_vertex *vx;           /* X's vertex, NULL for X's circle */
     const m2c_sim_vertex *ed;           /* the edge of Y */
@@ -157,10 +218,11 @@ static int inside(const pe_check *k, double s)
         return 1;
     double t = k->now + s;
     double px, py;
-    point_at(k->X, k->vx, t, &px, &py);
+    point_at(k->m, k->X, k->vx, t, &px, &py);
     motion q = state_at(k->Y, t);
-    double th = q.ang + k->ed->psi;
-    double along = (px - q.x) * -sin(th) + (py - q.y) * cos(th);
+    double c, sn;
+    trig(ETRIG(k->m, k->ed), q.ang + k->ed->psi, &c, &sn);
+    double along = (px - q.x) * -sn + (py - q.y) * c;
     return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
 }
 
@@ -211,7 +273,7 @@ static int cc_coefficients(sim *m, const double *g, double *coef)
 
 /* circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
  * circle's centre (v NULL) or of a polygon's vertex, at time now. */
-static void circle_params(const m2c_sim_body *b, double now, const m2c_sim_vertex *v, double *o)
+static void circle_params(sim *m, const m2c_sim_body *b, double now, const m2c_sim_vertex *v, double *o)
 {
     motion q = state_at(b, now);
     double x = q.x, y = q.y, d, phase;
@@ -225,8 +287,15 @@ static void circle_params(const m2c_sim_body *b, double now, const m2c_sim_verte
     double om = b->om;
     if (om == 0.0 && d != 0.0) {
         /* an orbit that does not turn is a fixed offset: fold it in */
-        x = x + d * cos(phase);
-        y = y + d * sin(phase);
+        double c, sn;
+        if (v != NULL) {
+            trig(VTRIG(m, v), phase, &c, &sn);
+        } else {
+            c = cos(phase);
+            sn = sin(phase);
+        }
+        x = x + d * c;
+        y = y + d * sn;
         d = 0.0;
     }
     if (d == 0.0) {
@@ -251,8 +320,8 @@ static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, cons
                       double now, double w, double *out)
 {
     double p1[11], p2[11];
-    circle_params(A, now, NULL, p1);
-    circle_params(B, now, vb, p2);
+    circle_params(m, A, now, NULL, p1);
+    circle_params(m, B, now, vb, p2);
     /* only differences of the centres' motions matter: circle 1 moves
      * relative to circle 2's centre of rotation */
     double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
@@ -304,7 +373,7 @@ static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, cons
     m->stats[ST_FEATURES]++;
     double coef[M2C_MAX_DEGREE + 1];
     int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
-    pe_check chk = { X, Y, vx, ed, now, m->s->tol };
+    pe_check chk = { m, X, Y, vx, ed, now, m->s->tol };
     return first_contact(coef, deg, w, m->s->tol, &chk, out);
 }
 
@@ -487,8 +556,9 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n; k++) {
-                const m2c_sim_body *o = &m->bodies[c->items[k]];
+                const m2c_sim_body *o = &m->bodies[items[k]];
                 if (o == b || o == skip || (b->fixed && o->fixed))
                     continue;
                 if (first && o->idx <= b->idx)
@@ -534,8 +604,8 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
     double nx, ny, cx, cy;
     if (feat == CC) {
         double ax_, ay_, bx_, by_;
-        point_at(A, NULL, t, &ax_, &ay_);
-        point_at(B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
+        point_at(m, A, NULL, t, &ax_, &ay_);
+        point_at(m, B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
         double dx = bx_ - ax_, dy = by_ - ay_;
         double dist = sqrt(dx * dx + dy * dy);
         if (dist > 0.0) {
@@ -549,10 +619,11 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
         cy = ay_ + A->r * ny;
     } else {
         double px, py;
-        point_at(A, vA, t, &px, &py);
-        double th = B->ang + B->verts[j].psi;
-        nx = -cos(th);                  /* from A to B: against the edge's outward normal */
-        ny = -sin(th);
+        point_at(m, A, vA, t, &px, &py);
+        double c, sn;
+        trig(ETRIG(m, &B->verts[j]), B->ang + B->verts[j].psi, &c, &sn);
+        nx = -c;                        /* from A to B: against the edge's outward normal */
+        ny = -sn;
         double rad = vA == NULL ? A->r : 0.0;
         cx = px + rad * nx;
         cy = py + rad * ny;
@@ -640,11 +711,12 @@ static void run(sim *m)
     long long same = 0;
     m2c_sim_event ev;
     while (m->heap.n > 0) {
-        m2c_sim_heap_pop(&m->heap, &ev);
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
         double t = ev.t;
         if (t > s->end)
             break;
-        if ((ev.a >= 0 && bodies[ev.a].stamp != ev.sa) || (ev.b >= 0 && bodies[ev.b].stamp != ev.sb)) {
+        if (is_stale(m, &ev)) {
             m->stats[ST_STALE]++;
             continue;
         }
@@ -659,7 +731,7 @@ static void run(sim *m)
             last_t = t;
             same = 0;
         }
-        int kind = (int)(ev.key >> M2C_SIM_KIND_SHIFT);
+        int kind = ev.kind;
         if (kind == M2C_SIM_COLLISION) {
             m->stats[ST_COLLISIONS]++;
             collide(m, t, ev.feat, &bodies[ev.a], &bodies[ev.b], ev.i, ev.j);
@@ -775,6 +847,7 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
     m->errlen = errlen;
     m->n_cc = cc_variants;
     m->n_pe = pe_variants;
+    m->sweep_at = 4096;
     volatile int status = 1;
     if (setjmp(m->fail) == 0) {
         if (cc_variants < 1 || pe_variants < 1)
@@ -782,6 +855,13 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
         m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
         m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
         m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+        size_t nv = 1;
+        for (int32_t k = 0; k < scene->nbodies; k++)
+            nv += (size_t)scene->bodies[k].nverts;
+        m->vtrig = calloc(nv, sizeof *m->vtrig);
+        m->etrig = calloc(nv, sizeof *m->etrig);
+        if (m->vtrig == NULL || m->etrig == NULL)
+            die(m, "out of memory");
         if (m->cc_counts == NULL || m->pe_counts == NULL || m->large == NULL || m2c_sim_out_init(&m->out, out) != 0
             || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
             die(m, "out of memory");
@@ -804,6 +884,8 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
     free(m->cc_counts);
     free(m->pe_counts);
     free(m->large);
+    free(m->vtrig);
+    free(m->etrig);
     free(m);
     return status;
 }

@@ -12,6 +12,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "m2c_sim.h"
@@ -21,7 +22,10 @@ __extension__ typedef unsigned __int128 m2c_u128;
 #define POW5_MAX 55             /* 5^55 < 2^128 */
 #define POW10_MAX 22            /* 10^22 < 2^74 */
 
+#define POW10_GUESS 60            /* 10^-60 .. 10^60 as doubles, for a first guess */
+
 static m2c_u128 pow5[POW5_MAX + 1];
+static double pow10d[2 * POW10_GUESS + 2];
 static m2c_u128 pow10[POW10_MAX + 1];
 static int tables_ready;
 
@@ -33,6 +37,11 @@ static void make_tables(void)
     pow10[0] = 1;
     for (int k = 1; k <= POW10_MAX; k++)
         pow10[k] = pow10[k - 1] * 10u;
+    for (int k = -POW10_GUESS; k <= POW10_GUESS + 1; k++) {
+        char text[16];
+        snprintf(text, sizeof text, "1e%d", k);
+        pow10d[k + POW10_GUESS] = strtod(text, NULL);
+    }
     tables_ready = 1;
 }
 
@@ -79,7 +88,18 @@ static int scaled(uint64_t f, int e2, int x10, uint64_t *d, int *up)
     const uint64_t lo17 = UINT64_C(10000000000000000), hi17 = UINT64_C(100000000000000000);
     int p = 16 - x10;
     uint64_t q;
-    if (p >= 0) {
+    if (p >= 0 && p <= 27 && e2 + p < 0 && e2 + p > -128) {
+        /* the common case: f 5^p < 2^53 2^63 fits 128 bits */
+        m2c_u128 m = (m2c_u128)f * (uint64_t)pow5[p];
+        int sh = -(e2 + p);
+        m2c_u128 qq = m >> sh;
+        if ((qq >> 64) != 0)
+            return NO_FAST_PATH;
+        q = (uint64_t)qq;
+        m2c_u128 half = (m2c_u128)1 << (sh - 1);
+        m2c_u128 rem = m & ((half << 1) - 1u);
+        *up = rem > half ? 1 : (rem == half ? (int)(q & 1u) : 0);
+    } else if (p >= 0) {
         if (p > POW5_MAX)
             return NO_FAST_PATH;
         /* m = f 5^p, exactly, in 192 bits */
@@ -127,12 +147,15 @@ static int scaled(uint64_t f, int e2, int x10, uint64_t *d, int *up)
 
 /* The 17 digits of a normal double f 2^e2: *d in [10^16, 10^17) and the
  * decimal exponent *x10 of the first digit.  0, or -1 for no fast path. */
-static int decimal17(uint64_t f, int e2, int *x10, uint64_t *d)
+static int decimal17(double ax, uint64_t f, int e2, int *x10, uint64_t *d)
 {
     if (!tables_ready)
         make_tables();
     /* floor(log10 x) is this or one more: 2^(e2+52) <= x < 2^(e2+53) */
     int x = (int)floor((double)(e2 + 52) * 0.30102999566398120);
+    /* a guess of which (scaled() decides exactly) */
+    if (x >= -POW10_GUESS && x < POW10_GUESS && ax >= pow10d[x + 1 + POW10_GUESS])
+        x++;
     for (int tries = 0; tries < 3; tries++) {
         uint64_t q = 0;
         int up = 0;
@@ -190,7 +213,7 @@ int m2c_sim_format_number(char *buf, double x)
     }
     uint64_t d = 0;
     int x10 = 0;
-    if (be == 0 || decimal17(frac | (UINT64_C(1) << 52), be - 1075, &x10, &d) != 0) {
+    if (be == 0 || decimal17(fabs(x), frac | (UINT64_C(1) << 52), be - 1075, &x10, &d) != 0) {
         char tmp[M2C_SIM_NUMBER_MAX + 8];
         int n = snprintf(tmp, sizeof tmp, "%.17g", x);
         if (n < 0 || n > M2C_SIM_NUMBER_MAX)
