@@ -54,6 +54,12 @@ def _generate_parser() -> argparse.ArgumentParser:
                    help="the effects your world uses, comma-separated from: acceleration, orbit "
                         "(e.g. --effects=acceleration for gravity without rotation; 'none' for neither); "
                         "only the variants such a world reaches are generated.  Default: all")
+    p.add_argument("--exact", action="store_true",
+                   help="also generate the exact-motion entries from the file's 'exact' and 'shift' declarations: "
+                        "NAME_gap, NAME_gap_dt, NAME_shift, ... and NAME_toc_exact (docs/exact-motion.md)")
+    p.add_argument("--real", choices=["double", "float"], default="double",
+                   help="arithmetic of the generated code: double (default) or float (C float, Rust f32, "
+                        "Modula-2 SHORTREAL; interfaces stay double; Python has no float)")
     p.add_argument("--no-variants", action="store_true",
                    help="only the full equation, no variants and no selection logic")
     p.add_argument("--list-variants", action="store_true",
@@ -99,6 +105,8 @@ def generate_main(argv: list[str]) -> int:
         out_name=None if args.output == "-" else os.path.basename(args.output),
         variants=not args.no_variants,
         effects=effects,
+        exact=args.exact,
+        real=args.real,
     )
     result = generate_file(req)
     text = result.text

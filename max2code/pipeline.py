@@ -13,7 +13,7 @@ from fractions import Fraction
 
 from max2code import __version__
 from max2code.collect import Polynomial, collect
-from max2code.errors import SourceError
+from max2code.errors import Max2CodeError, SourceError
 from max2code.expr import NotPolynomial, Sym
 from max2code.lower import FunctionIR, Lowering, horner, lower
 from max2code.errors import Span
@@ -167,7 +167,7 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     try:
         tgt.with_real(req.real)
     except ValueError as exc:
-        raise SourceError(mod.maxima_span, f"--real={req.real}: {exc}") from None
+        raise Max2CodeError(f"max2code: error: --real={req.real}: {exc}") from None
     params, docs = parameters_of(d)
     # temporaries must not shadow the function's own name
     fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)

@@ -71,16 +71,23 @@ class Selection:
 
 def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, line_directives: bool) -> dict:
     origin = target.origin_line(fn.origin.line, mxm_name) if line_directives else None
-    body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
-    body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
-    body += [BodyLine("coef", str(k), target.expr(c), origin) for k, c in enumerate(fn.coefficients)]
+    if target.single and target.single_copies:   # --real=float: the body reads float copies of the parameters
+        target.renames = {p: p + "_s" for p in fn.params}
+    try:
+        body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
+        body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
+        body += [BodyLine("coef", str(k), target.expr(c), origin) for k, c in enumerate(fn.coefficients)]
+    finally:
+        target.renames = {}
     if origin is not None and target.line_directive is None:
         # an origin comment once is enough where the language has no directives
         body = [body[0]] + [BodyLine(b.kind, b.name, b.text, None) for b in body[1:]]
     out_array = "coef"
     while out_array in fn.params or out_array in {a.name for a in fn.derived + fn.temps}:
         out_array += "_"
-    return {"fn": fn, "body": body, "locals": [a.name for a in fn.derived + fn.temps], "out": out_array, "note": note}
+    used = [p for p in fn.params if p not in fn.unused_params]
+    return {"fn": fn, "body": body, "locals": [a.name for a in fn.derived + fn.temps], "out": out_array, "note": note,
+            "used": used}
 
 
 def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selection: Selection | None,

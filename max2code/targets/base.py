@@ -26,6 +26,7 @@ class Target:
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
     single_calls: ClassVar[dict[str, str]] = {}
     single_suffix: ClassVar[str] = ""                 # after a single-precision literal
+    single_copies: ClassVar[bool] = False             # parameters stay double; the body uses float copies NAME_s
     single = False                                    # this instance prints single precision
     renames: dict[str, str] = {}                      # references printed under another name
 

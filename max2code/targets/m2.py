@@ -37,6 +37,7 @@ class Modula2(Target):
 
     calls = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "ABS({})"}
     single_type = "SHORTREAL"     # gm2 12 has no ShortMath: sin and cos of REAL, rounded
+    single_copies = True          # REAL parameters, SHORTREAL copies (no implicit conversion in Modula-2)
     single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",
                     "sqrt": "VAL(SHORTREAL, sqrt(VAL(REAL, {})))", "abs": "ABS({})"}
 
