@@ -24,9 +24,10 @@ typedef struct m2c_sim_vertex {
 } m2c_sim_vertex;
 
 /* A body, laid out for the predictions: the first 64 bytes hold its motion,
- * the next 64 what a pair's prediction and the stale test read. */
+ * the next 64 the rest of what a pair's prediction reads.  (Its stamp, for
+ * lazy invalidation, is in an array of its own, m2c_sim.c.) */
 typedef struct m2c_sim_body {
-    double px, py;          /* m: centre (of rotation) at time tb */
+    _Alignas(64) double px, py;     /* m: centre (of rotation) at time tb */
     double vx, vy;          /* m/s: velocity at tb */
     double ax, ay;          /* m/s^2: acceleration (gravity included) */
     double tb;              /* s: the time of this state */
@@ -36,7 +37,6 @@ typedef struct m2c_sim_body {
     double orbit, ophase;   /* m, rad: orbit radius and phase (circles) */
     double bound;           /* m: radius of the bounding circle about the centre */
     double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
-    uint32_t stamp;         /* bumped when the motion changes (lazy invalidation) */
     unsigned char polygon, fixed, large;
     double e;               /* restitution, 0..1 */
     m2c_sim_vertex *verts;  /* nverts vertices (polygons), else NULL */
@@ -133,6 +133,15 @@ int m2c_sim_heap_pop(m2c_sim_heap *h, m2c_sim_event *e);
  * order (their keys are unchanged). */
 void m2c_sim_heap_sweep(m2c_sim_heap *h, int (*drop)(void *ctx, const m2c_sim_event *e), void *ctx);
 void m2c_sim_heap_free(m2c_sim_heap *h);
+
+/* The event first in the queue now, or NULL: a hint for fetching what it
+ * will need (the queue may change before it is popped). */
+static inline const m2c_sim_event *m2c_sim_heap_peek(const m2c_sim_heap *h)
+{
+    if (h->near.n == 0)
+        return NULL;
+    return &h->rest[h->near.e[0].key & ((UINT64_C(1) << M2C_SIM_SLOT_BITS) - 1u)];
+}
 
 /* ---- grid: one list of body indices per cell ------------------------------- */
 

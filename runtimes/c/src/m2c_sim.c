@@ -23,6 +23,7 @@ static const char *const stat_names[ST_COUNT] = { "collisions", "inputs", "frame
 typedef struct sim {
     m2c_sim_scene *s;
     m2c_sim_body *bodies;
+    uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
     m2c_sim_heap heap;
     long long stats[ST_COUNT];
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
@@ -135,7 +136,7 @@ static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex 
 
 static int is_stale(const sim *m, const m2c_sim_event *e)
 {
-    return (e->a >= 0 && m->bodies[e->a].stamp != e->sa) || (e->b >= 0 && m->bodies[e->b].stamp != e->sb);
+    return (e->a >= 0 && m->stamp[e->a] != e->sa) || (e->b >= 0 && m->stamp[e->b] != e->sb);
 }
 
 /* The reference pops a stale event and counts it when its time comes (if
@@ -167,8 +168,8 @@ static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat,
     e.kind = kind;
     e.a = a;
     e.b = b;
-    e.sa = a >= 0 ? m->bodies[a].stamp : 0u;
-    e.sb = b >= 0 ? m->bodies[b].stamp : 0u;
+    e.sa = a >= 0 ? m->stamp[a] : 0u;
+    e.sb = b >= 0 ? m->stamp[b] : 0u;
     e.feat = feat;
     e.i = i;
     e.j = j;
@@ -178,6 +179,19 @@ static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat,
         die(m, "out of memory (event queue of %zu events)", m->heap.n);
     if (m->heap.n >= m->sweep_at)
         sweep(m);
+}
+
+/* Fetches the bodies of the event that is next for now (the queue
+ * fetched the event itself when it found it), while this one is handled. */
+static inline void fetch_next(const sim *m)
+{
+    const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
+    if (e != NULL) {
+        if (e->a >= 0)
+            __builtin_prefetch(&m->stamp[e->a]);
+        if (e->b >= 0)
+            __builtin_prefetch(&m->stamp[e->b]);
+    }
 }
 
 /* ---- grid ---------------------------------------------------------------------- */
@@ -546,27 +560,45 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
 /* Predicts the pairs of b with every body in the cells x_lo..x_hi,
  * y_lo..y_hi (clamped to the grid) other than b and skip, in the
  * reference's order: rows, then columns, then each cell's list.  first:
- * only bodies after b (the start, where every pair is predicted once). */
+ * only bodies after b (the start, where every pair is predicted once).
+ * The candidates are gathered first, their bodies fetched from memory
+ * together, then predicted in that order. */
 static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *skip, int32_t x_lo, int32_t x_hi,
                           int32_t y_lo, int32_t y_hi, double now, int first)
 {
+    enum { CHUNK = 64 };
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
     int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x0]);
+        __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x1]);
+    }
+    const m2c_sim_body *cand[CHUNK];
+    int nc = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n; k++) {
                 const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b || o == skip || (b->fixed && o->fixed))
+                if (o == b || o == skip)
                     continue;
-                if (first && o->idx <= b->idx)
-                    continue;
-                predict_pair(m, b, o, now);
+                __builtin_prefetch(&o->px);
+                __builtin_prefetch(&o->ang);
+                if (nc == CHUNK) {
+                    for (int q = 0; q < nc; q++)
+                        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+                            predict_pair(m, b, cand[q], now);
+                    nc = 0;
+                }
+                cand[nc++] = o;
             }
         }
     }
+    for (int q = 0; q < nc; q++)
+        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+            predict_pair(m, b, cand[q], now);
 }
 
 static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
@@ -670,10 +702,11 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
-            both[k]->stamp++;
+            m->stamp[both[k]->idx]++;
             emit_state(m, both[k]);
         }
     }
+    fetch_next(m);
     if (!A->fixed)
         predict_body(m, A, t, NULL);
     if (!B->fixed)
@@ -747,7 +780,7 @@ static void run(sim *m)
                 body->vx = body->vx + in->vx;
                 body->vy = body->vy + in->vy;
             }
-            body->stamp++;
+            m->stamp[body->idx]++;
             char *start = m2c_sim_out_reserve(&m->out), *p = start;
             p = m2c_sim_put_str(p, "E input ");
             p = m2c_sim_put_num(p, t);
@@ -778,6 +811,7 @@ static void run(sim *m)
                 y_lo = y_hi = row;
             }
             cell_add(m, body);
+            fetch_next(m);
             predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, t, 0);
             schedule_cell(m, body, t);
         } else if (kind == M2C_SIM_HORIZON) {
@@ -855,6 +889,9 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
         m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
         m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
         m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+        m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
+        if (m->stamp == NULL)
+            die(m, "out of memory");
         size_t nv = 1;
         for (int32_t k = 0; k < scene->nbodies; k++)
             nv += (size_t)scene->bodies[k].nverts;
@@ -884,6 +921,7 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
     free(m->cc_counts);
     free(m->pe_counts);
     free(m->large);
+    free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
     free(m);

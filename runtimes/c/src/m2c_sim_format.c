@@ -152,7 +152,7 @@ static int decimal17(double ax, uint64_t f, int e2, int *x10, uint64_t *d)
     if (!tables_ready)
         make_tables();
     /* floor(log10 x) is this or one more: 2^(e2+52) <= x < 2^(e2+53) */
-    int x = (int)floor((double)(e2 + 52) * 0.30102999566398120);
+    int x = ((e2 + 52) * 78913) >> 18;      /* floor((e2 + 52) log10(2)) for |e2| < 1100 */
     /* a guess of which (scaled() decides exactly) */
     if (x >= -POW10_GUESS && x < POW10_GUESS && ax >= pow10d[x + 1 + POW10_GUESS])
         x++;
@@ -186,6 +186,17 @@ static const char two_digits[] =
     "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
+
+/* x < 10^8 as 8 digits. */
+static inline void eight_digits(char *out, uint32_t x)
+{
+    uint32_t a = x / 10000u, b = x % 10000u;
+    uint32_t a1 = a / 100u, a2 = a % 100u, b1 = b / 100u, b2 = b % 100u;
+    memcpy(out, two_digits + 2 * a1, 2);
+    memcpy(out + 2, two_digits + 2 * a2, 2);
+    memcpy(out + 4, two_digits + 2 * b1, 2);
+    memcpy(out + 6, two_digits + 2 * b2, 2);
+}
 
 int m2c_sim_format_number(char *buf, double x)
 {
@@ -222,13 +233,10 @@ int m2c_sim_format_number(char *buf, double x)
         return n;
     }
     char dg[17];
-    for (int k = 16; k >= 2; k -= 2) {
-        unsigned r = (unsigned)(d % 100u);
-        d /= 100u;
-        dg[k - 1] = two_digits[2 * r];
-        dg[k] = two_digits[2 * r + 1];
-    }
-    dg[0] = (char)('0' + d);
+    uint32_t hi = (uint32_t)(d / 100000000u), lo = (uint32_t)(d % 100000000u);   /* 9 and 8 digits */
+    dg[0] = (char)('0' + hi / 100000000u);
+    eight_digits(dg + 1, hi % 100000000u);
+    eight_digits(dg + 9, lo);
     int last = 16;                      /* the last digit that is not a trailing zero */
     while (last > 0 && dg[last] == '0')
         last--;

@@ -161,7 +161,10 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     word(r, "bodies");
     s->nbodies = count(r, 1 << 28);
     if (!r->failed) {
-        s->bodies = calloc((size_t)s->nbodies + 1, sizeof *s->bodies);
+        size_t bytes = ((size_t)s->nbodies + 1) * sizeof *s->bodies;      /* a multiple of 64 */
+        s->bodies = aligned_alloc(64, bytes);
+        if (s->bodies != NULL)
+            memset(s->bodies, 0, bytes);
         first = calloc((size_t)s->nbodies + 1, sizeof *first);
         if (s->bodies == NULL || first == NULL)
             fail(r, "out of memory");
@@ -190,7 +193,6 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         b->large = integer(r) == 1;
         b->nverts = count(r, 1 << 20);
         b->tb = 0.0;
-        b->stamp = 0;
         b->cx = b->cy = 0;
         b->slot = -1;
         first[i] = nverts;

@@ -1,0 +1,182 @@
+"""Simulator benchmark: events per second of each runtime's simulator on
+gases of equal disks in a box, from 10^2 to 10^5 disks.
+
+    python3 bench/sim.py [--langs c,rust,m2,python] [--sizes 100,1000,10000,100000]
+                         [--events 500000] [--fraction 0.25] [--seed 1]
+
+Each scene: N disks of radius 1 cm at random non-overlapping positions in a
+square box of four fixed walls, filling `--fraction` of its area, random
+velocities (speed 1 m/s), no gravity, restitution 1, no frames.  The end
+time is chosen so that a run handles about `--events` events: a short pilot
+run of the first runtime measures the event rate, and the end time scales
+with it.  Events are the handled ones (collisions, cell crossings, horizons,
+inputs, frames; stale queue entries are counted apart).  The times are
+those of the simulator's process, CPU (user + system: the events per second
+reported) and wall: reading the scene, simulating and writing the whole
+trace (into a pipe that this script drains).  Runtimes
+whose simulator does not build are skipped with a note.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from max2code.progress import bar  # noqa: E402
+from max2code.scene import compile_scene, parse_scene  # noqa: E402
+from max2code.simulate import LANGS, SimulateError, build_simulator  # noqa: E402
+
+RADIUS = 0.01       # m
+SPEED = 1.0         # m/s
+
+
+def gas(n: int, fraction: float, end_time: float, seed: int) -> dict:
+    """n equal disks at random non-overlapping positions in a square box
+    (random sequential placement through a grid of cells one diameter wide)."""
+    rng = random.Random(seed)
+    side = math.sqrt(n * math.pi * RADIUS * RADIUS / fraction)
+    cell = 2.0 * RADIUS
+    grid: dict[tuple[int, int], list[tuple[float, float]]] = {}
+    placed: list[tuple[float, float]] = []
+    gap = 2.0 * RADIUS * (1.0 + 1e-6)
+    tries = 0
+    while len(placed) < n:
+        tries += 1
+        if tries > 1000 * n:
+            raise RuntimeError(f"cannot place {n} disks at area fraction {fraction}")
+        x = rng.uniform(RADIUS * 1.001, side - RADIUS * 1.001)
+        y = rng.uniform(RADIUS * 1.001, side - RADIUS * 1.001)
+        cx, cy = int(x // cell), int(y // cell)
+        if any((x - px) ** 2 + (y - py) ** 2 < gap * gap
+               for dx in (-1, 0, 1) for dy in (-1, 0, 1) for px, py in grid.get((cx + dx, cy + dy), ())):
+            continue
+        grid.setdefault((cx, cy), []).append((x, y))
+        placed.append((x, y))
+    t = 0.1
+    walls = []
+    for name, cx, cy, hw, hh in (("floor", side / 2, -t / 2, side / 2 + t, t / 2),
+                                 ("ceiling", side / 2, side + t / 2, side / 2 + t, t / 2),
+                                 ("left", -t / 2, side / 2, t / 2, side / 2),
+                                 ("right", side + t / 2, side / 2, t / 2, side / 2)):
+        walls.append({"name": name, "shape": "polygon", "fixed": True, "position": [cx, cy],
+                      "vertices": [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]]})
+    disks = []
+    for k, (x, y) in enumerate(placed):
+        a = rng.uniform(0.0, 2.0 * math.pi)
+        disks.append({"name": f"d{k}", "shape": "circle", "radius": RADIUS, "mass": 1.0,
+                      "position": [x, y], "velocity": [SPEED * math.cos(a), SPEED * math.sin(a)]})
+    return {"name": f"gas of {n} disks", "end_time": end_time, "bodies": walls + disks}
+
+
+def run(build, flat: str) -> tuple[float, float, dict[str, int]]:
+    """Wall and CPU time (user + system) of one run and its event counts
+    (the N lines); the trace is drained as it comes and only its tail kept."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=build.workdir)
+    proc.stdin.write(flat.encode())
+    proc.stdin.close()
+    tail = b""
+    while True:
+        chunk = proc.stdout.read(1 << 20)
+        if not chunk:
+            break
+        tail = (tail + chunk)[-8192:]
+    err = proc.stderr.read()
+    _, code, usage = os.wait4(proc.pid, 0)
+    elapsed = time.perf_counter() - t0
+    status = proc.returncode = os.waitstatus_to_exitcode(code)
+    if status != 0:
+        raise SimulateError(f"{build.lang} simulator failed (exit {status}): {tail[-300:]!r} {err[-300:]!r}")
+    counts = {}
+    for line in tail.decode().splitlines():
+        w = line.split()
+        if len(w) == 3 and w[0] == "N":
+            counts[w[1]] = int(w[2])
+    return elapsed, usage.ru_utime + usage.ru_stime, counts
+
+
+def handled(counts: dict[str, int]) -> int:
+    return sum(counts.get(k, 0) for k in ("collisions", "inputs", "frames", "cells", "horizons"))
+
+
+def main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="bench/sim.py", description=__doc__.split("\n\n")[0])
+    p.add_argument("--langs", default=",".join(LANGS[1:] + LANGS[:1]),
+                   help="runtimes to time, in this order (default c,rust,m2,python; unbuilt ones are skipped)")
+    p.add_argument("--sizes", default="100,1000,10000,100000", help="numbers of disks")
+    p.add_argument("--events", type=float, default=5e5, help="events per run (about; default 5e5)")
+    p.add_argument("--fraction", type=float, default=0.25, help="area fraction of the disks (default 0.25)")
+    p.add_argument("--seed", type=int, default=1)
+    args = p.parse_args(argv)
+    langs = [x for x in args.langs.split(",") if x]
+    for lang in langs:
+        if lang not in LANGS:
+            p.error(f"unknown runtime '{lang}' (expected {', '.join(LANGS)})")
+    sizes = [int(float(x)) for x in args.sizes.split(",") if x]
+
+    # every gas has the same effects (none: no gravity, nothing turns)
+    probe = parse_scene(json.dumps(gas(2, args.fraction, 1.0, args.seed)), "gas")
+    builds = {}
+    for lang in langs:
+        try:
+            builds[lang] = build_simulator(lang, probe.effects, probe.taylor_order)
+        except (NotImplementedError, SimulateError) as exc:
+            print(f"bench/sim.py: skipping {lang}: {str(exc).splitlines()[0]}", file=sys.stderr)
+    if not builds:
+        print("bench/sim.py: no runtime's simulator builds", file=sys.stderr)
+        return 1
+    order = list(builds)
+
+    steps = len(sizes) * (len(order) + 1)
+    step = 0
+    rows = []
+    for n in sizes:
+        bar(step, steps, f"{n} disks: pilot", "bench/sim.py")
+        # pilot: a short run of the first runtime measures events per simulated second
+        guess = 0.05 * args.events / (n * SPEED / RADIUS)
+        scene = parse_scene(json.dumps(gas(n, args.fraction, guess, args.seed)), f"gas-{n}")
+        _, _, counts = run(builds[order[0]], compile_scene(scene))
+        end = float(f"{guess * args.events / max(handled(counts), 1):.4g}")
+        scene = parse_scene(json.dumps(gas(n, args.fraction, end, args.seed)), f"gas-{n}")
+        flat = compile_scene(scene)
+        step += 1
+        row = {"bodies": n, "end": end, "times": {}, "counts": None}
+        for lang in order:
+            bar(step, steps, f"{n} disks: {lang}", "bench/sim.py")
+            elapsed, cpu, counts = run(builds[lang], flat)
+            row["times"][lang] = (elapsed, cpu)
+            if row["counts"] is not None and counts != row["counts"]:
+                print(f"bench/sim.py: {n} disks: {lang} counts {counts}, {order[0]} {row['counts']}", file=sys.stderr)
+            row["counts"] = counts
+            step += 1
+        rows.append(row)
+    bar(steps, steps, "done", "bench/sim.py")
+
+    head = f"{'bodies':>8} {'end (s)':>9} {'events':>9} {'collisions':>10} {'cells':>9} {'stale':>9}"
+    for lang in order:
+        head += f" {lang + ' cpu s':>11} {lang + ' ev/s':>11} {lang + ' wall s':>11}"
+    print(head)
+    for row in rows:
+        c = row["counts"]
+        ev = handled(c)
+        line = (f"{row['bodies']:>8} {row['end']:>9.4g} {ev:>9} {c.get('collisions', 0):>10} {c.get('cells', 0):>9} "
+                f"{c.get('stale', 0):>9}")
+        for lang in order:
+            wall, cpu = row["times"][lang]
+            line += f" {cpu:>11.3f} {ev / max(cpu, 1e-9):>11.4g} {wall:>11.3f}"
+        print(line)
+    print("ev/s: events per CPU second (user + system) of the simulator's process; wall s: its elapsed time, "
+          "which a loaded machine stretches")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
