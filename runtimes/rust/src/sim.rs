@@ -66,14 +66,13 @@ const ST_PAIRS: usize = 6;
 const ST_FEATURES: usize = 7;
 const SEQ_BITS: u32 = 60;
 
-/// A scheduled event's place in the heap: `key` is kind << 60 | seq, so
-/// that (t, key) orders as Python's (t, kind, seq) tuples; `slot` indexes
-/// the rest of the event in `Heap::pay`.
+/// A scheduled event: `key` is kind << 60 | seq, so that (t, key) orders
+/// as Python's (t, kind, seq) tuples.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     t: f64,
     key: u64,
-    slot: u32,
+    p: Payload,
 }
 
 impl Entry {
@@ -89,7 +88,9 @@ impl Entry {
     }
 }
 
-/// The rest of a scheduled event.
+/// The rest of a scheduled event: bodies (-1: none) and their stamps when
+/// it was scheduled, feature and indices (or input or frame number, axis,
+/// direction).
 #[derive(Clone, Copy, Debug)]
 struct Payload {
     a: i32,
@@ -101,44 +102,16 @@ struct Payload {
     sb: u64,
 }
 
-/// A scheduled event as popped.
-#[derive(Clone, Copy, Debug)]
-struct Event {
-    t: f64,
-    key: u64,
-    p: Payload,
-}
-
-/// A 4-ary min-heap of small entries; the payloads live in a slab whose
-/// slots are reused, so the memory is that of the most events pending at
-/// once.  Any heap pops the same order as Python's heapq: the keys are
-/// unique.
-struct Heap {
+/// A 4-ary min-heap of entries, ordered by (t, key).
+struct Near {
     v: Vec<Entry>,
-    pay: Vec<Payload>,
-    free: Vec<u32>,
 }
 
 const ARITY: usize = 4;
 
-impl Heap {
-    fn new() -> Heap {
-        Heap { v: Vec::with_capacity(1024), pay: Vec::with_capacity(1024), free: Vec::new() }
-    }
-
+impl Near {
     #[inline]
-    fn push(&mut self, t: f64, key: u64, p: Payload) {
-        let slot = match self.free.pop() {
-            Some(k) => {
-                self.pay[k as usize] = p;
-                k
-            }
-            None => {
-                self.pay.push(p);
-                (self.pay.len() - 1) as u32
-            }
-        };
-        let item = Entry { t, key, slot };
+    fn push(&mut self, item: Entry) {
         let mut pos = self.v.len();
         self.v.push(item);
         while pos > 0 {
@@ -154,37 +127,114 @@ impl Heap {
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<Event> {
+    fn pop(&mut self) -> Option<Entry> {
         let last = self.v.pop()?;
-        let top = if self.v.is_empty() {
-            last
-        } else {
-            let top = self.v[0];
-            let n = self.v.len();
-            let mut pos = 0;
-            loop {
-                let first = ARITY * pos + 1;
-                if first >= n {
-                    break;
-                }
-                let mut best = first;
-                for c in first + 1..(first + ARITY).min(n) {
-                    if self.v[c].lt(&self.v[best]) {
-                        best = c;
-                    }
-                }
-                if self.v[best].lt(&last) {
-                    self.v[pos] = self.v[best];
-                    pos = best;
-                } else {
-                    break;
+        if self.v.is_empty() {
+            return Some(last);
+        }
+        let top = self.v[0];
+        let n = self.v.len();
+        let mut pos = 0;
+        loop {
+            let first = ARITY * pos + 1;
+            if first >= n {
+                break;
+            }
+            let mut best = first;
+            for c in first + 1..(first + ARITY).min(n) {
+                if self.v[c].lt(&self.v[best]) {
+                    best = c;
                 }
             }
-            self.v[pos] = last;
-            top
-        };
-        self.free.push(top.slot);
-        Some(Event { t: top.t, key: top.key, p: self.pay[top.slot as usize] })
+            if self.v[best].lt(&last) {
+                self.v[pos] = self.v[best];
+                pos = best;
+            } else {
+                break;
+            }
+        }
+        self.v[pos] = last;
+        Some(top)
+    }
+}
+
+/// The bits of a time as an unsigned integer with the order of the times
+/// (-0 counts as +0, as it compares equal).
+#[inline(always)]
+fn time_bits(t: f64) -> u64 {
+    let b = (t + 0.0).to_bits();
+    if b >> 63 == 1 {
+        !b
+    } else {
+        b | (1 << 63)
+    }
+}
+
+/// The event queue: a radix heap on the bits of the times.  Events at or
+/// before the time reached (`reached`, the last time taken from the
+/// buckets) wait in a small 4-ary heap ordered by (t, kind, seq); later
+/// ones wait unsorted in bucket k, k the highest bit in which their time
+/// differs from the time reached.  When the small heap runs empty, the
+/// lowest bucket's earliest time becomes the time reached and its events
+/// move to the small heap (that time) or to lower buckets.  So events are
+/// appended and scanned in order instead of sifted at random, and the pop
+/// order is Python's heapq order on (t, kind, seq) (unique keys: any
+/// correct priority queue gives it), also for an event scheduled a rounding
+/// error before the time reached.  The memory is that of the most events
+/// pending at once.
+struct Heap {
+    near: Near,
+    reached: u64,
+    buckets: Vec<Vec<Entry>>,
+    /// bit k set: bucket k is not empty
+    mask: u64,
+}
+
+impl Heap {
+    fn new() -> Heap {
+        Heap {
+            near: Near { v: Vec::with_capacity(64) },
+            reached: 0,
+            buckets: vec![Vec::new(); 64],
+            mask: 0,
+        }
+    }
+
+    #[inline(always)]
+    fn place(&mut self, e: Entry) {
+        let o = time_bits(e.t);
+        if o <= self.reached {
+            self.near.push(e);
+        } else {
+            let k = 63 - (o ^ self.reached).leading_zeros() as usize;
+            self.buckets[k].push(e);
+            self.mask |= 1 << k;
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, t: f64, key: u64, p: Payload) {
+        self.place(Entry { t, key, p });
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        if self.near.v.is_empty() {
+            if self.mask == 0 {
+                return None;
+            }
+            let k = self.mask.trailing_zeros() as usize;
+            self.mask &= !(1u64 << k);
+            let mut items = std::mem::take(&mut self.buckets[k]);
+            self.reached = items.iter().map(|e| time_bits(e.t)).min().expect("a bucket in the mask has events");
+            // all of them now differ from the time reached below bit k
+            for &e in &items {
+                self.place(e);
+            }
+            items.clear();
+            self.buckets[k] = items;
+        }
+        self.near.pop()
     }
 }
 
@@ -1244,15 +1294,37 @@ mod tests {
         let mut heap = Heap::new();
         let mut all: Vec<(f64, u64)> = Vec::new();
         let mut popped: Vec<(f64, u64, i64)> = Vec::new();
+        let mut pending: Vec<(f64, u64)> = Vec::new();
+        let first = |v: &Vec<(f64, u64)>| -> usize {
+            let mut m = 0;
+            for k in 1..v.len() {
+                if v[k].0 < v[m].0 || (v[k].0 == v[m].0 && v[k].1 < v[m].1) {
+                    m = k;
+                }
+            }
+            m
+        };
+        let mut now = 0.0;
         for seq in 0..20_000u64 {
-            // few distinct times, so that equal times are ordered by key
-            let t = (rng.next() % 50) as f64 * 0.125;
+            // few distinct times, so that equal times are ordered by key;
+            // some before the time reached (as a rounding error can put
+            // them), some -0.0 (equal to 0.0)
+            let t = match rng.next() % 8 {
+                0 => now - (rng.next() % 4) as f64 * 0.125,
+                1 => -0.0,
+                _ => now + (rng.next() % 50) as f64 * 0.125,
+            };
             let key = ((rng.next() % 5) << 60) | seq;
             heap.push(t, key, payload(seq));
             all.push((t, key));
-            if rng.next() % 3 == 0 {
+            pending.push((t, key));
+            if rng.next() % 3 != 0 {
                 let e = heap.pop().expect("not empty");
+                let m = first(&pending);
+                assert_eq!((e.t.to_bits(), e.key), (pending[m].0.to_bits(), pending[m].1));
+                pending.swap_remove(m);
                 popped.push((e.t, e.key, e.p.i));
+                now = e.t;
             }
         }
         while let Some(e) = heap.pop() {
@@ -1263,8 +1335,6 @@ mod tests {
         for &(_, key, i) in &popped {
             assert_eq!(key & ((1 << 60) - 1), i as u64);
         }
-        // the slab holds no more than the most events pending at once
-        assert!(heap.pay.len() <= all.len());
         // with everything pushed first, the pops are the sorted order
         let mut heap = Heap::new();
         for (seq, &(t, key)) in all.iter().enumerate() {
