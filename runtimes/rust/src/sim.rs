@@ -424,30 +424,39 @@ fn turn_rate(b: &Body) -> f64 {
 #[inline(always)]
 fn point_at(b: &Body, v: Option<&Vertex>, t: f64) -> (f64, f64) {
     let (x, y, _, _, ang) = state_at(b, t);
-    let (d, beta) = match v {
-        None => (b.orbit, b.ophase),
-        Some(v) => (v.rho, v.beta),
-    };
-    if d == 0.0 {
-        return (x, y);
+    match v {
+        None => {
+            let d = b.orbit;
+            if d == 0.0 {
+                return (x, y);
+            }
+            (x + d * (ang + b.ophase).cos(), y + d * (ang + b.ophase).sin())
+        }
+        Some(v) => {
+            let d = v.rho;
+            if d == 0.0 {
+                return (x, y);
+            }
+            let (c, s) = v.at.of(ang + v.beta);
+            (x + d * c, y + d * s)
+        }
     }
-    (x + d * (ang + beta).cos(), y + d * (ang + beta).sin())
 }
 
 // ---- grid -----------------------------------------------------------------
 
-fn cell_of(s: &Scene, x: f64, y: f64) -> (i64, i64) {
+fn cell_of(s: &Scene, x: f64, y: f64) -> (i32, i32) {
     let fx = ((x - s.x0) / s.cw).floor();
     let fy = ((y - s.y0) / s.ch).floor();
     let ix = if fx < 0.0 { 0 } else if fx > (s.nx - 1) as f64 { s.nx - 1 } else { fx as i64 };
     let iy = if fy < 0.0 { 0 } else if fy > (s.ny - 1) as f64 { s.ny - 1 } else { fy as i64 };
-    (ix, iy)
+    (ix as i32, iy as i32)
 }
 
 impl World {
     fn cell_index(&self, b: usize) -> usize {
         let body = &self.s.bodies[b];
-        (body.cy * self.s.nx + body.cx) as usize
+        (i64::from(body.cy) * self.s.nx + i64::from(body.cx)) as usize
     }
 
     fn cell_remove(&mut self, b: usize) {
@@ -500,8 +509,12 @@ fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11] {
     let mut om = b.om;
     if om == 0.0 && d != 0.0 {
         // an orbit that does not turn is a fixed offset: fold it in
-        x = x + d * phase.cos();
-        y = y + d * phase.sin();
+        let (c, s) = match v {
+            None => (phase.cos(), phase.sin()),
+            Some(v) => v.at.of(phase),
+        };
+        x = x + d * c;
+        y = y + d * s;
         d = 0.0;
     }
     if d == 0.0 {
@@ -584,7 +597,7 @@ fn predict_pe<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    let ed = &w.s.verts[y_.v0 + j];
+    let ed = &w.s.verts[y_.vert(j)];
     let (x1, y1, u1, v1, ang1) = state_at(x_, now);
     let (x2, y2, u2, v2, ang2) = state_at(y_, now);
     let (rho, beta, rad) = match vx_ {
@@ -618,7 +631,8 @@ fn predict_pe<E: Equations>(
         let (px, py) = point_at(x_, vx_, t);
         let (qx, qy, _, _, qa) = state_at(y_, t);
         let th = qa + ed.psi;
-        let along = (px - qx) * -th.sin() + (py - qy) * th.cos();
+        let (c, s) = ed.normal.of(th);
+        let along = (px - qx) * -s + (py - qy) * c;
         ed.s1 - tol <= along && along <= ed.s2 + tol
     };
     Ok(first_contact(&coef, deg, win, tol, inside))
@@ -695,14 +709,14 @@ fn circle_polygon<E: Equations>(
     win: f64,
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
-    for j in 0..p_.nv {
+    for j in 0..p_.nverts() {
         let t = predict_pe::<E>(w, q, c_, p_, None, j, now, win)?;
-        best = better(best, t, PE, c_.idx, p_.idx, -1, j as i64);
+        best = better(best, t, PE, c_.index(), p_.index(), -1, j as i64);
     }
-    for k in 0..p_.nv {
-        let v = &w.s.verts[p_.v0 + k];
+    for k in 0..p_.nverts() {
+        let v = &w.s.verts[p_.vert(k)];
         let t = predict_cc::<E>(w, q, c_, p_, Some(v), 0.0, now, win)?;
-        best = better(best, t, CC, c_.idx, p_.idx, -1, k as i64);
+        best = better(best, t, CC, c_.index(), p_.index(), -1, k as i64);
     }
     Ok(best)
 }
@@ -716,11 +730,11 @@ fn vertices_edges<E: Equations>(
     win: f64,
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
-    for i in 0..a_.nv {
-        let v = &w.s.verts[a_.v0 + i];
-        for j in 0..b_.nv {
+    for i in 0..a_.nverts() {
+        let v = &w.s.verts[a_.vert(i)];
+        for j in 0..b_.nverts() {
             let t = predict_pe::<E>(w, q, a_, b_, Some(v), j, now, win)?;
-            best = better(best, t, PE, a_.idx, b_.idx, i as i64, j as i64);
+            best = better(best, t, PE, a_.index(), b_.index(), i as i64, j as i64);
         }
     }
     Ok(best)
@@ -761,7 +775,7 @@ fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize, no
     if !a_.polygon && !b_.polygon {
         let t = predict_cc::<E>(w, q, a_, b_, None, b_.r, now, win)?;
         if let Some(t) = t {
-            best = Some(Best { s: t, feat: CC, a: a_.idx, b: b_.idx, i: -1, j: -1 });
+            best = Some(Best { s: t, feat: CC, a: a_.index(), b: b_.index(), i: -1, j: -1 });
         }
     } else if !a_.polygon {
         best = circle_polygon::<E>(w, q, a_, b_, now, win, None)?;
@@ -817,7 +831,7 @@ fn predict_cells<E: Equations>(
 
 fn predict_body<E: Equations>(w: &World, q: &mut Queue, b: usize, now: f64, skip: Option<usize>) -> Res<()> {
     let body = &w.s.bodies[b];
-    let (cx, cy) = (body.cx, body.cy);
+    let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
     predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, now, skip, false)?;
     for &o in &w.large {
         let o = o as usize;
@@ -840,7 +854,7 @@ fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
     let mut best: Option<(f64, i64, i32)> = None;
     for axis in 0..2 {
         let (p, v, a, i, n, origin, size) =
-            if axis == 0 { (b.px, b.vx, b.ax, b.cx, s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, b.cy, s.ny, s.y0, s.ch) };
+            if axis == 0 { (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch) };
         for direction in [1i32, -1] {
             let bound = if direction == 1 {
                 if i >= n - 1 {
@@ -878,7 +892,7 @@ fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
 
 fn emit_state<W: Write>(out: &mut Out<W>, b: &Body) -> io::Result<()> {
     out.s("S");
-    out.int(b.idx as i64);
+    out.int(i64::from(b.idx));
     out.num(b.tb);
     out.num(b.px);
     out.num(b.py);
@@ -920,11 +934,11 @@ fn collide<E: Equations, W: Write>(
         let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
         advance(a_, t);
         advance(b_, t);
-        let va = if i >= 0 { Some(&verts[a_.v0 + i as usize]) } else { None };
+        let va = if i >= 0 { Some(&verts[a_.vert(i as usize)]) } else { None };
         let (nx, ny, cx, cy);
         if feat == CC {
             let (ax_, ay_) = point_at(a_, None, t);
-            let vb = if j >= 0 { Some(&verts[b_.v0 + j as usize]) } else { None };
+            let vb = if j >= 0 { Some(&verts[b_.vert(j as usize)]) } else { None };
             let (bx_, by_) = point_at(b_, vb, t);
             let (dx, dy) = (bx_ - ax_, by_ - ay_);
             let dist = (dx * dx + dy * dy).sqrt();
@@ -939,10 +953,12 @@ fn collide<E: Equations, W: Write>(
             cy = ay_ + a_.r * ny;
         } else {
             let (px, py) = point_at(a_, va, t);
-            let th = b_.ang + verts[b_.v0 + j as usize].psi;
+            let ed = &verts[b_.vert(j as usize)];
+            let th = b_.ang + ed.psi;
+            let (c, s) = ed.normal.of(th);
             // from A to B: against the edge's outward normal
-            nx = -th.cos();
-            ny = -th.sin();
+            nx = -c;
+            ny = -s;
             let rad = if va.is_none() { a_.r } else { 0.0 };
             cx = px + rad * nx;
             cy = py + rad * ny;
@@ -987,7 +1003,7 @@ fn collide<E: Equations, W: Write>(
         b_fixed = b_.fixed;
         for b in [a_, b_] {
             if !b.fixed {
-                w.stamps[b.idx] += 1;
+                w.stamps[b.index()] += 1;
                 emit_state(out, b)?;
             }
         }
@@ -1003,7 +1019,7 @@ fn collide<E: Equations, W: Write>(
 
 fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
     let ncells = (scene.nx * scene.ny) as usize;
-    let large = scene.bodies.iter().filter(|b| b.large).map(|b| b.idx as u32).collect();
+    let large = scene.bodies.iter().filter(|b| b.large).map(|b| b.idx).collect();
     let stamps = vec![0; scene.bodies.len()];
     let mut w = World { s: scene, stamps, cells: vec![CellList::default(); ncells], large };
     let mut q = Queue {
@@ -1034,7 +1050,7 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
         if body.large {
             continue;
         }
-        let (cx, cy, fixed) = (body.cx, body.cy, body.fixed);
+        let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
         predict_cells::<E>(&w, &mut q, b, cx - 1, cx + 1, cy - 1, cy + 1, 0.0, None, true)?;
         for &o in &w.large {
             let o = o as usize;
@@ -1107,15 +1123,19 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
                 let news;
                 {
                     let body = &mut w.s.bodies[a];
+                    let (mut cx, mut cy) = (i64::from(body.cx), i64::from(body.cy));
                     if ev.i == 0 {
-                        body.cx += dir;
-                        let col = body.cx + dir;
-                        news = (col, col, body.cy - 1, body.cy + 1);
+                        cx += dir;
+                        let col = cx + dir;
+                        news = (col, col, cy - 1, cy + 1);
                     } else {
-                        body.cy += dir;
-                        let row = body.cy + dir;
-                        news = (body.cx - 1, body.cx + 1, row, row);
+                        cy += dir;
+                        let row = cy + dir;
+                        news = (cx - 1, cx + 1, row, row);
                     }
+                    // a cell event moves to a neighbouring cell of the grid
+                    body.cx = cx as i32;
+                    body.cy = cy as i32;
                 }
                 w.cell_add(a);
                 predict_cells::<E>(&w, &mut q, a, news.0, news.1, news.2, news.3, t, None, false)?;
@@ -1145,7 +1165,7 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
     }
     for b in &w.s.bodies {
         out.s("F");
-        out.int(b.idx as i64);
+        out.int(i64::from(b.idx));
         out.num(b.px);
         out.num(b.py);
         out.num(b.vx);

@@ -2,9 +2,11 @@
 //! `Scene` in runtimes/python/max2code_rt/sim.py reads it.  Numbers are
 //! shortest round-trip decimals; Rust's parser reads them exactly.
 
+use std::cell::Cell;
+
 /// One vertex of a polygon and the edge that starts at it (to the next
 /// vertex), in the body's frame: all precomputed by the scene compiler.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Vertex {
     pub lx: f64,
     pub ly: f64,
@@ -14,18 +16,42 @@ pub struct Vertex {
     pub h: f64,
     pub s1: f64,
     pub s2: f64,
+    /// cos and sin of the vertex's angle (body angle + beta) and of its
+    /// edge's normal (body angle + psi), for the last argument asked
+    pub at: CosSin,
+    pub normal: CosSin,
+}
+
+/// cos and sin of the last argument asked, kept: a fixed polygon asks the
+/// same angles again and again.  The same argument gives the same libm
+/// answer, so the cache changes no bit.
+#[derive(Clone, Debug)]
+pub struct CosSin(Cell<(u64, f64, f64)>);
+
+impl CosSin {
+    fn new() -> CosSin {
+        CosSin(Cell::new((f64::NAN.to_bits(), f64::NAN, f64::NAN)))
+    }
+
+    /// (cos x, sin x).
+    #[inline(always)]
+    pub fn of(&self, x: f64) -> (f64, f64) {
+        let (bits, c, s) = self.0.get();
+        if bits == x.to_bits() {
+            return (c, s);
+        }
+        let (c, s) = (x.cos(), x.sin());
+        self.0.set((x.to_bits(), c, s));
+        (c, s)
+    }
 }
 
 /// A body's state at its own last update time `tb`, and its constants.
+/// Laid out so that a prediction reads the first two cache lines only.
 #[derive(Clone, Debug)]
+#[repr(C, align(64))]
 pub struct Body {
-    pub idx: usize,
-    pub polygon: bool,
-    pub fixed: bool,
-    pub large: bool,
-    pub inv_m: f64,
-    pub inv_i: f64,
-    pub e: f64,
+    // motion
     pub px: f64,
     pub py: f64,
     pub vx: f64,
@@ -34,17 +60,46 @@ pub struct Body {
     pub ay: f64,
     pub ang: f64,
     pub om: f64,
+    // shape, grid cell
     pub tb: f64,
     pub r: f64,
     pub orbit: f64,
     pub ophase: f64,
     pub bound: f64,
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
-    pub v0: usize,
-    pub nv: usize,
+    pub v0: u32,
+    pub nv: u32,
     /// grid cell (small bodies)
-    pub cx: i64,
-    pub cy: i64,
+    pub cx: i32,
+    pub cy: i32,
+    pub idx: u32,
+    pub polygon: bool,
+    pub fixed: bool,
+    pub large: bool,
+    // contacts
+    pub inv_m: f64,
+    pub inv_i: f64,
+    pub e: f64,
+}
+
+impl Body {
+    /// Index of the body in the scene.
+    #[inline(always)]
+    pub fn index(&self) -> usize {
+        self.idx as usize
+    }
+
+    /// Index in `Scene::verts` of vertex k (and the edge from it).
+    #[inline(always)]
+    pub fn vert(&self, k: usize) -> usize {
+        self.v0 as usize + k
+    }
+
+    /// Number of vertices.
+    #[inline(always)]
+    pub fn nverts(&self) -> usize {
+        self.nv as usize
+    }
 }
 
 /// A scripted velocity change.
@@ -128,14 +183,17 @@ impl Scene {
         tk.expect("grid")?;
         let (x0, y0, cw, ch) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
         let (nx, ny) = (tk.int()?, tk.int()?);
-        if nx < 1 || ny < 1 {
-            return Err("scene: the grid needs at least one cell".to_string());
+        if nx < 1 || ny < 1 || nx > i64::from(i32::MAX) || ny > i64::from(i32::MAX) {
+            return Err(format!("scene: a grid of {nx} x {ny} cells"));
         }
         tk.expect("bodies")?;
         let n = tk.int()?;
-        let mut bodies = Vec::with_capacity(n.max(0) as usize);
+        if n < 0 || n > i64::from(i32::MAX) {
+            return Err(format!("scene: {n} bodies"));
+        }
+        let mut bodies = Vec::with_capacity(n as usize);
         let mut verts = Vec::new();
-        for idx in 0..n.max(0) as usize {
+        for idx in 0..n as u32 {
             tk.expect("body")?;
             let polygon = tk.int()? == 1;
             let fixed = tk.int()? == 1;
@@ -144,15 +202,26 @@ impl Scene {
             let (ang, om) = (tk.num()?, tk.num()?);
             let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
             let large = tk.int()? == 1;
-            let nv = tk.int()?.max(0) as usize;
-            let v0 = verts.len();
+            let nv = tk.int()?.max(0) as u32;
+            let v0 = verts.len() as u32;
             for _ in 0..nv {
                 tk.expect("v")?;
                 let mut v = [0.0f64; 8];
                 for x in v.iter_mut() {
                     *x = tk.num()?;
                 }
-                verts.push(Vertex { lx: v[0], ly: v[1], rho: v[2], beta: v[3], psi: v[4], h: v[5], s1: v[6], s2: v[7] });
+                verts.push(Vertex {
+                    lx: v[0],
+                    ly: v[1],
+                    rho: v[2],
+                    beta: v[3],
+                    psi: v[4],
+                    h: v[5],
+                    s1: v[6],
+                    s2: v[7],
+                    at: CosSin::new(),
+                    normal: CosSin::new(),
+                });
             }
             bodies.push(Body {
                 idx,
