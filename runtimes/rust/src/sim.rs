@@ -12,7 +12,13 @@
 //! Operation order: each expression is written as Python evaluates it (left
 //! to right, the same parentheses); Python's `min(a, b)` is `b < a ? b : a`
 //! and `max(a, b)` is `b > a ? b : a`; sin, cos come from libm as Python's
-//! math module takes them; Rust never contracts to FMA.
+//! math module takes them (LLVM may fuse the sin and cos of one argument
+//! into glibc's sincos, which returns the same bits; a vertex keeps cos and
+//! sin of the last argument asked); Rust never contracts to FMA.
+
+// written as the Python reference reads: `x = x + y` (the same operation as
+// `x += y`), `!(w > 0.0)` (true for NaN, as `not (w > 0.0)` in Python)
+#![allow(clippy::assign_op_pattern, clippy::neg_cmp_op_on_partial_ord)]
 
 use std::io::{self, Read, Write};
 
@@ -22,10 +28,10 @@ mod g17;
 mod scene;
 
 pub use g17::{g17, push_g17};
-pub use scene::{Body, Input, Scene, Vertex};
+pub use scene::{Body, CosSin, Input, Scene, Vertex};
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
-pub const HALF_PI: f64 = 1.5707963267948966;
+pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 
 /// Room for the coefficients of any generated variant.
 pub const MAX_COEF: usize = MAX_DEGREE + 1;

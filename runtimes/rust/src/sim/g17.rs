@@ -69,7 +69,7 @@ fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
             (q, r > half || (r == half && q & 1 == 1))
         }
     } else {
-        if e < 0 || e > 74 || -p > 38 {
+        if !(0..=74).contains(&e) || -p > 38 {
             return None;
         }
         let n = m << e;
@@ -95,7 +95,7 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     }
     // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
     let l2 = 63 - m.leading_zeros() as i32 + e;
-    let mut xe = ((i64::from(l2) + 1) * 78913 >> 18) as i32; // floor((l2 + 1) log10 2)
+    let mut xe = (((i64::from(l2) + 1) * 78913) >> 18) as i32; // floor((l2 + 1) log10 2)
     for _ in 0..3 {
         let (q, up) = scaled(m, e, 16 - xe)?;
         if q >= u128::from(D17) {
