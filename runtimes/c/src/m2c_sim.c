@@ -134,9 +134,11 @@ static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex 
 
 /* ---- the event queue --------------------------------------------------------- */
 
+/* Whether a body of e changed its motion since e was scheduled.  An input
+ * is scripted, not predicted: it is never stale. */
 static int is_stale(const sim *m, const m2c_sim_event *e)
 {
-    return (e->a >= 0 && m->stamp[e->a] != e->sa) || (e->b >= 0 && m->stamp[e->b] != e->sb);
+    return e->kind != M2C_SIM_INPUT && ((e->a >= 0 && m->stamp[e->a] != e->sa) || (e->b >= 0 && m->stamp[e->b] != e->sb));
 }
 
 /* The reference pops a stale event and counts it when its time comes (if
