@@ -18,6 +18,7 @@ SUBCOMMANDS: dict[str, str] = {
     "conformance": "max2code.conformance.runner:main",
     "table": "max2code.report:main",
     "bench-variants": "max2code.bench_variants:main",
+    "accuracy": "max2code.accuracy:main",
     "simulate": "max2code.sim_cli:simulate_main",
     "crosscheck": "max2code.sim_cli:crosscheck_main",
     "event-vs-frame": "max2code.event_vs_frame:main",

@@ -57,7 +57,23 @@ class ExactHarness:
 
 def build_exact_harness(lang: str, generated_text: str, section, workdir: str) -> ExactHarness:
     """Write the generated file (made with exact=True) and the harness into
-    `workdir`, and compile them (warnings are errors)."""
+    `workdir`, and compile them (warnings are errors).  Rows: parameters,
+    horizon, window_angle, refine, zero_tol, solver (0 ours, 1 GSL)."""
+    return _build(lang, generated_text, workdir, "exact_harness.j2", len(section.params),
+                  toc=f"{section.name}_toc_exact")
+
+
+def build_poly_harness(lang: str, generated_text: str, params, coef: str, selection: bool, max_degree: int,
+                       workdir: str) -> ExactHarness:
+    """The same for one polynomial over the whole horizon: `coef` (the
+    selection entry when `selection`, else a plain coefficient function of
+    degree `max_degree`), then the runtime's solver on (0, T].  Rows:
+    parameters, horizon."""
+    return _build(lang, generated_text, workdir, "poly_harness.j2", len(params), coef=coef, selection=selection,
+                  max_degree=max_degree)
+
+
+def _build(lang: str, generated_text: str, workdir: str, template: str, nparams: int, **ctx) -> ExactHarness:
     from max2code.targets import target as get_target
 
     tgt = get_target(lang)
@@ -67,8 +83,8 @@ def build_exact_harness(lang: str, generated_text: str, section, workdir: str) -
         fh.write(generated_text)
     src_name = {"c": "harness.c", "python": "harness.py", "rust": "harness.rs", "m2": "harness.mod"}[lang]
     src = os.path.join(workdir, src_name)
-    text = environment().get_template(f"{lang}/exact_harness.j2").render(
-        generated=gen, nparams=len(section.params), toc=f"{section.name}_toc_exact", max_rows=MAX_ROWS)
+    text = environment().get_template(f"{lang}/{template}").render(
+        generated=gen, nparams=nparams, max_rows=MAX_ROWS, **ctx)
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
     exe = os.path.join(workdir, "harness")
@@ -96,4 +112,4 @@ def build_exact_harness(lang: str, generated_text: str, section, workdir: str) -
         proc = subprocess.run(b, capture_output=True, text=True, cwd=workdir, timeout=900)
         if proc.returncode != 0:
             raise HarnessBuildError(f"{' '.join(b)}\n{proc.stdout}{proc.stderr}")
-    return ExactHarness(lang, workdir, cmd, len(section.params))
+    return ExactHarness(lang, workdir, cmd, nparams)

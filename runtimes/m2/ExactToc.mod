@@ -17,6 +17,7 @@ TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
 
 VAR
+   Safe,                 (* 1 + 2^-40: covers the rounding of Reach *)
    Floor,                (* 2^-46 = 64 eps: the rounding floor is Floor * scale *)
    TwoM30: REAL ;        (* 2^-30 *)
    (* the call being answered (the driver is not reentrant) *)
@@ -62,6 +63,22 @@ BEGIN
 END Slope ;
 
 
+(* A bound on |p(s) - p(0)| for 0 <= s <= L, a little above the rounded sum. *)
+PROCEDURE Reach (VAR c: Coeffs; n: INTEGER; L: REAL) : REAL ;
+VAR
+   b: REAL ;
+   i: INTEGER ;
+BEGIN
+   IF n < 1 THEN RETURN 0.0 END ;
+   b := c[n] ;   (* not ABS (c[n]): gm2 -Wall counts no use inside ABS *)
+   b := ABS (b) ;
+   FOR i := n - 1 TO 1 BY -1 DO
+      b := b * L + ABS (c[i])
+   END ;
+   RETURN b * L * Safe
+END Reach ;
+
+
 PROCEDURE FloorAt (t: REAL) : REAL ;
 BEGIN
    RETURN Floor * Cur.scale (Par, t)
@@ -95,6 +112,7 @@ BEGIN
       RETURN 1
    END ;
    mg := e + f ;
+   IF ABS (c[0]) - Reach (c, n, L) > mg THEN RETURN 0 END ;   (* |P| > mg on the whole window *)
    x := 0.0 ;
    FOR step := 1 TO MaxSteps DO
       v := Value (c, n, x) ;
@@ -222,6 +240,8 @@ BEGIN
          n := Cur.coefficients (pp, c) ;
          IF (n < 0) OR (n > MaxDegree) THEN
             st := -1
+         ELSIF ABS (c[0]) - Reach (c, n, L) > 0.0 THEN
+            st := 0
          ELSIF CurSolver (c, n, 0.0, L, s) THEN
             st := 1 ;
             r := t0 + s
@@ -244,5 +264,6 @@ END FirstContact ;
 
 BEGIN
    Floor := ldexp (1.0, -46) ;
+   Safe := 1.0 + ldexp (1.0, -40) ;
    TwoM30 := ldexp (1.0, -30)
 END ExactToc.

@@ -10,6 +10,7 @@
 #define MAX_STEPS 200        /* zones visited per level */
 #define POLISH_STEPS 4       /* Newton steps on the exact gap */
 #define MAX_DEGREE 16
+#define SAFE (1.0 + 0x1p-40) /* covers the rounding of reach() */
 
 typedef struct {
     const m2c_motion *m;
@@ -44,6 +45,17 @@ static double slope(const double *c, int n, double x)
     return d;
 }
 
+/* A bound on |p(s) - p(0)| for 0 <= s <= L, a little above the rounded sum. */
+static double reach(const double *c, int n, double L)
+{
+    if (n < 1)
+        return 0.0;
+    double b = fabs(c[n]);
+    for (int i = n - 1; i >= 1; i--)
+        b = b * L + fabs(c[i]);
+    return b * L * SAFE;
+}
+
 static double floor_at(const ctx *k, double t)
 {
     return FLOOR * k->m->scale(k->p, t);
@@ -75,6 +87,8 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
         return 1;
     }
     double mg = e + f;
+    if (fabs(c[0]) - reach(c, n, L) > mg)   /* |P| > mg on the whole window: no zone */
+        return 0;
     double x = 0.0;
     for (int step = 0; step < MAX_STEPS; step++) {
         double z;
@@ -210,7 +224,12 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
             double pp[M2C_EXACT_MAX_PARAMS], c[MAX_DEGREE + 1], s = 0.0;
             m->shift(p, t0, pp);
             int n = m->coefficients(pp, c);
-            st = n < 0 || n > MAX_DEGREE ? -1 : o.solver(c, n, 0.0, L, &s) == 1;
+            if (n < 0 || n > MAX_DEGREE)
+                st = -1;
+            else if (fabs(c[0]) - reach(c, n, L) > 0.0)
+                st = 0;
+            else
+                st = o.solver(c, n, 0.0, L, &s) == 1;
             r = t0 + s;
         }
         if (st < 0)

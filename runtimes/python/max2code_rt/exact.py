@@ -23,6 +23,7 @@ POLISH_STEPS = 4           # Newton steps on the exact gap
 MAX_WINDOWS = 10000000.0
 MAX_DEGREE = 16
 MAX_PARAMS = 64
+SAFE = 1.0 + 2.0 ** -40    # covers the rounding of _reach()
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,16 @@ def _slope(c, n, x):
     return d
 
 
+def _reach(c, n, L):
+    """A bound on |p(s) - p(0)| for 0 <= s <= L, a little above the rounded sum."""
+    if n < 1:
+        return 0.0
+    b = abs(c[n])
+    for i in range(n - 1, 0, -1):
+        b = b * L + abs(c[i])
+    return b * L * SAFE
+
+
 class _Driver:
     def __init__(self, m: Motion, p, solver, zero_tol: float):
         self.m, self.p, self.solver, self.zero_tol = m, p, solver, zero_tol
@@ -90,6 +101,8 @@ class _Driver:
             s = self.solver(c, 0.0, L)
             return None if s is None else (t0 + s, t0, t0 + L)
         mg = e + f
+        if abs(c[0]) - _reach(c, n, L) > mg:    # |P| > mg on the whole window: no zone
+            return None
         x = 0.0
         for _ in range(MAX_STEPS):
             v = _value(c, n, x)
@@ -206,8 +219,11 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
                 r = None if found is None else k.polish(found[0], found[1], found[2], start, horizon)
             else:
                 c = k.coefficients(m.shift(p, t0))
-                s = solver(c, 0.0, L)
-                r = None if s is None else t0 + s
+                if abs(c[0]) - _reach(c, len(c) - 1, L) > 0.0:
+                    r = None
+                else:
+                    s = solver(c, 0.0, L)
+                    r = None if s is None else t0 + s
             if r is not None:
                 if r > horizon:
                     r = horizon

@@ -19,6 +19,7 @@ const MAX_DEPTH: u32 = 40;
 const MAX_STEPS: u32 = 200;
 const POLISH_STEPS: u32 = 4;
 const MAX_DEGREE: usize = 16;
+const SAFE: f64 = 1.0 + 1.0 / 1099511627776.0; // 1 + 2^-40: covers the rounding of reach()
 
 /// What the driver needs of an equation (generated); every function takes
 /// the parameters as a slice in the equation's order.
@@ -91,6 +92,18 @@ fn slope(c: &[f64], n: usize, x: f64) -> f64 {
     d
 }
 
+/// A bound on |p(s) - p(0)| for 0 <= s <= L, a little above the rounded sum.
+fn reach(c: &[f64], n: usize, l: f64) -> f64 {
+    if n < 1 {
+        return 0.0;
+    }
+    let mut b = c[n].abs();
+    for i in (1..n).rev() {
+        b = b * l + c[i].abs();
+    }
+    b * l * SAFE
+}
+
 type Found = Result<Option<(f64, f64, f64)>, &'static str>;
 
 impl Ctx<'_> {
@@ -123,6 +136,9 @@ impl Ctx<'_> {
             return Ok((self.solver)(&c[..=n], 0.0, l).map(|s| (t0 + s, t0, t0 + l)));
         }
         let mg = e + f;
+        if c[0].abs() - reach(&c, n, l) > mg {
+            return Ok(None); // |P| > mg on the whole window: no zone
+        }
         let mut x = 0.0f64;
         for _ in 0..MAX_STEPS {
             let v = value(&c, n, x);
@@ -261,7 +277,11 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
             (m.shift)(p, t0, pp);
             let mut c = [0.0f64; MAX_DEGREE + 1];
             let n = k.coefficients(pp, &mut c)?;
-            (o.solver)(&c[..=n], 0.0, l).map(|s| t0 + s)
+            if c[0].abs() - reach(&c, n, l) > 0.0 {
+                None
+            } else {
+                (o.solver)(&c[..=n], 0.0, l).map(|s| t0 + s)
+            }
         };
         if let Some(mut r) = r {
             if r > horizon {
