@@ -1053,8 +1053,11 @@ BEGIN
    same := 0 ;
    WHILE Pop (ev) AND (ev.t <= EndT) DO
       stale := FALSE ;
-      IF (ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa) THEN stale := TRUE END ;
-      IF (ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb) THEN stale := TRUE END ;
+      (* an input is scripted, not predicted: it happens whatever the body did before *)
+      IF ev.kind # KInput THEN
+         IF (ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa) THEN stale := TRUE END ;
+         IF (ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb) THEN stale := TRUE END
+      END ;
       IF stale THEN
          INC (Stats[StStale]) ;
          ev.kind := -1
