@@ -1074,7 +1074,11 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
         if t > w.s.end {
             break;
         }
-        if (ev.a >= 0 && w.stamps[ev.a as usize] != ev.sa) || (ev.b >= 0 && w.stamps[ev.b as usize] != ev.sb) {
+        let kind = popped.key >> SEQ_BITS;
+        // an input is scripted, not predicted: it happens whatever the body did before
+        if kind != INPUT
+            && ((ev.a >= 0 && w.stamps[ev.a as usize] != ev.sa) || (ev.b >= 0 && w.stamps[ev.b as usize] != ev.sb))
+        {
             q.stats[ST_STALE] += 1;
             continue;
         }
@@ -1091,7 +1095,6 @@ fn run<E: Equations, W: Write>(scene: Scene, out: &mut Out<W>) -> Res<()> {
             last_t = t;
             same = 0;
         }
-        let kind = popped.key >> SEQ_BITS;
         match kind {
             COLLISION => {
                 q.stats[ST_COLLISIONS] += 1;
