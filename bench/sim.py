@@ -10,7 +10,10 @@ velocities (speed 1 m/s), no gravity, restitution 1, no frames.  The end
 time is chosen so that a run handles about `--events` events: a short pilot
 run of the first runtime measures the event rate, and the end time scales
 with it.  Events are the handled ones (collisions, cell crossings, horizons,
-inputs, frames; stale queue entries are counted apart).  The times are
+inputs, frames; stale queue entries are counted apart).  Each runtime also
+runs the scene for 1 ns, which is nearly all start (reading the scene, the
+first prediction of every pair, the final states): "after" is the rate of
+the events past it.  The times are
 those of the simulator's process, CPU (user + system: the events per second
 reported) and wall: reading the scene, simulating and writing the whole
 trace (into a pipe that this script drains).  Runtimes
@@ -35,6 +38,7 @@ from max2code.simulate import LANGS, SimulateError, build_simulator  # noqa: E40
 
 RADIUS = 0.01       # m
 SPEED = 1.0         # m/s
+START = 1e-9        # s: a run that is (almost) only its start
 
 
 def gas(n: int, fraction: float, end_time: float, seed: int) -> dict:
@@ -147,12 +151,15 @@ def main(argv: list[str]) -> int:
         end = float(f"{guess * args.events / max(handled(counts), 1):.4g}")
         scene = parse_scene(json.dumps(gas(n, args.fraction, end, args.seed)), f"gas-{n}")
         flat = compile_scene(scene)
+        # the start alone: reading the scene, the first predictions, the final states
+        start = compile_scene(parse_scene(json.dumps(gas(n, args.fraction, START, args.seed)), f"gas-{n}"))
         step += 1
         row = {"bodies": n, "end": end, "times": {}, "counts": None}
         for lang in order:
             bar(step, steps, f"{n} disks: {lang}", "bench/sim.py")
+            _, cpu0, counts0 = run(builds[lang], start)
             elapsed, cpu, counts = run(builds[lang], flat)
-            row["times"][lang] = (elapsed, cpu)
+            row["times"][lang] = (elapsed, cpu, cpu0, handled(counts0))
             if row["counts"] is not None and counts != row["counts"]:
                 print(f"bench/sim.py: {n} disks: {lang} counts {counts}, {order[0]} {row['counts']}", file=sys.stderr)
             row["counts"] = counts
@@ -162,7 +169,7 @@ def main(argv: list[str]) -> int:
 
     head = f"{'bodies':>8} {'end (s)':>9} {'events':>9} {'collisions':>10} {'cells':>9} {'stale':>9}"
     for lang in order:
-        head += f" {lang + ' cpu s':>11} {lang + ' ev/s':>11} {lang + ' wall s':>11}"
+        head += f" {lang + ' cpu s':>11} {lang + ' ev/s':>11} {lang + ' wall s':>11} {lang + ' start s':>11} {'after':>9}"
     print(head)
     for row in rows:
         c = row["counts"]
@@ -170,11 +177,13 @@ def main(argv: list[str]) -> int:
         line = (f"{row['bodies']:>8} {row['end']:>9.4g} {ev:>9} {c.get('collisions', 0):>10} {c.get('cells', 0):>9} "
                 f"{c.get('stale', 0):>9}")
         for lang in order:
-            wall, cpu = row["times"][lang]
-            line += f" {cpu:>11.3f} {ev / max(cpu, 1e-9):>11.4g} {wall:>11.3f}"
+            wall, cpu, cpu0, ev0 = row["times"][lang]
+            after = (ev - ev0) / (cpu - cpu0) if cpu > cpu0 else float("nan")
+            line += f" {cpu:>11.3f} {ev / max(cpu, 1e-9):>11.4g} {wall:>11.3f} {cpu0:>11.3f} {after:>9.4g}"
         print(line)
     print("ev/s: events per CPU second (user + system) of the simulator's process; wall s: its elapsed time, "
-          "which a loaded machine stretches")
+          "which a loaded machine stretches;\nstart s: CPU seconds of the same scene run for 1 ns (reading it, "
+          "the first predictions, the final states); after: events per CPU second past the start")
     return 0
 
 
