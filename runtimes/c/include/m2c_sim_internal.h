@@ -1,5 +1,5 @@
 /* The simulator's parts, shared by its source files (not an API):
- * scene (m2c_sim_scene.c), event heap (m2c_sim_heap.c), grid cells
+ * scene (m2c_sim_scene.c), event queue (m2c_sim_queue.c), grid cells
  * (m2c_sim_grid.c), trace writer (m2c_sim_out.c, m2c_sim_format.c) and the
  * simulation itself (m2c_sim.c).  Units: s, m, rad, kg. */
 #ifndef M2C_SIM_INTERNAL_H
