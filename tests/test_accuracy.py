@@ -20,7 +20,7 @@ def test_accuracy_quick_sweep(tmp_path, capsys):
             rows[(cells[0], cells[1])] = cells
     assert len(rows) == 2 * len(accuracy.QUICK)
     for lang in ("c", "python"):
-        exact = rows[("exact o4 a0.5", lang)]
+        exact = rows[("exact o4 a1", lang)]
         assert exact[4] == "0" or float(exact[4]) <= 1e-12, exact
         assert exact[5:] == ["0", "0"], exact
         paper = rows[("paper", lang)]

@@ -17,7 +17,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
-DEFAULTS = {"window_angle": 0.5, "refine": True, "zero_tol": 0.0}
+DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
 
 
 def malformed(case: dict) -> str:

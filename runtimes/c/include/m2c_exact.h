@@ -46,7 +46,7 @@ typedef struct m2c_exact_options {
     int (*solver)(const double *c, int degree, double lo, double hi, double *t);
 } m2c_exact_options;
 
-#define M2C_EXACT_ANGLE 0.5
+#define M2C_EXACT_ANGLE 1.0
 
 void m2c_exact_defaults(m2c_exact_options *o);
 

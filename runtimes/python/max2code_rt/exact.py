@@ -15,7 +15,7 @@ from max2code_rt.roots import smallest_root
 
 __all__ = ["Motion", "exact_toc", "WINDOW_ANGLE", "MAX_WINDOWS"]
 
-WINDOW_ANGLE = 0.5         # default: radians the fastest orbit turns per window
+WINDOW_ANGLE = 1.0         # default: radians the fastest orbit turns per window
 FLOOR = 2.0 ** -46         # 64 eps: the rounding floor is FLOOR * scale
 MAX_DEPTH = 40             # subdivision levels
 MAX_STEPS = 200            # zones visited per level

@@ -8,7 +8,7 @@
 use crate::roots::smallest_root;
 
 /// Default radians the fastest orbit turns per window.
-pub const WINDOW_ANGLE: f64 = 0.5;
+pub const WINDOW_ANGLE: f64 = 1.0;
 /// More windows than this is an error.
 pub const MAX_WINDOWS: f64 = 10000000.0;
 /// Largest number of parameters of an equation.
