@@ -58,7 +58,10 @@ class Modula2(Target):
     def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
         """Compile the event queue (SimHeap) and the simulator (SimMain, which
         #includes the generated circle_circle.mxd and point_edge.mxd from
-        workdir) and link them with the Roots runtime into workdir/sim."""
+        workdir) and link them with the Roots runtime into workdir/sim.
+        The commands run in workdir: gm2 writes SimMain.o to the current
+        directory and its linking step looks the program module's object up
+        along the -I path, where workdir comes first, so it finds this one."""
         from max2code import runtimes
         m2 = runtimes.ROOT / "runtimes" / "m2"
         objs = runtimes.m2_objects()

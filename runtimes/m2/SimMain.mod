@@ -230,9 +230,11 @@ BEGIN
 END Num ;
 
 
-PROCEDURE Int () : INTEGER ;
+(* The next token as a whole number (up to 18 digits). *)
+PROCEDURE LongInt () : LONGINT ;
 VAR
-   n, k, v: INTEGER ;
+   n, k: INTEGER ;
+   v: LONGINT ;
    neg, ok: BOOLEAN ;
 BEGIN
    n := Word () ;
@@ -242,11 +244,11 @@ BEGIN
       neg := Tok[0] = '-' ;
       k := 1
    END ;
-   ok := k < n ;
+   ok := (k < n) AND (n - k <= 18) ;
    v := 0 ;
    WHILE ok AND (k < n) DO
-      IF (Tok[k] >= '0') AND (Tok[k] <= '9') AND (v < 100000000) THEN
-         v := v * 10 + VAL (INTEGER, ORD (Tok[k]) - ORD ('0'))
+      IF (Tok[k] >= '0') AND (Tok[k] <= '9') THEN
+         v := v * 10 + VAL (LONGINT, ORD (Tok[k]) - ORD ('0'))
       ELSE
          ok := FALSE
       END ;
@@ -258,6 +260,20 @@ BEGIN
    END ;
    IF neg THEN RETURN -v END ;
    RETURN v
+END LongInt ;
+
+
+(* The next token as a count or index (INTEGER range). *)
+PROCEDURE Int () : INTEGER ;
+VAR
+   v: LONGINT ;
+BEGIN
+   v := LongInt () ;
+   IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
+      printf ("X scene: integer out of range: '%s'\n", ADR (Tok)) ;
+      Fail
+   END ;
+   RETURN VAL (INTEGER, v)
 END Int ;
 
 
@@ -274,7 +290,7 @@ BEGIN
    Expect ("tolerance") ; Tol := Num () ;
    Expect ("rest_speed") ; RestSpeed := Num () ;
    Expect ("window_angle") ; Alpha := Num () ;
-   Expect ("max_same_time") ; MaxSame := VAL (LONGINT, Int ()) ;
+   Expect ("max_same_time") ; MaxSame := LongInt () ;
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
    GridNX := Int () ; GridNY := Int () ;
