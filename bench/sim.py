@@ -33,8 +33,8 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from max2code.progress import bar  # noqa: E402
-from max2code.scene import compile_scene, parse_scene  # noqa: E402
-from max2code.simulate import LANGS, SimulateError, build_simulator  # noqa: E402
+from max2code.sim.scene import compile_scene, parse_scene  # noqa: E402
+from max2code.sim.simulate import LANGS, SimulateError, build_simulator  # noqa: E402
 
 RADIUS = 0.01       # m
 SPEED = 1.0         # m/s

@@ -16,13 +16,13 @@ from max2code.errors import Max2CodeError
 # name -> "module:function(argv) -> int"
 SUBCOMMANDS: dict[str, str] = {
     "conformance": "max2code.conformance.runner:main",
-    "table": "max2code.report:main",
-    "bench-variants": "max2code.bench_variants:main",
-    "accuracy": "max2code.accuracy:main",
-    "simulate": "max2code.sim_cli:simulate_main",
-    "crosscheck": "max2code.sim_cli:crosscheck_main",
-    "event-vs-frame": "max2code.event_vs_frame:main",
-    "render": "max2code.render_trace:render_main",
+    "table": "max2code.reports.table:main",
+    "bench-variants": "max2code.reports.bench_variants:main",
+    "accuracy": "max2code.reports.accuracy:main",
+    "simulate": "max2code.sim.commands:simulate_main",
+    "crosscheck": "max2code.sim.commands:crosscheck_main",
+    "event-vs-frame": "max2code.reports.event_vs_frame:main",
+    "render": "max2code.draw.render:render_main",
 }
 
 
@@ -83,7 +83,7 @@ def _parse_options(items: list[str]) -> dict[str, str]:
 
 
 def generate_main(argv: list[str]) -> int:
-    from max2code.pipeline import GenerateRequest, generate_file
+    from max2code.generate.pipeline import GenerateRequest, generate_file
 
     parser = _generate_parser()
     args = parser.parse_args(argv)
@@ -122,9 +122,9 @@ def generate_main(argv: list[str]) -> int:
 def list_variants(args, effects) -> int:
     import json
 
-    from max2code.mxm import read_mxm
-    from max2code.pipeline import derive
-    from max2code.variants import derive_variants
+    from max2code.generate.mxm import read_mxm
+    from max2code.generate.pipeline import derive
+    from max2code.generate.variants import derive_variants
 
     mod = read_mxm(args.file)
     d = derive(mod, _parse_options(args.option), use_cache=not args.no_cache,

@@ -18,7 +18,7 @@ def root():
 @pytest.fixture(scope="session")
 def generated():
     """(equation, lang) -> GeneratedFile, generated once per session."""
-    from max2code.pipeline import GenerateRequest, generate_file
+    from max2code.generate.pipeline import GenerateRequest, generate_file
 
     cache = {}
 

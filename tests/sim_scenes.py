@@ -67,7 +67,7 @@ def write_random_scenes(folder, seeds) -> list[str]:
     """Write scenes seed -> folder/random-SEED.json; returns the paths.
     A scene whose bodies would overlap (an orbiting circle on a body) is
     drawn again from the next seed offset."""
-    from max2code.scene import SceneError, parse_scene
+    from max2code.sim.scene import SceneError, parse_scene
     paths = []
     for seed in seeds:
         for attempt in range(20):

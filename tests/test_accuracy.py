@@ -3,7 +3,7 @@ motions): it writes the table and both plots, and its numbers say what the
 issue expects of them (exact motion exact, the paper's form far off)."""
 import re
 
-from max2code import accuracy
+from max2code.reports import accuracy
 
 
 def test_accuracy_quick_sweep(tmp_path, capsys):

@@ -10,9 +10,9 @@ import sys
 
 import pytest
 
-from max2code.scene import load_scene
-from max2code.sim_cli import crosscheck
-from max2code.simulate import LANGS
+from max2code.sim.scene import load_scene
+from max2code.sim.commands import crosscheck
+from max2code.sim.simulate import LANGS
 
 sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import write_random_scenes  # noqa: E402
@@ -49,8 +49,8 @@ def test_random_scenes_agree_in_all_four_runtimes(random_scenes, k):
 def test_crosscheck_reports_the_first_difference():
     """The comparison is not vacuous: a trace with one time moved by 1e-8
     relative is reported at that event."""
-    from max2code.sim_cli import compare
-    from max2code.simulate import run_scene
+    from max2code.sim.commands import compare
+    from max2code.sim.simulate import run_scene
     import copy
     scene = load_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
     a = run_scene(scene, "python")

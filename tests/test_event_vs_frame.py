@@ -5,11 +5,11 @@ import math
 
 import pymunk
 
-from max2code.event_vs_frame import (build_space, free_run, FrameResult, match_events, our_collisions, replay,
+from max2code.reports.event_vs_frame import (build_space, free_run, FrameResult, match_events, our_collisions, replay,
                                      tunnel_scene)
-from max2code.scene import load_scene
-from max2code.runtimes import ROOT
-from max2code.simulate import run_scene
+from max2code.sim.scene import load_scene
+from max2code.harness.runtimes import ROOT
+from max2code.sim.simulate import run_scene
 
 
 def test_tunnelling_case():

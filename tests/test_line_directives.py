@@ -6,7 +6,7 @@ import subprocess
 
 import pytest
 
-from max2code.pipeline import GenerateRequest, generate_file
+from max2code.generate.pipeline import GenerateRequest, generate_file
 
 DATA = os.path.join(os.path.dirname(__file__), "data", "planted-error.mxm")
 PLANTED_LINE = {"c": 10, "m2": 20}   # the `term 1` blocks in planted-error.mxm

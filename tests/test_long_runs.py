@@ -13,10 +13,10 @@ import sys
 
 import pytest
 
-from max2code.invariants import check
-from max2code.replay import read_trace
-from max2code.scene import parse_scene
-from max2code.simulate import run_scene
+from max2code.sim.invariants import check
+from max2code.sim.replay import read_trace
+from max2code.sim.scene import parse_scene
+from max2code.sim.simulate import run_scene
 
 sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import box, random_scene  # noqa: E402

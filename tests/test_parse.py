@@ -3,7 +3,7 @@ import os
 
 import pytest
 
-from max2code.mxm import parse_mxm, read_mxm
+from max2code.generate.mxm import parse_mxm, read_mxm
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

@@ -1,5 +1,5 @@
-"""`max2code render` and the replay under it (max2code/replay.py,
-max2code/render_trace.py): the replay is exact (the final states of every
+"""`max2code render` and the replay under it (max2code/sim/replay.py,
+max2code/draw/render.py): the replay is exact (the final states of every
 example scene simulated in Python, bit for bit in practice, 1e-9 asserted),
 the contact points of the trace lie on the replayed bodies, the animated SVG
 is well-formed and animates what moves where the replay says, the overview
@@ -14,10 +14,10 @@ import pytest
 
 from conftest import ROOT
 from max2code.cli import main
-from max2code.render_trace import animated_svg, have_pillow, sample_times
-from max2code.replay import TraceError, advance, load_trace, read_trace
-from max2code.scene import load_scene
-from max2code.simulate import run_scene
+from max2code.draw.render import animated_svg, have_pillow, sample_times
+from max2code.sim.replay import TraceError, advance, load_trace, read_trace
+from max2code.sim.scene import load_scene
+from max2code.sim.simulate import run_scene
 
 SVG = "{http://www.w3.org/2000/svg}"
 # gravity-box simulated to its end takes ~20 s in Python (30 000 collisions while the balls settle): its first
@@ -231,7 +231,7 @@ def test_overview_coloured_by_time_and_fps_without_frame_events(simulated, tmp_p
 
 
 def test_without_pillow_the_gif_is_skipped_with_a_message(simulated, tmp_path, capsys, monkeypatch):
-    import max2code.render_trace as rt
+    import max2code.draw.render as rt
     monkeypatch.setattr(rt, "have_pillow", lambda: False)
     scene_path, trace_path = simulated("newtons-cradle")
     assert main(["render", scene_path, trace_path, "-o", str(tmp_path / "x"), "--gif", "--no-overview"]) == 0

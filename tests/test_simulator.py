@@ -12,10 +12,10 @@ import sys
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from max2code.invariants import check
-from max2code.replay import read_trace
-from max2code.scene import SceneError, compile_scene, load_scene, parse_scene
-from max2code.simulate import run_scene
+from max2code.sim.invariants import check
+from max2code.sim.replay import read_trace
+from max2code.sim.scene import SceneError, compile_scene, load_scene, parse_scene
+from max2code.sim.simulate import run_scene
 
 sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import random_scene  # noqa: E402
@@ -180,7 +180,7 @@ def test_only_the_effects_a_scene_uses():
     prediction is served by a variant of degree 2 or less."""
     scene, tr = _run(os.path.join(ROOT, "examples", "gravity-box.json"))
     assert scene.effects == ("acceleration",)
-    from max2code.simulate import build_simulator
+    from max2code.sim.simulate import build_simulator
     b = build_simulator("python", scene.effects, scene.taylor_order)
     names = [n for v in b.variant_names.values() for n in v]
     assert all("no_orbit1" in n or n.startswith("point_edge") for n in names)

@@ -10,9 +10,9 @@ from hypothesis import strategies as st
 
 from conftest import LANGS
 from max2code.errors import SourceError
-from max2code.expr import Add, Mul, Num, Pow, Sym, to_maxima, to_poly
-from max2code.mxm import parse_mxm
-from max2code.reader import MaximaOutputError, read_expr
+from max2code.generate.expr import Add, Mul, Num, Pow, Sym, to_maxima, to_poly
+from max2code.generate.mxm import parse_mxm
+from max2code.generate.reader import MaximaOutputError, read_expr
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

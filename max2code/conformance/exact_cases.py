@@ -18,14 +18,13 @@ import json
 import math
 import random
 import sys
-from pathlib import Path
 
 import mpmath
 
 from max2code.conformance.exact_ref import DPS, Gap, reference
 from max2code.progress import bar
 
-ROOT = Path(__file__).resolve().parents[2]
+from max2code.paths import ROOT
 CASE_FILE = ROOT / "tests" / "conformance" / "toc_exact.jsonl"
 CC = "abcdefmnopqghijklrsuvwxz"
 PL = "abcdefghijkl"

@@ -13,9 +13,8 @@ says none_ok (or has no contact).  Regular cases (the contact is decided to
 from __future__ import annotations
 
 import tempfile
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from max2code.paths import ROOT
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
 DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
 
@@ -44,8 +43,8 @@ def row(case: dict, names) -> list[float]:
 
 
 def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
-    from max2code.exact_harness import build_exact_harness
-    from max2code.pipeline import GenerateRequest, generate_file
+    from max2code.harness.exact import build_exact_harness
+    from max2code.generate.pipeline import GenerateRequest, generate_file
 
     answers: dict[int, str] = {}
     by_eq: dict[str, list[int]] = {}
@@ -67,7 +66,7 @@ def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
 
 
 def judge(case: dict, answer: str):
-    from max2code.conformance.runner import Verdict
+    from max2code.conformance.ops import Verdict
 
     expect = case.get("expect")
     if answer.startswith("error"):

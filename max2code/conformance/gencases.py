@@ -18,6 +18,7 @@ from multiprocessing import Pool
 from pathlib import Path
 
 from max2code.conformance.reference import reference
+from max2code.paths import CASES
 
 SEED = 20221117
 
@@ -199,7 +200,7 @@ def random_cases(per_degree: int = 150) -> list[dict]:
 
 
 def _with_reference(c: dict) -> dict:
-    from max2code.conformance.runner import num
+    from max2code.conformance.ops import num
     coeffs = [num(v) for v in c["coeffs"]]
     ref = reference(coeffs, num(c["lo"]), num(c["hi"]))
     c = dict(c)
@@ -219,7 +220,7 @@ def write(path: Path, cases: list[dict], jobs: int) -> None:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parents[2] / "tests" / "conformance")
+    ap.add_argument("--out", type=Path, default=CASES)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--per-degree", type=int, default=150)
     args = ap.parse_args(argv)

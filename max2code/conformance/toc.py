@@ -17,13 +17,12 @@ import json
 import random
 import sys
 import tempfile
-from pathlib import Path
 
 import mpmath
 
 from max2code.conformance.motion_ref import EQUATIONS, scale
 
-ROOT = Path(__file__).resolve().parents[2]
+from max2code.paths import ROOT
 ORDER = 4
 EPS = 2.0 ** -52
 CASE_FILE = ROOT / "tests" / "conformance" / "toc.jsonl"
@@ -126,8 +125,8 @@ class TocOp:
         return None
 
     def batch(self, lang: str, cases: dict[int, dict]) -> dict[int, str]:
-        from max2code.harness import build_harness
-        from max2code.pipeline import GenerateRequest, generate_file
+        from max2code.harness.toc import build_harness
+        from max2code.generate.pipeline import GenerateRequest, generate_file
 
         if lang not in self.testee_langs:
             raise ValueError(f"the toc op has no testee for {lang}")
@@ -165,7 +164,7 @@ class TocOp:
         return answers
 
     def judge(self, case: dict, answer: str):
-        from max2code.conformance.runner import Verdict
+        from max2code.conformance.ops import Verdict
 
         if case.get("motion") == "exact":
             from max2code.conformance import exact_op

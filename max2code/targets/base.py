@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from max2code.lower import Node
+from max2code.generate.lower import Node
 
 # precedence: higher binds tighter
 PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "neg": 3, "call": 4, "lit": 4, "ref": 4}

@@ -40,7 +40,7 @@ class C(Target):
         return [[*FLAGS, *[f"-I{d}" for d in include_dirs], src, "-o", exe, *self.runtime_flags(), "-lm"]]
 
     def runtime_flags(self) -> list[str]:
-        from max2code import runtimes
+        from max2code.harness import runtimes
         lib = runtimes.c_library()
         return [f"-I{runtimes.ROOT / 'runtimes' / 'c' / 'include'}", str(lib)]
 
@@ -52,7 +52,7 @@ class C(Target):
         against the declarations of m2c_sim_equations.h), then the simulator
         (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
         each NAME_variant counts, and link them with libm2c.a into workdir/sim."""
-        from max2code import runtimes
+        from max2code.harness import runtimes
         c = runtimes.ROOT / "runtimes" / "c"
         lib = runtimes.c_library()
         inc = c / "include"

@@ -48,7 +48,7 @@ class Modula2(Target):
                  *[f"-I{d}" for d in include_dirs], *self.runtime_flags(), src, "-o", exe, "-lm"]]
 
     def runtime_flags(self) -> list[str]:
-        from max2code import runtimes
+        from max2code.harness import runtimes
         objs = runtimes.m2_objects()
         return [f"-I{runtimes.ROOT / 'runtimes' / 'm2'}", *map(str, objs)]
 
@@ -62,7 +62,7 @@ class Modula2(Target):
         The commands run in workdir: gm2 writes SimMain.o to the current
         directory and its linking step looks the program module's object up
         along the -I path, where workdir comes first, so it finds this one."""
-        from max2code import runtimes
+        from max2code.harness import runtimes
         m2 = runtimes.ROOT / "runtimes" / "m2"
         objs = runtimes.m2_objects()
         heap = os.path.join(workdir, "SimHeap.o")

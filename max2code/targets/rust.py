@@ -35,7 +35,7 @@ class Rust(Target):
         return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", *self.runtime_flags(), src, "-o", exe]]
 
     def runtime_flags(self) -> list[str]:
-        from max2code import runtimes
+        from max2code.harness import runtimes
         rlib = runtimes.rust_library()
         return ["--extern", f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}"]
 

@@ -3,7 +3,7 @@
  * runtimes/python/max2code_rt/sim.py that performs the same IEEE double
  * operations in the same order and so writes the same bytes.
  *
- * It reads a compiled scene (the flat text of max2code/scene.py) and writes
+ * It reads a compiled scene (the flat text of max2code/sim/scene.py) and writes
  * the flat trace.  Every prediction goes through the generated entries of
  * equations/circle-circle.mxm and equations/point-edge.mxm (declared in
  * m2c_sim_equations.h, linked in from the generated .c files) and through

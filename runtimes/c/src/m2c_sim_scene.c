@@ -1,4 +1,4 @@
-/* Reading the flat scene (docs/simulator.md, written by max2code/scene.py):
+/* Reading the flat scene (docs/simulator.md, written by max2code/sim/scene.py):
  * whitespace-separated tokens; the numbers are shortest round-trip decimals,
  * which strtod reads exactly.  The messages are the reference's. */
 #include <errno.h>

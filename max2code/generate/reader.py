@@ -1,5 +1,5 @@
 """Read Maxima's one-line output into an exact Expr tree (second grammar:
-max2code/grammar/maxima_output.lark)."""
+max2code/generate/grammar/maxima_output.lark)."""
 from __future__ import annotations
 
 import functools
@@ -9,7 +9,7 @@ from importlib import resources
 from lark import Lark, Transformer, v_args
 from lark.exceptions import UnexpectedInput
 
-from max2code.expr import Add, Call, Eq, Expr, Mul, Num, Pow, Sym
+from max2code.generate.expr import Add, Call, Eq, Expr, Mul, Num, Pow, Sym
 
 
 class MaximaOutputError(ValueError):
@@ -88,7 +88,7 @@ class _ToExpr(Transformer):
 def _parser() -> Lark:
     # the transformer runs inside the LALR parser: no tree is built, so a
     # sum of thousands of terms does not recurse thousands deep
-    text = resources.files("max2code").joinpath("grammar/maxima_output.lark").read_text(encoding="utf-8")
+    text = resources.files("max2code.generate").joinpath("grammar/maxima_output.lark").read_text(encoding="utf-8")
     return Lark(text, parser="lalr", strict=True, maybe_placeholders=False, transformer=_ToExpr())
 
 

@@ -8,8 +8,8 @@ import sys
 from dataclasses import dataclass
 
 from max2code.errors import Max2CodeError
-from max2code.scene import SceneError, load_scene
-from max2code.simulate import LANGS, SimulateError, Trace, run_scene
+from max2code.sim.scene import SceneError, load_scene
+from max2code.sim.simulate import LANGS, SimulateError, Trace, run_scene
 
 
 class SimCliError(Max2CodeError):

@@ -26,12 +26,12 @@ import re
 from dataclasses import dataclass
 from fractions import Fraction
 
-from max2code.collect import collect
+from max2code.generate.collect import collect
 from max2code.errors import SourceError, Span
-from max2code.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
-from max2code.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, share
-from max2code.maxima import Statement, run_maxima
-from max2code.reader import MaximaOutputError, read_expr
+from max2code.generate.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
+from max2code.generate.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, share
+from max2code.generate.maxima import Statement, run_maxima
+from max2code.generate.reader import MaximaOutputError, read_expr
 
 EPS_PREFIX = "__m2c_eps_"
 
@@ -109,7 +109,7 @@ class _Approx:
 
 def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: float = 300.0):
     """Run Maxima for the exact pieces of derivation `d` (pipeline.Derivation)."""
-    from max2code.pipeline import _note, parameters_of
+    from max2code.generate.derive import note as _note, parameters_of
 
     mod = d.module
     if not mod.approximations:

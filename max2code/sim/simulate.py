@@ -10,10 +10,10 @@ import os
 import subprocess
 from dataclasses import dataclass, field
 
-from max2code.pipeline import GenerateRequest, build_selection, derive, generate
-from max2code.mxm import read_mxm
-from max2code.runtimes import BUILD, ROOT
-from max2code.scene import Scene, compile_scene
+from max2code.generate.pipeline import GenerateRequest, build_selection, derive, generate
+from max2code.generate.mxm import read_mxm
+from max2code.harness.runtimes import BUILD, ROOT
+from max2code.sim.scene import Scene, compile_scene
 from max2code.targets import target as get_target
 
 EQUATIONS = {"circle_circle": ROOT / "equations" / "circle-circle.mxm",
@@ -82,7 +82,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
             out = generate(d, req)
         finally:
             os.chdir(cwd)
-        from max2code.variants import switches_of
+        from max2code.generate.variants import switches_of
         sel = build_selection(f"{eq}_coefficients", out.variants, switches_of(d), "")
         names[eq] = [c.name for c in sel.cases]
         target_file = workdir / fname

@@ -6,8 +6,7 @@ import os
 import subprocess
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-BUILD = ROOT / "build"
+from max2code.paths import BUILD, ROOT  # noqa: F401  (re-exported for the targets)
 
 
 class RuntimeBuildError(RuntimeError):

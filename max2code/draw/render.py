@@ -9,7 +9,7 @@
 * with --gif / --png-frames (matplotlib and Pillow): OUT.gif and
   OUT-frames/frame-NNNNN.png.
 
-The bodies' motion comes from max2code/replay.py (exact between events);
+The bodies' motion comes from max2code/sim/replay.py (exact between events);
 this module only samples and draws it.  y points up in every picture.
 """
 from __future__ import annotations
@@ -24,8 +24,8 @@ from xml.sax.saxutils import escape, quoteattr
 
 from max2code.errors import Max2CodeError
 from max2code.progress import bar
-from max2code.replay import Replay, TraceError, advance, circle_centre_at, load_trace
-from max2code.scene import Body, SceneError, load_scene
+from max2code.sim.replay import Replay, TraceError, advance, circle_centre_at, load_trace
+from max2code.sim.scene import Body, SceneError, load_scene
 
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf",
            "#7f7f7f")

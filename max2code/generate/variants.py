@@ -12,13 +12,13 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 
-from max2code.collect import Polynomial, collect
+from max2code.generate.collect import Polynomial, collect
 from max2code.errors import SourceError
-from max2code.expr import NotPolynomial
-from max2code.lower import FunctionIR, lower
-from max2code.maxima import Statement, run_maxima
+from max2code.generate.expr import NotPolynomial
+from max2code.generate.lower import FunctionIR, lower
+from max2code.generate.maxima import Statement, run_maxima
 from max2code.progress import bar
-from max2code.reader import MaximaOutputError, read_expr
+from max2code.generate.reader import MaximaOutputError, read_expr
 
 # kind of switch -> (the effect whose parameters become zero, short name)
 KINDS = {"orbit": ("orbit_radius", "no_orbit"),
@@ -130,7 +130,7 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
     groups: dict[Polynomial, list[int]] = {}
     for i, p in enumerate(polys):
         groups.setdefault(p, []).append(i)
-    from max2code.pipeline import parameters_of
+    from max2code.generate.derive import parameters_of
     params, docs = parameters_of(derivation)
     variants: list[Variant] = []
     for n, (poly, members) in enumerate(groups.items()):

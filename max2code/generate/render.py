@@ -2,16 +2,16 @@
 from __future__ import annotations
 
 import functools
-import os
 import re
 from dataclasses import dataclass
 
 import jinja2
 
-from max2code.lower import FunctionIR, Node
+from max2code.generate.lower import FunctionIR, Node
+from max2code.paths import TEMPLATES
 from max2code.targets.base import Target
 
-TEMPLATE_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "templates")
+TEMPLATE_DIR = str(TEMPLATES)
 
 
 @functools.lru_cache(maxsize=None)

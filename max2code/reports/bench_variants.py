@@ -14,9 +14,9 @@ import subprocess
 import tempfile
 
 from max2code.errors import Max2CodeError
-from max2code.pipeline import GenerateRequest, generate_file
+from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code.progress import bar
-from max2code.render import environment
+from max2code.generate.render import environment
 from max2code.targets import target as get_target
 
 # optimised builds; each target adds how to link its runtime (generated files call its solver)

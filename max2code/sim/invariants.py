@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from max2code.replay import Replay
-from max2code.scene import Body, Scene, penetration
+from max2code.sim.replay import Replay
+from max2code.sim.scene import Body, Scene, penetration
 
 
 @dataclass

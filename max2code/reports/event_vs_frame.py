@@ -35,8 +35,8 @@ from dataclasses import dataclass, field
 
 from max2code.errors import Max2CodeError
 from max2code.progress import bar
-from max2code.runtimes import ROOT
-from max2code.scene import Scene, load_scene, parse_scene
+from max2code.harness.runtimes import ROOT
+from max2code.sim.scene import Scene, load_scene, parse_scene
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)
 STEP_NAMES = {1.0 / 60.0: "1/60", 1.0 / 240.0: "1/240", 1.0 / 1000.0: "1/1000"}
@@ -422,7 +422,7 @@ def best_of(fn, budget: float = 3.0, runs: int = 3):
 def run_ours(scene: Scene, lang: str, runs: int = 3):
     """(trace, wall seconds, best of up to `runs`) of run_scene in `lang`,
     the build done before the clock starts."""
-    from max2code.simulate import build_simulator, run_scene
+    from max2code.sim.simulate import build_simulator, run_scene
     build_simulator(lang, scene.effects, scene.taylor_order)
     return best_of(lambda: run_scene(scene, lang), runs=runs)
 
@@ -471,7 +471,7 @@ def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool =
             if ref is None:
                 ref = trace
             else:
-                from max2code.sim_cli import compare
+                from max2code.sim.commands import compare
                 d = compare(ref, trace)
                 note = f"agrees with {ref.lang}" if d is None else f"differs from {ref.lang}: {d.what}"
             ours.append(OurResult(lang, wall, wall / scene.end_time, n, note))
@@ -627,10 +627,10 @@ DESIGN = """\
 **Scenes.** The three example scenes (`examples/billiard-break.json`,
 `examples/gravity-box.json`, `examples/spinning-polygons.json`, made by
 `examples/make_examples.py`) and a tunnelling case built in
-(`max2code.event_vs_frame.tunnel_scene`): a bullet of radius 1 cm at 30 m/s
+(`max2code.reports.event_vs_frame.tunnel_scene`): a bullet of radius 1 cm at 30 m/s
 towards a fixed wall 2 cm thick.
 
-**Ours.** `max2code.simulate.run_scene(scene, lang)` for the Python runtime
+**Ours.** `max2code.sim.simulate.run_scene(scene, lang)` for the Python runtime
 and, when they build and run on this machine (checked at run time), the C
 and Rust runtimes.  Its collision events are the exact answer: exact up to
 rounding for scenes without rotation; within the scene's distance tolerance
@@ -647,7 +647,7 @@ that ends at once) is listed below the table.
 turns them, as in ours), an orbiting circle as an offset on a kinematic body;
 convex polygons with their vertices about the centre of mass and our moment
 of inertia (mass times second moment of area over area, from
-`max2code/scene.py`), not pymunk's own; fixed bodies static, or kinematic
+`max2code/sim/scene.py`), not pymunk's own; fixed bodies static, or kinematic
 when they move or spin; elasticity = our restitution (Chipmunk multiplies
 the two shapes' values, as we do); friction 0; the scene's gravity; no
 damping, no sleeping, the default 10 solver iterations.  `collision_slop`

@@ -14,9 +14,9 @@ from fractions import Fraction
 
 import mpmath
 
-from max2code.collect import Polynomial
+from max2code.generate.collect import Polynomial
 from max2code.errors import Span
-from max2code.expr import Call, Expr, Poly, Sym, to_maxima
+from max2code.generate.expr import Call, Expr, Poly, Sym, to_maxima
 
 # Nodes are plain tuples, so equal subexpressions are equal values:
 #   ("lit", float)  ("ref", name)  ("neg", a)  ("call", func, a)

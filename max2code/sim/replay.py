@@ -13,7 +13,7 @@ order, so replaying a Python trace reproduces its final states bit for bit.
 Per body the states are kept as a time-sorted list of segments, and a query
 is one bisection: `Replay.state_at(body, t)` costs O(log k) for a body with k
 state changes, whatever the number of bodies or events.  Nothing here draws;
-max2code/render_trace.py does.
+max2code/draw/render.py does.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 from max2code.errors import Max2CodeError
-from max2code.scene import Body, Scene
+from max2code.sim.scene import Body, Scene
 
 EVENT_KINDS = ("collision", "input", "frame")
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from max2code.expr import Expr, Monomial, NotPolynomial, Poly, Sym, to_maxima, to_poly
+from max2code.generate.expr import Expr, Monomial, NotPolynomial, Poly, Sym, to_maxima, to_poly
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from pathlib import Path
 
 from max2code.progress import bar
 
-ROOT = Path(__file__).resolve().parent.parent
+from max2code.paths import ROOT
 LANGS = ("c", "rust", "m2", "python")
 LETTERS = "abcdefmnopqghijklrsuvwxz"
 README_BEGIN = "<!-- accuracy:begin (written by max2code accuracy --readme) -->"
@@ -112,8 +112,8 @@ def make_cases(n: int, seed: int, progress: bool = True) -> list[dict]:
 
 # ---------------------------------------------------------------- harnesses
 def _generate(kind: str, lang: str, order: int, real: str):
-    from max2code.mxm import read_mxm
-    from max2code.pipeline import GenerateRequest, derive, generate
+    from max2code.generate.mxm import read_mxm
+    from max2code.generate.pipeline import GenerateRequest, derive, generate
 
     req = GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang=lang, out_name="generated",
                           options={"order": str(order)}, exact=kind in ("plain", "exact"), real=real)
@@ -121,14 +121,14 @@ def _generate(kind: str, lang: str, order: int, real: str):
         mod = read_mxm(str(ROOT / "equations" / "paper" / "circle-circle.mxm"))
         mod = dataclasses.replace(mod, blocks=(), terms=None, terms_span=None, equation="paper_circle_circle")
         return generate(derive(mod), dataclasses.replace(req, path=mod.path, options={}, variants=False))
-    from max2code.pipeline import generate_file
+    from max2code.generate.pipeline import generate_file
     return generate_file(req)
 
 
 def build(kind: str, lang: str, order: int, real: str, workdir: str):
     """A harness for `kind` (paper and single: one polynomial; plain and exact:
     the exact-motion driver) and the parameter names in its order."""
-    from max2code.exact_harness import build_exact_harness, build_poly_harness
+    from max2code.harness.exact import build_exact_harness, build_poly_harness
 
     g = _generate(kind, lang, order, real)
     if kind == "paper":

@@ -7,11 +7,12 @@ import os
 import subprocess
 from dataclasses import dataclass
 
-from max2code.lower import FunctionIR
-from max2code.render import environment
+from max2code.generate.lower import FunctionIR
+from max2code.paths import RUNTIMES
+from max2code.generate.render import environment
 from max2code.targets import target as get_target
 
-RUNTIME_M2_SRC = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "runtimes", "m2", "src")
+RUNTIME_M2_SRC = str(RUNTIMES / "m2" / "src")
 
 
 class HarnessBuildError(RuntimeError):

@@ -16,10 +16,10 @@ import sys
 import tempfile
 import time
 
-from max2code.maxima import run_maxima
-from max2code.mxm import read_mxm
+from max2code.generate.maxima import run_maxima
+from max2code.generate.mxm import read_mxm
 from max2code.progress import bar
-from max2code.pipeline import GenerateRequest, derive, generate_file
+from max2code.generate.pipeline import GenerateRequest, derive, generate_file
 from max2code.targets import LANGUAGES
 
 DEFAULT = ["equations/circle-circle.mxm", "equations/point-line.mxm"]

@@ -1,6 +1,6 @@
 """Parse a .mxm file into an MxmModule (typed, with source positions).
 
-The grammar is max2code/grammar/mxm.lark; this module turns Lark's tree
+The grammar is max2code/generate/grammar/mxm.lark; this module turns Lark's tree
 into dataclasses and Lark's exceptions into `FILE:LINE:COL: error: ...`.
 """
 from __future__ import annotations
@@ -115,7 +115,7 @@ def _friendly(term: str) -> str:
 
 @functools.lru_cache(maxsize=1)
 def _parser() -> Lark:
-    text = resources.files("max2code").joinpath("grammar/mxm.lark").read_text(encoding="utf-8")
+    text = resources.files("max2code.generate").joinpath("grammar/mxm.lark").read_text(encoding="utf-8")
     return Lark(text, parser="lalr", strict=True, propagate_positions=True, maybe_placeholders=False)
 
 

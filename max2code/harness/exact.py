@@ -8,9 +8,9 @@ import subprocess
 import sys
 from dataclasses import dataclass
 
-from max2code import runtimes
-from max2code.harness import HarnessBuildError
-from max2code.render import environment
+from max2code.harness import runtimes
+from max2code.harness.toc import HarnessBuildError
+from max2code.generate.render import environment
 
 MAX_ROWS = 20000      # rows the Modula-2 harness holds (a static array)
 

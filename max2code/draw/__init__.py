@@ -1,0 +1,1 @@
+"""Drawing: animated SVG, overview pictures and GIFs of a simulation trace."""
