@@ -145,3 +145,61 @@ def test_property_never_crashes(c, lo, hi):
     t = smallest_root(c, lo, hi)
     if t is not None:
         assert math.isfinite(t) and lo < t <= hi
+
+
+def test_any_magnitude_classic_quartic():
+    """Coefficients 1e-307 .. 1e1, roots 1e75 .. 1e80: once 'no root' (the
+    evaluation at the root overflowed); now solved band by band."""
+    from max2code.conformance.gencases import exact_poly
+    c = [float(v) for v in exact_poly([1e80, 1e77, 1e76, 1e75], 1e-307)]
+    assert abs(smallest_root(c, 0.0, 1e300) - 1e75) <= 1e-12 * 1e75
+    assert abs(smallest_root(c, 2e77, 1e300) - 1e80) <= 1e-12 * 1e80
+    assert smallest_root(c, -1e300, 1e70) is None
+    assert smallest_root([-1e-300, 0.0, 1e300], 0.0, 1.0) == 1e-300      # 1e-600 relative constant
+    assert smallest_root([-1e-300, 0.0, 1e300], -1.0, 1.0) == -1e-300
+    c = [float(v) for v in exact_poly([1e-300, 1.0, 1e300], 1.0)]
+    assert smallest_root(c, 0.0, 1.7976931348623157e308) == 1e-300
+    assert abs(smallest_root(c, 2.0, 1.7976931348623157e308) - 1e300) <= 1e-12 * 1e300
+
+
+@settings(max_examples=300, deadline=None)
+@given(c=st.lists(st.one_of(st.just(0.0), st.floats(-1e3, 1e3, allow_nan=False)), min_size=3, max_size=3),
+       k=st.integers(-180, 180), lo=st.floats(-4.0, 2.0), width=st.floats(0.01, 6.0))
+def test_property_degree2_fast_path_is_the_scaled_computation(c, k, lo, width):
+    """The degree-2 fast path (coefficients between 2^-200 and 2^200, no
+    scaling) returns the bits of the general route (scaling first)."""
+    from max2code_rt import roots as R
+    c = [math.ldexp(v, k) for v in c]
+    assume(c[2] != 0.0 and all(v == 0.0 or 2.0 ** -200 <= abs(v) < 2.0 ** 200 for v in c))
+    hi = lo + width
+    slow = R._solve(c, 2, lo, hi)
+    assert smallest_root(c, lo, hi) == (None if slow is None else slow + 0.0)
+
+
+@settings(max_examples=120, deadline=None)
+@given(data=st.data(), deg=st.integers(2, 8))
+def test_property_any_magnitude(data, deg):
+    """Real roots of one magnitude (1e-300 .. 1e300 for degree 2, 1e-75 ..
+    1e75 for degree 8, as far as the coefficients can hold), exact
+    coefficients rounded to doubles: the smallest positive root in (0, 1e308]
+    is found to 1e-9 relative (the rounding moves the roots a little)."""
+    from fractions import Fraction
+
+    from max2code.conformance.gencases import exact_poly
+    e10 = data.draw(st.integers(-(600 // deg), 600 // deg))
+    ms = data.draw(st.lists(st.floats(1.0, 9.0), min_size=deg, max_size=deg))
+    signs = data.draw(st.lists(st.sampled_from([-1.0, 1.0]), min_size=deg, max_size=deg))
+    rs = [s * m * 10.0 ** e10 for s, m in zip(signs, ms)]
+    assume(all(r != 0.0 and math.isfinite(r) for r in rs))
+    pos = sorted(r for r in rs if r > 0.0)
+    assume(all(abs(a - b) > 0.05 * abs(a) for i, a in enumerate(sorted(rs)) for b in sorted(rs)[i + 1:]))
+    ex = exact_poly(rs, 1.0)
+    bits = [abs(v).numerator.bit_length() - abs(v).denominator.bit_length() for v in ex if v != 0]
+    k = -(max(bits) + min(bits)) // 2
+    c = [float(v * Fraction(2) ** k) for v in ex]
+    assume(all(math.isfinite(v) and v != 0.0 for v in (c[0], c[-1])))
+    t = smallest_root(c, 0.0, 1.7976931348623157e308)
+    if not pos:
+        assert t is None
+    else:
+        assert t is not None and abs(t - pos[0]) <= 1e-9 * pos[0]

@@ -2,8 +2,10 @@
 
     python -m max2code.conformance.gencases [--out tests/conformance]
 
-writes roots_hard.jsonl (hand-picked hard and degenerate inputs) and
-roots_random.jsonl (random polynomials of degree 1..16).  Reference answers
+writes roots_hard.jsonl (hand-picked hard and degenerate inputs),
+roots_random.jsonl (random polynomials of degree 1..16) and
+roots_scaled.jsonl (any magnitude: roots from 1e-300 to 1e300, coefficients
+across the whole double range; `--only scaled` writes just this one).  Reference answers
 come from max2code.conformance.reference (exact rationals + mpmath), computed
 from the exact double coefficients stored in the case.  The generated files are
 committed, so a conformance run never needs mpmath.
@@ -14,6 +16,7 @@ import argparse
 import json
 import math
 import random
+from fractions import Fraction
 from multiprocessing import Pool
 from pathlib import Path
 
@@ -199,10 +202,129 @@ def random_cases(per_degree: int = 150) -> list[dict]:
     return out
 
 
+def exact_poly(roots, lead, pairs=()):
+    """Exact rational coefficients of lead * prod (t - r) * prod ((t - re)^2 + im^2)."""
+    c = [Fraction(lead)]
+    factors = [[-Fraction(r), Fraction(1)] for r in roots]
+    for re, im in pairs:
+        re, im = Fraction(re), Fraction(im)
+        factors.append([re * re + im * im, -2 * re, Fraction(1)])
+    for f in factors:
+        out = [Fraction(0)] * (len(c) + len(f) - 1)
+        for i, a in enumerate(c):
+            for j, b in enumerate(f):
+                out[i + j] += a * b
+        c = out
+    return c
+
+
+def _log10(x: Fraction) -> float:
+    return math.log10(abs(x.numerator)) - math.log10(x.denominator)
+
+
+def _doubles(c, rng, window=307.0):
+    """The coefficients rounded to doubles after a power of ten that puts the
+    largest and the smallest nonzero magnitude at a random place inside
+    10^(+-window); None when they span more than the window allows."""
+    logs = [_log10(v) for v in c if v != 0]
+    lo_, hi_ = min(logs), max(logs)
+    if hi_ - lo_ > 2 * window:
+        return None
+    k = round(rng.uniform(-window - lo_, window - hi_))
+    f = Fraction(10) ** k if k >= 0 else Fraction(1, 10 ** -k)
+    return [float(v * f) for v in c]
+
+
+def scaled_cases(per_degree: int = 20) -> list[dict]:
+    """Any magnitude (issue 11): hand-picked classics, then per degree 1..16
+    polynomials with roots of one magnitude from 1e-300 to 1e300 or of
+    magnitudes spread as far as the coefficients allow, and polynomials with
+    independent coefficients from 1e-307 to 1e307."""
+    rng = random.Random(SEED + 11)
+    out = []
+    add = lambda *a: out.append(case(*a))  # noqa: E731
+    big = 1.7976931348623157e308
+    quartic = [float(v) for v in exact_poly([1e80, 1e77, 1e76, 1e75], 1e-307)]
+    add("mag-quartic-1e80", quartic, 0.0, 1e300, "coefficients 1e-307 .. 1e1, roots 1e75 .. 1e80")
+    add("mag-quartic-1e80-last", quartic, 2e77, 1e300, "the root near 1e80")
+    add("mag-quartic-1e80-none", quartic, -1e300, 1e70, "no root below 1e75")
+    add("mag-quartic-1e-80", [float(v) for v in exact_poly([1e-80, 1e-77, 1e-76, 1e-75], 1e300)],
+        0.0, 1.0, "roots 1e-80 .. 1e-75")
+    add("mag-quadratic-1e-300-1e300", [float(v) for v in exact_poly([1e-300, 1e300], 1.0)], 0.0, big,
+        "roots 1e-300 and 1e300")
+    add("mag-quadratic-1e300", [float(v) for v in exact_poly([1e-300, 1e300], 1.0)], 1.0, big,
+        "roots 1e-300 and 1e300, the large one")
+    add("mag-pm-1e-300", [-1e-300, 0.0, 1e300], 0.0, 1.0, "1e300 t^2 - 1e-300: roots +-1e-300")
+    add("mag-pm-1e-300-neg", [-1e-300, 0.0, 1e300], -1.0, 1.0, "1e300 t^2 - 1e-300: the negative root")
+    add("mag-linear-tiny", [-1e-300, 1e8], 0.0, 1.0, "root 1e-308")
+    add("mag-linear-huge", [-1e300, 1e-7], 0.0, big, "root 1e307")
+    add("mag-d3-1e-300-1-1e300", [float(v) for v in exact_poly([1e-300, 1.0, 1e300], 1.0)], 0.0, big,
+        "roots 1e-300, 1, 1e300")
+    add("mag-d3-1e-300-1-1e300-mid", [float(v) for v in exact_poly([1e-300, 1.0, 1e300], 1.0)], 1e-200, big,
+        "roots 1e-300, 1, 1e300: from 1e-200")
+    add("mag-d3-1e-300-1-1e300-neg", [float(v) for v in exact_poly([-1e-300, -1.0, -1e300], 1.0)], -big, 0.0,
+        "roots -1e300, -1, -1e-300")
+    add("mag-d5-zero-root", [0.0] + [float(v) for v in exact_poly([1e-150, 2e-150, 1e150, 3e150], 1e-10)],
+        -1.0, 1e300, "t (t - 1e-150)(t - 2e-150)(t - 1e150)(t - 3e150): 0 first")
+    add("mag-d16-1e18", [float(v) for v in exact_poly([1e18 * (k + 1) for k in range(16)], 1.0)], 0.0, 1e300,
+        "roots 1e18 .. 1.6e19, degree 16 (beyond 2^(900/16))")
+    for deg in range(1, 17):
+        for k in range(per_degree):
+            kind = k % 4
+            if kind in (0, 1):
+                # real roots and complex pairs of one magnitude (kind 0) or spread (kind 1)
+                while True:
+                    centre = rng.uniform(-300.0, 300.0)
+                    spread = 0.0 if kind == 0 else rng.uniform(0.0, 600.0 / deg)
+                    mag = lambda: 10.0 ** max(-300.0, min(300.0, centre + rng.uniform(-0.5, 0.5) * spread))  # noqa
+                    rs, pairs, left = [], [], deg
+                    while left > 0:
+                        if left >= 2 and rng.random() < 0.25:
+                            m = mag()
+                            pairs.append((m * rng.uniform(-1.0, 1.0), m * rng.uniform(0.01, 1.0)))
+                            left -= 2
+                        else:
+                            rs.append(rng.choice([-1.0, 1.0]) * mag() * rng.uniform(1.0, 2.0))
+                            left -= 1
+                    c = _doubles(exact_poly(rs, rng.choice([-1.0, 1.0]), pairs), rng)
+                    if c is not None and c[-1] != 0.0:
+                        break
+                note = f"roots near 1e{centre:.0f}" + (f", spread 1e{spread:.0f}" if spread else "")
+                if rs and rng.random() < 0.6:
+                    r = rng.choice(rs)
+                    lo, hi = sorted((r * 0.5, r * 2.0))
+                    note += ", interval around a root"
+                elif rng.random() < 0.5:
+                    lo, hi = 0.0, big
+                else:
+                    lo, hi = -big, big
+            elif kind == 2:
+                # independent coefficients across the whole double range
+                c = [rng.choice([-1.0, 1.0]) * rng.uniform(1.0, 10.0) * 10.0 ** rng.uniform(-307.0, 307.0)
+                     for _ in range(deg + 1)]
+                lo, hi, note = 0.0, big, "coefficients 1e-307 .. 1e307"
+            else:
+                # a polynomial of moderate roots scaled in t: p(t / 10^k), coefficients over the range
+                k10 = rng.uniform(-1.0, 1.0) * min(300.0, 600.0 / deg)
+                rs = [rng.uniform(-1.0, 2.0) for _ in range(deg)]
+                base = exact_poly(rs, 1.0)
+                s10 = Fraction(10) ** round(k10) if k10 >= 0 else Fraction(1, 10 ** round(-k10))
+                c = _doubles([v / s10 ** i for i, v in enumerate(base)], rng)
+                if c is None or c[-1] == 0.0:
+                    raise AssertionError("the scaled coefficients must fit")
+                lo, hi = 0.0, float(s10)
+                note = f"roots in (-1, 2] times 1e{round(k10)}, interval (0, 1e{round(k10)}]"
+            out.append(case(f"mag-d{deg}-{k:03d}", c, lo, hi, note))
+    return out
+
+
 def _with_reference(c: dict) -> dict:
     from max2code.conformance.ops import num
     coeffs = [num(v) for v in c["coeffs"]]
-    ref = reference(coeffs, num(c["lo"]), num(c["hi"]))
+    if c["id"].startswith("mag-"):
+        ref = reference(coeffs, num(c["lo"]), num(c["hi"]), floor=5e-324, limit=1.7976931348623157e308)
+    else:
+        ref = reference(coeffs, num(c["lo"]), num(c["hi"]))
     c = dict(c)
     c["expect"] = ref["expect"]
     c["roots"] = ref["roots"]
@@ -223,10 +345,15 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=CASES)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--per-degree", type=int, default=150)
+    ap.add_argument("--only", choices=("hard", "random", "scaled"), help="write only this file")
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    write(args.out / "roots_hard.jsonl", hard_cases(), args.jobs)
-    write(args.out / "roots_random.jsonl", random_cases(args.per_degree), args.jobs)
+    if args.only in (None, "hard"):
+        write(args.out / "roots_hard.jsonl", hard_cases(), args.jobs)
+    if args.only in (None, "random"):
+        write(args.out / "roots_random.jsonl", random_cases(args.per_degree), args.jobs)
+    if args.only in (None, "scaled"):
+        write(args.out / "roots_scaled.jsonl", scaled_cases(), args.jobs)
     return 0
 
 

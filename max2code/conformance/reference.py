@@ -5,7 +5,9 @@ square-free factorisation over the rationals gives every root's multiplicity
 exactly, and mpmath (at 120 digits) finds the roots of each square-free factor.
 The tolerance of each real root follows docs/roots.md:
 
-    tol = max(1e-12 |r|, 4 * (m! * eps * ptilde(|r|) / |p^(m)(r)|)^(1/m), 1e-300)
+    tol = max(1e-12 |r|, 4 * (m! * eps * ptilde(|r|) / |p^(m)(r)|)^(1/m), floor)
+
+with floor = 1e-300 (2^-1074 for the scaled cases, whose roots go down to 1e-300).
 """
 from __future__ import annotations
 
@@ -110,7 +112,7 @@ def real_roots(coeffs: list[float]) -> list[tuple[mpmath.mpf, int]]:
     return out
 
 
-def tolerance(coeffs: list[float], r, m: int) -> float:
+def tolerance(coeffs: list[float], r, m: int, floor: float = 1e-300) -> float:
     """Accepted distance from the reference root r of multiplicity m."""
     with mpmath.workdps(DPS):
         p = [mpmath.mpf(c) for c in coeffs]
@@ -124,13 +126,15 @@ def tolerance(coeffs: list[float], r, m: int) -> float:
             cond = mpmath.inf
         else:
             cond = 4 * (math.factorial(m) * mpmath.mpf(EPS) * pt / abs(dm)) ** (mpmath.mpf(1) / m)
-        tol = max(rel, cond, mpmath.mpf(1e-300))
+        tol = max(rel, cond, mpmath.mpf(floor))
         return float(tol)
 
 
-def reference(coeffs: list[float], lo: float, hi: float) -> dict:
+def reference(coeffs: list[float], lo: float, hi: float, floor: float = 1e-300, limit: float = 1e300) -> dict:
     """Reference fields of a roots case: expect (float or None), and the real
-    roots near (lo, hi] that decide acceptance, each [r, m, tol]."""
+    roots near (lo, hi] that decide acceptance, each [r, m, tol].  `floor` is
+    the absolute floor of the tolerance and roots beyond `limit` are left out
+    (the scaled cases use the smallest subnormal and the largest double)."""
     bad = any(not math.isfinite(c) for c in coeffs) or not (math.isfinite(lo) and math.isfinite(hi)) or not (lo < hi)
     if bad:
         return {"expect": None, "roots": []}
@@ -139,9 +143,9 @@ def reference(coeffs: list[float], lo: float, hi: float) -> dict:
     expect = None
     with mpmath.workdps(DPS):
         for r, m in roots:
-            if abs(r) > 1e300:      # beyond any finite interval of doubles
+            if abs(r) > limit:      # beyond any finite interval of doubles
                 continue
-            tol = min(tolerance(coeffs, r, m), 1e300)
+            tol = min(tolerance(coeffs, r, m, floor), 1e300)
             if r <= lo - tol or r > hi + tol:
                 continue
             rf = float(r)

@@ -11,6 +11,9 @@ CONST
    Splitter = 134217729.0 ;   (* 2^27 + 1, Veltkamp splitting constant *)
    MaxIt = 100 ;              (* bracketed Newton step limit *)
    BernDepth = 12 ;           (* Bernstein subdivision depth limit *)
+   QuadSpread = 900 ;         (* degree 2: one scale when coefficient exponents span at most this *)
+   OneScaleSpan = 800 ;       (* degree n >= 3: one scale when all roots lie in 2^(+-800/n) *)
+   BandSpan = 800 ;           (* otherwise bands of magnitude 2^(800/n) *)
 
 TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
@@ -20,8 +23,11 @@ VAR
    Eps,                       (* 2^-52, spacing of doubles at 1 *)
    Tiny,                      (* 2^-1000, floor of the touching bound *)
    Sixteenth,                 (* 2^-16, bisection step from an end at 0 *)
-   NewtonTol: REAL ;
-   Init: INTEGER ;          (* 2^-30: an accepted Newton step this small (relative) has converged *)
+   NewtonTol,                 (* 2^-30: an accepted Newton step this small (relative) has converged *)
+   PolishedTol,               (* 2^-20: the same when the polish follows (Bernstein's single root) *)
+   ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
+   Inf: REAL ;                (* infinity *)
+   Init: INTEGER ;
 
 
 PROCEDURE IsFinite (x: REAL) : BOOLEAN ;
@@ -135,7 +141,7 @@ END Midpoint ;
 (* Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other,
    starting at x0 (lo < x0 < hi). *)
 PROCEDURE Newton (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
-                  x0: REAL) : REAL ;
+                  x0, tolnewton: REAL) : REAL ;
 VAR
    x, xa, xb, dx, dxold, v, d, step, xn, tol: REAL ;
    neg: BOOLEAN ;
@@ -165,7 +171,7 @@ BEGIN
          THEN
             dxold := dx ;
             dx := step ;
-            tol := NewtonTol
+            tol := tolnewton
          ELSE
             dxold := dx ;
             dx := 0.5 * (xb - xa) ;
@@ -229,16 +235,34 @@ PROCEDURE Quadratic (a, b, c: REAL; VAR r: ARRAY OF REAL) : INTEGER ;
 VAR
    p, pe, q, qe, a4, disc, bound, s, qq, r1, r2: REAL ;
 BEGIN
-   TwoProd (b, b, p, pe) ;
-   a4 := 4.0 * a ;
-   TwoProd (a4, c, q, qe) ;
-   disc := (p - q) + (pe - qe) ;
-   bound := Eps * Eps * (p + ABS (q)) ;
-   IF disc < -bound THEN RETURN 0 END ;
-   IF disc <= bound
+   (* the plain discriminant when it cannot cancel (4ac <= b*b/2), none when
+      it is clearly negative, error-free products only in between *)
+   p := b * b ;
+   q := (4.0 * a) * c ;
+   disc := p - q ;
+   IF q <= 0.5 * p
    THEN
-      r[0] := -b / (2.0 * a) ;
-      RETURN 1
+      IF disc = 0.0
+      THEN
+         (* b = 0 and ac = 0 *)
+         r[0] := -b / (2.0 * a) ;
+         RETURN 1
+      END
+   ELSIF disc < -Eps * (p + q)
+   THEN
+      RETURN 0
+   ELSE
+      TwoProd (b, b, p, pe) ;
+      a4 := 4.0 * a ;
+      TwoProd (a4, c, q, qe) ;
+      disc := (p - q) + (pe - qe) ;
+      bound := Eps * Eps * (p + ABS (q)) ;
+      IF disc < -bound THEN RETURN 0 END ;
+      IF disc <= bound
+      THEN
+         r[0] := -b / (2.0 * a) ;
+         RETURN 1
+      END
    END ;
    s := sqrt (disc) ;
    IF b < 0.0 THEN s := -s END ;
@@ -277,7 +301,7 @@ BEGIN
          INC (k)
       ELSIF sl * sr < 0
       THEN
-         out[k] := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr)) ;
+         out[k] := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr), NewtonTol) ;
          INC (k)
       END ;
       xl := xr ;
@@ -331,7 +355,7 @@ BEGIN
       sr := SignTop (a, n, xr) ;
       IF sl * sr < 0
       THEN
-         x := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr)) ;
+         x := Newton (a, n, xl, xr, sl, 0.5 * (xl + xr), NewtonTol) ;
          x := Polish (a, n, x, xl, xr) ;   (* the monotone piece bounds the polish *)
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
@@ -454,7 +478,7 @@ BEGIN
          x0 := xl + (xr - xl) * s ;
          IF NOT ((xl < x0) AND (x0 < xr)) THEN x0 := 0.5 * (xl + xr) END ;
          IF b[0] < 0.0 THEN sl := -1 ELSE sl := 1 END ;
-         x := Newton (a, n, xl, xr, sl, x0) ;
+         x := Newton (a, n, xl, xr, sl, x0, PolishedTol) ;
          x := Polish (a, n, x, xl, xr) ;
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
@@ -539,20 +563,246 @@ BEGIN
 END Scale ;
 
 
+(* The first root of a x^2 + b x + c (a # 0) in (lo, hi]. *)
+PROCEDURE QuadraticIn (a, b, c, lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   r: ARRAY [0..1] OF REAL ;
+   nr: INTEGER ;
+BEGIN
+   nr := Quadratic (a, b, c, r) ;
+   IF (nr > 0) AND (lo < r[0]) AND (r[0] <= hi)
+   THEN
+      t := r[0] ;
+      RETURN TRUE
+   END ;
+   IF (nr > 1) AND (lo < r[1]) AND (r[1] <= hi)
+   THEN
+      t := r[1] ;
+      RETURN TRUE
+   END ;
+   RETURN FALSE
+END QuadraticIn ;
+
+
+(* v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
+   fast path needs no scaling for such coefficients. *)
+PROCEDURE Moderate (v: REAL) : BOOLEAN ;
+BEGIN
+   v := ABS (v) ;
+   IF v = 0.0 THEN RETURN TRUE END ;
+   (* NaN first: gm2 may rewrite v >= lo as NOT (v < lo) *)
+   IF NOT IsFinite (v) THEN RETURN FALSE END ;
+   RETURN (v >= ModerateLo) AND (v < ModerateHi)
+END Moderate ;
+
+
+(* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1. *)
+PROCEDURE Exponent (x: REAL) : INTEGER ;
+VAR
+   e: INTEGER ;
+   f: REAL ;
+BEGIN
+   f := frexp (x, e) ;
+   RETURN e
+END Exponent ;
+
+
+(* ceil(a / k) for k > 0, with nonnegative operands only. *)
+PROCEDURE CeilDiv (a, k: INTEGER) : INTEGER ;
+BEGIN
+   IF a >= 0 THEN RETURN (a + k - 1) DIV k END ;
+   RETURN -((-a) DIV k)
+END CeilDiv ;
+
+
+(* Scaled coefficients (max |a_i| in [1, 2), a[n] # 0, n >= 1): the first
+   root in (lo, hi] by the closed forms or the general method. *)
+PROCEDURE ScaledAny (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   x: REAL ;
+BEGIN
+   IF n = 1
+   THEN
+      x := -a[0] / a[1] ;
+      IF NOT ((lo < x) AND (x <= hi)) THEN RETURN FALSE END ;
+      t := x ;
+      RETURN TRUE
+   ELSIF n = 2
+   THEN
+      RETURN QuadraticIn (a[2], a[1], a[0], lo, hi, t)
+   END ;
+   RETURN General (a, n, lo, hi, t)
+END ScaledAny ;
+
+
+(* (ue, le): every root of c (degree n, c[n] # 0, j < n the lowest index
+   with c[j] # 0) has |t| < 2^ue, every nonzero root |t| > 2^le (Fujiwara's
+   bound on p and on its reverse, in exponents). *)
+PROCEDURE RootExponents (VAR c: ARRAY OF REAL; n, j: INTEGER; VAR ue, le: INTEGER) ;
+VAR
+   en, ej, u, lx, i, v: INTEGER ;
+BEGIN
+   en := Exponent (c[n]) ;
+   ej := Exponent (c[j]) ;
+   u := -1073741824 ;
+   lx := -1073741824 ;
+   FOR i := j TO n - 1 DO
+      IF c[i] # 0.0
+      THEN
+         v := CeilDiv (Exponent (c[i]) - en + 1, n - i) ;
+         IF v > u THEN u := v END
+      END
+   END ;
+   FOR i := j + 1 TO n DO
+      IF c[i] # 0.0
+      THEN
+         v := CeilDiv (Exponent (c[i]) - ej + 1, i - j) ;
+         IF v > lx THEN lx := v END
+      END
+   END ;
+   ue := u + 1 ;
+   le := -(lx + 1)
+END RootExponents ;
+
+
+(* 2^e, or infinity beyond the largest double (a band edge). *)
+PROCEDURE Edge (e: INTEGER) : REAL ;
+BEGIN
+   IF e > 1023 THEN RETURN Inf END ;
+   RETURN ldexp (1.0, e)
+END Edge ;
+
+
+(* The smallest root in (xl, xr], where 2^(s - w) <= |x| <= 2^s: solved in
+   u = t 2^-s with the coefficients c_i 2^(s i) scaled together so that the
+   largest lies in [1, 2) (those far below underflow: negligible there). *)
+PROCEDURE Band (VAR c: ARRAY OF REAL; n, s: INTEGER; xl, xr: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   a: Coeffs ;
+   m, i, f: INTEGER ;
+   u, x: REAL ;
+BEGIN
+   m := -1073741824 ;
+   FOR i := 0 TO n DO
+      IF c[i] # 0.0
+      THEN
+         f := Exponent (c[i]) + s * i ;
+         IF f > m THEN m := f END
+      END
+   END ;
+   FOR i := 0 TO n DO
+      a[i] := ldexp (c[i], s * i + 1 - m)
+   END ;
+   WHILE (n >= 0) AND (a[n] = 0.0) DO
+      DEC (n)
+   END ;
+   IF n <= 0 THEN RETURN FALSE END ;
+   IF NOT ScaledAny (a, n, ldexp (xl, -s), ldexp (xr, -s), u) THEN RETURN FALSE END ;
+   x := ldexp (u, s) ;
+   IF NOT ((xl < x) AND (x <= xr)) THEN RETURN FALSE END ;
+   t := x ;
+   RETURN TRUE
+END Band ;
+
+
+(* Roots too spread for one scale: bands of magnitude, each with its own
+   power-of-two scale of t, in the order of t (docs/roots.md step 7). *)
+PROCEDURE Banded (VAR c: ARRAY OF REAL; n, j, ue, le: INTEGER; lo, hi: REAL;
+                  VAR t: REAL) : BOOLEAN ;
+VAR
+   w, nb, k, s: INTEGER ;
+   xl, xr: REAL ;
+BEGIN
+   w := BandSpan DIV n ;
+   nb := CeilDiv (ue - le, w) ;
+   k := nb - 1 ;
+   WHILE k >= 0 DO
+      s := le + (k + 1) * w ;
+      xl := -Edge (s) ;
+      xr := -Edge (s - w) ;
+      IF lo > xl THEN xl := lo END ;
+      IF hi < xr THEN xr := hi END ;
+      IF (xl < xr) AND Band (c, n, s, xl, xr, t) THEN RETURN TRUE END ;
+      DEC (k)
+   END ;
+   IF (j > 0) AND (lo < 0.0) AND (0.0 <= hi)
+   THEN
+      t := 0.0 ;
+      RETURN TRUE
+   END ;
+   FOR k := 0 TO nb - 1 DO
+      s := le + (k + 1) * w ;
+      xl := Edge (s - w) ;
+      xr := Edge (s) ;
+      IF lo > xl THEN xl := lo END ;
+      IF hi < xr THEN xr := hi END ;
+      IF (xl < xr) AND Band (c, n, s, xl, xr, t) THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END Banded ;
+
+
+(* Degree n >= 2 (c[n] # 0, all finite): one power-of-two scale of the
+   coefficients when the roots allow it, else bands. *)
+PROCEDURE Solve (VAR c: ARRAY OF REAL; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   a: Coeffs ;
+   mx, mn, v: REAL ;
+   i, j, spread, ue, le, lim, n2: INTEGER ;
+   many: BOOLEAN ;
+BEGIN
+   mx := 0.0 ;
+   mn := Inf ;
+   j := -1 ;
+   FOR i := 0 TO n DO
+      v := ABS (c[i]) ;
+      IF v # 0.0
+      THEN
+         IF j < 0 THEN j := i END ;
+         IF v > mx THEN mx := v END ;
+         IF v < mn THEN mn := v END
+      END
+   END ;
+   spread := Exponent (mx) - Exponent (mn) ;
+   lim := OneScaleSpan DIV n ;
+   IF n = 2
+   THEN
+      many := spread > QuadSpread
+   ELSE
+      many := spread > lim - 2
+   END ;
+   IF many
+   THEN
+      RootExponents (c, n, j, ue, le) ;
+      IF (n = 2) OR NOT ((ue <= lim) AND (le >= -lim))
+      THEN
+         RETURN Banded (c, n, j, ue, le, lo, hi, t)
+      END
+   END ;
+   n2 := Scale (c, n, a) ;
+   IF n2 <= 0 THEN RETURN FALSE END ;
+   RETURN ScaledAny (a, n2, lo, hi, t)
+END Solve ;
+
+
 PROCEDURE SmallestRoot (c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
-   a: Coeffs ;
-   r: ARRAY [0..1] OF REAL ;
-   n, i, nr: INTEGER ;
+   n, i: INTEGER ;
    x: REAL ;
-   found: BOOLEAN ;
 BEGIN
    IF (degree < 0) OR (degree > MaxDegree) OR (degree > VAL (INTEGER, HIGH (c)))
    THEN
       RETURN FALSE
    END ;
    IF (NOT (IsFinite (lo) AND IsFinite (hi))) OR (NOT (lo < hi)) THEN RETURN FALSE END ;
+   IF (degree = 2) AND (c[2] # 0.0) AND Moderate (c[0]) AND Moderate (c[1]) AND Moderate (c[2])
+   THEN
+      (* fast path: moderate coefficients give the same bits unscaled *)
+      IF NOT QuadraticIn (c[2], c[1], c[0], lo, hi, x) THEN RETURN FALSE END ;
+      t := x + 0.0 ;
+      RETURN TRUE
+   END ;
    FOR i := 0 TO degree DO
       IF NOT IsFinite (c[i]) THEN RETURN FALSE END
    END ;
@@ -561,27 +811,12 @@ BEGIN
       DEC (n)
    END ;
    IF n <= 0 THEN RETURN FALSE END ;
-   n := Scale (c, n, a) ;
-   IF n <= 0 THEN RETURN FALSE END ;
    IF n = 1
    THEN
-      x := -a[0] / a[1] ;
+      (* one correctly rounded division: no scaling needed *)
+      x := -c[0] / c[1] ;
       IF NOT ((lo < x) AND (x <= hi)) THEN RETURN FALSE END
-   ELSIF n = 2
-   THEN
-      nr := Quadratic (a[2], a[1], a[0], r) ;
-      found := FALSE ;
-      i := 0 ;
-      WHILE (i < nr) AND (NOT found) DO
-         IF (lo < r[i]) AND (r[i] <= hi)
-         THEN
-            x := r[i] ;
-            found := TRUE
-         END ;
-         INC (i)
-      END ;
-      IF NOT found THEN RETURN FALSE END
-   ELSIF NOT General (a, n, lo, hi, x)
+   ELSIF NOT Solve (c, n, lo, hi, x)
    THEN
       RETURN FALSE
    END ;
@@ -598,5 +833,10 @@ BEGIN
    Eps := ldexp (1.0, -52) ;
    Tiny := ldexp (1.0, -1000) ;
    Sixteenth := ldexp (1.0, -16) ;
-   NewtonTol := ldexp (1.0, -30)
+   NewtonTol := ldexp (1.0, -30) ;
+   PolishedTol := ldexp (1.0, -20) ;
+   ModerateLo := ldexp (1.0, -200) ;
+   ModerateHi := ldexp (1.0, 200) ;
+   Inf := ldexp (1.0, 1023) ;
+   Inf := Inf * 2.0
 END Roots.

@@ -179,7 +179,7 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
             double x0 = xl + (xr - xl) * s;
             if (!(xl < x0 && x0 < xr))
                 x0 = 0.5 * (xl + xr);
-            double x = m2c_newton_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_NEWTON_TOL);
+            double x = m2c_newton_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_POLISHED_TOL);
             x = m2c_polish_impl(a, n, x, xl, xr);
             if (!(x > xl))
                 x = xr;
@@ -234,12 +234,10 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
     }
 }
 
-M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *t)
+/* Scaled coefficients (max |a_i| in [1, 2), a[n] != 0): closed forms for
+ * degrees 1 and 2, the general method above. */
+M2C_INLINE int scaled_impl(const double *a, int n, double lo, double hi, double *t)
 {
-    double a[M2C_MAX_DEGREE + 1];
-    int n2 = m2c_scale_impl(c, n, a);
-    if (n2 != n)
-        return n2 > 0 && m2c_solve(a, n2, lo, hi, t); /* underflow: rescale (exact no-op) */
     if (n == 1) {
         double x = -a[0] / a[1];
         if (!(lo < x && x <= hi))
@@ -247,18 +245,43 @@ M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *
         *t = x;
         return 1;
     }
-    if (n == 2) {
-        double r[2];
-        int nr = m2c_quadratic(a[2], a[1], a[0], r);
-        for (int i = 0; i < nr; i++) {
-            if (lo < r[i] && r[i] <= hi) {
-                *t = r[i];
-                return 1;
-            }
-        }
-        return 0;
-    }
+    if (n == 2)
+        return m2c_quadratic_in(a[2], a[1], a[0], lo, hi, t);
     return general_impl(a, n, lo, hi, t);
+}
+
+/* Degree n >= 2: one power-of-two scale of the coefficients when the roots
+ * allow it (the exponents of the nonzero coefficients span little, or
+ * Fujiwara's bounds put every root within 2^(+-800/n)), else bands. */
+M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *t)
+{
+    double mx = 0.0, mn = INFINITY;
+    int j = -1;
+    M2C_UNROLL
+    for (int i = 0; i <= n; i++) {
+        double v = fabs(c[i]);
+        if (v != 0.0) {
+            if (j < 0)
+                j = i;
+            if (v > mx)
+                mx = v;
+            if (v < mn)
+                mn = v;
+        }
+    }
+    int spread = m2c_frexp_exp(mx) - m2c_frexp_exp(mn);
+    if (n == 2 ? spread > M2C_QUAD_SPREAD : spread > M2C_ONE_SCALE_SPAN / n - 2) {
+        int ue, le;
+        m2c_root_exponents(c, n, j, &ue, &le);
+        int lim = M2C_ONE_SCALE_SPAN / n;
+        if (n == 2 || !(ue <= lim && le >= -lim))
+            return m2c_banded(c, n, j, ue, le, lo, hi, t);
+    }
+    double a[M2C_MAX_DEGREE + 1];
+    int n2 = m2c_scale_impl(c, n, a);
+    if (n2 != n) /* top coefficients underflowed in the scaling (not with these spreads) */
+        return n2 > 0 && m2c_scaled_any(a, n2, lo, hi, t);
+    return scaled_impl(a, n, lo, hi, t);
 }
 
 #define M2C_CASE(N) \
@@ -266,6 +289,22 @@ M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *
         return solve_impl(c, N, lo, hi, t);
 
 int m2c_solve(const double *c, int n, double lo, double hi, double *t)
+{
+    switch (n) {
+        M2C_CASE(2) M2C_CASE(3) M2C_CASE(4) M2C_CASE(5) M2C_CASE(6)
+        M2C_CASE(7) M2C_CASE(8) M2C_CASE(9) M2C_CASE(10) M2C_CASE(11) M2C_CASE(12)
+        M2C_CASE(13) M2C_CASE(14) M2C_CASE(15) M2C_CASE(16)
+    default:
+        return 0;
+    }
+}
+
+#undef M2C_CASE
+#define M2C_CASE(N) \
+    case N:         \
+        return scaled_impl(a, N, lo, hi, t);
+
+int m2c_scaled_any(const double *a, int n, double lo, double hi, double *t)
 {
     switch (n) {
         M2C_CASE(1) M2C_CASE(2) M2C_CASE(3) M2C_CASE(4) M2C_CASE(5) M2C_CASE(6)

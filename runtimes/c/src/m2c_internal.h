@@ -17,8 +17,12 @@
 #define M2C_TINY 0x1p-1000       /* absolute floor of the touching and Bernstein bounds */
 #define M2C_SIXTEENTH 0x1p-16    /* bisection step from a bracket end at 0 */
 #define M2C_NEWTON_TOL 0x1p-30   /* an accepted Newton step this small (relative) has converged */
+#define M2C_POLISHED_TOL 0x1p-20 /* the same when the polish follows (Bernstein's single root) */
 #define M2C_MAXIT 100            /* bracketed Newton step limit */
 #define M2C_BERN_DEPTH 12        /* Bernstein subdivision depth limit */
+#define M2C_QUAD_SPREAD 900      /* degree 2: one scale when coefficient exponents span at most this */
+#define M2C_ONE_SCALE_SPAN 800   /* degree n >= 3: one scale when all roots lie in 2^(+-800/n) */
+#define M2C_BAND_SPAN 800        /* otherwise bands of magnitude 2^(800/n) */
 
 #define M2C_INLINE static inline __attribute__((always_inline))
 #define M2C_UNROLL _Pragma("GCC unroll 17")
@@ -151,20 +155,34 @@ M2C_INLINE double m2c_polish_impl(const double *a, int n, double x, double xa, d
     return x;
 }
 
-/* Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns count. */
+/* Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns count.
+ * The plain discriminant when it cannot cancel (4ac <= b*b/2), none when it
+ * is clearly negative, error-free products only in between. */
 M2C_INLINE int m2c_quadratic(double a, double b, double c, double r[2])
 {
-    double p, pe, q, qe;
-    m2c_two_prod(b, b, &p, &pe);
-    double a4 = 4.0 * a;
-    m2c_two_prod(a4, c, &q, &qe);
-    double disc = (p - q) + (pe - qe);
-    double bound = M2C_EPS * M2C_EPS * (p + fabs(q));
-    if (disc < -bound)
+    double p = b * b;
+    double q = (4.0 * a) * c;
+    double disc = p - q;
+    if (q <= 0.5 * p) {
+        if (disc == 0.0) { /* b == 0 and ac == 0 */
+            r[0] = -b / (2.0 * a);
+            return 1;
+        }
+    } else if (disc < -M2C_EPS * (p + q)) {
         return 0;
-    if (disc <= bound) {
-        r[0] = -b / (2.0 * a);
-        return 1;
+    } else {
+        double pe, qe;
+        m2c_two_prod(b, b, &p, &pe);
+        double a4 = 4.0 * a;
+        m2c_two_prod(a4, c, &q, &qe);
+        disc = (p - q) + (pe - qe);
+        double bound = M2C_EPS * M2C_EPS * (p + fabs(q));
+        if (disc < -bound)
+            return 0;
+        if (disc <= bound) {
+            r[0] = -b / (2.0 * a);
+            return 1;
+        }
     }
     double s = sqrt(disc);
     if (b < 0.0)
@@ -180,6 +198,32 @@ M2C_INLINE int m2c_quadratic(double a, double b, double c, double r[2])
         r[1] = r1;
     }
     return 2;
+}
+
+/* The first root of a x^2 + b x + c (a != 0) in (lo, hi]: 1 and *t, or 0. */
+M2C_INLINE int m2c_quadratic_in(double a, double b, double c, double lo, double hi, double *t)
+{
+    double r[2];
+    int nr = m2c_quadratic(a, b, c, r);
+    if (nr > 0 && lo < r[0] && r[0] <= hi) {
+        *t = r[0];
+        return 1;
+    }
+    if (nr > 1 && lo < r[1] && r[1] <= hi) {
+        *t = r[1];
+        return 1;
+    }
+    return 0;
+}
+
+/* v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
+ * fast path needs no scaling for such coefficients. */
+M2C_INLINE int m2c_moderate(double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    uint64_t e = (u >> 52) & 0x7ff;
+    return (e - 823u < 400u) | ((u << 1) == 0);
 }
 
 /* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp). */
@@ -232,9 +276,22 @@ M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
 /* m2c_scale_impl, not inlined (the GSL baseline). */
 int m2c_scale(const double *c, int n, double *a);
 
-/* Degree n >= 1 of c (exactly-zero top coefficients stripped), lo < hi
- * finite: the answer of docs/roots.md steps 3-6; 1 and *t when found. */
+/* Degree n >= 2 of c (c[n] != 0, all finite), lo < hi finite: one scale
+ * or bands (docs/roots.md steps 3-7); 1 and *t when found. */
 int m2c_solve(const double *c, int n, double lo, double hi, double *t);
+
+/* Coefficients a[0..n] already scaled (max |a_i| in [1, 2), a[n] != 0,
+ * n >= 1): the first root in (lo, hi] by the closed forms or the general
+ * method; 1 and *t when found. */
+int m2c_scaled_any(const double *a, int n, double lo, double hi, double *t);
+
+/* Exponents (ue, le): every root of c (degree n, c[n] != 0, j < n the lowest
+ * index with c[j] != 0) has |t| < 2^ue, every nonzero root |t| > 2^le. */
+void m2c_root_exponents(const double *c, int n, int j, int *ue, int *le);
+
+/* Roots too spread for one scale: bands of magnitude, each with its own
+ * power-of-two scale of t (docs/roots.md step 7); 1 and *t when found. */
+int m2c_banded(const double *c, int n, int j, int ue, int le, double lo, double hi, double *t);
 
 /* The contract's input rules, shared by the solver and the GSL baseline:
  * -1 for a bad degree or NULL pointer, 0 when the answer is "none" (NaN/inf,

@@ -1,5 +1,6 @@
 /* m2c_smallest_root: validation and degree reduction; m2c_solve
  * (m2c_general.c) scales and dispatches (t in the caller's time unit). */
+#include <float.h>
 #include <math.h>
 #include "m2c_internal.h"
 #include "m2c_roots.h"
@@ -11,13 +12,30 @@ int m2c_scale(const double *c, int n, double *a)
 
 int m2c_smallest_root(const double *c, int degree, double lo, double hi, double *t)
 {
+    if (degree == 2 && c != 0 && t != 0) {
+        /* fast path: moderate coefficients give the same bits unscaled */
+        double c0 = c[0], c1 = c[1], c2 = c[2];
+        if ((c2 != 0.0) & m2c_moderate(c0) & m2c_moderate(c1) & m2c_moderate(c2) &
+            (fabs(lo) <= DBL_MAX) & (fabs(hi) <= DBL_MAX) & (lo < hi)) {
+            double x;
+            if (!m2c_quadratic_in(c2, c1, c0, lo, hi, &x))
+                return 0;
+            *t = x + 0.0;
+            return 1;
+        }
+    }
     int n = 0;
     int ok = m2c_check_input(c, degree, lo, hi, t, &n);
     if (ok != 1)
         return ok;
     double x;
-    if (!m2c_solve(c, n, lo, hi, &x))
+    if (n == 1) {
+        x = -c[0] / c[1]; /* one correctly rounded division: no scaling needed */
+        if (!(lo < x && x <= hi))
+            return 0;
+    } else if (!m2c_solve(c, n, lo, hi, &x)) {
         return 0;
+    }
     *t = x + 0.0;
     return 1;
 }

@@ -16,7 +16,14 @@ SPLITTER = 134217729.0    # 2^27 + 1, Veltkamp splitting constant
 TINY = 2.0 ** -1000       # absolute floor of the touching bound
 SIXTEENTH = 2.0 ** -16    # bisection step from an end at zero
 NEWTON_TOL = 2.0 ** -30   # an accepted Newton step this small (relative) has converged
+POLISHED_TOL = 2.0 ** -20  # the same when the polish follows (Bernstein's single root)
 MAXIT = 100               # bracketed Newton step limit
+MODERATE_LO = 2.0 ** -200  # degree-2 fast path: every coefficient 0 or in [2^-200, 2^200)
+MODERATE_HI = 2.0 ** 200
+QUAD_SPREAD = 900         # degree 2: one scale when the coefficient exponents span at most this
+ONE_SCALE_SPAN = 800      # degree n >= 3: one scale when all roots lie in 2^(+-800/n)
+BAND_SPAN = 800           # otherwise bands of magnitude 2^(800/n)
+_ldexp = math.ldexp
 
 _isfinite = math.isfinite
 _fabs = math.fabs
@@ -105,7 +112,8 @@ def _midpoint(xa: float, xb: float, half: float) -> float:
     return xa + half
 
 
-def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -> float:
+def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float,
+            tolnewton: float = NEWTON_TOL) -> float:
     """Root of p in (lo, hi) where p(lo) has sign slo and p(hi) the other,
     starting at x0 (lo < x0 < hi)."""
     xa = lo
@@ -135,7 +143,7 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
             if xa < xn < xb:
                 dxold = dx
                 dx = step
-                tol = NEWTON_TOL
+                tol = tolnewton
             else:
                 dxold = dx
                 dx = 0.5 * (xb - xa)
@@ -155,17 +163,30 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
 
 
 def _quadratic(a: float, b: float, c: float) -> list[float]:
-    """Real roots of a x^2 + b x + c (a != 0), ascending; a double root once."""
-    p, pe = _two_prod(b, b)
-    a4 = 4.0 * a
-    q, qe = _two_prod(a4, c)
-    disc = (p - q) + (pe - qe)
-    bound = EPS * EPS * (p + _fabs(q))
-    if disc < -bound:
+    """Real roots of a x^2 + b x + c (a != 0), ascending; a double root once.
+
+    The plain discriminant b*b - 4ac is used when it cannot cancel
+    (4ac <= b*b/2) and a clearly negative one means no real root; only in
+    between is it computed from error-free products."""
+    p = b * b
+    q = (4.0 * a) * c
+    d = p - q
+    if q <= 0.5 * p:
+        if d == 0.0:                   # b == 0 and ac == 0
+            return [-b / (2.0 * a)]
+    elif d < -EPS * (p + q):
         return []
-    if disc <= bound:
-        return [-b / (2.0 * a)]
-    s = _sqrt(disc)
+    else:
+        p, pe = _two_prod(b, b)
+        a4 = 4.0 * a
+        q, qe = _two_prod(a4, c)
+        d = (p - q) + (pe - qe)
+        bound = EPS * EPS * (p + _fabs(q))
+        if d < -bound:
+            return []
+        if d <= bound:
+            return [-b / (2.0 * a)]
+    s = _sqrt(d)
     if b < 0.0:
         s = -s
     q = -0.5 * (b + s)
@@ -334,7 +355,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             x0 = xl + (xr - xl) * s
             if not (xl < x0 < xr):
                 x0 = 0.5 * (xl + xr)
-            x = _newton(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
+            x = _newton(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0, POLISHED_TOL)
             x = _polish(a, n, x, xl, xr)
             if not (x > xl):
                 x = xr
@@ -398,6 +419,172 @@ def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
     return x
 
 
+def _moderate(v: float) -> bool:
+    """v is zero or 2^-200 <= |v| < 2^200 (false for NaN and infinities)."""
+    v = _fabs(v)
+    return v == 0.0 or MODERATE_LO <= v < MODERATE_HI
+
+
+def _quadratic_in(a: float, b: float, c: float, lo: float, hi: float) -> float | None:
+    """First root of a x^2 + b x + c in (lo, hi] (a != 0)."""
+    for t in _quadratic(a, b, c):
+        if lo < t <= hi:
+            return t
+    return None
+
+
+def _exponent(x: float) -> int:
+    """Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1."""
+    return math.frexp(x)[1]
+
+
+def _ceil_div(a: int, k: int) -> int:
+    """ceil(a / k) for k > 0 (written with nonnegative operands only)."""
+    if a >= 0:
+        return (a + k - 1) // k
+    return -((-a) // k)
+
+
+def _root_exponents(c: list[float], n: int, j: int) -> tuple[int, int]:
+    """(u, l): every root t of p has |t| < 2^u, every nonzero root |t| > 2^l.
+    Fujiwara's bound 2 max |c_i/c_n|^(1/(n-i)) on p and on its reverse, in
+    exponents (|c_i| < 2^e_i, |c_n| >= 2^(e_n - 1)); j < n is the lowest
+    index with c[j] != 0."""
+    en = _exponent(c[n])
+    ej = _exponent(c[j])
+    u = -(1 << 30)
+    lx = -(1 << 30)
+    for i in range(j, n):
+        if c[i] != 0.0:
+            v = _ceil_div(_exponent(c[i]) - en + 1, n - i)
+            if v > u:
+                u = v
+    for i in range(j + 1, n + 1):
+        if c[i] != 0.0:
+            v = _ceil_div(_exponent(c[i]) - ej + 1, i - j)
+            if v > lx:
+                lx = v
+    return u + 1, -(lx + 1)
+
+
+def _band(c: list[float], n: int, s: int, xl: float, xr: float) -> float | None:
+    """Smallest root in (xl, xr] with 2^(s - BAND_SPAN//n) <= |x| <= 2^s
+    there: solved in u = t 2^-s, coefficients c_i 2^(s i) scaled together
+    so that the largest lies in [1, 2) (those far below underflow: their
+    terms are negligible in the band)."""
+    m = -(1 << 30)
+    for i in range(n + 1):
+        if c[i] != 0.0:
+            f = _exponent(c[i]) + s * i
+            if f > m:
+                m = f
+    a = [_ldexp(c[i], s * i + 1 - m) for i in range(n + 1)]
+    while n >= 0 and a[n] == 0.0:
+        n -= 1
+    if n <= 0:
+        return None
+    ul = _ldexp(xl, -s)
+    ur = _ldexp(xr, -s)
+    if n == 1:
+        u = -a[0] / a[1]
+        if not (ul < u <= ur):
+            return None
+    elif n == 2:
+        u = _quadratic_in(a[2], a[1], a[0], ul, ur)
+    else:
+        u = _general(a, n, ul, ur)
+    if u is None:
+        return None
+    t = _ldexp(u, s)
+    if xl < t <= xr:
+        return t
+    return None
+
+
+def _edge(e: int) -> float:
+    """2^e, or infinity beyond the largest double (a band edge)."""
+    if e > 1023:
+        return math.inf
+    return _ldexp(1.0, e)
+
+
+def _banded(c: list[float], n: int, j: int, ue: int, le: int, lo: float, hi: float) -> float | None:
+    """Roots spread too widely for one scale: the magnitudes 2^le .. 2^ue
+    are cut into bands of width 2^w (w = BAND_SPAN // n), each solved with
+    its own power-of-two scale of t, in the order of t: negative bands from
+    the most negative, the root 0 (when c_0 = 0), positive bands."""
+    w = BAND_SPAN // n
+    nb = _ceil_div(ue - le, w)
+    for k in range(nb - 1, -1, -1):
+        s = le + (k + 1) * w
+        xl = -_edge(s)
+        xr = -_edge(s - w)
+        if lo > xl:
+            xl = lo
+        if hi < xr:
+            xr = hi
+        if xl < xr:
+            t = _band(c, n, s, xl, xr)
+            if t is not None:
+                return t
+    if j > 0 and lo < 0.0 <= hi:
+        return 0.0
+    for k in range(nb):
+        s = le + (k + 1) * w
+        xl = _edge(s - w)
+        xr = _edge(s)
+        if lo > xl:
+            xl = lo
+        if hi < xr:
+            xr = hi
+        if xl < xr:
+            t = _band(c, n, s, xl, xr)
+            if t is not None:
+                return t
+    return None
+
+
+def _solve(c: list[float], n: int, lo: float, hi: float) -> float | None:
+    """Degree n >= 2 (c[n] != 0, all finite, lo < hi finite): one power-of-two
+    scale of the coefficients when the roots allow it, else bands."""
+    mx = 0.0
+    mn = math.inf
+    j = -1
+    for i in range(n + 1):
+        v = _fabs(c[i])
+        if v != 0.0:
+            if j < 0:
+                j = i
+            if v > mx:
+                mx = v
+            if v < mn:
+                mn = v
+    spread = _exponent(mx) - _exponent(mn)
+    if n == 2:
+        one_scale = spread <= QUAD_SPREAD
+        if not one_scale:
+            ue, le = _root_exponents(c, n, j)
+    else:
+        lim = ONE_SCALE_SPAN // n
+        one_scale = spread <= lim - 2
+        if not one_scale:
+            ue, le = _root_exponents(c, n, j)
+            one_scale = ue <= lim and le >= -lim
+    if one_scale:
+        a = _scale(c, n)
+        while n >= 0 and a[n] == 0.0:     # underflowed to zero in the scaling
+            n -= 1
+        if n <= 0:
+            return None
+        if n == 1:
+            t = -a[0] / a[1]
+            return t if lo < t <= hi else None
+        if n == 2:
+            return _quadratic_in(a[2], a[1], a[0], lo, hi)
+        return _general(a, n, lo, hi)
+    return _banded(c, n, j, ue, le, lo, hi)
+
+
 def smallest_root(coeffs, lo: float, hi: float) -> float | None:
     """Smallest real root t of sum(coeffs[i] * t**i) with lo < t <= hi, or None.
 
@@ -409,30 +596,22 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
         raise ValueError(f"degree {len(c) - 1} exceeds {MAX_DEGREE}")
     if not (_isfinite(lo) and _isfinite(hi)) or not (lo < hi):
         return None
+    n = len(c) - 1
+    if n == 2 and c[2] != 0.0 and _moderate(c[0]) and _moderate(c[1]) and _moderate(c[2]):
+        # fast path: the same bits as scaling first (no intermediate leaves the normal range)
+        t = _quadratic_in(c[2], c[1], c[0], lo, hi)
+        return None if t is None else t + 0.0
     for v in c:
         if not _isfinite(v):
             return None
-    n = len(c) - 1
     while n >= 0 and c[n] == 0.0:
         n -= 1
     if n <= 0:
         return None
-    a = _scale(c, n)
-    while n >= 0 and a[n] == 0.0:     # underflowed to zero in the scaling
-        n -= 1
-    if n <= 0:
-        return None
     if n == 1:
-        t = -a[0] / a[1]
-        if lo < t <= hi:
-            return t + 0.0
-        return None
-    if n == 2:
-        for t in _quadratic(a[2], a[1], a[0]):
-            if lo < t <= hi:
-                return t + 0.0
-        return None
-    t = _general(a, n, lo, hi)
-    if t is None:
+        t = -c[0] / c[1]
+    else:
+        t = _solve(c, n, lo, hi)
+    if t is None or not (lo < t <= hi):
         return None
     return t + 0.0

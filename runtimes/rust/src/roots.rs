@@ -10,8 +10,12 @@ const SPLITTER: f64 = 134217729.0; // 2^27 + 1, Veltkamp splitting constant
 const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching bound
 const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
 const NEWTON_TOL: f64 = 9.313225746154785e-10; // 2^-30: an accepted Newton step this small (relative) has converged
+const POLISHED_TOL: f64 = 9.5367431640625e-07; // 2^-20: the same when the polish follows (Bernstein's single root)
 const MAXIT: usize = 100; // bracketed Newton step limit
 const BERN_DEPTH: usize = 12; // Bernstein subdivision depth limit
+const QUAD_SPREAD: i32 = 900; // degree 2: one scale when coefficient exponents span at most this
+const ONE_SCALE_SPAN: i32 = 800; // degree n >= 3: one scale when all roots lie in 2^(+-800/n)
+const BAND_SPAN: i32 = 800; // otherwise bands of magnitude 2^(800/n)
 /// i! for 0 <= i <= 16 (exact).
 const FACT: [f64; N1] = [
     1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362880.0, 3628800.0, 39916800.0,
@@ -124,7 +128,7 @@ fn midpoint(xa: f64, xb: f64, half: f64) -> f64 {
 /// Root of p in (lo, hi), p(lo) of sign slo (nonzero), p(hi) of the other,
 /// starting at x0 (lo < x0 < hi).
 #[inline(always)]
-fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
+fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64, tolnewton: f64) -> f64 {
     let mut xa = lo;
     let mut xb = hi;
     let mut x = x0;
@@ -154,7 +158,7 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
             if xa < xn && xn < xb {
                 dxold = dx;
                 dx = step;
-                tol = NEWTON_TOL;
+                tol = tolnewton;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
@@ -219,20 +223,37 @@ fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
     x
 }
 
-/// Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns the count.
+/// Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns the
+/// count. The plain discriminant when it cannot cancel (4ac <= b*b/2), none
+/// when it is clearly negative, error-free products only in between.
 #[inline(always)]
 fn quadratic(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
-    let (p, pe) = two_prod(b, b);
-    let a4 = 4.0 * a;
-    let (q, qe) = two_prod(a4, c);
-    let disc = (p - q) + (pe - qe);
-    let bound = EPS * EPS * (p + q.abs());
-    if disc < -bound {
+    let mut p = b * b;
+    let mut q = (4.0 * a) * c;
+    let mut disc = p - q;
+    if q <= 0.5 * p {
+        if disc == 0.0 {
+            // b == 0 and ac == 0
+            r[0] = -b / (2.0 * a);
+            return 1;
+        }
+    } else if disc < -EPS * (p + q) {
         return 0;
-    }
-    if disc <= bound {
-        r[0] = -b / (2.0 * a);
-        return 1;
+    } else {
+        let (p2, pe) = two_prod(b, b);
+        let a4 = 4.0 * a;
+        let (q2, qe) = two_prod(a4, c);
+        p = p2;
+        q = q2;
+        disc = (p - q) + (pe - qe);
+        let bound = EPS * EPS * (p + q.abs());
+        if disc < -bound {
+            return 0;
+        }
+        if disc <= bound {
+            r[0] = -b / (2.0 * a);
+            return 1;
+        }
     }
     let mut s = disc.sqrt();
     if b < 0.0 {
@@ -251,6 +272,182 @@ fn quadratic(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
     2
 }
 
+/// The first root of a x^2 + b x + c (a != 0) in (lo, hi].
+#[inline(always)]
+fn quadratic_in(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
+    let mut r = [0.0f64; 2];
+    let nr = quadratic(a, b, c, &mut r);
+    if nr > 0 && lo < r[0] && r[0] <= hi {
+        return Some(r[0]);
+    }
+    if nr > 1 && lo < r[1] && r[1] <= hi {
+        return Some(r[1]);
+    }
+    None
+}
+
+/// v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
+/// fast path needs no scaling for such coefficients.
+#[inline(always)]
+fn moderate(v: f64) -> bool {
+    let u = v.to_bits();
+    let e = (u >> 52) & 0x7ff;
+    (e.wrapping_sub(823) < 400) | ((u << 1) == 0)
+}
+
+/// x 2^k rounded once (C's ldexp; x finite): exact unless the result is
+/// subnormal, zero or infinite.
+fn ldexp(x: f64, k: i32) -> f64 {
+    if x == 0.0 {
+        return x;
+    }
+    let e = frexp_exp(x);
+    // f = x 2^-e in [0.5, 1), exact (2^-1023 and 2^-1024 are not normal powers)
+    let f = if e < -1000 {
+        (x * pow2(600)) * pow2(-(e + 600))
+    } else if e == 1024 {
+        x * pow2(-1022) * 0.25
+    } else if e == 1023 {
+        x * pow2(-1022) * 0.5
+    } else {
+        x * pow2(-e)
+    };
+    let m = e as i64 + k as i64;
+    if m > 1024 {
+        return f * pow2(1023) * 4.0; // overflows to infinity
+    }
+    if m == 1024 {
+        return (f * 2.0) * pow2(1023);
+    }
+    if m >= -1021 {
+        return f * pow2(m as i32);
+    }
+    let m = if m < -1100 { -1100 } else { m as i32 };
+    (f * pow2(m + 1022)) * pow2(-1022)
+}
+
+/// ceil(a / k) for k > 0, with nonnegative operands only.
+fn ceil_div(a: i32, k: i32) -> i32 {
+    if a >= 0 {
+        (a + k - 1) / k
+    } else {
+        -((-a) / k)
+    }
+}
+
+/// (ue, le): every root of c (degree n, c[n] != 0, j < n the lowest index
+/// with c[j] != 0) has |t| < 2^ue, every nonzero root |t| > 2^le.
+fn root_exponents(c: &[f64], n: usize, j: usize) -> (i32, i32) {
+    let en = frexp_exp(c[n]);
+    let ej = frexp_exp(c[j]);
+    let mut u = -(1 << 30);
+    let mut lx = -(1 << 30);
+    for i in j..n {
+        if c[i] != 0.0 {
+            let v = ceil_div(frexp_exp(c[i]) - en + 1, (n - i) as i32);
+            if v > u {
+                u = v;
+            }
+        }
+    }
+    for i in j + 1..n + 1 {
+        if c[i] != 0.0 {
+            let v = ceil_div(frexp_exp(c[i]) - ej + 1, (i - j) as i32);
+            if v > lx {
+                lx = v;
+            }
+        }
+    }
+    (u + 1, -(lx + 1))
+}
+
+/// 2^e, or infinity beyond the largest double (a band edge).
+fn edge(e: i32) -> f64 {
+    if e > 1023 {
+        return f64::INFINITY;
+    }
+    ldexp(1.0, e)
+}
+
+/// The smallest root in (xl, xr], where 2^(s - w) <= |x| <= 2^s: solved in
+/// u = t 2^-s with the coefficients c_i 2^(s i) scaled together so that the
+/// largest lies in [1, 2) (those far below underflow: negligible in the band).
+fn band(c: &[f64], n: usize, s: i32, xl: f64, xr: f64) -> Option<f64> {
+    let mut m = -(1 << 30);
+    for i in 0..n + 1 {
+        if c[i] != 0.0 {
+            let f = frexp_exp(c[i]) + s * i as i32;
+            if f > m {
+                m = f;
+            }
+        }
+    }
+    let mut a = [0.0f64; N1];
+    for i in 0..n + 1 {
+        a[i] = ldexp(c[i], s * i as i32 + 1 - m);
+    }
+    let mut n = n;
+    while a[n] == 0.0 {
+        if n == 0 {
+            return None;
+        }
+        n -= 1;
+    }
+    if n == 0 {
+        return None;
+    }
+    let u = scaled_any(&a, n, ldexp(xl, -s), ldexp(xr, -s))?;
+    let x = ldexp(u, s);
+    if xl < x && x <= xr {
+        Some(x)
+    } else {
+        None
+    }
+}
+
+/// Roots too spread for one scale: bands of magnitude, each with its own
+/// power-of-two scale of t, in the order of t (docs/roots.md step 7).
+fn banded(c: &[f64], n: usize, j: usize, ue: i32, le: i32, lo: f64, hi: f64) -> Option<f64> {
+    let w = BAND_SPAN / n as i32;
+    let nb = ceil_div(ue - le, w);
+    for k in (0..nb).rev() {
+        let s = le + (k + 1) * w;
+        let mut xl = -edge(s);
+        let mut xr = -edge(s - w);
+        if lo > xl {
+            xl = lo;
+        }
+        if hi < xr {
+            xr = hi;
+        }
+        if xl < xr {
+            if let Some(t) = band(c, n, s, xl, xr) {
+                return Some(t);
+            }
+        }
+    }
+    if j > 0 && lo < 0.0 && 0.0 <= hi {
+        return Some(0.0);
+    }
+    for k in 0..nb {
+        let s = le + (k + 1) * w;
+        let mut xl = edge(s - w);
+        let mut xr = edge(s);
+        if lo > xl {
+            xl = lo;
+        }
+        if hi < xr {
+            xr = hi;
+        }
+        if xl < xr {
+            if let Some(t) = band(c, n, s, xl, xr) {
+                return Some(t);
+            }
+        }
+    }
+    None
+}
+
 /// All roots of p (degree n) in the open (lo, hi), ascending, given the
 /// ascending roots `crit` of p' there; returns the count written to `out`.
 fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut [f64]) -> usize {
@@ -265,7 +462,7 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
             out[k] = xl;
             k += 1;
         } else if sl * sr < 0 {
-            out[k] = newton(a, n, xl, xr, sl, 0.5 * (xl + xr));
+            out[k] = newton(a, n, xl, xr, sl, 0.5 * (xl + xr), NEWTON_TOL);
             k += 1;
         }
         xl = xr;
@@ -310,7 +507,7 @@ fn by_derivatives(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
         let xr = if i < m { crit[i] } else { hi };
         let sr = sign_top(a, n, xr);
         if sl * sr < 0 {
-            let x0 = newton(a, n, xl, xr, sl, 0.5 * (xl + xr));
+            let x0 = newton(a, n, xl, xr, sl, 0.5 * (xl + xr), NEWTON_TOL);
             let mut x = polish(a, n, x0, xl, xr); // the monotone piece bounds the polish
             if !(x > xl) {
                 x = xr;
@@ -424,7 +621,7 @@ fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: 
         if !(xl < x0 && x0 < xr) {
             x0 = 0.5 * (xl + xr);
         }
-        let x1 = newton(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0);
+        let x1 = newton(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0, POLISHED_TOL);
         let mut x = polish(a, n, x1, xl, xr);
         if !(x > xl) {
             x = xr;
@@ -464,14 +661,10 @@ fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: 
     subdivide::<N>(a, &rb, e2, xm, xr, depth + 1)
 }
 
-/// Steps 3-6 for a stripped degree n = N >= 1 (one copy per degree).
-fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
-    let mut a = [0.0f64; N1];
-    let n = scale(c, N, &mut a)?;
-    if n != N {
-        // top coefficients underflowed in the scaling: rescaling is exact no-op
-        return dispatch(&a[..n + 1], n, lo, hi);
-    }
+/// Scaled coefficients (max |a_i| in [1, 2), a[N] != 0): closed forms for
+/// degrees 1 and 2, the general method (one copy per degree).
+#[inline(always)]
+fn scaled<const N: usize>(a: &[f64; N1], lo: f64, hi: f64) -> Option<f64> {
     if N == 1 {
         let x = -a[0] / a[1];
         if !(lo < x && x <= hi) {
@@ -479,17 +672,52 @@ fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
         }
         Some(x)
     } else if N == 2 {
-        let mut r = [0.0f64; 2];
-        let nr = quadratic(a[2], a[1], a[0], &mut r);
-        r[..nr].iter().copied().find(|&x| lo < x && x <= hi)
+        quadratic_in(a[2], a[1], a[0], lo, hi)
     } else {
-        general::<N>(&a, lo, hi)
+        general::<N>(a, lo, hi)
     }
+}
+
+/// Degree n = N >= 2 (c[N] != 0): one power-of-two scale of the coefficients
+/// when the roots allow it, else bands (one copy per degree).
+fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    let n = N;
+    let mut mx = 0.0f64;
+    let mut mn = f64::INFINITY;
+    let mut j = usize::MAX;
+    for i in 0..n + 1 {
+        let v = c[i].abs();
+        if v != 0.0 {
+            if j == usize::MAX {
+                j = i;
+            }
+            if v > mx {
+                mx = v;
+            }
+            if v < mn {
+                mn = v;
+            }
+        }
+    }
+    let spread = frexp_exp(mx) - frexp_exp(mn);
+    let lim = ONE_SCALE_SPAN / n as i32;
+    if if n == 2 { spread > QUAD_SPREAD } else { spread > lim - 2 } {
+        let (ue, le) = root_exponents(c, n, j);
+        if n == 2 || !(ue <= lim && le >= -lim) {
+            return banded(c, n, j, ue, le, lo, hi);
+        }
+    }
+    let mut a = [0.0f64; N1];
+    let n2 = scale(c, N, &mut a)?;
+    if n2 != N {
+        // top coefficients underflowed in the scaling (not with these spreads)
+        return scaled_any(&a, n2, lo, hi);
+    }
+    scaled::<N>(&a, lo, hi)
 }
 
 fn dispatch(c: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     match n {
-        1 => solve::<1>(c, lo, hi),
         2 => solve::<2>(c, lo, hi),
         3 => solve::<3>(c, lo, hi),
         4 => solve::<4>(c, lo, hi),
@@ -505,6 +733,29 @@ fn dispatch(c: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
         14 => solve::<14>(c, lo, hi),
         15 => solve::<15>(c, lo, hi),
         16 => solve::<16>(c, lo, hi),
+        _ => None,
+    }
+}
+
+/// Scaled coefficients a[0..=n], n >= 1: the first root in (lo, hi].
+fn scaled_any(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
+    match n {
+        1 => scaled::<1>(a, lo, hi),
+        2 => scaled::<2>(a, lo, hi),
+        3 => scaled::<3>(a, lo, hi),
+        4 => scaled::<4>(a, lo, hi),
+        5 => scaled::<5>(a, lo, hi),
+        6 => scaled::<6>(a, lo, hi),
+        7 => scaled::<7>(a, lo, hi),
+        8 => scaled::<8>(a, lo, hi),
+        9 => scaled::<9>(a, lo, hi),
+        10 => scaled::<10>(a, lo, hi),
+        11 => scaled::<11>(a, lo, hi),
+        12 => scaled::<12>(a, lo, hi),
+        13 => scaled::<13>(a, lo, hi),
+        14 => scaled::<14>(a, lo, hi),
+        15 => scaled::<15>(a, lo, hi),
+        16 => scaled::<16>(a, lo, hi),
         _ => None,
     }
 }
@@ -558,6 +809,11 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
         return None;
     }
+    if c.len() == 3 && (c[2] != 0.0) & moderate(c[0]) & moderate(c[1]) & moderate(c[2]) {
+        // fast path: moderate coefficients give the same bits unscaled
+        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
+        return Some(x + 0.0);
+    }
     if c.iter().any(|v| !v.is_finite()) {
         return None;
     }
@@ -565,7 +821,16 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if n == 0 {
         return None;
     }
-    let x = dispatch(c, n, lo, hi)?;
+    let x = if n == 1 {
+        // one correctly rounded division: no scaling needed
+        let x = -c[0] / c[1];
+        if !(lo < x && x <= hi) {
+            return None;
+        }
+        x
+    } else {
+        dispatch(c, n, lo, hi)?
+    };
     Some(x + 0.0)
 }
 
@@ -635,6 +900,34 @@ mod tests {
         let rs: Vec<f64> = (1..=16).map(|k| 0.05 * k as f64).collect();
         let t = smallest_root(&from_roots(&rs), 0.0, 1.0).unwrap();
         assert!((t - 0.05).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ldexp_rounds_once() {
+        assert_eq!(ldexp(1.0, -1074), 5e-324);
+        assert_eq!(ldexp(1.5, -1075), 5e-324); // 0.75 of the smallest subnormal
+        assert_eq!(ldexp(1.0, -1075), 0.0); // half of it: ties to even
+        assert_eq!(ldexp(3.0, -1075).to_bits(), 2); // 1.5 ulp: ties to even
+        assert_eq!(ldexp(5e-324, 1074), 1.0);
+        assert_eq!(ldexp(f64::MAX, -2046).to_bits(), 4503599627370496); // rounds up to 2^-1022
+        assert_eq!(ldexp(0.7500000000000001, -1073).to_bits(), 2); // values from C's ldexp
+        assert_eq!(ldexp(1.0, 1023), 8.98846567431158e307);
+        assert_eq!(ldexp(1.0, 1024), f64::INFINITY);
+        assert_eq!(ldexp(-0.75, 3), -6.0);
+        assert_eq!(ldexp(f64::MAX, -1023).to_bits(), 4611686018427387903);
+    }
+
+    #[test]
+    fn any_magnitude() {
+        // the classic scaled quartic: coefficients 1e-307 .. 1e1, roots 1e75 .. 1e80
+        let c = from_roots(&[1e80, 1e77, 1e76, 1e75]).iter().map(|v| v * 1e-307).collect::<Vec<_>>();
+        let t = smallest_root(&c, 0.0, 1e300).unwrap();
+        assert!((t - 1e75).abs() < 1e63);
+        let t = smallest_root(&c, 2e77, 1e300).unwrap();
+        assert!((t - 1e80).abs() < 1e68);
+        // roots +-1e-300 of 1e300 t^2 - 1e-300
+        assert_eq!(smallest_root(&[-1e-300, 0.0, 1e300], 0.0, 1.0), Some(1e-300));
+        assert_eq!(smallest_root(&[-1e-300, 0.0, 1e300], -1.0, 1.0), Some(-1e-300));
     }
 
     #[test]
