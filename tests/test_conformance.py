@@ -161,7 +161,7 @@ def test_differential_random_bits():
                 for i in range(len(c) - 1):
                     c[i] -= x * c[i + 1]
         lo = rng.choice([0.0, -1.0, rng.uniform(-2, 1), 0.25])
-        hi = lo + rng.choice([1.0, 1e-9, 1e6, rng.uniform(0, 3)])
+        hi = lo + rng.choice([1.0, 1e-9, 1e6, rng.uniform(0, 3), 1e300])
         polys.append((c, lo, hi))
     answers = {lang: raw_answers(lang, polys) for lang in LANGS}
     base = answers["python"]

@@ -87,8 +87,56 @@ def _mpf(x: Fraction):
     return mpmath.mpf(x.numerator) / mpmath.mpf(x.denominator)
 
 
-def real_roots(coeffs: list[float]) -> list[tuple[mpmath.mpf, int]]:
-    """All distinct real roots (as mpf at DPS digits) with multiplicities, ascending."""
+def _refined(desc, approx):
+    """Each approximation refined by Newton's method at three times the
+    working precision; None when two of them end on one root."""
+    out = []
+    with mpmath.workdps(3 * DPS):
+        tiny = mpmath.mpf(10) ** (-DPS)
+        for z in approx:
+            z = mpmath.mpc(z)
+            for _ in range(400):
+                v, d = mpmath.polyval(desc, z, derivative=True)
+                if d == 0:
+                    break
+                step = v / d
+                z -= step
+                if abs(step) <= tiny * abs(z):
+                    break
+            out.append(z)
+    sep = mpmath.mpf(10) ** (-(DPS // 2))
+    for i in range(len(out)):
+        for j in range(i + 1, len(out)):
+            if abs(out[i] - out[j]) <= sep * max(abs(out[i]), abs(out[j])):
+                return None
+    return out
+
+
+def _certain_roots(desc):
+    """All roots of a square-free polynomial (descending mpf coefficients)
+    whose roots may span 600 decades: polyroots' approximations, refined by
+    Newton's method, must end on as many distinct roots as the degree (a
+    spurious approximation ends on another root and is caught); otherwise
+    polyroots again with more working precision."""
+    for extra, steps in ((12 * DPS, 2000), (40 * DPS, 20000), (120 * DPS, 50000)):
+        try:
+            approx = mpmath.polyroots(desc, maxsteps=steps, extraprec=extra)
+        except mpmath.libmp.libhyper.NoConvergence:
+            continue
+        out = _refined(desc, approx)
+        if out is not None:
+            return out
+    raise RuntimeError("reference roots: no certain set of roots")
+
+
+def real_roots(coeffs: list[float], scale: Fraction | None = None) -> list[tuple[mpmath.mpf, int]]:
+    """All distinct real roots (as mpf at DPS digits) with multiplicities, ascending.
+
+    With `scale` (the magnitude of the roots, for the any-magnitude cases) each
+    square-free factor is solved in u = t / scale, exactly transformed, and a
+    root counts as real when its imaginary part is below 1e-60 of its modulus
+    (rather than of 1 + |re|, which would call a complex pair of size 1e-300
+    real)."""
     p = _trim([Fraction(c) for c in coeffs])
     if len(p) <= 1:
         return []
@@ -98,16 +146,23 @@ def real_roots(coeffs: list[float]) -> list[tuple[mpmath.mpf, int]]:
             if len(f) == 2:
                 out.append((_mpf(-f[0]) / _mpf(f[1]), m))
                 continue
+            if scale is not None:
+                f = [v * scale ** i for i, v in enumerate(f)]
             desc = [_mpf(x) for x in reversed(f)]
-            try:
-                roots = mpmath.polyroots(desc, maxsteps=2000, extraprec=12 * DPS)
-            except mpmath.libmp.libhyper.NoConvergence:
-                # widely spread roots (e.g. 1 and 1e600) need more working precision
-                roots = mpmath.polyroots(desc, maxsteps=50000, extraprec=40 * DPS)
+            if scale is not None:
+                roots = _certain_roots(desc)
+            else:
+                try:
+                    roots = mpmath.polyroots(desc, maxsteps=2000, extraprec=12 * DPS)
+                except mpmath.libmp.libhyper.NoConvergence:
+                    # widely spread roots (e.g. 1 and 1e600) need more working precision
+                    roots = mpmath.polyroots(desc, maxsteps=50000, extraprec=40 * DPS)
             for z in roots:
                 z = mpmath.mpc(z)
-                if abs(z.imag) <= mpmath.mpf(10) ** (-(DPS // 2)) * (1 + abs(z.real)):
-                    out.append((mpmath.mpf(z.real), m))
+                size = abs(z) if scale is not None else 1 + abs(z.real)
+                if abs(z.imag) <= mpmath.mpf(10) ** (-(DPS // 2)) * size:
+                    r = mpmath.mpf(z.real)
+                    out.append((r * _mpf(scale) if scale is not None else r, m))
     out.sort(key=lambda rm: rm[0])
     return out
 
@@ -130,15 +185,17 @@ def tolerance(coeffs: list[float], r, m: int, floor: float = 1e-300) -> float:
         return float(tol)
 
 
-def reference(coeffs: list[float], lo: float, hi: float, floor: float = 1e-300, limit: float = 1e300) -> dict:
+def reference(coeffs: list[float], lo: float, hi: float, floor: float = 1e-300, limit: float = 1e300,
+              scale: Fraction | None = None) -> dict:
     """Reference fields of a roots case: expect (float or None), and the real
     roots near (lo, hi] that decide acceptance, each [r, m, tol].  `floor` is
     the absolute floor of the tolerance and roots beyond `limit` are left out
-    (the scaled cases use the smallest subnormal and the largest double)."""
+    (the scaled cases use the smallest subnormal and the largest double);
+    `scale` as in real_roots."""
     bad = any(not math.isfinite(c) for c in coeffs) or not (math.isfinite(lo) and math.isfinite(hi)) or not (lo < hi)
     if bad:
         return {"expect": None, "roots": []}
-    roots = real_roots(coeffs)
+    roots = real_roots(coeffs, scale)
     near = []
     expect = None
     with mpmath.workdps(DPS):

@@ -256,21 +256,18 @@ M2C_INLINE int scaled_impl(const double *a, int n, double lo, double hi, double 
 M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *t)
 {
     double mx = 0.0, mn = INFINITY;
-    int j = -1;
     M2C_UNROLL
     for (int i = 0; i <= n; i++) {
         double v = fabs(c[i]);
-        if (v != 0.0) {
-            if (j < 0)
-                j = i;
-            if (v > mx)
-                mx = v;
-            if (v < mn)
-                mn = v;
-        }
+        double vm = v == 0.0 ? INFINITY : v;
+        mx = v > mx ? v : mx;
+        mn = vm < mn ? vm : mn;
     }
     int spread = m2c_frexp_exp(mx) - m2c_frexp_exp(mn);
-    if (n == 2 ? spread > M2C_QUAD_SPREAD : spread > M2C_ONE_SCALE_SPAN / n - 2) {
+    if (__builtin_expect(n == 2 ? spread > M2C_QUAD_SPREAD : spread > M2C_ONE_SCALE_SPAN / n - 2, 0)) {
+        int j = 0;
+        while (c[j] == 0.0)
+            j++;
         int ue, le;
         m2c_root_exponents(c, n, j, &ue, &le);
         int lim = M2C_ONE_SCALE_SPAN / n;
@@ -278,7 +275,7 @@ M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *
             return m2c_banded(c, n, j, ue, le, lo, hi, t);
     }
     double a[M2C_MAX_DEGREE + 1];
-    int n2 = m2c_scale_impl(c, n, a);
+    int n2 = m2c_scale_max(c, n, mx, a);
     if (n2 != n) /* top coefficients underflowed in the scaling (not with these spreads) */
         return n2 > 0 && m2c_scaled_any(a, n2, lo, hi, t);
     return scaled_impl(a, n, lo, hi, t);

@@ -240,17 +240,11 @@ M2C_INLINE int m2c_frexp_exp(double x)
     return field - 1022;
 }
 
-/* a[0..] = c[0..n] times the power of two that puts max |c_i| in [1, 2);
- * returns the degree left after dropping top coefficients that underflowed. */
-M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
+/* a[0..] = c[0..n] times the power of two that puts m = max |c_i| in
+ * [1, 2); returns the degree left after dropping top coefficients that
+ * underflowed. */
+M2C_INLINE int m2c_scale_max(const double *c, int n, double m, double *a)
 {
-    double m = 0.0;
-    M2C_UNROLL
-    for (int i = 0; i <= n; i++) {
-        double v = fabs(c[i]);
-        if (v > m)
-            m = v;
-    }
     int k = 1 - m2c_frexp_exp(m);
     if (k > 1000) {
         double f = m2c_pow2(600);
@@ -271,6 +265,19 @@ M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
     while (n >= 0 && a[n] == 0.0) /* underflowed to zero in the scaling */
         n--;
     return n;
+}
+
+/* m2c_scale_max with the maximum computed here. */
+M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
+{
+    double m = 0.0;
+    M2C_UNROLL
+    for (int i = 0; i <= n; i++) {
+        double v = fabs(c[i]);
+        if (v > m)
+            m = v;
+    }
+    return m2c_scale_max(c, n, m, a);
 }
 
 /* m2c_scale_impl, not inlined (the GSL baseline). */

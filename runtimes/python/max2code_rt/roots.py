@@ -483,6 +483,7 @@ def _band(c: list[float], n: int, s: int, xl: float, xr: float) -> float | None:
         n -= 1
     if n <= 0:
         return None
+    a = a[:n + 1]                     # the general method reads every entry
     ul = _ldexp(xl, -s)
     ur = _ldexp(xr, -s)
     if n == 1:
@@ -576,6 +577,7 @@ def _solve(c: list[float], n: int, lo: float, hi: float) -> float | None:
             n -= 1
         if n <= 0:
             return None
+        a = a[:n + 1]                     # the general method reads every entry
         if n == 1:
             t = -a[0] / a[1]
             return t if lo < t <= hi else None

@@ -684,31 +684,26 @@ fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     let n = N;
     let mut mx = 0.0f64;
     let mut mn = f64::INFINITY;
-    let mut j = usize::MAX;
     for i in 0..n + 1 {
         let v = c[i].abs();
-        if v != 0.0 {
-            if j == usize::MAX {
-                j = i;
-            }
-            if v > mx {
-                mx = v;
-            }
-            if v < mn {
-                mn = v;
-            }
-        }
+        let vm = if v == 0.0 { f64::INFINITY } else { v };
+        mx = if v > mx { v } else { mx };
+        mn = if vm < mn { vm } else { mn };
     }
     let spread = frexp_exp(mx) - frexp_exp(mn);
     let lim = ONE_SCALE_SPAN / n as i32;
     if if n == 2 { spread > QUAD_SPREAD } else { spread > lim - 2 } {
+        let mut j = 0;
+        while c[j] == 0.0 {
+            j += 1;
+        }
         let (ue, le) = root_exponents(c, n, j);
         if n == 2 || !(ue <= lim && le >= -lim) {
             return banded(c, n, j, ue, le, lo, hi);
         }
     }
     let mut a = [0.0f64; N1];
-    let n2 = scale(c, N, &mut a)?;
+    let n2 = scale_max(c, N, mx, &mut a)?;
     if n2 != N {
         // top coefficients underflowed in the scaling (not with these spreads)
         return scaled_any(&a, n2, lo, hi);
@@ -760,17 +755,11 @@ fn scaled_any(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
     }
 }
 
-/// `a[0..=n]` = `c[0..=n]` times the power of two putting max |c_i| in [1, 2);
+/// `a[0..=n]` = `c[0..=n]` times the power of two putting m = max |c_i| in [1, 2);
 /// returns the degree left after dropping top coefficients that underflowed.
 #[inline(always)]
-fn scale(c: &[f64], mut n: usize, a: &mut [f64; N1]) -> Option<usize> {
+fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize> {
     let c = &c[..n + 1];
-    let mut m = 0.0;
-    for &ci in c {
-        if ci.abs() > m {
-            m = ci.abs();
-        }
-    }
     let mut k = 1 - frexp_exp(m);
     if k > 1000 {
         let f = pow2(600);
