@@ -101,11 +101,30 @@ def numpy_smallest(c: list[float]):
     return best
 
 
+def _fig(v: float) -> str:
+    return f"{v:,.0f}" if v >= 1000 else f"{v:.1f}"
+
+
+def print_markdown(cols: dict[str, dict[int, float]], names: list[str]) -> None:
+    """The README's table: one row per degree, ns per solve, and the load average."""
+    print("| degree | " + " | ".join(names) + " |")
+    print("|---" * (len(names) + 1) + "|")
+    for deg in DEGREES:
+        print(f"| {deg} | " + " | ".join(_fig(cols[n].get(deg, float("nan"))) for n in names) + " |")
+    try:
+        import os
+        print(f"\n(load average {os.getloadavg()[0]:.1f} at the end of the run)")
+    except OSError:
+        pass
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--per-degree", type=int, default=1000, help="polynomials per degree (default 1000)")
     ap.add_argument("--reps", type=int, default=41, help="timed passes for native runtimes (default 41)")
     ap.add_argument("--py-reps", type=int, default=5, help="timed passes for Python and numpy (default 5)")
+    ap.add_argument("--markdown", action="store_true",
+                    help="print the table as Markdown (the README's table) with the load average")
     args = ap.parse_args(argv)
     polys = polynomials(args.per_degree)
     text = wire(polys)
@@ -148,6 +167,9 @@ def main(argv=None) -> int:
         cols["numpy.roots"][deg] = time_python(numpy_smallest, polys[deg], args.py_reps)
     print(file=sys.stderr)
     names = list(cols)
+    if args.markdown:
+        print_markdown(cols, names)
+        return 0
     print(f"median ns per solve, smallest root in (0, 1], {args.per_degree} polynomials per degree")
     print("degree " + "".join(f"{n:>13s}" for n in names))
     for deg in DEGREES:
