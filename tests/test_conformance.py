@@ -170,3 +170,39 @@ def test_differential_random_bits():
         assert len(answers[lang]) == len(base) and not diff, (lang, [polys[i] for i in diff[:3]])
     found = [a for a in base if a != "none"]
     assert len(found) > 300
+
+
+def test_differential_any_magnitude_bits():
+    """Coefficients and intervals over the whole double range (subnormals,
+    near-overflow values, one magnitude or spread): the band path (docs/roots.md
+    step 8) returns identical bits in the four runtimes."""
+    import math
+    import random
+    rng = random.Random(5)
+    big = 1.7976931348623157e308
+    polys = []
+    for k in range(2000):
+        deg = rng.randint(1, 16)
+        kind = k % 4
+        if kind == 0:
+            c = [rng.choice([0.0, 1.0]) * math.ldexp(rng.uniform(-1, 1), rng.randint(-1074, 1023))
+                 for _ in range(deg + 1)]
+        elif kind == 1:
+            e = rng.randint(-1000, 950)
+            c = [math.ldexp(rng.uniform(-1, 1), e + rng.randint(-60, 60)) for _ in range(deg + 1)]
+        elif kind == 2:
+            c = [rng.uniform(-1, 1) * 10.0 ** rng.uniform(-320, 307) for _ in range(deg + 1)]
+        else:
+            c = [rng.choice([5e-324, -5e-324, 1e-310, 1.7e308, -1.7e308, 0.0, 1.0]) for _ in range(deg + 1)]
+        lo = rng.choice([0.0, -big, -rng.uniform(0, 1) * 10.0 ** rng.uniform(-300, 300), 1e-300])
+        hi = rng.choice([big, 1.0, 10.0 ** rng.uniform(-300, 308)])
+        if not lo < hi:
+            lo, hi = 0.0, big
+        polys.append((c, lo, hi))
+    answers = {lang: raw_answers(lang, polys) for lang in LANGS}
+    base = answers["python"]
+    for lang in LANGS[1:]:
+        diff = [i for i, (a, b) in enumerate(zip(base, answers[lang])) if a != b]
+        assert len(answers[lang]) == len(base) and not diff, (lang, [polys[i] for i in diff[:3]])
+    assert sum(1 for a in base if a != "none") > 1000
+    assert not any(a.startswith("error") for a in base)
