@@ -250,19 +250,29 @@ M2C_INLINE int scaled_impl(const double *a, int n, double lo, double hi, double 
     return general_impl(a, n, lo, hi, t);
 }
 
-/* Degree n >= 2: one power-of-two scale of the coefficients when the roots
+/* Degree n >= 2 (c[n] != 0): none for a NaN or infinite coefficient, else
+ * one power-of-two scale of the coefficients when the roots
  * allow it (the exponents of the nonzero coefficients span little, or
  * Fujiwara's bounds put every root within 2^(+-800/n)), else bands. */
 M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *t)
 {
-    double mx = 0.0, mn = INFINITY;
+    /* max and smallest nonzero |c_i| from their bit patterns (ordered like
+     * the values); a NaN or infinity shows as the largest: answer none */
+    uint64_t umax = 0, umin = UINT64_MAX;
     M2C_UNROLL
     for (int i = 0; i <= n; i++) {
-        double v = fabs(c[i]);
-        double vm = v == 0.0 ? INFINITY : v;
-        mx = v > mx ? v : mx;
-        mn = vm < mn ? vm : mn;
+        uint64_t u;
+        memcpy(&u, &c[i], sizeof u);
+        u &= 0x7fffffffffffffffu;
+        uint64_t uz = u == 0 ? UINT64_MAX : u;
+        umax = u > umax ? u : umax;
+        umin = uz < umin ? uz : umin;
     }
+    if (umax >= 0x7ff0000000000000u)
+        return 0;
+    double mx, mn;
+    memcpy(&mx, &umax, sizeof mx);
+    memcpy(&mn, &umin, sizeof mn);
     int spread = m2c_frexp_exp(mx) - m2c_frexp_exp(mn);
     if (__builtin_expect(n == 2 ? spread > M2C_QUAD_SPREAD : spread > M2C_ONE_SCALE_SPAN / n - 2, 0)) {
         int j = 0;

@@ -283,7 +283,7 @@ M2C_INLINE int m2c_scale_impl(const double *c, int n, double *a)
 /* m2c_scale_impl, not inlined (the GSL baseline). */
 int m2c_scale(const double *c, int n, double *a);
 
-/* Degree n >= 2 of c (c[n] != 0, all finite), lo < hi finite: one scale
+/* Degree n >= 2 of c (c[n] != 0; a NaN or infinity answers none), lo < hi finite: one scale
  * or bands (docs/roots.md steps 3-7); 1 and *t when found. */
 int m2c_solve(const double *c, int n, double lo, double hi, double *t);
 

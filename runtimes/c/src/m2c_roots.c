@@ -24,12 +24,21 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
             return 1;
         }
     }
-    int n = 0;
-    int ok = m2c_check_input(c, degree, lo, hi, t, &n);
-    if (ok != 1)
-        return ok;
+    /* the contract's input rules (m2c_check_input), with the finiteness of
+     * the coefficients tested by m2c_solve in the same pass as their spread */
+    if (c == 0 || t == 0 || degree < 0 || degree > M2C_MAX_DEGREE)
+        return -1;
+    if (!((fabs(lo) <= DBL_MAX) & (fabs(hi) <= DBL_MAX)) || !(lo < hi))
+        return 0;
+    int n = degree;
+    while (n >= 0 && c[n] == 0.0) /* a NaN or infinity stops this: it stays in c[0..n] */
+        n--;
+    if (n <= 0)
+        return 0;
     double x;
     if (n == 1) {
+        if (!((fabs(c[0]) <= DBL_MAX) & (fabs(c[1]) <= DBL_MAX)))
+            return 0;
         x = -c[0] / c[1]; /* one correctly rounded division: no scaling needed */
         if (!(lo < x && x <= hi))
             return 0;
