@@ -678,18 +678,25 @@ fn scaled<const N: usize>(a: &[f64; N1], lo: f64, hi: f64) -> Option<f64> {
     }
 }
 
-/// Degree n = N >= 2 (c[N] != 0): one power-of-two scale of the coefficients
+/// Degree n = N >= 2 (c[N] != 0; a NaN or infinity answers none): one power-of-two scale of the coefficients
 /// when the roots allow it, else bands (one copy per degree).
 fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     let n = N;
-    let mut mx = 0.0f64;
-    let mut mn = f64::INFINITY;
+    // max and smallest nonzero |c_i| from their bit patterns (ordered like the
+    // values); a NaN or infinity shows as the largest: answer none
+    let mut umax = 0u64;
+    let mut umin = u64::MAX;
     for i in 0..n + 1 {
-        let v = c[i].abs();
-        let vm = if v == 0.0 { f64::INFINITY } else { v };
-        mx = if v > mx { v } else { mx };
-        mn = if vm < mn { vm } else { mn };
+        let u = c[i].to_bits() & 0x7fff_ffff_ffff_ffff;
+        let uz = if u == 0 { u64::MAX } else { u };
+        umax = if u > umax { u } else { umax };
+        umin = if uz < umin { uz } else { umin };
     }
+    if umax >= 0x7ff0_0000_0000_0000 {
+        return None;
+    }
+    let mx = f64::from_bits(umax);
+    let mn = f64::from_bits(umin);
     let spread = frexp_exp(mx) - frexp_exp(mn);
     let lim = ONE_SCALE_SPAN / n as i32;
     if if n == 2 { spread > QUAD_SPREAD } else { spread > lim - 2 } {
@@ -803,14 +810,16 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
         let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
         return Some(x + 0.0);
     }
-    if c.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
+    // a NaN or infinity stops the search for the top nonzero coefficient, so it
+    // stays in c[0..=n], whose finiteness the spread pass of `solve` tests
     let n = c.iter().rposition(|&v| v != 0.0)?;
     if n == 0 {
         return None;
     }
     let x = if n == 1 {
+        if !(c[0].is_finite() && c[1].is_finite()) {
+            return None;
+        }
         // one correctly rounded division: no scaling needed
         let x = -c[0] / c[1];
         if !(lo < x && x <= hi) {
