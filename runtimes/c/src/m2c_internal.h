@@ -222,8 +222,8 @@ M2C_INLINE int m2c_moderate(double v)
 {
     uint64_t u;
     memcpy(&u, &v, sizeof u);
-    uint64_t e = (u >> 52) & 0x7ff;
-    return (e - 823u < 400u) | ((u << 1) == 0);
+    u <<= 1; /* drop the sign: exponent field e in the top 11 bits */
+    return (u - ((uint64_t)823 << 53) < ((uint64_t)400 << 53)) | (u == 0); /* 823 <= e < 1223 */
 }
 
 /* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp). */

@@ -10,20 +10,11 @@ int m2c_scale(const double *c, int n, double *a)
     return m2c_scale_impl(c, n, a);
 }
 
-int m2c_smallest_root(const double *c, int degree, double lo, double hi, double *t)
+/* Everything but the degree-2 fast path (kept out of line so that the fast
+ * path needs no stack frame). */
+__attribute__((noinline)) static int smallest_root_general(const double *c, int degree, double lo, double hi,
+                                                           double *t)
 {
-    if (degree == 2 && c != 0 && t != 0) {
-        /* fast path: moderate coefficients give the same bits unscaled */
-        double c0 = c[0], c1 = c[1], c2 = c[2];
-        if ((c2 != 0.0) & m2c_moderate(c0) & m2c_moderate(c1) & m2c_moderate(c2) &
-            (fabs(lo) <= DBL_MAX) & (fabs(hi) <= DBL_MAX) & (lo < hi)) {
-            double x;
-            if (!m2c_quadratic_in(c2, c1, c0, lo, hi, &x))
-                return 0;
-            *t = x + 0.0;
-            return 1;
-        }
-    }
     /* the contract's input rules (m2c_check_input), with the finiteness of
      * the coefficients tested by m2c_solve in the same pass as their spread */
     if (c == 0 || t == 0 || degree < 0 || degree > M2C_MAX_DEGREE)
@@ -47,4 +38,21 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
     }
     *t = x + 0.0;
     return 1;
+}
+
+int m2c_smallest_root(const double *c, int degree, double lo, double hi, double *t)
+{
+    if (degree == 2 && c != 0 && t != 0) {
+        /* fast path: moderate coefficients give the same bits unscaled */
+        double c0 = c[0], c1 = c[1], c2 = c[2];
+        if ((c2 != 0.0) & m2c_moderate(c0) & m2c_moderate(c1) & m2c_moderate(c2) &
+            (fabs(lo) <= DBL_MAX) & (fabs(hi) <= DBL_MAX) & (lo < hi)) {
+            double x;
+            if (!m2c_quadratic_in(c2, c1, c0, lo, hi, &x))
+                return 0;
+            *t = x + 0.0;
+            return 1;
+        }
+    }
+    return smallest_root_general(c, degree, lo, hi, t);
 }
