@@ -21,10 +21,7 @@ def _gsl_libs() -> list[str]:
 
 
 def _m2_objects() -> list[str]:
-    objs = [runtimes.BUILD / "m2" / f"{m}.o" for m in ("Roots", "RootsGsl", "ExactToc")]
-    runtimes.run(["make", "-s", "-C", str(runtimes.ROOT / "runtimes" / "m2"), f"BUILD={runtimes.BUILD / 'm2'}",
-                  *map(str, objs)], runtimes.ROOT)
-    return [str(o) for o in objs]
+    return [str(o) for o in runtimes.m2_objects("Roots", "RootsGsl", "ExactToc")]
 
 
 @dataclass
@@ -88,7 +85,7 @@ def _build(lang: str, generated_text: str, workdir: str, template: str, nparams:
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
     exe = os.path.join(workdir, "harness")
-    inc = str(runtimes.ROOT / "runtimes" / "c" / "include")
+    inc = str(runtimes.C_INCLUDE)
     if lang == "c":
         builds = [["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", f"-I{inc}",
                    f"-I{workdir}", src, "-o", exe, str(runtimes.c_library()), *_gsl_libs(), "-lm"]]
@@ -99,7 +96,7 @@ def _build(lang: str, generated_text: str, workdir: str, template: str, nparams:
                    f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}", src, "-o", exe]]
         cmd = [exe]
     elif lang == "m2":
-        m2 = runtimes.ROOT / "runtimes" / "m2"
+        m2 = runtimes.M2_RUNTIME
         builds = [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
                    *_m2_objects(), src, "-o", exe, *_gsl_libs(), "-lm"]]
         cmd = [exe]

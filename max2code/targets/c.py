@@ -42,7 +42,7 @@ class C(Target):
     def runtime_flags(self) -> list[str]:
         from max2code.harness import runtimes
         lib = runtimes.c_library()
-        return [f"-I{runtimes.ROOT / 'runtimes' / 'c' / 'include'}", str(lib)]
+        return [f"-I{runtimes.C_INCLUDE}", str(lib)]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
@@ -53,7 +53,7 @@ class C(Target):
         (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
         each NAME_variant counts, and link them with libm2c.a into workdir/sim."""
         from max2code.harness import runtimes
-        c = runtimes.ROOT / "runtimes" / "c"
+        c = runtimes.C_RUNTIME
         lib = runtimes.c_library()
         inc = c / "include"
         cmds, objs = [], []

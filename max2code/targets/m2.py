@@ -50,7 +50,7 @@ class Modula2(Target):
     def runtime_flags(self) -> list[str]:
         from max2code.harness import runtimes
         objs = runtimes.m2_objects()
-        return [f"-I{runtimes.ROOT / 'runtimes' / 'm2'}", *map(str, objs)]
+        return [f"-I{runtimes.M2_RUNTIME}", *map(str, objs)]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
@@ -63,7 +63,7 @@ class Modula2(Target):
         directory and its linking step looks the program module's object up
         along the -I path, where workdir comes first, so it finds this one."""
         from max2code.harness import runtimes
-        m2 = runtimes.ROOT / "runtimes" / "m2"
+        m2 = runtimes.M2_RUNTIME
         objs = runtimes.m2_objects()
         heap = os.path.join(workdir, "SimHeap.o")
         counts = [f"-DSIM_CC_VARIANTS={variant_count(generated['circle_circle'], 'circle_circle')}",
