@@ -10,7 +10,7 @@ import os
 import subprocess
 from dataclasses import dataclass, field
 
-from max2code.generate.pipeline import GenerateRequest, build_selection, derive, generate
+from max2code.generate.pipeline import GenerateRequest, derive, generate
 from max2code.generate.mxm import read_mxm
 from max2code.paths import BUILD, RUNTIMES, equation
 from max2code.sim.scene import Scene, compile_scene
@@ -77,9 +77,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         mod = read_mxm(req.path, name=f"{path.parent.name}/{path.name}")
         d = derive(mod, req.options, use_cache=True)
         out = generate(d, req)
-        from max2code.generate.variants import switches_of
-        sel = build_selection(f"{eq}_coefficients", out.variants, switches_of(d), "")
-        names[eq] = [c.name for c in sel.cases]
+        names[eq] = [c.name for c in out.selection.cases]
         target_file = workdir / fname
         if not target_file.exists() or target_file.read_text(encoding="utf-8") != out.text:
             target_file.write_text(out.text, encoding="utf-8")
@@ -89,7 +87,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     stamp = workdir / "build.stamp"
     digest = h.hexdigest()
     if not stamp.exists() or stamp.read_text() != digest:
-        for cmd in tgt.sim_build(str(workdir), generated):
+        for cmd in tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()}):
             proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=1800)
             if proc.returncode != 0:
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"

@@ -21,6 +21,7 @@ class Target:
     exponent_letter: ClassVar[str] = "e"
     calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "fabs({})"}
     statement_end: ClassVar[str] = ";"
+    header_extension: ClassVar[str | None] = None   # a declarations file next to the code (templates/<lang>/header.j2)
 
     # ---- single precision (max2code --real=float) ------------------------
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
@@ -56,9 +57,11 @@ class Target:
         raise NotImplementedError(type(self).__name__)
 
     # ---- the simulator (docs/simulator.md) ------------------------------
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Commands that build this language's simulator in `workdir` from the
-        generated files (equation name -> file name in workdir)."""
+        generated files (equation name -> file name in workdir); `variants`:
+        how many variants each equation's NAME_variant counts (from the
+        generator's selection, GeneratedFile.selection)."""
         raise NotImplementedError(f"no simulator for {self.name} yet")
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:

@@ -1,6 +1,5 @@
 """C (C11, <math.h>)."""
 import os
-import re
 
 from max2code.targets.base import Target
 
@@ -9,26 +8,12 @@ from max2code.targets.base import Target
 FLAGS = ["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off"]
 
 
-def variant_count(path: str, name: str) -> int:
-    """How many variants NAME_variant of a generated .c file counts: its
-    comment lists them as `/*   K = VARIANT (degree D) */`, K = 0, 1, ..."""
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
-    head = text.find(f"/* {name}_variant: ")
-    if head < 0:
-        raise ValueError(f"{path}: no {name}_variant in the generated code")
-    body = text[head:text.find(f"int {name}_variant(", head)]
-    ks = [int(k) for k in re.findall(r"^/\*   (\d+) = \w+ \(degree \d+\) \*/$", body, re.M)]
-    if not ks or ks != list(range(len(ks))):
-        raise ValueError(f"{path}: cannot read the variant list of {name}_variant")
-    return len(ks)
-
-
 class C(Target):
     name = "c"
     extension = ".c"
     comment = ("/* ", " */")
     line_directive = '#line {line} "{file}"'
+    header_extension = ".h"          # eq.h: every entry's prototype and the degree constants
 
     single_type = "float"
     single_calls = {"sin": "sinf({})", "cos": "cosf({})", "sqrt": "sqrtf({})", "abs": "fabsf({})"}
@@ -47,7 +32,7 @@ class C(Target):
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the generated circle_circle.c and point_edge.c (checked
         against the declarations of m2c_sim_equations.h), then the simulator
         (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
@@ -64,8 +49,8 @@ class C(Target):
             cmds.append([*FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(inc / "m2c_sim_equations.h"),
                          "-c", generated[eq], "-o", obj])
             objs.append(obj)
-        counts = [f"-DM2C_SIM_CC_VARIANTS={variant_count(generated['circle_circle'], 'circle_circle')}",
-                  f"-DM2C_SIM_PE_VARIANTS={variant_count(generated['point_edge'], 'point_edge')}"]
+        counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
+                  f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
         sources = sorted(str(p) for p in (c / "src").glob("m2c_sim*.c"))
         cmds.append([*FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
                      "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])

@@ -1,27 +1,11 @@
 """ISO Modula-2 (gm2 -fiso -fcpp): REAL is a C double; sin/cos from RealMath."""
 import os
-import re
 
 from max2code.targets.base import Target
 
 # flags of every simulator build: ISO dialect, warnings are errors, no FMA
 # contraction (the same operations as the Python reference, docs/simulator.md)
 SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
-
-
-def variant_count(path: str, name: str) -> int:
-    """How many variants NAME_variant of a generated .mxd file counts: its
-    comment lists them as `(*   K = VARIANT (degree D) *)`, K = 0, 1, ..."""
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
-    head = text.find(f"(* {name}_variant: ")
-    if head < 0:
-        raise ValueError(f"{path}: no {name}_variant in the generated code")
-    body = text[head:text.find(f"PROCEDURE {name}_variant ", head)]
-    ks = [int(k) for k in re.findall(r"^\(\*   (\d+) = \w+ \(degree \d+\) \*\)$", body, re.M)]
-    if not ks or ks != list(range(len(ks))):
-        raise ValueError(f"{path}: cannot read the variant list of {name}_variant")
-    return len(ks)
 
 
 class Modula2(Target):
@@ -55,7 +39,7 @@ class Modula2(Target):
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the event queue (SimHeap) and the simulator (SimMain, which
         #includes the generated circle_circle.mxd and point_edge.mxd from
         workdir) and link them with the Roots runtime into workdir/sim.
@@ -66,8 +50,8 @@ class Modula2(Target):
         m2 = runtimes.M2_RUNTIME
         objs = runtimes.m2_objects()
         heap = os.path.join(workdir, "SimHeap.o")
-        counts = [f"-DSIM_CC_VARIANTS={variant_count(generated['circle_circle'], 'circle_circle')}",
-                  f"-DSIM_PE_VARIANTS={variant_count(generated['point_edge'], 'point_edge')}"]
+        counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
+                  f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return [["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / "SimHeap.mod"), "-o", heap],
                 ["gm2", *SIM_FLAGS, *counts, *incs, str(m2 / "SimMain.mod"), heap, *map(str, objs),

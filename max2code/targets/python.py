@@ -20,7 +20,7 @@ class Python(Target):
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [sys.executable, "-W", "error", src]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Byte-compile the generated modules (the simulator is max2code_rt.sim)."""
         return [[sys.executable, "-W", "error", "-m", "py_compile", *generated.values()]]
 

@@ -42,7 +42,7 @@ class Rust(Target):
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Write main.rs (the generated modules and max2code_rt::sim_main!)
         and compile it against the runtime's rlib: warnings denied, opt-level 3."""
         main = Path(workdir) / "main.rs"
