@@ -29,7 +29,7 @@ from max2code import __version__
 DATA_FOLDERS = ("templates", "equations", "examples", "runtimes/c", "runtimes/m2", "runtimes/python",
                 "runtimes/rust", "tests/conformance")
 # never copied into the package: build products and caches
-IGNORED = ("target", "__pycache__", "*.o", "*.a", "*.so", "*.pyc", "*.egg-info")
+IGNORED = ("target", "build", "__pycache__", "*.o", "*.a", "*.so", "*.pyc", "*.egg-info")
 
 
 def _data_root() -> tuple[Path, bool]:
