@@ -68,6 +68,17 @@ class Target:
         """The command that runs the built simulator (compiled scene on stdin)."""
         raise NotImplementedError(f"no simulator for {self.name} yet")
 
+    # ---- the runtime as a library (max2code runtime LANG [--install PREFIX]) ----
+    def runtime_dir(self):
+        """The folder of this language's runtime sources."""
+        from max2code.paths import RUNTIMES
+        return RUNTIMES / self.name
+
+    def install_runtime(self, prefix: str) -> str:
+        """Build and install the runtime under `prefix`; returns how to use it."""
+        from max2code.errors import Max2CodeError
+        raise Max2CodeError(f"max2code runtime: error: {self.name}: no install step; the sources are in {self.runtime_dir()}")
+
     def runtime_flags(self) -> list[str]:
         """Compiler arguments that make this checkout's runtime (its root
         solver) available to generated code; builds the runtime if needed."""

@@ -29,6 +29,15 @@ class C(Target):
         lib = runtimes.c_library()
         return [f"-I{runtimes.C_INCLUDE}", str(lib)]
 
+    def install_runtime(self, prefix: str) -> str:
+        from max2code.harness import runtimes
+        prefix = os.path.abspath(prefix)
+        runtimes.run(["make", "-s", "-C", str(runtimes.C_RUNTIME), f"BUILD={runtimes.BUILD / 'c-install'}",
+                      f"PREFIX={prefix}", "install"], runtimes.C_RUNTIME)
+        return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
+                f"  export PKG_CONFIG_PATH={prefix}/lib/pkgconfig\n"
+                "  cc main.c eq.c $(pkg-config --cflags --libs m2c) -Wl,-rpath,$(pkg-config --variable=libdir m2c)")
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 

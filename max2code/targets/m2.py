@@ -36,6 +36,15 @@ class Modula2(Target):
         objs = runtimes.m2_objects()
         return [f"-I{runtimes.M2_RUNTIME}", *map(str, objs)]
 
+    def install_runtime(self, prefix: str) -> str:
+        from max2code.harness import runtimes
+        prefix = os.path.abspath(prefix)
+        runtimes.run(["make", "-s", "-C", str(runtimes.M2_RUNTIME), f"BUILD={runtimes.BUILD / 'm2-install'}",
+                      f"PREFIX={prefix}", "install"], runtimes.M2_RUNTIME)
+        d = f"{prefix}/lib/max2code/m2"
+        return (f"installed Roots, ExactToc (and RootsGsl, Wire) .def/.mod/.o in {d}; build with\n"
+                f"  gm2 -fiso -fcpp -I{d} prog.mod {d}/Roots.o {d}/ExactToc.o -o prog -lm")
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 

@@ -17,6 +17,20 @@ class Python(Target):
         """Byte-compile: a syntax error fails here, as a compile error would."""
         return [[sys.executable, "-W", "error", "-m", "py_compile", src]]
 
+    def install_runtime(self, prefix: str) -> str:
+        """Copy the distribution max2code-rt (pyproject.toml and the package) to
+        PREFIX/lib/max2code/python/max2code-rt, for pip to install from there."""
+        import shutil
+        from pathlib import Path
+        src = self.runtime_dir()
+        dest = Path(prefix).resolve() / "lib" / "max2code" / "python" / "max2code-rt"
+        if dest.exists():
+            shutil.rmtree(dest)
+        dest.mkdir(parents=True)
+        shutil.copy2(src / "pyproject.toml", dest / "pyproject.toml")
+        shutil.copytree(src / "max2code_rt", dest / "max2code_rt", ignore=shutil.ignore_patterns("__pycache__"))
+        return f"copied the distribution max2code-rt to {dest}; install it with\n  pip install {dest}"
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [sys.executable, "-W", "error", src]
 

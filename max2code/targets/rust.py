@@ -39,6 +39,19 @@ class Rust(Target):
         rlib = runtimes.rust_library()
         return ["--extern", f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}"]
 
+    def install_runtime(self, prefix: str) -> str:
+        import shutil
+        from max2code.harness import runtimes
+        dest = Path(prefix).resolve() / "lib" / "max2code" / "rust" / "max2code_rt"
+        if dest.exists():
+            shutil.rmtree(dest)
+        dest.mkdir(parents=True)
+        for name in ("Cargo.toml", "README.md"):
+            shutil.copy2(runtimes.RUST_RUNTIME / name, dest / name)
+        shutil.copytree(runtimes.RUST_RUNTIME / "src", dest / "src")
+        return (f"copied the crate max2code_rt to {dest}; in your Cargo.toml:\n"
+                f'  [dependencies]\n  max2code_rt = {{ path = "{dest}" }}')
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
