@@ -6,7 +6,9 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 
-LANGS = ["c", "m2", "python", "rust"]
+from max2code.targets import LANGUAGES  # noqa: E402  (the only list of languages)
+
+LANGS = sorted(LANGUAGES)
 EQUATIONS = ["circle-circle", "point-line"]
 
 

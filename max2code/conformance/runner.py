@@ -28,12 +28,12 @@ from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
 from max2code.conformance.toc import TocOp
 from max2code.errors import Max2CodeError
-from max2code.harness import runtimes
 from max2code.harness.runtimes import rust_env  # noqa: F401  (the runner's API)
-from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR
+from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
+from max2code.targets import LANGUAGES, gsl_baselines
 
-ALL_LANGS = ("python", "c", "rust", "m2")
-BASELINES = ("gsl", "gsl-m2")
+ALL_LANGS = tuple(LANGUAGES)
+BASELINES = gsl_baselines()
 
 
 def _ops() -> dict[str, object]:
@@ -45,19 +45,13 @@ OPS: dict[str, object] = _ops()
 
 # ------------------------------------------------------------------ testees
 def build_testee(lang: str) -> list[str]:
-    """Build the testee of `lang` if needed (into build/) and return its command."""
-    if lang == "python":
-        return [sys.executable, "-m", "max2code_rt.testee"]
-    if lang in ("c", "gsl"):
-        runtimes.make_c(BUILD / "c" / "m2c_testee")
-        return [str(BUILD / "c" / "m2c_testee")] + (["--gsl"] if lang == "gsl" else [])
-    if lang == "rust":
-        runtimes.cargo("build", "--release", "--quiet", "--bin", "max2code_rt_testee")
-        return [str(BUILD / "rust" / "release" / "max2code_rt_testee")]
-    if lang in ("m2", "gsl-m2"):
-        prog = "roots_testee" if lang == "m2" else "roots_gsl_testee"
-        runtimes.make_m2(BUILD / "m2" / prog)
-        return [str(BUILD / "m2" / prog)]
+    """Build the testee of `lang` (a language or a GSL baseline) if needed and return its command."""
+    from max2code.targets import target
+    if lang in LANGUAGES:
+        return target(lang).testee()
+    for name, t in LANGUAGES.items():
+        if t.gsl_baseline == lang:
+            return target(name).testee(baseline=True)
     raise ValueError(f"unknown language {lang!r}")
 
 

@@ -23,6 +23,7 @@ import mpmath
 from max2code.conformance.motion_ref import EQUATIONS, scale
 
 from max2code.paths import CASES, equation as mxm_path
+from max2code.targets import LANGUAGES
 ORDER = 4
 EPS = 2.0 ** -52
 CASE_FILE = CASES / "toc.jsonl"
@@ -119,7 +120,7 @@ class TocOp:
     case's equation (templates/<lang>/harness.j2, toc mode)."""
 
     name = "toc"
-    testee_langs = ("python", "c", "rust", "m2")
+    testee_langs = tuple(LANGUAGES)
 
     def degree(self, case: dict):
         return None

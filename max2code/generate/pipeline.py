@@ -67,9 +67,8 @@ def header_lines(d: Derivation, fn: FunctionIR) -> list[str]:
 
 def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     mod = d.module
-    tgt = get_target(req.lang)
     try:
-        tgt.with_real(req.real)
+        tgt = get_target(req.lang, real=req.real)
     except ValueError as exc:
         raise Max2CodeError(f"max2code: error: --real={req.real}: {exc}") from None
     if req.header and tgt.header_extension is None:

@@ -71,14 +71,10 @@ class Selection:
 
 def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, line_directives: bool) -> dict:
     origin = target.origin_line(fn.origin.line, mxm_name) if line_directives else None
-    if target.single and target.single_copies:   # --real=float: the body reads float copies of the parameters
-        target.renames = {p: p + "_s" for p in fn.params}
-    try:
-        body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
-        body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
-        body += [BodyLine("coef", str(k), target.expr(c), origin) for k, c in enumerate(fn.coefficients)]
-    finally:
-        target.renames = {}
+    printer = target.float_copies(fn.params)     # --real=float: the body may read float copies of the parameters
+    body = [BodyLine("derived", a.name, printer.expr(a.node), origin) for a in fn.derived]
+    body += [BodyLine("temp", a.name, printer.expr(a.node), origin) for a in fn.temps]
+    body += [BodyLine("coef", str(k), printer.expr(c), origin) for k, c in enumerate(fn.coefficients)]
     if origin is not None and target.line_directive is None:
         # an origin comment once is enough where the language has no directives
         body = [body[0]] + [BodyLine(b.kind, b.name, b.text, None) for b in body[1:]]

@@ -30,6 +30,12 @@ def run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
         raise RuntimeBuildError(f"max2code: error: the runtime did not build: {' '.join(map(str, cmd))}\n{r.stdout[-3000:]}")
 
 
+def gsl_libs() -> list[str]:
+    """GSL's link flags (pkg-config, else the usual three)."""
+    out = subprocess.run(["pkg-config", "--libs", "gsl"], capture_output=True, text=True)
+    return out.stdout.split() if out.returncode == 0 else ["-lgsl", "-lgslcblas", "-lm"]
+
+
 def make_c(*targets: str | Path) -> None:
     """make in runtimes/c with our flags (warnings are errors), outputs under BUILD/c."""
     run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c'}", "WERROR=-Werror", *map(str, targets)], C_RUNTIME)

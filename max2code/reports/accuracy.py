@@ -27,7 +27,9 @@ from pathlib import Path
 from max2code.progress import bar
 
 from max2code.paths import BUILD, EQUATIONS, ROOT, equation
-LANGS = ("c", "rust", "m2", "python")
+from max2code.targets import LANGUAGES
+# the compiled languages first (the table's order)
+LANGS = tuple(sorted(LANGUAGES, key=lambda lang: not LANGUAGES[lang].compiled))
 LETTERS = "abcdefmnopqghijklrsuvwxz"
 README_BEGIN = "<!-- accuracy:begin (written by max2code accuracy --readme) -->"
 README_END = "<!-- accuracy:end -->"
@@ -54,7 +56,7 @@ class Config:
                 "exact": "exact (refined)"}[self.kind]
 
 
-NATIVE = ("c", "rust", "m2")
+NATIVE = tuple(lang for lang in LANGS if LANGUAGES[lang].compiled)
 CONFIGS = (
     Config("paper", "paper", note="the paper's figure 7: cos series of the whole angle, S(X) = O(pi/2 - X), one polynomial"),
     Config("single o4", "single", 4, note="our phase expansion, order 4, one polynomial over the horizon"),
@@ -201,7 +203,7 @@ def sweep(configs, langs, cases, reps: int, py_reps: int, progress: bool = True)
                     rows = [[float(k["params"][n]) for n in names] +
                             [float(k["horizon"]), c.angle, 1.0 if c.kind == "exact" else 0.0, 0.0, 1.0 if c.gsl else 0.0]
                             for k in cases]
-                answers, ns = h.run(rows, reps=py_reps if lang == "python" else reps)
+                answers, ns = h.run(rows, reps=reps if LANGUAGES[lang].compiled else py_reps)
                 results.append(score(c, lang, cases, answers, ns))
                 done += 1
     if progress:

@@ -10,18 +10,19 @@ import os
 import subprocess
 from dataclasses import dataclass, field
 
+from max2code.errors import Max2CodeError
 from max2code.generate.pipeline import GenerateRequest, derive, generate
 from max2code.generate.mxm import read_mxm
 from max2code.paths import BUILD, RUNTIMES, equation
 from max2code.sim.scene import Scene, compile_scene
-from max2code.targets import target as get_target
+from max2code.targets import simulator_languages, target as get_target
 
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
-LANGS = ("python", "c", "rust", "m2")
+LANGS = simulator_languages()
 FEATURES = {(0, False): "circle-circle", (0, True): "circle-vertex", (1, False): "circle-edge", (1, True): "vertex-edge"}
 
 
-class SimulateError(RuntimeError):
+class SimulateError(Max2CodeError):
     """The simulator did not build, failed, or reported a stuck scene."""
 
 

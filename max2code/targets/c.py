@@ -14,6 +14,9 @@ class C(Target):
     comment = ("/* ", " */")
     line_directive = '#line {line} "{file}"'
     header_extension = ".h"          # eq.h: every entry's prototype and the degree constants
+    gsl_baseline = "gsl"
+    requires = "a C11 compiler; GSL (the library's baseline solver)"
+    links = "compile eq.c, include eq.h; link libm2c (static or shared) through `pkg-config m2c`"
 
     single_type = "float"
     single_calls = {"sin": "sinf({})", "cos": "cosf({})", "sqrt": "sqrtf({})", "abs": "fabsf({})"}
@@ -29,6 +32,12 @@ class C(Target):
         lib = runtimes.c_library()
         return [f"-I{runtimes.C_INCLUDE}", str(lib)]
 
+    def testee(self, baseline: bool = False) -> list[str]:
+        from max2code.harness import runtimes
+        exe = runtimes.BUILD / "c" / "m2c_testee"
+        runtimes.make_c(exe)
+        return [str(exe)] + (["--gsl"] if baseline else [])
+
     def install_runtime(self, prefix: str) -> str:
         from max2code.harness import runtimes
         prefix = os.path.abspath(prefix)
@@ -37,6 +46,11 @@ class C(Target):
         return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
                 f"  export PKG_CONFIG_PATH={prefix}/lib/pkgconfig\n"
                 "  cc main.c eq.c $(pkg-config --cflags --libs m2c) -Wl,-rpath,$(pkg-config --variable=libdir m2c)")
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        from max2code.harness import runtimes
+        return [[*FLAGS, f"-I{runtimes.C_INCLUDE}", f"-I{workdir}", src, "-o", exe, str(runtimes.c_library()),
+                 *runtimes.gsl_libs(), "-lm"]]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]

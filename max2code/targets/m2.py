@@ -15,6 +15,9 @@ class Modula2(Target):
     line_directive = '#line {line} "{file}"'
     line_offset = 1          # gm2 12 reports a line one less than the #line directive gives
     exponent_letter = "E"    # ISO Modula-2 real literal: 1.0E-5
+    gsl_baseline = "gsl-m2"
+    requires = "gm2 (GCC 12 or later, `-fiso`)"
+    links = "`#include` eq.mxd in your module (`gm2 -fcpp`); link Roots.o and ExactToc.o"
     def zero_test(self, names) -> str:
         # AND binds tighter than = in Modula-2: parenthesise each test
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
@@ -36,6 +39,12 @@ class Modula2(Target):
         objs = runtimes.m2_objects()
         return [f"-I{runtimes.M2_RUNTIME}", *map(str, objs)]
 
+    def testee(self, baseline: bool = False) -> list[str]:
+        from max2code.harness import runtimes
+        exe = runtimes.BUILD / "m2" / ("roots_gsl_testee" if baseline else "roots_testee")
+        runtimes.make_m2(exe)
+        return [str(exe)]
+
     def install_runtime(self, prefix: str) -> str:
         from max2code.harness import runtimes
         prefix = os.path.abspath(prefix)
@@ -44,6 +53,15 @@ class Modula2(Target):
         d = f"{prefix}/lib/max2code/m2"
         return (f"installed Roots, ExactToc (and RootsGsl, Wire) .def/.mod/.o in {d}; build with\n"
                 f"  gm2 -fiso -fcpp -I{d} prog.mod {d}/Roots.o {d}/ExactToc.o -o prog -lm")
+
+    harness_rows_fixed = True     # the exact harness reads its rows into a static array
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        from max2code.harness import runtimes
+        m2 = runtimes.M2_RUNTIME
+        objs = runtimes.m2_objects("Roots", "RootsGsl", "ExactToc")
+        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
+                 *map(str, objs), src, "-o", exe, *runtimes.gsl_libs(), "-lm"]]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
