@@ -23,6 +23,8 @@ SUBCOMMANDS: dict[str, str] = {
     "crosscheck": "max2code.sim.commands:crosscheck_main",
     "event-vs-frame": "max2code.reports.event_vs_frame:main",
     "render": "max2code.draw.render:render_main",
+    "runtime": "max2code.harness.install:runtime_main",
+    "bundled": "max2code.harness.install:bundled_main",
 }
 
 
@@ -65,6 +67,9 @@ def _generate_parser() -> argparse.ArgumentParser:
                    help="only the full equation, no variants and no selection logic")
     p.add_argument("--list-variants", action="store_true",
                    help="print the variants as JSON (name, conditions, degree, terms, multiplications) and exit")
+    p.add_argument("--header", action=argparse.BooleanOptionalAction, default=None,
+                   help="also write the declarations next to -o FILE (C: FILE.h with every entry's prototype and "
+                        "degree constants); default: on for C with -o FILE")
     p.add_argument("--no-cache", action="store_true", help="do not read or write the Maxima result cache")
     p.add_argument("--maxima-timeout", type=float, default=300.0, metavar="SECONDS",
                    help="give up on Maxima after this many seconds (default 300)")
@@ -94,6 +99,11 @@ def generate_main(argv: list[str]) -> int:
         return list_variants(args, effects)
     if not args.lang:
         parser.error("--lang is required (c, m2, python or rust)")
+    from max2code.targets import LANGUAGES
+    header = args.header if args.header is not None else (
+        args.output != "-" and LANGUAGES[args.lang].header_extension is not None)
+    if header and args.output == "-":
+        parser.error("--header needs -o FILE (the header is written next to it)")
     req = GenerateRequest(
         path=args.file,
         lang=args.lang,
@@ -108,6 +118,7 @@ def generate_main(argv: list[str]) -> int:
         effects=effects,
         exact=args.exact,
         real=args.real,
+        header=header,
     )
     result = generate_file(req)
     text = result.text
@@ -116,6 +127,10 @@ def generate_main(argv: list[str]) -> int:
     else:
         with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
             fh.write(text)
+        if result.header is not None:
+            with open(os.path.join(os.path.dirname(args.output), result.header_name), "w", encoding="utf-8",
+                      newline="\n") as fh:
+                fh.write(result.header)
     return 0
 
 

@@ -6,7 +6,9 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 
-LANGS = ["c", "m2", "python", "rust"]
+from max2code.targets import LANGUAGES  # noqa: E402  (the only list of languages)
+
+LANGS = sorted(LANGUAGES)
 EQUATIONS = ["circle-circle", "point-line"]
 
 
@@ -33,3 +35,26 @@ def generated():
     os.chdir(ROOT)
     yield get
     os.chdir(old)
+
+
+@pytest.fixture(scope="session")
+def installed(tmp_path_factory):
+    """This checkout built as a wheel and installed in a fresh venv (made once
+    per session).  The venv sees the system's site-packages for the
+    dependencies (lark, numpy, matplotlib, ...: nothing is downloaded) but
+    max2code itself comes from the wheel.  Returns (venv folder, environment
+    for subprocesses: the venv's bin first on PATH, no PYTHONPATH)."""
+    import subprocess
+
+    base = tmp_path_factory.mktemp("installed")
+    wheels = base / "wheels"
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
+                    "-w", str(wheels)], check=True, capture_output=True, text=True)
+    (wheel,) = wheels.glob("max2code-*.whl")
+    venv = base / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "-q", "--no-deps", "--no-index", "--ignore-installed",
+                    str(wheel)], check=True, capture_output=True, text=True)
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MAX2CODE_BUILD", "VIRTUAL_ENV")}
+    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env['PATH']}"
+    return venv, env

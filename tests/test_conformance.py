@@ -134,7 +134,7 @@ def raw_answers(lang: str, polys: list[tuple[list[float], float, float]]) -> lis
     cmd = R.build_testee(lang)
     text = "\n".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, i)
                      for i, (c, lo, hi) in enumerate(polys)) + "\n"
-    out = subprocess.run(cmd, input=text, stdout=subprocess.PIPE, text=True, check=True, cwd=R.ROOT).stdout
+    out = subprocess.run(cmd, input=text, stdout=subprocess.PIPE, text=True, check=True).stdout
     return [line.split(" ", 1)[1] for line in out.splitlines()]
 
 

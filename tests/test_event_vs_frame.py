@@ -8,7 +8,7 @@ import pymunk
 from max2code.reports.event_vs_frame import (build_space, free_run, FrameResult, match_events, our_collisions, replay,
                                      tunnel_scene)
 from max2code.sim.scene import load_scene
-from max2code.harness.runtimes import ROOT
+from max2code.paths import ROOT
 from max2code.sim.simulate import run_scene
 
 

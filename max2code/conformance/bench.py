@@ -20,6 +20,7 @@ import sys
 import time
 
 from max2code.conformance import runner as R
+from max2code.harness import runtimes
 
 DEGREES = (2, 3, 4, 6, 8)
 
@@ -138,14 +139,11 @@ def main(argv=None) -> int:
 
     progress(0, steps[0])
     R.build_testee("c")
-    R._run(["make", "-s", "-C", str(R.ROOT / "runtimes" / "c"), f"BUILD={R.BUILD / 'c'}",
-            str(R.BUILD / "c" / "m2c_bench")], R.ROOT)
+    runtimes.make_c(R.BUILD / "c" / "m2c_bench")
     progress(1, steps[1])
-    R._run(["cargo", "build", "--release", "--quiet", "--bin", "max2code_rt_bench"],
-           R.ROOT / "runtimes" / "rust", R.rust_env())
+    runtimes.cargo("build", "--release", "--quiet", "--bin", "max2code_rt_bench")
     progress(2, steps[2])
-    R._run(["make", "-s", "-C", str(R.ROOT / "runtimes" / "m2"), f"BUILD={R.BUILD / 'm2'}",
-            str(R.BUILD / "m2" / "roots_bench")], R.ROOT)
+    runtimes.make_m2(R.BUILD / "m2" / "roots_bench")
     reps = str(args.reps)
     progress(3, steps[3])
     cols["C"] = native([str(R.BUILD / "c" / "m2c_bench"), "m2c", reps], text)

@@ -24,8 +24,8 @@ import mpmath
 from max2code.conformance.exact_ref import DPS, Gap, reference
 from max2code.progress import bar
 
-from max2code.paths import ROOT
-CASE_FILE = ROOT / "tests" / "conformance" / "toc_exact.jsonl"
+from max2code.paths import CASES
+CASE_FILE = CASES / "toc_exact.jsonl"
 CC = "abcdefmnopqghijklrsuvwxz"
 PL = "abcdefghijkl"
 

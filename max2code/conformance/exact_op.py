@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import tempfile
 
-from max2code.paths import ROOT
+from max2code.paths import equation as mxm_path
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
 DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
 
@@ -55,7 +55,7 @@ def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
         else:
             by_eq.setdefault(case["equation"], []).append(seq)
     for equation, seqs in sorted(by_eq.items()):
-        g = generate_file(GenerateRequest(path=str(ROOT / "equations" / f"{equation}.mxm"), lang=lang,
+        g = generate_file(GenerateRequest(path=str(mxm_path(equation)), lang=lang,
                                           out_name="generated", exact=True))
         with tempfile.TemporaryDirectory(prefix=f"exact-{lang}-") as tmp:
             h = build_exact_harness(lang, g.text, g.exact, tmp)

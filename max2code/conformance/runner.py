@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 import time
@@ -28,13 +27,13 @@ from pathlib import Path
 from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
 from max2code.conformance.toc import TocOp
-from max2code.paths import ROOT
-CASES_DIR = ROOT / "tests" / "conformance"
-XFAIL_DIR = CASES_DIR / "expected_failures"
-BUILD = ROOT / "build"
+from max2code.errors import Max2CodeError
+from max2code.harness.runtimes import rust_env  # noqa: F401  (the runner's API)
+from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
+from max2code.targets import LANGUAGES, gsl_baselines
 
-ALL_LANGS = ("python", "c", "rust", "m2")
-BASELINES = ("gsl", "gsl-m2")
+ALL_LANGS = tuple(LANGUAGES)
+BASELINES = gsl_baselines()
 
 
 def _ops() -> dict[str, object]:
@@ -45,36 +44,14 @@ OPS: dict[str, object] = _ops()
 
 
 # ------------------------------------------------------------------ testees
-def _run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
-    r = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(f"build failed: {' '.join(cmd)}\n{r.stdout}")
-
-
-def rust_env() -> dict:
-    env = dict(os.environ)
-    env["CARGO_TARGET_DIR"] = str(BUILD / "rust")
-    env["RUSTFLAGS"] = "-Dwarnings"
-    return env
-
-
 def build_testee(lang: str) -> list[str]:
-    """Build the testee of `lang` if needed (into build/) and return its command."""
-    if lang == "python":
-        return [sys.executable, "-m", "max2code_rt.testee"]
-    if lang in ("c", "gsl"):
-        _run(["make", "-s", "-C", str(ROOT / "runtimes" / "c"), f"BUILD={BUILD / 'c'}",
-              str(BUILD / "c" / "m2c_testee")], ROOT)
-        return [str(BUILD / "c" / "m2c_testee")] + (["--gsl"] if lang == "gsl" else [])
-    if lang == "rust":
-        _run(["cargo", "build", "--release", "--quiet", "--bin", "max2code_rt_testee"],
-             ROOT / "runtimes" / "rust", rust_env())
-        return [str(BUILD / "rust" / "release" / "max2code_rt_testee")]
-    if lang in ("m2", "gsl-m2"):
-        prog = "roots_testee" if lang == "m2" else "roots_gsl_testee"
-        _run(["make", "-s", "-C", str(ROOT / "runtimes" / "m2"), f"BUILD={BUILD / 'm2'}",
-              str(BUILD / "m2" / prog)], ROOT)
-        return [str(BUILD / "m2" / prog)]
+    """Build the testee of `lang` (a language or a GSL baseline) if needed and return its command."""
+    from max2code.targets import target
+    if lang in LANGUAGES:
+        return target(lang).testee()
+    for name, t in LANGUAGES.items():
+        if t.gsl_baseline == lang:
+            return target(name).testee(baseline=True)
     raise ValueError(f"unknown language {lang!r}")
 
 
@@ -118,14 +95,22 @@ class Report:
 def load_cases(paths: list[Path]) -> list[dict]:
     cases = []
     for p in paths:
-        with open(p, encoding="utf-8") as fh:
-            for n, line in enumerate(fh, 1):
-                line = line.strip()
-                if not line:
-                    continue
-                case = json.loads(line)
-                case.setdefault("id", f"{p.name}:{n}")
-                cases.append(case)
+        try:
+            with open(p, encoding="utf-8") as fh:
+                for n, line in enumerate(fh, 1):
+                    line = line.strip()
+                    if not line:
+                        continue
+                    try:
+                        case = json.loads(line)
+                    except json.JSONDecodeError as exc:
+                        raise Max2CodeError(f"{p}:{n}:{exc.colno}: error: expected a JSON case: {exc.msg}") from None
+                    if not isinstance(case, dict):
+                        raise Max2CodeError(f"{p}:{n}: error: expected a JSON object (a case)")
+                    case.setdefault("id", f"{p.name}:{n}")
+                    cases.append(case)
+        except OSError as exc:
+            raise Max2CodeError(f"{p}: error: cannot read: {exc.strerror}") from None
     return cases
 
 
@@ -151,7 +136,7 @@ def run_lang(lang: str, cases: list[dict]) -> Report:
     t0 = time.monotonic()
     try:
         cmd = build_testee(lang)
-    except (RuntimeError, OSError) as exc:
+    except (Max2CodeError, OSError) as exc:
         rep.error = str(exc)
         return rep
     # ops that name their testee languages are skipped for other runtimes (the GSL baselines)
@@ -172,7 +157,7 @@ def run_lang(lang: str, cases: list[dict]) -> Report:
             case["_bad"] = f"malformed case: {exc}"
     try:
         proc = subprocess.run(cmd, input="\n".join(lines) + "\n", stdout=subprocess.PIPE,
-                              stderr=subprocess.PIPE, text=True, cwd=ROOT, timeout=600)
+                              stderr=subprocess.PIPE, text=True, timeout=600)
     except (OSError, subprocess.TimeoutExpired) as exc:
         rep.error = f"testee {cmd[0]} failed: {exc}"
         return rep
@@ -270,7 +255,12 @@ def main(argv: list[str] | None = None) -> int:
                     help="print the failing cases in the expected_failures format (ID reason) and exit 0")
     args = ap.parse_args(argv)
     files = args.cases or default_case_files()
+    if not files:
+        raise Max2CodeError(f"max2code conformance: error: no case files (*.jsonl) in {CASES_DIR}")
     cases = load_cases(files)
+    if not cases:
+        raise Max2CodeError(f"{files[0] if len(files) == 1 else ', '.join(map(str, files))}: error: "
+                            "expected conformance cases (JSON lines), found none")
     langs = list(ALL_LANGS) if args.lang == "all" else [args.lang]
     reports = []
     for lang in langs:

@@ -22,10 +22,11 @@ import mpmath
 
 from max2code.conformance.motion_ref import EQUATIONS, scale
 
-from max2code.paths import ROOT
+from max2code.paths import CASES, equation as mxm_path
+from max2code.targets import LANGUAGES
 ORDER = 4
 EPS = 2.0 ** -52
-CASE_FILE = ROOT / "tests" / "conformance" / "toc.jsonl"
+CASE_FILE = CASES / "toc.jsonl"
 
 
 def reference(equation: str, params: dict, horizon: float):
@@ -119,7 +120,7 @@ class TocOp:
     case's equation (templates/<lang>/harness.j2, toc mode)."""
 
     name = "toc"
-    testee_langs = ("python", "c", "rust", "m2")
+    testee_langs = tuple(LANGUAGES)
 
     def degree(self, case: dict):
         return None
@@ -148,7 +149,7 @@ class TocOp:
             else:
                 by_eq.setdefault(case["equation"], []).append(seq)
         for equation, seqs in sorted(by_eq.items()):
-            path = ROOT / "equations" / f"{equation}.mxm"
+            path = mxm_path(equation)
             g = generate_file(GenerateRequest(path=str(path), lang=lang, out_name="generated"))
             toc = g.derivation.module.equation + "_toc"
             with tempfile.TemporaryDirectory(prefix=f"toc-{lang}-") as tmp:

@@ -600,19 +600,12 @@ def render_context(target, section: ExactSection, coef_entry: str, coef_selectio
     for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
         fn: ScalarFn = getattr(section, key)
         taken |= {a.name for a in fn.temps}
-    single = target.single
     for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
         fn = getattr(section, key)
         inputs = list(params) + list(fn.extra)
-        if single and target.name == "m2":
-            target.renames = {p: p + "_s" for p in inputs}
-        else:
-            target.renames = {}
-        try:
-            temps = [(a.name, target.expr(a.node)) for a in fn.temps]
-            outs = [target.expr(o) for o in fn.outputs]
-        finally:
-            target.renames = {}
+        printer = target.float_copies(inputs)
+        temps = [(a.name, printer.expr(a.node)) for a in fn.temps]
+        outs = [printer.expr(o) for o in fn.outputs]
         used = [p for p in inputs if p not in fn.unused_params]
         plain: set[str] = set()     # referenced other than as abs(name) (gm2 counts only these as uses)
         for n in [a.node for a in fn.temps] + list(fn.outputs):

@@ -353,8 +353,9 @@ def _check(path: str, text: str, items: list) -> MxmModule:
     )
 
 
-def read_mxm(path: str) -> MxmModule:
-    """Read and parse the .mxm file at `path`."""
+def read_mxm(path: str, name: str | None = None) -> MxmModule:
+    """Read and parse the .mxm file at `path`; `name` (default: `path`) is how
+    messages, headers and #line directives name it."""
     try:
         with open(path, encoding="utf-8") as fh:
             text = fh.read()
@@ -364,4 +365,4 @@ def read_mxm(path: str) -> MxmModule:
         raise SourceError(Span(path, 1, 1), f"not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     except OSError as exc:
         raise SourceError(Span(path, 1, 1), f"cannot read: {exc.strerror}") from None
-    return parse_mxm(text, path)
+    return parse_mxm(text, name or path)

@@ -35,6 +35,7 @@ class GenerateRequest:
     effects: tuple[str, ...] | None = None   # the world's effects (None: all); see variants.WORLD_EFFECTS
     exact: bool = False             # also the exact-motion entries (the file's `exact`/`shift`; docs/exact-motion.md)
     real: str = "double"            # "float": the generated arithmetic in single precision (not Python)
+    header: bool = False            # also the declarations file (C: NAME.h), where the target has one
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,9 @@ class GeneratedFile:
     function: FunctionIR             # the most general function in the file
     variants: tuple = ()             # variants.Variant, cheapest first, when generated
     exact: object = None             # exact.ExactSection, when the exact-motion entries were generated
+    selection: Selection | None = None   # the selection logic (variant order of NAME_variant), when generated
+    header: str | None = None        # the declarations file's text (GenerateRequest.header)
+    header_name: str | None = None   # its file name, next to out_name
 
     @property
     def code_lines(self) -> int:
@@ -63,11 +67,12 @@ def header_lines(d: Derivation, fn: FunctionIR) -> list[str]:
 
 def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     mod = d.module
-    tgt = get_target(req.lang)
     try:
-        tgt.with_real(req.real)
+        tgt = get_target(req.lang, real=req.real)
     except ValueError as exc:
         raise Max2CodeError(f"max2code: error: --real={req.real}: {exc}") from None
+    if req.header and tgt.header_extension is None:
+        raise Max2CodeError(f"max2code: error: --header: {req.lang} has no header files (C has)")
     params, docs = parameters_of(d)
     # temporaries must not shadow the function's own name
     fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)
@@ -75,17 +80,19 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     mxm_name = mod.path
     out_name = req.out_name or (os.path.splitext(os.path.basename(mod.path))[0] + tgt.extension)
     blocks = mod.blocks_for(req.lang)
+    header_name = os.path.splitext(out_name)[0] + tgt.header_extension if req.header else None
     if any(b.kind == "term" for b in blocks):
-        if req.exact or tgt.single:
+        if req.exact or tgt.single or req.header:
             raise SourceError(next(b for b in blocks if b.kind == "term").span,
-                              "--exact and --real=float need the function form (a file without 'term' blocks)")
+                              "--exact, --real=float and --header need the function form (a file without 'term' blocks)")
         text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives)
         return GeneratedFile(text, d, fn)
     if not (req.variants and any(p.body is not None for p in mod.parameters)):
         section, ectx = _exact(d, req, tgt, mod.equation, False, fn.degree)
-        text = render_module(tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives,
-                             exact=ectx)
-        return GeneratedFile(text, d, fn, exact=section)
+        args = (tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives)
+        text = render_module(*args, exact=ectx)
+        decls = render_module(*args, exact=ectx, declarations=header_name) if header_name else None
+        return GeneratedFile(text, d, fn, exact=section, header=decls, header_name=header_name)
     vs = derive_variants(d, effects=req.effects, use_cache=req.use_cache, timeout=req.maxima_timeout,
                          progress=req.progress, shared=req.shared)
     general = max(vs, key=lambda v: (-len(v.zeros), v.cost))
@@ -96,9 +103,11 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
     section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree)
-    text = render_module(tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives,
-                         exact=ectx)
-    return GeneratedFile(text, d, general.function, tuple(vs), exact=section)
+    args = (tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives)
+    text = render_module(*args, exact=ectx)
+    decls = render_module(*args, exact=ectx, declarations=header_name) if header_name else None
+    return GeneratedFile(text, d, general.function, tuple(vs), exact=section, selection=selection, header=decls,
+                         header_name=header_name)
 
 
 def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection: bool, degree: int):

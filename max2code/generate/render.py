@@ -71,14 +71,10 @@ class Selection:
 
 def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, line_directives: bool) -> dict:
     origin = target.origin_line(fn.origin.line, mxm_name) if line_directives else None
-    if target.single and target.single_copies:   # --real=float: the body reads float copies of the parameters
-        target.renames = {p: p + "_s" for p in fn.params}
-    try:
-        body = [BodyLine("derived", a.name, target.expr(a.node), origin) for a in fn.derived]
-        body += [BodyLine("temp", a.name, target.expr(a.node), origin) for a in fn.temps]
-        body += [BodyLine("coef", str(k), target.expr(c), origin) for k, c in enumerate(fn.coefficients)]
-    finally:
-        target.renames = {}
+    printer = target.float_copies(fn.params)     # --real=float: the body may read float copies of the parameters
+    body = [BodyLine("derived", a.name, printer.expr(a.node), origin) for a in fn.derived]
+    body += [BodyLine("temp", a.name, printer.expr(a.node), origin) for a in fn.temps]
+    body += [BodyLine("coef", str(k), printer.expr(c), origin) for k, c in enumerate(fn.coefficients)]
     if origin is not None and target.line_directive is None:
         # an origin comment once is enough where the language has no directives
         body = [body[0]] + [BodyLine(b.kind, b.name, b.text, None) for b in body[1:]]
@@ -92,9 +88,11 @@ def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, 
 
 def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selection: Selection | None,
                   header: list[str], variable: str, mxm_name: str, out_name: str, line_directives: bool,
-                  exact: dict | None = None) -> str:
+                  exact: dict | None = None, declarations: str | None = None) -> str:
     """A file of coefficient functions (the full equation and its variants)
-    and, when given, the selection logic that picks among them."""
+    and, when given, the selection logic that picks among them.  With
+    `declarations` (the header's file name), the target's header for that
+    file instead: the same entries' declarations (templates/<lang>/header.j2)."""
     first = functions[0][0]
     ctx = [_function_context(target, fn, note, mxm_name, line_directives) for fn, note in functions]
     for i, c in enumerate(ctx):
@@ -103,7 +101,7 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
     if selection is not None:
         names = {m: c.name for c in selection.cases for m in c.masks}
         by_mask = [names.get(m) for m in range(1 << len(selection.switches))]
-    tpl = environment().get_template(f"{target.name}/file.j2")
+    tpl = environment().get_template(f"{target.name}/{'header.j2' if declarations else 'file.j2'}")
     toc = selection.name.replace("_coefficients", "_toc") if selection is not None else None
     which = selection.name.replace("_coefficients", "_variant") if selection is not None else None
     # for each mask, the index of its variant in selection.cases (-1: none)
@@ -113,7 +111,8 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
                       variant_fn=which, index_by_mask=index_by_mask,
                       variant_unused=[] if selection is None else
                       [p for p in first.params if all(p not in zs for _, zs in selection.switches)],
-                      header=header, variable=variable, exact=exact,
+                      header=header, variable=variable, exact=exact, decl=bool(declarations), source=out_name,
+                      guard=re.sub(r"\W", "_", declarations or "").upper(),
                       params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))
     return _finish(text, target, out_name)

@@ -5,26 +5,13 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
 from dataclasses import dataclass
 
-from max2code.harness import runtimes
+from max2code.targets import target as get_target
 from max2code.harness.toc import HarnessBuildError
 from max2code.generate.render import environment
 
 MAX_ROWS = 20000      # rows the Modula-2 harness holds (a static array)
-
-
-def _gsl_libs() -> list[str]:
-    out = subprocess.run(["pkg-config", "--libs", "gsl"], capture_output=True, text=True)
-    return out.stdout.split() if out.returncode == 0 else ["-lgsl", "-lgslcblas", "-lm"]
-
-
-def _m2_objects() -> list[str]:
-    objs = [runtimes.BUILD / "m2" / f"{m}.o" for m in ("Roots", "RootsGsl", "ExactToc")]
-    runtimes.run(["make", "-s", "-C", str(runtimes.ROOT / "runtimes" / "m2"), f"BUILD={runtimes.BUILD / 'm2'}",
-                  *map(str, objs)], runtimes.ROOT)
-    return [str(o) for o in objs]
 
 
 @dataclass
@@ -37,8 +24,8 @@ class ExactHarness:
     def run(self, rows: list[list[float]], reps: int = 0, timeout: float = 1800) -> tuple[list[tuple[int, float]], float | None]:
         """Each row: parameters, horizon, window_angle, refine, zero_tol, solver.
         Returns (status, t) per row and the median ns per call (reps > 0)."""
-        if self.lang == "m2" and len(rows) > MAX_ROWS:
-            raise ValueError(f"the Modula-2 harness holds at most {MAX_ROWS} rows")
+        if get_target(self.lang).harness_rows_fixed and len(rows) > MAX_ROWS:
+            raise ValueError(f"the {self.lang} harness holds at most {MAX_ROWS} rows")
         text = f"{reps}\n" + "\n".join(" ".join(repr(float(v)) for v in r) for r in rows) + "\n"
         proc = subprocess.run(self.cmd, input=text, capture_output=True, text=True, timeout=timeout, cwd=self.workdir)
         if proc.returncode != 0:
@@ -74,40 +61,19 @@ def build_poly_harness(lang: str, generated_text: str, params, coef: str, select
 
 
 def _build(lang: str, generated_text: str, workdir: str, template: str, nparams: int, **ctx) -> ExactHarness:
-    from max2code.targets import target as get_target
-
     tgt = get_target(lang)
     os.makedirs(workdir, exist_ok=True)
     gen = "generated" + tgt.extension
     with open(os.path.join(workdir, gen), "w", encoding="utf-8") as fh:
         fh.write(generated_text)
-    src_name = {"c": "harness.c", "python": "harness.py", "rust": "harness.rs", "m2": "harness.mod"}[lang]
-    src = os.path.join(workdir, src_name)
+    src = os.path.join(workdir, tgt.harness_source)
     text = environment().get_template(f"{lang}/{template}").render(
         generated=gen, nparams=nparams, max_rows=MAX_ROWS, **ctx)
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
     exe = os.path.join(workdir, "harness")
-    inc = str(runtimes.ROOT / "runtimes" / "c" / "include")
-    if lang == "c":
-        builds = [["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", f"-I{inc}",
-                   f"-I{workdir}", src, "-o", exe, str(runtimes.c_library()), *_gsl_libs(), "-lm"]]
-        cmd = [exe]
-    elif lang == "rust":
-        rlib = runtimes.rust_library()
-        builds = [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", "--extern",
-                   f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}", src, "-o", exe]]
-        cmd = [exe]
-    elif lang == "m2":
-        m2 = runtimes.ROOT / "runtimes" / "m2"
-        builds = [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
-                   *_m2_objects(), src, "-o", exe, *_gsl_libs(), "-lm"]]
-        cmd = [exe]
-    elif lang == "python":
-        builds = [[sys.executable, "-W", "error", "-m", "py_compile", src, os.path.join(workdir, gen)]]
-        cmd = [sys.executable, "-W", "error", src]
-    else:
-        raise ValueError(f"unknown language {lang!r}")
+    builds = tgt.exact_harness_build(src, exe, workdir)
+    cmd = tgt.harness_run(src, exe)
     for b in builds:
         proc = subprocess.run(b, capture_output=True, text=True, cwd=workdir, timeout=900)
         if proc.returncode != 0:

@@ -7,6 +7,7 @@ import os
 import subprocess
 from dataclasses import dataclass
 
+from max2code.errors import Max2CodeError
 from max2code.generate.lower import FunctionIR
 from max2code.paths import RUNTIMES
 from max2code.generate.render import environment
@@ -15,7 +16,7 @@ from max2code.targets import target as get_target
 RUNTIME_M2_SRC = str(RUNTIMES / "m2" / "src")
 
 
-class HarnessBuildError(RuntimeError):
+class HarnessBuildError(Max2CodeError):
     """The generated code did not compile; the message holds the compiler's output."""
 
 

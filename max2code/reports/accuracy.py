@@ -26,8 +26,10 @@ from pathlib import Path
 
 from max2code.progress import bar
 
-from max2code.paths import ROOT
-LANGS = ("c", "rust", "m2", "python")
+from max2code.paths import BUILD, EQUATIONS, ROOT, equation
+from max2code.targets import LANGUAGES
+# the compiled languages first (the table's order)
+LANGS = tuple(sorted(LANGUAGES, key=lambda lang: not LANGUAGES[lang].compiled))
 LETTERS = "abcdefmnopqghijklrsuvwxz"
 README_BEGIN = "<!-- accuracy:begin (written by max2code accuracy --readme) -->"
 README_END = "<!-- accuracy:end -->"
@@ -54,7 +56,7 @@ class Config:
                 "exact": "exact (refined)"}[self.kind]
 
 
-NATIVE = ("c", "rust", "m2")
+NATIVE = tuple(lang for lang in LANGS if LANGUAGES[lang].compiled)
 CONFIGS = (
     Config("paper", "paper", note="the paper's figure 7: cos series of the whole angle, S(X) = O(pi/2 - X), one polynomial"),
     Config("single o4", "single", 4, note="our phase expansion, order 4, one polynomial over the horizon"),
@@ -85,10 +87,10 @@ def make_cases(n: int, seed: int, progress: bool = True) -> list[dict]:
     from max2code.conformance.exact_cases import _aim, _circle_random
     from max2code.conformance.exact_ref import reference
 
-    src = (ROOT / "max2code" / "conformance" / "exact_ref.py").read_bytes() + \
-          (ROOT / "max2code" / "conformance" / "exact_cases.py").read_bytes()
+    from max2code.conformance import exact_cases, exact_ref
+    src = Path(exact_ref.__file__).read_bytes() + Path(exact_cases.__file__).read_bytes()
     key = hashlib.sha256(src + f"{n} {seed}".encode()).hexdigest()[:16]
-    cache = ROOT / "build" / "accuracy" / f"cases-{key}.json"
+    cache = BUILD / "accuracy" / f"cases-{key}.json"
     if cache.exists():
         return json.loads(cache.read_text())
     rng = random.Random(seed)
@@ -115,10 +117,10 @@ def _generate(kind: str, lang: str, order: int, real: str):
     from max2code.generate.mxm import read_mxm
     from max2code.generate.pipeline import GenerateRequest, derive, generate
 
-    req = GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang=lang, out_name="generated",
+    req = GenerateRequest(path=str(equation("circle-circle")), lang=lang, out_name="generated",
                           options={"order": str(order)}, exact=kind in ("plain", "exact"), real=real)
     if kind == "paper":
-        mod = read_mxm(str(ROOT / "equations" / "paper" / "circle-circle.mxm"))
+        mod = read_mxm(str(EQUATIONS / "paper" / "circle-circle.mxm"))
         mod = dataclasses.replace(mod, blocks=(), terms=None, terms_span=None, equation="paper_circle_circle")
         return generate(derive(mod), dataclasses.replace(req, path=mod.path, options={}, variants=False))
     from max2code.generate.pipeline import generate_file
@@ -201,7 +203,7 @@ def sweep(configs, langs, cases, reps: int, py_reps: int, progress: bool = True)
                     rows = [[float(k["params"][n]) for n in names] +
                             [float(k["horizon"]), c.angle, 1.0 if c.kind == "exact" else 0.0, 0.0, 1.0 if c.gsl else 0.0]
                             for k in cases]
-                answers, ns = h.run(rows, reps=py_reps if lang == "python" else reps)
+                answers, ns = h.run(rows, reps=reps if LANGUAGES[lang].compiled else py_reps)
                 results.append(score(c, lang, cases, answers, ns))
                 done += 1
     if progress:

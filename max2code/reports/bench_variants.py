@@ -15,6 +15,7 @@ import tempfile
 
 from max2code.errors import Max2CodeError
 from max2code.generate.pipeline import GenerateRequest, generate_file
+from max2code.paths import equation
 from max2code.progress import bar
 from max2code.generate.render import environment
 from max2code.targets import target as get_target
@@ -79,7 +80,7 @@ def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
 
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="max2code bench-variants", description=__doc__.split("\n\n")[0])
-    ap.add_argument("files", nargs="*", default=["equations/circle-circle.mxm", "equations/point-line.mxm"])
+    ap.add_argument("files", nargs="*", default=[str(equation("circle-circle")), str(equation("point-line"))])
     ap.add_argument("--sets", type=int, default=2000, help="parameter sets per variant (default 2000)")
     ap.add_argument("--reps", type=int, default=50, help="passes over the sets per trial (default 50)")
     ap.add_argument("--trials", type=int, default=5, help="trials; the median is reported (default 5)")

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 from max2code.errors import Max2CodeError
 from max2code.progress import bar
-from max2code.harness.runtimes import ROOT
+from max2code.paths import ROOT
 from max2code.sim.scene import Scene, load_scene, parse_scene
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)

@@ -18,11 +18,12 @@ import time
 
 from max2code.generate.maxima import run_maxima
 from max2code.generate.mxm import read_mxm
+from max2code.paths import equation
 from max2code.progress import bar
 from max2code.generate.pipeline import GenerateRequest, derive, generate_file
 from max2code.targets import LANGUAGES
 
-DEFAULT = ["equations/circle-circle.mxm", "equations/point-line.mxm"]
+DEFAULT = [str(equation("circle-circle")), str(equation("point-line"))]
 
 
 def _progress(i: int, n: int, what: str) -> None:

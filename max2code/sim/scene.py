@@ -12,6 +12,8 @@ import json
 import math
 from dataclasses import dataclass, field
 
+from max2code.errors import Max2CodeError
+
 SHAPES = ("circle", "polygon")
 SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": "frames per second (0: none)",
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
@@ -25,7 +27,7 @@ ORBIT_KEYS = {"radius", "angle"}
 INPUT_KEYS = {"time", "body", "set_velocity", "add_velocity"}
 
 
-class SceneError(Exception):
+class SceneError(Max2CodeError):
     """A bad scene: the message names the file and the field."""
 
 

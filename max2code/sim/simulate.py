@@ -10,19 +10,19 @@ import os
 import subprocess
 from dataclasses import dataclass, field
 
-from max2code.generate.pipeline import GenerateRequest, build_selection, derive, generate
+from max2code.errors import Max2CodeError
+from max2code.generate.pipeline import GenerateRequest, derive, generate
 from max2code.generate.mxm import read_mxm
-from max2code.harness.runtimes import BUILD, ROOT
+from max2code.paths import BUILD, RUNTIMES, equation
 from max2code.sim.scene import Scene, compile_scene
-from max2code.targets import target as get_target
+from max2code.targets import simulator_languages, target as get_target
 
-EQUATIONS = {"circle_circle": ROOT / "equations" / "circle-circle.mxm",
-             "point_edge": ROOT / "equations" / "point-edge.mxm"}
-LANGS = ("python", "c", "rust", "m2")
+EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
+LANGS = simulator_languages()
 FEATURES = {(0, False): "circle-circle", (0, True): "circle-vertex", (1, False): "circle-edge", (1, True): "vertex-edge"}
 
 
-class SimulateError(RuntimeError):
+class SimulateError(Max2CodeError):
     """The simulator did not build, failed, or reported a stuck scene."""
 
 
@@ -72,29 +72,23 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
         fname = eq + tgt.extension
-        req = GenerateRequest(str(path.relative_to(ROOT)), lang, options={"order": str(order)}, effects=effects,
+        req = GenerateRequest(str(path), lang, options={"order": str(order)}, effects=effects,
                               out_name=fname, progress=progress)
-        cwd = os.getcwd()
-        os.chdir(ROOT)      # generated headers name the .mxm relative to the project
-        try:
-            mod = read_mxm(req.path)
-            d = derive(mod, req.options, use_cache=True)
-            out = generate(d, req)
-        finally:
-            os.chdir(cwd)
-        from max2code.generate.variants import switches_of
-        sel = build_selection(f"{eq}_coefficients", out.variants, switches_of(d), "")
-        names[eq] = [c.name for c in sel.cases]
+        # generated headers name the .mxm as the bundle does, wherever it is installed
+        mod = read_mxm(req.path, name=f"{path.parent.name}/{path.name}")
+        d = derive(mod, req.options, use_cache=True)
+        out = generate(d, req)
+        names[eq] = [c.name for c in out.selection.cases]
         target_file = workdir / fname
         if not target_file.exists() or target_file.read_text(encoding="utf-8") != out.text:
             target_file.write_text(out.text, encoding="utf-8")
         generated[eq] = str(target_file)
         h.update(out.text.encode())
-    _hash_tree(ROOT / "runtimes" / lang, h)
+    _hash_tree(RUNTIMES / lang, h)
     stamp = workdir / "build.stamp"
     digest = h.hexdigest()
     if not stamp.exists() or stamp.read_text() != digest:
-        for cmd in tgt.sim_build(str(workdir), generated):
+        for cmd in tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()}):
             proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=1800)
             if proc.returncode != 0:
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"

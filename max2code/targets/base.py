@@ -21,22 +21,41 @@ class Target:
     exponent_letter: ClassVar[str] = "e"
     calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "fabs({})"}
     statement_end: ClassVar[str] = ";"
+    header_extension: ClassVar[str | None] = None   # a declarations file next to the code (templates/<lang>/header.j2)
+
+    # ---- capabilities (what the reports, the runner and the tests loop over) ----
+    compiled: ClassVar[bool] = True            # a native build (timed over many passes); Python is interpreted
+    simulator: ClassVar[bool] = True           # has a simulator runtime (max2code simulate --lang NAME)
+    gsl_baseline: ClassVar[str | None] = None  # the conformance name of its GSL baseline testee, if any
+    requires: ClassVar[str] = ""               # what must be installed to build and run its code
+    links: ClassVar[str] = ""                  # how generated code and the runtime link into a program
 
     # ---- single precision (max2code --real=float) ------------------------
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
     single_calls: ClassVar[dict[str, str]] = {}
     single_suffix: ClassVar[str] = ""                 # after a single-precision literal
     single_copies: ClassVar[bool] = False             # parameters stay double; the body uses float copies NAME_s
-    single = False                                    # this instance prints single precision
-    renames: dict[str, str] = {}                      # references printed under another name
 
-    def with_real(self, real: str) -> "Target":
-        """This target printing arithmetic in `real` ("double" or "float")."""
+    def __init__(self, real: str = "double", renames: dict[str, str] | None = None):
+        """A printer of arithmetic in `real` ("double" or "float") that prints the
+        references in `renames` under their new names; configured once, never mutated."""
         if real not in ("double", "float"):
             raise ValueError(f"unknown real type {real!r} (double or float)")
         if real == "float" and self.single_type is None:
             raise ValueError(f"{self.name} has no single-precision floating-point type")
-        self.single = real == "float"
+        self.single = real == "float"              # this printer prints single precision
+        self.renames = dict(renames or {})         # references printed under another name
+
+    def renaming(self, renames: dict[str, str]) -> "Target":
+        """The same printer, printing the references in `renames` under their new names."""
+        return type(self)("float" if self.single else "double", renames)
+
+    def float_copies(self, names) -> "Target":
+        """The printer for a body that reads float copies NAME_s of these
+        parameters (single precision in a language without implicit
+        conversions), or this printer when it needs none."""
+        if self.single and self.single_copies:
+            return self.renaming({p: p + "_s" for p in names})
         return self
 
     @property
@@ -51,19 +70,45 @@ class Target:
         """Commands that compile the harness at `src` into `exe`."""
         raise NotImplementedError(type(self).__name__)
 
+    harness_rows_fixed: ClassVar[bool] = False   # the exact harness holds at most harness.exact.MAX_ROWS rows
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        """Commands that compile an exact-motion or polynomial harness (with the
+        generated file in `workdir`) against the runtime, GSL baseline included."""
+        raise NotImplementedError(type(self).__name__)
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         """The command that runs the built harness."""
         raise NotImplementedError(type(self).__name__)
 
     # ---- the simulator (docs/simulator.md) ------------------------------
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Commands that build this language's simulator in `workdir` from the
-        generated files (equation name -> file name in workdir)."""
+        generated files (equation name -> file name in workdir); `variants`:
+        how many variants each equation's NAME_variant counts (from the
+        generator's selection, GeneratedFile.selection)."""
         raise NotImplementedError(f"no simulator for {self.name} yet")
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
         """The command that runs the built simulator (compiled scene on stdin)."""
         raise NotImplementedError(f"no simulator for {self.name} yet")
+
+    # ---- conformance testee (docs/roots.md, "Conformance suite") -------
+    def testee(self, baseline: bool = False) -> list[str]:
+        """Build this runtime's conformance testee if needed (the GSL baseline's
+        with `baseline`) and return the command that runs it."""
+        raise NotImplementedError(f"no conformance testee for {self.name}")
+
+    # ---- the runtime as a library (max2code runtime LANG [--install PREFIX]) ----
+    def runtime_dir(self):
+        """The folder of this language's runtime sources."""
+        from max2code.paths import RUNTIMES
+        return RUNTIMES / self.name
+
+    def install_runtime(self, prefix: str) -> str:
+        """Build and install the runtime under `prefix`; returns how to use it."""
+        from max2code.errors import Max2CodeError
+        raise Max2CodeError(f"max2code runtime: error: {self.name}: no install step; the sources are in {self.runtime_dir()}")
 
     def runtime_flags(self) -> list[str]:
         """Compiler arguments that make this checkout's runtime (its root

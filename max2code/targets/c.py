@@ -1,6 +1,5 @@
 """C (C11, <math.h>)."""
 import os
-import re
 
 from max2code.targets.base import Target
 
@@ -9,26 +8,15 @@ from max2code.targets.base import Target
 FLAGS = ["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off"]
 
 
-def variant_count(path: str, name: str) -> int:
-    """How many variants NAME_variant of a generated .c file counts: its
-    comment lists them as `/*   K = VARIANT (degree D) */`, K = 0, 1, ..."""
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
-    head = text.find(f"/* {name}_variant: ")
-    if head < 0:
-        raise ValueError(f"{path}: no {name}_variant in the generated code")
-    body = text[head:text.find(f"int {name}_variant(", head)]
-    ks = [int(k) for k in re.findall(r"^/\*   (\d+) = \w+ \(degree \d+\) \*/$", body, re.M)]
-    if not ks or ks != list(range(len(ks))):
-        raise ValueError(f"{path}: cannot read the variant list of {name}_variant")
-    return len(ks)
-
-
 class C(Target):
     name = "c"
     extension = ".c"
     comment = ("/* ", " */")
     line_directive = '#line {line} "{file}"'
+    header_extension = ".h"          # eq.h: every entry's prototype and the degree constants
+    gsl_baseline = "gsl"
+    requires = "a C11 compiler; GSL (the library's baseline solver)"
+    links = "compile eq.c, include eq.h; link libm2c (static or shared) through `pkg-config m2c`"
 
     single_type = "float"
     single_calls = {"sin": "sinf({})", "cos": "cosf({})", "sqrt": "sqrtf({})", "abs": "fabsf({})"}
@@ -42,18 +30,38 @@ class C(Target):
     def runtime_flags(self) -> list[str]:
         from max2code.harness import runtimes
         lib = runtimes.c_library()
-        return [f"-I{runtimes.ROOT / 'runtimes' / 'c' / 'include'}", str(lib)]
+        return [f"-I{runtimes.C_INCLUDE}", str(lib)]
+
+    def testee(self, baseline: bool = False) -> list[str]:
+        from max2code.harness import runtimes
+        exe = runtimes.BUILD / "c" / "m2c_testee"
+        runtimes.make_c(exe)
+        return [str(exe)] + (["--gsl"] if baseline else [])
+
+    def install_runtime(self, prefix: str) -> str:
+        from max2code.harness import runtimes
+        prefix = os.path.abspath(prefix)
+        runtimes.run(["make", "-s", "-C", str(runtimes.C_RUNTIME), f"BUILD={runtimes.BUILD / 'c-install'}",
+                      f"PREFIX={prefix}", "install"], runtimes.C_RUNTIME)
+        return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
+                f"  export PKG_CONFIG_PATH={prefix}/lib/pkgconfig\n"
+                "  cc main.c eq.c $(pkg-config --cflags --libs m2c) -Wl,-rpath,$(pkg-config --variable=libdir m2c)")
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        from max2code.harness import runtimes
+        return [[*FLAGS, f"-I{runtimes.C_INCLUDE}", f"-I{workdir}", src, "-o", exe, str(runtimes.c_library()),
+                 *runtimes.gsl_libs(), "-lm"]]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the generated circle_circle.c and point_edge.c (checked
         against the declarations of m2c_sim_equations.h), then the simulator
         (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
         each NAME_variant counts, and link them with libm2c.a into workdir/sim."""
         from max2code.harness import runtimes
-        c = runtimes.ROOT / "runtimes" / "c"
+        c = runtimes.C_RUNTIME
         lib = runtimes.c_library()
         inc = c / "include"
         cmds, objs = [], []
@@ -64,8 +72,8 @@ class C(Target):
             cmds.append([*FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(inc / "m2c_sim_equations.h"),
                          "-c", generated[eq], "-o", obj])
             objs.append(obj)
-        counts = [f"-DM2C_SIM_CC_VARIANTS={variant_count(generated['circle_circle'], 'circle_circle')}",
-                  f"-DM2C_SIM_PE_VARIANTS={variant_count(generated['point_edge'], 'point_edge')}"]
+        counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
+                  f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
         sources = sorted(str(p) for p in (c / "src").glob("m2c_sim*.c"))
         cmds.append([*FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
                      "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])

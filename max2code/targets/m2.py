@@ -1,27 +1,11 @@
 """ISO Modula-2 (gm2 -fiso -fcpp): REAL is a C double; sin/cos from RealMath."""
 import os
-import re
 
 from max2code.targets.base import Target
 
 # flags of every simulator build: ISO dialect, warnings are errors, no FMA
 # contraction (the same operations as the Python reference, docs/simulator.md)
 SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
-
-
-def variant_count(path: str, name: str) -> int:
-    """How many variants NAME_variant of a generated .mxd file counts: its
-    comment lists them as `(*   K = VARIANT (degree D) *)`, K = 0, 1, ..."""
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
-    head = text.find(f"(* {name}_variant: ")
-    if head < 0:
-        raise ValueError(f"{path}: no {name}_variant in the generated code")
-    body = text[head:text.find(f"PROCEDURE {name}_variant ", head)]
-    ks = [int(k) for k in re.findall(r"^\(\*   (\d+) = \w+ \(degree \d+\) \*\)$", body, re.M)]
-    if not ks or ks != list(range(len(ks))):
-        raise ValueError(f"{path}: cannot read the variant list of {name}_variant")
-    return len(ks)
 
 
 class Modula2(Target):
@@ -31,6 +15,9 @@ class Modula2(Target):
     line_directive = '#line {line} "{file}"'
     line_offset = 1          # gm2 12 reports a line one less than the #line directive gives
     exponent_letter = "E"    # ISO Modula-2 real literal: 1.0E-5
+    gsl_baseline = "gsl-m2"
+    requires = "gm2 (GCC 12 or later, `-fiso`)"
+    links = "`#include` eq.mxd in your module (`gm2 -fcpp`); link Roots.o and ExactToc.o"
     def zero_test(self, names) -> str:
         # AND binds tighter than = in Modula-2: parenthesise each test
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
@@ -50,12 +37,36 @@ class Modula2(Target):
     def runtime_flags(self) -> list[str]:
         from max2code.harness import runtimes
         objs = runtimes.m2_objects()
-        return [f"-I{runtimes.ROOT / 'runtimes' / 'm2'}", *map(str, objs)]
+        return [f"-I{runtimes.M2_RUNTIME}", *map(str, objs)]
+
+    def testee(self, baseline: bool = False) -> list[str]:
+        from max2code.harness import runtimes
+        exe = runtimes.BUILD / "m2" / ("roots_gsl_testee" if baseline else "roots_testee")
+        runtimes.make_m2(exe)
+        return [str(exe)]
+
+    def install_runtime(self, prefix: str) -> str:
+        from max2code.harness import runtimes
+        prefix = os.path.abspath(prefix)
+        runtimes.run(["make", "-s", "-C", str(runtimes.M2_RUNTIME), f"BUILD={runtimes.BUILD / 'm2-install'}",
+                      f"PREFIX={prefix}", "install"], runtimes.M2_RUNTIME)
+        d = f"{prefix}/lib/max2code/m2"
+        return (f"installed Roots, ExactToc (and RootsGsl, Wire) .def/.mod/.o in {d}; build with\n"
+                f"  gm2 -fiso -fcpp -I{d} prog.mod {d}/Roots.o {d}/ExactToc.o -o prog -lm")
+
+    harness_rows_fixed = True     # the exact harness reads its rows into a static array
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        from max2code.harness import runtimes
+        m2 = runtimes.M2_RUNTIME
+        objs = runtimes.m2_objects("Roots", "RootsGsl", "ExactToc")
+        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
+                 *map(str, objs), src, "-o", exe, *runtimes.gsl_libs(), "-lm"]]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the event queue (SimHeap) and the simulator (SimMain, which
         #includes the generated circle_circle.mxd and point_edge.mxd from
         workdir) and link them with the Roots runtime into workdir/sim.
@@ -63,11 +74,11 @@ class Modula2(Target):
         directory and its linking step looks the program module's object up
         along the -I path, where workdir comes first, so it finds this one."""
         from max2code.harness import runtimes
-        m2 = runtimes.ROOT / "runtimes" / "m2"
+        m2 = runtimes.M2_RUNTIME
         objs = runtimes.m2_objects()
         heap = os.path.join(workdir, "SimHeap.o")
-        counts = [f"-DSIM_CC_VARIANTS={variant_count(generated['circle_circle'], 'circle_circle')}",
-                  f"-DSIM_PE_VARIANTS={variant_count(generated['point_edge'], 'point_edge')}"]
+        counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
+                  f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return [["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / "SimHeap.mod"), "-o", heap],
                 ["gm2", *SIM_FLAGS, *counts, *incs, str(m2 / "SimMain.mod"), heap, *map(str, objs),

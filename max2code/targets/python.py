@@ -10,6 +10,9 @@ class Python(Target):
     comment = ("# ", "")
     calls = {"sin": "math.sin({})", "cos": "math.cos({})", "sqrt": "math.sqrt({})", "abs": "abs({})"}
     statement_end = ""
+    compiled = False
+    requires = "Python 3.10 or later; the package max2code-rt (pure Python)"
+    links = "`import` the generated module; it imports max2code_rt"
     logical_and = "and"
 
     harness_source = "harness.py"
@@ -17,10 +20,31 @@ class Python(Target):
         """Byte-compile: a syntax error fails here, as a compile error would."""
         return [[sys.executable, "-W", "error", "-m", "py_compile", src]]
 
+    def testee(self, baseline: bool = False) -> list[str]:
+        return [sys.executable, "-m", "max2code_rt.testee"]
+
+    def install_runtime(self, prefix: str) -> str:
+        """Copy the distribution max2code-rt (pyproject.toml and the package) to
+        PREFIX/lib/max2code/python/max2code-rt, for pip to install from there."""
+        import shutil
+        from pathlib import Path
+        src = self.runtime_dir()
+        dest = Path(prefix).resolve() / "lib" / "max2code" / "python" / "max2code-rt"
+        if dest.exists():
+            shutil.rmtree(dest)
+        dest.mkdir(parents=True)
+        shutil.copy2(src / "pyproject.toml", dest / "pyproject.toml")
+        shutil.copytree(src / "max2code_rt", dest / "max2code_rt", ignore=shutil.ignore_patterns("__pycache__"))
+        return f"copied the distribution max2code-rt to {dest}; install it with\n  pip install {dest}"
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        import os
+        return [[sys.executable, "-W", "error", "-m", "py_compile", src, os.path.join(workdir, "generated.py")]]
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [sys.executable, "-W", "error", src]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Byte-compile the generated modules (the simulator is max2code_rt.sim)."""
         return [[sys.executable, "-W", "error", "-m", "py_compile", *generated.values()]]
 

@@ -28,6 +28,8 @@ class Rust(Target):
     single_type = "f32"
     single_calls = {"sin": "f32::sin({})", "cos": "f32::cos({})", "sqrt": "f32::sqrt({})", "abs": "f32::abs({})"}
     single_suffix = "_f32"
+    requires = "Rust (cargo); the crate max2code_rt (no dependencies)"
+    links = "`mod eq;` in your crate; depend on max2code_rt"
 
     harness_source = "harness.rs"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
@@ -39,10 +41,31 @@ class Rust(Target):
         rlib = runtimes.rust_library()
         return ["--extern", f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}"]
 
+    def testee(self, baseline: bool = False) -> list[str]:
+        from max2code.harness import runtimes
+        runtimes.cargo("build", "--release", "--quiet", "--bin", "max2code_rt_testee")
+        return [str(runtimes.BUILD / "rust" / "release" / "max2code_rt_testee")]
+
+    def install_runtime(self, prefix: str) -> str:
+        import shutil
+        from max2code.harness import runtimes
+        dest = Path(prefix).resolve() / "lib" / "max2code" / "rust" / "max2code_rt"
+        if dest.exists():
+            shutil.rmtree(dest)
+        dest.mkdir(parents=True)
+        for name in ("Cargo.toml", "README.md"):
+            shutil.copy2(runtimes.RUST_RUNTIME / name, dest / name)
+        shutil.copytree(runtimes.RUST_RUNTIME / "src", dest / "src")
+        return (f"copied the crate max2code_rt to {dest}; in your Cargo.toml:\n"
+                f'  [dependencies]\n  max2code_rt = {{ path = "{dest}" }}')
+
+    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
+        return self.harness_build(src, exe, [workdir])
+
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
 
-    def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
+    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Write main.rs (the generated modules and max2code_rt::sim_main!)
         and compile it against the runtime's rlib: warnings denied, opt-level 3."""
         main = Path(workdir) / "main.rs"

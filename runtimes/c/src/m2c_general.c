@@ -107,6 +107,13 @@ M2C_INLINE int variations(const double *b, int n, double e, double *mx)
     return unsure ? -1 : v;
 }
 
+/* GCC -O3 (with some -march) reports b[] below as maybe uninitialised: b[0..n]
+ * are all set in step 2 and the crossing scan stops before b[n + 1] (variations
+ * counted exactly one sign change in b[0..n]); the warning is a false positive. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double *t)
 {
     /* 1. clip to the root bound */
@@ -233,6 +240,10 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
         depth = std[sp];
     }
 }
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 /* Scaled coefficients (max |a_i| in [1, 2), a[n] != 0): closed forms for
  * degrees 1 and 2, the general method above. */
