@@ -14,7 +14,6 @@ this module only samples and draws it.  y points up in every picture.
 """
 from __future__ import annotations
 
-import argparse
 import math
 from bisect import bisect_left, bisect_right
 import os
@@ -22,7 +21,7 @@ import sys
 from dataclasses import dataclass
 from xml.sax.saxutils import escape, quoteattr
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.progress import bar
 from max2code.sim.replay import Replay, TraceError, advance, circle_centre_at, load_trace
 from max2code.sim.scene import Body, SceneError, load_scene
@@ -526,7 +525,7 @@ def _size(path: str) -> str:
 
 
 def render_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(
+    p = ArgumentParser(
         prog="max2code render",
         description="Pictures of a simulation from its scene and the trace 'max2code simulate -o' wrote: "
                     "OUT.svg, an animated SVG that plays in a browser (no script), one key frame per frame "

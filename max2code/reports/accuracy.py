@@ -11,7 +11,6 @@ Writes a Markdown table and a plot (PNG and SVG).
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import hashlib
 import json
@@ -24,6 +23,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from max2code.errors import ArgumentParser
 from max2code.progress import bar
 
 from max2code.paths import ROOT
@@ -334,7 +334,7 @@ def update_readme(results, command: str, readme: Path) -> bool:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="max2code accuracy", description=(
+    ap = ArgumentParser(prog="max2code accuracy", description=(
         "Sweep the exact-motion knobs (Taylor order, window angle, refinement, solver, float) in every "
         "language against the paper's single polynomial: error against the exact motion and ns per "
         "prediction, as a Markdown table and a plot (PNG, SVG)."))

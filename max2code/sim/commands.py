@@ -1,13 +1,12 @@
 """`max2code simulate` and `max2code crosscheck` (docs/simulator.md)."""
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
 from dataclasses import dataclass
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.sim.scene import SceneError, load_scene
 from max2code.sim.simulate import LANGS, SimulateError, Trace, run_scene
 
@@ -33,7 +32,7 @@ def _run(scene, lang: str, progress: bool) -> Trace:
 
 
 def simulate_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(prog="max2code simulate",
+    p = ArgumentParser(prog="max2code simulate",
                                 description="Run a JSON scene in one runtime and write its trace: one JSON line per "
                                             "event, then the final state and the statistics.")
     p.add_argument("scene", help="scene file (JSON, docs/simulator.md)")
@@ -114,7 +113,7 @@ def crosscheck(scene, langs=LANGS, progress: bool = False) -> tuple[dict[str, Tr
 
 
 def crosscheck_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(prog="max2code crosscheck",
+    p = ArgumentParser(prog="max2code crosscheck",
                                 description="Run a scene in all four runtimes and report agreement, or the first "
                                             "event where they differ and by how much.")
     p.add_argument("scenes", nargs="+", help="scene files (JSON)")

@@ -12,6 +12,8 @@ import json
 import math
 from dataclasses import dataclass, field
 
+from max2code.textio import InputError, read_text
+
 SHAPES = ("circle", "polygon")
 SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": "frames per second (0: none)",
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
@@ -104,7 +106,7 @@ class _Reader:
         self.path = path
 
     def fail(self, where: str, msg: str):
-        raise SceneError(f"{self.path}: {where}: {msg}")
+        raise SceneError(f"{self.path}: error: {where}: {msg}")
 
     def keys(self, obj, allowed, where: str, required=()):
         if not isinstance(obj, dict):
@@ -194,10 +196,9 @@ def _polygon(rd: _Reader, raw, where: str):
 
 def load_scene(path: str) -> Scene:
     try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read: {exc.strerror}") from None
+        text = read_text(path)
+    except InputError as exc:
+        raise SceneError(str(exc)) from None
     return parse_scene(text, path)
 
 
@@ -206,9 +207,9 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON: {exc.msg}") from None
+        raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: error: not valid JSON: {exc.msg}") from None
     except RecursionError:
-        raise SceneError(f"{path}: not valid JSON: nested too deeply") from None
+        raise SceneError(f"{path}: error: not valid JSON: nested too deeply") from None
     rd.keys(raw, SCENE_KEYS, "", required=("end_time", "bodies"))
     if "name" in raw and not isinstance(raw["name"], str):
         rd.fail("name", "expected a string")
@@ -398,7 +399,7 @@ def _check_overlaps(scene: Scene) -> None:
             continue
         d = penetration(a, b)
         if d > scene.tolerance:
-            raise SceneError(f"{scene.path}: bodies[{i}] ({a.name}) and bodies[{j}] ({b.name}) overlap at t = 0 "
+            raise SceneError(f"{scene.path}: error: bodies[{i}] ({a.name}) and bodies[{j}] ({b.name}) overlap at t = 0 "
                              f"by {d:.3g} m (tolerance {scene.tolerance:g})")
 
 

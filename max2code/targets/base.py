@@ -21,6 +21,10 @@ class Target:
     exponent_letter: ClassVar[str] = "e"
     calls: ClassVar[dict[str, str]] = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "fabs({})"}
     statement_end: ClassVar[str] = ";"
+    # names a parameter or equation may not take (max2code/generate/names.py):
+    # the language's keywords, the names the printer and templates use, and prefixes of the runtime's names
+    reserved: ClassVar[frozenset[str]] = frozenset()
+    reserved_prefixes: ClassVar[tuple[str, ...]] = ()
 
     # ---- single precision (max2code --real=float) ------------------------
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
