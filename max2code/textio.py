@@ -60,6 +60,8 @@ def check_output(path: str | None, option: str = "-o") -> None:
     """Refuse an output path that cannot be written, before doing the work."""
     if path is None or path == "-":
         return
+    if not path.strip():
+        raise OutputError(f"{option} '{path}': error: expected a file name (or '-' for standard output)")
     if os.path.isdir(path):
         raise OutputError(f"{option} {path}: error: is a folder; give a file name")
     folder = os.path.dirname(path) or "."

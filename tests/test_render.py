@@ -265,9 +265,9 @@ def test_a_trace_of_another_scene_is_refused(simulated, tmp_path, capsys):
     # a scene file given as the trace: the example (indented JSON) and the one-line copy
     example = os.path.join(ROOT, "examples", "newtons-cradle.json")
     err = _error(capsys, [cradle_scene, example, "-o", str(tmp_path / "o")])
-    assert example + ":1: not a JSON trace line" in err
+    assert example + ":1: error: not a JSON trace line" in err
     err = _error(capsys, [cradle_scene, cradle_scene, "-o", str(tmp_path / "o")])
-    assert cradle_scene + ":1: this is a scene, not a trace" in err
+    assert cradle_scene + ":1: error: this is a scene, not a trace" in err
     # same names, but the ceiling (never in a collision) sits elsewhere: the final states differ
     with open(cradle_scene, encoding="utf-8") as f:
         raw = json.load(f)
