@@ -126,6 +126,9 @@ def test_reserved_equation_name_is_refused_at_its_place(tmp_path, capsys):
     code, out, err = run(capsys, "--lang=c", p, "-q")
     assert code == 1 and out == ""
     assert "'int' is reserved in c, python" in one_error_line(err, f"{p}:1:10: error: ")
+    v = write(tmp_path, "v.mxm", "variable lo\nbegin\na + lo;\nend\n")
+    code, _, err = run(capsys, "--lang=c", v, "-q")
+    assert code == 1 and "variable 'lo' is reserved" in one_error_line(err, f"{v}:1:10: error: ")
 
 
 @pytest.mark.parametrize("decl,col", [("parameter fn", 11), ("parameter MOD", 11), ("parameter def", 11),

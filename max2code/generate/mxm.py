@@ -109,6 +109,7 @@ class MxmModule:
     approximations: tuple[Approximation, ...] = ()   # `exact` declarations
     shifts: tuple[Shift, ...] = ()                   # `shift` declarations
     equation_span: Span | None = None                # `equation NAME`, when given (else the name is the file's)
+    variable_span: Span | None = None                # `variable NAME`, when given
 
     def blocks_for(self, lang: str) -> tuple[Block, ...]:
         """Blocks that apply to `lang`: of each kind, those tagged `for lang`
@@ -305,7 +306,7 @@ def _check(path: str, text: str, items: list) -> MxmModule:
     stem = re.sub(r"\.mxm$", "", path.replace("\\", "/").rsplit("/", 1)[-1])
     equation = name_from_file(stem)
     doc, variable, terms, terms_span = "", "t", None, None
-    equation_span = None
+    equation_span = variable_span = None
     params: list[Parameter] = []
     options: list[Option] = []
     blocks: list[Block] = []
@@ -323,7 +324,7 @@ def _check(path: str, text: str, items: list) -> MxmModule:
         elif isinstance(item, tuple) and item and item[0] == "equation":
             equation, doc, equation_span = item[1], item[2], item[3]
         elif isinstance(item, tuple) and item and item[0] == "variable":
-            variable = item[1]
+            variable, variable_span = item[1], item[2]
         elif isinstance(item, tuple) and item and item[0] == "parameter":
             p = item[1]
             if any(q.name == p.name for q in params):
@@ -385,6 +386,7 @@ def _check(path: str, text: str, items: list) -> MxmModule:
         parameters=tuple(params), options=tuple(options), blocks=tuple(blocks), maxima_text=mtext,
         maxima_span=mspan, dialect=dialect, source_lines=text.count("\n") + (0 if text.endswith("\n") else 1),
         approximations=tuple(approximations), shifts=tuple(shifts), equation_span=equation_span,
+        variable_span=variable_span,
     )
 
 

@@ -29,6 +29,10 @@ def check_names(mod) -> None:
     why = clash(mod.equation)
     if why:
         raise SourceError(mod.equation_span or Span(mod.path, 1, 1), f"equation name {why}; choose another name")
+    if mod.variable_span is not None:
+        why = clash(mod.variable)
+        if why:
+            raise SourceError(mod.variable_span, f"variable {why}; choose another name")
     names = {p.name for p in mod.parameters}
     for p in mod.parameters:
         why = clash(p.name)

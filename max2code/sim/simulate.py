@@ -13,11 +13,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from max2code import __version__
-from max2code.generate.pipeline import GenerateRequest, build_selection, derive, generate
-from max2code.generate.mxm import read_mxm
 from max2code.harness.runtimes import BUILD, ROOT
 from max2code.sim.scene import Scene, compile_scene
-from max2code.targets import target as get_target
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": ROOT / "equations" / "circle-circle.mxm",
@@ -67,7 +64,6 @@ def _hash_tree(path, h) -> None:
 def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
     """Generate the equations for exactly these effects and build the
     simulator of `lang` with them (rebuilt only when something changed)."""
-    tgt = get_target(lang)
     tag = ("-".join(effects) or "none") + f"-o{order}"
     workdir = BUILD / "sim" / lang / tag
     workdir.mkdir(parents=True, exist_ok=True)
@@ -81,12 +77,18 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
     try:
         if inputs_stamp.read_text() == key.hexdigest() and stamp.exists():
-            names = json.loads(names_file.read_text(encoding="utf-8"))
-            generated = {eq: str(workdir / (eq + tgt.extension)) for eq in EQUATIONS}
-            if all(os.path.exists(g) for g in generated.values()):
-                return SimBuild(lang, str(workdir), tgt.sim_run(str(workdir), generated), names)
-    except (OSError, ValueError):
+            saved = json.loads(names_file.read_text(encoding="utf-8"))
+            if all(os.path.exists(g) for g in saved["generated"].values()):
+                return SimBuild(lang, str(workdir), saved["run"], saved["names"])
+    except (OSError, ValueError, KeyError, TypeError):
         pass
+    # the generator is imported only when something must be generated (it is most of the start-up)
+    from max2code.generate.mxm import read_mxm
+    from max2code.generate.pipeline import GenerateRequest, build_selection, derive, generate
+    from max2code.generate.variants import switches_of
+    from max2code.targets import target as get_target
+
+    tgt = get_target(lang)
     generated = {}
     names: dict[str, list[str]] = {}
     h = hashlib.sha256()
@@ -102,7 +104,6 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
             out = generate(d, req)
         finally:
             os.chdir(cwd)
-        from max2code.generate.variants import switches_of
         sel = build_selection(f"{eq}_coefficients", out.variants, switches_of(d), "")
         names[eq] = [c.name for c in sel.cases]
         target_file = workdir / fname
@@ -119,18 +120,24 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
         stamp.write_text(digest)
-    names_file.write_text(json.dumps(names), encoding="utf-8")
+    run = tgt.sim_run(str(workdir), generated)
+    names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
     inputs_stamp.write_text(key.hexdigest())
-    return SimBuild(lang, str(workdir), tgt.sim_run(str(workdir), generated), names)
+    return SimBuild(lang, str(workdir), run, names)
 
 
 def _num(w: str) -> str:
-    """A trace number as JSON: the shortest text that reads back as the same
-    double (Python's repr, as json.dumps writes it); never NaN or infinite."""
-    x = float(w)
-    if x - x != 0.0:
+    """A trace number as JSON: the runtime's `%.17g` text, which reads back as
+    the same double (a whole number gets '.0' so that it stays a float);
+    never NaN or infinite.  (Re-printing each number in its shortest form
+    would cost more than the simulation.)"""
+    if "." in w or "e" in w:
+        if "n" in w:
+            raise ValueError(f"non-finite number {w}")
+        return w
+    if "n" in w or "i" in w:
         raise ValueError(f"non-finite number {w}")
-    return repr(x)
+    return w + ".0"
 
 
 class TraceConverter:
@@ -218,7 +225,7 @@ class TraceConverter:
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
         self._flush()
-        final_text = f'{{"kind":"final","t":{_num(repr(self.scene.end_time))},"bodies":[{",".join(self.final)}]}}'
+        final_text = f'{{"kind":"final","t":{repr(float(self.scene.end_time))},"bodies":[{",".join(self.final)}]}}'
         stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
                  "predictions": dict(sorted(self.predictions.items()))}
         self.write(final_text + "\n")
