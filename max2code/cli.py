@@ -7,11 +7,14 @@ the remaining argv and returns an exit status.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import importlib
 import sys
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
+from max2code.generate.maxima import DEFAULT_TIMEOUT
+from max2code.textio import check_output, write_output
 
 # name -> "module:function(argv) -> int"
 SUBCOMMANDS: dict[str, str] = {
@@ -31,7 +34,7 @@ SUBCOMMANDS: dict[str, str] = {
 def _generate_parser() -> argparse.ArgumentParser:
     from max2code.targets import LANGUAGES
 
-    p = argparse.ArgumentParser(
+    p = ArgumentParser(
         prog="max2code",
         description=(
             "Generate time-of-collision coefficient code from a .mxm file. "
@@ -71,10 +74,20 @@ def _generate_parser() -> argparse.ArgumentParser:
                    help="also write the declarations next to -o FILE (C: FILE.h with every entry's prototype and "
                         "degree constants); default: on for C with -o FILE")
     p.add_argument("--no-cache", action="store_true", help="do not read or write the Maxima result cache")
-    p.add_argument("--maxima-timeout", type=float, default=300.0, metavar="SECONDS",
-                   help="give up on Maxima after this many seconds (default 300)")
+    p.add_argument("--maxima-timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",
+                   help=f"give up on a Maxima run after this many seconds (default {DEFAULT_TIMEOUT:g})")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress messages on stderr")
     return p
+
+
+def _seconds(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text!r}")
+    return v
 
 
 def _parse_options(items: list[str]) -> dict[str, str]:
@@ -120,17 +133,11 @@ def generate_main(argv: list[str]) -> int:
         real=args.real,
         header=header,
     )
+    check_output(args.output)
     result = generate_file(req)
-    text = result.text
-    if args.output == "-":
-        sys.stdout.write(text)
-    else:
-        with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-        if result.header is not None:
-            with open(os.path.join(os.path.dirname(args.output), result.header_name), "w", encoding="utf-8",
-                      newline="\n") as fh:
-                fh.write(result.header)
+    write_output(args.output, result.text)
+    if result.header is not None and args.output not in (None, "-"):
+        write_output(os.path.join(os.path.dirname(args.output), result.header_name), result.header)
     return 0
 
 
@@ -138,20 +145,18 @@ def list_variants(args, effects) -> int:
     import json
 
     from max2code.generate.mxm import read_mxm
+    from max2code.generate.names import check_names
     from max2code.generate.pipeline import derive
     from max2code.generate.variants import derive_variants
 
+    check_output(args.output)
     mod = read_mxm(args.file)
+    check_names(mod)
     d = derive(mod, _parse_options(args.option), use_cache=not args.no_cache,
                timeout=args.maxima_timeout, progress=not args.quiet)
     vs = derive_variants(d, effects=effects, use_cache=not args.no_cache, timeout=args.maxima_timeout,
                          progress=not args.quiet)
-    text = json.dumps([v.describe() for v in vs], indent=2) + "\n"
-    if args.output == "-":
-        sys.stdout.write(text)
-    else:
-        with open(args.output, "w", encoding="utf-8") as fh:
-            fh.write(text)
+    write_output(args.output, json.dumps([v.describe() for v in vs], indent=2) + "\n")
     return 0
 
 
@@ -172,8 +177,7 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         return 0
     except Exception as exc:  # a bug: say so in one line, never a traceback
-        where = f"{argv[-1]}: " if argv else ""
-        print(f"{where}internal error: {type(exc).__name__}: {exc} (please report this; "
+        print(f"max2code: internal error: {type(exc).__name__}: {exc} (please report this; "
               "set MAX2CODE_DEBUG=1 for the traceback)", file=sys.stderr)
         if os.environ.get("MAX2CODE_DEBUG"):
             raise

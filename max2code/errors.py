@@ -1,6 +1,7 @@
 """Errors that max2code reports to the user as `FILE:LINE:COL: message`."""
 from __future__ import annotations
 
+import argparse
 from dataclasses import dataclass
 
 
@@ -26,3 +27,16 @@ class SourceError(Max2CodeError):
         self.span = span
         self.message = message
         super().__init__(f"{span}: error: {message}")
+
+
+class UsageError(Max2CodeError):
+    """A bad command line: an unknown option, a missing or malformed value."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse, but a usage mistake is one line and exit status 1 like every
+    other user mistake (argparse itself prints the usage and exits 2, which
+    max2code keeps for bugs)."""
+
+    def error(self, message: str):
+        raise UsageError(f"{self.prog}: error: {message} (see '{self.prog} --help')")

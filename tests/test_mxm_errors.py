@@ -60,7 +60,7 @@ def test_malformed_input_names_file_line_column(tmp_path, name, text, line, col,
 
 def test_missing_file_and_bad_option(tmp_path):
     proc = run_cli(tmp_path / "nope.mxm")
-    assert proc.returncode != 0 and "nope.mxm:1:1: error: no such file" in proc.stderr
+    assert proc.returncode != 0 and "nope.mxm: error: no such file" in proc.stderr
     path = tmp_path / "ok.mxm"
     path.write_text("option order = 4\n" + OK_TAIL)
     proc = run_cli(path, "-D", "speed=3")
@@ -77,8 +77,19 @@ def test_not_utf8(tmp_path):
 def test_missing_maxima_is_explained(tmp_path, monkeypatch):
     path = tmp_path / "ok.mxm"
     path.write_text(OK_TAIL)
-    env = dict(os.environ, MAX2CODE_MAXIMA=str(tmp_path / "no-maxima-here"), MAX2CODE_CACHE=str(tmp_path / "cache"))
+    # no Maxima on PATH: how to install it
+    empty = tmp_path / "empty-bin"
+    empty.mkdir()
+    env = dict(os.environ, PATH=str(empty), MAX2CODE_CACHE=str(tmp_path / "cache"))
+    env.pop("MAX2CODE_MAXIMA", None)
     proc = subprocess.run([sys.executable, "-m", "max2code", "--lang=c", str(path), "-q"],
                           capture_output=True, text=True, env=env)
-    assert proc.returncode != 0
+    assert proc.returncode == 1
     assert "apt-get install maxima" in proc.stderr and "Traceback" not in proc.stderr
+    # a wrong MAX2CODE_MAXIMA is named as such, not "not found on PATH"
+    for bad, why in ((tmp_path / "no-maxima-here", "does not exist"), (tmp_path, "is a folder"), (path, "is not executable")):
+        env = dict(os.environ, MAX2CODE_MAXIMA=str(bad), MAX2CODE_CACHE=str(tmp_path / "cache"))
+        proc = subprocess.run([sys.executable, "-m", "max2code", "--lang=c", str(path), "-q"],
+                              capture_output=True, text=True, env=env)
+        assert proc.returncode == 1, proc.stderr
+        assert f"MAX2CODE_MAXIMA={bad}: {why}" in proc.stderr and "PATH" not in proc.stderr.split(why)[0], proc.stderr

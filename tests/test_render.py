@@ -265,9 +265,9 @@ def test_a_trace_of_another_scene_is_refused(simulated, tmp_path, capsys):
     # a scene file given as the trace: the example (indented JSON) and the one-line copy
     example = os.path.join(ROOT, "examples", "newtons-cradle.json")
     err = _error(capsys, [cradle_scene, example, "-o", str(tmp_path / "o")])
-    assert example + ":1: not a JSON trace line" in err
+    assert example + ":1: error: not a JSON trace line" in err
     err = _error(capsys, [cradle_scene, cradle_scene, "-o", str(tmp_path / "o")])
-    assert cradle_scene + ":1: this is a scene, not a trace" in err
+    assert cradle_scene + ":1: error: this is a scene, not a trace" in err
     # same names, but the ceiling (never in a collision) sits elsewhere: the final states differ
     with open(cradle_scene, encoding="utf-8") as f:
         raw = json.load(f)
@@ -275,13 +275,13 @@ def test_a_trace_of_another_scene_is_refused(simulated, tmp_path, capsys):
     moved = tmp_path / "moved.json"
     moved.write_text(json.dumps(raw), encoding="utf-8")
     err = _error(capsys, [str(moved), cradle_trace, "-o", str(tmp_path / "o")])
-    assert cradle_trace + ": does not match" in err and "ceiling ends at" in err
+    assert cradle_trace + ": error: does not match" in err and "ceiling ends at" in err
     # the striker starts elsewhere: its first collision puts it where the replay is not
     raw["bodies"][1]["position"][1] -= 0.01
     raw["bodies"][4]["position"][0] -= 0.01
     moved.write_text(json.dumps(raw), encoding="utf-8")
     err = _error(capsys, [str(moved), cradle_trace, "-o", str(tmp_path / "o")])
-    assert re.search(re.escape(cradle_trace) + r":\d+: does not match", err) and "striker is at" in err
+    assert re.search(re.escape(cradle_trace) + r":\d+: error: does not match", err) and "striker is at" in err
 
 
 @pytest.mark.parametrize("line, message", [

@@ -65,7 +65,7 @@ BAD = [
      "inputs[0].body: 'w' is fixed"),
     ("input unknown body", scene_text([ball()], inputs=[{"time": 0.5, "body": "zz", "add_velocity": [1, 0]}]),
      'inputs[0].body: no body is named "zz"'),
-    ("not json", "{", "1:2: not valid JSON"),
+    ("not json", "{", "1:2: error: not valid JSON"),
     ("bad order", scene_text([ball()], taylor_order=9), "taylor_order: must be an integer from 1 to 7"),
 ]
 

@@ -261,22 +261,35 @@ def zones(gp: Gap, t0, T, max_zones: int = 64) -> list[Zone]:
 
 @dataclass
 class Reference:
-    expect: float | None          # the first contact (None: none)
+    expect: float | str | None    # the first contact (None: none; "overlapped": inside each other at t = 0)
     accept: list                  # [lo, hi] intervals of acceptable answers
     none_ok: bool                 # "none" is acceptable
     regular: bool                 # the first contact is decided to REL / 4 by a double evaluation
                                   # that forms differences first: the answer must be within REL of it
     note: str
+    overlapped_ok: bool = False   # the gap is negative at t = 0 but within the band: "overlapped" stands too
 
 
 def reference(equation: str, params: dict, horizon: float) -> Reference:
-    """The first contact of the exact motion in (0, horizon], with the rule
-    at t = 0: a gap within the band at t = 0 that decreases is a contact at
-    0; one that does not is skipped (with its zone)."""
+    """The first contact of the exact motion in (0, horizon], with the rules
+    at t = 0: a gap below minus the band (the bodies inside each other) is
+    "overlapped", never a contact; a gap within the band at t = 0 that
+    decreases is a contact at 0; one that does not is skipped (with its
+    zone).  Later roots are approaching by construction (the gap comes down
+    to zero from above)."""
     gp = Gap(equation, params, horizon)
     with mpmath.workdps(DPS):
         T = mpmath.mpf(horizon)
         g0 = gp.G(0)
+        if g0 < -gp.band(0):
+            return Reference("overlapped", [], False, False, "overlapping at t = 0")
+        ref = _reference(gp, g0, T)
+        ref.overlapped_ok = bool(g0 < 0)
+        return ref
+
+
+def _reference(gp: Gap, g0, T) -> Reference:
+    with mpmath.workdps(DPS):
         zs = zones(gp, 0, T)
         note = ""
         if zs and zs[0].lo == 0 and abs(g0) <= gp.band(0):

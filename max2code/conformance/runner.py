@@ -16,7 +16,6 @@ can only shrink.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import sys
@@ -27,10 +26,11 @@ from pathlib import Path
 from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
 from max2code.conformance.toc import TocOp
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.harness.runtimes import rust_env  # noqa: F401  (the runner's API)
 from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
 from max2code.targets import LANGUAGES, gsl_baselines
+from max2code.textio import read_text
 
 ALL_LANGS = tuple(LANGUAGES)
 BASELINES = gsl_baselines()
@@ -92,25 +92,36 @@ class Report:
         return out
 
 
+class CaseFileError(Max2CodeError):
+    """A case file that is not JSON lines of objects."""
+
+
 def load_cases(paths: list[Path]) -> list[dict]:
+    """The cases of the files, in order; one-line errors name FILE:LINE.  A
+    file without any case is an error: running nothing is not a pass."""
     cases = []
     for p in paths:
-        try:
-            with open(p, encoding="utf-8") as fh:
-                for n, line in enumerate(fh, 1):
-                    line = line.strip()
-                    if not line:
-                        continue
-                    try:
-                        case = json.loads(line)
-                    except json.JSONDecodeError as exc:
-                        raise Max2CodeError(f"{p}:{n}:{exc.colno}: error: expected a JSON case: {exc.msg}") from None
-                    if not isinstance(case, dict):
-                        raise Max2CodeError(f"{p}:{n}: error: expected a JSON object (a case)")
-                    case.setdefault("id", f"{p.name}:{n}")
-                    cases.append(case)
-        except OSError as exc:
-            raise Max2CodeError(f"{p}: error: cannot read: {exc.strerror}") from None
+        before = len(cases)
+        for n, line in enumerate(read_text(str(p)).split("\n"), 1):
+            if not line.strip():
+                continue
+            try:
+                case = json.loads(line)
+            except (json.JSONDecodeError, RecursionError) as exc:
+                msg = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
+                col = f":{exc.colno}" if isinstance(exc, json.JSONDecodeError) else ""
+                raise CaseFileError(f"{p}:{n}{col}: error: not JSON ({msg}): expected one case object per line") from None
+            if not isinstance(case, dict):
+                raise CaseFileError(f"{p}:{n}: error: expected a case object {{\"id\", \"op\", ...}}, "
+                                    f"got {type(case).__name__}")
+            if not isinstance(case.get("op"), str):
+                raise CaseFileError(f"{p}:{n}: error: the case has no \"op\" string (one of {', '.join(sorted(OPS))})")
+            if "id" in case and not isinstance(case["id"], str):
+                raise CaseFileError(f"{p}:{n}: error: \"id\" must be a string")
+            case.setdefault("id", f"{p.name}:{n}")
+            cases.append(case)
+        if len(cases) == before:
+            raise CaseFileError(f"{p}: error: no cases in the file (expected JSON lines {{\"id\", \"op\", ...}})")
     return cases
 
 
@@ -243,7 +254,7 @@ def agreement(reports: list[Report]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="max2code conformance",
+    ap = ArgumentParser(prog="max2code conformance",
                                  description="Run the conformance cases against a runtime's testee.")
     ap.add_argument("--lang", required=True, choices=ALL_LANGS + BASELINES + ("all",),
                     help="runtime to test; 'all' runs python, c, rust and m2 and checks they agree bit for bit; "

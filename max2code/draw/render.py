@@ -14,7 +14,6 @@ this module only samples and draws it.  y points up in every picture.
 """
 from __future__ import annotations
 
-import argparse
 import math
 from bisect import bisect_left, bisect_right
 import os
@@ -22,7 +21,7 @@ import sys
 from dataclasses import dataclass
 from xml.sax.saxutils import escape, quoteattr
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.progress import bar
 from max2code.sim.replay import Replay, TraceError, advance, circle_centre_at, load_trace
 from max2code.sim.scene import Body, SceneError, load_scene
@@ -318,7 +317,7 @@ def _pyplot():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise RenderError("max2code render: the overview and the GIF need matplotlib "
+        raise RenderError("max2code render: error: the overview and the GIF need matplotlib "
                           "(pip install matplotlib; bash scripts/setup installs it)") from None
     return plt
 
@@ -499,6 +498,10 @@ def have_pillow() -> bool:
 
 
 # ---------------------------------------------------------------- command
+MAX_FRAMES = 100000      # key frames of the SVG, frames of the GIF
+MAX_WIDTH = 20000        # pixels
+
+
 def _out_base(out: str | None, trace: str) -> str:
     if out is None:
         base = trace
@@ -526,7 +529,7 @@ def _size(path: str) -> str:
 
 
 def render_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(
+    p = ArgumentParser(
         prog="max2code render",
         description="Pictures of a simulation from its scene and the trace 'max2code simulate -o' wrote: "
                     "OUT.svg, an animated SVG that plays in a browser (no script), one key frame per frame "
@@ -560,22 +563,26 @@ def render_main(argv: list[str]) -> int:
     for name in ("fps", "speed", "gif_fps"):
         v = getattr(args, name)
         if v is not None and not (math.isfinite(v) and v > 0):
-            raise RenderError(f"max2code render: --{name.replace('_', '-')} must be a positive number, got {v:g}")
+            raise RenderError(f"max2code render: error: --{name.replace('_', '-')} must be a positive number, got {v:g}")
     for name in ("width", "gif_width"):
-        if getattr(args, name) < 16:
-            raise RenderError(f"max2code render: --{name.replace('_', '-')} must be at least 16 pixels")
+        if not 16 <= getattr(args, name) <= MAX_WIDTH:
+            raise RenderError(f"max2code render: error: --{name.replace('_', '-')} must be from 16 to {MAX_WIDTH} pixels")
     try:
         scene = load_scene(args.scene)
     except SceneError as exc:
         raise RenderError(str(exc)) from None
     rp = load_trace(args.trace, scene)
+    for name, rate in (("fps", args.fps), ("gif-fps", args.gif_fps if args.gif or args.png_frames else None)):
+        if rate is not None and rate * scene.end_time > MAX_FRAMES:
+            raise RenderError(f"max2code render: error: --{name} {rate:g} gives {rate * scene.end_time:.3g} frames for "
+                              f"end_time {scene.end_time:g} s of {scene.path}: at most {MAX_FRAMES}")
     base = _out_base(args.output, args.trace)
     folder = os.path.dirname(base)
     if folder:
         try:
             os.makedirs(folder, exist_ok=True)
         except OSError as exc:
-            raise RenderError(f"{folder}: cannot make the output directory: {exc.strerror}") from None
+            raise RenderError(f"-o {args.output}: error: cannot make the folder {folder}: {exc.strerror}") from None
     progress = not args.quiet
     times = sample_times(rp, args.fps)
     written = []
@@ -586,7 +593,7 @@ def render_main(argv: list[str]) -> int:
         try:
             overview(rp, base + "-overview.png", base + "-overview.svg", colour_by=args.colour_by, times=times)
         except OSError as exc:
-            raise RenderError(f"{base}-overview.png: cannot write: {exc.strerror}") from None
+            raise RenderError(f"{base}-overview.png: error: cannot write: {exc.strerror}") from None
         written.append(f"{base}-overview.png ({_size(base + '-overview.png')}) and .svg")
     if args.gif or args.png_frames:
         if not have_pillow():
@@ -598,7 +605,7 @@ def render_main(argv: list[str]) -> int:
                            png_dir=base + "-frames" if args.png_frames else None,
                            fps=args.gif_fps, width=args.gif_width, progress=progress)
             except OSError as exc:
-                raise RenderError(f"{base}: cannot write the frames: {exc.strerror}") from None
+                raise RenderError(f"{base}: error: cannot write the frames: {exc.strerror}") from None
             if args.gif:
                 written.append(f"{base}.gif ({n} frames, {_size(base + '.gif')})")
             if args.png_frames:
@@ -614,7 +621,7 @@ def _write(path: str, text: str) -> None:
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(text)
     except OSError as exc:
-        raise RenderError(f"{path}: cannot write: {exc.strerror}") from None
+        raise RenderError(f"{path}: error: cannot write: {exc.strerror}") from None
 
 
 __all__ = ["RenderError", "TraceError", "animated_svg", "overview", "frames", "sample_times", "view_box",

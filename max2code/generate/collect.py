@@ -4,7 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from max2code.generate.expr import Expr, Monomial, NotPolynomial, Poly, Sym, to_maxima, to_poly
+from max2code.generate.expr import Add, Call, Eq, Expr, Monomial, NotPolynomial, Num, Pow, Poly, Sym, to_maxima, to_poly
 
 
 @dataclass(frozen=True)
@@ -38,9 +38,17 @@ def poly_to_maxima(p: Poly) -> str:
 
 
 def _mentions(e: Expr, name: str) -> bool:
+    """Does `name` occur anywhere in `e` (inside calls, sums, products, powers)?"""
     if isinstance(e, Sym):
         return e.name == name
-    return any(_mentions(c, name) for c in getattr(e, "args", ()))
+    if isinstance(e, Num):
+        return False
+    if isinstance(e, Pow):
+        return _mentions(e.base, name) or _mentions(e.exp, name)
+    if isinstance(e, Eq):
+        return _mentions(e.lhs, name) or _mentions(e.rhs, name)
+    kids = e.args if isinstance(e, Call) else e.terms if isinstance(e, Add) else e.factors
+    return any(_mentions(c, name) for c in kids)
 
 
 def collect(expr: Expr, variable: str) -> Polynomial:

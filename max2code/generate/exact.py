@@ -30,7 +30,7 @@ from max2code.generate.collect import collect
 from max2code.errors import SourceError, Span
 from max2code.generate.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
 from max2code.generate.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, share
-from max2code.generate.maxima import Statement, run_maxima
+from max2code.generate.maxima import DEFAULT_TIMEOUT, Statement, run_maxima
 from max2code.generate.reader import MaximaOutputError, read_expr
 
 EPS_PREFIX = "__m2c_eps_"
@@ -107,7 +107,7 @@ class _Approx:
     span: Span
 
 
-def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: float = 300.0):
+def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: float = DEFAULT_TIMEOUT):
     """Run Maxima for the exact pieces of derivation `d` (pipeline.Derivation)."""
     from max2code.generate.derive import note as _note, parameters_of
 

@@ -111,11 +111,30 @@ def is_quit(stmt: Statement) -> bool:
     return re.fullmatch(r"\s*(quit|quit\s*\(\s*\))\s*[;$]\s*", stmt.text) is not None
 
 
+DEFAULT_TIMEOUT = 60.0   # seconds per Maxima run: our equations take about 1 s
+
+
 def maxima_command() -> str:
-    exe = os.environ.get("MAX2CODE_MAXIMA") or shutil.which("maxima")
+    env = os.environ.get("MAX2CODE_MAXIMA")
+    if env:
+        found = shutil.which(env)
+        if not found:
+            why = ("is not executable" if os.path.isfile(env) else
+                   "is a folder" if os.path.isdir(env) else "does not exist")
+            raise Max2CodeError(f"max2code: error: MAX2CODE_MAXIMA={env}: {why}; point it at the maxima "
+                                "program, or unset it to use the one on PATH")
+        return found
+    exe = shutil.which("maxima")
     if not exe:
         raise Max2CodeError(f"max2code: error: {INSTALL_HINT}")
     return exe
+
+
+def _not_runnable(exe: str, exc: OSError) -> Max2CodeError:
+    if os.environ.get("MAX2CODE_MAXIMA"):
+        return Max2CodeError(f"max2code: error: MAX2CODE_MAXIMA={os.environ['MAX2CODE_MAXIMA']}: cannot run it "
+                             f"({exc.strerror or exc})")
+    return Max2CodeError(f"max2code: error: cannot run {exe} ({exc.strerror or exc}). {INSTALL_HINT}")
 
 
 @functools.lru_cache(maxsize=None)
@@ -123,8 +142,10 @@ def maxima_version(exe: str | None = None) -> str:
     exe = exe or maxima_command()
     try:
         out = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60).stdout
-    except FileNotFoundError:
-        raise Max2CodeError(f"max2code: error: {INSTALL_HINT}") from None
+    except OSError as exc:
+        raise _not_runnable(exe, exc) from None
+    except subprocess.TimeoutExpired:
+        raise Max2CodeError(f"max2code: error: {exe} --version did not answer within 60 s: is it Maxima?") from None
     return out.strip() or "unknown"
 
 
@@ -226,7 +247,7 @@ def _failure(output: str, why: str | None, statements: list[Statement], fallback
 
 
 def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str, str], *,
-               fallback: Span, timeout: float = 300.0, use_cache: bool = True) -> MaximaResult:
+               fallback: Span, timeout: float = DEFAULT_TIMEOUT, use_cache: bool = True) -> MaximaResult:
     """Run the statements, then evaluate `items` (name -> Maxima expression over `__m2c_p`:
     the value of the last statement, nouns evaluated, `lhs = rhs` as `lhs - rhs`).  Raises SourceError on any Maxima failure."""
     exe = maxima_command()
@@ -251,8 +272,8 @@ def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str,
             fh.write(build_script(prelude, stmts, items, tmp))
         try:
             output, why = _run_streaming([exe, "--very-quiet", "--batch=" + script], timeout)
-        except FileNotFoundError:
-            raise Max2CodeError(f"max2code: error: {INSTALL_HINT}") from None
+        except OSError as exc:
+            raise _not_runnable(exe, exc) from None
         if why is not None or not re.search(r"^@@DONE$", output, re.M):
             raise _failure(output, why, stmts, fallback, timeout)
         got: dict[str, str] = {}

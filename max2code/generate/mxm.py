@@ -15,6 +15,8 @@ from lark import Lark, Token, Transformer, v_args
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from max2code.errors import SourceError, Span
+from max2code.generate.names import name_from_file
+from max2code.textio import read_text
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,25 @@ class Option:
     value: Fraction
     doc: str
     span: Span
+    low: Fraction | None = None     # `in LOW..HIGH`: the values allowed (inclusive)
+    high: Fraction | None = None
+
+    @property
+    def whole(self) -> bool:
+        """A whole-number option (its default is whole) takes whole numbers only."""
+        return self.value.denominator == 1
+
+    def check(self, value: Fraction) -> str | None:
+        """Why `value` is not allowed, or None."""
+        if self.whole and value.denominator != 1:
+            return f"must be a whole number (the default is {self.value})"
+        if self.low is not None and not self.low <= value <= self.high:
+            return f"must be from {_num(self.low)} to {_num(self.high)}"
+        return None
+
+
+def _num(v: Fraction) -> str:
+    return str(v.numerator) if v.denominator == 1 else str(v)
 
 
 @dataclass(frozen=True)
@@ -87,6 +108,8 @@ class MxmModule:
     source_lines: int = field(default=0)
     approximations: tuple[Approximation, ...] = ()   # `exact` declarations
     shifts: tuple[Shift, ...] = ()                   # `shift` declarations
+    equation_span: Span | None = None                # `equation NAME`, when given (else the name is the file's)
+    variable_span: Span | None = None                # `variable NAME`, when given
 
     def blocks_for(self, lang: str) -> tuple[Block, ...]:
         """Blocks that apply to `lang`: of each kind, those tagged `for lang`
@@ -164,8 +187,22 @@ class _Build(Transformer):
 
     def option_decl(self, items):
         name, num = items[0], items[1]
-        doc = items[2][1:-1] if len(items) > 2 else ""
-        return ("option", Option(str(name), Fraction(str(num)), doc, _span(self.path, name)))
+        rest = items[2:]
+        low = high = None
+        if rest and isinstance(rest[0], tuple):
+            (low, high, rspan), rest = rest[0], rest[1:]
+        doc = rest[0][1:-1] if rest else ""
+        opt = Option(str(name), Fraction(str(num)), doc, _span(self.path, name), low, high)
+        if low is not None:
+            if low > high:
+                raise SourceError(rspan, f"the range {_num(low)}..{_num(high)} is empty")
+            why = opt.check(opt.value)
+            if why:
+                raise SourceError(_span(self.path, num), f"option {name} = {num}: {why}")
+        return ("option", opt)
+
+    def range(self, items):
+        return (Fraction(str(items[0])), Fraction(str(items[1])), _span(self.path, items[0]))
 
     def formals(self, items):
         return [(str(n), _span(self.path, n)) for n in items]
@@ -267,10 +304,9 @@ def parse_mxm(text: str, path: str = "<string>") -> MxmModule:
 
 def _check(path: str, text: str, items: list) -> MxmModule:
     stem = re.sub(r"\.mxm$", "", path.replace("\\", "/").rsplit("/", 1)[-1])
-    equation = re.sub(r"[^A-Za-z0-9_]", "_", stem) or "equation"
-    if equation[0].isdigit():
-        equation = "eq_" + equation
+    equation = name_from_file(stem)
     doc, variable, terms, terms_span = "", "t", None, None
+    equation_span = variable_span = None
     params: list[Parameter] = []
     options: list[Option] = []
     blocks: list[Block] = []
@@ -286,9 +322,9 @@ def _check(path: str, text: str, items: list) -> MxmModule:
             if terms < 1:
                 raise SourceError(item[2], "'polynomial terms' must be at least 1")
         elif isinstance(item, tuple) and item and item[0] == "equation":
-            equation, doc = item[1], item[2]
+            equation, doc, equation_span = item[1], item[2], item[3]
         elif isinstance(item, tuple) and item and item[0] == "variable":
-            variable = item[1]
+            variable, variable_span = item[1], item[2]
         elif isinstance(item, tuple) and item and item[0] == "parameter":
             p = item[1]
             if any(q.name == p.name for q in params):
@@ -349,20 +385,12 @@ def _check(path: str, text: str, items: list) -> MxmModule:
         path=path, equation=equation, doc=doc, variable=variable, terms=terms, terms_span=terms_span,
         parameters=tuple(params), options=tuple(options), blocks=tuple(blocks), maxima_text=mtext,
         maxima_span=mspan, dialect=dialect, source_lines=text.count("\n") + (0 if text.endswith("\n") else 1),
-        approximations=tuple(approximations), shifts=tuple(shifts),
+        approximations=tuple(approximations), shifts=tuple(shifts), equation_span=equation_span,
+        variable_span=variable_span,
     )
 
 
 def read_mxm(path: str, name: str | None = None) -> MxmModule:
     """Read and parse the .mxm file at `path`; `name` (default: `path`) is how
     messages, headers and #line directives name it."""
-    try:
-        with open(path, encoding="utf-8") as fh:
-            text = fh.read()
-    except FileNotFoundError:
-        raise SourceError(Span(path, 1, 1), "no such file") from None
-    except UnicodeDecodeError as exc:
-        raise SourceError(Span(path, 1, 1), f"not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    except OSError as exc:
-        raise SourceError(Span(path, 1, 1), f"cannot read: {exc.strerror}") from None
-    return parse_mxm(text, name or path)
+    return parse_mxm(read_text(path), name or path)

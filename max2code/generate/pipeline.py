@@ -10,10 +10,12 @@ import time
 from dataclasses import dataclass, field
 
 from max2code import __version__
+from max2code.generate.maxima import DEFAULT_TIMEOUT
 from max2code.errors import Max2CodeError, SourceError
 from max2code.generate.lower import FunctionIR, Lowering, horner, lower
 from max2code.generate.derive import Derivation, derive, note, parameters_of  # noqa: F401  (derive, parameters_of: the pipeline's API)
 from max2code.generate.mxm import read_mxm
+from max2code.generate.names import check_names, check_symbols
 from max2code.generate.exact import derive_exact, render_context
 from max2code.generate.render import FragmentItem, Selection, SelectionCase, inline_derived, render_fragment, render_module
 from max2code.generate.variants import WORLD_EFFECTS, derive_variants, switches_of
@@ -28,7 +30,7 @@ class GenerateRequest:
     options: dict[str, str] = field(default_factory=dict)
     shared: bool = True
     use_cache: bool = True
-    maxima_timeout: float = 300.0
+    maxima_timeout: float = DEFAULT_TIMEOUT
     progress: bool = False
     out_name: str | None = None     # the generated file's name, for #line directives back to it
     variants: bool = True           # with parameter roles: every variant and the selection logic
@@ -74,6 +76,8 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     if req.header and tgt.header_extension is None:
         raise Max2CodeError(f"max2code: error: --header: {req.lang} has no header files (C has)")
     params, docs = parameters_of(d)
+    if not mod.parameters:       # the polynomial's own symbols become the parameters
+        check_symbols(params, d.origin)
     # temporaries must not shadow the function's own name
     fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)
     header = header_lines(d, fn)
@@ -172,6 +176,7 @@ def build_selection(name: str, variants, switches, effects: str) -> Selection:
 def generate_file(req: GenerateRequest) -> GeneratedFile:
     t0 = time.perf_counter()
     mod = read_mxm(req.path)
+    check_names(mod)
     d = derive(mod, req.options, use_cache=req.use_cache, timeout=req.maxima_timeout, progress=req.progress)
     out = generate(d, req)
     note(req.progress, f"{req.path}: {req.lang}, degree {out.function.degree}, "

@@ -16,7 +16,7 @@ from max2code.generate.collect import Polynomial, collect
 from max2code.errors import SourceError
 from max2code.generate.expr import NotPolynomial
 from max2code.generate.lower import FunctionIR, lower
-from max2code.generate.maxima import Statement, run_maxima
+from max2code.generate.maxima import DEFAULT_TIMEOUT, Statement, run_maxima
 from max2code.progress import bar
 from max2code.generate.reader import MaximaOutputError, read_expr
 
@@ -90,7 +90,7 @@ def _progress(on: bool, i: int, n: int, what: str) -> None:
 
 
 def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_cache: bool = True,
-                    timeout: float = 300.0, progress: bool = False, shared: bool = True) -> list[Variant]:
+                    timeout: float = DEFAULT_TIMEOUT, progress: bool = False, shared: bool = True) -> list[Variant]:
     """All variants reachable in a world with `effects` (None: every effect)."""
     mod = derivation.module
     if not any(p.body is not None for p in mod.parameters):

@@ -7,13 +7,12 @@ call of the selection entry against always calling the full variant.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import random
 import subprocess
 import tempfile
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code.paths import equation
 from max2code.progress import bar
@@ -79,7 +78,7 @@ def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
 
 
 def main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(prog="max2code bench-variants", description=__doc__.split("\n\n")[0])
+    ap = ArgumentParser(prog="max2code bench-variants", description=__doc__.split("\n\n")[0])
     ap.add_argument("files", nargs="*", default=[str(equation("circle-circle")), str(equation("point-line"))])
     ap.add_argument("--sets", type=int, default=2000, help="parameter sets per variant (default 2000)")
     ap.add_argument("--reps", type=int, default=50, help="passes over the sets per trial (default 50)")

@@ -21,7 +21,6 @@ Two comparisons, because multi-body scenes are chaotic:
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -33,7 +32,7 @@ from bisect import bisect_left, bisect_right
 from collections import defaultdict
 from dataclasses import dataclass, field
 
-from max2code.errors import Max2CodeError
+from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.progress import bar
 from max2code.paths import ROOT
 from max2code.sim.scene import Scene, load_scene, parse_scene
@@ -782,7 +781,7 @@ def update_readme(results, startup: dict, argv: list[str]) -> bool:
 
 
 def main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(prog=COMMAND,
+    p = ArgumentParser(prog=COMMAND,
                                 description="Run the example scenes in our simulator and in pymunk at fixed steps "
                                             "(1/60, 1/240, 1/1000 s); write docs/event-vs-frame.md, .png and .svg "
                                             "and the headline in README.md.")

@@ -9,13 +9,13 @@ time with Maxima (cold) and from the cache (warm).
 """
 from __future__ import annotations
 
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
 import time
 
+from max2code.errors import ArgumentParser
 from max2code.generate.maxima import run_maxima
 from max2code.generate.mxm import read_mxm
 from max2code.paths import equation
@@ -93,7 +93,7 @@ def markdown(rows: list[dict]) -> str:
 
 
 def main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(prog="max2code table", description=__doc__.split("\n\n")[0])
+    ap = ArgumentParser(prog="max2code table", description=__doc__.split("\n\n")[0])
     ap.add_argument("files", nargs="*", default=DEFAULT, help="the .mxm files (default: the bundled equations)")
     ap.add_argument("-o", "--output", help="also write the Markdown table to this file")
     args = ap.parse_args(argv)

@@ -2,14 +2,13 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import sys
 from dataclasses import dataclass
 
-from max2code.errors import Max2CodeError
-from max2code.sim.scene import SceneError, load_scene
-from max2code.sim.simulate import LANGS, SimulateError, Trace, run_scene
+from max2code.errors import ArgumentParser, Max2CodeError
+from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, load_scene
+from max2code.sim.simulate import LANGS, SimulateError, Trace, run_scene, stream_scene
+from max2code.textio import check_output, open_output
 
 
 class SimCliError(Max2CodeError):
@@ -33,34 +32,48 @@ def _run(scene, lang: str, progress: bool) -> Trace:
 
 
 def simulate_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(prog="max2code simulate",
-                                description="Run a JSON scene in one runtime and write its trace: one JSON line per "
-                                            "event, then the final state and the statistics.")
+    p = ArgumentParser(prog="max2code simulate",
+                       description="Run a JSON scene in one runtime and write its trace: one JSON line per "
+                                   "event, then the final state and the statistics.  The trace is written as "
+                                   "the simulator runs (memory does not grow with the number of events).")
     p.add_argument("scene", help="scene file (JSON, docs/simulator.md)")
     p.add_argument("--lang", choices=LANGS, default="c", help="which runtime's simulator (default c)")
-    p.add_argument("-o", "--output", help="write the trace here instead of stdout")
+    p.add_argument("-o", "--output", default="-", help="write the trace here ('-': standard output, the default)")
     p.add_argument("--no-frames", action="store_true", help="leave the frame events out of the trace")
+    p.add_argument("--max-events", type=_count, metavar="N",
+                   help="stop with an error after N events (collisions, inputs, frames); default: the scene's "
+                        f"max_events ({DEFAULT_MAX_EVENTS:,})")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
     args = p.parse_args(argv)
+    check_output(args.output)
     scene = _load(args.scene)
-    trace = _run(scene, args.lang, not args.quiet and sys.stderr.isatty())
-    lines = [json.dumps(e, separators=(",", ":")) for e in trace.events
-             if not (args.no_frames and e["kind"] == "frame")]
-    lines += [json.dumps(trace.final, separators=(",", ":")), json.dumps(trace.stats, separators=(",", ":"))]
-    text = "\n".join(lines) + "\n"
-    if args.output:
-        with open(args.output, "w", encoding="utf-8") as f:
-            f.write(text)
-    else:
-        sys.stdout.write(text)
+    limit = args.max_events if args.max_events is not None else scene.max_events
+    try:
+        with open_output(args.output) as out:
+            _, stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
+                                    progress=not args.quiet and sys.stderr.isatty())
+    except SimulateError as exc:
+        raise SimCliError(str(exc)) from None
+    except NotImplementedError as exc:
+        raise SimCliError(f"{scene.path}: {exc}") from None
     if not args.quiet:
-        ev = trace.stats["events"]
-        used = ", ".join(f"{k} {v}" for k, v in trace.stats["predictions"].items())
+        ev = stats["events"]
+        used = ", ".join(f"{k} {v}" for k, v in stats["predictions"].items())
         print(f"max2code simulate: {scene.path} in {args.lang}: {ev.get('collisions', 0)} collisions, "
               f"{ev.get('inputs', 0)} inputs, {ev.get('frames', 0)} frames, {ev.get('cells', 0)} cell crossings, "
               f"{ev.get('horizons', 0)} re-predictions at a horizon; effects: {', '.join(scene.effects) or 'none'}; "
               f"predictions per variant: {used}", file=sys.stderr)
     return 0
+
+
+def _count(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return v
 
 
 @dataclass
@@ -114,7 +127,7 @@ def crosscheck(scene, langs=LANGS, progress: bool = False) -> tuple[dict[str, Tr
 
 
 def crosscheck_main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(prog="max2code crosscheck",
+    p = ArgumentParser(prog="max2code crosscheck",
                                 description="Run a scene in all four runtimes and report agreement, or the first "
                                             "event where they differ and by how much.")
     p.add_argument("scenes", nargs="+", help="scene files (JSON)")

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 from max2code.errors import Max2CodeError
+from max2code.textio import InputError, read_text
 from max2code.sim.scene import Body, Scene
 
 EVENT_KINDS = ("collision", "input", "frame")
@@ -102,7 +103,7 @@ class Replay:
             try:
                 return self.index[body]
             except KeyError:
-                raise TraceError(f"{self.path}: no body is named {body!r} in {self.scene.path}") from None
+                raise TraceError(f"{self.path}: error: no body is named {body!r} in {self.scene.path}") from None
         return body
 
     def segment(self, body: int | str, t: float) -> State:
@@ -156,7 +157,7 @@ class Replay:
     # ---- building ---------------------------------------------------------
     def add_state(self, k: int, s: State, line: int) -> None:
         if s.t < self.times[k][-1]:
-            raise TraceError(f"{self.path}:{line}: a state of {self.scene.bodies[k].name} at t={s.t!r} "
+            raise TraceError(f"{self.path}:{line}: error: a state of {self.scene.bodies[k].name} at t={s.t!r} "
                              f"comes before its previous one at t={self.times[k][-1]!r}")
         self.times[k].append(s.t)
         self.states[k].append(s)
@@ -183,7 +184,7 @@ class _Lines:
         self.line = 0
 
     def fail(self, msg: str):
-        raise TraceError(f"{self.path}:{self.line}: {msg}")
+        raise TraceError(f"{self.path}:{self.line}: error: {msg}")
 
     def number(self, obj: dict, key: str, what: str) -> float:
         v = obj.get(key)
@@ -304,13 +305,13 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
             rp.add_state(k, st, rd.line)
         rp.events.append(ev)
     if rd.line == 0 or (not rp.events and rp.final is None):
-        raise TraceError(f"{path}: empty trace: no events and no final states")
+        raise TraceError(f"{path}: error: empty trace: no events and no final states")
     if tolerance is not None and rp.final:
         for k, f in rp.final.items():
             s = rp.state_at(k, scene.end_time)
             d = math.hypot(s.px - f.px, s.py - f.py)
             if not d <= tolerance * max(1.0, abs(f.px), abs(f.py)):
-                raise TraceError(f"{path}: does not match {scene.path}: replayed from the scene, "
+                raise TraceError(f"{path}: error: does not match {scene.path}: replayed from the scene, "
                                  f"{scene.bodies[k].name} ends at ({s.px:.6g}, {s.py:.6g}), the trace says "
                                  f"({f.px:.6g}, {f.py:.6g}) ({d:.3g} m apart)")
     return rp
@@ -318,10 +319,7 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
 
 def load_trace(path: str, scene: Scene, **kw) -> Replay:
     try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-    except OSError as exc:
-        raise TraceError(f"{path}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise TraceError(f"{path}: not a text file (expected the JSON lines of 'max2code simulate')") from None
+        text = read_text(path)
+    except InputError as exc:
+        raise TraceError(f"{exc} (expected the JSON lines of 'max2code simulate')") from None
     return read_trace(text, scene, path, **kw)

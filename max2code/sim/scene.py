@@ -8,19 +8,29 @@ over as exact doubles.
 """
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass, field
 
 from max2code.errors import Max2CodeError
+from max2code.textio import InputError, read_text
 
 SHAPES = ("circle", "polygon")
+DEFAULT_MAX_EVENTS = 10_000_000      # events (collisions, inputs, frames) per run
+DEFAULT_MAX_FRAME_RATE = 1000.0      # frames per simulated second
+# Lengths (and speeds times the end time) up to LENGTH_MAX keep their squares
+# and the products in the contact polynomials finite; sizes down to
+# LENGTH_MIN keep their squares from underflowing to zero.
+LENGTH_MAX = 1e150
+LENGTH_MIN = 1e-150
 SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": "frames per second (0: none)",
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
               "tolerance": "distance tolerance (m)", "rest_speed": "smallest separation speed of a contact (m/s)",
               "taylor_order": "Taylor order of the turns' sin and cos", "bodies": "the bodies",
               "inputs": "scripted velocity changes", "max_events_at_one_time": "guard against a stuck scene",
-              "comment": "free text"}
+              "max_events": "events (collisions, inputs, frames) a run may write",
+              "max_frame_rate": "largest frame_rate accepted", "comment": "free text"}
 BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
              "angle", "angular_velocity", "orbit", "restitution", "comment"}
 ORBIT_KEYS = {"radius", "angle"}
@@ -49,9 +59,10 @@ class Body:
     orbit_angle: float = 0.0
     vertices: list[tuple[float, float]] = field(default_factory=list)   # about the centre of mass, counter-clockwise
 
-    @property
+    @functools.cached_property
     def bound(self) -> float:
-        """Radius of a circle about the centre of rotation holding the whole body."""
+        """Radius of a circle about the centre of rotation holding the whole body
+        (computed once: read it only after the vertices or radius are set)."""
         if self.polygon:
             return max(math.hypot(x, y) for x, y in self.vertices)
         return self.orbit_radius + self.radius
@@ -87,6 +98,7 @@ class Scene:
     max_same: int
     bodies: list[Body]
     inputs: list[Input]
+    max_events: int = DEFAULT_MAX_EVENTS
 
     @property
     def effects(self) -> tuple[str, ...]:
@@ -106,7 +118,7 @@ class _Reader:
         self.path = path
 
     def fail(self, where: str, msg: str):
-        raise SceneError(f"{self.path}: {where}: {msg}")
+        raise SceneError(f"{self.path}: error: {where}: {msg}")
 
     def keys(self, obj, allowed, where: str, required=()):
         if not isinstance(obj, dict):
@@ -196,10 +208,9 @@ def _polygon(rd: _Reader, raw, where: str):
 
 def load_scene(path: str) -> Scene:
     try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read: {exc.strerror}") from None
+        text = read_text(path)
+    except InputError as exc:
+        raise SceneError(str(exc)) from None
     return parse_scene(text, path)
 
 
@@ -208,9 +219,9 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON: {exc.msg}") from None
+        raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: error: not valid JSON: {exc.msg}") from None
     except RecursionError:
-        raise SceneError(f"{path}: not valid JSON: nested too deeply") from None
+        raise SceneError(f"{path}: error: not valid JSON: nested too deeply") from None
     rd.keys(raw, SCENE_KEYS, "", required=("end_time", "bodies"))
     if "name" in raw and not isinstance(raw["name"], str):
         rd.fail("name", "expected a string")
@@ -223,6 +234,22 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
     if order != int(order) or not 1 <= order <= 7:
         rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree 16 at most), got {order}")
     max_same = rd.number(raw, "max_events_at_one_time", "", 100000, positive=True)
+    if max_same != int(max_same) or max_same >= 2.0 ** 63:
+        rd.fail("max_events_at_one_time", f"must be a whole number below 2^63, got {max_same:g}")
+    max_events = rd.number(raw, "max_events", "", DEFAULT_MAX_EVENTS, positive=True)
+    if max_events != int(max_events) or max_events >= 2.0 ** 63:
+        rd.fail("max_events", f"must be a whole number below 2^63, got {max_events:g}")
+    max_fps = rd.number(raw, "max_frame_rate", "", DEFAULT_MAX_FRAME_RATE, positive=True)
+    if fps > max_fps:
+        rd.fail("frame_rate", f"{fps:g} frames per simulated second is above max_frame_rate ({max_fps:g}); "
+                              "raise max_frame_rate if you mean it")
+    if fps * end > max_events:
+        rd.fail("frame_rate", f"{fps:g} frames per second for end_time {end:g} s is {fps * end:.3g} frames, more than "
+                              f"max_events ({max_events:.0f}); lower frame_rate or raise max_events")
+    if end > LENGTH_MAX:
+        rd.fail("end_time", f"{end:g} s is more than {LENGTH_MAX:g} s, whose square overflows")
+    if tol < LENGTH_MIN or tol > LENGTH_MAX:
+        rd.fail("tolerance", f"{tol:g} m is outside {LENGTH_MIN:g}..{LENGTH_MAX:g} m (its square under- or overflows)")
     if not isinstance(raw["bodies"], list) or not raw["bodies"]:
         rd.fail("bodies", "expected a non-empty list of bodies")
 
@@ -308,9 +335,54 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
             rd.fail(where, "give exactly one of set_velocity, add_velocity")
         inputs.append(Input(t, bi, 0 if modes[0] == "set_velocity" else 1, rd.vec(e, modes[0], where, None)))
 
-    scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs)
+    scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
+                  int(max_events))
+    _check_magnitudes(scene, rd)
     _check_overlaps(scene)
     return scene
+
+
+def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
+    """Refuse what a double cannot carry through the contact polynomials:
+    a body that reaches farther than LENGTH_MAX from the origin by the end
+    time (position + |velocity| T + |acceleration| T^2/2 + its size, inputs
+    included), a size below LENGTH_MIN, a mass or moment of inertia whose
+    inverse overflows.  Everything else is simulated."""
+    T = scene.end_time
+    kick = [0.0] * len(scene.bodies)
+    for e in scene.inputs:
+        kick[e.body] = max(kick[e.body], math.hypot(*e.velocity) if e.mode == 0 else 0.0)
+    for e in scene.inputs:        # added velocities add up
+        if e.mode == 1:
+            kick[e.body] += math.hypot(*e.velocity)
+    for k, b in enumerate(scene.bodies):
+        where = f"bodies[{k}] ({b.name})"
+        sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
+        if b.orbit_radius:
+            sizes.append(("orbit.radius", b.orbit_radius))
+        for field_name, v in sizes:
+            if v > LENGTH_MAX:
+                rd.fail(f"{where}.{field_name}", f"{v:g} m is more than {LENGTH_MAX:g} m (its square overflows)")
+            if 0.0 < v < LENGTH_MIN:
+                rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
+        speed = math.hypot(*b.velocity) + kick[k]
+        accel = math.hypot(*b.acceleration)
+        for field_name, v, limit in (("position", math.hypot(*b.position), LENGTH_MAX),
+                                     ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
+                                     ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
+            if v > limit:
+                rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
+                                                 f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
+        reach = math.hypot(*b.position) + speed * T + accel * T * T / 2.0 + b.bound
+        if not reach <= LENGTH_MAX:
+            rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
+                           "where squares overflow; scale the scene")
+        if not b.fixed:
+            if not math.isfinite(1.0 / b.mass):
+                rd.fail(f"{where}.mass", f"{b.mass:g} kg is too small: 1/mass overflows")
+            if b.polygon and not (b.inertia > 0.0 and math.isfinite(1.0 / b.inertia)):
+                rd.fail(f"{where}.mass", f"the moment of inertia ({b.inertia:g}) of this mass and shape cannot be "
+                                         "inverted in doubles; scale the scene")
 
 
 # ---------------------------------------------------------------- geometry
@@ -365,12 +437,25 @@ def penetration(a: Body, b: Body) -> float:
     return depth
 
 
+def _box(b: Body) -> tuple[float, float, float, float]:
+    """A box holding the body at t = 0."""
+    if b.polygon:
+        pts = world_vertices(b)
+        xs, ys = [x for x, _ in pts], [y for _, y in pts]
+        return (min(xs), min(ys), max(xs), max(ys))
+    x, y = circle_centre(b)
+    return (x - b.radius, y - b.radius, x + b.radius, y + b.radius)
+
+
 def _check_overlaps(scene: Scene) -> None:
     """Bodies must not overlap at t = 0 beyond the tolerance (touching is fine).
-    Pairs are found through a grid, so this stays fast for 10^5 bodies."""
+    Pairs are found through a grid (and boxes for the large bodies), so this
+    stays fast for 10^5 bodies; the first overlapping pair in index order is
+    reported."""
     bodies = scene.bodies
     if not bodies:
         return
+    tol = scene.tolerance
     cell = 2.0 * max(b.bound for b in bodies if not b.fixed) if any(not b.fixed for b in bodies) else 1.0
     grid: dict[tuple[int, int], list[int]] = {}
     big = []
@@ -379,29 +464,43 @@ def _check_overlaps(scene: Scene) -> None:
             big.append(i)
             continue
         grid.setdefault((math.floor(b.position[0] / cell), math.floor(b.position[1] / cell)), []).append(i)
-    pairs = set()
-    for (cx, cy), members in grid.items():
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for j in grid.get((cx + dx, cy + dy), ()):
-                    for i in members:
-                        if i < j:
-                            pairs.add((i, j))
-    for i in big:
-        for j in range(len(bodies)):
-            if j != i:
-                pairs.add((min(i, j), max(i, j)))
-    for i, j in sorted(pairs):
+    found: list[tuple[int, int, float]] = []
+
+    def test(i: int, j: int) -> None:
         a, b = bodies[i], bodies[j]
         if a.fixed and b.fixed:
-            continue
-        reach = a.bound + b.bound
+            return
+        reach = a.bound + b.bound + tol
         if (a.position[0] - b.position[0]) ** 2 + (a.position[1] - b.position[1]) ** 2 > reach * reach:
-            continue
+            return
         d = penetration(a, b)
-        if d > scene.tolerance:
-            raise SceneError(f"{scene.path}: bodies[{i}] ({a.name}) and bodies[{j}] ({b.name}) overlap at t = 0 "
-                             f"by {d:.3g} m (tolerance {scene.tolerance:g})")
+        if d > tol:
+            found.append((min(i, j), max(i, j), d))
+
+    # each pair of neighbouring cells once: the cell itself and four of its eight neighbours
+    for (cx, cy), members in grid.items():
+        for k, i in enumerate(members):
+            for j in members[k + 1:]:
+                test(i, j)
+        for dx, dy in ((1, -1), (1, 0), (1, 1), (0, 1)):
+            for j in grid.get((cx + dx, cy + dy), ()):
+                for i in members:
+                    test(i, j)
+    boxes = [_box(b) for b in bodies] if big else []
+    big_set = set(big)
+    for i in big:
+        ax0, ay0, ax1, ay1 = boxes[i]
+        for j, (bx0, by0, bx1, by1) in enumerate(boxes):
+            if j == i or (j < i and j in big_set):
+                continue
+            if ax0 > bx1 + tol or bx0 > ax1 + tol or ay0 > by1 + tol or by0 > ay1 + tol:
+                continue            # the boxes hold the bodies: apart by more than the tolerance
+            test(i, j)
+    if found:
+        i, j, d = min(found)
+        a, b = bodies[i], bodies[j]
+        raise SceneError(f"{scene.path}: error: bodies[{i}] ({a.name}) and bodies[{j}] ({b.name}) overlap at t = 0 "
+                         f"by {d:.3g} m (tolerance {tol:g})")
 
 
 # ---------------------------------------------------------------- compiling

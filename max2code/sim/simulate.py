@@ -8,15 +8,17 @@ import hashlib
 import json
 import os
 import subprocess
+import threading
 from dataclasses import dataclass, field
+from pathlib import Path
 
+from max2code import __version__
 from max2code.errors import Max2CodeError
-from max2code.generate.pipeline import GenerateRequest, derive, generate
-from max2code.generate.mxm import read_mxm
-from max2code.paths import BUILD, RUNTIMES, equation
+from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_scene
-from max2code.targets import simulator_languages, target as get_target
+from max2code.targets import simulator_languages
 
+PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
 LANGS = simulator_languages()
 FEATURES = {(0, False): "circle-circle", (0, True): "circle-vertex", (1, False): "circle-edge", (1, True): "vertex-edge"}
@@ -63,11 +65,31 @@ def _hash_tree(path, h) -> None:
 def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
     """Generate the equations for exactly these effects and build the
     simulator of `lang` with them (rebuilt only when something changed)."""
-    tgt = get_target(lang)
     tag = ("-".join(effects) or "none") + f"-o{order}"
     workdir = BUILD / "sim" / lang / tag
     workdir.mkdir(parents=True, exist_ok=True)
-    generated: dict[str, str] = {}
+    # everything the build depends on but Maxima's version (its results are
+    # cached by version anyway): when unchanged, neither generate nor build
+    key = hashlib.sha256(json.dumps([lang, list(effects), order, __version__]).encode())
+    for path in EQUATIONS.values():
+        key.update(path.read_bytes())
+    for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang):
+        _hash_tree(tree, key)
+    inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
+    try:
+        if inputs_stamp.read_text() == key.hexdigest() and stamp.exists():
+            saved = json.loads(names_file.read_text(encoding="utf-8"))
+            if all(os.path.exists(g) for g in saved["generated"].values()):
+                return SimBuild(lang, str(workdir), saved["run"], saved["names"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    # the generator is imported only when something must be generated (it is most of the start-up)
+    from max2code.generate.mxm import read_mxm
+    from max2code.generate.pipeline import GenerateRequest, derive, generate
+    from max2code.targets import target as get_target
+
+    tgt = get_target(lang)
+    generated = {}
     names: dict[str, list[str]] = {}
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
@@ -85,7 +107,6 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         generated[eq] = str(target_file)
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
-    stamp = workdir / "build.stamp"
     digest = h.hexdigest()
     if not stamp.exists() or stamp.read_text() != digest:
         for cmd in tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()}):
@@ -94,65 +115,193 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
         stamp.write_text(digest)
-    return SimBuild(lang, str(workdir), tgt.sim_run(str(workdir), generated), names)
+    run = tgt.sim_run(str(workdir), generated)
+    names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
+    inputs_stamp.write_text(key.hexdigest())
+    return SimBuild(lang, str(workdir), run, names)
 
 
-def _f(w: str) -> float:
-    return float(w)
+def _num(w: str) -> str:
+    """A trace number as JSON: the runtime's `%.17g` text, which reads back as
+    the same double (a whole number gets '.0' so that it stays a float);
+    never NaN or infinite.  (Re-printing each number in its shortest form
+    would cost more than the simulation.)"""
+    if "." in w or "e" in w:
+        if "n" in w:
+            raise ValueError(f"non-finite number {w}")
+        return w
+    if "n" in w or "i" in w:
+        raise ValueError(f"non-finite number {w}")
+    return w + ".0"
 
 
-def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
-    names = [b.name for b in scene.bodies]
-    events: list[dict] = []
-    final = {"kind": "final", "t": scene.end_time, "bodies": []}
-    counts: dict[str, int] = {}
-    predictions: dict[str, int] = {}
-    for ln, line in enumerate(text.splitlines(), 1):
+class TraceConverter:
+    """Turns the runtime's flat trace (docs/simulator.md), line by line, into
+    the JSON lines of `max2code simulate`: each event is written when the
+    next record starts, so memory does not grow with the number of events
+    (the final states and statistics are per body and per variant)."""
+
+    def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
+                 max_events: int | None = None):
+        self.scene, self.build, self.write = scene, build, write
+        self.names = [json.dumps(b.name) for b in scene.bodies]
+        self.frames = frames
+        self.max_events = max_events
+        self.events = 0            # E records seen
+        self.line = 0
+        self.pending: list[str] | None = None     # the event being read: its JSON text in pieces
+        self.final: list[str] = []
+        self.counts: dict[str, int] = {}
+        self.predictions: dict[str, int] = {}
+
+    def _flush(self) -> None:
+        if self.pending is not None:
+            if len(self.pending) > 1:
+                self.pending.insert(1, ',"states":[')
+                self.pending.append("]")
+            self.pending.append("}\n")
+            self.write("".join(self.pending))
+            self.pending = None
+
+    def feed(self, line: str) -> None:
+        self.line += 1
         w = line.split()
         if not w:
-            continue
+            return
         try:
             tag = w[0]
+            if tag == "S":
+                if self.pending is None:
+                    raise ValueError("a state without its event")
+                sep = "," if len(self.pending) > 1 else ""
+                self.pending.append(f'{sep}{{"body":{self.names[int(w[1])]},"position":[{_num(w[3])},{_num(w[4])}],'
+                                    f'"velocity":[{_num(w[5])},{_num(w[6])}],"angle":{_num(w[7])},'
+                                    f'"angular_velocity":{_num(w[8])}}}')
+                return
+            self._flush()
             if tag == "E":
-                kind, t = w[1], _f(w[2])
-                ev: dict = {"t": t, "kind": kind}
+                self.events += 1
+                if self.max_events is not None and self.events > self.max_events:
+                    raise TraceLimit(self.max_events)
+                kind, t = w[1], _num(w[2])
                 if kind == "collision":
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
-                    ev["bodies"] = [names[a], names[b]]
-                    ev["feature"] = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    ev["features"] = [i, j]
-                    ev["point"] = [_f(w[8]), _f(w[9])]
-                    ev["normal"] = [_f(w[10]), _f(w[11])]
-                    ev["impulse"] = _f(w[12])
+                    feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
+                    head = (f'{{"t":{t},"kind":"collision","bodies":[{self.names[a]},{self.names[b]}],'
+                            f'"feature":"{feature}","features":[{i},{j}],"point":[{_num(w[8])},{_num(w[9])}],'
+                            f'"normal":[{_num(w[10])},{_num(w[11])}],"impulse":{_num(w[12])}')
                 elif kind == "input":
-                    ev["bodies"] = [names[int(w[3])]]
-                    ev["input"] = int(w[6])
-                events.append(ev)
-            elif tag == "S":
-                st = {"body": names[int(w[1])], "position": [_f(w[3]), _f(w[4])], "velocity": [_f(w[5]), _f(w[6])],
-                      "angle": _f(w[7]), "angular_velocity": _f(w[8])}
-                events[-1].setdefault("states", []).append(st)
+                    head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
+                elif kind == "frame":
+                    if not self.frames:
+                        return
+                    head = f'{{"t":{t},"kind":"frame"'
+                else:
+                    raise ValueError(f"unknown event kind {kind!r}")
+                self.pending = [head]
             elif tag == "F":
-                final["bodies"].append({"body": names[int(w[1])], "position": [_f(w[2]), _f(w[3])],
-                                        "velocity": [_f(w[4]), _f(w[5])], "angle": _f(w[6]),
-                                        "angular_velocity": _f(w[7])})
+                self.final.append(f'{{"body":{self.names[int(w[1])]},"position":[{_num(w[2])},{_num(w[3])}],'
+                                  f'"velocity":[{_num(w[4])},{_num(w[5])}],"angle":{_num(w[6])},'
+                                  f'"angular_velocity":{_num(w[7])}}}')
             elif tag == "N":
-                counts[w[1]] = int(w[2])
+                self.counts[w[1]] = int(w[2])
             elif tag == "V":
                 eq, k, n = w[1], int(w[2]), int(w[3])
                 if n:
-                    predictions[build.variant_names[eq][k]] = n
+                    self.predictions[self.build.variant_names[eq][k]] = n
             elif tag == "X":
-                raise SimulateError(f"{scene.path}: {build.lang} simulator: {line[2:]}")
+                raise SimulateError(f"{self.scene.path}: {self.build.lang} simulator: {line.strip()[2:]}")
             else:
                 raise ValueError(f"unknown line tag {tag!r}")
         except (IndexError, ValueError, KeyError) as exc:
-            raise SimulateError(f"{build.lang} simulator wrote a bad trace line {ln}: {line[:120]!r} ({exc})") from None
-    stats = {"kind": "stats", "lang": build.lang, "events": counts, "predictions": dict(sorted(predictions.items()))}
-    return Trace(build.lang, events, final, stats, text)
+            raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
+                                f"({exc})") from None
+
+    def finish(self) -> tuple[dict, dict]:
+        """Write the last event, the final states and the statistics; return (final, stats)."""
+        self._flush()
+        final_text = f'{{"kind":"final","t":{repr(float(self.scene.end_time))},"bodies":[{",".join(self.final)}]}}'
+        stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
+                 "predictions": dict(sorted(self.predictions.items()))}
+        self.write(final_text + "\n")
+        self.write(json.dumps(stats, separators=(",", ":")) + "\n")
+        return json.loads(final_text), stats
+
+
+class TraceLimit(Exception):
+    """More events than the limit: the run is stopped."""
+
+    def __init__(self, limit: int):
+        super().__init__(limit)
+        self.limit = limit
+
+
+def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
+    """A whole flat trace into a Trace (the JSON events as dicts)."""
+    lines: list[str] = []
+    conv = TraceConverter(scene, build, lines.append)
+    for line in text.splitlines():
+        conv.feed(line)
+    final, stats = conv.finish()
+    return Trace(build.lang, [json.loads(x) for x in lines[:-2]], final, stats, text)
+
+
+def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
+                 progress: bool = False, timeout: float = 3600) -> tuple[dict, dict]:
+    """Run the scene in `lang` and pass each JSON line of its trace to
+    `write` as the simulator writes it; returns (final, stats).  More than
+    `max_events` events (collisions, inputs, frames) stops the simulator
+    and raises SimulateError."""
+    build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
+    flat = compile_scene(scene)
+    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events)
+    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=build.workdir, text=True, encoding="ascii", errors="replace", bufsize=1 << 16)
+    err: list[str] = []
+
+    def feed_input():
+        try:
+            proc.stdin.write(flat)
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
+
+    def drain_errors():
+        err.append(proc.stderr.read()[-4000:])
+
+    threads = [threading.Thread(target=feed_input, daemon=True), threading.Thread(target=drain_errors, daemon=True)]
+    for th in threads:
+        th.start()
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    last = ""
+    try:
+        for line in proc.stdout:
+            last = line
+            conv.feed(line)
+    except TraceLimit as exc:
+        raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
+                            f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
+                            f"end_time") from None
+    finally:
+        timer.cancel()
+        if proc.poll() is None:
+            proc.kill()
+        proc.wait()
+        for th in threads:
+            th.join(timeout=5)
+        proc.stdout.close()
+    if proc.returncode != 0:
+        if last.startswith("X "):
+            raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:].strip()}")
+        why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
+        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): {''.join(err)[-2000:]}")
+    return conv.finish()
 
 
 def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float = 3600) -> Trace:
+    """Run the scene in `lang` and return its whole trace (events in memory:
+    for tests and comparisons; `max2code simulate` streams with stream_scene)."""
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     flat = compile_scene(scene)
     proc = subprocess.run(build.run_cmd, input=flat, capture_output=True, text=True, cwd=build.workdir,

@@ -29,6 +29,10 @@ class Target:
     gsl_baseline: ClassVar[str | None] = None  # the conformance name of its GSL baseline testee, if any
     requires: ClassVar[str] = ""               # what must be installed to build and run its code
     links: ClassVar[str] = ""                  # how generated code and the runtime link into a program
+    # names a parameter or equation may not take (max2code/generate/names.py):
+    # the language's keywords, the names the printer and templates use, and prefixes of the runtime's names
+    reserved: ClassVar[frozenset[str]] = frozenset()
+    reserved_prefixes: ClassVar[tuple[str, ...]] = ()
 
     # ---- single precision (max2code --real=float) ------------------------
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none

@@ -23,6 +23,16 @@ class Modula2(Target):
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
 
     calls = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "ABS({})"}
+    reserved = frozenset("""
+        AND ARRAY BEGIN BY CASE CONST DEFINITION DIV DO ELSE ELSIF END EXIT EXPORT FOR FROM IF IMPLEMENTATION IMPORT
+        IN LOOP MOD MODULE NOT OF OR POINTER PROCEDURE QUALIFIED RECORD REPEAT RETURN SET THEN TO TYPE UNTIL VAR
+        WHILE WITH EXCEPT FINALLY FORWARD PACKEDSET REM RETRY ABSTRACT AS CLASS GENERIC GUARD INHERIT OVERRIDE
+        READONLY REVEAL TRACED UNSAFEGUARDED
+        ABS BITSET BOOLEAN CAP CARDINAL CHAR CHR CMPLX COMPLEX DEC DISPOSE EXCL FALSE FLOAT HALT HIGH IM INC INCL
+        INT INTEGER LENGTH LFLOAT LONGCOMPLEX LONGREAL MAX MIN NEW NIL ODD ORD PROC PROTECTION RE REAL SIZE TRUE
+        TRUNC VAL SHORTREAL LONGINT LONGCARD SHORTINT SHORTCARD
+        sin cos sqrt RealMath Roots SmallestRoot ExactToc FirstContact Options Motion Defaults
+        coef degree mask lo hi t horizon options out rate pv scale md mo nparams maxDegree gapDt""".split())
     single_type = "SHORTREAL"     # gm2 12 has no ShortMath: sin and cos of REAL, rounded
     single_copies = True          # REAL parameters, SHORTREAL copies (no implicit conversion in Modula-2)
     single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",

@@ -190,7 +190,7 @@ PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
                         VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
    i, st, n: INTEGER ;
-   start, band0, d0, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
+   start, band0, g0, d0, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
    pp: Params ;
    c: Coeffs ;
 BEGIN
@@ -212,7 +212,12 @@ BEGIN
    start := 0.0 ;
    band0 := FloorAt (0.0) ;
    IF o.zeroTol > band0 THEN band0 := o.zeroTol END ;
-   IF ABS (Cur.gap (Par, 0.0)) <= band0 THEN
+   g0 := Cur.gap (Par, 0.0) ;
+   IF g0 < -band0 THEN          (* inside each other at t = 0: not a contact, its own answer *)
+      t := 0.0 ;
+      RETURN Overlapped
+   END ;
+   IF ABS (g0) <= band0 THEN
       d0 := Cur.gapDt (Par, 0.0) ;
       IF d0 < 0.0 THEN
          t := 0.0 ;

@@ -52,11 +52,16 @@ void m2c_exact_defaults(m2c_exact_options *o);
 
 /* The first contact time t in (0, horizon] of the exact motion with
  * parameters p, or 0 at t = 0 when the gap is zero there and decreasing.
- * Returns 1 and sets *t, 0 when there is none (also for non-finite
- * parameters), -1 on an error: a parameter uses an effect the code was
- * not generated for, bad options (window_angle not positive), more than
+ * A contact is a root where the gap (positive apart, negative inside each
+ * other) reaches zero while decreasing; a gap below minus the rounding band
+ * (or zero_tol) at t = 0 means the bodies overlap: M2C_EXACT_OVERLAPPED
+ * (*t = 0), never the time the overlap ends.  Returns 1 and sets *t, 0 when
+ * there is none (also for non-finite parameters), M2C_EXACT_OVERLAPPED (2),
+ * -1 on an error: a parameter uses an effect the code was not generated
+ * for, bad options (window_angle not positive), more than
  * M2C_EXACT_MAX_WINDOWS windows, or too many parameters.  options may be
  * NULL (the defaults). */
+#define M2C_EXACT_OVERLAPPED 2
 int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *options,
                   double *t);
 

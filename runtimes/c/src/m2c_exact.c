@@ -191,7 +191,12 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
     double band0 = floor_at(&k, 0.0);
     if (o.zero_tol > band0)
         band0 = o.zero_tol;
-    if (fabs(m->gap(p, 0.0)) <= band0) {
+    double g0 = m->gap(p, 0.0);
+    if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
+        *t = 0.0;
+        return M2C_EXACT_OVERLAPPED;
+    }
+    if (fabs(g0) <= band0) {
         double d0 = m->gap_dt(p, 0.0);
         if (d0 < 0.0) {
             *t = 0.0;

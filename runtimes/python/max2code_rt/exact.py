@@ -13,7 +13,9 @@ from typing import Callable, Sequence
 
 from max2code_rt.roots import smallest_root
 
-__all__ = ["Motion", "exact_toc", "WINDOW_ANGLE", "MAX_WINDOWS"]
+__all__ = ["Motion", "exact_toc", "OVERLAPPED", "WINDOW_ANGLE", "MAX_WINDOWS"]
+
+OVERLAPPED = "overlapped"  # exact_toc's answer when the bodies are inside each other at t = 0
 
 WINDOW_ANGLE = 1.0         # default: radians the fastest orbit turns per window
 FLOOR = 2.0 ** -46         # 64 eps: the rounding floor is FLOOR * scale
@@ -165,10 +167,14 @@ class _Driver:
 
 
 def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: float = WINDOW_ANGLE,
-              refine: bool = True, zero_tol: float = 0.0, solver=None) -> float | None:
+              refine: bool = True, zero_tol: float = 0.0, solver=None) -> float | str | None:
     """The first contact time in (0, horizon] of the exact motion with
     parameters `p`, or 0.0 at t = 0 when the gap is zero there and
     decreasing; None when there is none (also for non-finite parameters).
+    A contact is a root where the gap (positive apart, negative inside each
+    other) reaches zero while decreasing: a gap below minus the rounding
+    band (or zero_tol) at t = 0 answers OVERLAPPED, never the time the
+    overlap ends.
     Raises ValueError for a parameter that uses an effect the code was not
     generated for, bad options, or more than MAX_WINDOWS windows.
 
@@ -193,7 +199,10 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
         band0 = k.floor_at(0.0)
         if zero_tol > band0:
             band0 = zero_tol
-        if abs(m.gap(p, 0.0)) <= band0:
+        g0 = m.gap(p, 0.0)
+        if g0 < -band0:         # inside each other at t = 0: not a contact, its own answer
+            return OVERLAPPED
+        if abs(g0) <= band0:
             d0 = m.gap_dt(p, 0.0)
             if d0 < 0.0:
                 return 0.0

@@ -223,10 +223,12 @@ impl Ctx<'_> {
 
 /// The first contact time in `(0, horizon]` of the exact motion with
 /// parameters `p`, or `0.0` when the gap is zero at t = 0 and decreasing:
-/// `Ok(Some(t))`, `Ok(None)` when there is none (also for non-finite
-/// parameters), `Err(..)` for a parameter that uses an effect the code was
+/// `Ok(Toc::Contact(t))`, `Ok(Toc::NoContact)` when there is none (also for
+/// non-finite parameters), `Ok(Toc::Overlapped)` when the gap (positive apart,
+/// negative inside each other) is below minus the rounding band at t = 0 (a
+/// root where the gap grows is never a contact), `Err(..)` for a parameter that uses an effect the code was
 /// not generated for, bad options, or more than [`MAX_WINDOWS`] windows.
-pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Option<f64>, &'static str> {
+pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
     if m.nparams > MAX_PARAMS || m.max_degree > MAX_DEGREE || p.len() != m.nparams {
         return Err("exact_toc: the motion does not fit the runtime's limits or the parameters");
     }
@@ -234,7 +236,7 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         return Err("exact_toc: window_angle must be positive and finite, zero_tol >= 0");
     }
     if !horizon.is_finite() || !(horizon > 0.0) || p.iter().any(|v| !v.is_finite()) {
-        return Ok(None);
+        return Ok(Toc::NoContact);
     }
     let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol };
     let mut start = 0.0f64;
@@ -242,14 +244,18 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     if o.zero_tol > band0 {
         band0 = o.zero_tol;
     }
-    if (m.gap)(p, 0.0).abs() <= band0 {
+    let g0 = (m.gap)(p, 0.0);
+    if g0 < -band0 {
+        return Ok(Toc::Overlapped); // inside each other at t = 0: not a contact, its own answer
+    }
+    if g0.abs() <= band0 {
         let d0 = (m.gap_dt)(p, 0.0);
         if d0 < 0.0 {
-            return Ok(Some(0.0));
+            return Ok(Toc::Contact(0.0));
         }
         start = k.depart(horizon, band0, d0);
         if !(start < horizon) {
-            return Ok(None);
+            return Ok(Toc::NoContact);
         }
     }
     let span = horizon - start;
@@ -287,10 +293,22 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
             if r > horizon {
                 r = horizon;
             }
-            return Ok(Some(r + 0.0));
+            return Ok(Toc::Contact(r + 0.0));
         }
         t0 = t1;
         w += 1.0;
     }
-    Ok(None)
+    Ok(Toc::NoContact)
 }
+
+/// The answer of [`exact_toc`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Toc {
+    /// The first approaching contact, at this time (0: touching at t = 0 and approaching).
+    Contact(f64),
+    /// The bodies are inside each other at t = 0 (the gap is below minus the rounding band).
+    Overlapped,
+    /// No contact in (0, horizon].
+    NoContact,
+}
+

@@ -1,0 +1,278 @@
+"""Issue 11: every input gets a clear answer.  One test (or parameter) per
+case the issue lists: a correct result, or one line
+`FILE[:LINE[:COL]]: error: ...` naming the input, exit status 1; never a
+traceback, an "internal error", a hang or a silently wrong answer."""
+import json
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+from max2code.cli import main
+from max2code.generate.maxima import DEFAULT_TIMEOUT
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OK_MXM = "begin\na + b*t + c*t^2;\nend\n"
+
+
+def run(capsys, *argv):
+    """The CLI in this process: (exit status, stdout, stderr)."""
+    try:
+        code = main(list(map(str, argv)))
+    except SystemExit as exc:          # --help
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_error_line(err: str, where: str) -> str:
+    """The message after `where: error: `, checking it is the only stderr line."""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith(where), (where, err)
+    assert "error: " in lines[0] and "internal error" not in lines[0] and "Traceback" not in err, err
+    return lines[0].split("error: ", 1)[1]
+
+
+def scene(**top):
+    s = {"end_time": 1.0, "gravity": [0, -9.81], "bodies": [
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0, 1], "velocity": [0, 0]},
+        {"name": "floor", "shape": "polygon", "fixed": True, "position": [0, -0.5],
+         "vertices": [[-5, -0.5], [5, -0.5], [5, 0.5], [-5, 0.5]]}]}
+    s.update(top)
+    return s
+
+
+def write(tmp_path, name, data):
+    p = tmp_path / name
+    if isinstance(data, bytes):
+        p.write_bytes(data)
+    else:
+        p.write_text(data if isinstance(data, str) else json.dumps(data), encoding="utf-8")
+    return p
+
+
+# ------------------------------------------------------------------ hangs
+def test_frame_rate_1e9_is_refused_at_once(tmp_path, capsys):
+    p = write(tmp_path, "fr.json", scene(frame_rate=1e9))
+    code, out, err = run(capsys, "simulate", "--lang", "python", p)
+    assert code == 1 and out == ""
+    assert "frame_rate" in one_error_line(err, f"{p}: error: ")
+
+
+def test_frames_beyond_max_events_are_refused(tmp_path, capsys):
+    p = write(tmp_path, "fr.json", scene(frame_rate=500, end_time=100, max_events=1000))
+    code, _, err = run(capsys, "simulate", "--lang", "python", p)
+    assert code == 1 and "max_events" in one_error_line(err, f"{p}: error: frame_rate")
+
+
+def test_max_events_stops_a_run(tmp_path, capsys):
+    p = write(tmp_path, "many.json", scene(frame_rate=100, end_time=1))
+    out = tmp_path / "trace.jsonl"
+    code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "10", "-o", out, "-q")
+    assert code == 1 and "more than 10 events" in one_error_line(err, f"{p}: error: ")
+    assert not out.exists(), "a stopped run leaves no half-written trace"
+    code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "0")
+    assert code == 1 and "--max-events" in err
+
+
+def test_looping_maxima_stops_at_the_timeout(tmp_path, capsys):
+    assert DEFAULT_TIMEOUT == 60.0          # our equations take about 1 s
+    p = write(tmp_path, "loop.mxm", "begin\nwhile true do t;\nend\n")
+    code, _, err = run(capsys, "--lang=c", p, "-q", "--no-cache", "--maxima-timeout", "2")
+    assert code == 1 and "did not finish within 2 s" in one_error_line(err, f"{p}:2:1: error: ")
+
+
+# ------------------------------------------------------------------ silently wrong
+@pytest.mark.parametrize("field,body,value", [
+    ("velocity", 0, [0, -1e308]),
+    ("position", 0, [1e200, 0]),
+    ("radius", 0, 1e300),
+    ("radius", 0, 1e-300),
+    ("mass", 0, 1e-310),
+    ("acceleration", 0, [0, -1e300]),
+])
+def test_magnitudes_that_cannot_be_represented_name_the_field(tmp_path, capsys, field, body, value):
+    s = scene()
+    s["bodies"][body][field] = value
+    p = write(tmp_path, "big.json", s)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p)
+    assert code == 1 and out == ""
+    one_error_line(err, f"{p}: error: bodies[0] (ball).{field}")
+
+
+def test_large_but_finite_magnitudes_are_solved(tmp_path, capsys):
+    s = scene(gravity=[0, 0])
+    s["bodies"][0]["velocity"] = [0, -1e100]
+    p = write(tmp_path, "fast.json", s)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p, "-q")
+    assert code == 0, err
+    lines = [json.loads(x) for x in out.splitlines()]
+    hits = [e for e in lines if e.get("kind") == "collision"]
+    assert len(hits) == 1 and 0 < hits[0]["t"] < 1e-99          # the ball does not pass the floor
+    assert "Infinity" not in out and "NaN" not in out
+
+
+def test_empty_case_file_is_not_a_pass(tmp_path, capsys):
+    p = write(tmp_path, "empty.jsonl", "\n")
+    code, _, err = run(capsys, "conformance", "--lang", "python", "--cases", p)
+    assert code == 1 and "no cases" in one_error_line(err, f"{p}: error: ")
+
+
+def test_reserved_equation_name_is_refused_at_its_place(tmp_path, capsys):
+    p = write(tmp_path, "e.mxm", "equation int\n" + OK_MXM)
+    code, out, err = run(capsys, "--lang=c", p, "-q")
+    assert code == 1 and out == ""
+    assert "'int' is reserved in c, python" in one_error_line(err, f"{p}:1:10: error: ")
+    v = write(tmp_path, "v.mxm", "variable lo\nbegin\na + lo;\nend\n")
+    code, _, err = run(capsys, "--lang=c", v, "-q")
+    assert code == 1 and "variable 'lo' is reserved" in one_error_line(err, f"{v}:1:10: error: ")
+
+
+@pytest.mark.parametrize("decl,col", [("parameter fn", 11), ("parameter MOD", 11), ("parameter def", 11),
+                                      ("parameter coef", 11), ("parameter _x", 11)])
+def test_reserved_parameter_is_refused_at_its_place(tmp_path, capsys, decl, col):
+    name = decl.split()[1]
+    p = write(tmp_path, "p.mxm", f"{decl}\nparameter b\nbegin\n{name} + b*t;\nend\n")
+    code, _, err = run(capsys, "--lang=python", p, "-q")
+    assert code == 1 and "is reserved in" in one_error_line(err, f"{p}:1:{col}: error: ")
+
+
+def test_reserved_file_name_is_renamed_and_compiles(tmp_path, capsys):
+    p = write(tmp_path, "int.mxm", OK_MXM)
+    out_c = tmp_path / "int.c"
+    code, _, err = run(capsys, "--lang=c", p, "-q", "-o", out_c)
+    assert code == 0, err
+    text = out_c.read_text()
+    assert "void eq_int(double a, double b, double c, double coef[3])" in text
+    r = subprocess.run(["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-c", str(out_c), "-o",
+                        str(tmp_path / "int.o")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+
+
+@pytest.mark.parametrize("value,words", [("-1", "must be from 1 to 8"), ("2.5", "must be a whole number"),
+                                         ("9", "must be from 1 to 8"), ("x", "not a number")])
+def test_option_values_are_checked(capsys, value, words):
+    path = os.path.join(ROOT, "equations", "circle-circle.mxm")
+    code, out, err = run(capsys, "--lang=c", path, "-q", "-D", f"order={value}")
+    assert code == 1 and out == ""
+    assert words in one_error_line(err, f"{path}:13:8: error: -D order={value}: ")
+
+
+@pytest.mark.parametrize("value", ["-5", "0", "nan", "inf", "soon"])
+def test_maxima_timeout_is_checked(tmp_path, capsys, value):
+    p = write(tmp_path, "ok.mxm", OK_MXM)
+    code, _, err = run(capsys, "--lang=c", p, "-q", "--maxima-timeout", value)
+    assert code == 1 and "--maxima-timeout" in one_error_line(err, "max2code: error: ")
+
+
+def test_simulate_dash_o_dash_is_standard_output(tmp_path, capsys, monkeypatch):
+    p = os.path.join(ROOT, "examples", "newtons-cradle.json")
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p, "-o", "-", "-q")
+    assert code == 0, err
+    assert not (tmp_path / "-").exists()
+    lines = [json.loads(x) for x in out.splitlines()]
+    assert lines[-2]["kind"] == "final" and lines[-1]["kind"] == "stats"
+
+
+# ------------------------------------------------------------------ user mistakes, not internal errors
+@pytest.mark.parametrize("cmd", ["generate", "list-variants", "simulate"])
+@pytest.mark.parametrize("where", ["missing", "folder"])
+def test_output_into_a_missing_folder_or_onto_a_folder(tmp_path, capsys, cmd, where):
+    out = tmp_path / "no-such-folder" / "x.out" if where == "missing" else tmp_path
+    mxm = write(tmp_path, "ok.mxm", OK_MXM)
+    argv = {"generate": ["--lang=c", mxm, "-q"], "list-variants": ["--list-variants", mxm, "-q"],
+            "simulate": ["simulate", "--lang", "python", os.path.join(ROOT, "examples", "newtons-cradle.json"), "-q"]}
+    code, _, err = run(capsys, *argv[cmd], "-o", out)
+    msg = one_error_line(err, f"-o {out}: error: ")
+    assert code == 1 and ("does not exist" in msg if where == "missing" else "is a folder" in msg)
+
+
+BAD_BYTES = b"\xff\xfe\x00bad"
+
+
+def test_non_utf8_scene_trace_and_case_files_name_the_input(tmp_path, capsys):
+    sc = write(tmp_path, "s.json", b'{"end_time": 1,\n "name": "' + BAD_BYTES + b'"}')
+    code, _, err = run(capsys, "simulate", "--lang", "python", sc, "-o", tmp_path / "out.jsonl")
+    assert code == 1 and "not UTF-8" in one_error_line(err, f"{sc}:2:11: error: ")
+    good = os.path.join(ROOT, "examples", "newtons-cradle.json")
+    tr = write(tmp_path, "t.jsonl", b'{"kind": "final"}\n' + BAD_BYTES)
+    code, _, err = run(capsys, "render", good, tr, "-o", tmp_path / "pic")
+    assert code == 1 and "not UTF-8" in one_error_line(err, f"{tr}:2:1: error: ")
+    cs = write(tmp_path, "c.jsonl", BAD_BYTES)
+    code, _, err = run(capsys, "conformance", "--lang", "python", "--cases", cs, "--quiet")
+    assert code == 1 and "not UTF-8" in one_error_line(err, f"{cs}:1:1: error: ")
+
+
+def test_unknown_function_in_the_maxima_text_is_located(tmp_path, capsys):
+    p = write(tmp_path, "f.mxm", "parameter a\nbegin\nx: a + t$\nSin(a) * x;\nend\n")
+    code, _, err = run(capsys, "--lang=c", p, "-q")
+    assert code == 1 and "unknown function 'Sin'" in one_error_line(err, f"{p}:4:1: error: ")
+
+
+@pytest.mark.parametrize("line,words", [("[1, 2]", "expected a case object"), ("{oops", "not JSON"),
+                                        ('{"id": "x"}', 'no "op"')])
+def test_case_lines_that_are_not_case_objects(tmp_path, capsys, line, words):
+    p = write(tmp_path, "cases.jsonl", '{"id": "a", "op": "roots", "coeffs": [-1, 1], "lo": 0, "hi": 2, "expect": 1, "roots": [[1, 1, 1e-15]]}\n'
+              + line + "\n")
+    code, _, err = run(capsys, "conformance", "--lang", "python", "--cases", p, "--quiet")
+    assert code == 1 and words in one_error_line(err, f"{p}:2")
+
+
+# ------------------------------------------------------------------ misleading messages
+def test_sin_of_a_t_is_not_a_polynomial(tmp_path, capsys):
+    p = write(tmp_path, "s.mxm", "parameter a\nbegin\nsin(a*t) - 1;\nend\n")
+    code, _, err = run(capsys, "--lang=c", p, "-q")
+    msg = one_error_line(err, f"{p}:3:1: error: ")
+    assert code == 1 and "not a polynomial in t" in msg and "does not depend" not in msg
+
+
+def test_bom_and_crlf_are_accepted(tmp_path, capsys):
+    p = write(tmp_path, "bom.mxm", b"\xef\xbb\xbfparameter a\r\nparameter b\r\nbegin\r\na + b*t;\r\nend\r\n")
+    code, out, err = run(capsys, "--lang=python", p, "-q")
+    assert code == 0, err
+    assert "def bom(a, b):" in out
+    (tmp_path / "plain").mkdir()
+    plain = write(tmp_path / "plain", "bom.mxm", "parameter a\nparameter b\nbegin\na + b*t;\nend\n")
+    _, out2, _ = run(capsys, "--lang=python", plain, "-q")
+    assert out2.replace(str(plain), str(p)) == out
+    sc = write(tmp_path, "s.json", b"\xef\xbb\xbf" + json.dumps(scene(), indent=1).replace("\n", "\r\n").encode())
+    code, out, err = run(capsys, "simulate", "--lang", "python", sc, "-q")
+    assert code == 0, err
+    cs = write(tmp_path, "c.jsonl", b'\xef\xbb\xbf{"id": "a", "op": "roots", "coeffs": [-1, 1], "lo": 0, "hi": 2, '
+                                    b'"expect": 1, "roots": [[1, 1, 1e-15]]}\r\n')
+    code, out, err = run(capsys, "conformance", "--lang", "python", "--cases", cs, "--quiet")
+    assert code == 0, out + err
+
+
+def test_usage_errors_exit_1_in_one_line(capsys):
+    for argv in (["--lang=zz", "x.mxm"], ["simulate"], ["conformance", "--lang", "cobol"], ["render", "--fps"]):
+        code, _, err = run(capsys, *argv)
+        assert code == 1, argv
+        assert len(err.strip().splitlines()) == 1 and "error:" in err, err
+
+
+# ------------------------------------------------------------------ contact semantics at the edges
+def test_overlap_at_t0_is_its_own_answer_in_python(tmp_path, capsys):
+    path = os.path.join(ROOT, "equations", "circle-circle.mxm")
+    out = tmp_path / "cc.py"
+    code, _, err = run(capsys, "--lang=python", path, "--exact", "-q", "-o", out)
+    assert code == 0, err
+    ns: dict = {}
+    exec(compile(out.read_text(), str(out), "exec"), ns)
+    toc = ns["circle_circle_toc_exact"]
+    zero = dict.fromkeys("abcdefmnopqghijklrsuvw", 0.0)
+
+    def at(**kw):
+        p = dict(zero, **kw)
+        return toc(*[p[k] for k in "abcdefmnopqghijklrsuvwxz"], 10.0)
+
+    # overlapping by 0.5 and moving apart: the overlap ends at t = 0.25, which is no contact
+    assert at(a=0.0, b=-1.0, g=1.5, h=1.0, x=1.0, z=1.0) == "overlapped"
+    # overlapping and moving further in
+    assert at(a=0.0, b=1.0, g=1.5, x=1.0, z=1.0) == "overlapped"
+    # apart and approaching: the contact
+    assert at(a=0.0, b=1.0, g=3.0, x=1.0, z=1.0) == pytest.approx(1.0, rel=1e-15)
