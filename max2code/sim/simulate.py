@@ -176,7 +176,7 @@ class TraceConverter:
                 sep = "," if len(self.pending) > 1 else ""
                 self.pending.append(f'{sep}{{"body":{self.names[int(w[1])]},"position":[{_num(w[3])},{_num(w[4])}],'
                                     f'"velocity":[{_num(w[5])},{_num(w[6])}],"angle":{_num(w[7])},'
-                                    f'"angular_velocity":{_num(w[8])}}}')
+                                    f'"angular_velocity":{_num(w[8])},"acceleration":[{_num(w[9])},{_num(w[10])}]}}')
                 return
             self._flush()
             if tag == "E":
@@ -184,12 +184,15 @@ class TraceConverter:
                 if self.max_events is not None and self.events > self.max_events:
                     raise TraceLimit(self.max_events)
                 kind, t = w[1], _num(w[2])
-                if kind == "collision":
+                if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = (f'{{"t":{t},"kind":"collision","bodies":[{self.names[a]},{self.names[b]}],'
+                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[a]},{self.names[b]}],'
                             f'"feature":"{feature}","features":[{i},{j}],"point":[{_num(w[8])},{_num(w[9])}],'
                             f'"normal":[{_num(w[10])},{_num(w[11])}],"impulse":{_num(w[12])}')
+                elif kind in ("stop", "leave"):
+                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
+                            f'"edge":{int(w[7])}')
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":
