@@ -630,8 +630,14 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     m->out.n += (size_t)(p - start);
 }
 
-static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_body *B, int32_t i, int32_t j)
+/* A collision of A and B at t on feature feat (i, j: its indices): the
+ * impulse, the new states, and the two bodies' pairs predicted again. */
+static void handle_collision(sim *m, const m2c_sim_event *ev)
 {
+    m->stats[ST_COLLISIONS]++;
+    double t = ev->t;
+    int32_t feat = ev->feat, i = ev->i, j = ev->j;
+    m2c_sim_body *A = &m->bodies[ev->a], *B = &m->bodies[ev->b];
     advance(A, t);
     advance(B, t);
     const m2c_sim_vertex *vA = i >= 0 ? &A->verts[i] : NULL;
@@ -676,8 +682,8 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
         double e = A->e * B->e;
         double nvn = -vn;
         double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
-        double ev = e * -vn;
-        double sep = lim > ev ? lim : ev;                                   /* Python's max(e * -vn, lim) */
+        double evn = e * -vn;
+        double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
         imp = (sep - vn) / k;
         A->vx = A->vx - imp * A->inv_m * nx;
         A->vy = A->vy - imp * A->inv_m * ny;
@@ -715,7 +721,95 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
         predict_body(m, B, t, !A->fixed ? A : NULL);
 }
 
-static void run(sim *m)
+/* Scripted input number ev->i: body ev->a's velocity set or added to. */
+static void handle_input(sim *m, const m2c_sim_event *ev)
+{
+    m->stats[ST_INPUTS]++;
+    double t = ev->t;
+    const m2c_sim_input *in = &m->s->inputs[ev->i];
+    m2c_sim_body *body = &m->bodies[ev->a];
+    advance(body, t);
+    if (in->mode == 0) {
+        body->vx = in->vx;
+        body->vy = in->vy;
+    } else {
+        body->vx = body->vx + in->vx;
+        body->vy = body->vy + in->vy;
+    }
+    m->stamp[body->idx]++;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E input ");
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, ev->a);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, ev->i);
+    p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    emit_state(m, body);
+    predict_body(m, body, t, NULL);
+}
+
+/* Body ev->a's centre crossed into the next cell along axis ev->i (0: x,
+ * 1: y) in direction ev->j: it moves there and meets the row or column of
+ * cells it now neighbours. */
+static void handle_cell(sim *m, const m2c_sim_event *ev)
+{
+    m->stats[ST_CELLS]++;
+    m2c_sim_body *body = &m->bodies[ev->a];
+    m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    int32_t x_lo, x_hi, y_lo, y_hi;
+    if (ev->i == 0) {
+        body->cx += ev->j;
+        int32_t col = body->cx + ev->j;
+        x_lo = x_hi = col;
+        y_lo = body->cy - 1;
+        y_hi = body->cy + 1;
+    } else {
+        body->cy += ev->j;
+        int32_t row = body->cy + ev->j;
+        x_lo = body->cx - 1;
+        x_hi = body->cx + 1;
+        y_lo = y_hi = row;
+    }
+    cell_add(m, body);
+    fetch_next(m);
+    predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    schedule_cell(m, body, ev->t);
+}
+
+/* The pair ev->a, ev->b reached the end of its Taylor window, or its
+ * bounding circles met: predicted again from now. */
+static void handle_horizon(sim *m, const m2c_sim_event *ev)
+{
+    m->stats[ST_HORIZONS]++;
+    predict_pair(m, &m->bodies[ev->a], &m->bodies[ev->b], ev->t);
+}
+
+/* Draw frame number ev->i: written, and the next one scheduled. */
+static void handle_frame(sim *m, const m2c_sim_event *ev)
+{
+    m->stats[ST_FRAMES]++;
+    const m2c_sim_scene *s = m->s;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E frame ");
+    p = m2c_sim_put_num(p, ev->t);
+    p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    double nxt = (double)(ev->i + 1) * s->frame_dt;
+    if (nxt <= s->end)
+        push(m, nxt, M2C_SIM_FRAME, -1, -1, -1, ev->i + 1, -1);
+}
+
+/* The handler of each event kind, by kind. */
+static void (*const handlers[])(sim *, const m2c_sim_event *) = {
+    [M2C_SIM_INPUT] = handle_input,         [M2C_SIM_COLLISION] = handle_collision, [M2C_SIM_CELL] = handle_cell,
+    [M2C_SIM_HORIZON] = handle_horizon,     [M2C_SIM_FRAME] = handle_frame,
+};
+
+/* Places the bodies in the grid, schedules the inputs and the first frame,
+ * and predicts every pair once. */
+static void start(sim *m)
 {
     m2c_sim_scene *s = m->s;
     m2c_sim_body *bodies = m->bodies;
@@ -742,95 +836,13 @@ static void run(sim *m)
         }
         schedule_cell(m, b, 0.0);
     }
-    double last_t = -1.0;
-    long long same = 0;
-    m2c_sim_event ev;
-    while (m->heap.n > 0) {
-        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
-            die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        double t = ev.t;
-        if (t > s->end)
-            break;
-        if (is_stale(m, &ev)) {
-            m->stats[ST_STALE]++;
-            continue;
-        }
-        if (t == last_t) {
-            same++;
-            if (same > s->max_same) {
-                char num[M2C_SIM_NUMBER_MAX + 1];
-                num[m2c_sim_format_number(num, t)] = '\0';
-                die(m, "more than %lld events at t = %s: the scene is stuck", s->max_same, num);
-            }
-        } else {
-            last_t = t;
-            same = 0;
-        }
-        int kind = ev.kind;
-        if (kind == M2C_SIM_COLLISION) {
-            m->stats[ST_COLLISIONS]++;
-            collide(m, t, ev.feat, &bodies[ev.a], &bodies[ev.b], ev.i, ev.j);
-        } else if (kind == M2C_SIM_INPUT) {
-            m->stats[ST_INPUTS]++;
-            const m2c_sim_input *in = &s->inputs[ev.i];
-            m2c_sim_body *body = &bodies[ev.a];
-            advance(body, t);
-            if (in->mode == 0) {
-                body->vx = in->vx;
-                body->vy = in->vy;
-            } else {
-                body->vx = body->vx + in->vx;
-                body->vy = body->vy + in->vy;
-            }
-            m->stamp[body->idx]++;
-            char *start = m2c_sim_out_reserve(&m->out), *p = start;
-            p = m2c_sim_put_str(p, "E input ");
-            p = m2c_sim_put_num(p, t);
-            *p++ = ' ';
-            p = m2c_sim_put_int(p, ev.a);
-            p = m2c_sim_put_str(p, " -1 -1 ");
-            p = m2c_sim_put_int(p, ev.i);
-            p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
-            m->out.n += (size_t)(p - start);
-            emit_state(m, body);
-            predict_body(m, body, t, NULL);
-        } else if (kind == M2C_SIM_CELL) {
-            m->stats[ST_CELLS]++;
-            m2c_sim_body *body = &bodies[ev.a];
-            m2c_sim_grid_remove(&m->grid, bodies, body);
-            int32_t x_lo, x_hi, y_lo, y_hi;
-            if (ev.i == 0) {
-                body->cx += ev.j;
-                int32_t col = body->cx + ev.j;
-                x_lo = x_hi = col;
-                y_lo = body->cy - 1;
-                y_hi = body->cy + 1;
-            } else {
-                body->cy += ev.j;
-                int32_t row = body->cy + ev.j;
-                x_lo = body->cx - 1;
-                x_hi = body->cx + 1;
-                y_lo = y_hi = row;
-            }
-            cell_add(m, body);
-            fetch_next(m);
-            predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, t, 0);
-            schedule_cell(m, body, t);
-        } else if (kind == M2C_SIM_HORIZON) {
-            m->stats[ST_HORIZONS]++;
-            predict_pair(m, &bodies[ev.a], &bodies[ev.b], t);
-        } else {
-            m->stats[ST_FRAMES]++;
-            char *start = m2c_sim_out_reserve(&m->out), *p = start;
-            p = m2c_sim_put_str(p, "E frame ");
-            p = m2c_sim_put_num(p, t);
-            p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
-            m->out.n += (size_t)(p - start);
-            double nxt = (double)(ev.i + 1) * s->frame_dt;
-            if (nxt <= s->end)
-                push(m, nxt, M2C_SIM_FRAME, -1, -1, -1, ev.i + 1, -1);
-        }
-    }
+}
+
+/* Every body at the end time, the statistics, the predictions per variant. */
+static void finish(sim *m)
+{
+    m2c_sim_scene *s = m->s;
+    m2c_sim_body *bodies = m->bodies;
     for (int32_t k = 0; k < s->nbodies; k++)
         advance(&bodies[k], s->end);
     for (int32_t k = 0; k < s->nbodies; k++) {
@@ -868,6 +880,44 @@ static void run(sim *m)
             m->out.n += (size_t)(p - start);
         }
     }
+}
+
+/* Stops the run when more than max_same events happen at one instant. */
+static void count_same_time(sim *m, double t, double *last_t, long long *same)
+{
+    if (t == *last_t) {
+        (*same)++;
+        if (*same > m->s->max_same) {
+            char num[M2C_SIM_NUMBER_MAX + 1];
+            num[m2c_sim_format_number(num, t)] = '\0';
+            die(m, "more than %lld events at t = %s: the scene is stuck", m->s->max_same, num);
+        }
+    } else {
+        *last_t = t;
+        *same = 0;
+    }
+}
+
+/* The run: the events in order, each to its kind's handler, up to the end. */
+static void run(sim *m)
+{
+    start(m);
+    double last_t = -1.0;
+    long long same = 0;
+    m2c_sim_event ev;
+    while (m->heap.n > 0) {
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (ev.t > m->s->end)
+            break;
+        if (is_stale(m, &ev)) {
+            m->stats[ST_STALE]++;
+            continue;
+        }
+        count_same_time(m, ev.t, &last_t, &same);
+        handlers[ev.kind](m, &ev);
+    }
+    finish(m);
 }
 
 int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen)
