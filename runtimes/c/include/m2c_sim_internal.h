@@ -78,12 +78,38 @@ struct m2c_sim_scene {
 
 enum { M2C_SIM_INPUT = 0, M2C_SIM_COLLISION = 1, M2C_SIM_CELL = 2, M2C_SIM_HORIZON = 3, M2C_SIM_FRAME = 4 };
 
+/* An event record: t, kind, and the fields of its kind (docs/simulator.md,
+ * "The reference's structure").  stamp_*: the bodies' stamps when the
+ * record was scheduled (a collision, horizon or cell record is stale when
+ * one differs from its body's stamp now). */
 typedef struct m2c_sim_event {
     double t;               /* s, not negative */
     int32_t kind;
-    int32_t a, b;           /* bodies (-1: none) */
-    uint32_t sa, sb;        /* their stamps when scheduled */
-    int32_t feat, i, j;     /* feature and its indices (or input / frame number, axis, direction) */
+    union {
+        struct {
+            int32_t k;      /* index in the scene's inputs */
+        } input;
+        struct {
+            int32_t a, b;
+            int32_t feature;    /* 0 circle_circle: circle of a against the circle of b (j < 0) or vertex j of b;
+                                   1 point_edge: circle of a (i < 0) or vertex i of a against edge j of b */
+            int32_t i, j;
+            uint32_t stamp_a, stamp_b;
+        } collision;
+        struct {
+            int32_t body;
+            int32_t axis;       /* 0: x, 1: y */
+            int32_t direction;  /* +1 or -1: the neighbouring cell entered */
+            uint32_t stamp;
+        } cell;
+        struct {
+            int32_t a, b;
+            uint32_t stamp_a, stamp_b;
+        } horizon;
+        struct {
+            int32_t k;      /* frame k is at k * frame_dt */
+        } frame;
+    } u;
 } m2c_sim_event;
 
 /* What the queue orders: 16 bytes.  tb: the bits of t + 0.0 (t >= 0, so

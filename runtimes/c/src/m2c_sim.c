@@ -6,6 +6,7 @@
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,16 +17,29 @@
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
-enum { ST_COLLISIONS, ST_INPUTS, ST_FRAMES, ST_CELLS, ST_HORIZONS, ST_STALE, ST_PAIRS, ST_FEATURES, ST_COUNT };
-static const char *const stat_names[ST_COUNT] = { "collisions", "inputs", "frames", "cells",
-                                                  "horizons", "stale", "pairs", "features" };
+
+/* The counters written as the trace's N lines (the reference's Stats). */
+typedef struct stats {
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features;
+} stats;
+
+/* The N lines, in their order: each counter's name and place in stats. */
+static const struct {
+    const char *name;
+    size_t offset;
+} stat_lines[] = {
+    { "collisions", offsetof(stats, collisions) }, { "inputs", offsetof(stats, inputs) },
+    { "frames", offsetof(stats, frames) },         { "cells", offsetof(stats, cells) },
+    { "horizons", offsetof(stats, horizons) },     { "stale", offsetof(stats, stale) },
+    { "pairs", offsetof(stats, pairs) },           { "features", offsetof(stats, features) },
+};
 
 typedef struct sim {
     m2c_sim_scene *s;
     m2c_sim_body *bodies;
     uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
     m2c_sim_heap heap;
-    long long stats[ST_COUNT];
+    stats stats;
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
     int n_cc, n_pe;
     m2c_sim_grid grid;
@@ -134,11 +148,20 @@ static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex 
 
 /* ---- the event queue --------------------------------------------------------- */
 
-/* Whether a body of e changed its motion since e was scheduled.  An input
- * is scripted, not predicted: it is never stale. */
+/* Whether a body of e changed its motion since e was scheduled.  Inputs
+ * are scripted, not predicted, and frames have no bodies: never. */
 static int is_stale(const sim *m, const m2c_sim_event *e)
 {
-    return e->kind != M2C_SIM_INPUT && ((e->a >= 0 && m->stamp[e->a] != e->sa) || (e->b >= 0 && m->stamp[e->b] != e->sb));
+    switch (e->kind) {
+    case M2C_SIM_COLLISION:
+        return m->stamp[e->u.collision.a] != e->u.collision.stamp_a || m->stamp[e->u.collision.b] != e->u.collision.stamp_b;
+    case M2C_SIM_HORIZON:
+        return m->stamp[e->u.horizon.a] != e->u.horizon.stamp_a || m->stamp[e->u.horizon.b] != e->u.horizon.stamp_b;
+    case M2C_SIM_CELL:
+        return m->stamp[e->u.cell.body] != e->u.cell.stamp;
+    default:
+        return 0;
+    }
 }
 
 /* The reference pops a stale event and counts it when its time comes (if
@@ -151,7 +174,7 @@ static int drop_stale(void *ctx, const m2c_sim_event *e)
     if (!is_stale(m, e))
         return 0;
     if (e->t <= m->s->end)
-        m->stats[ST_STALE]++;
+        m->stats.stale++;
     return 1;
 }
 
@@ -163,24 +186,63 @@ static void sweep(sim *m)
     m->sweep_at = 2 * live > 4096 ? 2 * live : 4096;
 }
 
-static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat, int32_t i, int32_t j)
+/* Queues an event record (its t and kind set, and the fields of its kind). */
+static void push(sim *m, const m2c_sim_event *e)
 {
-    m2c_sim_event e;
-    e.t = t;
-    e.kind = kind;
-    e.a = a;
-    e.b = b;
-    e.sa = a >= 0 ? m->stamp[a] : 0u;
-    e.sb = b >= 0 ? m->stamp[b] : 0u;
-    e.feat = feat;
-    e.i = i;
-    e.j = j;
-    if (!(t >= 0.0))        /* never: every time is now or later, and now >= 0 */
+    if (!(e->t >= 0.0))     /* never: every time is now or later, and now >= 0 */
         die(m, "an event at a time that is not a number or negative");
-    if (m2c_sim_heap_push(&m->heap, &e) != 0)
+    if (m2c_sim_heap_push(&m->heap, e) != 0)
         die(m, "out of memory (event queue of %zu events)", m->heap.n);
     if (m->heap.n >= m->sweep_at)
         sweep(m);
+}
+
+static void push_collision(sim *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
+                           int32_t i, int32_t j)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_COLLISION };
+    e.u.collision.a = A->idx;
+    e.u.collision.b = B->idx;
+    e.u.collision.feature = feature;
+    e.u.collision.i = i;
+    e.u.collision.j = j;
+    e.u.collision.stamp_a = m->stamp[A->idx];
+    e.u.collision.stamp_b = m->stamp[B->idx];
+    push(m, &e);
+}
+
+static void push_horizon(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_HORIZON };
+    e.u.horizon.a = A->idx;
+    e.u.horizon.b = B->idx;
+    e.u.horizon.stamp_a = m->stamp[A->idx];
+    e.u.horizon.stamp_b = m->stamp[B->idx];
+    push(m, &e);
+}
+
+static void push_cell(sim *m, double t, const m2c_sim_body *b, int32_t axis, int32_t direction)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_CELL };
+    e.u.cell.body = b->idx;
+    e.u.cell.axis = axis;
+    e.u.cell.direction = direction;
+    e.u.cell.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
+static void push_input(sim *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_INPUT };
+    e.u.input.k = k;
+    push(m, &e);
+}
+
+static void push_frame(sim *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_FRAME };
+    e.u.frame.k = k;
+    push(m, &e);
 }
 
 /* Fetches the bodies of the event that is next for now (the queue
@@ -188,11 +250,16 @@ static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat,
 static inline void fetch_next(const sim *m)
 {
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
-    if (e != NULL) {
-        if (e->a >= 0)
-            __builtin_prefetch(&m->stamp[e->a]);
-        if (e->b >= 0)
-            __builtin_prefetch(&m->stamp[e->b]);
+    if (e == NULL)
+        return;
+    if (e->kind == M2C_SIM_COLLISION) {
+        __builtin_prefetch(&m->stamp[e->u.collision.a]);
+        __builtin_prefetch(&m->stamp[e->u.collision.b]);
+    } else if (e->kind == M2C_SIM_HORIZON) {
+        __builtin_prefetch(&m->stamp[e->u.horizon.a]);
+        __builtin_prefetch(&m->stamp[e->u.horizon.b]);
+    } else if (e->kind == M2C_SIM_CELL) {
+        __builtin_prefetch(&m->stamp[e->u.cell.body]);
     }
 }
 
@@ -281,7 +348,7 @@ static int cc_coefficients(sim *m, const double *g, double *coef)
     if (idx >= m->n_cc)
         die(m, "circle_circle: variant %d, but the build counts %d variants", idx, m->n_cc);
     m->cc_counts[idx]++;
-    m->stats[ST_FEATURES]++;
+    m->stats.features++;
     return circle_circle_coefficients(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                       g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21],
                                       g[22], g[23], coef);
@@ -386,7 +453,7 @@ static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, cons
     if (idx >= m->n_pe)
         die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
     m->pe_counts[idx]++;
-    m->stats[ST_FEATURES]++;
+    m->stats.features++;
     double coef[M2C_MAX_DEGREE + 1];
     int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
     pe_check chk = { m, X, Y, vx, ed, now, m->s->tol };
@@ -465,7 +532,7 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     const m2c_sim_scene *s = m->s;
-    m->stats[ST_PAIRS]++;
+    m->stats.pairs++;
     double w = s->end - now;
     if (!(w > 0.0))
         return;
@@ -475,7 +542,7 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
         if (!bounds_meet(m, A, B, now, w, &meet))
             return;
         if (meet > 0.0) {
-            push(m, now + meet, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+            push_horizon(m, now + meet, A, B);
             return;
         }
     }
@@ -499,9 +566,9 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
         vertices_edges(m, B, A, now, w, &bs);
     }
     if (bs.have)
-        push(m, now + bs.s, M2C_SIM_COLLISION, bs.a, bs.b, bs.feat, bs.i, bs.j);
+        push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
     else if (now + w < s->end)
-        push(m, now + w, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+        push_horizon(m, now + w, A, B);
 }
 
 /* ---- per body ------------------------------------------------------------------------ */
@@ -556,7 +623,7 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         }
     }
     if (have)
-        push(m, b->tb + bu, M2C_SIM_CELL, b->idx, -1, -1, baxis, bdir);
+        push_cell(m, b->tb + bu, b, baxis, bdir);
 }
 
 /* Predicts the pairs of b with every body in the cells x_lo..x_hi,
@@ -614,7 +681,7 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
     schedule_cell(m, b, now);
 }
 
-/* ---- handling events ------------------------------------------------------------------ */
+/* ---- handling events: trace lines and contacts ---------------------------------------- */
 
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
@@ -630,51 +697,54 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     m->out.n += (size_t)(p - start);
 }
 
-/* A collision of A and B at t on feature feat (i, j: its indices): the
- * impulse, the new states, and the two bodies' pairs predicted again. */
-static void handle_collision(sim *m, const m2c_sim_event *ev)
+/* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
+ * at t (both bodies advanced to t). */
+static void contact_frame(sim *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
+                          int32_t i, int32_t j, double *cx, double *cy, double *nx, double *ny)
 {
-    m->stats[ST_COLLISIONS]++;
-    double t = ev->t;
-    int32_t feat = ev->feat, i = ev->i, j = ev->j;
-    m2c_sim_body *A = &m->bodies[ev->a], *B = &m->bodies[ev->b];
-    advance(A, t);
-    advance(B, t);
     const m2c_sim_vertex *vA = i >= 0 ? &A->verts[i] : NULL;
-    double nx, ny, cx, cy;
-    if (feat == CC) {
+    if (feature == CC) {
         double ax_, ay_, bx_, by_;
         point_at(m, A, NULL, t, &ax_, &ay_);
         point_at(m, B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
         double dx = bx_ - ax_, dy = by_ - ay_;
         double dist = sqrt(dx * dx + dy * dy);
         if (dist > 0.0) {
-            nx = dx / dist;
-            ny = dy / dist;
+            *nx = dx / dist;
+            *ny = dy / dist;
         } else {
-            nx = 1.0;
-            ny = 0.0;
+            *nx = 1.0;
+            *ny = 0.0;
         }
-        cx = ax_ + A->r * nx;
-        cy = ay_ + A->r * ny;
+        *cx = ax_ + A->r * *nx;
+        *cy = ay_ + A->r * *ny;
     } else {
         double px, py;
         point_at(m, A, vA, t, &px, &py);
         double c, sn;
         trig(ETRIG(m, &B->verts[j]), B->ang + B->verts[j].psi, &c, &sn);
-        nx = -c;                        /* from A to B: against the edge's outward normal */
-        ny = -sn;
+        *nx = -c;                       /* from A to B: against the edge's outward normal */
+        *ny = -sn;
         double rad = vA == NULL ? A->r : 0.0;
-        cx = px + rad * nx;
-        cy = py + rad * ny;
+        *cx = px + rad * *nx;
+        *cy = py + rad * *ny;
     }
+}
+
+/* The frictionless impulse (kg m/s) of a contact at (cx, cy) with normal
+ * (nx, ny) from A to B (both advanced to the contact time): 0 when the
+ * material points do not approach, else the impulse j >= 0 (velocities
+ * changed). */
+static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                            double ny)
+{
     /* velocities (m/s) of the material points at the contact */
     double uax = A->vx - A->om * (cy - A->py);
     double uay = A->vy + A->om * (cx - A->px);
     double ubx = B->vx - B->om * (cy - B->py);
     double uby = B->vy + B->om * (cx - B->px);
     double vn = (ubx - uax) * nx + (uby - uay) * ny;
-    double imp = 0.0;                   /* kg m/s */
+    double imp = 0.0;
     if (vn < 0.0) {
         double ran = (cx - A->px) * ny - (cy - A->py) * nx;
         double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
@@ -692,10 +762,28 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         B->vy = B->vy + imp * B->inv_m * ny;
         B->om = B->om + imp * B->inv_i * rbn;
     }
+    return imp;
+}
+
+/* ---- event handlers: one per kind ------------------------------------------------------ */
+
+/* A collision of a and b on a feature: the impulse, the new states, and the
+ * two bodies' pairs predicted again. */
+static void handle_collision(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.collisions++;
+    double t = ev->t;
+    int32_t feature = ev->u.collision.feature, i = ev->u.collision.i, j = ev->u.collision.j;
+    m2c_sim_body *A = &m->bodies[ev->u.collision.a], *B = &m->bodies[ev->u.collision.b];
+    advance(A, t);
+    advance(B, t);
+    double cx, cy, nx, ny;
+    contact_frame(m, t, feature, A, B, i, j, &cx, &cy, &nx, &ny);
+    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E collision ");
     p = m2c_sim_put_num(p, t);
-    const long long ints[5] = { A->idx, B->idx, feat, i, j };
+    const long long ints[5] = { A->idx, B->idx, feature, i, j };
     for (int k = 0; k < 5; k++) {
         *p++ = ' ';
         p = m2c_sim_put_int(p, ints[k]);
@@ -721,13 +809,14 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         predict_body(m, B, t, !A->fixed ? A : NULL);
 }
 
-/* Scripted input number ev->i: body ev->a's velocity set or added to. */
+/* Scripted input number k: its body's velocity set or added to. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
 {
-    m->stats[ST_INPUTS]++;
+    m->stats.inputs++;
     double t = ev->t;
-    const m2c_sim_input *in = &m->s->inputs[ev->i];
-    m2c_sim_body *body = &m->bodies[ev->a];
+    int32_t k = ev->u.input.k;
+    const m2c_sim_input *in = &m->s->inputs[k];
+    m2c_sim_body *body = &m->bodies[in->body];
     advance(body, t);
     if (in->mode == 0) {
         body->vx = in->vx;
@@ -741,33 +830,33 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     p = m2c_sim_put_str(p, "E input ");
     p = m2c_sim_put_num(p, t);
     *p++ = ' ';
-    p = m2c_sim_put_int(p, ev->a);
+    p = m2c_sim_put_int(p, body->idx);
     p = m2c_sim_put_str(p, " -1 -1 ");
-    p = m2c_sim_put_int(p, ev->i);
+    p = m2c_sim_put_int(p, k);
     p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
     m->out.n += (size_t)(p - start);
     emit_state(m, body);
     predict_body(m, body, t, NULL);
 }
 
-/* Body ev->a's centre crossed into the next cell along axis ev->i (0: x,
- * 1: y) in direction ev->j: it moves there and meets the row or column of
- * cells it now neighbours. */
+/* The body's centre crossed into the next cell along an axis: it moves
+ * there and is predicted against the row or column it now neighbours. */
 static void handle_cell(sim *m, const m2c_sim_event *ev)
 {
-    m->stats[ST_CELLS]++;
-    m2c_sim_body *body = &m->bodies[ev->a];
+    m->stats.cells++;
+    m2c_sim_body *body = &m->bodies[ev->u.cell.body];
+    int32_t d = ev->u.cell.direction;
     m2c_sim_grid_remove(&m->grid, m->bodies, body);
     int32_t x_lo, x_hi, y_lo, y_hi;
-    if (ev->i == 0) {
-        body->cx += ev->j;
-        int32_t col = body->cx + ev->j;
+    if (ev->u.cell.axis == 0) {
+        body->cx += d;
+        int32_t col = body->cx + d;
         x_lo = x_hi = col;
         y_lo = body->cy - 1;
         y_hi = body->cy + 1;
     } else {
-        body->cy += ev->j;
-        int32_t row = body->cy + ev->j;
+        body->cy += d;
+        int32_t row = body->cy + d;
         x_lo = body->cx - 1;
         x_hi = body->cx + 1;
         y_lo = y_hi = row;
@@ -778,27 +867,27 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
     schedule_cell(m, body, ev->t);
 }
 
-/* The pair ev->a, ev->b reached the end of its Taylor window, or its
- * bounding circles met: predicted again from now. */
+/* The pair reached the end of its Taylor window, or its bounding circles
+ * met: predicted again from now. */
 static void handle_horizon(sim *m, const m2c_sim_event *ev)
 {
-    m->stats[ST_HORIZONS]++;
-    predict_pair(m, &m->bodies[ev->a], &m->bodies[ev->b], ev->t);
+    m->stats.horizons++;
+    predict_pair(m, &m->bodies[ev->u.horizon.a], &m->bodies[ev->u.horizon.b], ev->t);
 }
 
-/* Draw frame number ev->i: written, and the next one scheduled. */
+/* Draw frame number k: written, and the next one scheduled. */
 static void handle_frame(sim *m, const m2c_sim_event *ev)
 {
-    m->stats[ST_FRAMES]++;
+    m->stats.frames++;
     const m2c_sim_scene *s = m->s;
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E frame ");
     p = m2c_sim_put_num(p, ev->t);
     p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
     m->out.n += (size_t)(p - start);
-    double nxt = (double)(ev->i + 1) * s->frame_dt;
+    double nxt = (double)(ev->u.frame.k + 1) * s->frame_dt;
     if (nxt <= s->end)
-        push(m, nxt, M2C_SIM_FRAME, -1, -1, -1, ev->i + 1, -1);
+        push_frame(m, nxt, ev->u.frame.k + 1);
 }
 
 /* The handler of each event kind, by kind. */
@@ -821,9 +910,9 @@ static void start(sim *m)
         }
     }
     for (int32_t k = 0; k < s->ninputs; k++)
-        push(m, s->inputs[k].t, M2C_SIM_INPUT, s->inputs[k].body, -1, -1, k, s->inputs[k].mode);
+        push_input(m, s->inputs[k].t, k);
     if (s->frame_dt > 0.0 && s->frame_dt <= s->end)
-        push(m, s->frame_dt, M2C_SIM_FRAME, -1, -1, -1, 1, -1);
+        push_frame(m, s->frame_dt, 1);
     for (int32_t k = 0; k < s->nbodies; k++) {
         const m2c_sim_body *b = &bodies[k];
         if (b->large)
@@ -858,12 +947,12 @@ static void finish(sim *m)
         *p++ = '\n';
         m->out.n += (size_t)(p - start);
     }
-    for (int k = 0; k < ST_COUNT; k++) {
+    for (size_t k = 0; k < sizeof stat_lines / sizeof stat_lines[0]; k++) {
         char *start = m2c_sim_out_reserve(&m->out), *p = start;
         p = m2c_sim_put_str(p, "N ");
-        p = m2c_sim_put_str(p, stat_names[k]);
+        p = m2c_sim_put_str(p, stat_lines[k].name);
         *p++ = ' ';
-        p = m2c_sim_put_int(p, m->stats[k]);
+        p = m2c_sim_put_int(p, *(const long long *)((const char *)&m->stats + stat_lines[k].offset));
         *p++ = '\n';
         m->out.n += (size_t)(p - start);
     }
@@ -911,7 +1000,7 @@ static void run(sim *m)
         if (ev.t > m->s->end)
             break;
         if (is_stale(m, &ev)) {
-            m->stats[ST_STALE]++;
+            m->stats.stale++;
             continue;
         }
         count_same_time(m, ev.t, &last_t, &same);
