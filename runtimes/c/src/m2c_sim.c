@@ -309,12 +309,28 @@ static int inside(const pe_check *k, double s)
     return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
 }
 
+/* At a zero s of the gap c whose first derivative there is d: approaching
+ * (d < 0), or resting and pressed together (d == 0, second derivative < 0). */
+static int pressing(const double *c, int deg, double d, double s)
+{
+    if (d < 0.0)
+        return 1;
+    if (d != 0.0 || deg < 2)
+        return 0;
+    double dd = 0.0;
+    for (int k = deg; k > 1; k--)
+        dd = dd * s + (double)(k * (k - 1)) * c[k];
+    return dd < 0.0;
+}
+
 /* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
- * decreasing and the check holds.  At s = 0 the gap counts as zero within
- * kappa: approaching means contact now, separating never. */
+ * decreasing, or touches zero with zero slope while pressed together
+ * (resting contact), and the check holds.  At s = 0 the gap counts as zero
+ * within kappa: approaching or pressing means contact now, separating or
+ * merely touching never. */
 static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double *out)
 {
-    if (deg >= 1 && fabs(c[0]) <= kappa && c[1] < 0.0 && inside(chk, 0.0)) {
+    if (deg >= 1 && fabs(c[0]) <= kappa && pressing(c, deg, c[1], 0.0) && inside(chk, 0.0)) {
         *out = 0.0;
         return 1;
     }
@@ -326,7 +342,7 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
         double d = 0.0;
         for (int k = deg; k > 0; k--)
             d = d * s + (double)k * c[k];
-        if (d < 0.0 && inside(chk, s)) {
+        if (pressing(c, deg, d, s) && inside(chk, s)) {
             *out = s;
             return 1;
         }
@@ -731,10 +747,19 @@ static void contact_frame(sim *m, double t, int32_t feature, const m2c_sim_body 
     }
 }
 
+/* Whether the bodies' accelerations push them together along the normal
+ * (n from A to B): the relative normal acceleration of the centres is
+ * negative.  (Centripetal terms of turning bodies are left out.) */
+static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny)
+{
+    return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
+}
+
 /* The frictionless impulse (kg m/s) of a contact at (cx, cy) with normal
  * (nx, ny) from A to B (both advanced to the contact time): 0 when the
- * material points do not approach, else the impulse j >= 0 (velocities
- * changed). */
+ * material points do not approach and are not pressed together, else the
+ * impulse j >= 0 (velocities changed).  Pressed together, they leave at
+ * rest_speed at least, so time advances (docs/simulator.md). */
 static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                             double ny)
 {
@@ -745,15 +770,22 @@ static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, doub
     double uby = B->vy + B->om * (cx - B->px);
     double vn = (ubx - uax) * nx + (uby - uay) * ny;
     double imp = 0.0;
-    if (vn < 0.0) {
+    double rest = m->s->rest_speed;
+    int press = pressed(A, B, nx, ny);
+    if (vn < 0.0 || (press && vn < rest)) {
         double ran = (cx - A->px) * ny - (cy - A->py) * nx;
         double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
         double k = A->inv_m + B->inv_m + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
         double e = A->e * B->e;
-        double nvn = -vn;
-        double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
         double evn = e * -vn;
-        double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
+        double sep;
+        if (press) {
+            sep = rest > evn ? rest : evn;                                  /* Python's max(e * -vn, rest) */
+        } else {
+            double nvn = -vn;
+            double lim = rest < nvn ? rest : nvn;                           /* Python's min(-vn, rest) */
+            sep = lim > evn ? lim : evn;                                    /* Python's max(e * -vn, lim) */
+        }
         imp = (sep - vn) / k;
         A->vx = A->vx - imp * A->inv_m * nx;
         A->vy = A->vy - imp * A->inv_m * ny;
