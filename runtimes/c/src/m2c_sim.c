@@ -20,7 +20,7 @@ enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -
 
 /* The counters written as the trace's N lines (the reference's Stats). */
 typedef struct stats {
-    long long collisions, inputs, frames, cells, horizons, stale, pairs, features;
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
 } stats;
 
 /* The N lines, in their order: each counter's name and place in stats. */
@@ -32,6 +32,8 @@ static const struct {
     { "frames", offsetof(stats, frames) },         { "cells", offsetof(stats, cells) },
     { "horizons", offsetof(stats, horizons) },     { "stale", offsetof(stats, stale) },
     { "pairs", offsetof(stats, pairs) },           { "features", offsetof(stats, features) },
+    { "supports", offsetof(stats, supports) },     { "stops", offsetof(stats, stops) },
+    { "leaves", offsetof(stats, leaves) },
 };
 
 typedef struct sim {
@@ -159,6 +161,10 @@ static int is_stale(const sim *m, const m2c_sim_event *e)
         return m->stamp[e->u.horizon.a] != e->u.horizon.stamp_a || m->stamp[e->u.horizon.b] != e->u.horizon.stamp_b;
     case M2C_SIM_CELL:
         return m->stamp[e->u.cell.body] != e->u.cell.stamp;
+    case M2C_SIM_STOP:
+        return m->stamp[e->u.stop.body] != e->u.stop.stamp;
+    case M2C_SIM_LEAVE:
+        return m->stamp[e->u.leave.body] != e->u.leave.stamp;
     default:
         return 0;
     }
@@ -231,6 +237,22 @@ static void push_cell(sim *m, double t, const m2c_sim_body *b, int32_t axis, int
     push(m, &e);
 }
 
+static void push_stop(sim *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_STOP };
+    e.u.stop.body = b->idx;
+    e.u.stop.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
+static void push_leave(sim *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_LEAVE };
+    e.u.leave.body = b->idx;
+    e.u.leave.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
 static void push_input(sim *m, double t, int32_t k)
 {
     m2c_sim_event e = { .t = t, .kind = M2C_SIM_INPUT };
@@ -260,6 +282,10 @@ static inline void fetch_next(const sim *m)
         __builtin_prefetch(&m->stamp[e->u.horizon.b]);
     } else if (e->kind == M2C_SIM_CELL) {
         __builtin_prefetch(&m->stamp[e->u.cell.body]);
+    } else if (e->kind == M2C_SIM_STOP) {
+        __builtin_prefetch(&m->stamp[e->u.stop.body]);
+    } else if (e->kind == M2C_SIM_LEAVE) {
+        __builtin_prefetch(&m->stamp[e->u.leave.body]);
     }
 }
 
@@ -548,6 +574,8 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     const m2c_sim_scene *s = m->s;
+    if (A->sup == B->idx || B->sup == A->idx)
+        return;     /* the support's edge line separates them (both convex): only leaving ends it */
     m->stats.pairs++;
     double w = s->end - now;
     if (!(w > 0.0))
@@ -686,6 +714,47 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
             predict_pair(m, b, cand[q], now);
 }
 
+/* The first u in [lo, hi] (s) where p + v u + a u^2 / 2 crosses zero
+ * moving in the direction (+1 up, -1 down): 1 with *out, or 0. */
+static int first_crossing(double p, double v, double a, int direction, double lo, double hi, double *out)
+{
+    double c[3] = { p, v, 0.5 * a };
+    for (int it = 0; it < 3; it++) {
+        double u;
+        if (m2c_smallest_root(c, 2, lo, hi, &u) != 1)
+            return 0;
+        if ((v + a * u) * (double)direction > 0.0) {
+            *out = u;
+            return 1;
+        }
+        lo = u;
+    }
+    return 0;
+}
+
+/* A supported body's stop (its tangential speed reaches zero) and leave
+ * (its centre, projected on the edge, reaches an end) events. */
+static void schedule_support(sim *m, const m2c_sim_body *b)
+{
+    double u = b->vx * b->tx + b->vy * b->ty;
+    double a = b->ax * b->tx + b->ay * b->ty;
+    if (u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0))
+        push_stop(m, b->tb + -u / a, b);
+    const m2c_sim_body *B = &m->bodies[b->sup];
+    const m2c_sim_vertex *ed = &B->verts[b->sup_edge];
+    double q = (b->px - B->px) * b->tx + (b->py - B->py) * b->ty;
+    double hi = m->s->end - b->tb;
+    double s1 = 0.0, s2 = 0.0;
+    int h2 = first_crossing(q - ed->s2, u, a, 1, 0.0, hi, &s2);
+    int h1 = first_crossing(q - ed->s1, u, a, -1, 0.0, hi, &s1);
+    if (h1 && (!h2 || s1 < s2)) {
+        s2 = s1;
+        h2 = 1;
+    }
+    if (h2)
+        push_leave(m, b->tb + s2, b);
+}
+
 static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
 {
     predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
@@ -695,6 +764,8 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
+    if (b->sup >= 0)
+        schedule_support(m, b);
 }
 
 /* ---- handling events: trace lines and contacts ---------------------------------------- */
@@ -704,8 +775,8 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
-    const double v[7] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om };
-    for (int k = 0; k < 7; k++) {
+    const double v[9] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
+    for (int k = 0; k < 9; k++) {
         *p++ = ' ';
         p = m2c_sim_put_num(p, v[k]);
     }
@@ -747,6 +818,132 @@ static void contact_frame(sim *m, double t, int32_t feature, const m2c_sim_body 
     }
 }
 
+/* Normal relative velocity (m/s; B's against A's, along n from A to B) of
+ * the material points at the contact: negative when approaching. */
+static inline double normal_speed(const m2c_sim_body *A, const m2c_sim_body *B, double cx, double cy, double nx,
+                                  double ny)
+{
+    double uax = A->vx - A->om * (cy - A->py);
+    double uay = A->vy + A->om * (cx - A->px);
+    double ubx = B->vx - B->om * (cy - B->py);
+    double uby = B->vy + B->om * (cx - B->px);
+    return (ubx - uax) * nx + (uby - uay) * ny;
+}
+
+/* ---- support: resting and sliding on a fixed body ----------------------------------------- */
+
+/* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+ * the world (B does not move). */
+static void support_frame(const m2c_sim_body *B, int32_t j, double *tx, double *ty, double *ox, double *oy)
+{
+    const m2c_sim_vertex *ed = &B->verts[j];
+    double c = cos(B->ang);
+    double s = sin(B->ang);
+    *ox = c * ed->nx - s * ed->ny;
+    *oy = s * ed->nx + c * ed->ny;
+    *tx = -*oy;
+    *ty = *ox;
+}
+
+static inline int is_static(const m2c_sim_body *B)
+{
+    return B->vx == 0.0 && B->vy == 0.0 && B->ax == 0.0 && B->ay == 0.0 && B->om == 0.0;
+}
+
+/* A neighbour of A's vertex i lies on edge j's line within the face
+ * tolerance max(tol, rest_speed^2 / load): A rests on a face. */
+static int flat(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i, int32_t j, double ox, double oy,
+                double load)
+{
+    double tol = m->s->tol, rest = m->s->rest_speed;
+    double q = rest * rest / load;
+    double ftol = q > tol ? q : tol;                                /* Python's max(tol, q) */
+    int32_t n = A->nverts;
+    double h = B->verts[j].h;
+    const int32_t ks[2] = { (i + n - 1) % n, (i + 1) % n };
+    for (int l = 0; l < 2; l++) {
+        double px, py;
+        point_at(m, A, &A->verts[ks[l]], A->tb, &px, &py);
+        if ((px - B->px) * ox + (py - B->py) * oy - h <= ftol)
+            return 1;
+    }
+    return 0;
+}
+
+/* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+ * B becomes support (docs/simulator.md, Contact model). */
+static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j,
+                       double vn)
+{
+    if (feature != PE || A->fixed || !B->fixed || !is_static(B))
+        return 0;
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    double load = -(A->fax * ox + A->fay * oy);
+    double rest = m->s->rest_speed;
+    if (!(load > 0.0) || vn > 0.0 || A->e * B->e * -vn >= rest)
+        return 0;
+    const m2c_sim_vertex *ed = &B->verts[j];
+    double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
+    if (q < ed->s1 || q > ed->s2)
+        return 0;
+    if (A->polygon) {
+        if (fabs(A->om) * A->bound >= rest)
+            return 0;
+        return flat(m, A, B, i, j, ox, oy, load);
+    }
+    return 1;
+}
+
+/* Acceleration of supported A with tangential speed u: the free
+ * acceleration along the edge less Coulomb friction mu |a_n| against the
+ * motion; at rest, none while friction can hold it. */
+static void slide_accel(const sim *m, m2c_sim_body *A, double u)
+{
+    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    double a;
+    if (u > 0.0)
+        a = A->at - f;
+    else if (u < 0.0)
+        a = A->at + f;
+    else if (A->at > f)
+        a = A->at - f;
+    else if (A->at < -f)
+        a = A->at + f;
+    else
+        a = 0.0;
+    A->ax = a * A->tx;
+    A->ay = a * A->ty;
+}
+
+/* A (advanced to now) keeps only its velocity along the edge, stops
+ * turning, and from now on accelerates along the edge only. */
+static void enter_support(const sim *m, m2c_sim_body *A, const m2c_sim_body *B, int32_t j)
+{
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    double u = A->vx * tx + A->vy * ty;
+    A->vx = u * tx;
+    A->vy = u * ty;
+    if (A->polygon)
+        A->om = 0.0;
+    A->sup = B->idx;
+    A->sup_edge = j;
+    A->tx = tx;
+    A->ty = ty;
+    A->load = -(A->fax * ox + A->fay * oy);
+    A->at = A->fax * tx + A->fay * ty;
+    slide_accel(m, A, u);
+}
+
+static void end_support(m2c_sim_body *A)
+{
+    A->ax = A->fax;
+    A->ay = A->fay;
+    A->sup = -1;
+    A->sup_edge = -1;
+}
+
 /* Whether the bodies' accelerations push them together along the normal
  * (n from A to B): the relative normal acceleration of the centres is
  * negative.  (Centripetal terms of turning bodies are left out.) */
@@ -763,12 +960,7 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
 static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                             double ny)
 {
-    /* velocities (m/s) of the material points at the contact */
-    double uax = A->vx - A->om * (cy - A->py);
-    double uay = A->vy + A->om * (cx - A->px);
-    double ubx = B->vx - B->om * (cy - B->py);
-    double uby = B->vy + B->om * (cx - B->px);
-    double vn = (ubx - uax) * nx + (uby - uay) * ny;
+    double vn = normal_speed(A, B, cx, cy, nx, ny);
     double imp = 0.0;
     double rest = m->s->rest_speed;
     int press = pressed(A, B, nx, ny);
@@ -799,21 +991,13 @@ static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, doub
 
 /* ---- event handlers: one per kind ------------------------------------------------------ */
 
-/* A collision of a and b on a feature: the impulse, the new states, and the
- * two bodies' pairs predicted again. */
-static void handle_collision(sim *m, const m2c_sim_event *ev)
+/* An E line of a contact: collision or support. */
+static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body *A, const m2c_sim_body *B,
+                         int32_t feature, int32_t i, int32_t j, double cx, double cy, double nx, double ny,
+                         double imp)
 {
-    m->stats.collisions++;
-    double t = ev->t;
-    int32_t feature = ev->u.collision.feature, i = ev->u.collision.i, j = ev->u.collision.j;
-    m2c_sim_body *A = &m->bodies[ev->u.collision.a], *B = &m->bodies[ev->u.collision.b];
-    advance(A, t);
-    advance(B, t);
-    double cx, cy, nx, ny;
-    contact_frame(m, t, feature, A, B, i, j, &cx, &cy, &nx, &ny);
-    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E collision ");
+    p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
     const long long ints[5] = { A->idx, B->idx, feature, i, j };
     for (int k = 0; k < 5; k++) {
@@ -827,6 +1011,65 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     *p++ = '\n';
     m->out.n += (size_t)(p - start);
+}
+
+/* An E line of a supported body's event: stop or leave (edge of sup). */
+static void emit_support_change(sim *m, const char *kind, double t, const m2c_sim_body *A, int32_t sup,
+                                int32_t edge)
+{
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, kind);
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, A->idx);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, sup);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, edge);
+    p = m2c_sim_put_str(p, " 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+}
+
+/* A collision that ends in support (called by handle_collision). */
+static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, const m2c_sim_body *B, double cx,
+                           double cy, double nx, double ny, double vn)
+{
+    m->stats.supports++;
+    double imp = -vn / A->inv_m;
+    enter_support(m, A, B, ev->u.collision.j);
+    emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
+                 cy, nx, ny, imp);
+    m->stamp[A->idx]++;
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
+/* A collision of a and b on a feature: support, or the impulse, the new
+ * states, and the two bodies' pairs predicted again. */
+static void handle_collision(sim *m, const m2c_sim_event *ev)
+{
+    double t = ev->t;
+    int32_t feature = ev->u.collision.feature, i = ev->u.collision.i, j = ev->u.collision.j;
+    m2c_sim_body *A = &m->bodies[ev->u.collision.a], *B = &m->bodies[ev->u.collision.b];
+    advance(A, t);
+    advance(B, t);
+    double cx, cy, nx, ny;
+    contact_frame(m, t, feature, A, B, i, j, &cx, &cy, &nx, &ny);
+    double vn = normal_speed(A, B, cx, cy, nx, ny);
+    if (can_support(m, A, B, feature, i, j, vn)) {
+        handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
+        return;
+    }
+    m->stats.collisions++;
+    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
+    if (imp != 0.0) {
+        if (A->sup >= 0)
+            end_support(A);
+        if (B->sup >= 0)
+            end_support(B);
+    }
+    emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -841,6 +1084,37 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         predict_body(m, B, t, !A->fixed ? A : NULL);
 }
 
+/* Sliding stops: velocity exactly zero, then rest or slide back. */
+static void handle_stop(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.stops++;
+    m2c_sim_body *A = &m->bodies[ev->u.stop.body];
+    advance(A, ev->t);
+    A->vx = 0.0;
+    A->vy = 0.0;
+    slide_accel(m, A, 0.0);
+    m->stamp[A->idx]++;
+    emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
+/* The support's edge ends under the body: free motion again. */
+static void handle_leave(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.leaves++;
+    m2c_sim_body *A = &m->bodies[ev->u.leave.body];
+    advance(A, ev->t);
+    int32_t sup = A->sup, edge = A->sup_edge;
+    end_support(A);
+    m->stamp[A->idx]++;
+    emit_support_change(m, "E leave ", ev->t, A, sup, edge);
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
 /* Scripted input number k: its body's velocity set or added to. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
 {
@@ -850,6 +1124,8 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     const m2c_sim_input *in = &m->s->inputs[k];
     m2c_sim_body *body = &m->bodies[in->body];
     advance(body, t);
+    if (body->sup >= 0)
+        end_support(body);
     if (in->mode == 0) {
         body->vx = in->vx;
         body->vy = in->vy;
@@ -923,9 +1199,10 @@ static void handle_frame(sim *m, const m2c_sim_event *ev)
 }
 
 /* The handler of each event kind, by kind. */
-static void (*const handlers[])(sim *, const m2c_sim_event *) = {
-    [M2C_SIM_INPUT] = handle_input,         [M2C_SIM_COLLISION] = handle_collision, [M2C_SIM_CELL] = handle_cell,
-    [M2C_SIM_HORIZON] = handle_horizon,     [M2C_SIM_FRAME] = handle_frame,
+static void (*const handlers[M2C_SIM_KINDS])(sim *, const m2c_sim_event *) = {
+    [M2C_SIM_INPUT] = handle_input, [M2C_SIM_COLLISION] = handle_collision, [M2C_SIM_STOP] = handle_stop,
+    [M2C_SIM_LEAVE] = handle_leave, [M2C_SIM_CELL] = handle_cell,           [M2C_SIM_HORIZON] = handle_horizon,
+    [M2C_SIM_FRAME] = handle_frame,
 };
 
 /* Places the bodies in the grid, schedules the inputs and the first frame,
