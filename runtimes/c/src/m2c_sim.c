@@ -349,14 +349,27 @@ static int pressing(const double *c, int deg, double d, double s)
     return dd < 0.0;
 }
 
+/* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+ * pressed together (c2 < 0) so that the gap closes again before it ever
+ * exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+ * resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) */
+static int touching_now(const double *c, int deg, double kappa)
+{
+    if (c[1] < 0.0)
+        return 1;
+    if (deg < 2 || !(c[2] < 0.0))
+        return 0;
+    return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa;
+}
+
 /* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
  * decreasing, or touches zero with zero slope while pressed together
  * (resting contact), and the check holds.  At s = 0 the gap counts as zero
- * within kappa: approaching or pressing means contact now, separating or
- * merely touching never. */
+ * within kappa: approaching or pressed (touching_now) means contact now,
+ * separating or merely touching never. */
 static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double *out)
 {
-    if (deg >= 1 && fabs(c[0]) <= kappa && pressing(c, deg, c[1], 0.0) && inside(chk, 0.0)) {
+    if (deg >= 1 && fabs(c[0]) <= kappa && touching_now(c, deg, kappa) && inside(chk, 0.0)) {
         *out = 0.0;
         return 1;
     }
@@ -881,7 +894,7 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     support_frame(B, j, &tx, &ty, &ox, &oy);
     double load = -(A->fax * ox + A->fay * oy);
     double rest = m->s->rest_speed;
-    if (!(load > 0.0) || vn > 0.0 || A->e * B->e * -vn >= rest)
+    if (!(load > 0.0) || vn >= rest || A->e * B->e * -vn >= rest)
         return 0;
     const m2c_sim_vertex *ed = &B->verts[j];
     double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
