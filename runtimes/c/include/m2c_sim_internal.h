@@ -20,16 +20,19 @@ typedef struct m2c_sim_vertex {
     double rho, beta;       /* m, rad: its polar form */
     double psi;             /* rad: angle of the edge's outward normal */
     double h;               /* m: offset of the edge's line, n . v */
-    double s1, s2;          /* m: the edge's extent along its tangent */
+    double s1, s2;          /* m: the edge's extent along its tangent (-ny, nx) */
+    double nx, ny;          /* the edge's outward unit normal (cos psi, sin psi, but exact where the
+                               compiler's quotient is: (0, 1) for a level top face) */
 } m2c_sim_vertex;
 
 /* A body, laid out for the predictions: the first 64 bytes hold its motion,
- * the next 64 the rest of what a pair's prediction reads.  (Its stamp, for
- * lazy invalidation, is in an array of its own, m2c_sim.c.) */
+ * the next 64 the rest of what a pair's prediction reads, then its support.
+ * (Its stamp, for lazy invalidation, is in an array of its own, m2c_sim.c.) */
 typedef struct m2c_sim_body {
     _Alignas(64) double px, py;     /* m: centre (of rotation) at time tb */
     double vx, vy;          /* m/s: velocity at tb */
-    double ax, ay;          /* m/s^2: acceleration (gravity included) */
+    double ax, ay;          /* m/s^2: acceleration now (gravity included; while supported, only its
+                               part along the support's edge, less friction) */
     double tb;              /* s: the time of this state */
     double om;              /* rad/s: angular velocity */
     double ang;             /* rad: angle at tb */
@@ -44,6 +47,13 @@ typedef struct m2c_sim_body {
     int32_t idx;            /* index in the scene */
     int32_t cx, cy;         /* grid cell (small bodies) */
     int32_t slot;           /* index in its cell's list */
+    double mu;              /* friction coefficient (Coulomb), >= 0 */
+    double fax, fay;        /* m/s^2: free acceleration (gravity and the body's own), from the scene */
+    int32_t sup;            /* index of the fixed body supporting it, -1: free */
+    int32_t sup_edge;       /* the supporting edge (index into sup's vertices) */
+    double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
+    double load;            /* m/s^2: free acceleration pressing onto the support, > 0 */
+    double at;              /* m/s^2: free acceleration along the tangent */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -76,14 +86,51 @@ struct m2c_sim_scene {
 
 /* ---- event queue: ordered by (t, kind, seq) ---------------------------------- */
 
-enum { M2C_SIM_INPUT = 0, M2C_SIM_COLLISION = 1, M2C_SIM_CELL = 2, M2C_SIM_HORIZON = 3, M2C_SIM_FRAME = 4 };
+enum {
+    M2C_SIM_INPUT = 0, M2C_SIM_COLLISION = 1, M2C_SIM_STOP = 2, M2C_SIM_LEAVE = 3, M2C_SIM_CELL = 4,
+    M2C_SIM_HORIZON = 5, M2C_SIM_FRAME = 6, M2C_SIM_KINDS = 7
+};
 
+/* An event record: t, kind, and the fields of its kind (docs/simulator.md,
+ * "The reference's structure").  stamp_*: the bodies' stamps when the
+ * record was scheduled (a collision, horizon or cell record is stale when
+ * one differs from its body's stamp now). */
 typedef struct m2c_sim_event {
     double t;               /* s, not negative */
     int32_t kind;
-    int32_t a, b;           /* bodies (-1: none) */
-    uint32_t sa, sb;        /* their stamps when scheduled */
-    int32_t feat, i, j;     /* feature and its indices (or input / frame number, axis, direction) */
+    union {
+        struct {
+            int32_t k;      /* index in the scene's inputs */
+        } input;
+        struct {
+            int32_t a, b;
+            int32_t feature;    /* 0 circle_circle: circle of a against the circle of b (j < 0) or vertex j of b;
+                                   1 point_edge: circle of a (i < 0) or vertex i of a against edge j of b */
+            int32_t i, j;
+            uint32_t stamp_a, stamp_b;
+        } collision;
+        struct {
+            int32_t body;
+            uint32_t stamp;
+        } stop;             /* a sliding supported body's tangential speed reaches zero */
+        struct {
+            int32_t body;
+            uint32_t stamp;
+        } leave;            /* a supported body's centre, projected on the edge, reaches its end */
+        struct {
+            int32_t body;
+            int32_t axis;       /* 0: x, 1: y */
+            int32_t direction;  /* +1 or -1: the neighbouring cell entered */
+            uint32_t stamp;
+        } cell;
+        struct {
+            int32_t a, b;
+            uint32_t stamp_a, stamp_b;
+        } horizon;
+        struct {
+            int32_t k;      /* frame k is at k * frame_dt */
+        } frame;
+    } u;
 } m2c_sim_event;
 
 /* What the queue orders: 16 bytes.  tb: the bits of t + 0.0 (t >= 0, so

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,16 +17,31 @@
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
-enum { ST_COLLISIONS, ST_INPUTS, ST_FRAMES, ST_CELLS, ST_HORIZONS, ST_STALE, ST_PAIRS, ST_FEATURES, ST_COUNT };
-static const char *const stat_names[ST_COUNT] = { "collisions", "inputs", "frames", "cells",
-                                                  "horizons", "stale", "pairs", "features" };
+
+/* The counters written as the trace's N lines (the reference's Stats). */
+typedef struct stats {
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
+} stats;
+
+/* The N lines, in their order: each counter's name and place in stats. */
+static const struct {
+    const char *name;
+    size_t offset;
+} stat_lines[] = {
+    { "collisions", offsetof(stats, collisions) }, { "inputs", offsetof(stats, inputs) },
+    { "frames", offsetof(stats, frames) },         { "cells", offsetof(stats, cells) },
+    { "horizons", offsetof(stats, horizons) },     { "stale", offsetof(stats, stale) },
+    { "pairs", offsetof(stats, pairs) },           { "features", offsetof(stats, features) },
+    { "supports", offsetof(stats, supports) },     { "stops", offsetof(stats, stops) },
+    { "leaves", offsetof(stats, leaves) },
+};
 
 typedef struct sim {
     m2c_sim_scene *s;
     m2c_sim_body *bodies;
     uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
     m2c_sim_heap heap;
-    long long stats[ST_COUNT];
+    stats stats;
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
     int n_cc, n_pe;
     m2c_sim_grid grid;
@@ -134,11 +150,24 @@ static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex 
 
 /* ---- the event queue --------------------------------------------------------- */
 
-/* Whether a body of e changed its motion since e was scheduled.  An input
- * is scripted, not predicted: it is never stale. */
+/* Whether a body of e changed its motion since e was scheduled.  Inputs
+ * are scripted, not predicted, and frames have no bodies: never. */
 static int is_stale(const sim *m, const m2c_sim_event *e)
 {
-    return e->kind != M2C_SIM_INPUT && ((e->a >= 0 && m->stamp[e->a] != e->sa) || (e->b >= 0 && m->stamp[e->b] != e->sb));
+    switch (e->kind) {
+    case M2C_SIM_COLLISION:
+        return m->stamp[e->u.collision.a] != e->u.collision.stamp_a || m->stamp[e->u.collision.b] != e->u.collision.stamp_b;
+    case M2C_SIM_HORIZON:
+        return m->stamp[e->u.horizon.a] != e->u.horizon.stamp_a || m->stamp[e->u.horizon.b] != e->u.horizon.stamp_b;
+    case M2C_SIM_CELL:
+        return m->stamp[e->u.cell.body] != e->u.cell.stamp;
+    case M2C_SIM_STOP:
+        return m->stamp[e->u.stop.body] != e->u.stop.stamp;
+    case M2C_SIM_LEAVE:
+        return m->stamp[e->u.leave.body] != e->u.leave.stamp;
+    default:
+        return 0;
+    }
 }
 
 /* The reference pops a stale event and counts it when its time comes (if
@@ -151,7 +180,7 @@ static int drop_stale(void *ctx, const m2c_sim_event *e)
     if (!is_stale(m, e))
         return 0;
     if (e->t <= m->s->end)
-        m->stats[ST_STALE]++;
+        m->stats.stale++;
     return 1;
 }
 
@@ -163,24 +192,79 @@ static void sweep(sim *m)
     m->sweep_at = 2 * live > 4096 ? 2 * live : 4096;
 }
 
-static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat, int32_t i, int32_t j)
+/* Queues an event record (its t and kind set, and the fields of its kind). */
+static void push(sim *m, const m2c_sim_event *e)
 {
-    m2c_sim_event e;
-    e.t = t;
-    e.kind = kind;
-    e.a = a;
-    e.b = b;
-    e.sa = a >= 0 ? m->stamp[a] : 0u;
-    e.sb = b >= 0 ? m->stamp[b] : 0u;
-    e.feat = feat;
-    e.i = i;
-    e.j = j;
-    if (!(t >= 0.0))        /* never: every time is now or later, and now >= 0 */
+    if (!(e->t >= 0.0))     /* never: every time is now or later, and now >= 0 */
         die(m, "an event at a time that is not a number or negative");
-    if (m2c_sim_heap_push(&m->heap, &e) != 0)
+    if (m2c_sim_heap_push(&m->heap, e) != 0)
         die(m, "out of memory (event queue of %zu events)", m->heap.n);
     if (m->heap.n >= m->sweep_at)
         sweep(m);
+}
+
+static void push_collision(sim *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
+                           int32_t i, int32_t j)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_COLLISION };
+    e.u.collision.a = A->idx;
+    e.u.collision.b = B->idx;
+    e.u.collision.feature = feature;
+    e.u.collision.i = i;
+    e.u.collision.j = j;
+    e.u.collision.stamp_a = m->stamp[A->idx];
+    e.u.collision.stamp_b = m->stamp[B->idx];
+    push(m, &e);
+}
+
+static void push_horizon(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_HORIZON };
+    e.u.horizon.a = A->idx;
+    e.u.horizon.b = B->idx;
+    e.u.horizon.stamp_a = m->stamp[A->idx];
+    e.u.horizon.stamp_b = m->stamp[B->idx];
+    push(m, &e);
+}
+
+static void push_cell(sim *m, double t, const m2c_sim_body *b, int32_t axis, int32_t direction)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_CELL };
+    e.u.cell.body = b->idx;
+    e.u.cell.axis = axis;
+    e.u.cell.direction = direction;
+    e.u.cell.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
+static void push_stop(sim *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_STOP };
+    e.u.stop.body = b->idx;
+    e.u.stop.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
+static void push_leave(sim *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_LEAVE };
+    e.u.leave.body = b->idx;
+    e.u.leave.stamp = m->stamp[b->idx];
+    push(m, &e);
+}
+
+static void push_input(sim *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_INPUT };
+    e.u.input.k = k;
+    push(m, &e);
+}
+
+static void push_frame(sim *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_FRAME };
+    e.u.frame.k = k;
+    push(m, &e);
 }
 
 /* Fetches the bodies of the event that is next for now (the queue
@@ -188,11 +272,20 @@ static void push(sim *m, double t, int kind, int32_t a, int32_t b, int32_t feat,
 static inline void fetch_next(const sim *m)
 {
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
-    if (e != NULL) {
-        if (e->a >= 0)
-            __builtin_prefetch(&m->stamp[e->a]);
-        if (e->b >= 0)
-            __builtin_prefetch(&m->stamp[e->b]);
+    if (e == NULL)
+        return;
+    if (e->kind == M2C_SIM_COLLISION) {
+        __builtin_prefetch(&m->stamp[e->u.collision.a]);
+        __builtin_prefetch(&m->stamp[e->u.collision.b]);
+    } else if (e->kind == M2C_SIM_HORIZON) {
+        __builtin_prefetch(&m->stamp[e->u.horizon.a]);
+        __builtin_prefetch(&m->stamp[e->u.horizon.b]);
+    } else if (e->kind == M2C_SIM_CELL) {
+        __builtin_prefetch(&m->stamp[e->u.cell.body]);
+    } else if (e->kind == M2C_SIM_STOP) {
+        __builtin_prefetch(&m->stamp[e->u.stop.body]);
+    } else if (e->kind == M2C_SIM_LEAVE) {
+        __builtin_prefetch(&m->stamp[e->u.leave.body]);
     }
 }
 
@@ -242,12 +335,41 @@ static int inside(const pe_check *k, double s)
     return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
 }
 
+/* At a zero s of the gap c whose first derivative there is d: approaching
+ * (d < 0), or resting and pressed together (d == 0, second derivative < 0). */
+static int pressing(const double *c, int deg, double d, double s)
+{
+    if (d < 0.0)
+        return 1;
+    if (d != 0.0 || deg < 2)
+        return 0;
+    double dd = 0.0;
+    for (int k = deg; k > 1; k--)
+        dd = dd * s + (double)(k * (k - 1)) * c[k];
+    return dd < 0.0;
+}
+
+/* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+ * pressed together (c2 < 0) so that the gap closes again before it ever
+ * exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+ * resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) */
+static int touching_now(const double *c, int deg, double kappa)
+{
+    if (c[1] < 0.0)
+        return 1;
+    if (deg < 2 || !(c[2] < 0.0))
+        return 0;
+    return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa;
+}
+
 /* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
- * decreasing and the check holds.  At s = 0 the gap counts as zero within
- * kappa: approaching means contact now, separating never. */
+ * decreasing, or touches zero with zero slope while pressed together
+ * (resting contact), and the check holds.  At s = 0 the gap counts as zero
+ * within kappa: approaching or pressed (touching_now) means contact now,
+ * separating or merely touching never. */
 static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double *out)
 {
-    if (deg >= 1 && fabs(c[0]) <= kappa && c[1] < 0.0 && inside(chk, 0.0)) {
+    if (deg >= 1 && fabs(c[0]) <= kappa && touching_now(c, deg, kappa) && inside(chk, 0.0)) {
         *out = 0.0;
         return 1;
     }
@@ -259,7 +381,7 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
         double d = 0.0;
         for (int k = deg; k > 0; k--)
             d = d * s + (double)k * c[k];
-        if (d < 0.0 && inside(chk, s)) {
+        if (pressing(c, deg, d, s) && inside(chk, s)) {
             *out = s;
             return 1;
         }
@@ -281,7 +403,7 @@ static int cc_coefficients(sim *m, const double *g, double *coef)
     if (idx >= m->n_cc)
         die(m, "circle_circle: variant %d, but the build counts %d variants", idx, m->n_cc);
     m->cc_counts[idx]++;
-    m->stats[ST_FEATURES]++;
+    m->stats.features++;
     return circle_circle_coefficients(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                       g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21],
                                       g[22], g[23], coef);
@@ -386,7 +508,7 @@ static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, cons
     if (idx >= m->n_pe)
         die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
     m->pe_counts[idx]++;
-    m->stats[ST_FEATURES]++;
+    m->stats.features++;
     double coef[M2C_MAX_DEGREE + 1];
     int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
     pe_check chk = { m, X, Y, vx, ed, now, m->s->tol };
@@ -465,7 +587,9 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     const m2c_sim_scene *s = m->s;
-    m->stats[ST_PAIRS]++;
+    if (A->sup == B->idx || B->sup == A->idx)
+        return;     /* the support's edge line separates them (both convex): only leaving ends it */
+    m->stats.pairs++;
     double w = s->end - now;
     if (!(w > 0.0))
         return;
@@ -475,7 +599,7 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
         if (!bounds_meet(m, A, B, now, w, &meet))
             return;
         if (meet > 0.0) {
-            push(m, now + meet, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+            push_horizon(m, now + meet, A, B);
             return;
         }
     }
@@ -499,9 +623,9 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
         vertices_edges(m, B, A, now, w, &bs);
     }
     if (bs.have)
-        push(m, now + bs.s, M2C_SIM_COLLISION, bs.a, bs.b, bs.feat, bs.i, bs.j);
+        push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
     else if (now + w < s->end)
-        push(m, now + w, M2C_SIM_HORIZON, A->idx, B->idx, -1, -1, -1);
+        push_horizon(m, now + w, A, B);
 }
 
 /* ---- per body ------------------------------------------------------------------------ */
@@ -556,7 +680,7 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         }
     }
     if (have)
-        push(m, b->tb + bu, M2C_SIM_CELL, b->idx, -1, -1, baxis, bdir);
+        push_cell(m, b->tb + bu, b, baxis, bdir);
 }
 
 /* Predicts the pairs of b with every body in the cells x_lo..x_hi,
@@ -603,6 +727,47 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
             predict_pair(m, b, cand[q], now);
 }
 
+/* The first u in [lo, hi] (s) where p + v u + a u^2 / 2 crosses zero
+ * moving in the direction (+1 up, -1 down): 1 with *out, or 0. */
+static int first_crossing(double p, double v, double a, int direction, double lo, double hi, double *out)
+{
+    double c[3] = { p, v, 0.5 * a };
+    for (int it = 0; it < 3; it++) {
+        double u;
+        if (m2c_smallest_root(c, 2, lo, hi, &u) != 1)
+            return 0;
+        if ((v + a * u) * (double)direction > 0.0) {
+            *out = u;
+            return 1;
+        }
+        lo = u;
+    }
+    return 0;
+}
+
+/* A supported body's stop (its tangential speed reaches zero) and leave
+ * (its centre, projected on the edge, reaches an end) events. */
+static void schedule_support(sim *m, const m2c_sim_body *b)
+{
+    double u = b->vx * b->tx + b->vy * b->ty;
+    double a = b->ax * b->tx + b->ay * b->ty;
+    if (u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0))
+        push_stop(m, b->tb + -u / a, b);
+    const m2c_sim_body *B = &m->bodies[b->sup];
+    const m2c_sim_vertex *ed = &B->verts[b->sup_edge];
+    double q = (b->px - B->px) * b->tx + (b->py - B->py) * b->ty;
+    double hi = m->s->end - b->tb;
+    double s1 = 0.0, s2 = 0.0;
+    int h2 = first_crossing(q - ed->s2, u, a, 1, 0.0, hi, &s2);
+    int h1 = first_crossing(q - ed->s1, u, a, -1, 0.0, hi, &s1);
+    if (h1 && (!h2 || s1 < s2)) {
+        s2 = s1;
+        h2 = 1;
+    }
+    if (h2)
+        push_leave(m, b->tb + s2, b);
+}
+
 static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
 {
     predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
@@ -612,17 +777,19 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
+    if (b->sup >= 0)
+        schedule_support(m, b);
 }
 
-/* ---- handling events ------------------------------------------------------------------ */
+/* ---- handling events: trace lines and contacts ---------------------------------------- */
 
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
-    const double v[7] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om };
-    for (int k = 0; k < 7; k++) {
+    const double v[9] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
+    for (int k = 0; k < 9; k++) {
         *p++ = ' ';
         p = m2c_sim_put_num(p, v[k]);
     }
@@ -630,54 +797,200 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     m->out.n += (size_t)(p - start);
 }
 
-static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_body *B, int32_t i, int32_t j)
+/* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
+ * at t (both bodies advanced to t). */
+static void contact_frame(sim *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
+                          int32_t i, int32_t j, double *cx, double *cy, double *nx, double *ny)
 {
-    advance(A, t);
-    advance(B, t);
     const m2c_sim_vertex *vA = i >= 0 ? &A->verts[i] : NULL;
-    double nx, ny, cx, cy;
-    if (feat == CC) {
+    if (feature == CC) {
         double ax_, ay_, bx_, by_;
         point_at(m, A, NULL, t, &ax_, &ay_);
         point_at(m, B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
         double dx = bx_ - ax_, dy = by_ - ay_;
         double dist = sqrt(dx * dx + dy * dy);
         if (dist > 0.0) {
-            nx = dx / dist;
-            ny = dy / dist;
+            *nx = dx / dist;
+            *ny = dy / dist;
         } else {
-            nx = 1.0;
-            ny = 0.0;
+            *nx = 1.0;
+            *ny = 0.0;
         }
-        cx = ax_ + A->r * nx;
-        cy = ay_ + A->r * ny;
+        *cx = ax_ + A->r * *nx;
+        *cy = ay_ + A->r * *ny;
     } else {
         double px, py;
         point_at(m, A, vA, t, &px, &py);
         double c, sn;
         trig(ETRIG(m, &B->verts[j]), B->ang + B->verts[j].psi, &c, &sn);
-        nx = -c;                        /* from A to B: against the edge's outward normal */
-        ny = -sn;
+        *nx = -c;                       /* from A to B: against the edge's outward normal */
+        *ny = -sn;
         double rad = vA == NULL ? A->r : 0.0;
-        cx = px + rad * nx;
-        cy = py + rad * ny;
+        *cx = px + rad * *nx;
+        *cy = py + rad * *ny;
     }
-    /* velocities (m/s) of the material points at the contact */
+}
+
+/* Normal relative velocity (m/s; B's against A's, along n from A to B) of
+ * the material points at the contact: negative when approaching. */
+static inline double normal_speed(const m2c_sim_body *A, const m2c_sim_body *B, double cx, double cy, double nx,
+                                  double ny)
+{
     double uax = A->vx - A->om * (cy - A->py);
     double uay = A->vy + A->om * (cx - A->px);
     double ubx = B->vx - B->om * (cy - B->py);
     double uby = B->vy + B->om * (cx - B->px);
-    double vn = (ubx - uax) * nx + (uby - uay) * ny;
-    double imp = 0.0;                   /* kg m/s */
-    if (vn < 0.0) {
+    return (ubx - uax) * nx + (uby - uay) * ny;
+}
+
+/* ---- support: resting and sliding on a fixed body ----------------------------------------- */
+
+/* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+ * the world (B does not move). */
+static void support_frame(const m2c_sim_body *B, int32_t j, double *tx, double *ty, double *ox, double *oy)
+{
+    const m2c_sim_vertex *ed = &B->verts[j];
+    double c = cos(B->ang);
+    double s = sin(B->ang);
+    *ox = c * ed->nx - s * ed->ny;
+    *oy = s * ed->nx + c * ed->ny;
+    *tx = -*oy;
+    *ty = *ox;
+}
+
+static inline int is_static(const m2c_sim_body *B)
+{
+    return B->vx == 0.0 && B->vy == 0.0 && B->ax == 0.0 && B->ay == 0.0 && B->om == 0.0;
+}
+
+/* A neighbour of A's vertex i lies on edge j's line within the face
+ * tolerance max(tol, rest_speed^2 / load): A rests on a face. */
+static int flat(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i, int32_t j, double ox, double oy,
+                double load)
+{
+    double tol = m->s->tol, rest = m->s->rest_speed;
+    double q = rest * rest / load;
+    double ftol = q > tol ? q : tol;                                /* Python's max(tol, q) */
+    int32_t n = A->nverts;
+    double h = B->verts[j].h;
+    const int32_t ks[2] = { (i + n - 1) % n, (i + 1) % n };
+    for (int l = 0; l < 2; l++) {
+        double px, py;
+        point_at(m, A, &A->verts[ks[l]], A->tb, &px, &py);
+        if ((px - B->px) * ox + (py - B->py) * oy - h <= ftol)
+            return 1;
+    }
+    return 0;
+}
+
+/* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+ * B becomes support (docs/simulator.md, Contact model). */
+static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j,
+                       double vn)
+{
+    if (feature != PE || A->fixed || !B->fixed || !is_static(B))
+        return 0;
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    double load = -(A->fax * ox + A->fay * oy);
+    double rest = m->s->rest_speed;
+    if (!(load > 0.0) || vn >= rest || A->e * B->e * -vn >= rest)
+        return 0;
+    const m2c_sim_vertex *ed = &B->verts[j];
+    double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
+    if (q < ed->s1 || q > ed->s2)
+        return 0;
+    if (A->polygon) {
+        if (fabs(A->om) * A->bound >= rest)
+            return 0;
+        return flat(m, A, B, i, j, ox, oy, load);
+    }
+    return 1;
+}
+
+/* Acceleration of supported A with tangential speed u: the free
+ * acceleration along the edge less Coulomb friction mu |a_n| against the
+ * motion; at rest, none while friction can hold it. */
+static void slide_accel(const sim *m, m2c_sim_body *A, double u)
+{
+    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    double a;
+    if (u > 0.0)
+        a = A->at - f;
+    else if (u < 0.0)
+        a = A->at + f;
+    else if (A->at > f)
+        a = A->at - f;
+    else if (A->at < -f)
+        a = A->at + f;
+    else
+        a = 0.0;
+    A->ax = a * A->tx;
+    A->ay = a * A->ty;
+}
+
+/* A (advanced to now) keeps only its velocity along the edge, stops
+ * turning, and from now on accelerates along the edge only. */
+static void enter_support(const sim *m, m2c_sim_body *A, const m2c_sim_body *B, int32_t j)
+{
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    double u = A->vx * tx + A->vy * ty;
+    A->vx = u * tx;
+    A->vy = u * ty;
+    if (A->polygon)
+        A->om = 0.0;
+    A->sup = B->idx;
+    A->sup_edge = j;
+    A->tx = tx;
+    A->ty = ty;
+    A->load = -(A->fax * ox + A->fay * oy);
+    A->at = A->fax * tx + A->fay * ty;
+    slide_accel(m, A, u);
+}
+
+static void end_support(m2c_sim_body *A)
+{
+    A->ax = A->fax;
+    A->ay = A->fay;
+    A->sup = -1;
+    A->sup_edge = -1;
+}
+
+/* Whether the bodies' accelerations push them together along the normal
+ * (n from A to B): the relative normal acceleration of the centres is
+ * negative.  (Centripetal terms of turning bodies are left out.) */
+static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny)
+{
+    return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
+}
+
+/* The frictionless impulse (kg m/s) of a contact at (cx, cy) with normal
+ * (nx, ny) from A to B (both advanced to the contact time): 0 when the
+ * material points do not approach and are not pressed together, else the
+ * impulse j >= 0 (velocities changed).  Pressed together, they leave at
+ * rest_speed at least, so time advances (docs/simulator.md). */
+static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                            double ny)
+{
+    double vn = normal_speed(A, B, cx, cy, nx, ny);
+    double imp = 0.0;
+    double rest = m->s->rest_speed;
+    int press = pressed(A, B, nx, ny);
+    if (vn < 0.0 || (press && vn < rest)) {
         double ran = (cx - A->px) * ny - (cy - A->py) * nx;
         double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
         double k = A->inv_m + B->inv_m + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
         double e = A->e * B->e;
-        double nvn = -vn;
-        double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
-        double ev = e * -vn;
-        double sep = lim > ev ? lim : ev;                                   /* Python's max(e * -vn, lim) */
+        double evn = e * -vn;
+        double sep;
+        if (press) {
+            sep = rest > evn ? rest : evn;                                  /* Python's max(e * -vn, rest) */
+        } else {
+            double nvn = -vn;
+            double lim = rest < nvn ? rest : nvn;                           /* Python's min(-vn, rest) */
+            sep = lim > evn ? lim : evn;                                    /* Python's max(e * -vn, lim) */
+        }
         imp = (sep - vn) / k;
         A->vx = A->vx - imp * A->inv_m * nx;
         A->vy = A->vy - imp * A->inv_m * ny;
@@ -686,10 +999,20 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
         B->vy = B->vy + imp * B->inv_m * ny;
         B->om = B->om + imp * B->inv_i * rbn;
     }
+    return imp;
+}
+
+/* ---- event handlers: one per kind ------------------------------------------------------ */
+
+/* An E line of a contact: collision or support. */
+static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body *A, const m2c_sim_body *B,
+                         int32_t feature, int32_t i, int32_t j, double cx, double cy, double nx, double ny,
+                         double imp)
+{
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E collision ");
+    p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
-    const long long ints[5] = { A->idx, B->idx, feat, i, j };
+    const long long ints[5] = { A->idx, B->idx, feature, i, j };
     for (int k = 0; k < 5; k++) {
         *p++ = ' ';
         p = m2c_sim_put_int(p, ints[k]);
@@ -701,6 +1024,65 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
     }
     *p++ = '\n';
     m->out.n += (size_t)(p - start);
+}
+
+/* An E line of a supported body's event: stop or leave (edge of sup). */
+static void emit_support_change(sim *m, const char *kind, double t, const m2c_sim_body *A, int32_t sup,
+                                int32_t edge)
+{
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, kind);
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, A->idx);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, sup);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, edge);
+    p = m2c_sim_put_str(p, " 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+}
+
+/* A collision that ends in support (called by handle_collision). */
+static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, const m2c_sim_body *B, double cx,
+                           double cy, double nx, double ny, double vn)
+{
+    m->stats.supports++;
+    double imp = -vn / A->inv_m;
+    enter_support(m, A, B, ev->u.collision.j);
+    emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
+                 cy, nx, ny, imp);
+    m->stamp[A->idx]++;
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
+/* A collision of a and b on a feature: support, or the impulse, the new
+ * states, and the two bodies' pairs predicted again. */
+static void handle_collision(sim *m, const m2c_sim_event *ev)
+{
+    double t = ev->t;
+    int32_t feature = ev->u.collision.feature, i = ev->u.collision.i, j = ev->u.collision.j;
+    m2c_sim_body *A = &m->bodies[ev->u.collision.a], *B = &m->bodies[ev->u.collision.b];
+    advance(A, t);
+    advance(B, t);
+    double cx, cy, nx, ny;
+    contact_frame(m, t, feature, A, B, i, j, &cx, &cy, &nx, &ny);
+    double vn = normal_speed(A, B, cx, cy, nx, ny);
+    if (can_support(m, A, B, feature, i, j, vn)) {
+        handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
+        return;
+    }
+    m->stats.collisions++;
+    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
+    if (imp != 0.0) {
+        if (A->sup >= 0)
+            end_support(A);
+        if (B->sup >= 0)
+            end_support(B);
+    }
+    emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -715,7 +1097,130 @@ static void collide(sim *m, double t, int32_t feat, m2c_sim_body *A, m2c_sim_bod
         predict_body(m, B, t, !A->fixed ? A : NULL);
 }
 
-static void run(sim *m)
+/* Sliding stops: velocity exactly zero, then rest or slide back. */
+static void handle_stop(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.stops++;
+    m2c_sim_body *A = &m->bodies[ev->u.stop.body];
+    advance(A, ev->t);
+    A->vx = 0.0;
+    A->vy = 0.0;
+    slide_accel(m, A, 0.0);
+    m->stamp[A->idx]++;
+    emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
+/* The support's edge ends under the body: free motion again. */
+static void handle_leave(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.leaves++;
+    m2c_sim_body *A = &m->bodies[ev->u.leave.body];
+    advance(A, ev->t);
+    int32_t sup = A->sup, edge = A->sup_edge;
+    end_support(A);
+    m->stamp[A->idx]++;
+    emit_support_change(m, "E leave ", ev->t, A, sup, edge);
+    emit_state(m, A);
+    fetch_next(m);
+    predict_body(m, A, ev->t, NULL);
+}
+
+/* Scripted input number k: its body's velocity set or added to. */
+static void handle_input(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.inputs++;
+    double t = ev->t;
+    int32_t k = ev->u.input.k;
+    const m2c_sim_input *in = &m->s->inputs[k];
+    m2c_sim_body *body = &m->bodies[in->body];
+    advance(body, t);
+    if (body->sup >= 0)
+        end_support(body);
+    if (in->mode == 0) {
+        body->vx = in->vx;
+        body->vy = in->vy;
+    } else {
+        body->vx = body->vx + in->vx;
+        body->vy = body->vy + in->vy;
+    }
+    m->stamp[body->idx]++;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E input ");
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, body->idx);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, k);
+    p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    emit_state(m, body);
+    predict_body(m, body, t, NULL);
+}
+
+/* The body's centre crossed into the next cell along an axis: it moves
+ * there and is predicted against the row or column it now neighbours. */
+static void handle_cell(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.cells++;
+    m2c_sim_body *body = &m->bodies[ev->u.cell.body];
+    int32_t d = ev->u.cell.direction;
+    m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    int32_t x_lo, x_hi, y_lo, y_hi;
+    if (ev->u.cell.axis == 0) {
+        body->cx += d;
+        int32_t col = body->cx + d;
+        x_lo = x_hi = col;
+        y_lo = body->cy - 1;
+        y_hi = body->cy + 1;
+    } else {
+        body->cy += d;
+        int32_t row = body->cy + d;
+        x_lo = body->cx - 1;
+        x_hi = body->cx + 1;
+        y_lo = y_hi = row;
+    }
+    cell_add(m, body);
+    fetch_next(m);
+    predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    schedule_cell(m, body, ev->t);
+}
+
+/* The pair reached the end of its Taylor window, or its bounding circles
+ * met: predicted again from now. */
+static void handle_horizon(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.horizons++;
+    predict_pair(m, &m->bodies[ev->u.horizon.a], &m->bodies[ev->u.horizon.b], ev->t);
+}
+
+/* Draw frame number k: written, and the next one scheduled. */
+static void handle_frame(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.frames++;
+    const m2c_sim_scene *s = m->s;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E frame ");
+    p = m2c_sim_put_num(p, ev->t);
+    p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    double nxt = (double)(ev->u.frame.k + 1) * s->frame_dt;
+    if (nxt <= s->end)
+        push_frame(m, nxt, ev->u.frame.k + 1);
+}
+
+/* The handler of each event kind, by kind. */
+static void (*const handlers[M2C_SIM_KINDS])(sim *, const m2c_sim_event *) = {
+    [M2C_SIM_INPUT] = handle_input, [M2C_SIM_COLLISION] = handle_collision, [M2C_SIM_STOP] = handle_stop,
+    [M2C_SIM_LEAVE] = handle_leave, [M2C_SIM_CELL] = handle_cell,           [M2C_SIM_HORIZON] = handle_horizon,
+    [M2C_SIM_FRAME] = handle_frame,
+};
+
+/* Places the bodies in the grid, schedules the inputs and the first frame,
+ * and predicts every pair once. */
+static void start(sim *m)
 {
     m2c_sim_scene *s = m->s;
     m2c_sim_body *bodies = m->bodies;
@@ -727,9 +1232,9 @@ static void run(sim *m)
         }
     }
     for (int32_t k = 0; k < s->ninputs; k++)
-        push(m, s->inputs[k].t, M2C_SIM_INPUT, s->inputs[k].body, -1, -1, k, s->inputs[k].mode);
+        push_input(m, s->inputs[k].t, k);
     if (s->frame_dt > 0.0 && s->frame_dt <= s->end)
-        push(m, s->frame_dt, M2C_SIM_FRAME, -1, -1, -1, 1, -1);
+        push_frame(m, s->frame_dt, 1);
     for (int32_t k = 0; k < s->nbodies; k++) {
         const m2c_sim_body *b = &bodies[k];
         if (b->large)
@@ -742,95 +1247,13 @@ static void run(sim *m)
         }
         schedule_cell(m, b, 0.0);
     }
-    double last_t = -1.0;
-    long long same = 0;
-    m2c_sim_event ev;
-    while (m->heap.n > 0) {
-        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
-            die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        double t = ev.t;
-        if (t > s->end)
-            break;
-        if (is_stale(m, &ev)) {
-            m->stats[ST_STALE]++;
-            continue;
-        }
-        if (t == last_t) {
-            same++;
-            if (same > s->max_same) {
-                char num[M2C_SIM_NUMBER_MAX + 1];
-                num[m2c_sim_format_number(num, t)] = '\0';
-                die(m, "more than %lld events at t = %s: the scene is stuck", s->max_same, num);
-            }
-        } else {
-            last_t = t;
-            same = 0;
-        }
-        int kind = ev.kind;
-        if (kind == M2C_SIM_COLLISION) {
-            m->stats[ST_COLLISIONS]++;
-            collide(m, t, ev.feat, &bodies[ev.a], &bodies[ev.b], ev.i, ev.j);
-        } else if (kind == M2C_SIM_INPUT) {
-            m->stats[ST_INPUTS]++;
-            const m2c_sim_input *in = &s->inputs[ev.i];
-            m2c_sim_body *body = &bodies[ev.a];
-            advance(body, t);
-            if (in->mode == 0) {
-                body->vx = in->vx;
-                body->vy = in->vy;
-            } else {
-                body->vx = body->vx + in->vx;
-                body->vy = body->vy + in->vy;
-            }
-            m->stamp[body->idx]++;
-            char *start = m2c_sim_out_reserve(&m->out), *p = start;
-            p = m2c_sim_put_str(p, "E input ");
-            p = m2c_sim_put_num(p, t);
-            *p++ = ' ';
-            p = m2c_sim_put_int(p, ev.a);
-            p = m2c_sim_put_str(p, " -1 -1 ");
-            p = m2c_sim_put_int(p, ev.i);
-            p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
-            m->out.n += (size_t)(p - start);
-            emit_state(m, body);
-            predict_body(m, body, t, NULL);
-        } else if (kind == M2C_SIM_CELL) {
-            m->stats[ST_CELLS]++;
-            m2c_sim_body *body = &bodies[ev.a];
-            m2c_sim_grid_remove(&m->grid, bodies, body);
-            int32_t x_lo, x_hi, y_lo, y_hi;
-            if (ev.i == 0) {
-                body->cx += ev.j;
-                int32_t col = body->cx + ev.j;
-                x_lo = x_hi = col;
-                y_lo = body->cy - 1;
-                y_hi = body->cy + 1;
-            } else {
-                body->cy += ev.j;
-                int32_t row = body->cy + ev.j;
-                x_lo = body->cx - 1;
-                x_hi = body->cx + 1;
-                y_lo = y_hi = row;
-            }
-            cell_add(m, body);
-            fetch_next(m);
-            predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, t, 0);
-            schedule_cell(m, body, t);
-        } else if (kind == M2C_SIM_HORIZON) {
-            m->stats[ST_HORIZONS]++;
-            predict_pair(m, &bodies[ev.a], &bodies[ev.b], t);
-        } else {
-            m->stats[ST_FRAMES]++;
-            char *start = m2c_sim_out_reserve(&m->out), *p = start;
-            p = m2c_sim_put_str(p, "E frame ");
-            p = m2c_sim_put_num(p, t);
-            p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
-            m->out.n += (size_t)(p - start);
-            double nxt = (double)(ev.i + 1) * s->frame_dt;
-            if (nxt <= s->end)
-                push(m, nxt, M2C_SIM_FRAME, -1, -1, -1, ev.i + 1, -1);
-        }
-    }
+}
+
+/* Every body at the end time, the statistics, the predictions per variant. */
+static void finish(sim *m)
+{
+    m2c_sim_scene *s = m->s;
+    m2c_sim_body *bodies = m->bodies;
     for (int32_t k = 0; k < s->nbodies; k++)
         advance(&bodies[k], s->end);
     for (int32_t k = 0; k < s->nbodies; k++) {
@@ -846,12 +1269,12 @@ static void run(sim *m)
         *p++ = '\n';
         m->out.n += (size_t)(p - start);
     }
-    for (int k = 0; k < ST_COUNT; k++) {
+    for (size_t k = 0; k < sizeof stat_lines / sizeof stat_lines[0]; k++) {
         char *start = m2c_sim_out_reserve(&m->out), *p = start;
         p = m2c_sim_put_str(p, "N ");
-        p = m2c_sim_put_str(p, stat_names[k]);
+        p = m2c_sim_put_str(p, stat_lines[k].name);
         *p++ = ' ';
-        p = m2c_sim_put_int(p, m->stats[k]);
+        p = m2c_sim_put_int(p, *(const long long *)((const char *)&m->stats + stat_lines[k].offset));
         *p++ = '\n';
         m->out.n += (size_t)(p - start);
     }
@@ -868,6 +1291,44 @@ static void run(sim *m)
             m->out.n += (size_t)(p - start);
         }
     }
+}
+
+/* Stops the run when more than max_same events happen at one instant. */
+static void count_same_time(sim *m, double t, double *last_t, long long *same)
+{
+    if (t == *last_t) {
+        (*same)++;
+        if (*same > m->s->max_same) {
+            char num[M2C_SIM_NUMBER_MAX + 1];
+            num[m2c_sim_format_number(num, t)] = '\0';
+            die(m, "more than %lld events at t = %s: the scene is stuck", m->s->max_same, num);
+        }
+    } else {
+        *last_t = t;
+        *same = 0;
+    }
+}
+
+/* The run: the events in order, each to its kind's handler, up to the end. */
+static void run(sim *m)
+{
+    start(m);
+    double last_t = -1.0;
+    long long same = 0;
+    m2c_sim_event ev;
+    while (m->heap.n > 0) {
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (ev.t > m->s->end)
+            break;
+        if (is_stale(m, &ev)) {
+            m->stats.stale++;
+            continue;
+        }
+        count_same_time(m, ev.t, &last_t, &same);
+        handlers[ev.kind](m, &ev);
+    }
+    finish(m);
 }
 
 int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen)

@@ -34,6 +34,7 @@ __extension__ typedef unsigned __int128 u128;
 #define KIND_SHIFT (M2C_SIM_SLOT_BITS + M2C_SIM_SEQ_BITS)
 
 _Static_assert(KIND_SHIFT + 3 <= 64, "kind, seq and slot must fit 64 bits");
+_Static_assert(M2C_SIM_KINDS <= 8, "the kind has 3 bits");
 _Static_assert(M2C_SIM_SLOT_BITS < M2C_SIM_SEQ_BITS && M2C_SIM_SLOT_BITS <= 32, "room to renumber");
 
 static inline u128 order(const m2c_sim_entry *x)

@@ -178,12 +178,17 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         b->inv_m = num(r);
         b->inv_i = num(r);
         b->e = num(r);
+        b->mu = num(r);
         b->px = num(r);
         b->py = num(r);
         b->vx = num(r);
         b->vy = num(r);
         b->ax = num(r);
         b->ay = num(r);
+        b->fax = b->ax;
+        b->fay = b->ay;
+        b->sup = -1;
+        b->sup_edge = -1;
         b->ang = num(r);
         b->om = num(r);
         b->r = num(r);
@@ -217,6 +222,8 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
             v->h = num(r);
             v->s1 = num(r);
             v->s2 = num(r);
+            v->nx = num(r);
+            v->ny = num(r);
         }
     }
     word(r, "inputs");
