@@ -8,12 +8,17 @@ use std::cell::Cell;
 /// vertex), in the body's frame: all precomputed by the scene compiler.
 #[derive(Clone, Debug)]
 pub struct Vertex {
+    /// m: the vertex about the centre of mass
     pub lx: f64,
     pub ly: f64,
+    /// m, rad: its polar form
     pub rho: f64,
     pub beta: f64,
+    /// rad: angle of the edge's outward normal
     pub psi: f64,
+    /// m: offset of the edge's line, n . v
     pub h: f64,
+    /// m: the edge's extent along its tangent
     pub s1: f64,
     pub s2: f64,
     /// cos and sin of the vertex's angle (body angle + beta) and of its
@@ -47,24 +52,35 @@ impl CosSin {
 }
 
 /// A body's state at its own last update time `tb`, and its constants.
-/// Laid out so that a prediction reads the first two cache lines only.
+/// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out so that a prediction
+/// reads the first two cache lines only.  (Its stamp, bumped when the
+/// motion changes, is in `World::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
     // motion
+    /// m: centre (of rotation) at tb
     pub px: f64,
     pub py: f64,
+    /// m/s: velocity at tb
     pub vx: f64,
     pub vy: f64,
+    /// m/s^2: acceleration (gravity included)
     pub ax: f64,
     pub ay: f64,
+    /// rad: angle at tb
     pub ang: f64,
+    /// rad/s: angular velocity
     pub om: f64,
     // shape, grid cell
+    /// s: the time of this state
     pub tb: f64,
+    /// m: circle radius (0 for polygons)
     pub r: f64,
+    /// m, rad: orbit radius and phase (circles)
     pub orbit: f64,
     pub ophase: f64,
+    /// m: radius of the bounding circle about the centre
     pub bound: f64,
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: u32,
@@ -72,13 +88,17 @@ pub struct Body {
     /// grid cell (small bodies)
     pub cx: i32,
     pub cy: i32,
+    /// index in the scene
     pub idx: u32,
     pub polygon: bool,
     pub fixed: bool,
+    /// not in the grid: in the large list every body checks
     pub large: bool,
     // contacts
+    /// 1/kg, 1/(kg m^2); 0 for fixed bodies
     pub inv_m: f64,
     pub inv_i: f64,
+    /// restitution, 0..1
     pub e: f64,
 }
 
@@ -105,9 +125,13 @@ impl Body {
 /// A scripted velocity change.
 #[derive(Clone, Copy, Debug)]
 pub struct Input {
+    /// s
     pub t: f64,
+    /// index in the scene
     pub body: i64,
+    /// 0: set velocity, 1: add velocity
     pub mode: i64,
+    /// m/s
     pub vx: f64,
     pub vy: f64,
 }
