@@ -41,9 +41,19 @@ pub fn contact_frame(verts: &[Vertex], t: f64, feature: i32, a_: &Body, b_: &Bod
     (cx, cy, nx, ny)
 }
 
+/// The bodies' accelerations push them together along the normal (n from
+/// A to B): the relative normal acceleration of the centres is negative.
+/// (Centripetal terms of turning bodies are left out.)
+#[inline(always)]
+pub fn pressed(a_: &Body, b_: &Body, nx: f64, ny: f64) -> bool {
+    (b_.ax - a_.ax) * nx + (b_.ay - a_.ay) * ny < 0.0
+}
+
 /// The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
 /// from A to B (both advanced to the contact time): 0.0 when the material
-/// points do not approach, else the impulse j >= 0 (velocities changed).
+/// points do not approach and are not pressed together, else the impulse
+/// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
+/// at least, so time advances (docs/simulator.md).
 pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     // velocities of the material points at the contact
     let uax = a_.vx - a_.om * (cy - a_.py);
@@ -52,14 +62,22 @@ pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny
     let uby = b_.vy + b_.om * (cx - b_.px);
     let vn = (ubx - uax) * nx + (uby - uay) * ny;
     let mut imp = 0.0;
-    if vn < 0.0 {
+    let rest = rest_speed;
+    let press = pressed(a_, b_, nx, ny);
+    if vn < 0.0 || (press && vn < rest) {
         let ran = (cx - a_.px) * ny - (cy - a_.py) * nx;
         let rbn = (cx - b_.px) * ny - (cy - b_.py) * nx;
         let k = a_.inv_m + b_.inv_m + a_.inv_i * ran * ran + b_.inv_i * rbn * rbn;
         let e = a_.e * b_.e;
-        // Python's max(e * -vn, min(-vn, rest_speed))
-        let lo = if rest_speed < -vn { rest_speed } else { -vn };
         let first = e * -vn;
+        // Python's max(e * -vn, rest) when pressed, else max(e * -vn, min(-vn, rest))
+        let lo = if press {
+            rest
+        } else if rest < -vn {
+            rest
+        } else {
+            -vn
+        };
         let sep = if lo > first { lo } else { first };
         imp = (sep - vn) / k;
         a_.vx = a_.vx - imp * a_.inv_m * nx;

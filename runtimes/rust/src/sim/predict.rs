@@ -11,12 +11,31 @@ use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
 
 
+/// At a zero of the gap c: approaching (first derivative d < 0), or
+/// resting and pressed together (d == 0, second derivative < 0).
+#[inline(always)]
+pub fn pressing(c: &[f64; MAX_COEF], deg: usize, d: f64, s: f64) -> bool {
+    if d < 0.0 {
+        return true;
+    }
+    if d != 0.0 || deg < 2 {
+        return false;
+    }
+    let mut dd = 0.0;
+    for k in (2..=deg).rev() {
+        dd = dd * s + (k * (k - 1)) as f64 * c[k];
+    }
+    dd < 0.0
+}
+
 /// The smallest s in [0, w] where the gap c(s) reaches zero while
-/// decreasing and check(s) holds.  At s = 0 the gap counts as zero within
-/// kappa: approaching means contact now, separating never.
+/// decreasing, or touches zero with zero slope while pressed together
+/// (resting contact), and check(s) holds.  At s = 0 the gap counts as zero
+/// within kappa: approaching or pressing means contact now, separating or
+/// merely touching never.
 #[inline(always)]
 pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: f64, kappa: f64, mut check: F) -> Option<f64> {
-    if deg >= 1 && c[0].abs() <= kappa && c[1] < 0.0 && check(0.0) {
+    if deg >= 1 && c[0].abs() <= kappa && pressing(c, deg, c[1], 0.0) && check(0.0) {
         return Some(0.0);
     }
     let mut lo = 0.0;
@@ -26,7 +45,7 @@ pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: 
         for k in (1..=deg).rev() {
             d = d * s + k as f64 * c[k];
         }
-        if d < 0.0 && check(s) {
+        if pressing(c, deg, d, s) && check(s) {
             return Some(s);
         }
         lo = s;
