@@ -40,6 +40,7 @@ mod predict;
 mod queue;
 mod scene;
 mod simulator;
+mod support;
 mod world;
 
 pub use g17::{g17, push_g17};

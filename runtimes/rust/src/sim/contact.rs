@@ -49,18 +49,24 @@ pub fn pressed(a_: &Body, b_: &Body, nx: f64, ny: f64) -> bool {
     (b_.ax - a_.ax) * nx + (b_.ay - a_.ay) * ny < 0.0
 }
 
+/// Normal relative velocity (B's against A's, along n from A to B) of the
+/// material points at the contact: negative when approaching.
+#[inline(always)]
+pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) -> f64 {
+    let uax = a_.vx - a_.om * (cy - a_.py);
+    let uay = a_.vy + a_.om * (cx - a_.px);
+    let ubx = b_.vx - b_.om * (cy - b_.py);
+    let uby = b_.vy + b_.om * (cx - b_.px);
+    (ubx - uax) * nx + (uby - uay) * ny
+}
+
 /// The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
 /// from A to B (both advanced to the contact time): 0.0 when the material
 /// points do not approach and are not pressed together, else the impulse
 /// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
 /// at least, so time advances (docs/simulator.md).
 pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
-    // velocities of the material points at the contact
-    let uax = a_.vx - a_.om * (cy - a_.py);
-    let uay = a_.vy + a_.om * (cx - a_.px);
-    let ubx = b_.vx - b_.om * (cy - b_.py);
-    let uby = b_.vy + b_.om * (cx - b_.px);
-    let vn = (ubx - uax) * nx + (uby - uay) * ny;
+    let vn = normal_speed(a_, b_, cx, cy, nx, ny);
     let mut imp = 0.0;
     let rest = rest_speed;
     let press = pressed(a_, b_, nx, ny);

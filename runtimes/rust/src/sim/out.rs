@@ -78,10 +78,12 @@ impl<W: Write> Out<W> {
         self.sink.flush()
     }
 
-    /// `E collision T A B FEATURE I J CX CY NX NY IMPULSE`
+    /// `E collision T A B FEATURE I J CX CY NX NY IMPULSE`, or `E support ...`
+    /// with the same fields (`word`: "collision" or "support").
     #[allow(clippy::too_many_arguments)]
-    pub fn collision(
+    pub fn contact(
         &mut self,
+        word: &str,
         t: f64,
         a: u32,
         b: u32,
@@ -92,7 +94,8 @@ impl<W: Write> Out<W> {
         n: (f64, f64),
         impulse: f64,
     ) -> io::Result<()> {
-        self.s("E collision");
+        self.s("E ");
+        self.s(word);
         self.num(t);
         self.int(i64::from(a));
         self.int(i64::from(b));
@@ -104,6 +107,20 @@ impl<W: Write> Out<W> {
         self.num(n.0);
         self.num(n.1);
         self.num(impulse);
+        self.end_line()
+    }
+
+    /// `E stop T A B -1 -1 J 0 0 0 0 0` or `E leave ...` (`word`): body a,
+    /// supported by edge j of body b, stops sliding or leaves the edge.
+    pub fn support_end(&mut self, word: &str, t: f64, a: u32, b: i32, j: i32) -> io::Result<()> {
+        self.s("E ");
+        self.s(word);
+        self.num(t);
+        self.int(i64::from(a));
+        self.int(i64::from(b));
+        self.s(" -1 -1");
+        self.int(i64::from(j));
+        self.s(" 0 0 0 0 0");
         self.end_line()
     }
 
@@ -126,8 +143,8 @@ impl<W: Write> Out<W> {
         self.end_line()
     }
 
-    /// `S BODY TB PX PY VX VY ANGLE OMEGA`: a body's new state (the
-    /// reference's emit_state).
+    /// `S BODY TB PX PY VX VY ANGLE OMEGA AX AY`: a body's new state, with
+    /// the acceleration from then on (the reference's emit_state).
     pub fn state(&mut self, b: &Body) -> io::Result<()> {
         self.s("S");
         self.int(i64::from(b.idx));
@@ -138,6 +155,8 @@ impl<W: Write> Out<W> {
         self.num(b.vy);
         self.num(b.ang);
         self.num(b.om);
+        self.num(b.ax);
+        self.num(b.ay);
         self.end_line()
     }
 

@@ -6,6 +6,7 @@
 use super::motion::{point_at, state_at, turn_rate};
 use super::out::{Res, Stop};
 use super::scene::{Body, Vertex};
+use super::support::schedule_support;
 use super::world::{Queue, World};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
@@ -306,6 +307,10 @@ pub fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize
     let s = &w.s;
     let a_ = &s.bodies[ai];
     let b_ = &s.bodies[bi];
+    if a_.sup == b_.idx as i32 || b_.sup == a_.idx as i32 {
+        // the support's edge line separates them (both convex): only leaving ends it
+        return Ok(());
+    }
     q.stats.pairs += 1;
     let mut win = s.end - now;
     if !(win > 0.0) {
@@ -398,6 +403,9 @@ pub fn predict_body<E: Equations>(w: &World, q: &mut Queue, b: usize, now: f64, 
         }
     }
     schedule_cell(w, q, b, now);
+    if body.sup >= 0 {
+        schedule_support(w, q, b);
+    }
     Ok(())
 }
 

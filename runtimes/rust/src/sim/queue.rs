@@ -6,9 +6,11 @@
 /// Event kinds, in the order they are handled at equal times.
 pub const INPUT: u64 = 0;
 pub const COLLISION: u64 = 1;
-pub const CELL: u64 = 2;
-pub const HORIZON: u64 = 3;
-pub const FRAME: u64 = 4;
+pub const STOP: u64 = 2;
+pub const LEAVE: u64 = 3;
+pub const CELL: u64 = 4;
+pub const HORIZON: u64 = 5;
+pub const FRAME: u64 = 6;
 
 /// Bits of an entry's key below the kind: the scheduling counter.
 const SEQ_BITS: u32 = 60;
@@ -24,6 +26,10 @@ pub enum Event {
     /// vertex j of `b`; feature PE: the circle of `a` (i < 0) or vertex i of
     /// `a` against edge j of `b`.
     Collision { a: u32, b: u32, feature: i32, i: i32, j: i32, stamp_a: u64, stamp_b: u64 },
+    /// A sliding supported body's tangential speed reaches zero.
+    Stop { body: u32, stamp: u64 },
+    /// A supported body's centre, projected on the support's edge, reaches its end.
+    Leave { body: u32, stamp: u64 },
     /// The body's centre crosses into the neighbouring cell along `axis`
     /// (0: x, 1: y) in `direction` (+1 or -1).
     Cell { body: u32, axis: i32, direction: i32, stamp: u64 },
@@ -40,6 +46,8 @@ impl Event {
         match self {
             Event::Input { .. } => INPUT,
             Event::Collision { .. } => COLLISION,
+            Event::Stop { .. } => STOP,
+            Event::Leave { .. } => LEAVE,
             Event::Cell { .. } => CELL,
             Event::Horizon { .. } => HORIZON,
             Event::Frame { .. } => FRAME,
@@ -222,15 +230,19 @@ mod tests {
         }
     }
 
-    /// An event of kind `kind` (0..5) that carries `k`.
+    /// An event of kind `kind` (0..7) that carries `k`.
     fn event(kind: u64, k: u64) -> Event {
-        match kind {
+        let e = match kind {
             0 => Event::Input { k: k as u32 },
             1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k, stamp_b: 0 },
-            2 => Event::Cell { body: k as u32, axis: 0, direction: 1, stamp: k },
-            3 => Event::Horizon { a: k as u32, b: 0, stamp_a: k, stamp_b: 0 },
+            2 => Event::Stop { body: k as u32, stamp: 0 },
+            3 => Event::Leave { body: k as u32, stamp: 0 },
+            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, stamp: k },
+            5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k, stamp_b: 0 },
             _ => Event::Frame { k: k as i64 },
-        }
+        };
+        assert_eq!(e.kind(), kind);
+        e
     }
 
     /// The number an event carries.
@@ -238,6 +250,7 @@ mod tests {
         match *ev {
             Event::Input { k } => u64::from(k),
             Event::Collision { a, .. } => u64::from(a),
+            Event::Stop { body, .. } | Event::Leave { body, .. } => u64::from(body),
             Event::Cell { body, .. } => u64::from(body),
             Event::Horizon { a, .. } => u64::from(a),
             Event::Frame { k } => k as u64,
@@ -271,7 +284,7 @@ mod tests {
                 1 => -0.0,
                 _ => now + (rng.next() % 50) as f64 * 0.125,
             };
-            let kind = rng.next() % 5;
+            let kind = rng.next() % 7;
             heap.push(t, event(kind, seq));
             all.push((t, kind, seq));
             pending.push((t, kind, seq));

@@ -18,9 +18,13 @@ pub struct Vertex {
     pub psi: f64,
     /// m: offset of the edge's line, n . v
     pub h: f64,
-    /// m: the edge's extent along its tangent
+    /// m: the edge's extent along its tangent (-ny, nx)
     pub s1: f64,
     pub s2: f64,
+    /// the edge's outward unit normal (cos psi, sin psi, but exact where
+    /// the compiler's quotient is: (0, 1) for a level top face)
+    pub nx: f64,
+    pub ny: f64,
     /// cos and sin of the vertex's angle (body angle + beta) and of its
     /// edge's normal (body angle + psi), for the last argument asked
     pub at: CosSin,
@@ -65,7 +69,8 @@ pub struct Body {
     /// m/s: velocity at tb
     pub vx: f64,
     pub vy: f64,
-    /// m/s^2: acceleration (gravity included)
+    /// m/s^2: acceleration now (gravity included; while supported, only
+    /// its part along the support's edge, less friction)
     pub ax: f64,
     pub ay: f64,
     /// rad: angle at tb
@@ -100,6 +105,23 @@ pub struct Body {
     pub inv_i: f64,
     /// restitution, 0..1
     pub e: f64,
+    /// friction coefficient (Coulomb), >= 0
+    pub mu: f64,
+    // support: resting and sliding on a fixed body
+    /// m/s^2: free acceleration (gravity and the body's own), from the scene
+    pub fax: f64,
+    pub fay: f64,
+    /// index of the fixed body supporting it, -1: free
+    pub sup: i32,
+    /// the supporting edge (index into sup's vertices), -1: free
+    pub sup_edge: i32,
+    /// unit tangent of the supporting edge (along increasing S1..S2)
+    pub tx: f64,
+    pub ty: f64,
+    /// m/s^2: free acceleration pressing onto the support, > 0
+    pub load: f64,
+    /// m/s^2: free acceleration along the tangent
+    pub at: f64,
 }
 
 impl Body {
@@ -221,7 +243,7 @@ impl Scene {
             tk.expect("body")?;
             let polygon = tk.int()? == 1;
             let fixed = tk.int()? == 1;
-            let (inv_m, inv_i, e) = (tk.num()?, tk.num()?, tk.num()?);
+            let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
             let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
             let (ang, om) = (tk.num()?, tk.num()?);
             let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
@@ -230,7 +252,7 @@ impl Scene {
             let v0 = verts.len() as u32;
             for _ in 0..nv {
                 tk.expect("v")?;
-                let mut v = [0.0f64; 8];
+                let mut v = [0.0f64; 10];
                 for x in v.iter_mut() {
                     *x = tk.num()?;
                 }
@@ -243,6 +265,8 @@ impl Scene {
                     h: v[5],
                     s1: v[6],
                     s2: v[7],
+                    nx: v[8],
+                    ny: v[9],
                     at: CosSin::new(),
                     normal: CosSin::new(),
                 });
@@ -255,6 +279,15 @@ impl Scene {
                 inv_m,
                 inv_i,
                 e,
+                mu,
+                fax: ax,
+                fay: ay,
+                sup: -1,
+                sup_edge: -1,
+                tx: 0.0,
+                ty: 0.0,
+                load: 0.0,
+                at: 0.0,
                 px,
                 py,
                 vx,

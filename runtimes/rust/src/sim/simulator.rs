@@ -1,12 +1,13 @@
 //! The simulator: the first predictions, one handler per event kind (the
-//! reference's `handle_input`, `handle_collision`, `handle_cell`,
-//! `handle_horizon`, `handle_frame`), the loop that dispatches over them,
-//! and the end of the trace.
+//! reference's `handle_input`, `handle_collision` (and `handle_support`),
+//! `handle_stop`, `handle_leave`, `handle_cell`, `handle_horizon`,
+//! `handle_frame`), the loop that dispatches over them, and the end of the
+//! trace.
 
 use std::io::Write;
 use std::marker::PhantomData;
 
-use super::contact::{apply_impulse, contact_frame, two_mut};
+use super::contact::{apply_impulse, contact_frame, normal_speed, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::motion::advance;
@@ -14,6 +15,7 @@ use super::out::{Out, Res, Stop};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
 use super::scene::Scene;
+use super::support::{can_support, end_support, enter_support, slide_accel};
 use super::world::{Queue, World};
 use super::Equations;
 
@@ -32,18 +34,38 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
     // ---- event handlers: one per kind -------------------------------------
 
     fn handle_collision(&mut self, t: f64, a: u32, b: u32, feature: i32, i: i32, j: i32) -> Res<()> {
-        self.q.stats.collisions += 1;
         let (ai, bi) = (a as usize, b as usize);
+        {
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            advance(a_, t);
+            advance(b_, t);
+        }
+        let (cx, cy, nx, ny, vn, support) = {
+            let s = &self.w.s;
+            let (a_, b_) = (&s.bodies[ai], &s.bodies[bi]);
+            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j);
+            let vn = normal_speed(a_, b_, cx, cy, nx, ny);
+            (cx, cy, nx, ny, vn, can_support(&self.w, a_, b_, feature, i, j, vn))
+        };
+        if support {
+            return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
+        }
+        self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         let (a_fixed, b_fixed);
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            advance(a_, t);
-            advance(b_, t);
-            let (cx, cy, nx, ny) = contact_frame(&w.s.verts, t, feature, a_, b_, i, j);
             let imp = apply_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
-            self.out.collision(t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            if imp != 0.0 {
+                if a_.sup >= 0 {
+                    end_support(a_);
+                }
+                if b_.sup >= 0 {
+                    end_support(b_);
+                }
+            }
+            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
             a_fixed = a_.fixed;
             b_fixed = b_.fixed;
             for body in [a_, b_] {
@@ -62,12 +84,64 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         Ok(())
     }
 
+    /// A collision that ends in support (called by handle_collision):
+    /// `contact` is (a, b, feature, i, j) of the collision record.
+    fn handle_support(&mut self, t: f64, contact: (u32, u32, i32, i32, i32), c: (f64, f64), n: (f64, f64), vn: f64) -> Res<()> {
+        self.q.stats.supports += 1;
+        let (a, b, feature, i, j) = contact;
+        let ai = a as usize;
+        {
+            let w = &mut self.w;
+            let (a_, b_) = two_mut(&mut w.s.bodies, ai, b as usize);
+            let imp = -vn / a_.inv_m;
+            enter_support(&w.s.verts, a_, b_, j);
+            self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
+            w.stamps[ai] += 1;
+            self.out.state(a_)?;
+        }
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    /// Sliding stops: velocity exactly zero, then rest or slide back.
+    fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
+        self.q.stats.stops += 1;
+        let ai = body as usize;
+        let bodies = &mut self.w.s.bodies;
+        let mu_sup = bodies[bodies[ai].sup as usize].mu;
+        let a_ = &mut bodies[ai];
+        advance(a_, t);
+        a_.vx = 0.0;
+        a_.vy = 0.0;
+        slide_accel(a_, mu_sup, 0.0);
+        self.w.stamps[ai] += 1;
+        self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
+        self.out.state(a_)?;
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    /// The support's edge ends under the body: free motion again.
+    fn handle_leave(&mut self, t: f64, body: u32) -> Res<()> {
+        self.q.stats.leaves += 1;
+        let ai = body as usize;
+        let a_ = &mut self.w.s.bodies[ai];
+        advance(a_, t);
+        let (sup, edge) = (a_.sup, a_.sup_edge);
+        end_support(a_);
+        self.w.stamps[ai] += 1;
+        self.out.support_end("leave", t, a_.idx, sup, edge)?;
+        self.out.state(a_)?;
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
     fn handle_input(&mut self, t: f64, k: u32) -> Res<()> {
         self.q.stats.inputs += 1;
         let inp = self.w.s.inputs[k as usize];
         let a = inp.body as usize;
         let body = &mut self.w.s.bodies[a];
         advance(body, t);
+        if body.sup >= 0 {
+            end_support(body);
+        }
         if inp.mode == 0 {
             body.vx = inp.vx;
             body.vy = inp.vy;
@@ -211,6 +285,8 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
             match e.ev {
                 Event::Input { k } => self.handle_input(t, k)?,
                 Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j)?,
+                Event::Stop { body, .. } => self.handle_stop(t, body)?,
+                Event::Leave { body, .. } => self.handle_leave(t, body)?,
                 Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction)?,
                 Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b)?,
                 Event::Frame { k } => self.handle_frame(t, k)?,

@@ -19,11 +19,15 @@ pub struct Stats {
     pub pairs: u64,
     /// generated entries called (every variant of both equations)
     pub features: u64,
+    /// collisions that ended in support
+    pub supports: u64,
+    pub stops: u64,
+    pub leaves: u64,
 }
 
 impl Stats {
     /// (name, count) in the order of the trace's N lines (STAT_NAMES).
-    pub fn lines(&self) -> [(&'static str, u64); 8] {
+    pub fn lines(&self) -> [(&'static str, u64); 11] {
         [
             ("collisions", self.collisions),
             ("inputs", self.inputs),
@@ -33,6 +37,9 @@ impl Stats {
             ("stale", self.stale),
             ("pairs", self.pairs),
             ("features", self.features),
+            ("supports", self.supports),
+            ("stops", self.stops),
+            ("leaves", self.leaves),
         ]
     }
 }
@@ -60,7 +67,9 @@ impl World {
             Event::Collision { a, b, stamp_a, stamp_b, .. } | Event::Horizon { a, b, stamp_a, stamp_b } => {
                 self.stamps[a as usize] != stamp_a || self.stamps[b as usize] != stamp_b
             }
-            Event::Cell { body, stamp, .. } => self.stamps[body as usize] != stamp,
+            Event::Cell { body, stamp, .. } | Event::Stop { body, stamp } | Event::Leave { body, stamp } => {
+                self.stamps[body as usize] != stamp
+            }
             Event::Input { .. } | Event::Frame { .. } => false,
         }
     }
