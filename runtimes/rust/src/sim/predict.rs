@@ -29,14 +29,29 @@ pub fn pressing(c: &[f64; MAX_COEF], deg: usize, d: f64, s: f64) -> bool {
     dd < 0.0
 }
 
+/// At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+/// pressed together (c2 < 0) so that the gap closes again before it ever
+/// exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+/// resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.)
+#[inline(always)]
+pub fn touching_now(c: &[f64; MAX_COEF], deg: usize, kappa: f64) -> bool {
+    if c[1] < 0.0 {
+        return true;
+    }
+    if deg < 2 || !(c[2] < 0.0) {
+        return false;
+    }
+    c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa
+}
+
 /// The smallest s in [0, w] where the gap c(s) reaches zero while
 /// decreasing, or touches zero with zero slope while pressed together
 /// (resting contact), and check(s) holds.  At s = 0 the gap counts as zero
-/// within kappa: approaching or pressing means contact now, separating or
-/// merely touching never.
+/// within kappa: approaching or pressed (touching_now) means contact now,
+/// separating or merely touching never.
 #[inline(always)]
 pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: f64, kappa: f64, mut check: F) -> Option<f64> {
-    if deg >= 1 && c[0].abs() <= kappa && pressing(c, deg, c[1], 0.0) && check(0.0) {
+    if deg >= 1 && c[0].abs() <= kappa && touching_now(c, deg, kappa) && check(0.0) {
         return Some(0.0);
     }
     let mut lo = 0.0;

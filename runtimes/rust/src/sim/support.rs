@@ -39,7 +39,7 @@ pub fn can_support(w: &World, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
     let (tx, ty, ox, oy) = support_frame(&s.verts, b_, j);
     let load = -(a_.fax * ox + a_.fay * oy);
     let rest = s.rest_speed;
-    if !(load > 0.0) || vn > 0.0 || a_.e * b_.e * -vn >= rest {
+    if !(load > 0.0) || vn >= rest || a_.e * b_.e * -vn >= rest {
         return false;
     }
     let ed = &s.verts[b_.vert(j as usize)];
