@@ -8,14 +8,23 @@ use std::cell::Cell;
 /// vertex), in the body's frame: all precomputed by the scene compiler.
 #[derive(Clone, Debug)]
 pub struct Vertex {
+    /// m: the vertex about the centre of mass
     pub lx: f64,
     pub ly: f64,
+    /// m, rad: its polar form
     pub rho: f64,
     pub beta: f64,
+    /// rad: angle of the edge's outward normal
     pub psi: f64,
+    /// m: offset of the edge's line, n . v
     pub h: f64,
+    /// m: the edge's extent along its tangent (-ny, nx)
     pub s1: f64,
     pub s2: f64,
+    /// the edge's outward unit normal (cos psi, sin psi, but exact where
+    /// the compiler's quotient is: (0, 1) for a level top face)
+    pub nx: f64,
+    pub ny: f64,
     /// cos and sin of the vertex's angle (body angle + beta) and of its
     /// edge's normal (body angle + psi), for the last argument asked
     pub at: CosSin,
@@ -47,24 +56,36 @@ impl CosSin {
 }
 
 /// A body's state at its own last update time `tb`, and its constants.
-/// Laid out so that a prediction reads the first two cache lines only.
+/// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out so that a prediction
+/// reads the first two cache lines only.  (Its stamp, bumped when the
+/// motion changes, is in `World::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
     // motion
+    /// m: centre (of rotation) at tb
     pub px: f64,
     pub py: f64,
+    /// m/s: velocity at tb
     pub vx: f64,
     pub vy: f64,
+    /// m/s^2: acceleration now (gravity included; while supported, only
+    /// its part along the support's edge, less friction)
     pub ax: f64,
     pub ay: f64,
+    /// rad: angle at tb
     pub ang: f64,
+    /// rad/s: angular velocity
     pub om: f64,
     // shape, grid cell
+    /// s: the time of this state
     pub tb: f64,
+    /// m: circle radius (0 for polygons)
     pub r: f64,
+    /// m, rad: orbit radius and phase (circles)
     pub orbit: f64,
     pub ophase: f64,
+    /// m: radius of the bounding circle about the centre
     pub bound: f64,
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: u32,
@@ -72,14 +93,35 @@ pub struct Body {
     /// grid cell (small bodies)
     pub cx: i32,
     pub cy: i32,
+    /// index in the scene
     pub idx: u32,
     pub polygon: bool,
     pub fixed: bool,
+    /// not in the grid: in the large list every body checks
     pub large: bool,
     // contacts
+    /// 1/kg, 1/(kg m^2); 0 for fixed bodies
     pub inv_m: f64,
     pub inv_i: f64,
+    /// restitution, 0..1
     pub e: f64,
+    /// friction coefficient (Coulomb), >= 0
+    pub mu: f64,
+    // support: resting and sliding on a fixed body
+    /// m/s^2: free acceleration (gravity and the body's own), from the scene
+    pub fax: f64,
+    pub fay: f64,
+    /// index of the fixed body supporting it, -1: free
+    pub sup: i32,
+    /// the supporting edge (index into sup's vertices), -1: free
+    pub sup_edge: i32,
+    /// unit tangent of the supporting edge (along increasing S1..S2)
+    pub tx: f64,
+    pub ty: f64,
+    /// m/s^2: free acceleration pressing onto the support, > 0
+    pub load: f64,
+    /// m/s^2: free acceleration along the tangent
+    pub at: f64,
 }
 
 impl Body {
@@ -105,9 +147,13 @@ impl Body {
 /// A scripted velocity change.
 #[derive(Clone, Copy, Debug)]
 pub struct Input {
+    /// s
     pub t: f64,
+    /// index in the scene
     pub body: i64,
+    /// 0: set velocity, 1: add velocity
     pub mode: i64,
+    /// m/s
     pub vx: f64,
     pub vy: f64,
 }
@@ -197,7 +243,7 @@ impl Scene {
             tk.expect("body")?;
             let polygon = tk.int()? == 1;
             let fixed = tk.int()? == 1;
-            let (inv_m, inv_i, e) = (tk.num()?, tk.num()?, tk.num()?);
+            let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
             let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
             let (ang, om) = (tk.num()?, tk.num()?);
             let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
@@ -206,7 +252,7 @@ impl Scene {
             let v0 = verts.len() as u32;
             for _ in 0..nv {
                 tk.expect("v")?;
-                let mut v = [0.0f64; 8];
+                let mut v = [0.0f64; 10];
                 for x in v.iter_mut() {
                     *x = tk.num()?;
                 }
@@ -219,6 +265,8 @@ impl Scene {
                     h: v[5],
                     s1: v[6],
                     s2: v[7],
+                    nx: v[8],
+                    ny: v[9],
                     at: CosSin::new(),
                     normal: CosSin::new(),
                 });
@@ -231,6 +279,15 @@ impl Scene {
                 inv_m,
                 inv_i,
                 e,
+                mu,
+                fax: ax,
+                fay: ay,
+                sup: -1,
+                sup_edge: -1,
+                tx: 0.0,
+                ty: 0.0,
+                load: 0.0,
+                at: 0.0,
                 px,
                 py,
                 vx,

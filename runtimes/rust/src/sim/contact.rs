@@ -1,0 +1,109 @@
+//! A contact's response: where and along which normal two bodies touch,
+//! and the frictionless impulse (docs/simulator.md, "Impulse").
+
+use super::motion::point_at;
+use super::scene::{Body, Vertex};
+use super::CC;
+
+/// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
+/// feature at t (both bodies advanced to t); `verts` is the scene's.
+#[allow(clippy::too_many_arguments)]
+pub fn contact_frame(verts: &[Vertex], t: f64, feature: i32, a_: &Body, b_: &Body, i: i32, j: i32) -> (f64, f64, f64, f64) {
+    let va = if i >= 0 { Some(&verts[a_.vert(i as usize)]) } else { None };
+    let (nx, ny, cx, cy);
+    if feature == CC {
+        let (ax_, ay_) = point_at(a_, None, t);
+        let vb = if j >= 0 { Some(&verts[b_.vert(j as usize)]) } else { None };
+        let (bx_, by_) = point_at(b_, vb, t);
+        let (dx, dy) = (bx_ - ax_, by_ - ay_);
+        let dist = (dx * dx + dy * dy).sqrt();
+        if dist > 0.0 {
+            nx = dx / dist;
+            ny = dy / dist;
+        } else {
+            nx = 1.0;
+            ny = 0.0;
+        }
+        cx = ax_ + a_.r * nx;
+        cy = ay_ + a_.r * ny;
+    } else {
+        let (px, py) = point_at(a_, va, t);
+        let ed = &verts[b_.vert(j as usize)];
+        let th = b_.ang + ed.psi;
+        let (c, s) = ed.normal.of(th);
+        // from A to B: against the edge's outward normal
+        nx = -c;
+        ny = -s;
+        let rad = if va.is_none() { a_.r } else { 0.0 };
+        cx = px + rad * nx;
+        cy = py + rad * ny;
+    }
+    (cx, cy, nx, ny)
+}
+
+/// The bodies' accelerations push them together along the normal (n from
+/// A to B): the relative normal acceleration of the centres is negative.
+/// (Centripetal terms of turning bodies are left out.)
+#[inline(always)]
+pub fn pressed(a_: &Body, b_: &Body, nx: f64, ny: f64) -> bool {
+    (b_.ax - a_.ax) * nx + (b_.ay - a_.ay) * ny < 0.0
+}
+
+/// Normal relative velocity (B's against A's, along n from A to B) of the
+/// material points at the contact: negative when approaching.
+#[inline(always)]
+pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) -> f64 {
+    let uax = a_.vx - a_.om * (cy - a_.py);
+    let uay = a_.vy + a_.om * (cx - a_.px);
+    let ubx = b_.vx - b_.om * (cy - b_.py);
+    let uby = b_.vy + b_.om * (cx - b_.px);
+    (ubx - uax) * nx + (uby - uay) * ny
+}
+
+/// The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
+/// from A to B (both advanced to the contact time): 0.0 when the material
+/// points do not approach and are not pressed together, else the impulse
+/// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
+/// at least, so time advances (docs/simulator.md).
+pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+    let vn = normal_speed(a_, b_, cx, cy, nx, ny);
+    let mut imp = 0.0;
+    let rest = rest_speed;
+    let press = pressed(a_, b_, nx, ny);
+    if vn < 0.0 || (press && vn < rest) {
+        let ran = (cx - a_.px) * ny - (cy - a_.py) * nx;
+        let rbn = (cx - b_.px) * ny - (cy - b_.py) * nx;
+        let k = a_.inv_m + b_.inv_m + a_.inv_i * ran * ran + b_.inv_i * rbn * rbn;
+        let e = a_.e * b_.e;
+        let first = e * -vn;
+        // Python's max(e * -vn, rest) when pressed, else max(e * -vn, min(-vn, rest))
+        let lo = if press {
+            rest
+        } else if rest < -vn {
+            rest
+        } else {
+            -vn
+        };
+        let sep = if lo > first { lo } else { first };
+        imp = (sep - vn) / k;
+        a_.vx = a_.vx - imp * a_.inv_m * nx;
+        a_.vy = a_.vy - imp * a_.inv_m * ny;
+        a_.om = a_.om - imp * a_.inv_i * ran;
+        b_.vx = b_.vx + imp * b_.inv_m * nx;
+        b_.vy = b_.vy + imp * b_.inv_m * ny;
+        b_.om = b_.om + imp * b_.inv_i * rbn;
+    }
+    imp
+}
+
+/// Two distinct bodies of the slice, mutably.
+pub fn two_mut(v: &mut [Body], a: usize, b: usize) -> (&mut Body, &mut Body) {
+    assert!(a != b, "a contact needs two bodies");
+    if a < b {
+        let (lo, hi) = v.split_at_mut(b);
+        (&mut lo[a], &mut hi[0])
+    } else {
+        let (lo, hi) = v.split_at_mut(a);
+        (&mut hi[0], &mut lo[b])
+    }
+}

@@ -1,0 +1,199 @@
+//! The flat trace (docs/simulator.md, "Flat trace"), buffered: one method
+//! per kind of line, numbers written as `%.17g` ([`push_g17`]).
+
+use std::io::{self, Write};
+
+use super::g17::push_g17;
+use super::scene::Body;
+
+/// Why a run stopped early: a stuck or bad scene (an `X` line), or output
+/// that could not be written.
+pub enum Stop {
+    Scene(String),
+    Io(io::Error),
+}
+
+impl From<io::Error> for Stop {
+    fn from(e: io::Error) -> Stop {
+        Stop::Io(e)
+    }
+}
+
+pub type Res<T> = Result<T, Stop>;
+
+/// Buffered trace output.
+pub struct Out<W: Write> {
+    buf: Vec<u8>,
+    sink: W,
+}
+
+impl<W: Write> Out<W> {
+    pub fn new(sink: W) -> Out<W> {
+        Out { buf: Vec::with_capacity(1 << 17), sink }
+    }
+
+    #[inline]
+    fn s(&mut self, text: &str) {
+        self.buf.extend_from_slice(text.as_bytes());
+    }
+
+    #[inline]
+    fn num(&mut self, x: f64) {
+        self.buf.push(b' ');
+        push_g17(&mut self.buf, x);
+    }
+
+    #[inline]
+    fn int(&mut self, k: i64) {
+        self.buf.push(b' ');
+        let mut d = [0u8; 20];
+        let mut n = d.len();
+        let mut u = k.unsigned_abs();
+        loop {
+            n -= 1;
+            d[n] = b'0' + (u % 10) as u8;
+            u /= 10;
+            if u == 0 {
+                break;
+            }
+        }
+        if k < 0 {
+            self.buf.push(b'-');
+        }
+        self.buf.extend_from_slice(&d[n..]);
+    }
+
+    #[inline]
+    fn end_line(&mut self) -> io::Result<()> {
+        self.buf.push(b'\n');
+        if self.buf.len() >= 1 << 16 {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    pub fn flush(&mut self) -> io::Result<()> {
+        self.sink.write_all(&self.buf)?;
+        self.buf.clear();
+        self.sink.flush()
+    }
+
+    /// `E collision T A B FEATURE I J CX CY NX NY IMPULSE`, or `E support ...`
+    /// with the same fields (`word`: "collision" or "support").
+    #[allow(clippy::too_many_arguments)]
+    pub fn contact(
+        &mut self,
+        word: &str,
+        t: f64,
+        a: u32,
+        b: u32,
+        feature: i32,
+        i: i32,
+        j: i32,
+        c: (f64, f64),
+        n: (f64, f64),
+        impulse: f64,
+    ) -> io::Result<()> {
+        self.s("E ");
+        self.s(word);
+        self.num(t);
+        self.int(i64::from(a));
+        self.int(i64::from(b));
+        self.int(i64::from(feature));
+        self.int(i64::from(i));
+        self.int(i64::from(j));
+        self.num(c.0);
+        self.num(c.1);
+        self.num(n.0);
+        self.num(n.1);
+        self.num(impulse);
+        self.end_line()
+    }
+
+    /// `E stop T A B -1 -1 J 0 0 0 0 0` or `E leave ...` (`word`): body a,
+    /// supported by edge j of body b, stops sliding or leaves the edge.
+    pub fn support_end(&mut self, word: &str, t: f64, a: u32, b: i32, j: i32) -> io::Result<()> {
+        self.s("E ");
+        self.s(word);
+        self.num(t);
+        self.int(i64::from(a));
+        self.int(i64::from(b));
+        self.s(" -1 -1");
+        self.int(i64::from(j));
+        self.s(" 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `E input T BODY -1 -1 K -1 0 0 0 0 0`
+    pub fn input(&mut self, t: f64, body: u32, k: u32) -> io::Result<()> {
+        self.s("E input");
+        self.num(t);
+        self.int(i64::from(body));
+        self.s(" -1 -1");
+        self.int(i64::from(k));
+        self.s(" -1 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `E frame T -1 -1 -1 -1 -1 0 0 0 0 0`
+    pub fn frame(&mut self, t: f64) -> io::Result<()> {
+        self.s("E frame");
+        self.num(t);
+        self.s(" -1 -1 -1 -1 -1 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `S BODY TB PX PY VX VY ANGLE OMEGA AX AY`: a body's new state, with
+    /// the acceleration from then on (the reference's emit_state).
+    pub fn state(&mut self, b: &Body) -> io::Result<()> {
+        self.s("S");
+        self.int(i64::from(b.idx));
+        self.num(b.tb);
+        self.num(b.px);
+        self.num(b.py);
+        self.num(b.vx);
+        self.num(b.vy);
+        self.num(b.ang);
+        self.num(b.om);
+        self.num(b.ax);
+        self.num(b.ay);
+        self.end_line()
+    }
+
+    /// `F BODY PX PY VX VY ANGLE OMEGA`: a body at the end time.
+    pub fn final_state(&mut self, b: &Body) -> io::Result<()> {
+        self.s("F");
+        self.int(i64::from(b.idx));
+        self.num(b.px);
+        self.num(b.py);
+        self.num(b.vx);
+        self.num(b.vy);
+        self.num(b.ang);
+        self.num(b.om);
+        self.end_line()
+    }
+
+    /// `N NAME COUNT`
+    pub fn stat(&mut self, name: &str, count: u64) -> io::Result<()> {
+        self.s("N ");
+        self.s(name);
+        self.int(count as i64);
+        self.end_line()
+    }
+
+    /// `V EQUATION INDEX COUNT`
+    pub fn variant(&mut self, equation: &str, index: usize, count: u64) -> io::Result<()> {
+        self.s("V ");
+        self.s(equation);
+        self.int(index as i64);
+        self.int(count as i64);
+        self.end_line()
+    }
+
+    /// `X MESSAGE`: the run stopped on a stuck or bad scene.
+    pub fn message(&mut self, msg: &str) {
+        self.s("X ");
+        self.s(msg);
+        self.buf.push(b'\n');
+    }
+}

@@ -1,0 +1,470 @@
+//! Predictions: the first contact of a pair after now (or a horizon event
+//! where the Taylor polynomials of its turns stop being good), and a
+//! body's next cell crossing.  Every prediction goes through the generated
+//! entries ([`Equations`]) and the root solver [`smallest_root`].
+
+use super::motion::{point_at, state_at, turn_rate};
+use super::out::{Res, Stop};
+use super::scene::{Body, Vertex};
+use super::support::schedule_support;
+use super::world::{Queue, World};
+use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
+use crate::roots::smallest_root;
+
+
+/// At a zero of the gap c: approaching (first derivative d < 0), or
+/// resting and pressed together (d == 0, second derivative < 0).
+#[inline(always)]
+pub fn pressing(c: &[f64; MAX_COEF], deg: usize, d: f64, s: f64) -> bool {
+    if d < 0.0 {
+        return true;
+    }
+    if d != 0.0 || deg < 2 {
+        return false;
+    }
+    let mut dd = 0.0;
+    for k in (2..=deg).rev() {
+        dd = dd * s + (k * (k - 1)) as f64 * c[k];
+    }
+    dd < 0.0
+}
+
+/// At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+/// pressed together (c2 < 0) so that the gap closes again before it ever
+/// exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+/// resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.)
+#[inline(always)]
+pub fn touching_now(c: &[f64; MAX_COEF], deg: usize, kappa: f64) -> bool {
+    if c[1] < 0.0 {
+        return true;
+    }
+    if deg < 2 || !(c[2] < 0.0) {
+        return false;
+    }
+    c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa
+}
+
+/// The smallest s in [0, w] where the gap c(s) reaches zero while
+/// decreasing, or touches zero with zero slope while pressed together
+/// (resting contact), and check(s) holds.  At s = 0 the gap counts as zero
+/// within kappa: approaching or pressed (touching_now) means contact now,
+/// separating or merely touching never.
+#[inline(always)]
+pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: f64, kappa: f64, mut check: F) -> Option<f64> {
+    if deg >= 1 && c[0].abs() <= kappa && touching_now(c, deg, kappa) && check(0.0) {
+        return Some(0.0);
+    }
+    let mut lo = 0.0;
+    for _ in 0..deg + 2 {
+        let s = smallest_root(&c[..deg + 1], lo, w)?;
+        let mut d = 0.0;
+        for k in (1..=deg).rev() {
+            d = d * s + k as f64 * c[k];
+        }
+        if pressing(c, deg, d, s) && check(s) {
+            return Some(s);
+        }
+        lo = s;
+    }
+    None
+}
+
+// ---- features -----------------------------------------------------------------
+
+/// circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
+/// circle's centre (v None) or of a polygon's vertex, at time now.
+#[inline(always)]
+fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11] {
+    let (mut x, mut y, vx, vy, ang) = state_at(b, now);
+    let (mut d, mut phase) = match v {
+        None => (b.orbit, ang + b.ophase),
+        Some(v) => (v.rho, ang + v.beta),
+    };
+    let mut om = b.om;
+    if om == 0.0 && d != 0.0 {
+        // an orbit that does not turn is a fixed offset: fold it in
+        let (c, s) = match v {
+            None => (phase.cos(), phase.sin()),
+            Some(v) => v.at.of(phase),
+        };
+        x = x + d * c;
+        y = y + d * s;
+        d = 0.0;
+    }
+    if d == 0.0 {
+        om = 0.0;
+        phase = 0.0;
+    }
+    [x, vx, b.ax, d, om, phase + HALF_PI, y, vy, b.ay, om, phase]
+}
+
+#[inline(always)]
+fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
+    let idx = E::cc_variant(args);
+    if idx < 0 {
+        return Err(Stop::Scene("circle_circle: the scene uses an effect the generated code leaves out".into()));
+    }
+    q.cc_counts[idx as usize] += 1;
+    q.stats.features += 1;
+    E::cc_coefficients(args, coef)
+        .ok_or_else(|| Stop::Scene("circle_circle: the scene uses an effect the generated code leaves out".into()))
+}
+
+/// Circle of A against circle of B (vb None) or vertex vb of B (radius 0).
+#[allow(clippy::too_many_arguments)]
+fn predict_cc<E: Equations>(
+    w: &World,
+    q: &mut Queue,
+    a_: &Body,
+    b_: &Body,
+    vb: Option<&Vertex>,
+    rb: f64,
+    now: f64,
+    win: f64,
+) -> Res<Option<f64>> {
+    let [a, b, c, d, e, f, m, n, o, p, qq] = circle_params(a_, now, None);
+    let [g, h, i, j, k, l, r, s, u, v, ww] = circle_params(b_, now, vb);
+    // only differences of the centres' motions matter: circle 1 moves
+    // relative to circle 2's centre of rotation
+    let args = [
+        a - g,
+        b - h,
+        c - i,
+        d,
+        e,
+        f,
+        m - r,
+        n - s,
+        o - u,
+        p,
+        qq,
+        0.0,
+        0.0,
+        0.0,
+        j,
+        k,
+        l,
+        0.0,
+        0.0,
+        0.0,
+        v,
+        ww,
+        a_.r,
+        rb,
+    ];
+    let mut coef = [0.0; MAX_COEF];
+    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
+    let tol = w.s.tol;
+    let kappa = tol * (2.0 * (a_.r + rb) + tol);
+    Ok(first_contact(&coef, deg, win, kappa, |_| true))
+}
+
+/// Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y.
+#[allow(clippy::too_many_arguments)]
+fn predict_pe<E: Equations>(
+    w: &World,
+    q: &mut Queue,
+    x_: &Body,
+    y_: &Body,
+    vx_: Option<&Vertex>,
+    j: usize,
+    now: f64,
+    win: f64,
+) -> Res<Option<f64>> {
+    let ed = &w.s.verts[y_.vert(j)];
+    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
+    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
+    let (rho, beta, rad) = match vx_ {
+        None => (x_.orbit, x_.ophase, x_.r),
+        Some(v) => (v.rho, v.beta, 0.0),
+    };
+    let phn = ang2 + ed.psi;
+    let wr = x_.om - y_.om;
+    let phr = (ang1 + beta) - phn;
+    let mut h = ed.h + rad;
+    let mut rho = rho;
+    if wr == 0.0 && rho != 0.0 {
+        // the point does not turn relative to the edge: its offset along
+        // the normal is a constant, folded into the line's offset
+        h = h - rho * phr.cos();
+        rho = 0.0;
+    }
+    let args = [x1 - x2, u1 - u2, x_.ax - y_.ax, y1 - y2, v1 - v2, x_.ay - y_.ay, rho, wr, phr, y_.om, phn, h];
+    let idx = E::pe_variant(&args);
+    if idx < 0 {
+        return Err(Stop::Scene("point_edge: the scene uses an effect the generated code leaves out".into()));
+    }
+    q.pe_counts[idx as usize] += 1;
+    q.stats.features += 1;
+    let mut coef = [0.0; MAX_COEF];
+    let deg = E::pe_coefficients(&args, &mut coef)
+        .ok_or_else(|| Stop::Scene("point_edge: the scene uses an effect the generated code leaves out".into()))?;
+    let tol = w.s.tol;
+    let inside = |s: f64| -> bool {
+        let t = now + s;
+        let (px, py) = point_at(x_, vx_, t);
+        let (qx, qy, _, _, qa) = state_at(y_, t);
+        let th = qa + ed.psi;
+        let (c, s) = ed.normal.of(th);
+        let along = (px - qx) * -s + (py - qy) * c;
+        ed.s1 - tol <= along && along <= ed.s2 + tol
+    };
+    Ok(first_contact(&coef, deg, win, tol, inside))
+}
+
+/// A candidate contact: (s, feature, a, b, i, j).
+#[derive(Clone, Copy)]
+struct Best {
+    s: f64,
+    feat: i32,
+    a: usize,
+    b: usize,
+    i: i32,
+    j: i32,
+}
+
+#[inline(always)]
+fn better(best: Option<Best>, t: Option<f64>, feat: i32, a: usize, b: usize, i: i32, j: i32) -> Option<Best> {
+    if let Some(s) = t {
+        if best.is_none_or(|bb| s < bb.s) {
+            return Some(Best { s, feat, a, b, i, j });
+        }
+    }
+    best
+}
+
+/// When the bounding circles first touch within (0, w]: 0.0 when they
+/// overlap or touch now (within the tolerance), None when they do not meet
+/// (exact: bounding circles do not turn).
+fn bounds_meet<E: Equations>(w: &World, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+    let (x1, y1, u1, v1, _) = state_at(a_, now);
+    let (x2, y2, u2, v2, _) = state_at(b_, now);
+    let args = [
+        x1 - x2,
+        u1 - u2,
+        a_.ax - b_.ax,
+        0.0,
+        0.0,
+        HALF_PI,
+        y1 - y2,
+        v1 - v2,
+        a_.ay - b_.ay,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        HALF_PI,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        a_.bound,
+        b_.bound,
+    ];
+    let mut coef = [0.0; MAX_COEF];
+    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
+    let tol = w.s.tol;
+    if coef[0] <= tol * (2.0 * (a_.bound + b_.bound) + tol) {
+        return Ok(Some(0.0));
+    }
+    Ok(smallest_root(&coef[..deg + 1], 0.0, win))
+}
+
+fn circle_polygon<E: Equations>(
+    w: &World,
+    q: &mut Queue,
+    c_: &Body,
+    p_: &Body,
+    now: f64,
+    win: f64,
+    mut best: Option<Best>,
+) -> Res<Option<Best>> {
+    for j in 0..p_.nverts() {
+        let t = predict_pe::<E>(w, q, c_, p_, None, j, now, win)?;
+        best = better(best, t, PE, c_.index(), p_.index(), -1, j as i32);
+    }
+    for k in 0..p_.nverts() {
+        let v = &w.s.verts[p_.vert(k)];
+        let t = predict_cc::<E>(w, q, c_, p_, Some(v), 0.0, now, win)?;
+        best = better(best, t, CC, c_.index(), p_.index(), -1, k as i32);
+    }
+    Ok(best)
+}
+
+fn vertices_edges<E: Equations>(
+    w: &World,
+    q: &mut Queue,
+    a_: &Body,
+    b_: &Body,
+    now: f64,
+    win: f64,
+    mut best: Option<Best>,
+) -> Res<Option<Best>> {
+    for i in 0..a_.nverts() {
+        let v = &w.s.verts[a_.vert(i)];
+        for j in 0..b_.nverts() {
+            let t = predict_pe::<E>(w, q, a_, b_, Some(v), j, now, win)?;
+            best = better(best, t, PE, a_.index(), b_.index(), i as i32, j as i32);
+        }
+    }
+    Ok(best)
+}
+
+// ---- pairs --------------------------------------------------------------------
+
+/// Schedule the first contact of A and B after now, or a horizon event
+/// where the Taylor polynomials of their turns stop being good.
+pub fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
+    let s = &w.s;
+    let a_ = &s.bodies[ai];
+    let b_ = &s.bodies[bi];
+    if a_.sup == b_.idx as i32 || b_.sup == a_.idx as i32 {
+        // the support's edge line separates them (both convex): only leaving ends it
+        return Ok(());
+    }
+    q.stats.pairs += 1;
+    let mut win = s.end - now;
+    if !(win > 0.0) {
+        return Ok(());
+    }
+    if a_.polygon || b_.polygon {
+        // the bounding circles do not turn: until they touch, nothing can
+        match bounds_meet::<E>(w, q, a_, b_, now, win)? {
+            None => return Ok(()),
+            Some(meet) if meet > 0.0 => {
+                q.push_horizon(w, now + meet, a_, b_);
+                return Ok(());
+            }
+            Some(_) => {}
+        }
+    }
+    let turn = turn_rate(a_) + turn_rate(b_);
+    if turn > 0.0 {
+        let x = s.alpha / turn;
+        if x < win {
+            win = x;
+        }
+    }
+    let mut best = None;
+    if !a_.polygon && !b_.polygon {
+        let t = predict_cc::<E>(w, q, a_, b_, None, b_.r, now, win)?;
+        if let Some(t) = t {
+            best = Some(Best { s: t, feat: CC, a: a_.index(), b: b_.index(), i: -1, j: -1 });
+        }
+    } else if !a_.polygon {
+        best = circle_polygon::<E>(w, q, a_, b_, now, win, None)?;
+    } else if !b_.polygon {
+        best = circle_polygon::<E>(w, q, b_, a_, now, win, None)?;
+    } else {
+        best = vertices_edges::<E>(w, q, a_, b_, now, win, None)?;
+        best = vertices_edges::<E>(w, q, b_, a_, now, win, best)?;
+    }
+    if let Some(bb) = best {
+        q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
+    } else if now + win < s.end {
+        q.push_horizon(w, now + win, a_, b_);
+    }
+    Ok(())
+}
+
+// ---- per body -------------------------------------------------------------------
+
+/// Predict body b against the bodies of the cells x_lo..=x_hi, y_lo..=y_hi
+/// (b itself, `skip` and fixed pairs left out).
+#[allow(clippy::too_many_arguments)]
+pub fn predict_cells<E: Equations>(
+    w: &World,
+    q: &mut Queue,
+    b: usize,
+    x_lo: i64,
+    x_hi: i64,
+    y_lo: i64,
+    y_hi: i64,
+    now: f64,
+    skip: Option<usize>,
+    only_after: bool,
+) -> Res<()> {
+    let s = &w.s;
+    let fixed = s.bodies[b].fixed;
+    for jy in y_lo.max(0)..=y_hi.min(s.ny - 1) {
+        for jx in x_lo.max(0)..=x_hi.min(s.nx - 1) {
+            let cell = w.grid.cell(jx, jy);
+            for k in 0..cell.len() {
+                let o = cell.get(k) as usize;
+                if o == b || Some(o) == skip || (only_after && o <= b) {
+                    continue;
+                }
+                if !(fixed && s.bodies[o].fixed) {
+                    predict_pair::<E>(w, q, b, o, now)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+pub fn predict_body<E: Equations>(w: &World, q: &mut Queue, b: usize, now: f64, skip: Option<usize>) -> Res<()> {
+    let body = &w.s.bodies[b];
+    let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
+    predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, now, skip, false)?;
+    for &o in &w.grid.large {
+        let o = o as usize;
+        if o != b && Some(o) != skip && !(body.fixed && w.s.bodies[o].fixed) {
+            predict_pair::<E>(w, q, b, o, now)?;
+        }
+    }
+    schedule_cell(w, q, b, now);
+    if body.sup >= 0 {
+        schedule_support(w, q, b);
+    }
+    Ok(())
+}
+
+pub fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
+    let s = &w.s;
+    let b = &s.bodies[bi];
+    if b.large || (b.vx == 0.0 && b.vy == 0.0 && b.ax == 0.0 && b.ay == 0.0) {
+        return;
+    }
+    let ulo = now - b.tb;
+    let uhi = s.end - b.tb;
+    let mut best: Option<(f64, i32, i32)> = None;
+    for axis in 0..2 {
+        let (p, v, a, i, n, origin, size) =
+            if axis == 0 { (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch) };
+        for direction in [1i32, -1] {
+            let bound = if direction == 1 {
+                if i >= n - 1 {
+                    continue;
+                }
+                origin + (i + 1) as f64 * size
+            } else {
+                if i <= 0 {
+                    continue;
+                }
+                origin + i as f64 * size
+            };
+            let c = [p - bound, v, 0.5 * a];
+            let mut lo = ulo;
+            for _ in 0..3 {
+                let Some(u) = smallest_root(&c, lo, uhi) else {
+                    break;
+                };
+                if (v + a * u) * f64::from(direction) > 0.0 {
+                    if best.is_none_or(|bb| u < bb.0) {
+                        best = Some((u, axis, direction));
+                    }
+                    break;
+                }
+                lo = u;
+            }
+        }
+    }
+    if let Some((u, axis, direction)) = best {
+        q.push_cell(w, b.tb + u, b, axis, direction);
+    }
+}

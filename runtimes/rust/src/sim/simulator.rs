@@ -1,0 +1,297 @@
+//! The simulator: the first predictions, one handler per event kind (the
+//! reference's `handle_input`, `handle_collision` (and `handle_support`),
+//! `handle_stop`, `handle_leave`, `handle_cell`, `handle_horizon`,
+//! `handle_frame`), the loop that dispatches over them, and the end of the
+//! trace.
+
+use std::io::Write;
+use std::marker::PhantomData;
+
+use super::contact::{apply_impulse, contact_frame, normal_speed, two_mut};
+use super::g17::g17;
+use super::grid::cell_of;
+use super::motion::advance;
+use super::out::{Out, Res, Stop};
+use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
+use super::queue::Event;
+use super::scene::Scene;
+use super::support::{can_support, end_support, enter_support, slide_accel};
+use super::world::{Queue, World};
+use super::Equations;
+
+pub struct Simulator<'o, E: Equations, W: Write> {
+    w: World,
+    q: Queue,
+    out: &'o mut Out<W>,
+    eq: PhantomData<E>,
+}
+
+impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
+    pub fn new(scene: Scene, out: &'o mut Out<W>) -> Self {
+        Simulator { w: World::new(scene), q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS), out, eq: PhantomData }
+    }
+
+    // ---- event handlers: one per kind -------------------------------------
+
+    fn handle_collision(&mut self, t: f64, a: u32, b: u32, feature: i32, i: i32, j: i32) -> Res<()> {
+        let (ai, bi) = (a as usize, b as usize);
+        {
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            advance(a_, t);
+            advance(b_, t);
+        }
+        let (cx, cy, nx, ny, vn, support) = {
+            let s = &self.w.s;
+            let (a_, b_) = (&s.bodies[ai], &s.bodies[bi]);
+            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j);
+            let vn = normal_speed(a_, b_, cx, cy, nx, ny);
+            (cx, cy, nx, ny, vn, can_support(&self.w, a_, b_, feature, i, j, vn))
+        };
+        if support {
+            return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
+        }
+        self.q.stats.collisions += 1;
+        let rest_speed = self.w.s.rest_speed;
+        let (a_fixed, b_fixed);
+        {
+            let w = &mut self.w;
+            let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
+            let imp = apply_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+            if imp != 0.0 {
+                if a_.sup >= 0 {
+                    end_support(a_);
+                }
+                if b_.sup >= 0 {
+                    end_support(b_);
+                }
+            }
+            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            a_fixed = a_.fixed;
+            b_fixed = b_.fixed;
+            for body in [a_, b_] {
+                if !body.fixed {
+                    w.stamps[body.index()] += 1;
+                    self.out.state(body)?;
+                }
+            }
+        }
+        if !a_fixed {
+            predict_body::<E>(&self.w, &mut self.q, ai, t, None)?;
+        }
+        if !b_fixed {
+            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed { Some(ai) } else { None })?;
+        }
+        Ok(())
+    }
+
+    /// A collision that ends in support (called by handle_collision):
+    /// `contact` is (a, b, feature, i, j) of the collision record.
+    fn handle_support(&mut self, t: f64, contact: (u32, u32, i32, i32, i32), c: (f64, f64), n: (f64, f64), vn: f64) -> Res<()> {
+        self.q.stats.supports += 1;
+        let (a, b, feature, i, j) = contact;
+        let ai = a as usize;
+        {
+            let w = &mut self.w;
+            let (a_, b_) = two_mut(&mut w.s.bodies, ai, b as usize);
+            let imp = -vn / a_.inv_m;
+            enter_support(&w.s.verts, a_, b_, j);
+            self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
+            w.stamps[ai] += 1;
+            self.out.state(a_)?;
+        }
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    /// Sliding stops: velocity exactly zero, then rest or slide back.
+    fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
+        self.q.stats.stops += 1;
+        let ai = body as usize;
+        let bodies = &mut self.w.s.bodies;
+        let mu_sup = bodies[bodies[ai].sup as usize].mu;
+        let a_ = &mut bodies[ai];
+        advance(a_, t);
+        a_.vx = 0.0;
+        a_.vy = 0.0;
+        slide_accel(a_, mu_sup, 0.0);
+        self.w.stamps[ai] += 1;
+        self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
+        self.out.state(a_)?;
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    /// The support's edge ends under the body: free motion again.
+    fn handle_leave(&mut self, t: f64, body: u32) -> Res<()> {
+        self.q.stats.leaves += 1;
+        let ai = body as usize;
+        let a_ = &mut self.w.s.bodies[ai];
+        advance(a_, t);
+        let (sup, edge) = (a_.sup, a_.sup_edge);
+        end_support(a_);
+        self.w.stamps[ai] += 1;
+        self.out.support_end("leave", t, a_.idx, sup, edge)?;
+        self.out.state(a_)?;
+        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    fn handle_input(&mut self, t: f64, k: u32) -> Res<()> {
+        self.q.stats.inputs += 1;
+        let inp = self.w.s.inputs[k as usize];
+        let a = inp.body as usize;
+        let body = &mut self.w.s.bodies[a];
+        advance(body, t);
+        if body.sup >= 0 {
+            end_support(body);
+        }
+        if inp.mode == 0 {
+            body.vx = inp.vx;
+            body.vy = inp.vy;
+        } else {
+            body.vx = body.vx + inp.vx;
+            body.vy = body.vy + inp.vy;
+        }
+        self.w.stamps[a] += 1;
+        self.out.input(t, body.idx, k)?;
+        self.out.state(body)?;
+        predict_body::<E>(&self.w, &mut self.q, a, t, None)
+    }
+
+    /// The body's centre crossed into the next cell along an axis: move it
+    /// there and predict it against the row or column it now neighbours.
+    fn handle_cell(&mut self, t: f64, body: u32, axis: i32, direction: i32) -> Res<()> {
+        self.q.stats.cells += 1;
+        let a = body as usize;
+        let d = i64::from(direction);
+        let (cx0, cy0) = (self.w.s.bodies[a].cx, self.w.s.bodies[a].cy);
+        self.w.grid.remove(body, cx0, cy0);
+        let (mut cx, mut cy) = (i64::from(cx0), i64::from(cy0));
+        let (x_lo, x_hi, y_lo, y_hi);
+        if axis == 0 {
+            cx += d;
+            let col = cx + d;
+            (x_lo, x_hi, y_lo, y_hi) = (col, col, cy - 1, cy + 1);
+        } else {
+            cy += d;
+            let row = cy + d;
+            (x_lo, x_hi, y_lo, y_hi) = (cx - 1, cx + 1, row, row);
+        }
+        // a cell event moves to a neighbouring cell of the grid
+        let b_ = &mut self.w.s.bodies[a];
+        b_.cx = cx as i32;
+        b_.cy = cy as i32;
+        self.w.grid.add(body, cx as i32, cy as i32);
+        predict_cells::<E>(&self.w, &mut self.q, a, x_lo, x_hi, y_lo, y_hi, t, None, false)?;
+        schedule_cell(&self.w, &mut self.q, a, t);
+        Ok(())
+    }
+
+    fn handle_horizon(&mut self, t: f64, a: u32, b: u32) -> Res<()> {
+        self.q.stats.horizons += 1;
+        predict_pair::<E>(&self.w, &mut self.q, a as usize, b as usize, t)
+    }
+
+    fn handle_frame(&mut self, t: f64, k: i64) -> Res<()> {
+        self.q.stats.frames += 1;
+        self.out.frame(t)?;
+        let nxt = (k + 1) as f64 * self.w.s.frame_dt;
+        if nxt <= self.w.s.end {
+            self.q.heap.push(nxt, Event::Frame { k: k + 1 });
+        }
+        Ok(())
+    }
+
+    // ---- the run ------------------------------------------------------------
+
+    /// Cells, inputs, the first frame and every pair's first prediction.
+    fn start(&mut self) -> Res<()> {
+        let (w, q) = (&mut self.w, &mut self.q);
+        let n = w.s.bodies.len();
+        for b in 0..n {
+            if !w.s.bodies[b].large {
+                let (cx, cy) = cell_of(&w.s, w.s.bodies[b].px, w.s.bodies[b].py);
+                let body = &mut w.s.bodies[b];
+                body.cx = cx;
+                body.cy = cy;
+                w.grid.add(body.idx, cx, cy);
+            }
+        }
+        for (k, inp) in w.s.inputs.iter().enumerate() {
+            q.heap.push(inp.t, Event::Input { k: k as u32 });
+        }
+        if w.s.frame_dt > 0.0 && w.s.frame_dt <= w.s.end {
+            q.heap.push(w.s.frame_dt, Event::Frame { k: 1 });
+        }
+        for b in 0..n {
+            let body = &w.s.bodies[b];
+            if body.large {
+                continue;
+            }
+            let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
+            predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, 0.0, None, true)?;
+            for &o in &w.grid.large {
+                let o = o as usize;
+                if !(fixed && w.s.bodies[o].fixed) {
+                    predict_pair::<E>(w, q, b, o, 0.0)?;
+                }
+            }
+            schedule_cell(w, q, b, 0.0);
+        }
+        Ok(())
+    }
+
+    /// Every body at the end time, the counters and the variants served.
+    fn finish(&mut self) -> Res<()> {
+        let end = self.w.s.end;
+        for b in self.w.s.bodies.iter_mut() {
+            advance(b, end);
+        }
+        for b in &self.w.s.bodies {
+            self.out.final_state(b)?;
+        }
+        for (name, count) in self.q.stats.lines() {
+            self.out.stat(name, count)?;
+        }
+        for (k, &c) in self.q.cc_counts.iter().enumerate() {
+            self.out.variant("circle_circle", k, c)?;
+        }
+        for (k, &c) in self.q.pe_counts.iter().enumerate() {
+            self.out.variant("point_edge", k, c)?;
+        }
+        Ok(())
+    }
+
+    pub fn run(&mut self) -> Res<()> {
+        self.start()?;
+        let mut last_t = -1.0;
+        let mut same: i64 = 0;
+        while let Some(e) = self.q.heap.pop() {
+            let t = e.t;
+            if t > self.w.s.end {
+                break;
+            }
+            if self.w.is_stale(&e.ev) {
+                self.q.stats.stale += 1;
+                continue;
+            }
+            if t == last_t {
+                same += 1;
+                if same > self.w.s.max_same {
+                    let msg = format!("more than {} events at t = {}: the scene is stuck", self.w.s.max_same, g17(t));
+                    return Err(Stop::Scene(msg));
+                }
+            } else {
+                last_t = t;
+                same = 0;
+            }
+            match e.ev {
+                Event::Input { k } => self.handle_input(t, k)?,
+                Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j)?,
+                Event::Stop { body, .. } => self.handle_stop(t, body)?,
+                Event::Leave { body, .. } => self.handle_leave(t, body)?,
+                Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction)?,
+                Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b)?,
+                Event::Frame { k } => self.handle_frame(t, k)?,
+            }
+        }
+        self.finish()
+    }
+}

@@ -1,0 +1,167 @@
+//! Support: a movable body resting and sliding on an edge of a fixed,
+//! unmoving polygon, with Coulomb friction (docs/simulator.md, "Contact
+//! model: supported, sliding, friction").  A supported body's motion stays
+//! `p + v dt + a dt^2/2`, so every generated equation predicts it unchanged.
+
+use super::motion::point_at;
+use super::queue::Event;
+use super::scene::{Body, Vertex};
+use super::world::{Queue, World};
+use super::PE;
+use crate::roots::smallest_root;
+
+/// Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+/// the world (B does not move).
+#[inline]
+pub fn support_frame(verts: &[Vertex], b_: &Body, j: i32) -> (f64, f64, f64, f64) {
+    let ed = &verts[b_.vert(j as usize)];
+    let c = b_.ang.cos();
+    let s = b_.ang.sin();
+    let ox = c * ed.nx - s * ed.ny;
+    let oy = s * ed.nx + c * ed.ny;
+    (-oy, ox, ox, oy)
+}
+
+/// The body does not move (the reference's `static`).
+#[inline]
+pub fn is_static(b_: &Body) -> bool {
+    b_.vx == 0.0 && b_.vy == 0.0 && b_.ax == 0.0 && b_.ay == 0.0 && b_.om == 0.0
+}
+
+/// A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+/// B becomes support (both advanced to now; vn from `normal_speed`).
+#[allow(clippy::too_many_arguments)]
+pub fn can_support(w: &World, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
+    if feature != PE || a_.fixed || !b_.fixed || !is_static(b_) {
+        return false;
+    }
+    let s = &w.s;
+    let (tx, ty, ox, oy) = support_frame(&s.verts, b_, j);
+    let load = -(a_.fax * ox + a_.fay * oy);
+    let rest = s.rest_speed;
+    if !(load > 0.0) || vn >= rest || a_.e * b_.e * -vn >= rest {
+        return false;
+    }
+    let ed = &s.verts[b_.vert(j as usize)];
+    let q = (a_.px - b_.px) * tx + (a_.py - b_.py) * ty;
+    if q < ed.s1 || q > ed.s2 {
+        return false;
+    }
+    if a_.polygon {
+        if a_.om.abs() * a_.bound >= rest {
+            return false;
+        }
+        return flat(w, a_, b_, i, j, ox, oy, load);
+    }
+    true
+}
+
+/// A neighbour of A's vertex i lies on edge j's line within the face
+/// tolerance max(tol, rest_speed^2 / load): A rests on a face.
+#[allow(clippy::too_many_arguments)]
+fn flat(w: &World, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy: f64, load: f64) -> bool {
+    let s = &w.s;
+    let (tol, r2) = (s.tol, s.rest_speed * s.rest_speed / load);
+    // Python's max(tol, r2)
+    let ftol = if r2 > tol { r2 } else { tol };
+    let n = a_.nverts();
+    let h = s.verts[b_.vert(j as usize)].h;
+    let i = i as usize;
+    for k in [(i + n - 1) % n, (i + 1) % n] {
+        let (px, py) = point_at(a_, Some(&s.verts[a_.vert(k)]), a_.tb);
+        if (px - b_.px) * ox + (py - b_.py) * oy - h <= ftol {
+            return true;
+        }
+    }
+    false
+}
+
+/// A (advanced to now) keeps only its velocity along edge j of B, stops
+/// turning, and from now on accelerates along the edge only.
+pub fn enter_support(verts: &[Vertex], a_: &mut Body, b_: &Body, j: i32) {
+    let (tx, ty, ox, oy) = support_frame(verts, b_, j);
+    let u = a_.vx * tx + a_.vy * ty;
+    a_.vx = u * tx;
+    a_.vy = u * ty;
+    if a_.polygon {
+        a_.om = 0.0;
+    }
+    a_.sup = b_.idx as i32;
+    a_.sup_edge = j;
+    a_.tx = tx;
+    a_.ty = ty;
+    a_.load = -(a_.fax * ox + a_.fay * oy);
+    a_.at = a_.fax * tx + a_.fay * ty;
+    slide_accel(a_, b_.mu, u);
+}
+
+/// Acceleration of supported A with tangential speed u (`mu_sup`: the
+/// support's friction coefficient): the free acceleration along the edge
+/// less Coulomb friction mu |a_n| against the motion; at rest, none while
+/// friction can hold it.
+pub fn slide_accel(a_: &mut Body, mu_sup: f64, u: f64) {
+    let f = a_.mu * mu_sup * a_.load;
+    let a = if u > 0.0 {
+        a_.at - f
+    } else if u < 0.0 {
+        a_.at + f
+    } else if a_.at > f {
+        a_.at - f
+    } else if a_.at < -f {
+        a_.at + f
+    } else {
+        0.0
+    };
+    a_.ax = a * a_.tx;
+    a_.ay = a * a_.ty;
+}
+
+/// Free motion again.
+pub fn end_support(a_: &mut Body) {
+    a_.ax = a_.fax;
+    a_.ay = a_.fay;
+    a_.sup = -1;
+    a_.sup_edge = -1;
+}
+
+/// A supported body's stop (its tangential speed reaches zero) and leave
+/// (its centre, projected on the edge, reaches an end) events.
+pub fn schedule_support(w: &World, q: &mut Queue, bi: usize) {
+    let s = &w.s;
+    let b = &s.bodies[bi];
+    let stamp = w.stamps[bi];
+    let u = b.vx * b.tx + b.vy * b.ty;
+    let a = b.ax * b.tx + b.ay * b.ty;
+    if u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0) {
+        q.heap.push(b.tb + -u / a, Event::Stop { body: b.idx, stamp });
+    }
+    let sup = &s.bodies[b.sup as usize];
+    let ed = &s.verts[sup.vert(b.sup_edge as usize)];
+    let p = (b.px - sup.px) * b.tx + (b.py - sup.py) * b.ty;
+    let hi = s.end - b.tb;
+    let mut s2 = first_crossing(p - ed.s2, u, a, 1, 0.0, hi);
+    let s1 = first_crossing(p - ed.s1, u, a, -1, 0.0, hi);
+    if let Some(x) = s1 {
+        if s2.is_none_or(|y| x < y) {
+            s2 = s1;
+        }
+    }
+    if let Some(x) = s2 {
+        q.heap.push(b.tb + x, Event::Leave { body: b.idx, stamp });
+    }
+}
+
+/// The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving
+/// in the direction (+1 up, -1 down).
+fn first_crossing(p: f64, v: f64, a: f64, direction: i32, lo: f64, hi: f64) -> Option<f64> {
+    let c = [p, v, 0.5 * a];
+    let mut lo = lo;
+    for _ in 0..3 {
+        let u = smallest_root(&c, lo, hi)?;
+        if (v + a * u) * f64::from(direction) > 0.0 {
+            return Some(u);
+        }
+        lo = u;
+    }
+    None
+}

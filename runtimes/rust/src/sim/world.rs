@@ -1,0 +1,109 @@
+//! What the simulator holds: the world a prediction reads (scene, bodies'
+//! stamps, grid) and the queue a prediction writes (events, counters).
+//! Two values, so that a prediction borrows the world and the queue apart.
+
+use super::grid::Grid;
+use super::queue::{Event, Heap};
+use super::scene::{Body, Scene};
+
+/// The counters written as the trace's N lines (in [`Stats::lines`] order).
+#[derive(Clone, Copy, Default)]
+pub struct Stats {
+    pub collisions: u64,
+    pub inputs: u64,
+    pub frames: u64,
+    pub cells: u64,
+    pub horizons: u64,
+    pub stale: u64,
+    /// pairs predicted
+    pub pairs: u64,
+    /// generated entries called (every variant of both equations)
+    pub features: u64,
+    /// collisions that ended in support
+    pub supports: u64,
+    pub stops: u64,
+    pub leaves: u64,
+}
+
+impl Stats {
+    /// (name, count) in the order of the trace's N lines (STAT_NAMES).
+    pub fn lines(&self) -> [(&'static str, u64); 11] {
+        [
+            ("collisions", self.collisions),
+            ("inputs", self.inputs),
+            ("frames", self.frames),
+            ("cells", self.cells),
+            ("horizons", self.horizons),
+            ("stale", self.stale),
+            ("pairs", self.pairs),
+            ("features", self.features),
+            ("supports", self.supports),
+            ("stops", self.stops),
+            ("leaves", self.leaves),
+        ]
+    }
+}
+
+/// The scene, the bodies' states, the grid.
+pub struct World {
+    pub s: Scene,
+    /// per body, bumped whenever its motion changes (lazy invalidation)
+    pub stamps: Vec<u64>,
+    pub grid: Grid,
+}
+
+impl World {
+    pub fn new(s: Scene) -> World {
+        let stamps = vec![0; s.bodies.len()];
+        let grid = Grid::new(&s);
+        World { s, stamps, grid }
+    }
+
+    /// An event whose bodies' motion changed since it was scheduled.
+    /// Inputs are scripted, not predicted, and frames have no bodies: never.
+    #[inline(always)]
+    pub fn is_stale(&self, ev: &Event) -> bool {
+        match *ev {
+            Event::Collision { a, b, stamp_a, stamp_b, .. } | Event::Horizon { a, b, stamp_a, stamp_b } => {
+                self.stamps[a as usize] != stamp_a || self.stamps[b as usize] != stamp_b
+            }
+            Event::Cell { body, stamp, .. } | Event::Stop { body, stamp } | Event::Leave { body, stamp } => {
+                self.stamps[body as usize] != stamp
+            }
+            Event::Input { .. } | Event::Frame { .. } => false,
+        }
+    }
+}
+
+/// The event queue and the counters (everything a prediction changes).
+pub struct Queue {
+    pub heap: Heap,
+    pub stats: Stats,
+    /// predictions served per variant of circle_circle and point_edge
+    pub cc_counts: Vec<u64>,
+    pub pe_counts: Vec<u64>,
+}
+
+impl Queue {
+    pub fn new(cc_variants: usize, pe_variants: usize) -> Queue {
+        Queue { heap: Heap::new(), stats: Stats::default(), cc_counts: vec![0; cc_variants], pe_counts: vec![0; pe_variants] }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn push_collision(&mut self, w: &World, t: f64, feature: i32, a: &Body, b: &Body, i: i32, j: i32) {
+        let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
+        self.heap.push(t, Event::Collision { a: a.idx, b: b.idx, feature, i, j, stamp_a, stamp_b });
+    }
+
+    #[inline]
+    pub fn push_horizon(&mut self, w: &World, t: f64, a: &Body, b: &Body) {
+        let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
+        self.heap.push(t, Event::Horizon { a: a.idx, b: b.idx, stamp_a, stamp_b });
+    }
+
+    #[inline]
+    pub fn push_cell(&mut self, w: &World, t: f64, b: &Body, axis: i32, direction: i32) {
+        self.heap.push(t, Event::Cell { body: b.idx, axis, direction, stamp: w.stamps[b.index()] });
+    }
+}
