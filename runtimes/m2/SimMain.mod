@@ -6,7 +6,8 @@ MODULE SimMain ;
    (runtimes/python/max2code_rt/sim.py), procedure for procedure, with the
    same IEEE double operations in the same order (no FMA: built with
    -ffp-contract=off; sin and cos are libm's through RealMath, floor and
-   sqrt libm's through C), so that it writes the same bytes.
+   sqrt libm's through C), so that it writes the same bytes.  Numbers are
+   written by SimOut as "%.17g" writes them.
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -19,9 +20,9 @@ FROM SYSTEM IMPORT ADDRESS, ADR ;
 FROM RealMath IMPORT sin, cos ;
 FROM Roots IMPORT SmallestRoot ;
 FROM CMath IMPORT sqrt, getchar ;
-FROM cstdio IMPORT printf ;
 FROM SimC IMPORT floor, strtod, realloc, exit ;
 FROM SimHeap IMPORT Event, Push, Pop ;
+FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -114,24 +115,19 @@ VAR
 
 (* ---- output and errors ------------------------------------------------ *)
 
-(* x as Python's "%.17g" writes it: any NaN is "nan". *)
-PROCEDURE Fx (x: REAL) : REAL ;
-BEGIN
-   IF x # x THEN RETURN ABS (x) END ;
-   RETURN x
-END Fx ;
-
-
 (* The end of a stuck or bad scene: "X message" was written; status 1. *)
 PROCEDURE Fail ;
 BEGIN
+   Flush ;
    exit (1)
 END Fail ;
 
 
 PROCEDURE FailMsg (msg: ARRAY OF CHAR) ;
 BEGIN
-   printf ("X %s\n", ADR (msg)) ;
+   Str ("X ") ;
+   Str (msg) ;
+   Ln ;
    Fail
 END FailMsg ;
 
@@ -207,7 +203,12 @@ BEGIN
       INC (k)
    END ;
    IF NOT same THEN
-      printf ("X scene: expected '%s', found '%s'\n", ADR (expect), ADR (Tok)) ;
+      Str ("X scene: expected '") ;
+      Str (expect) ;
+      Str ("', found '") ;
+      Str (Tok) ;
+      Str ("'") ;
+      Ln ;
       Fail
    END
 END Expect ;
@@ -223,7 +224,10 @@ BEGIN
    endp := NIL ;
    x := strtod (Tok, endp) ;
    IF endp # ADR (Tok[n]) THEN
-      printf ("X scene: not a number: '%s'\n", ADR (Tok)) ;
+      Str ("X scene: not a number: '") ;
+      Str (Tok) ;
+      Str ("'") ;
+      Ln ;
       Fail
    END ;
    RETURN x
@@ -231,7 +235,7 @@ END Num ;
 
 
 (* The next token as a whole number (up to 18 digits). *)
-PROCEDURE LongInt () : LONGINT ;
+PROCEDURE ReadLongInt () : LONGINT ;
 VAR
    n, k: INTEGER ;
    v: LONGINT ;
@@ -255,26 +259,32 @@ BEGIN
       INC (k)
    END ;
    IF NOT ok THEN
-      printf ("X scene: not an integer: '%s'\n", ADR (Tok)) ;
+      Str ("X scene: not an integer: '") ;
+      Str (Tok) ;
+      Str ("'") ;
+      Ln ;
       Fail
    END ;
    IF neg THEN RETURN -v END ;
    RETURN v
-END LongInt ;
+END ReadLongInt ;
 
 
 (* The next token as a count or index (INTEGER range). *)
-PROCEDURE Int () : INTEGER ;
+PROCEDURE ReadInt () : INTEGER ;
 VAR
    v: LONGINT ;
 BEGIN
-   v := LongInt () ;
+   v := ReadLongInt () ;
    IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
-      printf ("X scene: integer out of range: '%s'\n", ADR (Tok)) ;
+      Str ("X scene: integer out of range: '") ;
+      Str (Tok) ;
+      Str ("'") ;
+      Ln ;
       Fail
    END ;
    RETURN VAL (INTEGER, v)
-END Int ;
+END ReadInt ;
 
 
 PROCEDURE ReadScene ;
@@ -284,19 +294,19 @@ VAR
    v: Vertex ;
 BEGIN
    Expect ("m2c-scene") ;
-   IF Int () # 1 THEN FailMsg ("scene: unknown version") END ;
+   IF ReadInt () # 1 THEN FailMsg ("scene: unknown version") END ;
    Expect ("end") ; EndT := Num () ;
    Expect ("frame") ; FrameDt := Num () ;
    Expect ("tolerance") ; Tol := Num () ;
    Expect ("rest_speed") ; RestSpeed := Num () ;
    Expect ("window_angle") ; Alpha := Num () ;
-   Expect ("max_same_time") ; MaxSame := LongInt () ;
+   Expect ("max_same_time") ; MaxSame := ReadLongInt () ;
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
-   GridNX := Int () ; GridNY := Int () ;
+   GridNX := ReadInt () ; GridNY := ReadInt () ;
    IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN FailMsg ("scene: bad grid") END ;
    Expect ("bodies") ;
-   NBodies := Int () ;
+   NBodies := ReadInt () ;
    Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
    NVerts := 0 ;
    capVerts := 16 ;
@@ -305,15 +315,15 @@ BEGIN
       Expect ("body") ;
       b := ADR (Bodies^[i]) ;
       b^.idx := i ;
-      b^.polygon := Int () = 1 ;
-      b^.fixed := Int () = 1 ;
+      b^.polygon := ReadInt () = 1 ;
+      b^.fixed := ReadInt () = 1 ;
       b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ;
       b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
       b^.ax := Num () ; b^.ay := Num () ;
       b^.ang := Num () ; b^.om := Num () ;
       b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
-      b^.large := Int () = 1 ;
-      nv := Int () ;
+      b^.large := ReadInt () = 1 ;
+      nv := ReadInt () ;
       IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
       b^.v0 := NVerts ;
       b^.nv := nv ;
@@ -334,13 +344,13 @@ BEGIN
       b^.cy := 0
    END ;
    Expect ("inputs") ;
-   NInputs := Int () ;
+   NInputs := ReadInt () ;
    Inputs := Grow (NIL, NInputs, SIZE (InputRec)) ;
    FOR i := 0 TO NInputs - 1 DO
       Expect ("input") ;
       Inputs^[i].t := Num () ;
-      Inputs^[i].body := Int () ;
-      Inputs^[i].mode := Int () ;
+      Inputs^[i].body := ReadInt () ;
+      Inputs^[i].mode := ReadInt () ;
       Inputs^[i].vx := Num () ;
       Inputs^[i].vy := Num () ;
       IF (Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies) THEN
@@ -927,8 +937,16 @@ END ScheduleCell ;
 
 PROCEDURE EmitState (b: BodyRef) ;
 BEGIN
-   printf ("S %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", b^.idx, Fx (b^.tb), Fx (b^.px), Fx (b^.py),
-           Fx (b^.vx), Fx (b^.vy), Fx (b^.ang), Fx (b^.om))
+   Str ("S ") ;
+   Int (b^.idx) ;
+   SpReal (b^.tb) ;
+   SpReal (b^.px) ;
+   SpReal (b^.py) ;
+   SpReal (b^.vx) ;
+   SpReal (b^.vy) ;
+   SpReal (b^.ang) ;
+   SpReal (b^.om) ;
+   Ln
 END EmitState ;
 
 
@@ -992,8 +1010,19 @@ BEGIN
       B^.vy := B^.vy + imp * B^.invM * ny ;
       B^.om := B^.om + imp * B^.invI * rbn
    END ;
-   printf ("E collision %.17g %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g\n", Fx (t), A^.idx, B^.idx, feat,
-           i, j, Fx (cx), Fx (cy), Fx (nx), Fx (ny), Fx (imp)) ;
+   Str ("E collision ") ;
+   Real (t) ;
+   Str (" ") ; Int (A^.idx) ;
+   Str (" ") ; Int (B^.idx) ;
+   Str (" ") ; Int (feat) ;
+   Str (" ") ; Int (i) ;
+   Str (" ") ; Int (j) ;
+   SpReal (cx) ;
+   SpReal (cy) ;
+   SpReal (nx) ;
+   SpReal (ny) ;
+   SpReal (imp) ;
+   Ln ;
    IF NOT A^.fixed THEN
       INC (A^.stamp) ;
       EmitState (A)
@@ -1013,6 +1042,16 @@ BEGIN
       END
    END
 END Collide ;
+
+
+PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
+BEGIN
+   Str ("N ") ;
+   Str (name) ;
+   Str (" ") ;
+   Int (count) ;
+   Ln
+END Stat ;
 
 
 PROCEDURE Run ;
@@ -1080,7 +1119,12 @@ BEGIN
       ELSIF ev.t = lastT THEN
          INC (same) ;
          IF same > MaxSame THEN
-            printf ("X more than %ld events at t = %.17g: the scene is stuck\n", MaxSame, Fx (ev.t)) ;
+            Str ("X more than ") ;
+            Int (MaxSame) ;
+            Str (" events at t = ") ;
+            Real (ev.t) ;
+            Str (": the scene is stuck") ;
+            Ln ;
             Fail
          END
       ELSE
@@ -1104,7 +1148,14 @@ BEGIN
             b^.vy := b^.vy + Inputs^[ev.i].vy
          END ;
          INC (b^.stamp) ;
-         printf ("E input %.17g %d -1 -1 %d -1 0 0 0 0 0\n", Fx (ev.t), ev.a, ev.i) ;
+         Str ("E input ") ;
+         Real (ev.t) ;
+         Str (" ") ;
+         Int (ev.a) ;
+         Str (" -1 -1 ") ;
+         Int (ev.i) ;
+         Str (" -1 0 0 0 0 0") ;
+         Ln ;
          EmitState (b) ;
          PredictBody (b, ev.t, -1)
       ELSIF ev.kind = KCell THEN
@@ -1128,7 +1179,10 @@ BEGIN
          PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.t)
       ELSIF ev.kind = KFrame THEN
          INC (Stats[StFrames]) ;
-         printf ("E frame %.17g -1 -1 -1 -1 -1 0 0 0 0 0\n", Fx (ev.t)) ;
+         Str ("E frame ") ;
+         Real (ev.t) ;
+         Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
+         Ln ;
          nxt := VAL (REAL, ev.i + 1) * FrameDt ;
          IF nxt <= EndT THEN
             Schedule (nxt, KFrame, -1, -1, -1, ev.i + 1, -1)
@@ -1141,23 +1195,39 @@ BEGIN
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
-      printf ("F %d %.17g %.17g %.17g %.17g %.17g %.17g\n", i, Fx (b^.px), Fx (b^.py), Fx (b^.vx), Fx (b^.vy),
-              Fx (b^.ang), Fx (b^.om))
+      Str ("F ") ;
+      Int (i) ;
+      SpReal (b^.px) ;
+      SpReal (b^.py) ;
+      SpReal (b^.vx) ;
+      SpReal (b^.vy) ;
+      SpReal (b^.ang) ;
+      SpReal (b^.om) ;
+      Ln
    END ;
-   printf ("N collisions %ld\n", Stats[StCollisions]) ;
-   printf ("N inputs %ld\n", Stats[StInputs]) ;
-   printf ("N frames %ld\n", Stats[StFrames]) ;
-   printf ("N cells %ld\n", Stats[StCells]) ;
-   printf ("N horizons %ld\n", Stats[StHorizons]) ;
-   printf ("N stale %ld\n", Stats[StStale]) ;
-   printf ("N pairs %ld\n", Stats[StPairs]) ;
-   printf ("N features %ld\n", Stats[StFeatures]) ;
+   Stat ("collisions", Stats[StCollisions]) ;
+   Stat ("inputs", Stats[StInputs]) ;
+   Stat ("frames", Stats[StFrames]) ;
+   Stat ("cells", Stats[StCells]) ;
+   Stat ("horizons", Stats[StHorizons]) ;
+   Stat ("stale", Stats[StStale]) ;
+   Stat ("pairs", Stats[StPairs]) ;
+   Stat ("features", Stats[StFeatures]) ;
    FOR k := 0 TO CcVariants - 1 DO
-      printf ("V circle_circle %d %ld\n", k, CcCounts[k])
+      Str ("V circle_circle ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (CcCounts[k]) ;
+      Ln
    END ;
    FOR k := 0 TO PeVariants - 1 DO
-      printf ("V point_edge %d %ld\n", k, PeCounts[k])
-   END
+      Str ("V point_edge ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (PeCounts[k]) ;
+      Ln
+   END ;
+   Flush
 END Run ;
 
 
