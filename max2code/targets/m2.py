@@ -8,7 +8,7 @@ from max2code.targets.base import Target
 # contraction (the same operations as the Python reference, docs/simulator.md)
 SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
 # the simulator's library modules (runtimes/m2), compiled into the workdir
-SIM_MODULES = ("SimHeap", "SimOut")
+SIM_MODULES = ("SimOut", "SimScene", "SimGrid", "SimHeap")
 
 
 def variant_count(path: str, name: str) -> int:
@@ -58,10 +58,10 @@ class Modula2(Target):
         return [exe]
 
     def sim_build(self, workdir: str, generated: dict[str, str]) -> list[list[str]]:
-        """Compile the event queue (SimHeap), the trace writer (SimOut) and
-        the simulator (SimMain, which #includes the generated
-        circle_circle.mxd and point_edge.mxd from workdir) and link them with
-        the Roots runtime into workdir/sim.
+        """Compile the simulator's library modules (SIM_MODULES: trace
+        writer, scene, grid, event queue) and the simulator (SimMain, which
+        #includes the generated circle_circle.mxd and point_edge.mxd from
+        workdir) and link them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
         directory and its linking step looks the program module's object up
         along the -I path, where workdir comes first, so it finds this one."""

@@ -6,8 +6,14 @@ MODULE SimMain ;
    (runtimes/python/max2code_rt/sim.py), procedure for procedure, with the
    same IEEE double operations in the same order (no FMA: built with
    -ffp-contract=off; sin and cos are libm's through RealMath, floor and
-   sqrt libm's through C), so that it writes the same bytes.  Numbers are
-   written by SimOut as "%.17g" writes them.
+   sqrt libm's through C), so that it writes the same bytes.
+
+   One module per concept, as the C runtime: SimScene (the scene, its bodies
+   and reading it), SimGrid (the broad phase's cells), SimHeap (the event
+   queue), SimOut (the trace writer; numbers as "%.17g" writes them).  This
+   module holds the motion, the predictions, one handler per event kind
+   (handle_input, handle_collision, handle_cell, handle_horizon,
+   handle_frame: the reference's names) and the loop that dispatches to them.
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -16,13 +22,16 @@ MODULE SimMain ;
    NAME_variant counts (max2code/targets/m2.py reads them from the generated
    files). *)
 
-FROM SYSTEM IMPORT ADDRESS, ADR ;
+FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT sin, cos ;
 FROM Roots IMPORT SmallestRoot ;
-FROM CMath IMPORT sqrt, getchar ;
-FROM SimC IMPORT floor, strtod, realloc, exit ;
+FROM CMath IMPORT sqrt ;
 FROM SimHeap IMPORT Event, Push, Pop ;
-FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush ;
+FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, Fail, FailMsg ;
+FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
+                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
+                     ReadScene ;
+FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -52,55 +61,9 @@ CONST
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
    PeMaxDegree = point_edge_coefficients_max_degree ;
-   (* bounds of the array types only: storage is allocated as needed *)
-   MaxItems = 16777216 ;
-   TokLen = 255 ;
-
-TYPE
-   (* One vertex of a polygon and the edge that starts at it (to the next
-      vertex), in the body's frame: all precomputed by the scene compiler. *)
-   Vertex = RECORD
-      lx, ly, rho, beta, psi, h, s1, s2: REAL ;
-   END ;
-   Body = RECORD
-      idx: INTEGER ;
-      polygon, fixed, large: BOOLEAN ;
-      invM, invI, e, px, py, vx, vy, ax, ay, ang, om, tb,
-      r, orbit, ophase, bound: REAL ;
-      v0, nv: INTEGER ;        (* its vertices: Verts^[v0 .. v0 + nv - 1] *)
-      stamp: LONGINT ;         (* motion counter (lazy invalidation) *)
-      cx, cy: INTEGER ;        (* grid cell *)
-   END ;
-   BodyRef = POINTER TO Body ;
-   InputRec = RECORD
-      t, vx, vy: REAL ;
-      body, mode: INTEGER ;
-   END ;
-   IntList = POINTER TO ARRAY [0..MaxItems - 1] OF INTEGER ;
-   CellRec = RECORD
-      n, cap: INTEGER ;
-      items: IntList ;         (* body indices *)
-   END ;
-   BodyArray = POINTER TO ARRAY [0..MaxItems - 1] OF Body ;
-   VertexArray = POINTER TO ARRAY [0..MaxItems - 1] OF Vertex ;
-   InputArray = POINTER TO ARRAY [0..MaxItems - 1] OF InputRec ;
-   CellArray = POINTER TO ARRAY [0..MaxItems - 1] OF CellRec ;
-   Token = ARRAY [0..TokLen] OF CHAR ;
 
 VAR
-   (* the scene *)
-   EndT, FrameDt, Tol, RestSpeed, Alpha: REAL ;
-   MaxSame: LONGINT ;
-   GridX0, GridY0, CellW, CellH: REAL ;
-   GridNX, GridNY: INTEGER ;
-   NBodies, NVerts, NInputs, NLarge: INTEGER ;
-   Bodies: BodyArray ;
-   Verts: VertexArray ;
-   Inputs: InputArray ;
-   (* the simulator *)
-   Cells: CellArray ;
-   Large: IntList ;
-   Seq: LONGINT ;
+   Seq: LONGINT ;              (* the next scheduling counter *)
    Stats: ARRAY [0..NStats - 1] OF LONGINT ;
    CcCounts: ARRAY [0..CcVariants - 1] OF LONGINT ;
    PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
@@ -108,257 +71,9 @@ VAR
    ChkX, ChkY: BodyRef ;
    ChkV, ChkEdge: INTEGER ;
    ChkNow: REAL ;
-   (* reading *)
-   Pending: INTEGER ;
-   Tok: Token ;
-
-
-(* ---- output and errors ------------------------------------------------ *)
-
-(* The end of a stuck or bad scene: "X message" was written; status 1. *)
-PROCEDURE Fail ;
-BEGIN
-   Flush ;
-   exit (1)
-END Fail ;
-
-
-PROCEDURE FailMsg (msg: ARRAY OF CHAR) ;
-BEGIN
-   Str ("X ") ;
-   Str (msg) ;
-   Ln ;
-   Fail
-END FailMsg ;
-
-
-PROCEDURE Grow (p: ADDRESS; count, size: INTEGER) : ADDRESS ;
-VAR
-   q: ADDRESS ;
-BEGIN
-   IF (count < 0) OR (count > MaxItems) THEN
-      FailMsg ("scene: too many items") 
-   END ;
-   IF count = 0 THEN count := 1 END ;
-   q := realloc (p, VAL (LONGCARD, count) * VAL (LONGCARD, size)) ;
-   IF q = NIL THEN FailMsg ("out of memory") END ;
-   RETURN q
-END Grow ;
-
-
-(* ---- reading the flat scene ------------------------------------------- *)
-
-PROCEDURE NextChar () : INTEGER ;
-VAR
-   ch: INTEGER ;
-BEGIN
-   IF Pending # -2 THEN
-      ch := Pending ;
-      Pending := -2 ;
-      RETURN ch
-   END ;
-   RETURN getchar ()
-END NextChar ;
-
-
-(* The next whitespace-delimited token into Tok; its length. *)
-PROCEDURE Word () : INTEGER ;
-VAR
-   ch, k: INTEGER ;
-BEGIN
-   REPEAT
-      ch := NextChar ()
-   UNTIL (ch < 0) OR (ch > 32) ;
-   IF ch < 0 THEN FailMsg ("scene: unexpected end of input") END ;
-   k := 0 ;
-   WHILE ch > 32 DO
-      IF k >= TokLen THEN FailMsg ("scene: token too long") END ;
-      Tok[k] := CHR (ch) ;
-      INC (k) ;
-      ch := NextChar ()
-   END ;
-   Tok[k] := 0C ;
-   Pending := ch ;
-   RETURN k
-END Word ;
-
-
-(* Reads the next token, which must be expect. *)
-PROCEDURE Expect (expect: ARRAY OF CHAR) ;
-VAR
-   k, n: INTEGER ;
-   same: BOOLEAN ;
-BEGIN
-   n := Word () ;
-   same := TRUE ;
-   k := 0 ;
-   WHILE same AND (k <= n) DO
-      IF (VAL (CARDINAL, k) > HIGH (expect)) THEN
-         same := Tok[k] = 0C
-      ELSIF Tok[k] # expect[k] THEN
-         same := FALSE
-      ELSIF expect[k] = 0C THEN
-         k := n
-      END ;
-      INC (k)
-   END ;
-   IF NOT same THEN
-      Str ("X scene: expected '") ;
-      Str (expect) ;
-      Str ("', found '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
-   END
-END Expect ;
-
-
-PROCEDURE Num () : REAL ;
-VAR
-   n: INTEGER ;
-   x: REAL ;
-   endp: ADDRESS ;
-BEGIN
-   n := Word () ;
-   endp := NIL ;
-   x := strtod (Tok, endp) ;
-   IF endp # ADR (Tok[n]) THEN
-      Str ("X scene: not a number: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
-   END ;
-   RETURN x
-END Num ;
-
-
-(* The next token as a whole number (up to 18 digits). *)
-PROCEDURE ReadLongInt () : LONGINT ;
-VAR
-   n, k: INTEGER ;
-   v: LONGINT ;
-   neg, ok: BOOLEAN ;
-BEGIN
-   n := Word () ;
-   k := 0 ;
-   neg := FALSE ;
-   IF (Tok[0] = '-') OR (Tok[0] = '+') THEN
-      neg := Tok[0] = '-' ;
-      k := 1
-   END ;
-   ok := (k < n) AND (n - k <= 18) ;
-   v := 0 ;
-   WHILE ok AND (k < n) DO
-      IF (Tok[k] >= '0') AND (Tok[k] <= '9') THEN
-         v := v * 10 + VAL (LONGINT, ORD (Tok[k]) - ORD ('0'))
-      ELSE
-         ok := FALSE
-      END ;
-      INC (k)
-   END ;
-   IF NOT ok THEN
-      Str ("X scene: not an integer: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
-   END ;
-   IF neg THEN RETURN -v END ;
-   RETURN v
-END ReadLongInt ;
-
-
-(* The next token as a count or index (INTEGER range). *)
-PROCEDURE ReadInt () : INTEGER ;
-VAR
-   v: LONGINT ;
-BEGIN
-   v := ReadLongInt () ;
-   IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
-      Str ("X scene: integer out of range: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
-   END ;
-   RETURN VAL (INTEGER, v)
-END ReadInt ;
-
-
-PROCEDURE ReadScene ;
-VAR
-   i, k, nv, capVerts: INTEGER ;
-   b: BodyRef ;
-   v: Vertex ;
-BEGIN
-   Expect ("m2c-scene") ;
-   IF ReadInt () # 1 THEN FailMsg ("scene: unknown version") END ;
-   Expect ("end") ; EndT := Num () ;
-   Expect ("frame") ; FrameDt := Num () ;
-   Expect ("tolerance") ; Tol := Num () ;
-   Expect ("rest_speed") ; RestSpeed := Num () ;
-   Expect ("window_angle") ; Alpha := Num () ;
-   Expect ("max_same_time") ; MaxSame := ReadLongInt () ;
-   Expect ("grid") ;
-   GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
-   GridNX := ReadInt () ; GridNY := ReadInt () ;
-   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN FailMsg ("scene: bad grid") END ;
-   Expect ("bodies") ;
-   NBodies := ReadInt () ;
-   Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
-   NVerts := 0 ;
-   capVerts := 16 ;
-   Verts := Grow (NIL, capVerts, SIZE (Vertex)) ;
-   FOR i := 0 TO NBodies - 1 DO
-      Expect ("body") ;
-      b := ADR (Bodies^[i]) ;
-      b^.idx := i ;
-      b^.polygon := ReadInt () = 1 ;
-      b^.fixed := ReadInt () = 1 ;
-      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ;
-      b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
-      b^.ax := Num () ; b^.ay := Num () ;
-      b^.ang := Num () ; b^.om := Num () ;
-      b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
-      b^.large := ReadInt () = 1 ;
-      nv := ReadInt () ;
-      IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
-      b^.v0 := NVerts ;
-      b^.nv := nv ;
-      IF NVerts + nv > capVerts THEN
-         WHILE NVerts + nv > capVerts DO capVerts := 2 * capVerts END ;
-         Verts := Grow (Verts, capVerts, SIZE (Vertex))
-      END ;
-      FOR k := 0 TO nv - 1 DO
-         Expect ("v") ;
-         v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
-         v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-         Verts^[NVerts] := v ;
-         INC (NVerts)
-      END ;
-      b^.tb := 0.0 ;
-      b^.stamp := 0 ;
-      b^.cx := 0 ;
-      b^.cy := 0
-   END ;
-   Expect ("inputs") ;
-   NInputs := ReadInt () ;
-   Inputs := Grow (NIL, NInputs, SIZE (InputRec)) ;
-   FOR i := 0 TO NInputs - 1 DO
-      Expect ("input") ;
-      Inputs^[i].t := Num () ;
-      Inputs^[i].body := ReadInt () ;
-      Inputs^[i].mode := ReadInt () ;
-      Inputs^[i].vx := Num () ;
-      Inputs^[i].vy := Num () ;
-      IF (Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies) THEN
-         FailMsg ("scene: input of an unknown body")
-      END
-   END ;
-   Expect ("end")
-END ReadScene ;
+   (* events at the current instant (the "stuck" check) *)
+   LastT: REAL ;
+   Same: LONGINT ;
 
 
 (* ---- motion ------------------------------------------------------------ *)
@@ -421,55 +136,7 @@ BEGIN
 END Schedule ;
 
 
-(* ---- grid ---------------------------------------------------------------- *)
-
-PROCEDURE Clamp (f: REAL; n: INTEGER) : INTEGER ;
-BEGIN
-   IF f < 0.0 THEN
-      RETURN 0
-   ELSIF f > VAL (REAL, n - 1) THEN
-      RETURN n - 1
-   END ;
-   RETURN VAL (INTEGER, f)
-END Clamp ;
-
-
-PROCEDURE CellOf (x, y: REAL; VAR ix, iy: INTEGER) ;
-BEGIN
-   ix := Clamp (floor ((x - GridX0) / CellW), GridNX) ;
-   iy := Clamp (floor ((y - GridY0) / CellH), GridNY)
-END CellOf ;
-
-
-(* Removes b from its cell: the last element moves into the hole. *)
-PROCEDURE CellRemove (b: BodyRef) ;
-VAR
-   c: INTEGER ;
-   k: INTEGER ;
-BEGIN
-   c := b^.cy * GridNX + b^.cx ;
-   k := 0 ;
-   WHILE Cells^[c].items^[k] # b^.idx DO INC (k) END ;
-   DEC (Cells^[c].n) ;
-   IF k < Cells^[c].n THEN
-      Cells^[c].items^[k] := Cells^[c].items^[Cells^[c].n]
-   END
-END CellRemove ;
-
-
-PROCEDURE CellAdd (b: BodyRef) ;
-VAR
-   c: INTEGER ;
-BEGIN
-   c := b^.cy * GridNX + b^.cx ;
-   IF Cells^[c].n = Cells^[c].cap THEN
-      IF Cells^[c].cap = 0 THEN Cells^[c].cap := 4 ELSE Cells^[c].cap := 2 * Cells^[c].cap END ;
-      Cells^[c].items := Grow (Cells^[c].items, Cells^[c].cap, SIZE (INTEGER))
-   END ;
-   Cells^[c].items^[Cells^[c].n] := b^.idx ;
-   INC (Cells^[c].n)
-END CellAdd ;
-
+(* ---- helpers ---------------------------------------------------------- *)
 
 PROCEDURE Max (a, b: INTEGER) : INTEGER ;
 BEGIN
@@ -1054,34 +721,139 @@ BEGIN
 END Stat ;
 
 
-PROCEDURE Run ;
+(* ---- the events, one handler per kind ---------------------------------------- *)
+
+PROCEDURE handle_input (VAR ev: Event) ;
 VAR
-   i, k, col, row: INTEGER ;
    b: BodyRef ;
-   ev: Event ;
-   lastT, nxt: REAL ;
-   same: LONGINT ;
-   stale: BOOLEAN ;
 BEGIN
-   Cells := Grow (NIL, GridNX * GridNY, SIZE (CellRec)) ;
-   FOR k := 0 TO GridNX * GridNY - 1 DO
-      Cells^[k].n := 0 ;
-      Cells^[k].cap := 0 ;
-      Cells^[k].items := NIL
+   INC (Stats[StInputs]) ;
+   b := ADR (Bodies^[ev.a]) ;
+   Advance (b, ev.t) ;
+   IF Inputs^[ev.i].mode = 0 THEN
+      b^.vx := Inputs^[ev.i].vx ;
+      b^.vy := Inputs^[ev.i].vy
+   ELSE
+      b^.vx := b^.vx + Inputs^[ev.i].vx ;
+      b^.vy := b^.vy + Inputs^[ev.i].vy
    END ;
-   Large := Grow (NIL, NBodies, SIZE (INTEGER)) ;
-   NLarge := 0 ;
-   FOR i := 0 TO NBodies - 1 DO
-      IF Bodies^[i].large THEN
-         Large^[NLarge] := i ;
-         INC (NLarge)
+   INC (b^.stamp) ;
+   Str ("E input ") ;
+   Real (ev.t) ;
+   Str (" ") ;
+   Int (ev.a) ;
+   Str (" -1 -1 ") ;
+   Int (ev.i) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (b) ;
+   PredictBody (b, ev.t, -1)
+END handle_input ;
+
+
+PROCEDURE handle_collision (VAR ev: Event) ;
+BEGIN
+   INC (Stats[StCollisions]) ;
+   Collide (ev.t, ev.feat, ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j)
+END handle_collision ;
+
+
+(* Body a's centre crossed a boundary of its cell: axis i (0: x, 1: y),
+   direction j (+1 or -1).  It moves to the next cell and is predicted
+   against the row or column of cells it now neighbours. *)
+PROCEDURE handle_cell (VAR ev: Event) ;
+VAR
+   b: BodyRef ;
+   col, row: INTEGER ;
+BEGIN
+   INC (Stats[StCells]) ;
+   b := ADR (Bodies^[ev.a]) ;
+   CellRemove (b) ;
+   IF ev.i = 0 THEN
+      b^.cx := b^.cx + ev.j ;
+      col := b^.cx + ev.j ;
+      CellAdd (b) ;
+      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, ev.t)
+   ELSE
+      b^.cy := b^.cy + ev.j ;
+      row := b^.cy + ev.j ;
+      CellAdd (b) ;
+      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, ev.t)
+   END ;
+   ScheduleCell (b, ev.t)
+END handle_cell ;
+
+
+(* The pair a, b is predicted again from here (its bounding circles meet, or
+   its Taylor window ended). *)
+PROCEDURE handle_horizon (VAR ev: Event) ;
+BEGIN
+   INC (Stats[StHorizons]) ;
+   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.t)
+END handle_horizon ;
+
+
+(* Frame i: written, and frame i + 1 scheduled. *)
+PROCEDURE handle_frame (VAR ev: Event) ;
+VAR
+   nxt: REAL ;
+BEGIN
+   INC (Stats[StFrames]) ;
+   Str ("E frame ") ;
+   Real (ev.t) ;
+   Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   nxt := VAL (REAL, ev.i + 1) * FrameDt ;
+   IF nxt <= EndT THEN
+      Schedule (nxt, KFrame, -1, -1, -1, ev.i + 1, -1)
+   END
+END handle_frame ;
+
+
+(* ---- the run ------------------------------------------------------------------ *)
+
+(* Whether ev was predicted from a motion that has changed since (an input
+   is scripted, not predicted: it happens whatever the body did before). *)
+PROCEDURE Stale (ev: Event) : BOOLEAN ;
+BEGIN
+   IF ev.kind = KInput THEN RETURN FALSE END ;
+   RETURN ((ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa)) OR ((ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb))
+END Stale ;
+
+
+(* Counts the events at instant t: more than max_same_time is "stuck". *)
+PROCEDURE CountSameTime (t: REAL) ;
+BEGIN
+   IF t = LastT THEN
+      INC (Same) ;
+      IF Same > MaxSame THEN
+         Str ("X more than ") ;
+         Int (MaxSame) ;
+         Str (" events at t = ") ;
+         Real (t) ;
+         Str (": the scene is stuck") ;
+         Ln ;
+         Fail
       END
-   END ;
+   ELSE
+      LastT := t ;
+      Same := 0
+   END
+END CountSameTime ;
+
+
+(* The grid, the inputs, the first frame and the first prediction of every
+   pair. *)
+PROCEDURE Start ;
+VAR
+   i, k: INTEGER ;
+   b: BodyRef ;
+BEGIN
+   InitGrid ;
    Seq := 0 ;
    FOR k := 0 TO NStats - 1 DO Stats[k] := 0 END ;
    FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
    FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
-
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF NOT b^.large THEN
@@ -1102,94 +874,17 @@ BEGIN
          PredictLarge (b, -1, 0.0) ;
          ScheduleCell (b, 0.0)
       END
-   END ;
+   END
+END Start ;
 
-   lastT := -1.0 ;
-   same := 0 ;
-   WHILE Pop (ev) AND (ev.t <= EndT) DO
-      stale := FALSE ;
-      (* an input is scripted, not predicted: it happens whatever the body did before *)
-      IF ev.kind # KInput THEN
-         IF (ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa) THEN stale := TRUE END ;
-         IF (ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb) THEN stale := TRUE END
-      END ;
-      IF stale THEN
-         INC (Stats[StStale]) ;
-         ev.kind := -1
-      ELSIF ev.t = lastT THEN
-         INC (same) ;
-         IF same > MaxSame THEN
-            Str ("X more than ") ;
-            Int (MaxSame) ;
-            Str (" events at t = ") ;
-            Real (ev.t) ;
-            Str (": the scene is stuck") ;
-            Ln ;
-            Fail
-         END
-      ELSE
-         lastT := ev.t ;
-         same := 0
-      END ;
-      IF ev.kind = -1 THEN
-         (* stale: dropped *)
-      ELSIF ev.kind = KCollision THEN
-         INC (Stats[StCollisions]) ;
-         Collide (ev.t, ev.feat, ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j)
-      ELSIF ev.kind = KInput THEN
-         INC (Stats[StInputs]) ;
-         b := ADR (Bodies^[ev.a]) ;
-         Advance (b, ev.t) ;
-         IF Inputs^[ev.i].mode = 0 THEN
-            b^.vx := Inputs^[ev.i].vx ;
-            b^.vy := Inputs^[ev.i].vy
-         ELSE
-            b^.vx := b^.vx + Inputs^[ev.i].vx ;
-            b^.vy := b^.vy + Inputs^[ev.i].vy
-         END ;
-         INC (b^.stamp) ;
-         Str ("E input ") ;
-         Real (ev.t) ;
-         Str (" ") ;
-         Int (ev.a) ;
-         Str (" -1 -1 ") ;
-         Int (ev.i) ;
-         Str (" -1 0 0 0 0 0") ;
-         Ln ;
-         EmitState (b) ;
-         PredictBody (b, ev.t, -1)
-      ELSIF ev.kind = KCell THEN
-         INC (Stats[StCells]) ;
-         b := ADR (Bodies^[ev.a]) ;
-         CellRemove (b) ;
-         IF ev.i = 0 THEN
-            b^.cx := b^.cx + ev.j ;
-            col := b^.cx + ev.j ;
-            CellAdd (b) ;
-            PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, ev.t)
-         ELSE
-            b^.cy := b^.cy + ev.j ;
-            row := b^.cy + ev.j ;
-            CellAdd (b) ;
-            PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, ev.t)
-         END ;
-         ScheduleCell (b, ev.t)
-      ELSIF ev.kind = KHorizon THEN
-         INC (Stats[StHorizons]) ;
-         PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.t)
-      ELSIF ev.kind = KFrame THEN
-         INC (Stats[StFrames]) ;
-         Str ("E frame ") ;
-         Real (ev.t) ;
-         Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
-         Ln ;
-         nxt := VAL (REAL, ev.i + 1) * FrameDt ;
-         IF nxt <= EndT THEN
-            Schedule (nxt, KFrame, -1, -1, -1, ev.i + 1, -1)
-         END
-      END
-   END ;
 
+(* Every body at the end time, the statistics and the predictions served
+   per variant. *)
+PROCEDURE Finish ;
+VAR
+   i, k: INTEGER ;
+   b: BodyRef ;
+BEGIN
    FOR i := 0 TO NBodies - 1 DO
       Advance (ADR (Bodies^[i]), EndT)
    END ;
@@ -1228,11 +923,36 @@ BEGIN
       Ln
    END ;
    Flush
+END Finish ;
+
+
+(* The events in order up to the end time, each to its kind's handler. *)
+PROCEDURE Run ;
+VAR
+   ev: Event ;
+BEGIN
+   Start ;
+   LastT := -1.0 ;
+   Same := 0 ;
+   WHILE Pop (ev) AND (ev.t <= EndT) DO
+      IF Stale (ev) THEN
+         INC (Stats[StStale])
+      ELSE
+         CountSameTime (ev.t) ;
+         CASE ev.kind OF
+            KInput: handle_input (ev)
+          | KCollision: handle_collision (ev)
+          | KCell: handle_cell (ev)
+          | KHorizon: handle_horizon (ev)
+          | KFrame: handle_frame (ev)
+         END
+      END
+   END ;
+   Finish
 END Run ;
 
 
 BEGIN
-   Pending := -2 ;
    ReadScene ;
    Run
 END SimMain.

@@ -14,7 +14,7 @@ IMPLEMENTATION MODULE SimOut ;
    written directly. *)
 
 FROM SYSTEM IMPORT ADR, CAST ;
-FROM SimC IMPORT write, snprintf, floor ;
+FROM SimC IMPORT write, snprintf, floor, exit ;
 FROM CMath IMPORT frexp ;
 
 CONST
@@ -46,6 +46,22 @@ BEGIN
    END ;
    pos := 0
 END Flush ;
+
+
+PROCEDURE Fail ;
+BEGIN
+   Flush ;
+   exit (1)
+END Fail ;
+
+
+PROCEDURE FailMsg (msg: ARRAY OF CHAR) ;
+BEGIN
+   Str ("X ") ;
+   Str (msg) ;
+   Ln ;
+   Fail
+END FailMsg ;
 
 
 PROCEDURE Reserve ;
