@@ -25,6 +25,7 @@ KIND_NAMES = ("input", "collision", "cell", "horizon", "frame")
 # contact features: circle-circle (also circle-vertex) and point-edge
 CC, PE = 0, 1
 FEATURE_NAMES = ("circle-circle", "point-edge")
+# the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features")
 
 
@@ -36,14 +37,93 @@ class Vertex:
     """One vertex of a polygon and the edge that starts at it (to the next
     vertex), in the body's frame: all precomputed by the scene compiler."""
     __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2")
+    # lx, ly   m: the vertex about the centre of mass
+    # rho, beta  m, rad: its polar form
+    # psi      rad: angle of the edge's outward normal
+    # h        m: offset of the edge's line, n . v
+    # s1, s2   m: the edge's extent along its tangent
 
     def __init__(self, vals):
         self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2 = vals
 
 
 class Body:
+    """A body's constants and its motion, stored as the state at its own
+    last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy")
+    # idx            index in the scene
+    # polygon, fixed, large   flags (large: not in the grid, in the large list)
+    # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
+    # e              restitution, 0..1
+    # px, py         m: centre (of rotation) at tb
+    # vx, vy         m/s: velocity at tb
+    # ax, ay         m/s^2: acceleration (gravity included)
+    # ang, om        rad, rad/s: angle at tb, angular velocity
+    # tb             s: the time of this state
+    # r              m: circle radius (0 for polygons)
+    # orbit, ophase  m, rad: orbit radius and phase (circles)
+    # bound          m: radius of the bounding circle about the centre
+    # verts          list of Vertex (polygons), else empty
+    # stamp          bumped when the motion changes (lazy invalidation)
+    # cx, cy         grid cell (small bodies)
+
+
+class Stats:
+    """The counters written as the trace's N lines (STAT_NAMES order)."""
+    __slots__ = STAT_NAMES
+
+    def __init__(self):
+        for name in STAT_NAMES:
+            setattr(self, name, 0)
+
+
+# ---- event records: one per kind, with the fields that kind needs ----------
+# The queue orders by (t, kind, seq); seq is the scheduling counter.
+# stamp_a / stamp_b: the bodies' stamps when the event was scheduled.
+
+class InputEvent:
+    __slots__ = ("t", "k")              # k: index in the scene's inputs
+    kind = INPUT
+
+    def __init__(self, t: float, k: int):
+        self.t, self.k = t, k
+
+
+class CollisionEvent:
+    __slots__ = ("t", "a", "b", "feature", "i", "j", "stamp_a", "stamp_b")
+    kind = COLLISION
+    # feature CC: circle of a against the circle of b (j < 0) or vertex j of b
+    # feature PE: circle of a (i < 0) or vertex i of a against edge j of b
+
+    def __init__(self, t, a, b, feature, i, j, stamp_a, stamp_b):
+        self.t, self.a, self.b, self.feature, self.i, self.j = t, a, b, feature, i, j
+        self.stamp_a, self.stamp_b = stamp_a, stamp_b
+
+
+class CellEvent:
+    __slots__ = ("t", "body", "axis", "direction", "stamp")
+    kind = CELL
+    # axis 0: x, 1: y; direction +1 or -1: the neighbouring cell entered
+
+    def __init__(self, t, body, axis, direction, stamp):
+        self.t, self.body, self.axis, self.direction, self.stamp = t, body, axis, direction, stamp
+
+
+class HorizonEvent:
+    __slots__ = ("t", "a", "b", "stamp_a", "stamp_b")
+    kind = HORIZON
+
+    def __init__(self, t, a, b, stamp_a, stamp_b):
+        self.t, self.a, self.b, self.stamp_a, self.stamp_b = t, a, b, stamp_a, stamp_b
+
+
+class FrameEvent:
+    __slots__ = ("t", "k")              # frame k is at k * frame_dt
+    kind = FRAME
+
+    def __init__(self, t: float, k: int):
+        self.t, self.k = t, k
 
 
 def _always(s: float) -> bool:
@@ -52,6 +132,15 @@ def _always(s: float) -> bool:
 
 def _fmt(x: float) -> str:
     return "%.17g" % x
+
+
+class Input:
+    """A scripted velocity change."""
+    __slots__ = ("t", "body", "mode", "vx", "vy")
+    # t s; body index; mode 0: set velocity, 1: add velocity; vx, vy m/s
+
+    def __init__(self, t: float, body: int, mode: int, vx: float, vy: float):
+        self.t, self.body, self.mode, self.vx, self.vy = t, body, mode, vx, vy
 
 
 class Scene:
@@ -111,7 +200,7 @@ class Scene:
         self.inputs = []
         for _ in range(k):
             word("input")
-            self.inputs.append((num(), integer(), integer(), num(), num()))
+            self.inputs.append(Input(num(), integer(), integer(), num(), num()))
         word("end")
 
 
@@ -127,7 +216,7 @@ class Simulator:
         self.out = out
         self.heap: list = []
         self.seq = 0
-        self.stats = [0] * len(STAT_NAMES)
+        self.stats = Stats()
         self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
         self.large: list[Body] = [b for b in scene.bodies if b.large]
 
@@ -156,12 +245,26 @@ class Simulator:
         return 0.0
 
     # ---- the event queue --------------------------------------------------
-    def push(self, t: float, kind: int, a: int, b: int, feat: int, i: int, j: int) -> None:
-        bodies = self.s.bodies
-        sa = bodies[a].stamp if a >= 0 else 0
-        sb = bodies[b].stamp if b >= 0 else 0
-        heapq.heappush(self.heap, (t, kind, self.seq, a, b, feat, i, j, sa, sb))
+    def push(self, ev) -> None:
+        """Queue an event record; the queue orders by (t, kind, seq)."""
+        heapq.heappush(self.heap, (ev.t, ev.kind, self.seq, ev))
         self.seq += 1
+
+    def push_collision(self, t: float, feature: int, A: Body, B: Body, i: int, j: int) -> None:
+        self.push(CollisionEvent(t, A.idx, B.idx, feature, i, j, A.stamp, B.stamp))
+
+    def push_horizon(self, t: float, A: Body, B: Body) -> None:
+        self.push(HorizonEvent(t, A.idx, B.idx, A.stamp, B.stamp))
+
+    def is_stale(self, ev) -> bool:
+        """An event whose bodies' motion changed since it was scheduled.
+        Inputs are scripted, not predicted, and frames have no bodies: never."""
+        bodies = self.s.bodies
+        if ev.kind == COLLISION or ev.kind == HORIZON:
+            return bodies[ev.a].stamp != ev.stamp_a or bodies[ev.b].stamp != ev.stamp_b
+        if ev.kind == CELL:
+            return bodies[ev.body].stamp != ev.stamp
+        return False
 
     # ---- grid -------------------------------------------------------------
     def cell_of(self, x: float, y: float) -> tuple[int, int]:
@@ -249,7 +352,7 @@ class Simulator:
         if idx < 0:
             raise SimError("circle_circle: the scene uses an effect the generated code leaves out")
         self.cc_counts[idx] += 1
-        self.stats[7] += 1
+        self.stats.features += 1
         return self.cc_coef(*args)
 
     def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
@@ -276,7 +379,7 @@ class Simulator:
         if idx < 0:
             raise SimError("point_edge: the scene uses an effect the generated code leaves out")
         self.pe_counts[idx] += 1
-        self.stats[7] += 1
+        self.stats.features += 1
         coef = self.pe_coef(*args)
         tol = self.s.tol
 
@@ -303,7 +406,7 @@ class Simulator:
         """Schedule the first contact of A and B after now, or a horizon
         event where the Taylor polynomials of their turns stop being good."""
         s = self.s
-        self.stats[6] += 1
+        self.stats.pairs += 1
         w = s.end - now
         if not (w > 0.0):
             return
@@ -313,12 +416,12 @@ class Simulator:
             if meet is None:
                 return
             if meet > 0.0:
-                self.push(now + meet, HORIZON, A.idx, B.idx, -1, -1, -1)
+                self.push_horizon(now + meet, A, B)
                 return
         turn = self.turn_rate(A) + self.turn_rate(B)
         if turn > 0.0:
             w = min(w, s.alpha / turn)
-        best = None   # (s, feature, a, b, i, j)
+        best = None   # (s, feature, a, b, i, j): the earliest contact so far
         if not A.polygon and not B.polygon:
             t = self.predict_cc(A, B, None, B.r, now, w)
             if t is not None:
@@ -331,10 +434,11 @@ class Simulator:
             else:
                 best = self.vertices_edges(A, B, now, w, None)
                 best = self.vertices_edges(B, A, now, w, best)
+        bodies = s.bodies
         if best is not None:
-            self.push(now + best[0], COLLISION, best[2], best[3], best[1], best[4], best[5])
+            self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
         elif now + w < s.end:
-            self.push(now + w, HORIZON, A.idx, B.idx, -1, -1, -1)
+            self.push_horizon(now + w, A, B)
 
     def bounds_meet(self, A: Body, B: Body, now: float, w: float) -> float | None:
         """When the bounding circles first touch within (0, w]: 0.0 when they
@@ -412,18 +516,18 @@ class Simulator:
                         break
                     lo = u
         if best is not None:
-            self.push(b.tb + best[0], CELL, b.idx, -1, -1, best[1], best[2])
+            self.push(CellEvent(b.tb + best[0], b.idx, best[1], best[2], b.stamp))
 
     # ---- handling events ----------------------------------------------------
     def emit_state(self, b: Body) -> None:
         self.out.write(f"S {b.idx} {_fmt(b.tb)} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
                        f"{_fmt(b.ang)} {_fmt(b.om)}\n")
 
-    def collide(self, t: float, feat: int, A: Body, B: Body, i: int, j: int) -> None:
-        self.advance(A, t)
-        self.advance(B, t)
+    def contact_frame(self, t: float, feature: int, A: Body, B: Body, i: int, j: int):
+        """Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
+        feature at t (both bodies advanced to t)."""
         vA = A.verts[i] if i >= 0 else None
-        if feat == CC:
+        if feature == CC:
             ax_, ay_ = self.point_at(A, None, t)
             bx_, by_ = self.point_at(B, B.verts[j] if j >= 0 else None, t)
             dx, dy = bx_ - ax_, by_ - ay_
@@ -439,6 +543,12 @@ class Simulator:
             nx, ny = -math.cos(th), -math.sin(th)       # from A to B: against the edge's outward normal
             rad = A.r if vA is None else 0.0
             cx, cy = px + rad * nx, py + rad * ny
+        return cx, cy, nx, ny
+
+    def apply_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+        """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
+        from A to B (both advanced to the contact time): 0.0 when the material
+        points do not approach, else the impulse j >= 0 (velocities changed)."""
         # velocities of the material points at the contact
         uax = A.vx - A.om * (cy - A.py)
         uay = A.vy + A.om * (cx - A.px)
@@ -459,7 +569,19 @@ class Simulator:
             B.vx = B.vx + imp * B.inv_m * nx
             B.vy = B.vy + imp * B.inv_m * ny
             B.om = B.om + imp * B.inv_i * rbn
-        self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {feat} {i} {j} {_fmt(cx)} {_fmt(cy)} "
+        return imp
+
+    # ---- event handlers: one per kind -------------------------------------
+    def handle_collision(self, ev: CollisionEvent) -> None:
+        self.stats.collisions += 1
+        t = ev.t
+        A = self.s.bodies[ev.a]
+        B = self.s.bodies[ev.b]
+        self.advance(A, t)
+        self.advance(B, t)
+        cx, cy, nx, ny = self.contact_frame(t, ev.feature, A, B, ev.i, ev.j)
+        imp = self.apply_impulse(A, B, cx, cy, nx, ny)
+        self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         for b in (A, B):
             if not b.fixed:
@@ -470,17 +592,66 @@ class Simulator:
         if not B.fixed:
             self.predict_body(B, t, A if not A.fixed else None)
 
-    def run(self) -> None:
+    def handle_input(self, ev: InputEvent) -> None:
+        self.stats.inputs += 1
+        t = ev.t
+        inp = self.s.inputs[ev.k]
+        body = self.s.bodies[inp.body]
+        self.advance(body, t)
+        if inp.mode == 0:
+            body.vx, body.vy = inp.vx, inp.vy
+        else:
+            body.vx, body.vy = body.vx + inp.vx, body.vy + inp.vy
+        body.stamp += 1
+        self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {ev.k} -1 0 0 0 0 0\n")
+        self.emit_state(body)
+        self.predict_body(body, t, None)
+
+    def handle_cell(self, ev: CellEvent) -> None:
+        """The body's centre crossed into the next cell along an axis: move
+        it there and predict it against the row or column it now neighbours."""
+        self.stats.cells += 1
+        body = self.s.bodies[ev.body]
+        d = ev.direction
+        self.cell_remove(body)
+        if ev.axis == 0:
+            body.cx += d
+            col = body.cx + d
+            x_lo, x_hi, y_lo, y_hi = col, col, body.cy - 1, body.cy + 1
+        else:
+            body.cy += d
+            row = body.cy + d
+            x_lo, x_hi, y_lo, y_hi = body.cx - 1, body.cx + 1, row, row
+        self.cell_add(body)
+        for o in self.candidates(body, x_lo, x_hi, y_lo, y_hi):
+            if not (body.fixed and o.fixed):
+                self.predict_pair(body, o, ev.t)
+        self.schedule_cell(body, ev.t)
+
+    def handle_horizon(self, ev: HorizonEvent) -> None:
+        self.stats.horizons += 1
+        self.predict_pair(self.s.bodies[ev.a], self.s.bodies[ev.b], ev.t)
+
+    def handle_frame(self, ev: FrameEvent) -> None:
+        self.stats.frames += 1
+        self.out.write(f"E frame {_fmt(ev.t)} -1 -1 -1 -1 -1 0 0 0 0 0\n")
+        nxt = (ev.k + 1) * self.s.frame_dt
+        if nxt <= self.s.end:
+            self.push(FrameEvent(nxt, ev.k + 1))
+
+    # ---- the run ------------------------------------------------------------
+    def start(self) -> None:
+        """Cells, inputs, the first frame and every pair's first prediction."""
         s = self.s
         bodies = s.bodies
         for b in bodies:
             if not b.large:
                 b.cx, b.cy = self.cell_of(b.px, b.py)
                 self.cell_add(b)
-        for k, (t, bi, mode, vx, vy) in enumerate(s.inputs):
-            self.push(t, INPUT, bi, -1, -1, k, mode)
+        for k, inp in enumerate(s.inputs):
+            self.push(InputEvent(inp.t, k))
         if s.frame_dt > 0.0 and s.frame_dt <= s.end:
-            self.push(s.frame_dt, FRAME, -1, -1, -1, 1, -1)
+            self.push(FrameEvent(s.frame_dt, 1))
         for b in bodies:
             if b.large:
                 continue
@@ -491,77 +662,45 @@ class Simulator:
                 if not (b.fixed and o.fixed):
                     self.predict_pair(b, o, 0.0)
             self.schedule_cell(b, 0.0)
-        last_t = -1.0
-        same = 0
-        heap = self.heap
-        while heap:
-            ev = heapq.heappop(heap)
-            t, kind, _, a, b, feat, i, j, sa, sb = ev
-            if t > s.end:
-                break
-            # an input is scripted, not predicted: it happens whatever the body did before
-            if kind != INPUT and ((a >= 0 and bodies[a].stamp != sa) or (b >= 0 and bodies[b].stamp != sb)):
-                self.stats[5] += 1
-                continue
-            if t == last_t:
-                same += 1
-                if same > s.max_same:
-                    raise SimError(f"more than {s.max_same} events at t = {_fmt(t)}: the scene is stuck")
-            else:
-                last_t, same = t, 0
-            if kind == COLLISION:
-                self.stats[0] += 1
-                self.collide(t, feat, bodies[a], bodies[b], i, j)
-            elif kind == INPUT:
-                self.stats[1] += 1
-                _, bi, mode, vx, vy = s.inputs[i]
-                body = bodies[a]
-                self.advance(body, t)
-                if mode == 0:
-                    body.vx, body.vy = vx, vy
-                else:
-                    body.vx, body.vy = body.vx + vx, body.vy + vy
-                body.stamp += 1
-                self.out.write(f"E input {_fmt(t)} {a} -1 -1 {i} -1 0 0 0 0 0\n")
-                self.emit_state(body)
-                self.predict_body(body, t, None)
-            elif kind == CELL:
-                self.stats[3] += 1
-                body = bodies[a]
-                self.cell_remove(body)
-                if i == 0:
-                    body.cx += j
-                    col = body.cx + j
-                    news = (col, col, body.cy - 1, body.cy + 1)
-                else:
-                    body.cy += j
-                    row = body.cy + j
-                    news = (body.cx - 1, body.cx + 1, row, row)
-                self.cell_add(body)
-                for o in self.candidates(body, *news):
-                    if not (body.fixed and o.fixed):
-                        self.predict_pair(body, o, t)
-                self.schedule_cell(body, t)
-            elif kind == HORIZON:
-                self.stats[4] += 1
-                self.predict_pair(bodies[a], bodies[b], t)
-            else:
-                self.stats[2] += 1
-                self.out.write(f"E frame {_fmt(t)} -1 -1 -1 -1 -1 0 0 0 0 0\n")
-                nxt = (i + 1) * s.frame_dt
-                if nxt <= s.end:
-                    self.push(nxt, FRAME, -1, -1, -1, i + 1, -1)
-        for b in bodies:
+
+    def finish(self) -> None:
+        """Every body at the end time, the counters and the variants served."""
+        s = self.s
+        for b in s.bodies:
             self.advance(b, s.end)
-        for b in bodies:
+        for b in s.bodies:
             self.out.write(f"F {b.idx} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
                            f"{_fmt(b.ang)} {_fmt(b.om)}\n")
-        for k, name in enumerate(STAT_NAMES):
-            self.out.write(f"N {name} {self.stats[k]}\n")
+        for name in STAT_NAMES:
+            self.out.write(f"N {name} {getattr(self.stats, name)}\n")
         for k, c in enumerate(self.cc_counts):
             self.out.write(f"V circle_circle {k} {c}\n")
         for k, c in enumerate(self.pe_counts):
             self.out.write(f"V point_edge {k} {c}\n")
+
+    def run(self) -> None:
+        s = self.s
+        self.start()
+        handlers = (self.handle_input, self.handle_collision, self.handle_cell, self.handle_horizon,
+                    self.handle_frame)     # by kind
+        last_t = -1.0
+        same = 0
+        heap = self.heap
+        while heap:
+            ev = heapq.heappop(heap)[3]
+            if ev.t > s.end:
+                break
+            if self.is_stale(ev):
+                self.stats.stale += 1
+                continue
+            if ev.t == last_t:
+                same += 1
+                if same > s.max_same:
+                    raise SimError(f"more than {s.max_same} events at t = {_fmt(ev.t)}: the scene is stuck")
+            else:
+                last_t, same = ev.t, 0
+            handlers[ev.kind](ev)
+        self.finish()
 
 
 def simulate(scene_text: str, cc, pe, out) -> None:
