@@ -11,9 +11,11 @@ MODULE SimMain ;
    One module per concept, as the C runtime: SimScene (the scene, its bodies
    and reading it), SimGrid (the broad phase's cells), SimHeap (the event
    queue), SimOut (the trace writer; numbers as "%.17g" writes them).  This
-   module holds the motion, the predictions, one handler per event kind
-   (handle_input, handle_collision, handle_cell, handle_horizon,
-   handle_frame: the reference's names) and the loop that dispatches to them.
+   module holds the motion, the predictions, one handler per event kind and
+   the loop (run) that dispatches to them, with the names docs/simulator.md
+   gives the reference's steps (handle_input, handle_collision, handle_cell,
+   handle_horizon, handle_frame, start, finish, is_stale, push,
+   push_collision, push_horizon, contact_frame, apply_impulse).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -26,7 +28,8 @@ FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT sin, cos ;
 FROM Roots IMPORT SmallestRoot ;
 FROM CMath IMPORT sqrt ;
-FROM SimHeap IMPORT Event, Push, Pop ;
+FROM SimHeap IMPORT Event, Push, Pop, KInput, KCollision, KCell, KHorizon, KFrame,
+                    InputEvent, CollisionEvent, CellEvent, HorizonEvent, FrameEvent ;
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, Fail, FailMsg ;
 FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
@@ -38,33 +41,23 @@ FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove 
 
 CONST
    HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
-   (* event kinds, in the order they are handled at equal times *)
-   KInput = 0 ;
-   KCollision = 1 ;
-   KCell = 2 ;
-   KHorizon = 3 ;
-   KFrame = 4 ;
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
-   (* statistics, in the order of the N lines *)
-   StCollisions = 0 ;
-   StInputs = 1 ;
-   StFrames = 2 ;
-   StCells = 3 ;
-   StHorizons = 4 ;
-   StStale = 5 ;
-   StPairs = 6 ;
-   StFeatures = 7 ;
-   NStats = 8 ;
    CcVariants = SIM_CC_VARIANTS ;
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
    PeMaxDegree = point_edge_coefficients_max_degree ;
 
+TYPE
+   (* the counters written as the trace's N lines, in this order *)
+   StatCounts = RECORD
+      collisions, inputs, frames, cells, horizons, stale, pairs, features: LONGINT ;
+   END ;
+
 VAR
    Seq: LONGINT ;              (* the next scheduling counter *)
-   Stats: ARRAY [0..NStats - 1] OF LONGINT ;
+   Stats: StatCounts ;
    CcCounts: ARRAY [0..CcVariants - 1] OF LONGINT ;
    PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
    (* the point-edge check of the prediction under way (predict_pe's inside) *)
@@ -117,23 +110,55 @@ END TurnRate ;
 
 (* ---- the event queue --------------------------------------------------- *)
 
-PROCEDURE Schedule (t: REAL; kind, a, b, feat, i, j: INTEGER) ;
+(* Queues ev (its t, kind and record set) as the next in scheduling order. *)
+PROCEDURE push (VAR ev: Event) ;
+BEGIN
+   ev.seq := Seq ;
+   IF NOT Push (ev) THEN FailMsg ("out of memory (event queue)") END ;
+   INC (Seq)
+END push ;
+
+
+PROCEDURE push_collision (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
 VAR
    ev: Event ;
 BEGIN
    ev.t := t ;
-   ev.kind := kind ;
-   ev.seq := Seq ;
-   ev.a := a ;
-   ev.b := b ;
-   ev.feat := feat ;
-   ev.i := i ;
-   ev.j := j ;
-   IF a >= 0 THEN ev.sa := Bodies^[a].stamp ELSE ev.sa := 0 END ;
-   IF b >= 0 THEN ev.sb := Bodies^[b].stamp ELSE ev.sb := 0 END ;
-   IF NOT Push (ev) THEN FailMsg ("out of memory (event queue)") END ;
-   INC (Seq)
-END Schedule ;
+   ev.kind := KCollision ;
+   ev.collision.a := A^.idx ;
+   ev.collision.b := B^.idx ;
+   ev.collision.feature := feature ;
+   ev.collision.i := i ;
+   ev.collision.j := j ;
+   ev.collision.stamp_a := A^.stamp ;
+   ev.collision.stamp_b := B^.stamp ;
+   push (ev)
+END push_collision ;
+
+
+PROCEDURE push_horizon (t: REAL; A, B: BodyRef) ;
+VAR
+   ev: Event ;
+BEGIN
+   ev.t := t ;
+   ev.kind := KHorizon ;
+   ev.horizon.a := A^.idx ;
+   ev.horizon.b := B^.idx ;
+   ev.horizon.stamp_a := A^.stamp ;
+   ev.horizon.stamp_b := B^.stamp ;
+   push (ev)
+END push_horizon ;
+
+
+PROCEDURE push_frame (t: REAL; k: INTEGER) ;
+VAR
+   ev: Event ;
+BEGIN
+   ev.t := t ;
+   ev.kind := KFrame ;
+   ev.frame.k := k ;
+   push (ev)
+END push_frame ;
 
 
 (* ---- helpers ---------------------------------------------------------- *)
@@ -275,7 +300,7 @@ BEGIN
       FailMsg ("circle_circle: the scene uses an effect the generated code leaves out")
    END ;
    INC (CcCounts[idx]) ;
-   INC (Stats[StFeatures]) ;
+   INC (Stats.features) ;
    RETURN circle_circle_coefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z,
                                       coef)
 END CcCoefficients ;
@@ -346,7 +371,7 @@ BEGIN
       FailMsg ("point_edge: the scene uses an effect the generated code leaves out")
    END ;
    INC (PeCounts[idx]) ;
-   INC (Stats[StFeatures]) ;
+   INC (Stats.features) ;
    deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
    ChkX := X ;
    ChkY := Y ;
@@ -445,14 +470,14 @@ VAR
    best: Best ;
    found: BOOLEAN ;
 BEGIN
-   INC (Stats[StPairs]) ;
+   INC (Stats.pairs) ;
    w := EndT - now ;
    IF NOT (w > 0.0) THEN RETURN END ;
    IF A^.polygon OR B^.polygon THEN
       (* the bounding circles do not turn: until they touch, nothing can *)
       IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
       IF meet > 0.0 THEN
-         Schedule (now + meet, KHorizon, A^.idx, B^.idx, -1, -1, -1) ;
+         push_horizon (now + meet, A, B) ;
          RETURN
       END
    END ;
@@ -475,9 +500,9 @@ BEGIN
       VerticesEdges (B, A, now, w, best)
    END ;
    IF best.found THEN
-      Schedule (now + best.t, KCollision, best.a, best.b, best.feat, best.i, best.j)
+      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
    ELSIF now + w < EndT THEN
-      Schedule (now + w, KHorizon, A^.idx, B^.idx, -1, -1, -1)
+      push_horizon (now + w, A, B)
    END
 END PredictPair ;
 
@@ -543,6 +568,7 @@ VAR
    c: ARRAY [0..2] OF REAL ;
    axis, dk, direction, i, n, it, baxis, bdir: INTEGER ;
    found, crossed: BOOLEAN ;
+   ev: Event ;
 BEGIN
    IF b^.large OR ((b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
       RETURN
@@ -595,7 +621,13 @@ BEGIN
       END
    END ;
    IF found THEN
-      Schedule (b^.tb + bu, KCell, b^.idx, -1, -1, baxis, bdir)
+      ev.t := b^.tb + bu ;
+      ev.kind := KCell ;
+      ev.cell.body := b^.idx ;
+      ev.cell.axis := baxis ;
+      ev.cell.direction := bdir ;
+      ev.cell.stamp := b^.stamp ;
+      push (ev)
    END
 END ScheduleCell ;
 
@@ -617,16 +649,15 @@ BEGIN
 END EmitState ;
 
 
-PROCEDURE Collide (t: REAL; feat: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
+(* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
+   at t (both bodies advanced to t). *)
+PROCEDURE contact_frame (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER; VAR cx, cy, nx, ny: REAL) ;
 VAR
    vA, vB: INTEGER ;
-   pax, pay, pbx, pby, dx, dy, dist, nx, ny, cx, cy, px, py, th, rad: REAL ;
-   uax, uay, ubx, uby, vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   pax, pay, pbx, pby, dx, dy, dist, px, py, th, rad: REAL ;
 BEGIN
-   Advance (A, t) ;
-   Advance (B, t) ;
    IF i >= 0 THEN vA := A^.v0 + i ELSE vA := -1 END ;
-   IF feat = FeatCC THEN
+   IF feature = FeatCC THEN
       PointAt (A, -1, t, pax, pay) ;
       IF j >= 0 THEN vB := B^.v0 + j ELSE vB := -1 END ;
       PointAt (B, vB, t, pbx, pby) ;
@@ -651,7 +682,17 @@ BEGIN
       IF vA < 0 THEN rad := A^.r ELSE rad := 0.0 END ;
       cx := px + rad * nx ;
       cy := py + rad * ny
-   END ;
+   END
+END contact_frame ;
+
+
+(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
+   from A to B (both advanced to the contact time): 0.0 when the material
+   points do not approach, else the impulse j >= 0 (velocities changed). *)
+PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   uax, uay, ubx, uby, vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+BEGIN
    (* velocities of the material points at the contact *)
    uax := A^.vx - A^.om * (cy - A^.py) ;
    uay := A^.vy + A^.om * (cx - A^.px) ;
@@ -677,13 +718,41 @@ BEGIN
       B^.vy := B^.vy + imp * B^.invM * ny ;
       B^.om := B^.om + imp * B^.invI * rbn
    END ;
+   RETURN imp
+END apply_impulse ;
+
+
+PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
+BEGIN
+   Str ("N ") ;
+   Str (name) ;
+   Str (" ") ;
+   Int (count) ;
+   Ln
+END Stat ;
+
+
+(* ---- event handlers: one per kind --------------------------------------------- *)
+
+PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
+VAR
+   A, B: BodyRef ;
+   cx, cy, nx, ny, imp: REAL ;
+BEGIN
+   INC (Stats.collisions) ;
+   A := ADR (Bodies^[ev.a]) ;
+   B := ADR (Bodies^[ev.b]) ;
+   Advance (A, t) ;
+   Advance (B, t) ;
+   contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
+   imp := apply_impulse (A, B, cx, cy, nx, ny) ;
    Str ("E collision ") ;
    Real (t) ;
    Str (" ") ; Int (A^.idx) ;
    Str (" ") ; Int (B^.idx) ;
-   Str (" ") ; Int (feat) ;
-   Str (" ") ; Int (i) ;
-   Str (" ") ; Int (j) ;
+   Str (" ") ; Int (ev.feature) ;
+   Str (" ") ; Int (ev.i) ;
+   Str (" ") ; Int (ev.j) ;
    SpReal (cx) ;
    SpReal (cy) ;
    SpReal (nx) ;
@@ -708,117 +777,108 @@ BEGIN
          PredictBody (B, t, -1)
       END
    END
-END Collide ;
-
-
-PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
-BEGIN
-   Str ("N ") ;
-   Str (name) ;
-   Str (" ") ;
-   Int (count) ;
-   Ln
-END Stat ;
-
-
-(* ---- the events, one handler per kind ---------------------------------------- *)
-
-PROCEDURE handle_input (VAR ev: Event) ;
-VAR
-   b: BodyRef ;
-BEGIN
-   INC (Stats[StInputs]) ;
-   b := ADR (Bodies^[ev.a]) ;
-   Advance (b, ev.t) ;
-   IF Inputs^[ev.i].mode = 0 THEN
-      b^.vx := Inputs^[ev.i].vx ;
-      b^.vy := Inputs^[ev.i].vy
-   ELSE
-      b^.vx := b^.vx + Inputs^[ev.i].vx ;
-      b^.vy := b^.vy + Inputs^[ev.i].vy
-   END ;
-   INC (b^.stamp) ;
-   Str ("E input ") ;
-   Real (ev.t) ;
-   Str (" ") ;
-   Int (ev.a) ;
-   Str (" -1 -1 ") ;
-   Int (ev.i) ;
-   Str (" -1 0 0 0 0 0") ;
-   Ln ;
-   EmitState (b) ;
-   PredictBody (b, ev.t, -1)
-END handle_input ;
-
-
-PROCEDURE handle_collision (VAR ev: Event) ;
-BEGIN
-   INC (Stats[StCollisions]) ;
-   Collide (ev.t, ev.feat, ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j)
 END handle_collision ;
 
 
-(* Body a's centre crossed a boundary of its cell: axis i (0: x, 1: y),
-   direction j (+1 or -1).  It moves to the next cell and is predicted
-   against the row or column of cells it now neighbours. *)
-PROCEDURE handle_cell (VAR ev: Event) ;
+PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
 VAR
    b: BodyRef ;
-   col, row: INTEGER ;
 BEGIN
-   INC (Stats[StCells]) ;
-   b := ADR (Bodies^[ev.a]) ;
-   CellRemove (b) ;
-   IF ev.i = 0 THEN
-      b^.cx := b^.cx + ev.j ;
-      col := b^.cx + ev.j ;
-      CellAdd (b) ;
-      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, ev.t)
+   INC (Stats.inputs) ;
+   b := ADR (Bodies^[Inputs^[ev.k].body]) ;
+   Advance (b, t) ;
+   IF Inputs^[ev.k].mode = 0 THEN
+      b^.vx := Inputs^[ev.k].vx ;
+      b^.vy := Inputs^[ev.k].vy
    ELSE
-      b^.cy := b^.cy + ev.j ;
-      row := b^.cy + ev.j ;
-      CellAdd (b) ;
-      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, ev.t)
+      b^.vx := b^.vx + Inputs^[ev.k].vx ;
+      b^.vy := b^.vy + Inputs^[ev.k].vy
    END ;
-   ScheduleCell (b, ev.t)
+   INC (b^.stamp) ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (ev.k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (b) ;
+   PredictBody (b, t, -1)
+END handle_input ;
+
+
+(* The body's centre crossed into the next cell along an axis: it moves
+   there and is predicted against the row or column it now neighbours. *)
+PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
+VAR
+   b: BodyRef ;
+   d, col, row: INTEGER ;
+BEGIN
+   INC (Stats.cells) ;
+   b := ADR (Bodies^[ev.body]) ;
+   d := ev.direction ;
+   CellRemove (b) ;
+   IF ev.axis = 0 THEN
+      b^.cx := b^.cx + d ;
+      col := b^.cx + d ;
+      CellAdd (b) ;
+      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, t)
+   ELSE
+      b^.cy := b^.cy + d ;
+      row := b^.cy + d ;
+      CellAdd (b) ;
+      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
+   END ;
+   ScheduleCell (b, t)
 END handle_cell ;
 
 
-(* The pair a, b is predicted again from here (its bounding circles meet, or
-   its Taylor window ended). *)
-PROCEDURE handle_horizon (VAR ev: Event) ;
+(* The pair is predicted again from here (its bounding circles meet, or its
+   Taylor window ended). *)
+PROCEDURE handle_horizon (t: REAL; ev: HorizonEvent) ;
 BEGIN
-   INC (Stats[StHorizons]) ;
-   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.t)
+   INC (Stats.horizons) ;
+   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), t)
 END handle_horizon ;
 
 
-(* Frame i: written, and frame i + 1 scheduled. *)
-PROCEDURE handle_frame (VAR ev: Event) ;
+(* Frame k: written, and frame k + 1 scheduled. *)
+PROCEDURE handle_frame (t: REAL; ev: FrameEvent) ;
 VAR
    nxt: REAL ;
 BEGIN
-   INC (Stats[StFrames]) ;
+   INC (Stats.frames) ;
    Str ("E frame ") ;
-   Real (ev.t) ;
+   Real (t) ;
    Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
    Ln ;
-   nxt := VAL (REAL, ev.i + 1) * FrameDt ;
+   nxt := VAL (REAL, ev.k + 1) * FrameDt ;
    IF nxt <= EndT THEN
-      Schedule (nxt, KFrame, -1, -1, -1, ev.i + 1, -1)
+      push_frame (nxt, ev.k + 1)
    END
 END handle_frame ;
 
 
 (* ---- the run ------------------------------------------------------------------ *)
 
-(* Whether ev was predicted from a motion that has changed since (an input
-   is scripted, not predicted: it happens whatever the body did before). *)
-PROCEDURE Stale (ev: Event) : BOOLEAN ;
+(* An event whose bodies' motion changed since it was scheduled.  Inputs are
+   scripted, not predicted, and frames have no bodies: never. *)
+PROCEDURE is_stale (ev: Event) : BOOLEAN ;
 BEGIN
-   IF ev.kind = KInput THEN RETURN FALSE END ;
-   RETURN ((ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa)) OR ((ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb))
-END Stale ;
+   CASE ev.kind OF
+      KCollision:
+         RETURN (Bodies^[ev.collision.a].stamp # ev.collision.stamp_a)
+                OR (Bodies^[ev.collision.b].stamp # ev.collision.stamp_b)
+    | KHorizon:
+         RETURN (Bodies^[ev.horizon.a].stamp # ev.horizon.stamp_a)
+                OR (Bodies^[ev.horizon.b].stamp # ev.horizon.stamp_b)
+    | KCell:
+         RETURN Bodies^[ev.cell.body].stamp # ev.cell.stamp
+   ELSE
+      RETURN FALSE
+   END
+END is_stale ;
 
 
 (* Counts the events at instant t: more than max_same_time is "stuck". *)
@@ -844,14 +904,22 @@ END CountSameTime ;
 
 (* The grid, the inputs, the first frame and the first prediction of every
    pair. *)
-PROCEDURE Start ;
+PROCEDURE start ;
 VAR
    i, k: INTEGER ;
    b: BodyRef ;
+   ev: Event ;
 BEGIN
    InitGrid ;
    Seq := 0 ;
-   FOR k := 0 TO NStats - 1 DO Stats[k] := 0 END ;
+   Stats.collisions := 0 ;
+   Stats.inputs := 0 ;
+   Stats.frames := 0 ;
+   Stats.cells := 0 ;
+   Stats.horizons := 0 ;
+   Stats.stale := 0 ;
+   Stats.pairs := 0 ;
+   Stats.features := 0 ;
    FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
    FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
    FOR i := 0 TO NBodies - 1 DO
@@ -862,10 +930,13 @@ BEGIN
       END
    END ;
    FOR k := 0 TO NInputs - 1 DO
-      Schedule (Inputs^[k].t, KInput, Inputs^[k].body, -1, -1, k, Inputs^[k].mode)
+      ev.t := Inputs^[k].t ;
+      ev.kind := KInput ;
+      ev.input.k := k ;
+      push (ev)
    END ;
    IF (FrameDt > 0.0) AND (FrameDt <= EndT) THEN
-      Schedule (FrameDt, KFrame, -1, -1, -1, 1, -1)
+      push_frame (FrameDt, 1)
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
@@ -875,12 +946,12 @@ BEGIN
          ScheduleCell (b, 0.0)
       END
    END
-END Start ;
+END start ;
 
 
 (* Every body at the end time, the statistics and the predictions served
    per variant. *)
-PROCEDURE Finish ;
+PROCEDURE finish ;
 VAR
    i, k: INTEGER ;
    b: BodyRef ;
@@ -900,14 +971,14 @@ BEGIN
       SpReal (b^.om) ;
       Ln
    END ;
-   Stat ("collisions", Stats[StCollisions]) ;
-   Stat ("inputs", Stats[StInputs]) ;
-   Stat ("frames", Stats[StFrames]) ;
-   Stat ("cells", Stats[StCells]) ;
-   Stat ("horizons", Stats[StHorizons]) ;
-   Stat ("stale", Stats[StStale]) ;
-   Stat ("pairs", Stats[StPairs]) ;
-   Stat ("features", Stats[StFeatures]) ;
+   Stat ("collisions", Stats.collisions) ;
+   Stat ("inputs", Stats.inputs) ;
+   Stat ("frames", Stats.frames) ;
+   Stat ("cells", Stats.cells) ;
+   Stat ("horizons", Stats.horizons) ;
+   Stat ("stale", Stats.stale) ;
+   Stat ("pairs", Stats.pairs) ;
+   Stat ("features", Stats.features) ;
    FOR k := 0 TO CcVariants - 1 DO
       Str ("V circle_circle ") ;
       Int (k) ;
@@ -923,36 +994,36 @@ BEGIN
       Ln
    END ;
    Flush
-END Finish ;
+END finish ;
 
 
 (* The events in order up to the end time, each to its kind's handler. *)
-PROCEDURE Run ;
+PROCEDURE run ;
 VAR
    ev: Event ;
 BEGIN
-   Start ;
+   start ;
    LastT := -1.0 ;
    Same := 0 ;
    WHILE Pop (ev) AND (ev.t <= EndT) DO
-      IF Stale (ev) THEN
-         INC (Stats[StStale])
+      IF is_stale (ev) THEN
+         INC (Stats.stale)
       ELSE
          CountSameTime (ev.t) ;
          CASE ev.kind OF
-            KInput: handle_input (ev)
-          | KCollision: handle_collision (ev)
-          | KCell: handle_cell (ev)
-          | KHorizon: handle_horizon (ev)
-          | KFrame: handle_frame (ev)
+            KInput: handle_input (ev.t, ev.input)
+          | KCollision: handle_collision (ev.t, ev.collision)
+          | KCell: handle_cell (ev.t, ev.cell)
+          | KHorizon: handle_horizon (ev.t, ev.horizon)
+          | KFrame: handle_frame (ev.t, ev.frame)
          END
       END
    END ;
-   Finish
-END Run ;
+   finish
+END run ;
 
 
 BEGIN
    ReadScene ;
-   Run
+   run
 END SimMain.

@@ -231,7 +231,7 @@ BEGIN
    END ;
    Expect ("inputs") ;
    NInputs := ReadInt () ;
-   Inputs := Grow (NIL, NInputs, SIZE (InputRec)) ;
+   Inputs := Grow (NIL, NInputs, SIZE (Input)) ;
    FOR i := 0 TO NInputs - 1 DO
       Expect ("input") ;
       Inputs^[i].t := Num () ;
