@@ -294,11 +294,26 @@ class Simulator:
                         yield o
 
     # ---- first valid root of one feature ----------------------------------
+    @staticmethod
+    def pressing(c: list[float], deg: int, d: float, s: float) -> bool:
+        """At a zero of the gap c: approaching (first derivative d < 0), or
+        resting and pressed together (d == 0, second derivative < 0)."""
+        if d < 0.0:
+            return True
+        if d != 0.0 or deg < 2:
+            return False
+        dd = 0.0
+        for k in range(deg, 1, -1):
+            dd = dd * s + k * (k - 1) * c[k]
+        return dd < 0.0
+
     def first_contact(self, c: list[float], deg: int, w: float, kappa: float, check) -> float | None:
         """The smallest s in [0, w] where the gap c(s) reaches zero while
-        decreasing and check(s) holds.  At s = 0 the gap counts as zero
-        within kappa: approaching means contact now, separating never."""
-        if deg >= 1 and math.fabs(c[0]) <= kappa and c[1] < 0.0 and check(0.0):
+        decreasing, or touches zero with zero slope while pressed together
+        (resting contact), and check(s) holds.  At s = 0 the gap counts as
+        zero within kappa: approaching or pressing means contact now,
+        separating or merely touching never."""
+        if deg >= 1 and math.fabs(c[0]) <= kappa and self.pressing(c, deg, c[1], 0.0) and check(0.0):
             return 0.0
         lo = 0.0
         for _ in range(deg + 2):
@@ -308,7 +323,7 @@ class Simulator:
             d = 0.0
             for k in range(deg, 0, -1):
                 d = d * s + k * c[k]
-            if d < 0.0 and check(s):
+            if self.pressing(c, deg, d, s) and check(s):
                 return s
             lo = s
         return None
@@ -545,10 +560,19 @@ class Simulator:
             cx, cy = px + rad * nx, py + rad * ny
         return cx, cy, nx, ny
 
+    @staticmethod
+    def pressed(A: Body, B: Body, nx: float, ny: float) -> bool:
+        """The bodies' accelerations push them together along the normal
+        (n from A to B): the relative normal acceleration of the centres is
+        negative.  (Centripetal terms of turning bodies are left out.)"""
+        return (B.ax - A.ax) * nx + (B.ay - A.ay) * ny < 0.0
+
     def apply_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
         """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
         from A to B (both advanced to the contact time): 0.0 when the material
-        points do not approach, else the impulse j >= 0 (velocities changed)."""
+        points do not approach and are not pressed together, else the
+        impulse j >= 0 (velocities changed).  Pressed together, they leave at
+        rest_speed at least, so time advances (docs/simulator.md)."""
         # velocities of the material points at the contact
         uax = A.vx - A.om * (cy - A.py)
         uay = A.vy + A.om * (cx - A.px)
@@ -556,12 +580,17 @@ class Simulator:
         uby = B.vy + B.om * (cx - B.px)
         vn = (ubx - uax) * nx + (uby - uay) * ny
         imp = 0.0
-        if vn < 0.0:
+        rest = self.s.rest_speed
+        press = self.pressed(A, B, nx, ny)
+        if vn < 0.0 or (press and vn < rest):
             ran = (cx - A.px) * ny - (cy - A.py) * nx
             rbn = (cx - B.px) * ny - (cy - B.py) * nx
             k = A.inv_m + B.inv_m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
             e = A.e * B.e
-            sep = max(e * -vn, min(-vn, self.s.rest_speed))
+            if press:
+                sep = max(e * -vn, rest)
+            else:
+                sep = max(e * -vn, min(-vn, rest))
             imp = (sep - vn) / k
             A.vx = A.vx - imp * A.inv_m * nx
             A.vy = A.vy - imp * A.inv_m * ny
