@@ -203,17 +203,35 @@ BEGIN
 END Check ;
 
 
+(* At a zero s of the gap c: approaching (first derivative d < 0), or
+   resting and pressed together (d = 0, second derivative < 0). *)
+PROCEDURE pressing (VAR c: ARRAY OF REAL; deg: INTEGER; d, s: REAL) : BOOLEAN ;
+VAR
+   dd: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF d < 0.0 THEN RETURN TRUE END ;
+   IF (d # 0.0) OR (deg < 2) THEN RETURN FALSE END ;
+   dd := 0.0 ;
+   FOR k := deg TO 2 BY -1 DO
+      dd := dd * s + VAL (REAL, k * (k - 1)) * c[k]
+   END ;
+   RETURN dd < 0.0
+END pressing ;
+
+
 (* The smallest s in [0, w] where the gap c(s) reaches zero while
-   decreasing and the check holds (edge: Inside, else always).  At s = 0
-   the gap counts as zero within kappa: approaching means contact now,
-   separating never. *)
+   decreasing, or touches zero with zero slope while pressed together
+   (resting contact), and the check holds (edge: Inside, else always).  At
+   s = 0 the gap counts as zero within kappa: approaching or pressing means
+   contact now, separating or merely touching never. *)
 PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
                         VAR s: REAL) : BOOLEAN ;
 VAR
    lo, d: REAL ;
    it, k: INTEGER ;
 BEGIN
-   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND (c[1] < 0.0) AND Check (edge, 0.0) THEN
+   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND pressing (c, deg, c[1], 0.0) AND Check (edge, 0.0) THEN
       s := 0.0 ;
       RETURN TRUE
    END ;
@@ -224,7 +242,7 @@ BEGIN
       FOR k := deg TO 1 BY -1 DO
          d := d * s + VAL (REAL, k) * c[k]
       END ;
-      IF (d < 0.0) AND Check (edge, s) THEN RETURN TRUE END ;
+      IF pressing (c, deg, d, s) AND Check (edge, s) THEN RETURN TRUE END ;
       lo := s
    END ;
    RETURN FALSE
@@ -686,12 +704,24 @@ BEGIN
 END contact_frame ;
 
 
+(* The bodies' accelerations push them together along the normal (n from
+   A to B): the relative normal acceleration of the centres is negative.
+   (Centripetal terms of turning bodies are left out.) *)
+PROCEDURE pressed (A, B: BodyRef; nx, ny: REAL) : BOOLEAN ;
+BEGIN
+   RETURN (B^.ax - A^.ax) * nx + (B^.ay - A^.ay) * ny < 0.0
+END pressed ;
+
+
 (* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
    from A to B (both advanced to the contact time): 0.0 when the material
-   points do not approach, else the impulse j >= 0 (velocities changed). *)
+   points do not approach and are not pressed together, else the impulse
+   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
+   at least, so time advances (docs/simulator.md). *)
 PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    uax, uay, ubx, uby, vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   press: BOOLEAN ;
 BEGIN
    (* velocities of the material points at the contact *)
    uax := A^.vx - A^.om * (cy - A^.py) ;
@@ -700,15 +730,21 @@ BEGIN
    uby := B^.vy + B^.om * (cx - B^.px) ;
    vn := (ubx - uax) * nx + (uby - uay) * ny ;
    imp := 0.0 ;
-   IF vn < 0.0 THEN
+   press := pressed (A, B, nx, ny) ;
+   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
       ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
       rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
       k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
       e := A^.e * B^.e ;
-      (* sep = max(e * -vn, min(-vn, rest_speed)) as Python's min and max pick *)
-      m1 := -vn ;
-      IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
+      (* sep = max(e * -vn, rest_speed) when pressed, else
+         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
       me := e * (-vn) ;
+      IF press THEN
+         mn := RestSpeed
+      ELSE
+         m1 := -vn ;
+         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
+      END ;
       IF mn > me THEN sep := mn ELSE sep := me END ;
       imp := (sep - vn) / k ;
       A^.vx := A^.vx - imp * A^.invM * nx ;
