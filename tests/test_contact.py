@@ -44,7 +44,7 @@ def final(tr, name):
 
 
 def no_overlap(scene, rp):
-    rep = check(scene, rp, kinds=("collision", "input", "frame"))
+    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "input", "frame"))
     assert rep.max_overlap <= scene.tolerance, rep
     return rep
 
@@ -72,4 +72,110 @@ def test_ball_at_rest_on_a_slope_does_not_pass_through():
     top = (cx - 0.05 * math.sin(th), cy + 0.05 * math.cos(th))
     b = ball(x=round(top[0] - 0.1 * math.sin(th), 15), y=round(top[1] + 0.1 * math.cos(th), 15))
     scene, tr, rp = run([slope, b], end=0.5)
+    no_overlap(scene, rp)
+
+
+def kinds(tr):
+    return [e["kind"] for e in tr.events if e["kind"] != "frame"]
+
+
+def test_ball_resting_on_a_floor_stays_at_exactly_its_height():
+    scene, tr, rp = run([floor(), ball()], end=5.0)
+    assert kinds(tr) == ["support"]
+    f = final(tr, "ball")
+    assert f["position"] == [0.0, 0.1] and f["velocity"] == [0.0, 0.0]
+    for t in rp.frame_times:
+        assert rp.state_at("ball", t).py == 0.1
+
+
+def box_body(name="box", x=0.0, y=0.1, half=0.1, **kw):
+    b = {"name": name, "shape": "polygon", "mass": 1.0, "position": [x, y],
+         "vertices": [[-half, -half], [half, -half], [half, half], [-half, half]]}
+    b.update(kw)
+    return b
+
+
+def test_box_resting_on_a_floor_stays():
+    scene, tr, rp = run([floor(), box_body()], end=5.0)
+    assert kinds(tr) == ["support"]
+    f = final(tr, "box")
+    assert f["position"] == [0.0, 0.1] and f["velocity"] == [0.0, 0.0] and f["angle"] == 0.0
+    no_overlap(scene, rp)
+
+
+def slope_scene(th, mu=0.0, v0=0.0, half=1.0):
+    """A fixed plank at angle th, its top face through the origin; a ball of
+    radius 0.1 touching it at the middle of the face."""
+    tx, ty = math.cos(th), math.sin(th)     # up the slope
+    nx, ny = -math.sin(th), math.cos(th)    # the face's outward normal
+    slope = {"name": "slope", "shape": "polygon", "fixed": True, "friction": 1.0,
+             "position": [0.0, 0.0], "angle": th,
+             "vertices": [[-half, -0.1], [half, -0.1], [half, 0.0], [-half, 0.0]]}
+    b = ball(x=0.1 * nx, y=0.1 * ny, friction=mu, velocity=[-v0 * tx, -v0 * ty])
+    return [slope, b], (tx, ty)
+
+
+def test_ball_at_rest_on_a_frictionless_slope_slides_and_leaves_at_the_edge():
+    th = 0.4
+    bodies, (tx, ty) = slope_scene(th)
+    scene, tr, rp = run(bodies, end=1.0, frame_rate=50)
+    p0 = scene.bodies[1].position
+    slope_body = scene.bodies[0]
+    leave = next(e for e in tr.events if e["kind"] == "leave")
+    # the edge ends where the ball's centre passes the face's lower end:
+    # the face spans 'half' either side of the plank's centre of mass
+    cx, cy = slope_body.position
+    q0 = (p0[0] - cx) * tx + (p0[1] - cy) * ty     # along the slope from the plank's centre
+    travel = q0 - (-1.0)
+    a = G * math.sin(th)
+    assert leave["t"] == pytest.approx(math.sqrt(2 * travel / a), rel=1e-12)
+    assert kinds(tr)[:2] == ["support", "leave"]
+    for t in rp.frame_times:
+        if t >= leave["t"]:
+            break
+        st = rp.state_at("ball", t)
+        s = -((st.px - p0[0]) * tx + (st.py - p0[1]) * ty)
+        assert s == pytest.approx(a * t * t / 2, rel=1e-12)
+        off = (st.px - p0[0]) * -ty + (st.py - p0[1]) * tx       # across the slope: stays on it
+        assert abs(off) <= 1e-12
+    no_overlap(scene, rp)
+
+
+def test_friction_stops_a_sliding_ball_at_the_analytic_time_and_place():
+    v0, mu = 2.0, 0.3
+    scene, tr, rp = run([floor(half=3.0, friction=1.0), ball(friction=mu, velocity=[v0, 0.0])], end=2.0)
+    assert kinds(tr) == ["support", "stop"]
+    stop = tr.events[[e["kind"] for e in tr.events].index("stop")]
+    assert stop["t"] == pytest.approx(v0 / (mu * G), rel=1e-12)
+    f = final(tr, "ball")
+    assert f["position"][0] == pytest.approx(v0 * v0 / (2 * mu * G), rel=1e-12)
+    assert f["velocity"] == [0.0, 0.0] and f["position"][1] == 0.1
+
+
+def test_friction_on_a_slope_stops_then_holds():
+    th, mu, v0 = 0.2, 0.5, 1.0
+    bodies, (tx, ty) = slope_scene(th, mu=mu, v0=v0, half=2.0)
+    scene, tr, rp = run(bodies, end=2.0)
+    assert kinds(tr) == ["support", "stop"]
+    decel = G * (mu * math.cos(th) - math.sin(th))
+    stop = next(e for e in tr.events if e["kind"] == "stop")
+    assert stop["t"] == pytest.approx(v0 / decel, rel=1e-12)
+    p0 = scene.bodies[1].position
+    f = final(tr, "ball")
+    s = -((f["position"][0] - p0[0]) * tx + (f["position"][1] - p0[1]) * ty)
+    assert s == pytest.approx(v0 * v0 / (2 * decel), rel=1e-12)
+    assert f["velocity"] == [0.0, 0.0]
+
+
+def test_a_dropped_ball_comes_to_rest_on_the_floor_in_a_few_collisions():
+    scene, tr, rp = run([floor(restitution=1.0), ball(y=0.6, restitution=0.5)], end=3.0)
+    k = kinds(tr)
+    assert k[-1] == "support" and set(k[:-1]) == {"collision"} and len(k) <= 10
+    support = tr.events[[e["kind"] for e in tr.events].index("support")]
+    y = support["states"][0]["position"][1]
+    assert abs(y - 0.1) <= scene.tolerance
+    f = final(tr, "ball")
+    # exactly on the floor from then on; sideways only the rounding of the
+    # collision normals (cos(pi/2) is 6e-17 in doubles) is left
+    assert f["position"][1] == y and f["velocity"][1] == 0.0 and abs(f["velocity"][0]) < 1e-14
     no_overlap(scene, rp)

@@ -138,18 +138,16 @@ def test_newtons_cradle_passes_the_momentum_through():
     assert max(len([e for e in hits if e["t"] == t]) for t in {e["t"] for e in hits}) <= 5
 
 
-def test_resting_ball_does_not_hang():
+def test_resting_ball_comes_to_rest():
+    """Restitution 0.5: a few bounces, time always advancing, then the ball
+    is supported by the floor (docs/simulator.md, Contact model) and stays."""
     scene, tr = _run(os.path.join(ROOT, "examples", "resting-ball.json"))
-    hits = [e for e in tr.events if e["kind"] == "collision"]
+    hits = [e for e in tr.events if e["kind"] in ("collision", "support")]
     times = [e["t"] for e in hits]
     assert times == sorted(times) and len(set(times)) == len(times)     # time always advances
-    g = 9.81
-    rest = scene.rest_speed
-    # once resting, the bounces are rest_speed bounces: 2 v / g apart
-    assert min(t2 - t1 for t1, t2 in zip(times[-20:-1], times[-19:])) == pytest.approx(2 * rest / g, rel=1e-6)
+    assert [e["kind"] for e in hits][-1] == "support" and len(hits) < 12
     ball = next(b for b in tr.final["bodies"] if b["body"] == "ball")
-    floor_top = 0.0
-    assert floor_top + 0.1 - 1e-9 <= ball["position"][1] <= floor_top + 0.1 + rest * rest / (2 * g) + 1e-9
+    assert abs(ball["position"][1] - 0.1) <= scene.tolerance and ball["velocity"][1] == 0.0
 
 
 def test_two_runs_give_identical_traces():

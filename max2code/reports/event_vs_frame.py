@@ -105,14 +105,14 @@ def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
     at the previous state-changing event (replayed from the trace: bodies move
     exactly between events) and its approach speed."""
     names = {b.name: i for i, b in enumerate(scene.bodies)}
-    acc = [b.acceleration for b in scene.bodies]
+    acc = [b.acceleration for b in scene.bodies]     # in force now (a supported body's differs)
     cur = [State(0.0, b.position[0], b.position[1], b.velocity[0], b.velocity[1], b.angle, b.angular_velocity)
            for b in scene.bodies]
     last = 0.0
     out: list[Collision] = []
     for ev in events:
         kind = ev["kind"]
-        if kind not in ("collision", "input"):
+        if kind not in ("collision", "support", "stop", "leave", "input"):
             continue
         t = ev["t"]
         if kind == "collision":
@@ -137,6 +137,8 @@ def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
             i = names[st["body"]]
             cur[i] = State(t, st["position"][0], st["position"][1], st["velocity"][0], st["velocity"][1],
                            st["angle"], st["angular_velocity"])
+            if "acceleration" in st:
+                acc[i] = tuple(st["acceleration"])
         last = t
     return out
 

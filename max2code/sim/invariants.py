@@ -37,10 +37,10 @@ def energy(scene: Scene, rp: Replay, t: float) -> float:
 def _at(b: Body, s) -> Body:
     """A copy of the body placed at state s (for scene.penetration)."""
     return Body(b.name, b.polygon, b.fixed, b.mass, b.inertia, b.restitution, (s.px, s.py), (s.vx, s.vy),
-                b.acceleration, s.angle, s.omega, b.radius, b.orbit_radius, b.orbit_angle, b.vertices)
+                b.acceleration, s.angle, s.omega, b.radius, b.orbit_radius, b.orbit_angle, b.vertices, b.friction)
 
 
-def check(scene: Scene, rp: Replay, kinds=("collision", "input")) -> InvariantReport:
+def check(scene: Scene, rp: Replay, kinds=("collision", "support", "stop", "leave", "input")) -> InvariantReport:
     """Check at the time of every event of these kinds (add "frame" to
     sample between collisions too, where a missed contact would show)."""
     bodies = scene.bodies

@@ -26,7 +26,7 @@ from typing import NamedTuple
 from max2code.errors import Max2CodeError
 from max2code.sim.scene import Body, Scene
 
-EVENT_KINDS = ("collision", "input", "frame")
+EVENT_KINDS = ("collision", "support", "stop", "leave", "input", "frame")
 
 
 class TraceError(Max2CodeError):
@@ -42,6 +42,8 @@ class State(NamedTuple):
     vy: float
     angle: float
     omega: float
+    ax: float = 0.0       # acceleration in force from t (a supported body's differs from the scene's)
+    ay: float = 0.0
 
     @property
     def position(self) -> tuple[float, float]:
@@ -68,13 +70,14 @@ class Event:
 def advance(s: State, b: Body, t: float) -> State:
     """The state `s` of body `b` carried forward (or back) to time t."""
     dt = t - s.t
-    ax, ay = b.acceleration
+    ax, ay = s.ax, s.ay
     return State(t, s.px + (s.vx + 0.5 * ax * dt) * dt, s.py + (s.vy + 0.5 * ay * dt) * dt,
-                 s.vx + ax * dt, s.vy + ay * dt, s.angle + s.omega * dt, s.omega)
+                 s.vx + ax * dt, s.vy + ay * dt, s.angle + s.omega * dt, s.omega, ax, ay)
 
 
 def initial_state(b: Body) -> State:
-    return State(0.0, b.position[0], b.position[1], b.velocity[0], b.velocity[1], b.angle, b.angular_velocity)
+    return State(0.0, b.position[0], b.position[1], b.velocity[0], b.velocity[1], b.angle, b.angular_velocity,
+                 b.acceleration[0], b.acceleration[1])
 
 
 class Replay:
@@ -210,8 +213,10 @@ class _Lines:
         k = self.body(obj.get("body"))
         px, py = self.vec(obj, "position", what)
         vx, vy = self.vec(obj, "velocity", what)
+        # the acceleration from then on: a supported body's is its own, else the scene's
+        ax, ay = self.vec(obj, "acceleration", what) if "acceleration" in obj else self.scene.bodies[k].acceleration
         return k, State(t if t is not None else 0.0, px, py, vx, vy,
-                        self.number(obj, "angle", what), self.number(obj, "angular_velocity", what))
+                        self.number(obj, "angle", what), self.number(obj, "angular_velocity", what), ax, ay)
 
 
 def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: float | None = 1e-6) -> Replay:
@@ -221,7 +226,7 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
     bodies) name the file and line.  With a `tolerance` (None: no check),
     the trace must agree with the scene to that many metres (times the
     larger of 1 and the coordinates): each state change puts the body where
-    the replay has it (collisions and inputs change velocities only), and
+    the replay has it (events change velocities and accelerations only), and
     the final positions are the replayed ones.  A trace of another scene
     whose bodies happen to share the names fails here."""
     rp = Replay(scene, path)
@@ -275,9 +280,9 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
         if not isinstance(names, list):
             rd.fail(f"{kind}: expected a list of 'bodies'")
         ev = Event(rd.line, t, kind, tuple(rd.body(n) for n in names))
-        if kind == "collision":
+        if kind in ("collision", "support"):
             if len(ev.bodies) != 2:
-                rd.fail(f"collision: expected 2 bodies, got {len(ev.bodies)}")
+                rd.fail(f"{kind}: expected 2 bodies, got {len(ev.bodies)}")
             ev.feature = obj.get("feature") if isinstance(obj.get("feature"), str) else None
             ev.point = rd.vec(obj, "point", kind)
             ev.normal = rd.vec(obj, "normal", kind)

@@ -20,7 +20,7 @@ SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": 
               "inputs": "scripted velocity changes", "max_events_at_one_time": "guard against a stuck scene",
               "comment": "free text"}
 BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
-             "angle", "angular_velocity", "orbit", "restitution", "comment"}
+             "angle", "angular_velocity", "orbit", "restitution", "friction", "comment"}
 ORBIT_KEYS = {"radius", "angle"}
 INPUT_KEYS = {"time", "body", "set_velocity", "add_velocity"}
 
@@ -46,6 +46,7 @@ class Body:
     orbit_radius: float = 0.0
     orbit_angle: float = 0.0
     vertices: list[tuple[float, float]] = field(default_factory=list)   # about the centre of mass, counter-clockwise
+    friction: float = 0.0     # Coulomb coefficient; a contact uses the product of both bodies' values
 
     @property
     def bound(self) -> float:
@@ -251,6 +252,7 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         restitution = rd.number(b, "restitution", where, 1.0, nonneg=True)
         if restitution > 1.0:
             rd.fail(f"{where}.restitution", f"must be at most 1, got {restitution}")
+        friction = rd.number(b, "friction", where, 0.0, nonneg=True)
         pos = rd.vec(b, "position", where, None)
         vel = rd.vec(b, "velocity", where)
         acc = rd.vec(b, "acceleration", where)
@@ -260,6 +262,7 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         omega = rd.number(b, "angular_velocity", where, 0.0)
         body = Body(name, shape == "polygon", fixed, mass, math.inf if fixed else 0.0, restitution,
                     pos, vel, acc, angle, omega)
+        body.friction = friction
         if shape == "circle":
             if "vertices" in b:
                 rd.fail(f"{where}.vertices", "a circle has no vertices")
@@ -469,7 +472,7 @@ def compile_scene(scene: Scene) -> str:
         inv_m = 0.0 if b.fixed else 1.0 / b.mass
         inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
         out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
-                             _r(inv_m), _r(inv_i), _r(b.restitution),
+                             _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
                              _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
                              _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
                              _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
@@ -483,7 +486,7 @@ def compile_scene(scene: Scene) -> str:
             tx, ty = ex / ln, ey / ln
             out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
                                  _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
-                                 _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1)]))
+                                 _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

@@ -122,7 +122,7 @@ def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
             if tag == "E":
                 kind, t = w[1], _f(w[2])
                 ev: dict = {"t": t, "kind": kind}
-                if kind == "collision":
+                if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     ev["bodies"] = [names[a], names[b]]
                     ev["feature"] = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
@@ -130,13 +130,16 @@ def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
                     ev["point"] = [_f(w[8]), _f(w[9])]
                     ev["normal"] = [_f(w[10]), _f(w[11])]
                     ev["impulse"] = _f(w[12])
+                elif kind in ("stop", "leave"):
+                    ev["bodies"] = [names[int(w[3])], names[int(w[4])]]
+                    ev["edge"] = int(w[7])
                 elif kind == "input":
                     ev["bodies"] = [names[int(w[3])]]
                     ev["input"] = int(w[6])
                 events.append(ev)
             elif tag == "S":
                 st = {"body": names[int(w[1])], "position": [_f(w[3]), _f(w[4])], "velocity": [_f(w[5]), _f(w[6])],
-                      "angle": _f(w[7]), "angular_velocity": _f(w[8])}
+                      "angle": _f(w[7]), "angular_velocity": _f(w[8]), "acceleration": [_f(w[9]), _f(w[10])]}
                 events[-1].setdefault("states", []).append(st)
             elif tag == "F":
                 final["bodies"].append({"body": names[int(w[1])], "position": [_f(w[2]), _f(w[3])],

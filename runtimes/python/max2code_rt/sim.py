@@ -20,13 +20,14 @@ from max2code_rt.roots import smallest_root
 HALF_PI = 1.5707963267948966   # pi/2 rounded to double (cos x = sin(x + pi/2))
 
 # event kinds, in the order they are handled at equal times
-INPUT, COLLISION, CELL, HORIZON, FRAME = 0, 1, 2, 3, 4
-KIND_NAMES = ("input", "collision", "cell", "horizon", "frame")
+INPUT, COLLISION, STOP, LEAVE, CELL, HORIZON, FRAME = 0, 1, 2, 3, 4, 5, 6
+KIND_NAMES = ("input", "collision", "stop", "leave", "cell", "horizon", "frame")
 # contact features: circle-circle (also circle-vertex) and point-edge
 CC, PE = 0, 1
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
-STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features")
+STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
+              "supports", "stops", "leaves")
 
 
 class SimError(Exception):
@@ -36,29 +37,35 @@ class SimError(Exception):
 class Vertex:
     """One vertex of a polygon and the edge that starts at it (to the next
     vertex), in the body's frame: all precomputed by the scene compiler."""
-    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2")
+    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2", "nx", "ny")
     # lx, ly   m: the vertex about the centre of mass
     # rho, beta  m, rad: its polar form
     # psi      rad: angle of the edge's outward normal
     # h        m: offset of the edge's line, n . v
-    # s1, s2   m: the edge's extent along its tangent
+    # s1, s2   m: the edge's extent along its tangent (-ny, nx)
+    # nx, ny   the edge's outward unit normal (cos psi, sin psi, but exact
+    #          where the compiler's quotient is: (0, 1) for a level top face)
 
     def __init__(self, vals):
-        self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2 = vals
+        self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2, self.nx, self.ny = vals
 
 
 class Body:
     """A body's constants and its motion, stored as the state at its own
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
-    __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "px", "py", "vx", "vy", "ax", "ay",
-                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy")
+    __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
+                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
     # e              restitution, 0..1
+    # mu             friction coefficient (Coulomb), >= 0
     # px, py         m: centre (of rotation) at tb
     # vx, vy         m/s: velocity at tb
-    # ax, ay         m/s^2: acceleration (gravity included)
+    # ax, ay         m/s^2: acceleration now (gravity included; while supported,
+    #                only its part along the support's edge, less friction)
+    # fax, fay       m/s^2: free acceleration (gravity and the body's own), from the scene
     # ang, om        rad, rad/s: angle at tb, angular velocity
     # tb             s: the time of this state
     # r              m: circle radius (0 for polygons)
@@ -67,6 +74,11 @@ class Body:
     # verts          list of Vertex (polygons), else empty
     # stamp          bumped when the motion changes (lazy invalidation)
     # cx, cy         grid cell (small bodies)
+    # sup            index of the fixed body supporting it, -1: free
+    # sup_edge       the supporting edge (index into sup's vertices)
+    # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
+    # load           m/s^2: free acceleration pressing onto the support, > 0
+    # at             m/s^2: free acceleration along the tangent
 
 
 class Stats:
@@ -108,6 +120,24 @@ class CellEvent:
 
     def __init__(self, t, body, axis, direction, stamp):
         self.t, self.body, self.axis, self.direction, self.stamp = t, body, axis, direction, stamp
+
+
+class StopEvent:
+    __slots__ = ("t", "body", "stamp")
+    kind = STOP
+    # a sliding supported body's tangential speed reaches zero
+
+    def __init__(self, t, body, stamp):
+        self.t, self.body, self.stamp = t, body, stamp
+
+
+class LeaveEvent:
+    __slots__ = ("t", "body", "stamp")
+    kind = LEAVE
+    # a supported body's centre, projected on the support's edge, reaches its end
+
+    def __init__(self, t, body, stamp):
+        self.t, self.body, self.stamp = t, body, stamp
 
 
 class HorizonEvent:
@@ -182,8 +212,11 @@ class Scene:
             b.idx = i
             b.polygon = integer() == 1
             b.fixed = integer() == 1
-            b.inv_m, b.inv_i, b.e = num(), num(), num()
+            b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
             b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
+            b.fax, b.fay = b.ax, b.ay
+            b.sup, b.sup_edge = -1, -1
+            b.tx = b.ty = b.load = b.at = 0.0
             b.ang, b.om = num(), num()
             b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
             b.large = integer() == 1
@@ -191,7 +224,7 @@ class Scene:
             b.verts = []
             for _ in range(nv):
                 word("v")
-                b.verts.append(Vertex([num() for _ in range(8)]))
+                b.verts.append(Vertex([num() for _ in range(10)]))
             b.tb = 0.0
             b.stamp = 0
             b.cx = b.cy = 0
@@ -262,7 +295,7 @@ class Simulator:
         bodies = self.s.bodies
         if ev.kind == COLLISION or ev.kind == HORIZON:
             return bodies[ev.a].stamp != ev.stamp_a or bodies[ev.b].stamp != ev.stamp_b
-        if ev.kind == CELL:
+        if ev.kind == CELL or ev.kind == STOP or ev.kind == LEAVE:
             return bodies[ev.body].stamp != ev.stamp
         return False
 
@@ -421,6 +454,8 @@ class Simulator:
         """Schedule the first contact of A and B after now, or a horizon
         event where the Taylor polynomials of their turns stop being good."""
         s = self.s
+        if A.sup == B.idx or B.sup == A.idx:
+            return      # the support's edge line separates them (both convex): only leaving ends it
         self.stats.pairs += 1
         w = s.end - now
         if not (w > 0.0):
@@ -497,6 +532,8 @@ class Simulator:
             if o is not b and o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
+        if b.sup >= 0:
+            self.schedule_support(b, now)
 
     def schedule_cell(self, b: Body, now: float) -> None:
         s = self.s
@@ -536,7 +573,7 @@ class Simulator:
     # ---- handling events ----------------------------------------------------
     def emit_state(self, b: Body) -> None:
         self.out.write(f"S {b.idx} {_fmt(b.tb)} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
-                       f"{_fmt(b.ang)} {_fmt(b.om)}\n")
+                       f"{_fmt(b.ang)} {_fmt(b.om)} {_fmt(b.ax)} {_fmt(b.ay)}\n")
 
     def contact_frame(self, t: float, feature: int, A: Body, B: Body, i: int, j: int):
         """Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
@@ -567,18 +604,145 @@ class Simulator:
         negative.  (Centripetal terms of turning bodies are left out.)"""
         return (B.ax - A.ax) * nx + (B.ay - A.ay) * ny < 0.0
 
+    @staticmethod
+    def normal_speed(A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+        """Normal relative velocity (B's against A's, along n from A to B) of
+        the material points at the contact: negative when approaching."""
+        uax = A.vx - A.om * (cy - A.py)
+        uay = A.vy + A.om * (cx - A.px)
+        ubx = B.vx - B.om * (cy - B.py)
+        uby = B.vy + B.om * (cx - B.px)
+        return (ubx - uax) * nx + (uby - uay) * ny
+
+    # ---- support: resting and sliding on a fixed body ------------------------
+    @staticmethod
+    def support_frame(B: Body, j: int):
+        """Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j
+        of B in the world (B does not move)."""
+        ed = B.verts[j]
+        c = math.cos(B.ang)
+        s = math.sin(B.ang)
+        ox = c * ed.nx - s * ed.ny
+        oy = s * ed.nx + c * ed.ny
+        return -oy, ox, ox, oy
+
+    @staticmethod
+    def static(B: Body) -> bool:
+        return B.vx == 0.0 and B.vy == 0.0 and B.ax == 0.0 and B.ay == 0.0 and B.om == 0.0
+
+    def can_support(self, A: Body, B: Body, feature: int, i: int, j: int, vn: float) -> bool:
+        """A point-edge contact of movable A on edge j of a fixed, unmoving
+        polygon B becomes support (docs/simulator.md, Contact model)."""
+        if feature != PE or A.fixed or not B.fixed or not self.static(B):
+            return False
+        tx, ty, ox, oy = self.support_frame(B, j)
+        load = -(A.fax * ox + A.fay * oy)
+        rest = self.s.rest_speed
+        if not (load > 0.0) or vn > 0.0 or A.e * B.e * -vn >= rest:
+            return False
+        ed = B.verts[j]
+        q = (A.px - B.px) * tx + (A.py - B.py) * ty
+        if q < ed.s1 or q > ed.s2:
+            return False
+        if A.polygon:
+            if math.fabs(A.om) * A.bound >= rest:
+                return False
+            return self.flat(A, B, i, j, ox, oy, load)
+        return True
+
+    def flat(self, A: Body, B: Body, i: int, j: int, ox: float, oy: float, load: float) -> bool:
+        """A neighbour of A's vertex i lies on edge j's line within the face
+        tolerance max(tol, rest_speed^2 / load): A rests on a face."""
+        ftol = max(self.s.tol, self.s.rest_speed * self.s.rest_speed / load)
+        n = len(A.verts)
+        h = B.verts[j].h
+        for k in ((i + n - 1) % n, (i + 1) % n):
+            px, py = self.point_at(A, A.verts[k], A.tb)
+            if (px - B.px) * ox + (py - B.py) * oy - h <= ftol:
+                return True
+        return False
+
+    def enter_support(self, A: Body, B: Body, j: int) -> None:
+        """A (advanced to now) keeps only its velocity along the edge, stops
+        turning, and from now on accelerates along the edge only."""
+        tx, ty, ox, oy = self.support_frame(B, j)
+        u = A.vx * tx + A.vy * ty
+        A.vx = u * tx
+        A.vy = u * ty
+        if A.polygon:
+            A.om = 0.0
+        A.sup = B.idx
+        A.sup_edge = j
+        A.tx = tx
+        A.ty = ty
+        A.load = -(A.fax * ox + A.fay * oy)
+        A.at = A.fax * tx + A.fay * ty
+        self.slide_accel(A, u)
+
+    def slide_accel(self, A: Body, u: float) -> None:
+        """Acceleration of supported A with tangential speed u: the free
+        acceleration along the edge less Coulomb friction mu |a_n| against
+        the motion; at rest, none while friction can hold it."""
+        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        if u > 0.0:
+            a = A.at - f
+        elif u < 0.0:
+            a = A.at + f
+        elif A.at > f:
+            a = A.at - f
+        elif A.at < -f:
+            a = A.at + f
+        else:
+            a = 0.0
+        A.ax = a * A.tx
+        A.ay = a * A.ty
+
+    @staticmethod
+    def end_support(A: Body) -> None:
+        A.ax = A.fax
+        A.ay = A.fay
+        A.sup = -1
+        A.sup_edge = -1
+
+    def schedule_support(self, b: Body, now: float) -> None:
+        """A supported body's stop (its tangential speed reaches zero) and
+        leave (its centre, projected on the edge, reaches an end) events."""
+        u = b.vx * b.tx + b.vy * b.ty
+        a = b.ax * b.tx + b.ay * b.ty
+        if u != 0.0 and a != 0.0 and (u > 0.0) != (a > 0.0):
+            self.push(StopEvent(b.tb + -u / a, b.idx, b.stamp))
+        B = self.s.bodies[b.sup]
+        ed = B.verts[b.sup_edge]
+        q = (b.px - B.px) * b.tx + (b.py - B.py) * b.ty
+        hi = self.s.end - b.tb
+        s2 = self.first_crossing(q - ed.s2, u, a, 1, 0.0, hi)
+        s1 = self.first_crossing(q - ed.s1, u, a, -1, 0.0, hi)
+        if s1 is not None and (s2 is None or s1 < s2):
+            s2 = s1
+        if s2 is not None:
+            self.push(LeaveEvent(b.tb + s2, b.idx, b.stamp))
+
+    @staticmethod
+    def first_crossing(p: float, v: float, a: float, direction: int, lo: float, hi: float) -> float | None:
+        """The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero
+        moving in the direction (+1 up, -1 down)."""
+        c = [p, v, 0.5 * a]
+        for _ in range(3):
+            u = smallest_root(c, lo, hi)
+            if u is None:
+                return None
+            if (v + a * u) * direction > 0.0:
+                return u
+            lo = u
+        return None
+
     def apply_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
         """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
         from A to B (both advanced to the contact time): 0.0 when the material
         points do not approach and are not pressed together, else the
         impulse j >= 0 (velocities changed).  Pressed together, they leave at
         rest_speed at least, so time advances (docs/simulator.md)."""
-        # velocities of the material points at the contact
-        uax = A.vx - A.om * (cy - A.py)
-        uay = A.vy + A.om * (cx - A.px)
-        ubx = B.vx - B.om * (cy - B.py)
-        uby = B.vy + B.om * (cx - B.px)
-        vn = (ubx - uax) * nx + (uby - uay) * ny
+        vn = self.normal_speed(A, B, cx, cy, nx, ny)
         imp = 0.0
         rest = self.s.rest_speed
         press = self.pressed(A, B, nx, ny)
@@ -602,14 +766,23 @@ class Simulator:
 
     # ---- event handlers: one per kind -------------------------------------
     def handle_collision(self, ev: CollisionEvent) -> None:
-        self.stats.collisions += 1
         t = ev.t
         A = self.s.bodies[ev.a]
         B = self.s.bodies[ev.b]
         self.advance(A, t)
         self.advance(B, t)
         cx, cy, nx, ny = self.contact_frame(t, ev.feature, A, B, ev.i, ev.j)
+        vn = self.normal_speed(A, B, cx, cy, nx, ny)
+        if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
+            self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
+            return
+        self.stats.collisions += 1
         imp = self.apply_impulse(A, B, cx, cy, nx, ny)
+        if imp != 0.0:
+            if A.sup >= 0:
+                self.end_support(A)
+            if B.sup >= 0:
+                self.end_support(B)
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         for b in (A, B):
@@ -621,12 +794,51 @@ class Simulator:
         if not B.fixed:
             self.predict_body(B, t, A if not A.fixed else None)
 
+    def handle_support(self, ev: CollisionEvent, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
+                       vn: float) -> None:
+        """A collision that ends in support (called by handle_collision)."""
+        self.stats.supports += 1
+        imp = -vn / A.inv_m
+        self.enter_support(A, B, ev.j)
+        self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
+                       f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        A.stamp += 1
+        self.emit_state(A)
+        self.predict_body(A, ev.t, None)
+
+    def handle_stop(self, ev: StopEvent) -> None:
+        """Sliding stops: velocity exactly zero, then rest or slide back."""
+        self.stats.stops += 1
+        A = self.s.bodies[ev.body]
+        self.advance(A, ev.t)
+        A.vx = 0.0
+        A.vy = 0.0
+        self.slide_accel(A, 0.0)
+        A.stamp += 1
+        self.out.write(f"E stop {_fmt(ev.t)} {A.idx} {A.sup} -1 -1 {A.sup_edge} 0 0 0 0 0\n")
+        self.emit_state(A)
+        self.predict_body(A, ev.t, None)
+
+    def handle_leave(self, ev: LeaveEvent) -> None:
+        """The support's edge ends under the body: free motion again."""
+        self.stats.leaves += 1
+        A = self.s.bodies[ev.body]
+        self.advance(A, ev.t)
+        sup, edge = A.sup, A.sup_edge
+        self.end_support(A)
+        A.stamp += 1
+        self.out.write(f"E leave {_fmt(ev.t)} {A.idx} {sup} -1 -1 {edge} 0 0 0 0 0\n")
+        self.emit_state(A)
+        self.predict_body(A, ev.t, None)
+
     def handle_input(self, ev: InputEvent) -> None:
         self.stats.inputs += 1
         t = ev.t
         inp = self.s.inputs[ev.k]
         body = self.s.bodies[inp.body]
         self.advance(body, t)
+        if body.sup >= 0:
+            self.end_support(body)
         if inp.mode == 0:
             body.vx, body.vy = inp.vx, inp.vy
         else:
@@ -710,8 +922,8 @@ class Simulator:
     def run(self) -> None:
         s = self.s
         self.start()
-        handlers = (self.handle_input, self.handle_collision, self.handle_cell, self.handle_horizon,
-                    self.handle_frame)     # by kind
+        handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
+                    self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
         last_t = -1.0
         same = 0
         heap = self.heap
