@@ -14,8 +14,11 @@ MODULE SimMain ;
    module holds the motion, the predictions, one handler per event kind and
    the loop (run) that dispatches to them, with the names docs/simulator.md
    gives the reference's steps (handle_input, handle_collision, handle_cell,
-   handle_horizon, handle_frame, start, finish, is_stale, push,
-   push_collision, push_horizon, contact_frame, apply_impulse).
+   handle_horizon, handle_frame, handle_support, handle_stop, handle_leave,
+   start, finish, is_stale, push, push_collision, push_horizon,
+   contact_frame, apply_impulse, normal_speed, can_support, flat,
+   enter_support, slide_accel, end_support, schedule_support,
+   first_crossing).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -28,8 +31,8 @@ FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT sin, cos ;
 FROM Roots IMPORT SmallestRoot ;
 FROM CMath IMPORT sqrt ;
-FROM SimHeap IMPORT Event, Push, Pop, KInput, KCollision, KCell, KHorizon, KFrame,
-                    InputEvent, CollisionEvent, CellEvent, HorizonEvent, FrameEvent ;
+FROM SimHeap IMPORT Event, Push, Pop, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
+                    InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, Fail, FailMsg ;
 FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
@@ -52,7 +55,7 @@ CONST
 TYPE
    (* the counters written as the trace's N lines, in this order *)
    StatCounts = RECORD
-      collisions, inputs, frames, cells, horizons, stale, pairs, features: LONGINT ;
+      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves: LONGINT ;
    END ;
 
 VAR
@@ -488,6 +491,9 @@ VAR
    best: Best ;
    found: BOOLEAN ;
 BEGIN
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
    INC (Stats.pairs) ;
    w := EndT - now ;
    IF NOT (w > 0.0) THEN RETURN END ;
@@ -575,7 +581,8 @@ PROCEDURE PredictBody (b: BodyRef; now: REAL; skip: INTEGER) ;
 BEGIN
    PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, -1, skip, now) ;
    PredictLarge (b, skip, now) ;
-   ScheduleCell (b, now)
+   ScheduleCell (b, now) ;
+   IF b^.sup >= 0 THEN schedule_support (b) END
 END PredictBody ;
 
 
@@ -663,6 +670,8 @@ BEGIN
    SpReal (b^.vy) ;
    SpReal (b^.ang) ;
    SpReal (b^.om) ;
+   SpReal (b^.ax) ;
+   SpReal (b^.ay) ;
    Ln
 END EmitState ;
 
@@ -704,6 +713,200 @@ BEGIN
 END contact_frame ;
 
 
+(* Normal relative velocity (B's against A's, along n from A to B) of the
+   material points at the contact: negative when approaching. *)
+PROCEDURE normal_speed (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   uax, uay, ubx, uby: REAL ;
+BEGIN
+   uax := A^.vx - A^.om * (cy - A^.py) ;
+   uay := A^.vy + A^.om * (cx - A^.px) ;
+   ubx := B^.vx - B^.om * (cy - B^.py) ;
+   uby := B^.vy + B^.om * (cx - B^.px) ;
+   RETURN (ubx - uax) * nx + (uby - uay) * ny
+END normal_speed ;
+
+
+(* ---- support: resting and sliding on a fixed body -------------------------------- *)
+
+(* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+   the world (B does not move). *)
+PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
+VAR
+   c, s, enx, eny: REAL ;
+BEGIN
+   enx := Verts^[B^.v0 + j].nx ;
+   eny := Verts^[B^.v0 + j].ny ;
+   c := cos (B^.ang) ;
+   s := sin (B^.ang) ;
+   ox := c * enx - s * eny ;
+   oy := s * enx + c * eny ;
+   tx := -oy ;
+   ty := ox
+END support_frame ;
+
+
+PROCEDURE static (B: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN (B^.vx = 0.0) AND (B^.vy = 0.0) AND (B^.ax = 0.0) AND (B^.ay = 0.0) AND (B^.om = 0.0)
+END static ;
+
+
+(* A neighbour of A's vertex i lies on edge j's line within the face
+   tolerance max(tol, rest_speed^2 / load): A rests on a face. *)
+PROCEDURE flat (A, B: BodyRef; i, j: INTEGER; ox, oy, load: REAL) : BOOLEAN ;
+VAR
+   ftol, q, h, px, py: REAL ;
+   n, m, k: INTEGER ;
+BEGIN
+   (* Python's max(tol, q): tol unless q is larger *)
+   ftol := Tol ;
+   q := RestSpeed * RestSpeed / load ;
+   IF q > ftol THEN ftol := q END ;
+   n := A^.nv ;
+   h := Verts^[B^.v0 + j].h ;
+   FOR m := 0 TO 1 DO
+      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      PointAt (A, A^.v0 + k, A^.tb, px, py) ;
+      IF (px - B^.px) * ox + (py - B^.py) * oy - h <= ftol THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END flat ;
+
+
+(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+   B becomes support (docs/simulator.md, Contact model). *)
+PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, load, q: REAL ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
+   support_frame (B, j, tx, ty, ox, oy) ;
+   load := -(A^.fax * ox + A^.fay * oy) ;
+   IF (NOT (load > 0.0)) OR (vn > 0.0) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
+   IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
+   IF A^.polygon THEN
+      IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
+      RETURN flat (A, B, i, j, ox, oy, load)
+   END ;
+   RETURN TRUE
+END can_support ;
+
+
+(* Acceleration of supported A with tangential speed u: the free
+   acceleration along the edge less Coulomb friction mu |a_n| against the
+   motion; at rest, none while friction can hold it. *)
+PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
+VAR
+   f, a: REAL ;
+BEGIN
+   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   IF u > 0.0 THEN
+      a := A^.at - f
+   ELSIF u < 0.0 THEN
+      a := A^.at + f
+   ELSIF A^.at > f THEN
+      a := A^.at - f
+   ELSIF A^.at < -f THEN
+      a := A^.at + f
+   ELSE
+      a := 0.0
+   END ;
+   A^.ax := a * A^.tx ;
+   A^.ay := a * A^.ty
+END slide_accel ;
+
+
+(* A (advanced to now) keeps only its velocity along the edge, stops
+   turning, and from now on accelerates along the edge only. *)
+PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
+VAR
+   tx, ty, ox, oy, u: REAL ;
+BEGIN
+   support_frame (B, j, tx, ty, ox, oy) ;
+   u := A^.vx * tx + A^.vy * ty ;
+   A^.vx := u * tx ;
+   A^.vy := u * ty ;
+   IF A^.polygon THEN A^.om := 0.0 END ;
+   A^.sup := B^.idx ;
+   A^.sup_edge := j ;
+   A^.tx := tx ;
+   A^.ty := ty ;
+   A^.load := -(A^.fax * ox + A^.fay * oy) ;
+   A^.at := A^.fax * tx + A^.fay * ty ;
+   slide_accel (A, u)
+END enter_support ;
+
+
+PROCEDURE end_support (A: BodyRef) ;
+BEGIN
+   A^.ax := A^.fax ;
+   A^.ay := A^.fay ;
+   A^.sup := -1 ;
+   A^.sup_edge := -1
+END end_support ;
+
+
+(* The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving in
+   the direction (+1 up, -1 down); FALSE when none. *)
+PROCEDURE first_crossing (p, v, a: REAL; direction: INTEGER; lo, hi: REAL; VAR u: REAL) : BOOLEAN ;
+VAR
+   c: ARRAY [0..2] OF REAL ;
+   it: INTEGER ;
+BEGIN
+   c[0] := p ;
+   c[1] := v ;
+   c[2] := 0.5 * a ;
+   FOR it := 1 TO 3 DO
+      IF NOT SmallestRoot (c, 2, lo, hi, u) THEN RETURN FALSE END ;
+      IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN RETURN TRUE END ;
+      lo := u
+   END ;
+   RETURN FALSE
+END first_crossing ;
+
+
+(* A supported body's stop (its tangential speed reaches zero) and leave
+   (its centre, projected on the edge, reaches an end) events; b is at its
+   own time tb (the reference's now). *)
+PROCEDURE schedule_support (b: BodyRef) ;
+VAR
+   u, a, q, hi, s1, s2: REAL ;
+   B: BodyRef ;
+   ed: INTEGER ;
+   f1, f2: BOOLEAN ;
+   ev: Event ;
+BEGIN
+   u := b^.vx * b^.tx + b^.vy * b^.ty ;
+   a := b^.ax * b^.tx + b^.ay * b^.ty ;
+   IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
+      ev.t := b^.tb + (-u) / a ;
+      ev.kind := KStop ;
+      ev.stop.body := b^.idx ;
+      ev.stop.stamp := b^.stamp ;
+      push (ev)
+   END ;
+   B := ADR (Bodies^[b^.sup]) ;
+   ed := B^.v0 + b^.sup_edge ;
+   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
+   hi := EndT - b^.tb ;
+   f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
+   f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
+   IF f1 AND ((NOT f2) OR (s1 < s2)) THEN
+      f2 := TRUE ;
+      s2 := s1
+   END ;
+   IF f2 THEN
+      ev.t := b^.tb + s2 ;
+      ev.kind := KLeave ;
+      ev.leave.body := b^.idx ;
+      ev.leave.stamp := b^.stamp ;
+      push (ev)
+   END
+END schedule_support ;
+
+
 (* The bodies' accelerations push them together along the normal (n from
    A to B): the relative normal acceleration of the centres is negative.
    (Centripetal terms of turning bodies are left out.) *)
@@ -720,15 +923,10 @@ END pressed ;
    at least, so time advances (docs/simulator.md). *)
 PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
-   uax, uay, ubx, uby, vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
    press: BOOLEAN ;
 BEGIN
-   (* velocities of the material points at the contact *)
-   uax := A^.vx - A^.om * (cy - A^.py) ;
-   uay := A^.vy + A^.om * (cx - A^.px) ;
-   ubx := B^.vx - B^.om * (cy - B^.py) ;
-   uby := B^.vy + B^.om * (cx - B^.px) ;
-   vn := (ubx - uax) * nx + (uby - uay) * ny ;
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
    imp := 0.0 ;
    press := pressed (A, B, nx, ny) ;
    IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
@@ -773,28 +971,25 @@ END Stat ;
 PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
 VAR
    A, B: BodyRef ;
-   cx, cy, nx, ny, imp: REAL ;
+   cx, cy, nx, ny, vn, imp: REAL ;
 BEGIN
-   INC (Stats.collisions) ;
    A := ADR (Bodies^[ev.a]) ;
    B := ADR (Bodies^[ev.b]) ;
    Advance (A, t) ;
    Advance (B, t) ;
    contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) THEN
+      handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
+      RETURN
+   END ;
+   INC (Stats.collisions) ;
    imp := apply_impulse (A, B, cx, cy, nx, ny) ;
-   Str ("E collision ") ;
-   Real (t) ;
-   Str (" ") ; Int (A^.idx) ;
-   Str (" ") ; Int (B^.idx) ;
-   Str (" ") ; Int (ev.feature) ;
-   Str (" ") ; Int (ev.i) ;
-   Str (" ") ; Int (ev.j) ;
-   SpReal (cx) ;
-   SpReal (cy) ;
-   SpReal (nx) ;
-   SpReal (ny) ;
-   SpReal (imp) ;
-   Ln ;
+   IF imp # 0.0 THEN
+      IF A^.sup >= 0 THEN end_support (A) END ;
+      IF B^.sup >= 0 THEN end_support (B) END
+   END ;
+   EmitContact ("collision", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    IF NOT A^.fixed THEN
       INC (A^.stamp) ;
       EmitState (A)
@@ -816,6 +1011,95 @@ BEGIN
 END handle_collision ;
 
 
+(* The contact line of a collision, support or the like: "E KIND t a b
+   feature i j cx cy nx ny impulse". *)
+PROCEDURE EmitContact (kind: ARRAY OF CHAR; t: REAL; a, b, feature, i, j: INTEGER; cx, cy, nx, ny, imp: REAL) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (a) ;
+   Str (" ") ; Int (b) ;
+   Str (" ") ; Int (feature) ;
+   Str (" ") ; Int (i) ;
+   Str (" ") ; Int (j) ;
+   SpReal (cx) ;
+   SpReal (cy) ;
+   SpReal (nx) ;
+   SpReal (ny) ;
+   SpReal (imp) ;
+   Ln
+END EmitContact ;
+
+
+(* A collision that ends in support (called by handle_collision). *)
+PROCEDURE handle_support (t: REAL; ev: CollisionEvent; A, B: BodyRef; cx, cy, nx, ny, vn: REAL) ;
+VAR
+   imp: REAL ;
+BEGIN
+   INC (Stats.supports) ;
+   imp := (-vn) / A^.invM ;
+   enter_support (A, B, ev.j) ;
+   EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
+   INC (A^.stamp) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_support ;
+
+
+(* The line of a stop or leave event: "E KIND t body sup -1 -1 edge 0 0 0 0 0". *)
+PROCEDURE EmitSupportEnd (kind: ARRAY OF CHAR; t: REAL; body, sup, edge: INTEGER) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (body) ;
+   Str (" ") ; Int (sup) ;
+   Str (" -1 -1 ") ; Int (edge) ;
+   Str (" 0 0 0 0 0") ;
+   Ln
+END EmitSupportEnd ;
+
+
+(* Sliding stops: velocity exactly zero, then rest or slide back. *)
+PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
+VAR
+   A: BodyRef ;
+BEGIN
+   INC (Stats.stops) ;
+   A := ADR (Bodies^[ev.body]) ;
+   Advance (A, t) ;
+   A^.vx := 0.0 ;
+   A^.vy := 0.0 ;
+   slide_accel (A, 0.0) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_stop ;
+
+
+(* The support's edge ends under the body: free motion again. *)
+PROCEDURE handle_leave (t: REAL; ev: LeaveEvent) ;
+VAR
+   A: BodyRef ;
+   sup, edge: INTEGER ;
+BEGIN
+   INC (Stats.leaves) ;
+   A := ADR (Bodies^[ev.body]) ;
+   Advance (A, t) ;
+   sup := A^.sup ;
+   edge := A^.sup_edge ;
+   end_support (A) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_leave ;
+
+
 PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
 VAR
    b: BodyRef ;
@@ -823,6 +1107,7 @@ BEGIN
    INC (Stats.inputs) ;
    b := ADR (Bodies^[Inputs^[ev.k].body]) ;
    Advance (b, t) ;
+   IF b^.sup >= 0 THEN end_support (b) END ;
    IF Inputs^[ev.k].mode = 0 THEN
       b^.vx := Inputs^[ev.k].vx ;
       b^.vy := Inputs^[ev.k].vy
@@ -911,6 +1196,10 @@ BEGIN
                 OR (Bodies^[ev.horizon.b].stamp # ev.horizon.stamp_b)
     | KCell:
          RETURN Bodies^[ev.cell.body].stamp # ev.cell.stamp
+    | KStop:
+         RETURN Bodies^[ev.stop.body].stamp # ev.stop.stamp
+    | KLeave:
+         RETURN Bodies^[ev.leave.body].stamp # ev.leave.stamp
    ELSE
       RETURN FALSE
    END
@@ -956,6 +1245,9 @@ BEGIN
    Stats.stale := 0 ;
    Stats.pairs := 0 ;
    Stats.features := 0 ;
+   Stats.supports := 0 ;
+   Stats.stops := 0 ;
+   Stats.leaves := 0 ;
    FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
    FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
    FOR i := 0 TO NBodies - 1 DO
@@ -1015,6 +1307,9 @@ BEGIN
    Stat ("stale", Stats.stale) ;
    Stat ("pairs", Stats.pairs) ;
    Stat ("features", Stats.features) ;
+   Stat ("supports", Stats.supports) ;
+   Stat ("stops", Stats.stops) ;
+   Stat ("leaves", Stats.leaves) ;
    FOR k := 0 TO CcVariants - 1 DO
       Str ("V circle_circle ") ;
       Int (k) ;
@@ -1049,6 +1344,8 @@ BEGIN
          CASE ev.kind OF
             KInput: handle_input (ev.t, ev.input)
           | KCollision: handle_collision (ev.t, ev.collision)
+          | KStop: handle_stop (ev.t, ev.stop)
+          | KLeave: handle_leave (ev.t, ev.leave)
           | KCell: handle_cell (ev.t, ev.cell)
           | KHorizon: handle_horizon (ev.t, ev.horizon)
           | KFrame: handle_frame (ev.t, ev.frame)

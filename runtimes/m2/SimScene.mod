@@ -203,9 +203,12 @@ BEGIN
       b^.idx := i ;
       b^.polygon := ReadInt () = 1 ;
       b^.fixed := ReadInt () = 1 ;
-      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ;
+      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ; b^.mu := Num () ;
       b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
       b^.ax := Num () ; b^.ay := Num () ;
+      b^.fax := b^.ax ; b^.fay := b^.ay ;
+      b^.sup := -1 ; b^.sup_edge := -1 ;
+      b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
       b^.ang := Num () ; b^.om := Num () ;
       b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
       b^.large := ReadInt () = 1 ;
@@ -221,6 +224,7 @@ BEGIN
          Expect ("v") ;
          v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
          v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
+         v.nx := Num () ; v.ny := Num () ;
          Verts^[NVerts] := v ;
          INC (NVerts)
       END ;
