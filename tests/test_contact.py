@@ -179,3 +179,18 @@ def test_a_dropped_ball_comes_to_rest_on_the_floor_in_a_few_collisions():
     # collision normals (cos(pi/2) is 6e-17 in doubles) is left
     assert f["position"][1] == y and f["velocity"][1] == 0.0 and abs(f["velocity"][0]) < 1e-14
     no_overlap(scene, rp)
+
+
+def test_a_box_pushed_along_a_floor_slides_on_it_and_stops():
+    """An input sets a resting box sliding: the contact's first derivative is
+    rounding (cos(pi/2) = 6e-17 times the speed), not a separation, so it is
+    supported again at once, slides with friction and stops exactly on the floor."""
+    v0 = 1.5
+    scene, tr, rp = run([floor(half=3.0, friction=1.0), box_body(friction=0.5)], end=1.5,
+                        inputs=[{"time": 0.5, "body": "box", "set_velocity": [v0, 0.0]}])
+    assert kinds(tr) == ["support", "input", "support", "stop"]
+    stop = next(e for e in tr.events if e["kind"] == "stop")
+    assert stop["t"] == pytest.approx(0.5 + v0 / (0.5 * G), rel=1e-12)
+    f = final(tr, "box")
+    assert f["position"][1] == 0.1 and f["position"][0] == pytest.approx(v0 * v0 / (2 * 0.5 * G), rel=1e-12)
+    no_overlap(scene, rp)

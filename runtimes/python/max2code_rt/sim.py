@@ -340,13 +340,25 @@ class Simulator:
             dd = dd * s + k * (k - 1) * c[k]
         return dd < 0.0
 
+    @staticmethod
+    def touching_now(c: list[float], deg: int, kappa: float) -> bool:
+        """At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+        pressed together (c2 < 0) so that the gap closes again before it
+        ever exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.
+        (A resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.)"""
+        if c[1] < 0.0:
+            return True
+        if deg < 2 or not (c[2] < 0.0):
+            return False
+        return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa
+
     def first_contact(self, c: list[float], deg: int, w: float, kappa: float, check) -> float | None:
         """The smallest s in [0, w] where the gap c(s) reaches zero while
         decreasing, or touches zero with zero slope while pressed together
         (resting contact), and check(s) holds.  At s = 0 the gap counts as
-        zero within kappa: approaching or pressing means contact now,
-        separating or merely touching never."""
-        if deg >= 1 and math.fabs(c[0]) <= kappa and self.pressing(c, deg, c[1], 0.0) and check(0.0):
+        zero within kappa: approaching or pressed (touching_now) means
+        contact now, separating or merely touching never."""
+        if deg >= 1 and math.fabs(c[0]) <= kappa and self.touching_now(c, deg, kappa) and check(0.0):
             return 0.0
         lo = 0.0
         for _ in range(deg + 2):
@@ -638,7 +650,7 @@ class Simulator:
         tx, ty, ox, oy = self.support_frame(B, j)
         load = -(A.fax * ox + A.fay * oy)
         rest = self.s.rest_speed
-        if not (load > 0.0) or vn > 0.0 or A.e * B.e * -vn >= rest:
+        if not (load > 0.0) or vn >= rest or A.e * B.e * -vn >= rest:
             return False
         ed = B.verts[j]
         q = (A.px - B.px) * tx + (A.py - B.py) * ty
