@@ -223,18 +223,30 @@ BEGIN
 END pressing ;
 
 
+(* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+   pressed together (c2 < 0) so that the gap closes again before it ever
+   exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+   resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) *)
+PROCEDURE touching_now (VAR c: ARRAY OF REAL; deg: INTEGER; kappa: REAL) : BOOLEAN ;
+BEGIN
+   IF c[1] < 0.0 THEN RETURN TRUE END ;
+   IF (deg < 2) OR NOT (c[2] < 0.0) THEN RETURN FALSE END ;
+   RETURN c[0] + c[1] * c[1] / (4.0 * (-c[2])) <= kappa
+END touching_now ;
+
+
 (* The smallest s in [0, w] where the gap c(s) reaches zero while
    decreasing, or touches zero with zero slope while pressed together
    (resting contact), and the check holds (edge: Inside, else always).  At
-   s = 0 the gap counts as zero within kappa: approaching or pressing means
-   contact now, separating or merely touching never. *)
+   s = 0 the gap counts as zero within kappa: approaching or pressed
+   (touching_now) means contact now, separating or merely touching never. *)
 PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
                         VAR s: REAL) : BOOLEAN ;
 VAR
    lo, d: REAL ;
    it, k: INTEGER ;
 BEGIN
-   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND pressing (c, deg, c[1], 0.0) AND Check (edge, 0.0) THEN
+   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
       s := 0.0 ;
       RETURN TRUE
    END ;
@@ -783,7 +795,7 @@ BEGIN
    IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
    support_frame (B, j, tx, ty, ox, oy) ;
    load := -(A^.fax * ox + A^.fay * oy) ;
-   IF (NOT (load > 0.0)) OR (vn > 0.0) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
    q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
    IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
    IF A^.polygon THEN
