@@ -85,3 +85,42 @@ def write_random_scenes(folder, seeds) -> list[str]:
             f.write(text + "\n")
         paths.append(path)
     return paths
+
+
+def resting_scene(seed: int, *, end_time: float = 2.0, boxes: bool = True) -> dict:
+    """Bodies resting on the floor of a box under gravity at t = 0 (circles
+    touching it, boxes standing on a face), some set sliding, some dropped
+    from a little above; random restitution below 1 and friction.  No
+    inputs: the system is closed."""
+    rng = random.Random(seed)
+    n = rng.randint(3, 8)
+    slot = 0.4
+    w, h = n * slot, 1.5
+    out = box(w, h)
+    out[0]["friction"] = round(rng.choice([0.0, 0.5, 1.0]), 2)
+    for k in range(n):
+        x = (k + 0.5) * slot
+        size = round(rng.uniform(0.06, 0.15), 3)
+        body = {"name": f"r{k}", "mass": round(rng.uniform(0.5, 2.0), 3),
+                "restitution": rng.choice([0.0, 0.3, 0.6, 0.9]), "friction": rng.choice([0.0, 0.2, 0.6])}
+        y = size + (0.0 if rng.random() < 0.7 else round(rng.uniform(0.05, 0.5), 3))
+        if rng.random() < 0.5 or not boxes:
+            body.update(shape="circle", radius=size)
+        else:
+            body.update(shape="polygon", vertices=[[-size, -size], [size, -size], [size, size], [-size, size]])
+        body["position"] = [round(x, 6), y]
+        if rng.random() < 0.5:
+            body["velocity"] = [round(rng.uniform(-1.5, 1.5), 3), 0.0]
+        out.append(body)
+    return {"name": f"resting {seed}", "end_time": end_time, "frame_rate": 30, "gravity": [0.0, -9.81],
+            "bodies": out}
+
+
+def write_resting_scenes(folder, seeds) -> list[str]:
+    paths = []
+    for seed in seeds:
+        path = f"{folder}/resting-{seed}.json"
+        with open(path, "w") as f:
+            f.write(json.dumps(resting_scene(seed), indent=1) + "\n")
+        paths.append(path)
+    return paths
