@@ -6,6 +6,8 @@ from max2code.targets.base import Target
 # flags of every simulator build: ISO dialect, warnings are errors, no FMA
 # contraction (the same operations as the Python reference, docs/simulator.md)
 SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
+# the simulator's library modules (runtimes/m2), compiled into the workdir
+SIM_MODULES = ("SimOut", "SimScene", "SimGrid", "SimHeap")
 
 
 class Modula2(Target):
@@ -77,7 +79,8 @@ class Modula2(Target):
         return [exe]
 
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
-        """Compile the event queue (SimHeap) and the simulator (SimMain, which
+        """Compile the simulator's library modules (SIM_MODULES: trace
+        writer, scene, grid, event queue) and the simulator (SimMain, which
         #includes the generated circle_circle.mxd and point_edge.mxd from
         workdir) and link them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
@@ -86,12 +89,12 @@ class Modula2(Target):
         from max2code.harness import runtimes
         m2 = runtimes.M2_RUNTIME
         objs = runtimes.m2_objects()
-        heap = os.path.join(workdir, "SimHeap.o")
+        libs = [os.path.join(workdir, f"{m}.o") for m in SIM_MODULES]
         counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
-        return [["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / "SimHeap.mod"), "-o", heap],
-                ["gm2", *SIM_FLAGS, *counts, *incs, str(m2 / "SimMain.mod"), heap, *map(str, objs),
+        return [*[["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / f"{m}.mod"), "-o", o] for m, o in zip(SIM_MODULES, libs)],
+                ["gm2", *SIM_FLAGS, *counts, *incs, str(m2 / "SimMain.mod"), *libs, *map(str, objs),
                  "-o", os.path.join(workdir, "sim"), "-lm"]]
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:

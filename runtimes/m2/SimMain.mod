@@ -8,6 +8,18 @@ MODULE SimMain ;
    -ffp-contract=off; sin and cos are libm's through RealMath, floor and
    sqrt libm's through C), so that it writes the same bytes.
 
+   One module per concept, as the C runtime: SimScene (the scene, its bodies
+   and reading it), SimGrid (the broad phase's cells), SimHeap (the event
+   queue), SimOut (the trace writer; numbers as "%.17g" writes them).  This
+   module holds the motion, the predictions, one handler per event kind and
+   the loop (run) that dispatches to them, with the names docs/simulator.md
+   gives the reference's steps (handle_input, handle_collision, handle_cell,
+   handle_horizon, handle_frame, handle_support, handle_stop, handle_leave,
+   start, finish, is_stale, push, push_collision, push_horizon,
+   contact_frame, apply_impulse, normal_speed, can_support, flat,
+   enter_support, slide_accel, end_support, schedule_support,
+   first_crossing).
+
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
    from the build directory, and through Roots.SmallestRoot.  The build
@@ -15,340 +27,49 @@ MODULE SimMain ;
    NAME_variant counts (max2code/targets/m2.py reads them from the generated
    files). *)
 
-FROM SYSTEM IMPORT ADDRESS, ADR ;
+FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT sin, cos ;
 FROM Roots IMPORT SmallestRoot ;
-FROM CMath IMPORT sqrt, getchar ;
-FROM cstdio IMPORT printf ;
-FROM SimC IMPORT floor, strtod, realloc, exit ;
-FROM SimHeap IMPORT Event, Push, Pop ;
+FROM CMath IMPORT sqrt ;
+FROM SimHeap IMPORT Event, Push, Pop, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
+                    InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
+FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, Fail, FailMsg ;
+FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
+                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
+                     ReadScene ;
+FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
 
 CONST
    HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
-   (* event kinds, in the order they are handled at equal times *)
-   KInput = 0 ;
-   KCollision = 1 ;
-   KCell = 2 ;
-   KHorizon = 3 ;
-   KFrame = 4 ;
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
-   (* statistics, in the order of the N lines *)
-   StCollisions = 0 ;
-   StInputs = 1 ;
-   StFrames = 2 ;
-   StCells = 3 ;
-   StHorizons = 4 ;
-   StStale = 5 ;
-   StPairs = 6 ;
-   StFeatures = 7 ;
-   NStats = 8 ;
    CcVariants = SIM_CC_VARIANTS ;
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
    PeMaxDegree = point_edge_coefficients_max_degree ;
-   (* bounds of the array types only: storage is allocated as needed *)
-   MaxItems = 16777216 ;
-   TokLen = 255 ;
 
 TYPE
-   (* One vertex of a polygon and the edge that starts at it (to the next
-      vertex), in the body's frame: all precomputed by the scene compiler. *)
-   Vertex = RECORD
-      lx, ly, rho, beta, psi, h, s1, s2: REAL ;
+   (* the counters written as the trace's N lines, in this order *)
+   StatCounts = RECORD
+      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves: LONGINT ;
    END ;
-   Body = RECORD
-      idx: INTEGER ;
-      polygon, fixed, large: BOOLEAN ;
-      invM, invI, e, px, py, vx, vy, ax, ay, ang, om, tb,
-      r, orbit, ophase, bound: REAL ;
-      v0, nv: INTEGER ;        (* its vertices: Verts^[v0 .. v0 + nv - 1] *)
-      stamp: LONGINT ;         (* motion counter (lazy invalidation) *)
-      cx, cy: INTEGER ;        (* grid cell *)
-   END ;
-   BodyRef = POINTER TO Body ;
-   InputRec = RECORD
-      t, vx, vy: REAL ;
-      body, mode: INTEGER ;
-   END ;
-   IntList = POINTER TO ARRAY [0..MaxItems - 1] OF INTEGER ;
-   CellRec = RECORD
-      n, cap: INTEGER ;
-      items: IntList ;         (* body indices *)
-   END ;
-   BodyArray = POINTER TO ARRAY [0..MaxItems - 1] OF Body ;
-   VertexArray = POINTER TO ARRAY [0..MaxItems - 1] OF Vertex ;
-   InputArray = POINTER TO ARRAY [0..MaxItems - 1] OF InputRec ;
-   CellArray = POINTER TO ARRAY [0..MaxItems - 1] OF CellRec ;
-   Token = ARRAY [0..TokLen] OF CHAR ;
 
 VAR
-   (* the scene *)
-   EndT, FrameDt, Tol, RestSpeed, Alpha: REAL ;
-   MaxSame: LONGINT ;
-   GridX0, GridY0, CellW, CellH: REAL ;
-   GridNX, GridNY: INTEGER ;
-   NBodies, NVerts, NInputs, NLarge: INTEGER ;
-   Bodies: BodyArray ;
-   Verts: VertexArray ;
-   Inputs: InputArray ;
-   (* the simulator *)
-   Cells: CellArray ;
-   Large: IntList ;
-   Seq: LONGINT ;
-   Stats: ARRAY [0..NStats - 1] OF LONGINT ;
+   Seq: LONGINT ;              (* the next scheduling counter *)
+   Stats: StatCounts ;
    CcCounts: ARRAY [0..CcVariants - 1] OF LONGINT ;
    PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
    (* the point-edge check of the prediction under way (predict_pe's inside) *)
    ChkX, ChkY: BodyRef ;
    ChkV, ChkEdge: INTEGER ;
    ChkNow: REAL ;
-   (* reading *)
-   Pending: INTEGER ;
-   Tok: Token ;
-
-
-(* ---- output and errors ------------------------------------------------ *)
-
-(* x as Python's "%.17g" writes it: any NaN is "nan". *)
-PROCEDURE Fx (x: REAL) : REAL ;
-BEGIN
-   IF x # x THEN RETURN ABS (x) END ;
-   RETURN x
-END Fx ;
-
-
-(* The end of a stuck or bad scene: "X message" was written; status 1. *)
-PROCEDURE Fail ;
-BEGIN
-   exit (1)
-END Fail ;
-
-
-PROCEDURE FailMsg (msg: ARRAY OF CHAR) ;
-BEGIN
-   printf ("X %s\n", ADR (msg)) ;
-   Fail
-END FailMsg ;
-
-
-PROCEDURE Grow (p: ADDRESS; count, size: INTEGER) : ADDRESS ;
-VAR
-   q: ADDRESS ;
-BEGIN
-   IF (count < 0) OR (count > MaxItems) THEN
-      FailMsg ("scene: too many items") 
-   END ;
-   IF count = 0 THEN count := 1 END ;
-   q := realloc (p, VAL (LONGCARD, count) * VAL (LONGCARD, size)) ;
-   IF q = NIL THEN FailMsg ("out of memory") END ;
-   RETURN q
-END Grow ;
-
-
-(* ---- reading the flat scene ------------------------------------------- *)
-
-PROCEDURE NextChar () : INTEGER ;
-VAR
-   ch: INTEGER ;
-BEGIN
-   IF Pending # -2 THEN
-      ch := Pending ;
-      Pending := -2 ;
-      RETURN ch
-   END ;
-   RETURN getchar ()
-END NextChar ;
-
-
-(* The next whitespace-delimited token into Tok; its length. *)
-PROCEDURE Word () : INTEGER ;
-VAR
-   ch, k: INTEGER ;
-BEGIN
-   REPEAT
-      ch := NextChar ()
-   UNTIL (ch < 0) OR (ch > 32) ;
-   IF ch < 0 THEN FailMsg ("scene: unexpected end of input") END ;
-   k := 0 ;
-   WHILE ch > 32 DO
-      IF k >= TokLen THEN FailMsg ("scene: token too long") END ;
-      Tok[k] := CHR (ch) ;
-      INC (k) ;
-      ch := NextChar ()
-   END ;
-   Tok[k] := 0C ;
-   Pending := ch ;
-   RETURN k
-END Word ;
-
-
-(* Reads the next token, which must be expect. *)
-PROCEDURE Expect (expect: ARRAY OF CHAR) ;
-VAR
-   k, n: INTEGER ;
-   same: BOOLEAN ;
-BEGIN
-   n := Word () ;
-   same := TRUE ;
-   k := 0 ;
-   WHILE same AND (k <= n) DO
-      IF (VAL (CARDINAL, k) > HIGH (expect)) THEN
-         same := Tok[k] = 0C
-      ELSIF Tok[k] # expect[k] THEN
-         same := FALSE
-      ELSIF expect[k] = 0C THEN
-         k := n
-      END ;
-      INC (k)
-   END ;
-   IF NOT same THEN
-      printf ("X scene: expected '%s', found '%s'\n", ADR (expect), ADR (Tok)) ;
-      Fail
-   END
-END Expect ;
-
-
-PROCEDURE Num () : REAL ;
-VAR
-   n: INTEGER ;
-   x: REAL ;
-   endp: ADDRESS ;
-BEGIN
-   n := Word () ;
-   endp := NIL ;
-   x := strtod (Tok, endp) ;
-   IF endp # ADR (Tok[n]) THEN
-      printf ("X scene: not a number: '%s'\n", ADR (Tok)) ;
-      Fail
-   END ;
-   RETURN x
-END Num ;
-
-
-(* The next token as a whole number (up to 18 digits). *)
-PROCEDURE LongInt () : LONGINT ;
-VAR
-   n, k: INTEGER ;
-   v: LONGINT ;
-   neg, ok: BOOLEAN ;
-BEGIN
-   n := Word () ;
-   k := 0 ;
-   neg := FALSE ;
-   IF (Tok[0] = '-') OR (Tok[0] = '+') THEN
-      neg := Tok[0] = '-' ;
-      k := 1
-   END ;
-   ok := (k < n) AND (n - k <= 18) ;
-   v := 0 ;
-   WHILE ok AND (k < n) DO
-      IF (Tok[k] >= '0') AND (Tok[k] <= '9') THEN
-         v := v * 10 + VAL (LONGINT, ORD (Tok[k]) - ORD ('0'))
-      ELSE
-         ok := FALSE
-      END ;
-      INC (k)
-   END ;
-   IF NOT ok THEN
-      printf ("X scene: not an integer: '%s'\n", ADR (Tok)) ;
-      Fail
-   END ;
-   IF neg THEN RETURN -v END ;
-   RETURN v
-END LongInt ;
-
-
-(* The next token as a count or index (INTEGER range). *)
-PROCEDURE Int () : INTEGER ;
-VAR
-   v: LONGINT ;
-BEGIN
-   v := LongInt () ;
-   IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
-      printf ("X scene: integer out of range: '%s'\n", ADR (Tok)) ;
-      Fail
-   END ;
-   RETURN VAL (INTEGER, v)
-END Int ;
-
-
-PROCEDURE ReadScene ;
-VAR
-   i, k, nv, capVerts: INTEGER ;
-   b: BodyRef ;
-   v: Vertex ;
-BEGIN
-   Expect ("m2c-scene") ;
-   IF Int () # 1 THEN FailMsg ("scene: unknown version") END ;
-   Expect ("end") ; EndT := Num () ;
-   Expect ("frame") ; FrameDt := Num () ;
-   Expect ("tolerance") ; Tol := Num () ;
-   Expect ("rest_speed") ; RestSpeed := Num () ;
-   Expect ("window_angle") ; Alpha := Num () ;
-   Expect ("max_same_time") ; MaxSame := LongInt () ;
-   Expect ("grid") ;
-   GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
-   GridNX := Int () ; GridNY := Int () ;
-   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN FailMsg ("scene: bad grid") END ;
-   Expect ("bodies") ;
-   NBodies := Int () ;
-   Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
-   NVerts := 0 ;
-   capVerts := 16 ;
-   Verts := Grow (NIL, capVerts, SIZE (Vertex)) ;
-   FOR i := 0 TO NBodies - 1 DO
-      Expect ("body") ;
-      b := ADR (Bodies^[i]) ;
-      b^.idx := i ;
-      b^.polygon := Int () = 1 ;
-      b^.fixed := Int () = 1 ;
-      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ;
-      b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
-      b^.ax := Num () ; b^.ay := Num () ;
-      b^.ang := Num () ; b^.om := Num () ;
-      b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
-      b^.large := Int () = 1 ;
-      nv := Int () ;
-      IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
-      b^.v0 := NVerts ;
-      b^.nv := nv ;
-      IF NVerts + nv > capVerts THEN
-         WHILE NVerts + nv > capVerts DO capVerts := 2 * capVerts END ;
-         Verts := Grow (Verts, capVerts, SIZE (Vertex))
-      END ;
-      FOR k := 0 TO nv - 1 DO
-         Expect ("v") ;
-         v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
-         v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-         Verts^[NVerts] := v ;
-         INC (NVerts)
-      END ;
-      b^.tb := 0.0 ;
-      b^.stamp := 0 ;
-      b^.cx := 0 ;
-      b^.cy := 0
-   END ;
-   Expect ("inputs") ;
-   NInputs := Int () ;
-   Inputs := Grow (NIL, NInputs, SIZE (InputRec)) ;
-   FOR i := 0 TO NInputs - 1 DO
-      Expect ("input") ;
-      Inputs^[i].t := Num () ;
-      Inputs^[i].body := Int () ;
-      Inputs^[i].mode := Int () ;
-      Inputs^[i].vx := Num () ;
-      Inputs^[i].vy := Num () ;
-      IF (Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies) THEN
-         FailMsg ("scene: input of an unknown body")
-      END
-   END ;
-   Expect ("end")
-END ReadScene ;
+   (* events at the current instant (the "stuck" check) *)
+   LastT: REAL ;
+   Same: LONGINT ;
 
 
 (* ---- motion ------------------------------------------------------------ *)
@@ -392,74 +113,58 @@ END TurnRate ;
 
 (* ---- the event queue --------------------------------------------------- *)
 
-PROCEDURE Schedule (t: REAL; kind, a, b, feat, i, j: INTEGER) ;
+(* Queues ev (its t, kind and record set) as the next in scheduling order. *)
+PROCEDURE push (VAR ev: Event) ;
+BEGIN
+   ev.seq := Seq ;
+   IF NOT Push (ev) THEN FailMsg ("out of memory (event queue)") END ;
+   INC (Seq)
+END push ;
+
+
+PROCEDURE push_collision (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
 VAR
    ev: Event ;
 BEGIN
    ev.t := t ;
-   ev.kind := kind ;
-   ev.seq := Seq ;
-   ev.a := a ;
-   ev.b := b ;
-   ev.feat := feat ;
-   ev.i := i ;
-   ev.j := j ;
-   IF a >= 0 THEN ev.sa := Bodies^[a].stamp ELSE ev.sa := 0 END ;
-   IF b >= 0 THEN ev.sb := Bodies^[b].stamp ELSE ev.sb := 0 END ;
-   IF NOT Push (ev) THEN FailMsg ("out of memory (event queue)") END ;
-   INC (Seq)
-END Schedule ;
+   ev.kind := KCollision ;
+   ev.collision.a := A^.idx ;
+   ev.collision.b := B^.idx ;
+   ev.collision.feature := feature ;
+   ev.collision.i := i ;
+   ev.collision.j := j ;
+   ev.collision.stamp_a := A^.stamp ;
+   ev.collision.stamp_b := B^.stamp ;
+   push (ev)
+END push_collision ;
 
 
-(* ---- grid ---------------------------------------------------------------- *)
-
-PROCEDURE Clamp (f: REAL; n: INTEGER) : INTEGER ;
-BEGIN
-   IF f < 0.0 THEN
-      RETURN 0
-   ELSIF f > VAL (REAL, n - 1) THEN
-      RETURN n - 1
-   END ;
-   RETURN VAL (INTEGER, f)
-END Clamp ;
-
-
-PROCEDURE CellOf (x, y: REAL; VAR ix, iy: INTEGER) ;
-BEGIN
-   ix := Clamp (floor ((x - GridX0) / CellW), GridNX) ;
-   iy := Clamp (floor ((y - GridY0) / CellH), GridNY)
-END CellOf ;
-
-
-(* Removes b from its cell: the last element moves into the hole. *)
-PROCEDURE CellRemove (b: BodyRef) ;
+PROCEDURE push_horizon (t: REAL; A, B: BodyRef) ;
 VAR
-   c: INTEGER ;
-   k: INTEGER ;
+   ev: Event ;
 BEGIN
-   c := b^.cy * GridNX + b^.cx ;
-   k := 0 ;
-   WHILE Cells^[c].items^[k] # b^.idx DO INC (k) END ;
-   DEC (Cells^[c].n) ;
-   IF k < Cells^[c].n THEN
-      Cells^[c].items^[k] := Cells^[c].items^[Cells^[c].n]
-   END
-END CellRemove ;
+   ev.t := t ;
+   ev.kind := KHorizon ;
+   ev.horizon.a := A^.idx ;
+   ev.horizon.b := B^.idx ;
+   ev.horizon.stamp_a := A^.stamp ;
+   ev.horizon.stamp_b := B^.stamp ;
+   push (ev)
+END push_horizon ;
 
 
-PROCEDURE CellAdd (b: BodyRef) ;
+PROCEDURE push_frame (t: REAL; k: INTEGER) ;
 VAR
-   c: INTEGER ;
+   ev: Event ;
 BEGIN
-   c := b^.cy * GridNX + b^.cx ;
-   IF Cells^[c].n = Cells^[c].cap THEN
-      IF Cells^[c].cap = 0 THEN Cells^[c].cap := 4 ELSE Cells^[c].cap := 2 * Cells^[c].cap END ;
-      Cells^[c].items := Grow (Cells^[c].items, Cells^[c].cap, SIZE (INTEGER))
-   END ;
-   Cells^[c].items^[Cells^[c].n] := b^.idx ;
-   INC (Cells^[c].n)
-END CellAdd ;
+   ev.t := t ;
+   ev.kind := KFrame ;
+   ev.frame.k := k ;
+   push (ev)
+END push_frame ;
 
+
+(* ---- helpers ---------------------------------------------------------- *)
 
 PROCEDURE Max (a, b: INTEGER) : INTEGER ;
 BEGIN
@@ -501,17 +206,47 @@ BEGIN
 END Check ;
 
 
+(* At a zero s of the gap c: approaching (first derivative d < 0), or
+   resting and pressed together (d = 0, second derivative < 0). *)
+PROCEDURE pressing (VAR c: ARRAY OF REAL; deg: INTEGER; d, s: REAL) : BOOLEAN ;
+VAR
+   dd: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF d < 0.0 THEN RETURN TRUE END ;
+   IF (d # 0.0) OR (deg < 2) THEN RETURN FALSE END ;
+   dd := 0.0 ;
+   FOR k := deg TO 2 BY -1 DO
+      dd := dd * s + VAL (REAL, k * (k - 1)) * c[k]
+   END ;
+   RETURN dd < 0.0
+END pressing ;
+
+
+(* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+   pressed together (c2 < 0) so that the gap closes again before it ever
+   exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+   resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) *)
+PROCEDURE touching_now (VAR c: ARRAY OF REAL; deg: INTEGER; kappa: REAL) : BOOLEAN ;
+BEGIN
+   IF c[1] < 0.0 THEN RETURN TRUE END ;
+   IF (deg < 2) OR NOT (c[2] < 0.0) THEN RETURN FALSE END ;
+   RETURN c[0] + c[1] * c[1] / (4.0 * (-c[2])) <= kappa
+END touching_now ;
+
+
 (* The smallest s in [0, w] where the gap c(s) reaches zero while
-   decreasing and the check holds (edge: Inside, else always).  At s = 0
-   the gap counts as zero within kappa: approaching means contact now,
-   separating never. *)
+   decreasing, or touches zero with zero slope while pressed together
+   (resting contact), and the check holds (edge: Inside, else always).  At
+   s = 0 the gap counts as zero within kappa: approaching or pressed
+   (touching_now) means contact now, separating or merely touching never. *)
 PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
                         VAR s: REAL) : BOOLEAN ;
 VAR
    lo, d: REAL ;
    it, k: INTEGER ;
 BEGIN
-   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND (c[1] < 0.0) AND Check (edge, 0.0) THEN
+   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
       s := 0.0 ;
       RETURN TRUE
    END ;
@@ -522,7 +257,7 @@ BEGIN
       FOR k := deg TO 1 BY -1 DO
          d := d * s + VAL (REAL, k) * c[k]
       END ;
-      IF (d < 0.0) AND Check (edge, s) THEN RETURN TRUE END ;
+      IF pressing (c, deg, d, s) AND Check (edge, s) THEN RETURN TRUE END ;
       lo := s
    END ;
    RETURN FALSE
@@ -598,7 +333,7 @@ BEGIN
       FailMsg ("circle_circle: the scene uses an effect the generated code leaves out")
    END ;
    INC (CcCounts[idx]) ;
-   INC (Stats[StFeatures]) ;
+   INC (Stats.features) ;
    RETURN circle_circle_coefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z,
                                       coef)
 END CcCoefficients ;
@@ -669,7 +404,7 @@ BEGIN
       FailMsg ("point_edge: the scene uses an effect the generated code leaves out")
    END ;
    INC (PeCounts[idx]) ;
-   INC (Stats[StFeatures]) ;
+   INC (Stats.features) ;
    deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
    ChkX := X ;
    ChkY := Y ;
@@ -768,14 +503,17 @@ VAR
    best: Best ;
    found: BOOLEAN ;
 BEGIN
-   INC (Stats[StPairs]) ;
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
+   INC (Stats.pairs) ;
    w := EndT - now ;
    IF NOT (w > 0.0) THEN RETURN END ;
    IF A^.polygon OR B^.polygon THEN
       (* the bounding circles do not turn: until they touch, nothing can *)
       IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
       IF meet > 0.0 THEN
-         Schedule (now + meet, KHorizon, A^.idx, B^.idx, -1, -1, -1) ;
+         push_horizon (now + meet, A, B) ;
          RETURN
       END
    END ;
@@ -798,9 +536,9 @@ BEGIN
       VerticesEdges (B, A, now, w, best)
    END ;
    IF best.found THEN
-      Schedule (now + best.t, KCollision, best.a, best.b, best.feat, best.i, best.j)
+      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
    ELSIF now + w < EndT THEN
-      Schedule (now + w, KHorizon, A^.idx, B^.idx, -1, -1, -1)
+      push_horizon (now + w, A, B)
    END
 END PredictPair ;
 
@@ -855,7 +593,8 @@ PROCEDURE PredictBody (b: BodyRef; now: REAL; skip: INTEGER) ;
 BEGIN
    PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, -1, skip, now) ;
    PredictLarge (b, skip, now) ;
-   ScheduleCell (b, now)
+   ScheduleCell (b, now) ;
+   IF b^.sup >= 0 THEN schedule_support (b) END
 END PredictBody ;
 
 
@@ -866,6 +605,7 @@ VAR
    c: ARRAY [0..2] OF REAL ;
    axis, dk, direction, i, n, it, baxis, bdir: INTEGER ;
    found, crossed: BOOLEAN ;
+   ev: Event ;
 BEGIN
    IF b^.large OR ((b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
       RETURN
@@ -918,7 +658,13 @@ BEGIN
       END
    END ;
    IF found THEN
-      Schedule (b^.tb + bu, KCell, b^.idx, -1, -1, baxis, bdir)
+      ev.t := b^.tb + bu ;
+      ev.kind := KCell ;
+      ev.cell.body := b^.idx ;
+      ev.cell.axis := baxis ;
+      ev.cell.direction := bdir ;
+      ev.cell.stamp := b^.stamp ;
+      push (ev)
    END
 END ScheduleCell ;
 
@@ -927,21 +673,30 @@ END ScheduleCell ;
 
 PROCEDURE EmitState (b: BodyRef) ;
 BEGIN
-   printf ("S %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", b^.idx, Fx (b^.tb), Fx (b^.px), Fx (b^.py),
-           Fx (b^.vx), Fx (b^.vy), Fx (b^.ang), Fx (b^.om))
+   Str ("S ") ;
+   Int (b^.idx) ;
+   SpReal (b^.tb) ;
+   SpReal (b^.px) ;
+   SpReal (b^.py) ;
+   SpReal (b^.vx) ;
+   SpReal (b^.vy) ;
+   SpReal (b^.ang) ;
+   SpReal (b^.om) ;
+   SpReal (b^.ax) ;
+   SpReal (b^.ay) ;
+   Ln
 END EmitState ;
 
 
-PROCEDURE Collide (t: REAL; feat: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
+(* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
+   at t (both bodies advanced to t). *)
+PROCEDURE contact_frame (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER; VAR cx, cy, nx, ny: REAL) ;
 VAR
    vA, vB: INTEGER ;
-   pax, pay, pbx, pby, dx, dy, dist, nx, ny, cx, cy, px, py, th, rad: REAL ;
-   uax, uay, ubx, uby, vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   pax, pay, pbx, pby, dx, dy, dist, px, py, th, rad: REAL ;
 BEGIN
-   Advance (A, t) ;
-   Advance (B, t) ;
    IF i >= 0 THEN vA := A^.v0 + i ELSE vA := -1 END ;
-   IF feat = FeatCC THEN
+   IF feature = FeatCC THEN
       PointAt (A, -1, t, pax, pay) ;
       IF j >= 0 THEN vB := B^.v0 + j ELSE vB := -1 END ;
       PointAt (B, vB, t, pbx, pby) ;
@@ -966,23 +721,240 @@ BEGIN
       IF vA < 0 THEN rad := A^.r ELSE rad := 0.0 END ;
       cx := px + rad * nx ;
       cy := py + rad * ny
-   END ;
-   (* velocities of the material points at the contact *)
+   END
+END contact_frame ;
+
+
+(* Normal relative velocity (B's against A's, along n from A to B) of the
+   material points at the contact: negative when approaching. *)
+PROCEDURE normal_speed (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   uax, uay, ubx, uby: REAL ;
+BEGIN
    uax := A^.vx - A^.om * (cy - A^.py) ;
    uay := A^.vy + A^.om * (cx - A^.px) ;
    ubx := B^.vx - B^.om * (cy - B^.py) ;
    uby := B^.vy + B^.om * (cx - B^.px) ;
-   vn := (ubx - uax) * nx + (uby - uay) * ny ;
+   RETURN (ubx - uax) * nx + (uby - uay) * ny
+END normal_speed ;
+
+
+(* ---- support: resting and sliding on a fixed body -------------------------------- *)
+
+(* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+   the world (B does not move). *)
+PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
+VAR
+   c, s, enx, eny: REAL ;
+BEGIN
+   enx := Verts^[B^.v0 + j].nx ;
+   eny := Verts^[B^.v0 + j].ny ;
+   c := cos (B^.ang) ;
+   s := sin (B^.ang) ;
+   ox := c * enx - s * eny ;
+   oy := s * enx + c * eny ;
+   tx := -oy ;
+   ty := ox
+END support_frame ;
+
+
+PROCEDURE static (B: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN (B^.vx = 0.0) AND (B^.vy = 0.0) AND (B^.ax = 0.0) AND (B^.ay = 0.0) AND (B^.om = 0.0)
+END static ;
+
+
+(* A neighbour of A's vertex i lies on edge j's line within the face
+   tolerance max(tol, rest_speed^2 / load): A rests on a face. *)
+PROCEDURE flat (A, B: BodyRef; i, j: INTEGER; ox, oy, load: REAL) : BOOLEAN ;
+VAR
+   ftol, q, h, px, py: REAL ;
+   n, m, k: INTEGER ;
+BEGIN
+   (* Python's max(tol, q): tol unless q is larger *)
+   ftol := Tol ;
+   q := RestSpeed * RestSpeed / load ;
+   IF q > ftol THEN ftol := q END ;
+   n := A^.nv ;
+   h := Verts^[B^.v0 + j].h ;
+   FOR m := 0 TO 1 DO
+      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      PointAt (A, A^.v0 + k, A^.tb, px, py) ;
+      IF (px - B^.px) * ox + (py - B^.py) * oy - h <= ftol THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END flat ;
+
+
+(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+   B becomes support (docs/simulator.md, Contact model). *)
+PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, load, q: REAL ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
+   support_frame (B, j, tx, ty, ox, oy) ;
+   load := -(A^.fax * ox + A^.fay * oy) ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
+   IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
+   IF A^.polygon THEN
+      IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
+      RETURN flat (A, B, i, j, ox, oy, load)
+   END ;
+   RETURN TRUE
+END can_support ;
+
+
+(* Acceleration of supported A with tangential speed u: the free
+   acceleration along the edge less Coulomb friction mu |a_n| against the
+   motion; at rest, none while friction can hold it. *)
+PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
+VAR
+   f, a: REAL ;
+BEGIN
+   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   IF u > 0.0 THEN
+      a := A^.at - f
+   ELSIF u < 0.0 THEN
+      a := A^.at + f
+   ELSIF A^.at > f THEN
+      a := A^.at - f
+   ELSIF A^.at < -f THEN
+      a := A^.at + f
+   ELSE
+      a := 0.0
+   END ;
+   A^.ax := a * A^.tx ;
+   A^.ay := a * A^.ty
+END slide_accel ;
+
+
+(* A (advanced to now) keeps only its velocity along the edge, stops
+   turning, and from now on accelerates along the edge only. *)
+PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
+VAR
+   tx, ty, ox, oy, u: REAL ;
+BEGIN
+   support_frame (B, j, tx, ty, ox, oy) ;
+   u := A^.vx * tx + A^.vy * ty ;
+   A^.vx := u * tx ;
+   A^.vy := u * ty ;
+   IF A^.polygon THEN A^.om := 0.0 END ;
+   A^.sup := B^.idx ;
+   A^.sup_edge := j ;
+   A^.tx := tx ;
+   A^.ty := ty ;
+   A^.load := -(A^.fax * ox + A^.fay * oy) ;
+   A^.at := A^.fax * tx + A^.fay * ty ;
+   slide_accel (A, u)
+END enter_support ;
+
+
+PROCEDURE end_support (A: BodyRef) ;
+BEGIN
+   A^.ax := A^.fax ;
+   A^.ay := A^.fay ;
+   A^.sup := -1 ;
+   A^.sup_edge := -1
+END end_support ;
+
+
+(* The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving in
+   the direction (+1 up, -1 down); FALSE when none. *)
+PROCEDURE first_crossing (p, v, a: REAL; direction: INTEGER; lo, hi: REAL; VAR u: REAL) : BOOLEAN ;
+VAR
+   c: ARRAY [0..2] OF REAL ;
+   it: INTEGER ;
+BEGIN
+   c[0] := p ;
+   c[1] := v ;
+   c[2] := 0.5 * a ;
+   FOR it := 1 TO 3 DO
+      IF NOT SmallestRoot (c, 2, lo, hi, u) THEN RETURN FALSE END ;
+      IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN RETURN TRUE END ;
+      lo := u
+   END ;
+   RETURN FALSE
+END first_crossing ;
+
+
+(* A supported body's stop (its tangential speed reaches zero) and leave
+   (its centre, projected on the edge, reaches an end) events; b is at its
+   own time tb (the reference's now). *)
+PROCEDURE schedule_support (b: BodyRef) ;
+VAR
+   u, a, q, hi, s1, s2: REAL ;
+   B: BodyRef ;
+   ed: INTEGER ;
+   f1, f2: BOOLEAN ;
+   ev: Event ;
+BEGIN
+   u := b^.vx * b^.tx + b^.vy * b^.ty ;
+   a := b^.ax * b^.tx + b^.ay * b^.ty ;
+   IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
+      ev.t := b^.tb + (-u) / a ;
+      ev.kind := KStop ;
+      ev.stop.body := b^.idx ;
+      ev.stop.stamp := b^.stamp ;
+      push (ev)
+   END ;
+   B := ADR (Bodies^[b^.sup]) ;
+   ed := B^.v0 + b^.sup_edge ;
+   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
+   hi := EndT - b^.tb ;
+   f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
+   f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
+   IF f1 AND ((NOT f2) OR (s1 < s2)) THEN
+      f2 := TRUE ;
+      s2 := s1
+   END ;
+   IF f2 THEN
+      ev.t := b^.tb + s2 ;
+      ev.kind := KLeave ;
+      ev.leave.body := b^.idx ;
+      ev.leave.stamp := b^.stamp ;
+      push (ev)
+   END
+END schedule_support ;
+
+
+(* The bodies' accelerations push them together along the normal (n from
+   A to B): the relative normal acceleration of the centres is negative.
+   (Centripetal terms of turning bodies are left out.) *)
+PROCEDURE pressed (A, B: BodyRef; nx, ny: REAL) : BOOLEAN ;
+BEGIN
+   RETURN (B^.ax - A^.ax) * nx + (B^.ay - A^.ay) * ny < 0.0
+END pressed ;
+
+
+(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
+   from A to B (both advanced to the contact time): 0.0 when the material
+   points do not approach and are not pressed together, else the impulse
+   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
+   at least, so time advances (docs/simulator.md). *)
+PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   press: BOOLEAN ;
+BEGIN
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
    imp := 0.0 ;
-   IF vn < 0.0 THEN
+   press := pressed (A, B, nx, ny) ;
+   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
       ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
       rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
       k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
       e := A^.e * B^.e ;
-      (* sep = max(e * -vn, min(-vn, rest_speed)) as Python's min and max pick *)
-      m1 := -vn ;
-      IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
+      (* sep = max(e * -vn, rest_speed) when pressed, else
+         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
       me := e * (-vn) ;
+      IF press THEN
+         mn := RestSpeed
+      ELSE
+         m1 := -vn ;
+         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
+      END ;
       IF mn > me THEN sep := mn ELSE sep := me END ;
       imp := (sep - vn) / k ;
       A^.vx := A^.vx - imp * A^.invM * nx ;
@@ -992,8 +964,44 @@ BEGIN
       B^.vy := B^.vy + imp * B^.invM * ny ;
       B^.om := B^.om + imp * B^.invI * rbn
    END ;
-   printf ("E collision %.17g %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g\n", Fx (t), A^.idx, B^.idx, feat,
-           i, j, Fx (cx), Fx (cy), Fx (nx), Fx (ny), Fx (imp)) ;
+   RETURN imp
+END apply_impulse ;
+
+
+PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
+BEGIN
+   Str ("N ") ;
+   Str (name) ;
+   Str (" ") ;
+   Int (count) ;
+   Ln
+END Stat ;
+
+
+(* ---- event handlers: one per kind --------------------------------------------- *)
+
+PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
+VAR
+   A, B: BodyRef ;
+   cx, cy, nx, ny, vn, imp: REAL ;
+BEGIN
+   A := ADR (Bodies^[ev.a]) ;
+   B := ADR (Bodies^[ev.b]) ;
+   Advance (A, t) ;
+   Advance (B, t) ;
+   contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) THEN
+      handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
+      RETURN
+   END ;
+   INC (Stats.collisions) ;
+   imp := apply_impulse (A, B, cx, cy, nx, ny) ;
+   IF imp # 0.0 THEN
+      IF A^.sup >= 0 THEN end_support (A) END ;
+      IF B^.sup >= 0 THEN end_support (B) END
+   END ;
+   EmitContact ("collision", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    IF NOT A^.fixed THEN
       INC (A^.stamp) ;
       EmitState (A)
@@ -1012,37 +1020,248 @@ BEGIN
          PredictBody (B, t, -1)
       END
    END
-END Collide ;
+END handle_collision ;
 
 
-PROCEDURE Run ;
+(* The contact line of a collision, support or the like: "E KIND t a b
+   feature i j cx cy nx ny impulse". *)
+PROCEDURE EmitContact (kind: ARRAY OF CHAR; t: REAL; a, b, feature, i, j: INTEGER; cx, cy, nx, ny, imp: REAL) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (a) ;
+   Str (" ") ; Int (b) ;
+   Str (" ") ; Int (feature) ;
+   Str (" ") ; Int (i) ;
+   Str (" ") ; Int (j) ;
+   SpReal (cx) ;
+   SpReal (cy) ;
+   SpReal (nx) ;
+   SpReal (ny) ;
+   SpReal (imp) ;
+   Ln
+END EmitContact ;
+
+
+(* A collision that ends in support (called by handle_collision). *)
+PROCEDURE handle_support (t: REAL; ev: CollisionEvent; A, B: BodyRef; cx, cy, nx, ny, vn: REAL) ;
 VAR
-   i, k, col, row: INTEGER ;
+   imp: REAL ;
+BEGIN
+   INC (Stats.supports) ;
+   imp := (-vn) / A^.invM ;
+   enter_support (A, B, ev.j) ;
+   EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
+   INC (A^.stamp) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_support ;
+
+
+(* The line of a stop or leave event: "E KIND t body sup -1 -1 edge 0 0 0 0 0". *)
+PROCEDURE EmitSupportEnd (kind: ARRAY OF CHAR; t: REAL; body, sup, edge: INTEGER) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (body) ;
+   Str (" ") ; Int (sup) ;
+   Str (" -1 -1 ") ; Int (edge) ;
+   Str (" 0 0 0 0 0") ;
+   Ln
+END EmitSupportEnd ;
+
+
+(* Sliding stops: velocity exactly zero, then rest or slide back. *)
+PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
+VAR
+   A: BodyRef ;
+BEGIN
+   INC (Stats.stops) ;
+   A := ADR (Bodies^[ev.body]) ;
+   Advance (A, t) ;
+   A^.vx := 0.0 ;
+   A^.vy := 0.0 ;
+   slide_accel (A, 0.0) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_stop ;
+
+
+(* The support's edge ends under the body: free motion again. *)
+PROCEDURE handle_leave (t: REAL; ev: LeaveEvent) ;
+VAR
+   A: BodyRef ;
+   sup, edge: INTEGER ;
+BEGIN
+   INC (Stats.leaves) ;
+   A := ADR (Bodies^[ev.body]) ;
+   Advance (A, t) ;
+   sup := A^.sup ;
+   edge := A^.sup_edge ;
+   end_support (A) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_leave ;
+
+
+PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
+VAR
+   b: BodyRef ;
+BEGIN
+   INC (Stats.inputs) ;
+   b := ADR (Bodies^[Inputs^[ev.k].body]) ;
+   Advance (b, t) ;
+   IF b^.sup >= 0 THEN end_support (b) END ;
+   IF Inputs^[ev.k].mode = 0 THEN
+      b^.vx := Inputs^[ev.k].vx ;
+      b^.vy := Inputs^[ev.k].vy
+   ELSE
+      b^.vx := b^.vx + Inputs^[ev.k].vx ;
+      b^.vy := b^.vy + Inputs^[ev.k].vy
+   END ;
+   INC (b^.stamp) ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (ev.k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (b) ;
+   PredictBody (b, t, -1)
+END handle_input ;
+
+
+(* The body's centre crossed into the next cell along an axis: it moves
+   there and is predicted against the row or column it now neighbours. *)
+PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
+VAR
+   b: BodyRef ;
+   d, col, row: INTEGER ;
+BEGIN
+   INC (Stats.cells) ;
+   b := ADR (Bodies^[ev.body]) ;
+   d := ev.direction ;
+   CellRemove (b) ;
+   IF ev.axis = 0 THEN
+      b^.cx := b^.cx + d ;
+      col := b^.cx + d ;
+      CellAdd (b) ;
+      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, t)
+   ELSE
+      b^.cy := b^.cy + d ;
+      row := b^.cy + d ;
+      CellAdd (b) ;
+      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
+   END ;
+   ScheduleCell (b, t)
+END handle_cell ;
+
+
+(* The pair is predicted again from here (its bounding circles meet, or its
+   Taylor window ended). *)
+PROCEDURE handle_horizon (t: REAL; ev: HorizonEvent) ;
+BEGIN
+   INC (Stats.horizons) ;
+   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), t)
+END handle_horizon ;
+
+
+(* Frame k: written, and frame k + 1 scheduled. *)
+PROCEDURE handle_frame (t: REAL; ev: FrameEvent) ;
+VAR
+   nxt: REAL ;
+BEGIN
+   INC (Stats.frames) ;
+   Str ("E frame ") ;
+   Real (t) ;
+   Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   nxt := VAL (REAL, ev.k + 1) * FrameDt ;
+   IF nxt <= EndT THEN
+      push_frame (nxt, ev.k + 1)
+   END
+END handle_frame ;
+
+
+(* ---- the run ------------------------------------------------------------------ *)
+
+(* An event whose bodies' motion changed since it was scheduled.  Inputs are
+   scripted, not predicted, and frames have no bodies: never. *)
+PROCEDURE is_stale (ev: Event) : BOOLEAN ;
+BEGIN
+   CASE ev.kind OF
+      KCollision:
+         RETURN (Bodies^[ev.collision.a].stamp # ev.collision.stamp_a)
+                OR (Bodies^[ev.collision.b].stamp # ev.collision.stamp_b)
+    | KHorizon:
+         RETURN (Bodies^[ev.horizon.a].stamp # ev.horizon.stamp_a)
+                OR (Bodies^[ev.horizon.b].stamp # ev.horizon.stamp_b)
+    | KCell:
+         RETURN Bodies^[ev.cell.body].stamp # ev.cell.stamp
+    | KStop:
+         RETURN Bodies^[ev.stop.body].stamp # ev.stop.stamp
+    | KLeave:
+         RETURN Bodies^[ev.leave.body].stamp # ev.leave.stamp
+   ELSE
+      RETURN FALSE
+   END
+END is_stale ;
+
+
+(* Counts the events at instant t: more than max_same_time is "stuck". *)
+PROCEDURE CountSameTime (t: REAL) ;
+BEGIN
+   IF t = LastT THEN
+      INC (Same) ;
+      IF Same > MaxSame THEN
+         Str ("X more than ") ;
+         Int (MaxSame) ;
+         Str (" events at t = ") ;
+         Real (t) ;
+         Str (": the scene is stuck") ;
+         Ln ;
+         Fail
+      END
+   ELSE
+      LastT := t ;
+      Same := 0
+   END
+END CountSameTime ;
+
+
+(* The grid, the inputs, the first frame and the first prediction of every
+   pair. *)
+PROCEDURE start ;
+VAR
+   i, k: INTEGER ;
    b: BodyRef ;
    ev: Event ;
-   lastT, nxt: REAL ;
-   same: LONGINT ;
-   stale: BOOLEAN ;
 BEGIN
-   Cells := Grow (NIL, GridNX * GridNY, SIZE (CellRec)) ;
-   FOR k := 0 TO GridNX * GridNY - 1 DO
-      Cells^[k].n := 0 ;
-      Cells^[k].cap := 0 ;
-      Cells^[k].items := NIL
-   END ;
-   Large := Grow (NIL, NBodies, SIZE (INTEGER)) ;
-   NLarge := 0 ;
-   FOR i := 0 TO NBodies - 1 DO
-      IF Bodies^[i].large THEN
-         Large^[NLarge] := i ;
-         INC (NLarge)
-      END
-   END ;
+   InitGrid ;
    Seq := 0 ;
-   FOR k := 0 TO NStats - 1 DO Stats[k] := 0 END ;
+   Stats.collisions := 0 ;
+   Stats.inputs := 0 ;
+   Stats.frames := 0 ;
+   Stats.cells := 0 ;
+   Stats.horizons := 0 ;
+   Stats.stale := 0 ;
+   Stats.pairs := 0 ;
+   Stats.features := 0 ;
+   Stats.supports := 0 ;
+   Stats.stops := 0 ;
+   Stats.leaves := 0 ;
    FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
    FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
-
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF NOT b^.large THEN
@@ -1051,10 +1270,13 @@ BEGIN
       END
    END ;
    FOR k := 0 TO NInputs - 1 DO
-      Schedule (Inputs^[k].t, KInput, Inputs^[k].body, -1, -1, k, Inputs^[k].mode)
+      ev.t := Inputs^[k].t ;
+      ev.kind := KInput ;
+      ev.input.k := k ;
+      push (ev)
    END ;
    IF (FrameDt > 0.0) AND (FrameDt <= EndT) THEN
-      Schedule (FrameDt, KFrame, -1, -1, -1, 1, -1)
+      push_frame (FrameDt, 1)
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
@@ -1063,106 +1285,90 @@ BEGIN
          PredictLarge (b, -1, 0.0) ;
          ScheduleCell (b, 0.0)
       END
-   END ;
+   END
+END start ;
 
-   lastT := -1.0 ;
-   same := 0 ;
-   WHILE Pop (ev) AND (ev.t <= EndT) DO
-      stale := FALSE ;
-      (* an input is scripted, not predicted: it happens whatever the body did before *)
-      IF ev.kind # KInput THEN
-         IF (ev.a >= 0) AND (Bodies^[ev.a].stamp # ev.sa) THEN stale := TRUE END ;
-         IF (ev.b >= 0) AND (Bodies^[ev.b].stamp # ev.sb) THEN stale := TRUE END
-      END ;
-      IF stale THEN
-         INC (Stats[StStale]) ;
-         ev.kind := -1
-      ELSIF ev.t = lastT THEN
-         INC (same) ;
-         IF same > MaxSame THEN
-            printf ("X more than %ld events at t = %.17g: the scene is stuck\n", MaxSame, Fx (ev.t)) ;
-            Fail
-         END
-      ELSE
-         lastT := ev.t ;
-         same := 0
-      END ;
-      IF ev.kind = -1 THEN
-         (* stale: dropped *)
-      ELSIF ev.kind = KCollision THEN
-         INC (Stats[StCollisions]) ;
-         Collide (ev.t, ev.feat, ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j)
-      ELSIF ev.kind = KInput THEN
-         INC (Stats[StInputs]) ;
-         b := ADR (Bodies^[ev.a]) ;
-         Advance (b, ev.t) ;
-         IF Inputs^[ev.i].mode = 0 THEN
-            b^.vx := Inputs^[ev.i].vx ;
-            b^.vy := Inputs^[ev.i].vy
-         ELSE
-            b^.vx := b^.vx + Inputs^[ev.i].vx ;
-            b^.vy := b^.vy + Inputs^[ev.i].vy
-         END ;
-         INC (b^.stamp) ;
-         printf ("E input %.17g %d -1 -1 %d -1 0 0 0 0 0\n", Fx (ev.t), ev.a, ev.i) ;
-         EmitState (b) ;
-         PredictBody (b, ev.t, -1)
-      ELSIF ev.kind = KCell THEN
-         INC (Stats[StCells]) ;
-         b := ADR (Bodies^[ev.a]) ;
-         CellRemove (b) ;
-         IF ev.i = 0 THEN
-            b^.cx := b^.cx + ev.j ;
-            col := b^.cx + ev.j ;
-            CellAdd (b) ;
-            PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, ev.t)
-         ELSE
-            b^.cy := b^.cy + ev.j ;
-            row := b^.cy + ev.j ;
-            CellAdd (b) ;
-            PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, ev.t)
-         END ;
-         ScheduleCell (b, ev.t)
-      ELSIF ev.kind = KHorizon THEN
-         INC (Stats[StHorizons]) ;
-         PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.t)
-      ELSIF ev.kind = KFrame THEN
-         INC (Stats[StFrames]) ;
-         printf ("E frame %.17g -1 -1 -1 -1 -1 0 0 0 0 0\n", Fx (ev.t)) ;
-         nxt := VAL (REAL, ev.i + 1) * FrameDt ;
-         IF nxt <= EndT THEN
-            Schedule (nxt, KFrame, -1, -1, -1, ev.i + 1, -1)
-         END
-      END
-   END ;
 
+(* Every body at the end time, the statistics and the predictions served
+   per variant. *)
+PROCEDURE finish ;
+VAR
+   i, k: INTEGER ;
+   b: BodyRef ;
+BEGIN
    FOR i := 0 TO NBodies - 1 DO
       Advance (ADR (Bodies^[i]), EndT)
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
-      printf ("F %d %.17g %.17g %.17g %.17g %.17g %.17g\n", i, Fx (b^.px), Fx (b^.py), Fx (b^.vx), Fx (b^.vy),
-              Fx (b^.ang), Fx (b^.om))
+      Str ("F ") ;
+      Int (i) ;
+      SpReal (b^.px) ;
+      SpReal (b^.py) ;
+      SpReal (b^.vx) ;
+      SpReal (b^.vy) ;
+      SpReal (b^.ang) ;
+      SpReal (b^.om) ;
+      Ln
    END ;
-   printf ("N collisions %ld\n", Stats[StCollisions]) ;
-   printf ("N inputs %ld\n", Stats[StInputs]) ;
-   printf ("N frames %ld\n", Stats[StFrames]) ;
-   printf ("N cells %ld\n", Stats[StCells]) ;
-   printf ("N horizons %ld\n", Stats[StHorizons]) ;
-   printf ("N stale %ld\n", Stats[StStale]) ;
-   printf ("N pairs %ld\n", Stats[StPairs]) ;
-   printf ("N features %ld\n", Stats[StFeatures]) ;
+   Stat ("collisions", Stats.collisions) ;
+   Stat ("inputs", Stats.inputs) ;
+   Stat ("frames", Stats.frames) ;
+   Stat ("cells", Stats.cells) ;
+   Stat ("horizons", Stats.horizons) ;
+   Stat ("stale", Stats.stale) ;
+   Stat ("pairs", Stats.pairs) ;
+   Stat ("features", Stats.features) ;
+   Stat ("supports", Stats.supports) ;
+   Stat ("stops", Stats.stops) ;
+   Stat ("leaves", Stats.leaves) ;
    FOR k := 0 TO CcVariants - 1 DO
-      printf ("V circle_circle %d %ld\n", k, CcCounts[k])
+      Str ("V circle_circle ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (CcCounts[k]) ;
+      Ln
    END ;
    FOR k := 0 TO PeVariants - 1 DO
-      printf ("V point_edge %d %ld\n", k, PeCounts[k])
-   END
-END Run ;
+      Str ("V point_edge ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (PeCounts[k]) ;
+      Ln
+   END ;
+   Flush
+END finish ;
+
+
+(* The events in order up to the end time, each to its kind's handler. *)
+PROCEDURE run ;
+VAR
+   ev: Event ;
+BEGIN
+   start ;
+   LastT := -1.0 ;
+   Same := 0 ;
+   WHILE Pop (ev) AND (ev.t <= EndT) DO
+      IF is_stale (ev) THEN
+         INC (Stats.stale)
+      ELSE
+         CountSameTime (ev.t) ;
+         CASE ev.kind OF
+            KInput: handle_input (ev.t, ev.input)
+          | KCollision: handle_collision (ev.t, ev.collision)
+          | KStop: handle_stop (ev.t, ev.stop)
+          | KLeave: handle_leave (ev.t, ev.leave)
+          | KCell: handle_cell (ev.t, ev.cell)
+          | KHorizon: handle_horizon (ev.t, ev.horizon)
+          | KFrame: handle_frame (ev.t, ev.frame)
+         END
+      END
+   END ;
+   finish
+END run ;
 
 
 BEGIN
-   Pending := -2 ;
    ReadScene ;
-   Run
+   run
 END SimMain.

@@ -1,0 +1,79 @@
+IMPLEMENTATION MODULE SimGrid ;
+
+FROM SimC IMPORT floor ;
+FROM SimScene IMPORT Bodies, NBodies, GridX0, GridY0, CellW, CellH, GridNX, GridNY, Grow ;
+
+
+PROCEDURE InitGrid ;
+VAR
+   i, k: INTEGER ;
+BEGIN
+   Cells := Grow (NIL, GridNX * GridNY, SIZE (CellRec)) ;
+   FOR k := 0 TO GridNX * GridNY - 1 DO
+      Cells^[k].n := 0 ;
+      Cells^[k].cap := 0 ;
+      Cells^[k].items := NIL
+   END ;
+   Large := Grow (NIL, NBodies, SIZE (INTEGER)) ;
+   NLarge := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      IF Bodies^[i].large THEN
+         Large^[NLarge] := i ;
+         INC (NLarge)
+      END
+   END
+END InitGrid ;
+
+
+PROCEDURE Clamp (f: REAL; n: INTEGER) : INTEGER ;
+BEGIN
+   IF f < 0.0 THEN
+      RETURN 0
+   ELSIF f > VAL (REAL, n - 1) THEN
+      RETURN n - 1
+   END ;
+   RETURN VAL (INTEGER, f)
+END Clamp ;
+
+
+PROCEDURE CellOf (x, y: REAL; VAR ix, iy: INTEGER) ;
+BEGIN
+   ix := Clamp (floor ((x - GridX0) / CellW), GridNX) ;
+   iy := Clamp (floor ((y - GridY0) / CellH), GridNY)
+END CellOf ;
+
+
+PROCEDURE CellRemove (b: BodyRef) ;
+VAR
+   c: INTEGER ;
+   k: INTEGER ;
+BEGIN
+   c := b^.cy * GridNX + b^.cx ;
+   k := 0 ;
+   WHILE Cells^[c].items^[k] # b^.idx DO INC (k) END ;
+   DEC (Cells^[c].n) ;
+   IF k < Cells^[c].n THEN
+      Cells^[c].items^[k] := Cells^[c].items^[Cells^[c].n]
+   END
+END CellRemove ;
+
+
+PROCEDURE CellAdd (b: BodyRef) ;
+VAR
+   c: INTEGER ;
+BEGIN
+   c := b^.cy * GridNX + b^.cx ;
+   IF Cells^[c].n = Cells^[c].cap THEN
+      IF Cells^[c].cap = 0 THEN Cells^[c].cap := 4 ELSE Cells^[c].cap := 2 * Cells^[c].cap END ;
+      Cells^[c].items := Grow (Cells^[c].items, Cells^[c].cap, SIZE (INTEGER))
+   END ;
+   Cells^[c].items^[Cells^[c].n] := b^.idx ;
+   INC (Cells^[c].n)
+END CellAdd ;
+
+
+BEGIN
+   Cells := NIL ;
+   Large := NIL ;
+   NLarge := 0
+END SimGrid.
