@@ -276,3 +276,13 @@ def test_overlap_at_t0_is_its_own_answer_in_python(tmp_path, capsys):
     assert at(a=0.0, b=1.0, g=1.5, x=1.0, z=1.0) == "overlapped"
     # apart and approaching: the contact
     assert at(a=0.0, b=1.0, g=3.0, x=1.0, z=1.0) == pytest.approx(1.0, rel=1e-15)
+
+
+def test_huge_powers_are_refused_not_expanded(tmp_path, capsys):
+    """Found by the fuzz harness: t^100000000 was expanded term by term (a hang)."""
+    p = write(tmp_path, "deg.mxm", "begin\na + t^100000000;\nend\n")
+    code, _, err = run(capsys, "--lang=c", p, "-q")
+    assert code == 1 and "is above 1000" in one_error_line(err, f"{p}:2:1: error: ")
+    p = write(tmp_path, "deg2.mxm", "begin\na + t^100;\nend\n")
+    code, _, err = run(capsys, "--lang=c", p, "-q")
+    assert code == 1 and "degree 100" in one_error_line(err, f"{p}:2:1: error: ")

@@ -25,6 +25,9 @@ class Polynomial:
         return " + ".join(parts) if parts else "0"
 
 
+MAX_DEGREE = 64
+
+
 def poly_to_maxima(p: Poly) -> str:
     if p.is_zero():
         return "0"
@@ -69,5 +72,8 @@ def collect(expr: Expr, variable: str) -> Polynomial:
         rest = tuple((a, e) for a, e in mono if a != variable)
         by_power.setdefault(k, {})[rest] = c
     degree = max(by_power, default=0)
+    if degree > MAX_DEGREE:
+        raise NotPolynomial(f"the result has degree {degree} in {variable}: max2code prints polynomials of degree "
+                            f"{MAX_DEGREE} at most (the runtimes' solvers take 16)")
     coeffs = tuple(Poly.build(by_power.get(k, {}), atoms) for k in range(degree + 1))
     return Polynomial(variable, coeffs)

@@ -119,6 +119,9 @@ def _mul_terms(a: dict[Monomial, Fraction], b: dict[Monomial, Fraction]) -> dict
     return {m: c for m, c in out.items() if c != 0}
 
 
+MAX_POWER = 1000   # a larger power of an atom cannot be a useful polynomial (the solvers take degree 16)
+
+
 def to_poly(e: Expr, atoms: dict[str, Expr] | None = None) -> tuple[dict[Monomial, Fraction], dict[str, Expr]]:
     """Expand `e` into polynomial terms over its atoms.  Integer powers only;
     a negative power is allowed for an atom (a parameter in a denominator)."""
@@ -149,11 +152,13 @@ def to_poly(e: Expr, atoms: dict[str, Expr] | None = None) -> tuple[dict[Monomia
             if list(exp) != [()] or exp[()].denominator != 1:
                 raise NotPolynomial(f"non-integer power {to_maxima(x)}")
             n = int(exp[()])
+            if abs(n) > MAX_POWER:
+                raise NotPolynomial(f"the power {to_maxima(x)} is above {MAX_POWER}")
             base = go(x.base)
+            if len(base) == 1:              # a monomial: its exponents times n
+                (m, c), = base.items()
+                return {tuple((k, e * n) for k, e in m): c ** n}
             if n < 0:
-                if len(base) == 1:
-                    (m, c), = base.items()
-                    return {tuple((k, e * n) for k, e in m): c ** n}
                 raise NotPolynomial(f"division by a sum: {to_maxima(x)}")
             acc = {(): Fraction(1)}
             for _ in range(n):
