@@ -27,6 +27,7 @@ SUBCOMMANDS: dict[str, str] = {
     "event-vs-frame": "max2code.reports.event_vs_frame:main",
     "render": "max2code.draw.render:render_main",
     "runtime": "max2code.harness.install:runtime_main",
+    "choose-language": "max2code.reports.choose_language:main",
     "bundled": "max2code.harness.install:bundled_main",
 }
 
