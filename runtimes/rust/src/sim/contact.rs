@@ -77,13 +77,7 @@ pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny
         let e = a_.e * b_.e;
         let first = e * -vn;
         // Python's max(e * -vn, rest) when pressed, else max(e * -vn, min(-vn, rest))
-        let lo = if press {
-            rest
-        } else if rest < -vn {
-            rest
-        } else {
-            -vn
-        };
+        let lo = if press || rest < -vn { rest } else { -vn };
         let sep = if lo > first { lo } else { first };
         imp = (sep - vn) / k;
         a_.vx = a_.vx - imp * a_.inv_m * nx;
