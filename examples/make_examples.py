@@ -79,3 +79,52 @@ write("resting-ball.json", {"name": "a ball coming to rest on a floor", "end_tim
                             "bodies": box(1.0, 1.0)[:1] + [{"name": "ball", "shape": "circle", "radius": 0.1,
                                                              "mass": 1.0, "restitution": 0.5,
                                                              "position": [0.5, 0.6]}]})
+
+
+# ---- game scenes (issue 10): resting, sliding and friction --------------------
+def plank(name, cx, cy, hw, hh, angle=0.0, **kw):
+    """A fixed box: a floor, a ledge, a wall or (turned) a ramp."""
+    b = {"name": name, "shape": "polygon", "fixed": True, "position": [cx, cy], "angle": angle,
+         "vertices": [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]]}
+    b.update(kw)
+    return b
+
+
+# a platformer: a box character standing on the ground, walked and jumped by
+# scripted inputs onto two ledges; it slides with friction, stops, falls off
+# a ledge's end and lands on a ramp down which it slides to the ground
+character = {"name": "hero", "shape": "polygon", "mass": 1.0, "restitution": 0.0, "friction": 0.5,
+             "position": [0.5, 0.2], "vertices": [[-0.15, -0.2], [0.15, -0.2], [0.15, 0.2], [-0.15, 0.2]]}
+write("platformer.json", {
+    "name": "platformer: a box walking, jumping, sliding and resting on ledges", "end_time": 6.0,
+    "frame_rate": 60, "gravity": [0.0, -9.81],
+    "bodies": [plank("ground", 4.0, -0.1, 4.2, 0.1, friction=1.0),
+               plank("left", -0.3, 2.0, 0.1, 2.0), plank("right", 8.3, 2.0, 0.1, 2.0),
+               plank("ledge1", 2.6, 1.2, 0.7, 0.08, friction=1.0),
+               plank("ledge2", 4.6, 2.2, 0.6, 0.08, friction=0.2),
+               plank("ramp", 6.8, 0.9, 1.0, 0.06, angle=-0.35, friction=0.1),
+               character],
+    "inputs": [{"time": 0.5, "body": "hero", "set_velocity": [1.5, 0.0]},
+               {"time": 1.2, "body": "hero", "set_velocity": [2.2, 5.6]},
+               {"time": 2.4, "body": "hero", "set_velocity": [1.8, 5.2]}]})
+
+# a pinball table (tilted: gravity 5 m/s^2 along it): walls, two ramps, two
+# paddles spinning on their own (fixed), three bumpers, three balls
+write("pinball.json", {
+    "name": "pinball: spinning paddles, ramps, bumpers and three balls", "end_time": 6.0, "frame_rate": 60,
+    "gravity": [0.0, -5.0],
+    "bodies": [plank("bottom", 0.6, -0.05, 0.7, 0.05), plank("top", 0.6, 2.05, 0.7, 0.05),
+               plank("left", -0.05, 1.0, 0.05, 1.0), plank("right", 1.25, 1.0, 0.05, 1.0),
+               plank("ramp_l", 0.22, 0.45, 0.25, 0.03, angle=-0.5, friction=0.2),
+               plank("ramp_r", 0.98, 0.45, 0.25, 0.03, angle=0.5, friction=0.2),
+               plank("paddle_l", 0.35, 1.0, 0.14, 0.02, angular_velocity=3.0),
+               plank("paddle_r", 0.85, 1.0, 0.14, 0.02, angular_velocity=-3.0),
+               {"name": "bumper1", "shape": "circle", "fixed": True, "radius": 0.07, "position": [0.6, 1.5]},
+               {"name": "bumper2", "shape": "circle", "fixed": True, "radius": 0.06, "position": [0.3, 1.7]},
+               {"name": "bumper3", "shape": "circle", "fixed": True, "radius": 0.06, "position": [0.9, 1.7]},
+               {"name": "ball1", "shape": "circle", "radius": 0.03, "mass": 0.08, "restitution": 0.8,
+                "friction": 0.1, "position": [0.55, 1.9], "velocity": [0.8, 0.0]},
+               {"name": "ball2", "shape": "circle", "radius": 0.03, "mass": 0.08, "restitution": 0.8,
+                "friction": 0.1, "position": [0.2, 1.3], "velocity": [1.5, 1.0]},
+               {"name": "ball3", "shape": "circle", "radius": 0.03, "mass": 0.08, "restitution": 0.8,
+                "friction": 0.1, "position": [1.0, 1.25], "velocity": [-1.0, 2.0]}]})

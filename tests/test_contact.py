@@ -227,3 +227,19 @@ def test_random_resting_circles_never_overlap_and_never_gain_energy(seed):
                                        "alternates between the two contacts at one instant (stuck)")
 def test_box_spinning_into_a_floor_wall_corner():
     _closed_scene_checks(resting_scene(3), "resting-3.json")
+
+
+def test_elastic_frictionless_sliding_conserves_energy():
+    """Restitution 1, friction 0: balls resting on a floor at t = 0, sliding
+    and colliding between two walls; every contact with a wall or a ball
+    ends the support for an instant and the floor supports again.  Energy
+    stays what it was to 1e-12 relative over more than 1000 events."""
+    bodies = [floor(half=1.2), floor("left", x=-1.1, top=1.0, half=0.1, thick=1.0),
+              floor("right", x=1.1, top=1.0, half=0.1, thick=1.0)]
+    for k in range(6):
+        bodies.append(ball(f"b{k}", x=-0.75 + 0.3 * k, y=0.1, velocity=[[1.3, -0.7, 0.4, -1.9, 0.8, -0.2][k], 0.0]))
+    scene, tr, rp = run(bodies, end=16.0, frame_rate=60)
+    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "input", "frame"))
+    assert rep.events > 1000, rep
+    assert rep.max_overlap <= scene.tolerance, rep
+    assert rep.max_energy_drift <= 1e-12, rep
