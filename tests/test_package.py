@@ -72,7 +72,7 @@ def test_an_empty_case_file_is_an_error(installed, tmp_path):
     r = subprocess.run(["max2code", "conformance", "--lang", "python", "--cases", "none.jsonl"], cwd=tmp_path,
                        env=env, capture_output=True, text=True)
     assert r.returncode == 1 and "OK" not in r.stdout
-    assert r.stderr.strip() == "none.jsonl: error: expected conformance cases (JSON lines), found none"
+    assert r.stderr.strip() == 'none.jsonl: error: no cases in the file (expected JSON lines {"id", "op", ...})'
 
 
 @pytest.mark.parametrize("flag,expect", [([], True), (["--no-header"], False)])
