@@ -27,8 +27,6 @@ def _run(scene, lang: str, progress: bool) -> Trace:
         return run_scene(scene, lang, progress=progress)
     except SimulateError as exc:
         raise SimCliError(str(exc)) from None
-    except NotImplementedError as exc:
-        raise SimCliError(f"{scene.path}: {exc}") from None
 
 
 def simulate_main(argv: list[str]) -> int:
@@ -54,8 +52,6 @@ def simulate_main(argv: list[str]) -> int:
                                     progress=not args.quiet and sys.stderr.isatty())
     except SimulateError as exc:
         raise SimCliError(str(exc)) from None
-    except NotImplementedError as exc:
-        raise SimCliError(f"{scene.path}: {exc}") from None
     if not args.quiet:
         ev = stats["events"]
         used = ", ".join(f"{k} {v}" for k, v in stats["predictions"].items())

@@ -85,23 +85,28 @@ class Target:
         """The command that runs the built harness."""
         raise NotImplementedError(type(self).__name__)
 
+    # The methods below that raise NotImplementedError are abstract: every
+    # target in LANGUAGES defines them (tests build and run each one); the
+    # simulator pair only for targets whose `simulator` capability is True,
+    # the only ones `simulate` and `crosscheck` accept.
+
     # ---- the simulator (docs/simulator.md) ------------------------------
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Commands that build this language's simulator in `workdir` from the
         generated files (equation name -> file name in workdir); `variants`:
         how many variants each equation's NAME_variant counts (from the
         generator's selection, GeneratedFile.selection)."""
-        raise NotImplementedError(f"no simulator for {self.name} yet")
+        raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
         """The command that runs the built simulator (compiled scene on stdin)."""
-        raise NotImplementedError(f"no simulator for {self.name} yet")
+        raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
 
     # ---- conformance testee (docs/roots.md, "Conformance suite") -------
     def testee(self, baseline: bool = False) -> list[str]:
         """Build this runtime's conformance testee if needed (the GSL baseline's
         with `baseline`) and return the command that runs it."""
-        raise NotImplementedError(f"no conformance testee for {self.name}")
+        raise NotImplementedError(f"{type(self).__name__} must define testee")
 
     # ---- the runtime as a library (max2code runtime LANG [--install PREFIX]) ----
     def runtime_dir(self):
