@@ -29,7 +29,7 @@ from fractions import Fraction
 from max2code.generate.collect import collect
 from max2code.errors import SourceError, Span
 from max2code.generate.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
-from max2code.generate.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, share
+from max2code.generate.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, refs, share
 from max2code.generate.maxima import DEFAULT_TIMEOUT, Statement, run_maxima
 from max2code.generate.reader import MaximaOutputError, read_expr
 
@@ -363,17 +363,12 @@ def rounding_scale(e: Expr, t: str) -> Node:
         return lit(math.pi) if e.name == "%pi" else _abs(("ref", e.name))
     if isinstance(e, Call):
         return add(lit(1), rounding_scale(e.args[0], t))
-    if isinstance(e, Add):
+    if isinstance(e, (Add, Mul)):       # a sum's scale adds its terms', a product's multiplies its factors'
+        parts, join = (e.terms, add) if isinstance(e, Add) else (e.factors, mul)
         node = None
-        for x in e.terms:
+        for x in parts:
             s = rounding_scale(x, t)
-            node = s if node is None else add(node, s)
-        return node
-    if isinstance(e, Mul):
-        node = None
-        for x in e.factors:
-            s = rounding_scale(x, t)
-            node = s if node is None else mul(node, s)
+            node = s if node is None else join(node, s)
         return node
     if isinstance(e, Pow):
         n = _int_exp(e)
@@ -439,27 +434,18 @@ def _scalar(name: str, doc: str, kind: str, params, extra, roots: list[Node], de
     # keep only the temporaries the outputs need
     need: set[str] = set()
     for o in outs:
-        _refs(o, need)
+        refs(o, need)
     for a in reversed(temps):
         if a.name in need:
-            _refs(a.node, need)
+            refs(a.node, need)
     temps = [a for a in temps if a.name in need]
     used: set[str] = set()
     for a in temps:
-        _refs(a.node, used)
+        refs(a.node, used)
     for o in outs:
-        _refs(o, used)
+        refs(o, used)
     return ScalarFn(name, doc, kind, tuple(extra), tuple(temps), tuple(outs),
                     tuple(p for p in params if p not in used))
-
-
-def _refs(n: Node, out: set[str]) -> None:
-    if n[0] == "ref":
-        out.add(n[1])
-    elif n[0] != "lit":
-        for c in n[1:]:
-            if isinstance(c, tuple):
-                _refs(c, out)
 
 
 def _order(temps: list[Assign]) -> list[Assign]:
@@ -472,7 +458,7 @@ def _order(temps: list[Assign]) -> list[Assign]:
         rest = []
         for a in pending:
             deps: set[str] = set()
-            _refs(a.node, deps)
+            refs(a.node, deps)
             if (deps & names) <= done:
                 out.append(a)
                 done.add(a.name)
@@ -579,7 +565,7 @@ def _refs_outside_abs(n: Node, out: set[str]) -> None:
 
 def _refers(n: Node, name: str) -> bool:
     s: set[str] = set()
-    _refs(n, s)
+    refs(n, s)
     return name in s
 
 

@@ -52,19 +52,20 @@ class FunctionIR:
     def unused_params(self) -> tuple[str, ...]:
         used: set[str] = set()
         for a in self.derived + self.temps:
-            _refs(a.node, used)
+            refs(a.node, used)
         for c in self.coefficients:
-            _refs(c, used)
+            refs(c, used)
         return tuple(p for p in self.params if p not in used)
 
 
-def _refs(n: Node, out: set[str]) -> None:
+def refs(n: Node, out: set[str]) -> None:
+    """Add to `out` the name of every ('ref', name) node in the tree `n`."""
     if n[0] == "ref":
         out.add(n[1])
     elif n[0] != "lit":
         for c in n[1:]:
             if isinstance(c, tuple):
-                _refs(c, out)
+                refs(c, out)
 
 
 # ---- node constructors with local simplification -----------------------
