@@ -3,13 +3,11 @@ code (templates/<lang>/exact_harness.j2): rows of parameters, horizon and
 options in, `status t` out, and optionally the median ns per call."""
 from __future__ import annotations
 
-import os
 import subprocess
 from dataclasses import dataclass
 
 from max2code.targets import target as get_target
-from max2code.harness.toc import HarnessBuildError
-from max2code.generate.render import environment
+from max2code.harness.toc import compile_harness, write_harness
 
 MAX_ROWS = 20000      # rows the Modula-2 harness holds (a static array)
 
@@ -62,20 +60,7 @@ def build_poly_harness(lang: str, generated_text: str, params, coef: str, select
 
 def _build(lang: str, generated_text: str, workdir: str, template: str, nparams: int, **ctx) -> ExactHarness:
     tgt = get_target(lang)
-    os.makedirs(workdir, exist_ok=True)
-    gen = "generated" + tgt.extension
-    with open(os.path.join(workdir, gen), "w", encoding="utf-8") as fh:
-        fh.write(generated_text)
-    src = os.path.join(workdir, tgt.harness_source)
-    text = environment().get_template(f"{lang}/{template}").render(
-        generated=gen, nparams=nparams, max_rows=MAX_ROWS, **ctx)
-    with open(src, "w", encoding="utf-8") as fh:
-        fh.write(text)
-    exe = os.path.join(workdir, "harness")
-    builds = tgt.exact_harness_build(src, exe, workdir)
+    src, exe = write_harness(lang, generated_text, workdir, template, nparams=nparams, max_rows=MAX_ROWS, **ctx)
+    compile_harness(tgt.exact_harness_build(src, exe, workdir), workdir, timeout=900)
     cmd = tgt.harness_run(src, exe)
-    for b in builds:
-        proc = subprocess.run(b, capture_output=True, text=True, cwd=workdir, timeout=900)
-        if proc.returncode != 0:
-            raise HarnessBuildError(f"{' '.join(b)}\n{proc.stdout}{proc.stderr}")
     return ExactHarness(lang, workdir, cmd, nparams)

@@ -44,19 +44,32 @@ def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, 
     With `toc` (a time-of-contact entry's name) each input line is the
     parameters then lo and hi, and the harness prints `status t`."""
     tgt = get_target(lang)
+    src, exe = write_harness(lang, generated_text, workdir, "harness.j2", name=entry or fn.name,
+                             nparams=len(fn.params), nterms=(max_degree if entry else fn.degree) + 1,
+                             entry=bool(entry), toc=toc)
+    compile_harness(tgt.harness_build(src, exe, [workdir, RUNTIME_M2_SRC]), workdir, timeout=600)
+    return Harness(lang, workdir, tgt.harness_run(src, exe), len(fn.params))
+
+
+def write_harness(lang: str, generated_text: str, workdir: str, template: str, **ctx) -> tuple[str, str]:
+    """Write the generated file and the harness made from LANG's `template`
+    (given `generated`, the generated file's name, and `ctx`) into `workdir`;
+    return the harness source's and executable's paths."""
+    tgt = get_target(lang)
     os.makedirs(workdir, exist_ok=True)
-    gen_name = "generated" + tgt.extension
-    with open(os.path.join(workdir, gen_name), "w", encoding="utf-8") as fh:
+    gen = "generated" + tgt.extension
+    with open(os.path.join(workdir, gen), "w", encoding="utf-8") as fh:
         fh.write(generated_text)
     src = os.path.join(workdir, tgt.harness_source)
-    text = environment().get_template(f"{lang}/harness.j2").render(
-        generated=gen_name, name=entry or fn.name, nparams=len(fn.params),
-        nterms=(max_degree if entry else fn.degree) + 1, entry=bool(entry), toc=toc)
+    text = environment().get_template(f"{lang}/{template}").render(generated=gen, **ctx)
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)
-    exe = os.path.join(workdir, "harness")
-    for cmd in tgt.harness_build(src, exe, [workdir, RUNTIME_M2_SRC]):
-        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, timeout=600)
+    return src, os.path.join(workdir, "harness")
+
+
+def compile_harness(commands: list[list[str]], workdir: str, timeout: float) -> None:
+    """Run the build commands in `workdir`; HarnessBuildError with the tool's output on failure."""
+    for cmd in commands:
+        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, timeout=timeout)
         if proc.returncode != 0:
             raise HarnessBuildError(f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}")
-    return Harness(lang, workdir, tgt.harness_run(src, exe), len(fn.params))
