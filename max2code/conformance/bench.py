@@ -8,7 +8,8 @@ seed mixes polynomials built from random roots (some in (0, 1], some not,
 some complex pairs) and polynomials with Gaussian coefficients, all asked for
 the smallest root in (0, 1].  Native runtimes are built with -O2 and timed
 in-process with a monotonic clock around a pass over all polynomials of a
-degree; the median is over passes.  Figures, not tests.
+degree; the median is over passes.  Python and numpy.roots are timed in CPU time
+(time_python says why).  Figures, not tests.
 """
 from __future__ import annotations
 
@@ -80,12 +81,17 @@ def native(cmd: list[str], text: str) -> dict[int, float]:
 
 
 def time_python(fn, polys: list[list[float]], reps: int) -> float:
+    """Median CPU ns per call over passes.  CPU time, not wall time: a Python
+    pass takes milliseconds, longer than a scheduler slice, so on a shared
+    machine its wall time counts the other processes' turns too (at a load
+    average of 9 on 2 cores, 4-6x).  The native passes take microseconds and
+    their median over passes is not affected so."""
     times = []
     for r in range(reps + 1):
-        t0 = time.perf_counter_ns()
+        t0 = time.process_time_ns()
         for c in polys:
             fn(c)
-        dt = (time.perf_counter_ns() - t0) / len(polys)
+        dt = (time.process_time_ns() - t0) / len(polys)
         if r:
             times.append(dt)
     return statistics.median(times)

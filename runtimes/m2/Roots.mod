@@ -24,7 +24,7 @@ VAR
    Tiny,                      (* 2^-1000, floor of the touching bound *)
    Sixteenth,                 (* 2^-16, bisection step from an end at 0 *)
    NewtonTol,                 (* 2^-30: an accepted Newton step this small (relative) has converged *)
-   PolishedTol,               (* 2^-20: the same when the polish follows (Bernstein's single root) *)
+   HalleyTol,                 (* 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root) *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
    Init: INTEGER ;
@@ -190,6 +190,66 @@ BEGIN
    END ;
    RETURN x
 END Newton ;
+
+
+(* Bernstein's single simple root in (lo, hi): Newton with Halley's step
+   v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
+   Newton step, same direction; false for any overflow or NaN), else the
+   Newton step; an accepted step of at most HalleyTol |x| ends it. *)
+PROCEDURE Halley (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
+                  x0: REAL) : REAL ;
+VAR
+   x, xa, xb, dx, dxold, v, d, h, dd, den, step, xn, tol: REAL ;
+   neg: BOOLEAN ;
+   i, it: INTEGER ;
+BEGIN
+   xa := lo ;
+   xb := hi ;
+   x := x0 ;
+   dx := xb - xa ;
+   dxold := dx ;
+   neg := slo < 0 ;
+   tol := Eps ;
+   FOR it := 1 TO MaxIt DO
+      v := a[n] ;
+      d := 0.0 ;
+      h := 0.0 ;
+      FOR i := n - 1 TO 0 BY -1 DO
+         h := h * x + d ;
+         d := d * x + v ;
+         v := v * x + a[i]
+      END ;
+      IF v = 0.0 THEN RETURN x END ;
+      IF (v < 0.0) = neg THEN xa := x ELSE xb := x END ;
+      IF (d # 0.0) AND (ABS (4.0 * v) < ABS (dxold * d))
+      THEN
+         dd := d * d ;
+         den := dd - v * h ;
+         IF den > 0.5 * dd THEN step := (v * d) / den ELSE step := v / d END ;
+         xn := x - step ;
+         IF (xa < xn) AND (xn < xb)
+         THEN
+            dxold := dx ;
+            dx := step ;
+            tol := HalleyTol
+         ELSE
+            dxold := dx ;
+            dx := 0.5 * (xb - xa) ;
+            xn := Midpoint (xa, xb, dx) ;
+            tol := Eps
+         END
+      ELSE
+         dxold := dx ;
+         dx := 0.5 * (xb - xa) ;
+         xn := Midpoint (xa, xb, dx) ;
+         tol := Eps
+      END ;
+      IF NOT ((xa < xn) AND (xn < xb)) THEN RETURN x END ;
+      IF ABS (dx) <= tol * ABS (xn) THEN RETURN xn END ;
+      x := xn
+   END ;
+   RETURN x
+END Halley ;
 
 
 (* A last Newton step inside (xa, xb]: plain when the running error bound
@@ -414,18 +474,21 @@ VAR
    i, j, k, v, sp, depth, sl: INTEGER ;
    split, neg, negi: BOOLEAN ;
 BEGIN
-   (* 1. clip to the root bound *)
-   mx := 0.0 ;
-   FOR i := 0 TO n - 1 DO
-      IF ABS (a[i]) > mx THEN mx := ABS (a[i]) END
+   (* 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2]) *)
+   IF NOT ((-2.0 <= lo) AND (hi <= 2.0))
+   THEN
+      mx := 0.0 ;
+      FOR i := 0 TO n - 1 DO
+         IF ABS (a[i]) > mx THEN mx := ABS (a[i]) END
+      END ;
+      mx := mx / ABS (a[n]) ;   (* = max |a_i|/|a_n| (rounding is monotone) *)
+      r := 2.0 * (1.0 + mx) ;
+      cap := ldexp (1.0, 900 DIV n) ;
+      IF r > cap THEN r := cap END ;
+      IF lo < -r THEN lo := -r END ;
+      IF hi > r THEN hi := r END ;
+      IF NOT (lo < hi) THEN RETURN FALSE END
    END ;
-   mx := mx / ABS (a[n]) ;   (* = max |a_i|/|a_n| (rounding is monotone) *)
-   r := 2.0 * (1.0 + mx) ;
-   cap := ldexp (1.0, 900 DIV n) ;
-   IF r > cap THEN r := cap END ;
-   IF lo < -r THEN lo := -r END ;
-   IF hi > r THEN hi := r END ;
-   IF NOT (lo < hi) THEN RETURN FALSE END ;
    (* 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e *)
    FOR i := 0 TO n DO
       b[i] := a[i]
@@ -478,7 +541,7 @@ BEGIN
          x0 := xl + (xr - xl) * s ;
          IF NOT ((xl < x0) AND (x0 < xr)) THEN x0 := 0.5 * (xl + xr) END ;
          IF b[0] < 0.0 THEN sl := -1 ELSE sl := 1 END ;
-         x := Newton (a, n, xl, xr, sl, x0, PolishedTol) ;
+         x := Halley (a, n, xl, xr, sl, x0) ;
          x := Polish (a, n, x, xl, xr) ;
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
@@ -834,7 +897,7 @@ BEGIN
    Tiny := ldexp (1.0, -1000) ;
    Sixteenth := ldexp (1.0, -16) ;
    NewtonTol := ldexp (1.0, -30) ;
-   PolishedTol := ldexp (1.0, -20) ;
+   HalleyTol := ldexp (1.0, -14) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
    Inf := ldexp (1.0, 1023) ;

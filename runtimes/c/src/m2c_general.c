@@ -116,25 +116,28 @@ M2C_INLINE int variations(const double *b, int n, double e, double *mx)
 #endif
 M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double *t)
 {
-    /* 1. clip to the root bound */
-    double mx = 0.0;
-    M2C_UNROLL
-    for (int i = 0; i < n; i++) {
-        double v = fabs(a[i]);
-        if (v > mx)
-            mx = v;
+    /* 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2], and no
+     * division on the way) */
+    if (!(-2.0 <= lo && hi <= 2.0)) {
+        double mx = 0.0;
+        M2C_UNROLL
+        for (int i = 0; i < n; i++) {
+            double v = fabs(a[i]);
+            if (v > mx)
+                mx = v;
+        }
+        mx = mx / fabs(a[n]); /* = max |a_i|/|a_n| (rounding is monotone) */
+        double r = 2.0 * (1.0 + mx);
+        double cap = m2c_pow2(900 / n);
+        if (r > cap)
+            r = cap;
+        if (lo < -r)
+            lo = -r;
+        if (hi > r)
+            hi = r;
+        if (!(lo < hi))
+            return 0;
     }
-    mx = mx / fabs(a[n]); /* = max |a_i|/|a_n| (rounding is monotone) */
-    double r = 2.0 * (1.0 + mx);
-    double cap = m2c_pow2(900 / n);
-    if (r > cap)
-        r = cap;
-    if (lo < -r)
-        lo = -r;
-    if (hi > r)
-        hi = r;
-    if (!(lo < hi))
-        return 0;
     /* 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e */
     double b[M2C_MAX_DEGREE + 1];
     M2C_UNROLL
@@ -186,7 +189,7 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
             double x0 = xl + (xr - xl) * s;
             if (!(xl < x0 && x0 < xr))
                 x0 = 0.5 * (xl + xr);
-            double x = m2c_newton_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_POLISHED_TOL);
+            double x = m2c_halley_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_HALLEY_TOL);
             x = m2c_polish_impl(a, n, x, xl, xr);
             if (!(x > xl))
                 x = xr;

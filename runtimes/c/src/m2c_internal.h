@@ -17,7 +17,7 @@
 #define M2C_TINY 0x1p-1000       /* absolute floor of the touching and Bernstein bounds */
 #define M2C_SIXTEENTH 0x1p-16    /* bisection step from a bracket end at 0 */
 #define M2C_NEWTON_TOL 0x1p-30   /* an accepted Newton step this small (relative) has converged */
-#define M2C_POLISHED_TOL 0x1p-20 /* the same when the polish follows (Bernstein's single root) */
+#define M2C_HALLEY_TOL 0x1p-14   /* an accepted Halley step this small: the polish finishes it */
 #define M2C_MAXIT 100            /* bracketed Newton step limit */
 #define M2C_BERN_DEPTH 12        /* Bernstein subdivision depth limit */
 #define M2C_QUAD_SPREAD 900      /* degree 2: one scale when coefficient exponents span at most this */
@@ -96,6 +96,70 @@ M2C_INLINE double m2c_newton_impl(const double *a, int n, double lo, double hi, 
                 dxold = dx;
                 dx = step;
                 tol = tolnewton;
+            } else {
+                dxold = dx;
+                dx = 0.5 * (xb - xa);
+                xn = m2c_midpoint(xa, xb, dx);
+                tol = M2C_EPS;
+            }
+        } else {
+            dxold = dx;
+            dx = 0.5 * (xb - xa);
+            xn = m2c_midpoint(xa, xb, dx);
+            tol = M2C_EPS;
+        }
+        if (!(xa < xn && xn < xb))
+            break;
+        if (fabs(dx) <= tol * fabs(xn)) {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    return x;
+}
+
+/* Bernstein's single simple root in (lo, hi): the bracketed method of
+ * m2c_newton_impl with Halley's step (cubic convergence) where it is safe:
+ * h = p''/2 comes from a third Horner chain, the step v d / (d^2 - v h) is
+ * taken when d^2 - v h > d^2 / 2 (at most twice the Newton step, same
+ * direction; false for any overflow or NaN), else the Newton step v / d.
+ * An accepted step of at most tol |x| ends it. */
+M2C_INLINE double m2c_halley_impl(const double *a, int n, double lo, double hi, int slo,
+                                  double x0, double tolhalley)
+{
+    double xa = lo, xb = hi;
+    double x = x0;
+    double dx = xb - xa;
+    double dxold = dx;
+    int neg = slo < 0;
+    double tol = M2C_EPS;
+    for (int it = 0; it < M2C_MAXIT; it++) {
+        double v = a[n];
+        double d = 0.0;
+        double h = 0.0;
+        M2C_UNROLL
+        for (int i = n - 1; i >= 0; i--) {
+            h = h * x + d;
+            d = d * x + v;
+            v = v * x + a[i];
+        }
+        if (v == 0.0)
+            break;
+        if ((v < 0.0) == neg)
+            xa = x;
+        else
+            xb = x;
+        double xn;
+        if (d != 0.0 && fabs(4.0 * v) < fabs(dxold * d)) {
+            double dd = d * d;
+            double den = dd - v * h;
+            double step = den > 0.5 * dd ? (v * d) / den : v / d;
+            xn = x - step;
+            if (xa < xn && xn < xb) {
+                dxold = dx;
+                dx = step;
+                tol = tolhalley;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);

@@ -16,7 +16,7 @@ SPLITTER = 134217729.0    # 2^27 + 1, Veltkamp splitting constant
 TINY = 2.0 ** -1000       # absolute floor of the touching bound
 SIXTEENTH = 2.0 ** -16    # bisection step from an end at zero
 NEWTON_TOL = 2.0 ** -30   # an accepted Newton step this small (relative) has converged
-POLISHED_TOL = 2.0 ** -20  # the same when the polish follows (Bernstein's single root)
+HALLEY_TOL = 2.0 ** -14   # an accepted Halley step this small: the polish finishes it (Bernstein's single root)
 MAXIT = 100               # bracketed Newton step limit
 MODERATE_LO = 2.0 ** -200  # degree-2 fast path: every coefficient 0 or in [2^-200, 2^200)
 MODERATE_HI = 2.0 ** 200
@@ -162,6 +162,61 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float,
     return x
 
 
+def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -> float:
+    """Bernstein's single simple root in (lo, hi): _newton with Halley's step
+    v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
+    Newton step, same direction; false for any overflow or NaN), else the
+    Newton step; an accepted step of at most HALLEY_TOL |x| ends it."""
+    xa = lo
+    xb = hi
+    x = x0
+    dx = xb - xa
+    dxold = dx
+    neg = slo < 0
+    an = a[n]
+    rest = a[n - 1::-1]
+    fabs = _fabs
+    for _ in range(MAXIT):
+        v = an
+        d = 0.0
+        h = 0.0
+        for ai in rest:
+            h = h * x + d
+            d = d * x + v
+            v = v * x + ai
+        if v == 0.0:
+            return x
+        if (v < 0.0) == neg:
+            xa = x
+        else:
+            xb = x
+        if d != 0.0 and fabs(4.0 * v) < fabs(dxold * d):
+            dd = d * d
+            den = dd - v * h
+            step = (v * d) / den if den > 0.5 * dd else v / d
+            xn = x - step
+            if xa < xn < xb:
+                dxold = dx
+                dx = step
+                tol = HALLEY_TOL
+            else:
+                dxold = dx
+                dx = 0.5 * (xb - xa)
+                xn = _midpoint(xa, xb, dx)
+                tol = EPS
+        else:
+            dxold = dx
+            dx = 0.5 * (xb - xa)
+            xn = _midpoint(xa, xb, dx)
+            tol = EPS
+        if not (xa < xn < xb):
+            return x
+        if fabs(dx) <= tol * fabs(xn):
+            return xn
+        x = xn
+    return x
+
+
 def _quadratic(a: float, b: float, c: float) -> list[float]:
     """Real roots of a x^2 + b x + c (a != 0), ascending; a double root once.
 
@@ -282,23 +337,24 @@ def _by_derivatives(a: list[float], n: int, lo: float, hi: float) -> float | Non
 
 def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
     fabs = _fabs
-    # 1. clip to the root bound
-    mx = 0.0
-    for i in range(n):
-        v = fabs(a[i])
-        if v > mx:
-            mx = v
-    mx = mx / fabs(a[n])        # = max |a_i|/|a_n| (rounding is monotone)
-    r = 2.0 * (1.0 + mx)
-    cap = math.ldexp(1.0, 900 // n)
-    if r > cap:
-        r = cap
-    if lo < -r:
-        lo = -r
-    if hi > r:
-        hi = r
-    if not (lo < hi):
-        return None
+    # 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2])
+    if not (-2.0 <= lo and hi <= 2.0):
+        mx = 0.0
+        for i in range(n):
+            v = fabs(a[i])
+            if v > mx:
+                mx = v
+        mx = mx / fabs(a[n])        # = max |a_i|/|a_n| (rounding is monotone)
+        r = 2.0 * (1.0 + mx)
+        cap = math.ldexp(1.0, 900 // n)
+        if r > cap:
+            r = cap
+        if lo < -r:
+            lo = -r
+        if hi > r:
+            hi = r
+        if not (lo < hi):
+            return None
     # 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
     b = list(a)
     if lo != 0.0:
@@ -355,7 +411,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             x0 = xl + (xr - xl) * s
             if not (xl < x0 < xr):
                 x0 = 0.5 * (xl + xr)
-            x = _newton(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0, POLISHED_TOL)
+            x = _halley(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
             x = _polish(a, n, x, xl, xr)
             if not (x > xl):
                 x = xr

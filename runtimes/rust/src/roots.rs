@@ -10,7 +10,7 @@ const SPLITTER: f64 = 134217729.0; // 2^27 + 1, Veltkamp splitting constant
 const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching bound
 const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
 const NEWTON_TOL: f64 = 9.313225746154785e-10; // 2^-30: an accepted Newton step this small (relative) has converged
-const POLISHED_TOL: f64 = 9.5367431640625e-07; // 2^-20: the same when the polish follows (Bernstein's single root)
+const HALLEY_TOL: f64 = 6.103515625e-05; // 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root)
 const MAXIT: usize = 100; // bracketed Newton step limit
 const BERN_DEPTH: usize = 12; // Bernstein subdivision depth limit
 const QUAD_SPREAD: i32 = 900; // degree 2: one scale when coefficient exponents span at most this
@@ -159,6 +159,70 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64, tolnewton: f
                 dxold = dx;
                 dx = step;
                 tol = tolnewton;
+            } else {
+                dxold = dx;
+                dx = 0.5 * (xb - xa);
+                xn = midpoint(xa, xb, dx);
+                tol = EPS;
+            }
+        } else {
+            dxold = dx;
+            dx = 0.5 * (xb - xa);
+            xn = midpoint(xa, xb, dx);
+            tol = EPS;
+        }
+        if !(xa < xn && xn < xb) {
+            break;
+        }
+        if dx.abs() <= tol * xn.abs() {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    x
+}
+
+/// Bernstein's single simple root in (lo, hi): `newton` with Halley's step
+/// v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
+/// Newton step, same direction; false for any overflow or NaN), else the
+/// Newton step; an accepted step of at most HALLEY_TOL |x| ends it.
+#[inline(always)]
+fn halley(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
+    let mut xa = lo;
+    let mut xb = hi;
+    let mut x = x0;
+    let mut dx = xb - xa;
+    let mut dxold = dx;
+    let neg = slo < 0;
+    let mut tol: f64;
+    for _ in 0..MAXIT {
+        let mut v = a[n];
+        let mut d = 0.0;
+        let mut h = 0.0;
+        for i in (0..n).rev() {
+            h = h * x + d;
+            d = d * x + v;
+            v = v * x + a[i];
+        }
+        if v == 0.0 {
+            break;
+        }
+        if (v < 0.0) == neg {
+            xa = x;
+        } else {
+            xb = x;
+        }
+        let mut xn;
+        if d != 0.0 && (4.0 * v).abs() < (dxold * d).abs() {
+            let dd = d * d;
+            let den = dd - v * h;
+            let step = if den > 0.5 * dd { (v * d) / den } else { v / d };
+            xn = x - step;
+            if xa < xn && xn < xb {
+                dxold = dx;
+                dx = step;
+                tol = HALLEY_TOL;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
@@ -547,28 +611,31 @@ fn variations(b: &[f64; N1], n: usize, e: f64) -> (i32, f64) {
 /// to right, the derivative method where the Bernstein signs are unsure.
 fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f64> {
     let n = N;
-    // 1. clip to the root bound
-    let mut mx = 0.0;
-    for &ai in &a[..n] {
-        let v = ai.abs();
-        if v > mx {
-            mx = v;
+    // 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2], and no
+    // division on the way)
+    if !(-2.0 <= lo && hi <= 2.0) {
+        let mut mx = 0.0;
+        for &ai in &a[..n] {
+            let v = ai.abs();
+            if v > mx {
+                mx = v;
+            }
         }
-    }
-    mx = mx / a[n].abs(); // = max |a_i|/|a_n| (rounding is monotone)
-    let mut r = 2.0 * (1.0 + mx);
-    let cap = pow2(900 / n as i32);
-    if r > cap {
-        r = cap;
-    }
-    if lo < -r {
-        lo = -r;
-    }
-    if hi > r {
-        hi = r;
-    }
-    if !(lo < hi) {
-        return None;
+        mx = mx / a[n].abs(); // = max |a_i|/|a_n| (rounding is monotone)
+        let mut r = 2.0 * (1.0 + mx);
+        let cap = pow2(900 / n as i32);
+        if r > cap {
+            r = cap;
+        }
+        if lo < -r {
+            lo = -r;
+        }
+        if hi > r {
+            hi = r;
+        }
+        if !(lo < hi) {
+            return None;
+        }
     }
     // 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
     let mut b = [0.0f64; N1];
@@ -621,7 +688,7 @@ fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: 
         if !(xl < x0 && x0 < xr) {
             x0 = 0.5 * (xl + xr);
         }
-        let x1 = newton(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0, POLISHED_TOL);
+        let x1 = halley(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0);
         let mut x = polish(a, n, x1, xl, xr);
         if !(x > xl) {
             x = xr;
