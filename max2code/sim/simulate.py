@@ -7,8 +7,10 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import subprocess
 import threading
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,6 +24,19 @@ PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
 LANGS = simulator_languages()
 FEATURES = {(0, False): "circle-circle", (0, True): "circle-vertex", (1, False): "circle-edge", (1, True): "vertex-edge"}
+
+
+# the trace's N counters that count work, not handled events: stale queue
+# entries dropped, pair and feature predictions; every other counter (the
+# event kinds: collisions, inputs, frames, cells, horizons, supports, ...,
+# and whatever kinds a runtime adds) is an event
+WORK_COUNTERS = ("stale", "pairs", "features")
+
+
+def handled_events(counts: dict[str, int]) -> int:
+    """Events handled, from the trace's N counters read by name: all but the
+    work counters, so that a new event kind counts without a change here."""
+    return sum(v for k, v in counts.items() if k not in WORK_COUNTERS)
 
 
 class SimulateError(Max2CodeError):
@@ -127,19 +142,43 @@ def _num(w: str) -> str:
     never NaN or infinite.  (Re-printing each number in its shortest form
     would cost more than the simulation.)"""
     if "." in w or "e" in w:
-        if "n" in w:
+        if "n" in w or "N" in w:
             raise ValueError(f"non-finite number {w}")
         return w
-    if "n" in w or "i" in w:
-        raise ValueError(f"non-finite number {w}")
+    if not w.lstrip("-").isdigit():
+        raise ValueError(f"not a finite number: {w}")
     return w + ".0"
 
 
+_STATE = ('{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s,'
+          '"acceleration":[%s,%s]}')
+# a state whose angle, angular velocity and acceleration are all zero (a
+# circle, which never turns, with no gravity): its commonest form in a gas
+_STATE_STILL = _STATE % ("%s", "%s", "%s", "%s", "%s", "0.0", "0.0", "0.0", "0.0")
+_FINAL = '{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s}'
+_CONTACT = ('{"t":%s,"kind":"%s","bodies":[%s,%s],"feature":"%s","features":[%s,%s],"point":[%s,%s],'
+            '"normal":[%s,%s],"impulse":%s')
+_SUPPORT_END = '{"t":%s,"kind":"%s","bodies":[%s,%s],"edge":%s'
+
+
+class _Slow(Exception):
+    """The fast path met something it does not check itself: the chunk is
+    done again line by line, which gives the precise error (or the same
+    output: the two paths write the same bytes)."""
+
+
 class TraceConverter:
-    """Turns the runtime's flat trace (docs/simulator.md), line by line, into
-    the JSON lines of `max2code simulate`: each event is written when the
-    next record starts, so memory does not grow with the number of events
-    (the final states and statistics are per body and per variant)."""
+    """Turns the runtime's flat trace (docs/simulator.md) into the JSON lines
+    of `max2code simulate`: each event is written when the next record
+    starts, so memory does not grow with the number of events (the final
+    states and statistics are per body and per variant).
+
+    Two paths write the same bytes: `feed(line)` checks and converts one
+    line; `feed_chunk(text)` converts many complete lines at once (the whole
+    numbers of the chunk get their '.0' in one regular-expression pass, the
+    records are formatted from their tokens, nothing is written until the
+    chunk is done) and, on anything unusual (a stop line, a non-finite or
+    malformed number, the event limit), does the chunk again with `feed`."""
 
     def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
                  max_events: int | None = None):
@@ -149,21 +188,29 @@ class TraceConverter:
         self.max_events = max_events
         self.events = 0            # E records seen
         self.line = 0
-        self.pending: list[str] | None = None     # the event being read: its JSON text in pieces
+        self.head: str | None = None    # the event being read: its JSON text without states
+        self.states: list[str] = []     # and its states
         self.final: list[str] = []
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
+        # the fast path's integer fields by their text
+        self._body = {str(i): n for i, n in enumerate(self.names)}
+        most = max([len(scene.bodies), len(scene.inputs)] + [len(b.vertices) for b in scene.bodies])
+        self._int = {str(i): str(i) for i in range(-1, most + 1)}
+
+    def _event(self) -> str:
+        if self.states:
+            return f'{self.head},"states":[{",".join(self.states)}]}}\n'
+        return self.head + "}\n"
 
     def _flush(self) -> None:
-        if self.pending is not None:
-            if len(self.pending) > 1:
-                self.pending.insert(1, ',"states":[')
-                self.pending.append("]")
-            self.pending.append("}\n")
-            self.write("".join(self.pending))
-            self.pending = None
+        if self.head is not None:
+            self.write(self._event())
+            self.head = None
+            self.states = []
 
     def feed(self, line: str) -> None:
+        """One line of the flat trace, checked."""
         self.line += 1
         w = line.split()
         if not w:
@@ -171,12 +218,10 @@ class TraceConverter:
         try:
             tag = w[0]
             if tag == "S":
-                if self.pending is None:
+                if self.head is None:
                     raise ValueError("a state without its event")
-                sep = "," if len(self.pending) > 1 else ""
-                self.pending.append(f'{sep}{{"body":{self.names[int(w[1])]},"position":[{_num(w[3])},{_num(w[4])}],'
-                                    f'"velocity":[{_num(w[5])},{_num(w[6])}],"angle":{_num(w[7])},'
-                                    f'"angular_velocity":{_num(w[8])},"acceleration":[{_num(w[9])},{_num(w[10])}]}}')
+                self.states.append(_STATE % (self.names[int(w[1])], _num(w[3]), _num(w[4]), _num(w[5]),
+                                             _num(w[6]), _num(w[7]), _num(w[8]), _num(w[9]), _num(w[10])))
                 return
             self._flush()
             if tag == "E":
@@ -187,12 +232,10 @@ class TraceConverter:
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[a]},{self.names[b]}],'
-                            f'"feature":"{feature}","features":[{i},{j}],"point":[{_num(w[8])},{_num(w[9])}],'
-                            f'"normal":[{_num(w[10])},{_num(w[11])}],"impulse":{_num(w[12])}')
+                    head = _CONTACT % (t, kind, self.names[a], self.names[b], feature, i, j, _num(w[8]),
+                                       _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
-                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
-                            f'"edge":{int(w[7])}')
+                    head = _SUPPORT_END % (t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":
@@ -201,11 +244,10 @@ class TraceConverter:
                     head = f'{{"t":{t},"kind":"frame"'
                 else:
                     raise ValueError(f"unknown event kind {kind!r}")
-                self.pending = [head]
+                self.head = head
             elif tag == "F":
-                self.final.append(f'{{"body":{self.names[int(w[1])]},"position":[{_num(w[2])},{_num(w[3])}],'
-                                  f'"velocity":[{_num(w[4])},{_num(w[5])}],"angle":{_num(w[6])},'
-                                  f'"angular_velocity":{_num(w[7])}}}')
+                self.final.append(_FINAL % (self.names[int(w[1])], _num(w[2]), _num(w[3]), _num(w[4]),
+                                            _num(w[5]), _num(w[6]), _num(w[7])))
             elif tag == "N":
                 self.counts[w[1]] = int(w[2])
             elif tag == "V":
@@ -219,6 +261,106 @@ class TraceConverter:
         except (IndexError, ValueError, KeyError) as exc:
             raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
                                 f"({exc})") from None
+
+    def feed_chunk(self, text: str) -> None:
+        """Complete lines of the flat trace (text ends with a newline, or is empty)."""
+        if not text:
+            return
+        try:
+            out = self._fast(text)
+        except (_Slow, IndexError, ValueError, KeyError):
+            self._slow(text)
+            return
+        if out:
+            self.write("".join(out))
+
+    def _slow(self, text: str) -> None:
+        for line in text.splitlines():
+            self.feed(line)
+
+    def _fast(self, text: str) -> list[str]:
+        """The chunk's output; the converter's state changes only when all of
+        it converted.  A line whose number fields all hold a '.' (the count
+        of '.' in them tells) passes them through; in any other, a field
+        with no '.' gets '.0' when it is all digits, else goes through
+        `_num` (an exponent, a minus sign, NaN or infinity: refused)."""
+        body, ints, frames, limit = self._body, self._int, self.frames, self.max_events
+        head, states, events = self.head, list(self.states), self.events
+        final, counts, predictions = [], {}, {}
+        out: list[str] = []
+        lines = text.split("\n")
+        lines.pop()                     # after the last newline
+        for line in lines:
+            tag = line[:1]
+            if tag == "S":
+                w = line.split()
+                if head is None or len(w) != 11:
+                    raise _Slow
+                if line.endswith(" 0 0 0 0"):
+                    x = w[3:7]
+                    if "".join(x).count(".") != 4:
+                        x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
+                    states.append(_STATE_STILL % (body[w[1]], *x))
+                    continue
+                x = w[3:]
+                if "".join(x).count(".") != 8:
+                    x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
+                states.append(_STATE % (body[w[1]], *x))
+                continue
+            if head is not None:
+                out.append(f'{head},"states":[{",".join(states)}]}}\n' if states else head + "}\n")
+                head, states = None, []
+            w = line.split()
+            if tag == "E":
+                events += 1
+                if limit is not None and events > limit:
+                    raise _Slow
+                kind = w[1]
+                t = w[2] if "." in w[2] else _num(w[2])
+                if kind == "collision" or kind == "support":
+                    if len(w) != 13:
+                        raise _Slow
+                    i, j, feat = ints[w[6]], ints[w[7]], ints[w[5]]
+                    if feat == "0":
+                        feature = "circle-circle" if j[0] == "-" else "circle-vertex"
+                    elif feat == "1":
+                        feature = "circle-edge" if i[0] == "-" else "vertex-edge"
+                    else:
+                        raise _Slow
+                    x = w[8:]
+                    if "".join(x).count(".") != 5:
+                        x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
+                    head = _CONTACT % (t, kind, body[w[3]], body[w[4]], feature, i, j, *x)
+                elif kind == "frame":
+                    if frames:
+                        head = f'{{"t":{t},"kind":"frame"'
+                elif kind == "stop" or kind == "leave":
+                    head = _SUPPORT_END % (t, kind, body[w[3]], body[w[4]], ints[w[7]])
+                elif kind == "input":
+                    head = f'{{"t":{t},"kind":"input","bodies":[{body[w[3]]}],"input":{ints[w[6]]}'
+                else:
+                    raise _Slow
+            elif tag == "F":
+                if len(w) != 8:
+                    raise _Slow
+                x = w[2:]
+                if "".join(x).count(".") != 6:
+                    x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
+                final.append(_FINAL % (body[w[1]], *x))
+            elif tag == "N" and len(w) == 3:
+                counts[w[1]] = int(w[2])
+            elif tag == "V" and len(w) == 4:
+                n = int(w[3])
+                if n:
+                    predictions[self.build.variant_names[w[1]][int(w[2])]] = n
+            else:
+                raise _Slow             # blank, unknown or malformed lines: the precise path
+        self.head, self.states, self.events = head, states, events
+        self.line += len(lines)
+        self.final += final
+        self.counts.update(counts)
+        self.predictions.update(predictions)
+        return out
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
@@ -241,11 +383,11 @@ class TraceLimit(Exception):
 
 def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
     """A whole flat trace into a Trace (the JSON events as dicts)."""
-    lines: list[str] = []
-    conv = TraceConverter(scene, build, lines.append)
-    for line in text.splitlines():
-        conv.feed(line)
+    parts: list[str] = []
+    conv = TraceConverter(scene, build, parts.append)
+    conv.feed_chunk(text if not text or text.endswith("\n") else text + "\n")
     final, stats = conv.finish()
+    lines = "".join(parts).splitlines()
     return Trace(build.lang, [json.loads(x) for x in lines[:-2]], final, stats, text)
 
 
@@ -259,12 +401,12 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
     flat = compile_scene(scene)
     conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events)
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=build.workdir, text=True, encoding="ascii", errors="replace", bufsize=1 << 16)
-    err: list[str] = []
+                            cwd=build.workdir)
+    err: list[bytes] = []
 
     def feed_input():
         try:
-            proc.stdin.write(flat)
+            proc.stdin.write(flat.encode("ascii"))
             proc.stdin.close()
         except (BrokenPipeError, OSError):
             pass
@@ -277,11 +419,22 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         th.start()
     timer = threading.Timer(timeout, proc.kill)
     timer.start()
-    last = ""
+    last, rest = "", ""
     try:
-        for line in proc.stdout:
-            last = line
-            conv.feed(line)
+        # big chunks of complete lines: the converter's fast path
+        while True:
+            data = proc.stdout.read1(1 << 20)
+            if not data:
+                break
+            text = rest + data.decode("ascii", "replace")
+            cut = text.rfind("\n") + 1
+            if cut:
+                last = text[text.rfind("\n", 0, cut - 1) + 1:cut]
+                conv.feed_chunk(text[:cut])
+            rest = text[cut:]
+        if rest:
+            last = rest
+            conv.feed_chunk(rest + "\n")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
@@ -298,7 +451,8 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         if last.startswith("X "):
             raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:].strip()}")
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
-        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): {''.join(err)[-2000:]}")
+        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): "
+                            f"{b''.join(err)[-2000:].decode('ascii', 'replace')}")
     return conv.finish()
 
 
@@ -315,3 +469,51 @@ def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float
             raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:]}")
         raise SimulateError(f"{scene.path}: {lang} simulator failed (exit {proc.returncode}): {proc.stderr[-2000:]}")
     return parse_trace(proc.stdout, scene, build)
+
+
+def time_engine(build: SimBuild, flat: str, timeout: float = 3600) -> tuple[float, float, dict[str, int]]:
+    """Run the simulator alone on a flat scene: (wall seconds, CPU seconds
+    (user + system) of its process, its N counters by name).  The trace is
+    drained as it comes and only its tail kept (the N lines are near the end)."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=build.workdir)
+    err: list[bytes] = []
+
+    def feed_input():
+        try:
+            proc.stdin.write(flat.encode("ascii"))
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
+
+    threads = [threading.Thread(target=feed_input, daemon=True),
+               threading.Thread(target=lambda: err.append(proc.stderr.read()[-4000:]), daemon=True)]
+    for th in threads:
+        th.start()
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    tail = b""
+    try:
+        while True:
+            chunk = proc.stdout.read(1 << 20)
+            if not chunk:
+                break
+            tail = (tail + chunk)[-65536:]
+    finally:
+        timer.cancel()
+        _, code, usage = os.wait4(proc.pid, 0)
+        proc.returncode = os.waitstatus_to_exitcode(code)
+        for th in threads:
+            th.join(timeout=5)
+        proc.stdout.close()
+    wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise SimulateError(f"{build.lang} simulator failed (exit {proc.returncode}): "
+                            f"{tail[-300:].decode('ascii', 'replace')} {b''.join(err)[-300:].decode('ascii', 'replace')}")
+    counts: dict[str, int] = {}
+    for line in tail.decode("ascii", "replace").splitlines():
+        w = line.split()
+        if len(w) == 3 and w[0] == "N":
+            counts[w[1]] = int(w[2])
+    return wall, usage.ru_utime + usage.ru_stime, counts
