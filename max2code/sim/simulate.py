@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import operator
 import os
 import re
 import subprocess
@@ -152,9 +153,38 @@ def _num(w: str) -> str:
 
 _STATE = ('{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s,'
           '"acceleration":[%s,%s]}')
-# a state whose angle, angular velocity and acceleration are all zero (a
-# circle, which never turns, with no gravity): its commonest form in a gas
-_STATE_STILL = _STATE % ("%s", "%s", "%s", "%s", "%s", "0.0", "0.0", "0.0", "0.0")
+_ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
+# a contact's feature from (FEATURE, I < 0, J < 0) (docs/simulator.md)
+_FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
+_FEATURE_OF.update({("1", i, j): FEATURES[(1, not i)] for i in (False, True) for j in (False, True)})
+_first = operator.itemgetter(0)
+
+
+def _columns(lines: list[str], width: int, tag: str, numbers) -> list[list[str]]:
+    """The fields of many lines of `width` single-space-separated fields
+    starting with `tag`, one list per field; the fields `numbers` as JSON
+    numbers: a column in which every field holds a '.' (the count of '.'
+    tells) passes through; in any other, "0" and "-0" get '.0' and what is
+    still without a '.' goes through `_num` (an exponent, another whole
+    number; NaN and infinities are refused).  Anything else raises _Slow
+    (the precise path)."""
+    m = len(lines)
+    if not m:
+        return []
+    toks = " ".join(lines).split(" ")
+    if len(toks) != width * m:
+        raise _Slow                 # other blank space or another number of fields
+    cols = [toks[c::width] for c in range(width)]
+    if cols[0].count(tag) != m:
+        raise _Slow
+    for c in numbers:
+        col = cols[c]
+        if "".join(col).count(".") != m:
+            col = list(map(_ZERO.get, col, col))
+            if "".join(col).count(".") != m:
+                col = [v if "." in v else _num(v) for v in col]
+            cols[c] = col
+    return cols
 _FINAL = '{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s}'
 _CONTACT = ('{"t":%s,"kind":"%s","bodies":[%s,%s],"feature":"%s","features":[%s,%s],"point":[%s,%s],'
             '"normal":[%s,%s],"impulse":%s')
@@ -280,58 +310,41 @@ class TraceConverter:
 
     def _fast(self, text: str) -> list[str]:
         """The chunk's output; the converter's state changes only when all of
-        it converted.  A line whose number fields all hold a '.' (the count
-        of '.' in them tells) passes them through; in any other, a field
-        with no '.' gets '.0' when it is all digits, else goes through
-        `_num` (an exponent, a minus sign, NaN or infinity: refused)."""
+        it converted.  The S lines (most of a trace) are converted together
+        by `_states`; the loop only notes how many belong to each event."""
         body, ints, frames, limit = self._body, self._int, self.frames, self.max_events
-        head, states, events = self.head, list(self.states), self.events
+        head, events = self.head, self.events
         final, counts, predictions = [], {}, {}
-        out: list[str] = []
+        heads: list[tuple[str, int]] = []   # the chunk's finished events: head and number of new states
+        s_lines: list[str] = []
+        c_lines: list[str] = []             # collision and support lines
+        n = 0                               # states of the current event in this chunk
         lines = text.split("\n")
         lines.pop()                     # after the last newline
         for line in lines:
             tag = line[:1]
             if tag == "S":
-                w = line.split()
-                if head is None or len(w) != 11:
+                if head is None:
                     raise _Slow
-                if line.endswith(" 0 0 0 0"):
-                    x = w[3:7]
-                    if "".join(x).count(".") != 4:
-                        x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
-                    states.append(_STATE_STILL % (body[w[1]], *x))
-                    continue
-                x = w[3:]
-                if "".join(x).count(".") != 8:
-                    x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
-                states.append(_STATE % (body[w[1]], *x))
+                s_lines.append(line)
+                n += 1
                 continue
             if head is not None:
-                out.append(f'{head},"states":[{",".join(states)}]}}\n' if states else head + "}\n")
-                head, states = None, []
-            w = line.split()
+                heads.append((head, n))
+                head, n = None, 0
             if tag == "E":
                 events += 1
                 if limit is not None and events > limit:
                     raise _Slow
+                if line.startswith("E collision ") or line.startswith("E support "):
+                    head = len(c_lines)         # its head is made by _contacts, with the others
+                    c_lines.append(line)
+                    continue
+            w = line.split()
+            if tag == "E":
                 kind = w[1]
                 t = w[2] if "." in w[2] else _num(w[2])
-                if kind == "collision" or kind == "support":
-                    if len(w) != 13:
-                        raise _Slow
-                    i, j, feat = ints[w[6]], ints[w[7]], ints[w[5]]
-                    if feat == "0":
-                        feature = "circle-circle" if j[0] == "-" else "circle-vertex"
-                    elif feat == "1":
-                        feature = "circle-edge" if i[0] == "-" else "vertex-edge"
-                    else:
-                        raise _Slow
-                    x = w[8:]
-                    if "".join(x).count(".") != 5:
-                        x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
-                    head = _CONTACT % (t, kind, body[w[3]], body[w[4]], feature, i, j, *x)
-                elif kind == "frame":
+                if kind == "frame":
                     if frames:
                         head = f'{{"t":{t},"kind":"frame"'
                 elif kind == "stop" or kind == "leave":
@@ -350,17 +363,59 @@ class TraceConverter:
             elif tag == "N" and len(w) == 3:
                 counts[w[1]] = int(w[2])
             elif tag == "V" and len(w) == 4:
-                n = int(w[3])
-                if n:
-                    predictions[self.build.variant_names[w[1]][int(w[2])]] = n
+                served = int(w[3])
+                if served:
+                    predictions[self.build.variant_names[w[1]][int(w[2])]] = served
             else:
                 raise _Slow             # blank, unknown or malformed lines: the precise path
-        self.head, self.states, self.events = head, states, events
+        states = self._states(s_lines)
+        contacts = self._contacts(c_lines)
+        if type(head) is int:
+            head = contacts[head]
+        out: list[str] = []
+        pos = 0
+        carried = self.states            # the states of an event begun in an earlier chunk
+        for h, k in heads:
+            if type(h) is int:
+                h = contacts[h]
+            st = states[pos:pos + k]
+            pos += k
+            if carried:
+                st, carried = carried + st, []
+            out.append(f'{h},"states":[{",".join(st)}]}}\n' if st else h + "}\n")
+        self.head, self.states, self.events = head, carried + states[pos:], events
         self.line += len(lines)
         self.final += final
         self.counts.update(counts)
         self.predictions.update(predictions)
         return out
+
+    def _states(self, s_lines: list[str]) -> list[str]:
+        """The JSON of many S lines at once, column by column (no Python
+        call per line): the tokens of all lines, one column per field; a
+        number column in which every field holds a '.' (the count of '.'
+        tells) passes through; in any other, "0" and "-0" get '.0' and
+        what is still without a '.' goes through `_num` (an exponent, any
+        other whole number; NaN and infinities are refused)."""
+        cols = _columns(s_lines, 11, "S", range(3, 11))
+        if not cols:
+            return []
+        names = map(self._body.__getitem__, cols[1])
+        return list(map(_STATE.__mod__, zip(names, *cols[3:])))
+
+    def _contacts(self, c_lines: list[str]) -> list[str]:
+        """The JSON heads of many collision and support lines at once, as `_states`."""
+        cols = _columns(c_lines, 13, "E", (2, 8, 9, 10, 11, 12))
+        if not cols:
+            return []
+        ints = self._int.__getitem__
+        i, j = list(map(ints, cols[6])), list(map(ints, cols[7]))
+        minus = "-".__eq__
+        features = list(map(_FEATURE_OF.__getitem__, zip(cols[5], map(minus, map(_first, i)),
+                                                          map(minus, map(_first, j)))))
+        names = self._body.__getitem__
+        return list(map(_CONTACT.__mod__, zip(cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features,
+                                              i, j, *cols[8:])))
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
