@@ -569,6 +569,11 @@ def _ms(x: float) -> str:
     return "-" if x is None or math.isnan(x) else f"{x * 1e3:.3g}"
 
 
+def _per_s(o: OurResult, end: float) -> str:
+    x = o.cpu_per_s(end)
+    return "within start-up" if math.isnan(x) else _s(x)
+
+
 def _step(dt: float) -> str:
     return STEP_NAMES.get(dt, f"{dt:g}")
 
@@ -589,7 +594,7 @@ def table(results) -> list[str]:
                 continue
             exact = "within the tolerance" if "orbit" in r.scene.effects else "exact"
             out.append(f"| {r.label} | ours, {o.lang} | {r.collisions} ({r.resting} rest-speed) | - | {exact} | "
-                       f"{exact} | 0 | 0 | {_s(r.scene.end_time)} (all) | {_s(o.cpu_per_s(r.scene.end_time))} "
+                       f"{exact} | 0 | 0 | {_s(r.scene.end_time)} (all) | {_per_s(o, r.scene.end_time)} "
                        f"(less start-up) |")
         for f in r.frames:
             med = statistics.median(f.errors) if f.errors else math.nan
@@ -633,7 +638,7 @@ def cpu_table(results, langs: list[str]) -> list[str]:
         for lang in langs:
             o = by.get(lang)
             row.append("not available" if o is None or not o.ran else
-                       f"{_s(o.cpu_per_s(r.scene.end_time))} ({_s(o.start)})")
+                       f"{_per_s(o, r.scene.end_time)} ({_s(o.start)})")
         row += [_s(f.cpu_per_s) for f in r.frames]
         if ratio:
             o = by.get(langs[0])
@@ -698,8 +703,9 @@ def plot(results, langs: list[str], png: str, svg: str) -> None:
     runs = [(f"ours, {lang}", lambda r, lang=lang: next((o.cpu_per_s(r.scene.end_time) for o in r.ours
                                                           if o.lang == lang and o.ran), math.nan))
             for lang in langs]
-    for k, dt in enumerate(grid):
-        runs.append((f"pymunk {_step(dt)} s", lambda r, k=k: r.frames[k].cpu_per_s if k < len(r.frames) else math.nan))
+    for dt in sorted(grid, reverse=True):      # coarse steps first, as in the tables
+        runs.append((f"pymunk {_step(dt)} s", lambda r, dt=dt: next((f.cpu_per_s for f in r.frames if f.step == dt),
+                                                                    math.nan)))
     width = 0.8 / max(len(runs), 1)
     for m, (name, get) in enumerate(runs):
         xs = [n + (m - (len(runs) - 1) / 2) * width for n in range(len(ex))]
