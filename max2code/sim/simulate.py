@@ -151,8 +151,12 @@ def _num(w: str) -> str:
     return w + ".0"
 
 
-_STATE = ('{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s,'
-          '"acceleration":[%s,%s]}')
+def _state(body, px, py, vx, vy, angle, omega, ax, ay) -> str:
+    """A state's JSON from the trace's fields (an f-string: faster than % formatting)."""
+    return (f'{{"body":{body},"position":[{px},{py}],"velocity":[{vx},{vy}],"angle":{angle},'
+            f'"angular_velocity":{omega},"acceleration":[{ax},{ay}]}}')
+
+
 _ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
 # a contact's feature from (FEATURE, I < 0, J < 0) (docs/simulator.md)
 _FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
@@ -185,10 +189,19 @@ def _columns(lines: list[str], width: int, tag: str, numbers) -> list[list[str]]
                 col = [v if "." in v else _num(v) for v in col]
             cols[c] = col
     return cols
-_FINAL = '{"body":%s,"position":[%s,%s],"velocity":[%s,%s],"angle":%s,"angular_velocity":%s}'
-_CONTACT = ('{"t":%s,"kind":"%s","bodies":[%s,%s],"feature":"%s","features":[%s,%s],"point":[%s,%s],'
-            '"normal":[%s,%s],"impulse":%s')
-_SUPPORT_END = '{"t":%s,"kind":"%s","bodies":[%s,%s],"edge":%s'
+def _final(body, px, py, vx, vy, angle, omega) -> str:
+    return (f'{{"body":{body},"position":[{px},{py}],"velocity":[{vx},{vy}],"angle":{angle},'
+            f'"angular_velocity":{omega}}}')
+
+
+def _contact(t, kind, a, b, feature, i, j, cx, cy, nx, ny, impulse) -> str:
+    """A collision's or support's JSON, without its states and closing brace."""
+    return (f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"feature":"{feature}","features":[{i},{j}],'
+            f'"point":[{cx},{cy}],"normal":[{nx},{ny}],"impulse":{impulse}')
+
+
+def _support_end(t, kind, a, b, edge) -> str:
+    return f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"edge":{edge}'
 
 
 class _Slow(Exception):
@@ -250,7 +263,7 @@ class TraceConverter:
             if tag == "S":
                 if self.head is None:
                     raise ValueError("a state without its event")
-                self.states.append(_STATE % (self.names[int(w[1])], _num(w[3]), _num(w[4]), _num(w[5]),
+                self.states.append(_state(self.names[int(w[1])], _num(w[3]), _num(w[4]), _num(w[5]),
                                              _num(w[6]), _num(w[7]), _num(w[8]), _num(w[9]), _num(w[10])))
                 return
             self._flush()
@@ -262,10 +275,10 @@ class TraceConverter:
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = _CONTACT % (t, kind, self.names[a], self.names[b], feature, i, j, _num(w[8]),
+                    head = _contact(t, kind, self.names[a], self.names[b], feature, i, j, _num(w[8]),
                                        _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
-                    head = _SUPPORT_END % (t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
+                    head = _support_end(t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":
@@ -276,7 +289,7 @@ class TraceConverter:
                     raise ValueError(f"unknown event kind {kind!r}")
                 self.head = head
             elif tag == "F":
-                self.final.append(_FINAL % (self.names[int(w[1])], _num(w[2]), _num(w[3]), _num(w[4]),
+                self.final.append(_final(self.names[int(w[1])], _num(w[2]), _num(w[3]), _num(w[4]),
                                             _num(w[5]), _num(w[6]), _num(w[7])))
             elif tag == "N":
                 self.counts[w[1]] = int(w[2])
@@ -348,7 +361,7 @@ class TraceConverter:
                     if frames:
                         head = f'{{"t":{t},"kind":"frame"'
                 elif kind == "stop" or kind == "leave":
-                    head = _SUPPORT_END % (t, kind, body[w[3]], body[w[4]], ints[w[7]])
+                    head = _support_end(t, kind, body[w[3]], body[w[4]], ints[w[7]])
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{body[w[3]]}],"input":{ints[w[6]]}'
                 else:
@@ -359,7 +372,7 @@ class TraceConverter:
                 x = w[2:]
                 if "".join(x).count(".") != 6:
                     x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
-                final.append(_FINAL % (body[w[1]], *x))
+                final.append(_final(body[w[1]], *x))
             elif tag == "N" and len(w) == 3:
                 counts[w[1]] = int(w[2])
             elif tag == "V" and len(w) == 4:
@@ -401,7 +414,7 @@ class TraceConverter:
         if not cols:
             return []
         names = map(self._body.__getitem__, cols[1])
-        return list(map(_STATE.__mod__, zip(names, *cols[3:])))
+        return list(map(_state, names, *cols[3:]))
 
     def _contacts(self, c_lines: list[str]) -> list[str]:
         """The JSON heads of many collision and support lines at once, as `_states`."""
@@ -414,8 +427,8 @@ class TraceConverter:
         features = list(map(_FEATURE_OF.__getitem__, zip(cols[5], map(minus, map(_first, i)),
                                                           map(minus, map(_first, j)))))
         names = self._body.__getitem__
-        return list(map(_CONTACT.__mod__, zip(cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features,
-                                              i, j, *cols[8:])))
+        return list(map(_contact, cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features,
+                        i, j, *cols[8:]))
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
