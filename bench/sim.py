@@ -9,8 +9,10 @@ square box of four fixed walls, filling `--fraction` of its area, random
 velocities (speed 1 m/s), no gravity, restitution 1, no frames.  The end
 time is chosen so that a run handles about `--events` events: a short pilot
 run of the first runtime measures the event rate, and the end time scales
-with it.  Events are the handled ones (collisions, cell crossings, horizons,
-inputs, frames; stale queue entries are counted apart).  Each runtime also
+with it.  Events are the handled ones: every counter of the trace's N lines
+(collisions, cell crossings, horizons, inputs, frames, support transitions,
+and any kind a runtime adds) but stale queue entries and the pair and
+feature prediction counts; a second table gives every counter per collision.  Each runtime also
 runs the scene for 1 ns, which is nearly all start (reading the scene, the
 first prediction of every pair, the final states): "after" is the rate of
 the events past it.  The times are
@@ -26,15 +28,14 @@ import json
 import math
 import os
 import random
-import subprocess
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from max2code.progress import bar  # noqa: E402
 from max2code.sim.scene import compile_scene, parse_scene  # noqa: E402
-from max2code.sim.simulate import LANGS, SimulateError, build_simulator  # noqa: E402
+from max2code.sim.simulate import (LANGS, WORK_COUNTERS, SimulateError, build_simulator,  # noqa: E402
+                                   handled_events, time_engine)
 
 RADIUS = 0.01       # m
 SPEED = 1.0         # m/s
@@ -80,35 +81,15 @@ def gas(n: int, fraction: float, end_time: float, seed: int) -> dict:
 
 
 def run(build, flat: str) -> tuple[float, float, dict[str, int]]:
-    """Wall and CPU time (user + system) of one run and its event counts
-    (the N lines); the trace is drained as it comes and only its tail kept."""
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=build.workdir)
-    proc.stdin.write(flat.encode())
-    proc.stdin.close()
-    tail = b""
-    while True:
-        chunk = proc.stdout.read(1 << 20)
-        if not chunk:
-            break
-        tail = (tail + chunk)[-8192:]
-    err = proc.stderr.read()
-    _, code, usage = os.wait4(proc.pid, 0)
-    elapsed = time.perf_counter() - t0
-    status = proc.returncode = os.waitstatus_to_exitcode(code)
-    if status != 0:
-        raise SimulateError(f"{build.lang} simulator failed (exit {status}): {tail[-300:]!r} {err[-300:]!r}")
-    counts = {}
-    for line in tail.decode().splitlines():
-        w = line.split()
-        if len(w) == 3 and w[0] == "N":
-            counts[w[1]] = int(w[2])
-    return elapsed, usage.ru_utime + usage.ru_stime, counts
+    """Wall and CPU time (user + system) of one run and its counters (the N
+    lines, by name); the trace is drained as it comes."""
+    return time_engine(build, flat)
 
 
 def handled(counts: dict[str, int]) -> int:
-    return sum(counts.get(k, 0) for k in ("collisions", "inputs", "frames", "cells", "horizons"))
+    """Events handled: every N counter but stale entries and predictions
+    (so a new event kind counts without a change here)."""
+    return handled_events(counts)
 
 
 def main(argv: list[str]) -> int:
@@ -184,6 +165,16 @@ def main(argv: list[str]) -> int:
     print("ev/s: events per CPU second (user + system) of the simulator's process; wall s: its elapsed time, "
           "which a loaded machine stretches;\nstart s: CPU seconds of the same scene run for 1 ns (reading it, "
           "the first predictions, the final states); after: events per CPU second past the start")
+    # every counter of the trace's N lines, by name, per collision
+    names = list(dict.fromkeys(k for row in rows for k in row["counts"]))
+    print()
+    print(f"{'bodies':>8} {'events/collision':>16} " + " ".join(f"{k:>10}" for k in names))
+    for row in rows:
+        c = row["counts"]
+        col = max(c.get("collisions", 0), 1)
+        print(f"{row['bodies']:>8} {handled(c) / col:>16.3f} " + " ".join(f"{c.get(k, 0) / col:>10.3f}" for k in names))
+    print("per collision: each N counter of the trace over the collisions; events/collision: all events handled "
+          f"(every counter but {', '.join(WORK_COUNTERS)}: queue entries dropped, pair and feature predictions)")
     return 0
 
 

@@ -1,13 +1,16 @@
 """Event versus frame (max2code event-vs-frame): the tunnelling case, the
-pymunk translation and the matcher.  pymunk is a test requirement
+pymunk translation (friction, inputs), the matcher, our timing less the
+start-up and the events by kind.  pymunk is a test requirement
 (scripts/setup installs it): a missing pymunk fails here, it is not skipped."""
+import json
 import math
 
 import pymunk
 
-from max2code.reports.event_vs_frame import (build_space, free_run, FrameResult, match_events, our_collisions, replay,
-                                     tunnel_scene)
-from max2code.sim.scene import load_scene
+from max2code.reports.event_vs_frame import (build_space, example_scenes, free_run, FrameResult, is_resting,
+                                             kinds_table, match_events, our_collisions, OurResult, replay,
+                                             SceneResult, step_until, time_ours, tunnel_scene)
+from max2code.sim.scene import load_scene, parse_scene
 from max2code.paths import ROOT
 from max2code.sim.simulate import run_scene
 
@@ -41,7 +44,7 @@ def test_pymunk_translation_is_faithful():
     shapes = {i: s for s, i in world.index.items()}
     for i, (b, body) in enumerate(zip(scene.bodies, world.bodies)):
         shape = shapes[i]
-        assert shape.elasticity == b.restitution and shape.friction == 0.0
+        assert shape.elasticity == b.restitution and shape.friction == b.friction
         assert body.angle == b.angle
         if b.fixed:
             assert body.body_type == pymunk.Body.STATIC
@@ -79,3 +82,66 @@ def test_matcher_counts_missed_doubled_invented():
     # nothing of theirs: all missed; nothing of ours: all invented
     assert match_events(ours, [], 0.05).missed == [0, 1, 2, 3]
     assert match_events([], theirs, 0.05).invented == list(range(len(theirs)))
+
+
+def test_friction_and_restitution_combine_as_ours():
+    """Chipmunk's arbiter multiplies the two shapes' friction and elasticity:
+    the product rule of our model."""
+    scene = parse_scene(json.dumps({"end_time": 1.0, "gravity": [0.0, -10.0], "bodies": [
+        {"name": "box", "shape": "polygon", "mass": 1.0, "position": [0.0, 0.1], "velocity": [1.0, 0.0],
+         "restitution": 0.5, "friction": 0.4, "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]},
+        {"name": "floor", "shape": "polygon", "fixed": True, "position": [0.0, -0.5], "restitution": 0.8,
+         "friction": 0.25, "vertices": [[-5, -0.5], [5, -0.5], [5, 0.5], [-5, 0.5]]}]}), "<friction>")
+    world = build_space(scene)
+    assert [s.friction for s in world.index] == [0.4, 0.25]
+    seen = []
+    world.space.on_collision(post_solve=lambda arb, space, data: seen.append((arb.friction, arb.restitution)))
+    step_until(world, 1.0 / 240.0, 0.1)
+    assert seen and all(math.isclose(f, 0.1) and math.isclose(e, 0.4) for f, e in seen)
+    # sliding at mu g = 1 m/s^2 from 1 m/s: slower after 0.1 s, as ours
+    assert 0.8 < world.bodies[0].velocity.x < 0.95
+
+
+def test_free_run_applies_the_inputs():
+    scene = parse_scene(json.dumps({"end_time": 0.5, "bodies": [
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]}],
+        "inputs": [{"time": 0.25, "body": "ball", "set_velocity": [2.0, 0.0]},
+                   {"time": 0.3, "body": "ball", "add_velocity": [0.0, 1.0]}]}), "<inputs>")
+    world = build_space(scene)
+    world.inputs = list(scene.inputs)
+    dt = 1.0 / 100.0
+    step_until(world, dt, 0.5)
+    x, y = world.bodies[0].position
+    assert math.isclose(x, 2.0 * 0.25, rel_tol=1e-9) and math.isclose(y, 1.0 * 0.2, rel_tol=1e-9)
+
+
+def test_rest_speed_contacts():
+    # a hop of a body lying on another (the floor set its separation speed, slow approach)
+    assert is_resting("collision", 0.05, 0.81, 0.05)
+    # a real bounce; a fast landing that ends in support or with restitution 0
+    assert not is_resting("collision", 2.0, 0.81, 0.05)
+    assert not is_resting("support", 3.0, 0.0, 0.05) and not is_resting("collision", 3.0, 0.0, 0.05)
+    assert is_resting("support", 0.04, 0.0, 0.05)
+
+
+def test_ours_timed_less_start_up_and_events_by_name():
+    scene = load_scene(str(ROOT / "examples" / "newtons-cradle.json"))
+    ours = time_ours(scene, "c")
+    assert 0.0 < ours.start < ours.cpu
+    assert ours.counts["collisions"] > 0 and ours.counts["frames"] == 180
+    assert ours.cpu_per_s(scene.end_time) == (ours.cpu - ours.start) / scene.end_time
+    # every N counter is a column by name, a new kind too; work counters last
+    extra = dict(ours.counts, sleeps=3)
+    rows = kinds_table([SceneResult("cradle", "", scene, [OurResult("c", 1.0, 0.5, extra)], 0, 0, 0, [])])
+    head = [h.strip() for h in rows[0].strip("|").split("|")]
+    assert head[:4] == ["scene", "simulated s", "events", "per collision"] and "sleeps" in head
+    assert head[-3:] == ["stale", "pairs", "features"]
+    cells = [c.strip() for c in rows[2].strip("|").split("|")]
+    assert cells[head.index("sleeps")] == "3"
+    events = sum(v for k, v in extra.items() if k not in ("stale", "pairs", "features"))
+    assert cells[2] == f"{events:,}"
+
+
+def test_every_example_scene_is_found():
+    found = [path for _, path, _ in example_scenes()]
+    assert found == sorted(f"examples/{p.name}" for p in (ROOT / "examples").glob("*.json")) and len(found) >= 7

@@ -1,7 +1,8 @@
-"""Event versus frame (issue 6, item 5): the same scenes in our discrete-event
-simulator and in pymunk (Chipmunk 2D) stepped at fixed steps; collision-time
-error against our exact events, collisions missed (tunnelling) or doubled,
-and wall time per simulated second.  `max2code event-vs-frame` writes
+"""Event versus frame (issue 6 item 5, issue 10 item 6): every example scene
+in our discrete-event simulator and in pymunk (Chipmunk 2D) stepped at fixed
+steps; collision-time error against our exact events, collisions missed
+(tunnelling) or doubled, CPU time per simulated second (ours less the
+start-up), and our events by kind.  `max2code event-vs-frame` writes
 docs/event-vs-frame.md, .png and .svg (the design is explained there, in
 DESIGN below).
 
@@ -21,6 +22,7 @@ Two comparisons, because multi-body scenes are chaotic:
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -35,15 +37,15 @@ from dataclasses import dataclass, field
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.progress import bar
 from max2code.paths import ROOT
-from max2code.sim.scene import Scene, load_scene, parse_scene
+from max2code.sim.scene import Scene, compile_scene, load_scene, parse_scene
+from max2code.sim.simulate import LANGS, WORK_COUNTERS, handled_events
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)
 STEP_NAMES = {1.0 / 60.0: "1/60", 1.0 / 240.0: "1/240", 1.0 / 1000.0: "1/1000"}
 WINDOW_STEPS = 3            # matching window: this many steps either side
-EXAMPLES = (("billiard break", "examples/billiard-break.json"),
-            ("balls under gravity", "examples/gravity-box.json"),
-            ("spinning polygons", "examples/spinning-polygons.json"))
-OUR_LANGS = ("python", "c", "rust")
+OUR_LANGS = ("c", "rust")          # the default runtimes timed (any simulator language may be asked for)
+START = 1e-9                        # s: the end time of the start-up run (the scene's start and nothing else)
+REST_FACTOR = 2.0                   # a rest-speed contact approaches at less than this times the rest speed
 COMMAND = "max2code event-vs-frame"
 README_BEGIN = "<!-- event-vs-frame:begin (written by max2code event-vs-frame) -->"
 README_END = "<!-- event-vs-frame:end -->"
@@ -88,21 +90,35 @@ class State:
 
 @dataclass
 class Collision:
-    """One of our collisions, with everything a replay needs."""
-    index: int                  # among our collisions, in time order
+    """One of our contacts (a collision, or a contact that ends in support),
+    with everything a replay needs."""
+    index: int                  # among our contacts, in time order
     t: float
     a: int
     b: int
     start: float                # time of our previous state-changing event (0: the start)
     states: list                # every body's (px, py, vx, vy, ang, om) at `start`
     approach: float             # normal approach speed of the material points at the contact (m/s)
-    resting: bool               # our rest_speed floor set its separation speed (e * approach < rest_speed)
+    resting: bool               # a rest-speed contact (see is_resting)
+    kind: str = "collision"     # or "support"
+
+
+def is_resting(kind: str, approach: float, e: float, rest_speed: float) -> bool:
+    """A rest-speed contact, which no frame engine has: our rest_speed floor
+    set its separation speed (e * approach below min(approach, rest_speed)),
+    or it ends in support, and it approaches at less than REST_FACTOR times
+    the rest speed: the hop of a body lying on another, which comes back at
+    about the rest speed it left with.  A fast landing that the floor or the
+    support ends (restitution 0) is a real contact."""
+    floored = kind == "support" or e * approach < min(approach, rest_speed)
+    return floored and approach < REST_FACTOR * rest_speed
 
 
 def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
-    """Our collisions in time order, each with the exact state of every body
-    at the previous state-changing event (replayed from the trace: bodies move
-    exactly between events) and its approach speed."""
+    """Our contacts (collisions and supports) in time order, each with the
+    exact state of every body at the previous state-changing event (replayed
+    from the trace: bodies move exactly between events) and its approach
+    speed."""
     names = {b.name: i for i, b in enumerate(scene.bodies)}
     acc = [b.acceleration for b in scene.bodies]     # in force now (a supported body's differs)
     cur = [State(0.0, b.position[0], b.position[1], b.velocity[0], b.velocity[1], b.angle, b.angular_velocity)
@@ -111,10 +127,10 @@ def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
     out: list[Collision] = []
     for ev in events:
         kind = ev["kind"]
-        if kind not in ("collision", "support", "stop", "leave", "input"):
+        if kind in ("frame", "cell", "horizon"):
             continue
         t = ev["t"]
-        if kind == "collision":
+        if kind in ("collision", "support"):
             a, b = names[ev["bodies"][0]], names[ev["bodies"][1]]
             snap = [s.at(last, *acc[i]) for i, s in enumerate(cur)]
             # approach speed of the material points at the contact point, just before
@@ -130,8 +146,8 @@ def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
             vn = (u[1][0] - u[0][0]) * nx + (u[1][1] - u[0][1]) * ny
             approach = -vn
             e = scene.bodies[a].restitution * scene.bodies[b].restitution
-            resting = e * approach < min(approach, scene.rest_speed)
-            out.append(Collision(len(out), t, min(a, b), max(a, b), last, snap, approach, resting))
+            out.append(Collision(len(out), t, min(a, b), max(a, b), last, snap, approach,
+                                 is_resting(kind, approach, e, scene.rest_speed), kind))
         for st in ev.get("states", ()):
             i = names[st["body"]]
             cur[i] = State(t, st["position"][0], st["position"][1], st["velocity"][0], st["velocity"][1],
@@ -161,6 +177,7 @@ class FrameWorld:
     t0: float = 0.0
     steps: int = 0
     dt: float = 0.0
+    inputs: list = field(default_factory=list)   # the scene's inputs still to apply (a free run from t = 0)
 
 
 def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
@@ -170,8 +187,9 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
     is an offset on a kinematic body), convex polygons with their vertices
     about the centre of mass and our moment of inertia (mass * second moment
     / area), fixed bodies static (kinematic when they move or spin),
-    elasticity = our restitution (Chipmunk multiplies the two, as we do),
-    friction 0, the scene's gravity; collision_slop 0 and collision_bias 0."""
+    elasticity = our restitution and friction = our friction coefficient
+    (Chipmunk's arbiter multiplies the two shapes' values, as we do), the
+    scene's gravity; collision_slop 0 and collision_bias 0."""
     pymunk = _pymunk()
     space = pymunk.Space()
     space.gravity = scene.gravity
@@ -209,7 +227,7 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
                 if b.orbit_radius > 0.0 else (0.0, 0.0)
             shape = pymunk.Circle(body, b.radius, off)
         shape.elasticity = b.restitution
-        shape.friction = 0.0
+        shape.friction = b.friction
         space.add(body, shape)
         index[shape] = i
         bodies.append(body)
@@ -227,11 +245,21 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
 def step_until(world: FrameWorld, dt: float, t_end: float) -> None:
     """Step with dt until the world's time reaches t_end (the contact of a
     step is found at the positions at its end: Chipmunk integrates the
-    positions first)."""
+    positions first).  The world's inputs are applied as a game applies
+    them: before the first step that starts at or after the input's time."""
     world.dt = dt
     n = max(0, math.ceil((t_end - world.t0) / dt - 1e-9))
     step = world.space.step
     while world.steps < n:
+        if world.inputs:
+            now = world.t0 + world.steps * dt
+            while world.inputs and world.inputs[0].time <= now + 1e-12 * dt:
+                inp = world.inputs.pop(0)
+                body = world.bodies[inp.body]
+                vx, vy = inp.velocity
+                if inp.mode == 1:
+                    vx, vy = body.velocity.x + vx, body.velocity.y + vy
+                body.velocity = (vx, vy)
         step(dt)
         world.steps += 1
 
@@ -312,16 +340,26 @@ class FrameResult:
     agree_until: float = 0.0    # free run: time of the first divergence (end time: none)
     agree_count: int = 0        # free run: our real collisions matched before it
     free_errors: list = field(default_factory=list)
-    wall_per_s: float = 0.0
+    cpu_per_s: float = 0.0      # CPU seconds of the free run's stepping per simulated second
 
 
 @dataclass
 class OurResult:
     lang: str
-    wall: float                 # whole run_scene: compile the scene, start the process, simulate, write and parse the trace
-    wall_per_s: float
-    collisions: int
+    cpu: float = math.nan       # CPU seconds of the simulator's process on the whole scene (best of several runs)
+    start: float = math.nan     # the same for the scene ended at START: reading it, the first predictions, the final states
+    counts: dict = field(default_factory=dict)   # the trace's N counters, by name, in the trace's order
     note: str = ""
+
+    @property
+    def ran(self) -> bool:
+        return not math.isnan(self.cpu)
+
+    def cpu_per_s(self, end: float) -> float:
+        """CPU seconds per simulated second less the start-up (nan when the
+        difference is not positive: a run within its start-up's noise)."""
+        d = self.cpu - self.start
+        return d / end if d > 0.0 else math.nan
 
 
 @dataclass
@@ -330,10 +368,14 @@ class SceneResult:
     path: str
     scene: Scene
     ours: list
-    collisions: int
-    resting: int
+    collisions: int             # our contacts: collisions and supports
+    resting: int                # of which rest-speed ones
     replayed: int
     frames: list
+
+    def counts(self) -> dict:
+        """The N counters of the first of our runs that ran."""
+        return next((o.counts for o in self.ours if o.ran), {})
 
 
 def replay(scene: Scene, cols: list[Collision], k: int, dt: float) -> tuple[float, int, int]:
@@ -381,19 +423,21 @@ def replay(scene: Scene, cols: list[Collision], k: int, dt: float) -> tuple[floa
 
 
 def free_run(scene: Scene, cols: list[Collision], dt: float, res: FrameResult) -> None:
-    """The whole scene in pymunk from t = 0: wall time, and agreement with
-    our events until the first divergence."""
+    """The whole scene in pymunk from t = 0, the scene's inputs applied: CPU
+    time of the stepping, and agreement with our events until the first
+    divergence."""
     def one():
         w = build_space(scene)
-        t0 = time.perf_counter()
+        w.inputs = sorted(scene.inputs, key=lambda x: x.time)
+        t0 = time.process_time()
         step_until(w, dt, scene.end_time)
-        return w, time.perf_counter() - t0
-    world, wall = one()
+        return w, time.process_time() - t0
+    world, cpu = one()
     for _ in range(2):
-        if wall * 2 > 3.0:
+        if cpu * 2 > 3.0:
             break
-        wall = min(wall, one()[1])
-    res.wall_per_s = wall / scene.end_time
+        cpu = min(cpu, one()[1])
+    res.cpu_per_s = cpu / scene.end_time
     res.free_begins = len(world.begins)
     window = WINDOW_STEPS * dt
     m = match_events([(c.t, c.a, c.b) for c in cols], world.begins, window)
@@ -405,54 +449,62 @@ def free_run(scene: Scene, cols: list[Collision], dt: float, res: FrameResult) -
             res.free_errors.append(abs(e))
 
 
-def best_of(fn, budget: float = 3.0, runs: int = 3):
-    """(first result, smallest wall seconds) of up to `runs` calls of fn,
-    fewer when they take more than `budget` seconds together."""
-    result, best, spent = None, math.inf, 0.0
-    for k in range(runs):
-        t0 = time.perf_counter()
-        r = fn()
-        took = time.perf_counter() - t0
-        result = r if k == 0 else result
-        best, spent = min(best, took), spent + took
+def best_cpu(fn, budget: float = 2.0, runs: int = 10) -> tuple[float, dict]:
+    """(smallest CPU seconds, counters) of up to `runs` calls of fn, which
+    returns (wall, cpu, counters); fewer calls when they take more than
+    `budget` CPU seconds together (a short run is repeated more: its
+    difference from the start-up is a fraction of a millisecond)."""
+    best, spent, counts = math.inf, 0.0, {}
+    for _ in range(runs):
+        _, cpu, counts = fn()
+        best, spent = min(best, cpu), spent + cpu
         if spent > budget:
             break
-    return result, best
+    return best, counts
 
 
-def run_ours(scene: Scene, lang: str, runs: int = 3):
-    """(trace, wall seconds, best of up to `runs`) of run_scene in `lang`,
-    the build done before the clock starts."""
-    from max2code.sim.simulate import build_simulator, run_scene
-    build_simulator(lang, scene.effects, scene.taylor_order)
-    return best_of(lambda: run_scene(scene, lang), runs=runs)
-
-
-def startup_seconds(lang: str) -> float:
-    """Wall time of run_scene for a one-ball scene that ends at once: process
-    start, reading the scene, writing and parsing the trace (best of 3)."""
-    scene = parse_scene(json.dumps({"name": "start-up", "end_time": 1e-6, "bodies": [
-        {"shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]}]}), "<start-up>")
-    return run_ours(scene, lang)[1]
+def time_ours(scene: Scene, lang: str) -> OurResult:
+    """CPU seconds of `lang`'s simulator process on the scene and on the
+    same scene ended at START (its start-up: process start, reading the
+    scene, every pair's first prediction, the final states), best of up to
+    10 each (fewer when they take more than 2 s together); the build is
+    done before (cached)."""
+    from max2code.sim.simulate import build_simulator, time_engine
+    build = build_simulator(lang, scene.effects, scene.taylor_order)
+    flat = compile_scene(scene)
+    first = compile_scene(dataclasses.replace(scene, end_time=min(START, scene.end_time)))
+    cpu, counts = best_cpu(lambda: time_engine(build, flat))
+    start, _ = best_cpu(lambda: time_engine(build, first))
+    return OurResult(lang, cpu, start, counts)
 
 
 def ours_available(lang: str) -> str:
     """'' when this runtime's simulator builds and runs, else why not."""
+    from max2code.sim.simulate import run_scene
     try:
-        startup = parse_scene(json.dumps({"end_time": 1e-6, "bodies": [
+        probe = parse_scene(json.dumps({"end_time": 1e-6, "bodies": [
             {"shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]}]}), "<probe>")
-        run_ours(startup, lang, runs=1)
+        run_scene(probe, lang)
     except Exception as exc:       # not built yet, or fails: the report says so
         return f"{type(exc).__name__}: {str(exc).strip().splitlines()[0][:160] if str(exc).strip() else ''}"
     return ""
 
 
+def example_scenes() -> list[tuple[str, str, Scene]]:
+    """Every examples/*.json, by file name: (label, path, scene)."""
+    out = []
+    for path in sorted((ROOT / "examples").glob("*.json")):
+        out.append((path.stem, f"examples/{path.name}", load_scene(str(path))))
+    return out
+
+
 # ------------------------------------------------------------------ the sweep
-def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool = True):
-    scenes = [(label, path, load_scene(str(ROOT / path))) for label, path in EXAMPLES]
+def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool = True, scenes=None):
+    from max2code.sim.commands import compare
+    from max2code.sim.simulate import run_scene
+    scenes = list(example_scenes() if scenes is None else scenes)
     scenes.append(("tunnelling", "(built in: event_vs_frame.tunnel_scene)", tunnel_scene()))
     avail = {lang: ours_available(lang) for lang in langs}
-    startup = {lang: startup_seconds(lang) for lang in langs if not avail[lang]}
     work = len(scenes) * (len(langs) + len(steps))
     done = 0
     results = []
@@ -464,18 +516,16 @@ def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool =
                 bar(done, work, f"{label}: ours in {lang}", "event-vs-frame")
             done += 1
             if avail[lang]:
-                ours.append(OurResult(lang, math.nan, math.nan, 0, f"not run: {avail[lang]}"))
+                ours.append(OurResult(lang, note=f"not run: {avail[lang]}"))
                 continue
-            trace, wall = run_ours(scene, lang)
-            n = sum(1 for e in trace.events if e["kind"] == "collision")
-            note = ""
+            trace = run_scene(scene, lang)
+            res = time_ours(scene, lang)
             if ref is None:
                 ref = trace
             else:
-                from max2code.sim.commands import compare
                 d = compare(ref, trace)
-                note = f"agrees with {ref.lang}" if d is None else f"differs from {ref.lang}: {d.what}"
-            ours.append(OurResult(lang, wall, wall / scene.end_time, n, note))
+                res.note = f"agrees with {ref.lang}" if d is None else f"differs from {ref.lang}: {d.what}"
+            ours.append(res)
         if ref is None:
             raise EvfError("no runtime of ours ran: " + "; ".join(f"{k}: {v}" for k, v in avail.items()))
         cols = our_collisions(scene, ref.events)
@@ -501,7 +551,7 @@ def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool =
                                    len(real), frames))
     if progress:
         bar(work, work, "done", "event-vs-frame")
-    return results, avail, startup
+    return results, avail
 
 
 # ------------------------------------------------------------------ report
@@ -519,74 +569,121 @@ def _ms(x: float) -> str:
     return "-" if x is None or math.isnan(x) else f"{x * 1e3:.3g}"
 
 
-def _less(o, startup: dict, end: float) -> str:
-    """Wall time per simulated second less the start-up (measured apart, so
-    under load it can exceed a short run)."""
-    if o.lang not in startup:
-        return "-"
-    d = o.wall - startup[o.lang]
-    return _s(d / end) if d > 0.0 else "within start-up"
+def _per_s(o: OurResult, end: float) -> str:
+    x = o.cpu_per_s(end)
+    return "within start-up" if math.isnan(x) else _s(x)
 
 
-def table(results, startup: dict) -> list[str]:
-    out = ["| scene | run | collisions (ours) / contacts (pymunk) | replayed | median error ms | max error ms "
-           "| missed | doubled | free run: agrees until s (collisions) | wall s per simulated s |",
+def _step(dt: float) -> str:
+    return STEP_NAMES.get(dt, f"{dt:g}")
+
+
+def _examples(results) -> list:
+    return [r for r in results if r.label != "tunnelling"]
+
+
+def table(results) -> list[str]:
+    """Exactness per scene and step (the replays and the free run)."""
+    out = ["| scene | run | contacts (ours) / begins (pymunk) | replayed | median error ms | max error ms "
+           "| missed | doubled | free run: agrees until s (contacts) | CPU s per simulated s |",
            "|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         for o in r.ours:
-            if math.isnan(o.wall):
+            if not o.ran:
                 out.append(f"| {r.label} | ours, {o.lang} | - | - | - | - | - | - | - | not available |")
                 continue
             exact = "within the tolerance" if "orbit" in r.scene.effects else "exact"
-            out.append(f"| {r.label} | ours, {o.lang} | {o.collisions} ({r.resting} rest-speed) | - | {exact} | "
-                       f"{exact} | 0 | 0 | {_s(r.scene.end_time)} (all) | {_s(o.wall_per_s)} "
-                       f"(less start-up: {_less(o, startup, r.scene.end_time)}) |")
+            out.append(f"| {r.label} | ours, {o.lang} | {r.collisions} ({r.resting} rest-speed) | - | {exact} | "
+                       f"{exact} | 0 | 0 | {_s(r.scene.end_time)} (all) | {_per_s(o, r.scene.end_time)} "
+                       f"(less start-up) |")
         for f in r.frames:
             med = statistics.median(f.errors) if f.errors else math.nan
             mx = max(f.errors) if f.errors else math.nan
-            out.append(f"| {r.label} | pymunk {STEP_NAMES.get(f.step, f'{f.step:g}')} s | {f.free_begins} | "
+            out.append(f"| {r.label} | pymunk {_step(f.step)} s | {f.free_begins} | "
                        f"{f.compared} | {_ms(med)} | {_ms(mx)} | {f.missed} | {f.doubled} | "
-                       f"{_s(f.agree_until)} ({f.agree_count}) | {_s(f.wall_per_s)} |")
+                       f"{_s(f.agree_until)} ({f.agree_count}) | {_s(f.cpu_per_s)} |")
     return out
 
 
-def headline(results, startup: dict) -> list[str]:
-    """One row per step: totals over the example scenes (the tunnelling case apart)."""
-    out = ["| run | collisions replayed | median error ms | max error ms | missed | doubled | "
-           "wall s per simulated s, billiard / gravity / polygons (ours: less start-up) |", "|---|---|---|---|---|---|---|"]
-    ex = [r for r in results if r.label != "tunnelling"]
-    langs = [o.lang for o in ex[0].ours if not math.isnan(o.wall)]
-    for lang in langs:
-        walls = " / ".join(f"{_s(o.wall_per_s)} ({_less(o, startup, r.scene.end_time)})"
-                           for r in ex for o in r.ours if o.lang == lang)
-        out.append(f"| ours, {lang} | all | exact (rotation: within the tolerance) | - | 0 | 0 | {walls} |")
-    for k, dt in enumerate(ex[0].frames):
+def kinds_table(results) -> list[str]:
+    """Our events by kind per scene: every counter of the trace's N lines, by
+    name, in the trace's order (a kind a runtime adds shows up as a column)."""
+    ex = _examples(results)
+    names = list(dict.fromkeys(k for r in ex for k in r.counts()))
+    events = [k for k in names if k not in WORK_COUNTERS]
+    work = [k for k in names if k in WORK_COUNTERS]
+    out = ["| scene | simulated s | events | per collision | " + " | ".join(events + work) + " |",
+           "|---|" + "---|" * (3 + len(events) + len(work))]
+    for r in ex:
+        c = r.counts()
+        n = handled_events(c)
+        per = _s(n / c["collisions"]) if c.get("collisions") else "-"
+        out.append(f"| {r.label} | {_s(r.scene.end_time)} | {n:,} | {per} | "
+                   + " | ".join(f"{c[k]:,}" if k in c else "-" for k in events + work) + " |")
+    return out
+
+
+def cpu_table(results, langs: list[str]) -> list[str]:
+    """CPU seconds per simulated second, per scene: ours less the start-up, pymunk at each step."""
+    ex = _examples(results)
+    steps = [f.step for f in ex[0].frames] if ex else []
+    head = [f"ours, {lang} (start-up s)" for lang in langs] + [f"pymunk {_step(dt)} s" for dt in steps]
+    ratio = f"ours, {langs[0]} / pymunk {_step(steps[-1])} s" if langs and steps else None
+    out = ["| scene | simulated s | our events (collisions) | " + " | ".join(head) + (f" | {ratio} |" if ratio else " |"),
+           "|---|---|---|" + "---|" * (len(head) + (1 if ratio else 0))]
+    for r in ex:
+        c = r.counts()
+        row = [f"{r.label}", _s(r.scene.end_time), f"{handled_events(c):,} ({c.get('collisions', 0):,})"]
+        by = {o.lang: o for o in r.ours}
+        for lang in langs:
+            o = by.get(lang)
+            row.append("not available" if o is None or not o.ran else
+                       f"{_per_s(o, r.scene.end_time)} ({_s(o.start)})")
+        row += [_s(f.cpu_per_s) for f in r.frames]
+        if ratio:
+            o = by.get(langs[0])
+            ours = o.cpu_per_s(r.scene.end_time) if o is not None and o.ran else math.nan
+            theirs = r.frames[-1].cpu_per_s
+            row.append(_s(ours / theirs) if theirs > 0.0 and not math.isnan(ours) else "-")
+        out.append("| " + " | ".join(row) + " |")
+    return out
+
+
+def headline(results, langs: list[str]) -> list[str]:
+    """CPU per simulated second per scene, then the exactness over all the
+    example scenes per step (the tunnelling case apart)."""
+    ex = _examples(results)
+    out = [*cpu_table(results, langs), "",
+           "| run | contacts replayed | median error ms | max error ms | missed | doubled |",
+           "|---|---|---|---|---|---|",
+           "| ours | all | exact (rotation: within the tolerance) | - | 0 | 0 |"]
+    for k, dt in enumerate(ex[0].frames if ex else []):
         errs = [e for r in ex for e in r.frames[k].errors]
         n = sum(r.frames[k].compared for r in ex)
         missed = sum(r.frames[k].missed for r in ex)
         doubled = sum(r.frames[k].doubled for r in ex)
-        walls = " / ".join(_s(r.frames[k].wall_per_s) for r in ex)
-        out.append(f"| pymunk {STEP_NAMES.get(dt.step, f'{dt.step:g}')} s | {n} | "
+        out.append(f"| pymunk {_step(dt.step)} s | {n} | "
                    f"{_ms(statistics.median(errs) if errs else math.nan)} | {_ms(max(errs) if errs else math.nan)} | "
-                   f"{missed} ({100.0 * missed / max(n, 1):.1f} %) | {doubled} | {walls} |")
+                   f"{missed} ({100.0 * missed / max(n, 1):.1f} %) | {doubled} |")
     tun = [r for r in results if r.label == "tunnelling"]
     if tun:
         t = tun[0]
-        found = {STEP_NAMES.get(f.step, f"{f.step:g}"): ("found" if f.missed == 0 else "missed") for f in t.frames}
+        found = {_step(f.step): ("found" if f.missed == 0 else "missed") for f in t.frames}
         out.append("")
         out.append("Tunnelling case (a 1 cm bullet at 30 m/s, a 2 cm wall): ours finds the contact; pymunk "
                    + ", ".join(f"{k} s: {v}" for k, v in found.items()) + ".")
     return out
 
 
-def plot(results, png: str, svg: str) -> None:
+def plot(results, langs: list[str], png: str, svg: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5.6))
-    colors = ["tab:blue", "tab:orange", "tab:green", "tab:red"]
-    styles = {"python": ":", "c": "--", "rust": "-."}
-    for r, col in zip(results, colors):
+    ex = _examples(results)
+    fig, axes = plt.subplots(1, 3, figsize=(16, 6))
+    cmap = plt.get_cmap("tab10")
+    for n, r in enumerate(ex):
+        col = cmap(n % 10)
         dts = [f.step for f in r.frames]
         med = [statistics.median(f.errors) if f.errors else math.nan for f in r.frames]
         mx = [max(f.errors) if f.errors else math.nan for f in r.frames]
@@ -596,26 +693,32 @@ def plot(results, png: str, svg: str) -> None:
         dbl = [100.0 * f.doubled / max(f.compared, 1) for f in r.frames]
         axes[1].plot(dts, miss, "o-", color=col, label=f"{r.label}: missed")
         axes[1].plot(dts, dbl, "s--", color=col, alpha=0.5, label=f"{r.label}: doubled")
-        if r.label == "tunnelling":     # 0.1 s simulated: our figure there is start-up
-            continue
-        axes[2].plot(dts, [f.wall_per_s for f in r.frames], "o-", color=col, label=f"{r.label}: pymunk")
-        for o in r.ours:
-            if not math.isnan(o.wall_per_s):
-                axes[2].axhline(o.wall_per_s, color=col, linestyle=styles.get(o.lang, "-"), linewidth=1,
-                                label=f"{r.label}: ours, {o.lang}")
-    grid = sorted({f.step for r in results for f in r.frames})
+    grid = sorted({f.step for r in ex for f in r.frames})
     axes[0].plot(grid, grid, color="grey", linewidth=1, label="one step")
     axes[0].set(xscale="log", yscale="log", xlabel="pymunk step (s)", ylabel="|contact time - exact| (s)",
-                title="collision-time error (replayed from exact states)")
-    axes[1].set(xscale="log", xlabel="pymunk step (s)", ylabel="% of replayed collisions",
+                title="contact-time error (replayed from exact states)")
+    axes[1].set(xscale="log", xlabel="pymunk step (s)", ylabel="% of replayed contacts",
                 title="missed (tunnelling) and doubled contacts")
-    axes[2].set(xscale="log", yscale="log", xlabel="pymunk step (s)", ylabel="wall s per simulated s",
-                title="wall time (ours: horizontal lines)")
+    # CPU per simulated second, per scene: ours (less start-up) and pymunk at each step
+    runs = [(f"ours, {lang}", lambda r, lang=lang: next((o.cpu_per_s(r.scene.end_time) for o in r.ours
+                                                          if o.lang == lang and o.ran), math.nan))
+            for lang in langs]
+    for dt in sorted(grid, reverse=True):      # coarse steps first, as in the tables
+        runs.append((f"pymunk {_step(dt)} s", lambda r, dt=dt: next((f.cpu_per_s for f in r.frames if f.step == dt),
+                                                                    math.nan)))
+    width = 0.8 / max(len(runs), 1)
+    for m, (name, get) in enumerate(runs):
+        xs = [n + (m - (len(runs) - 1) / 2) * width for n in range(len(ex))]
+        ys = [get(r) for r in ex]
+        axes[2].bar(xs, [y if y > 0 else math.nan for y in ys], width, label=name,
+                    color=cmap(m) if m < len(langs) else plt.get_cmap("Greys")(0.35 + 0.2 * (m - len(langs))))
+    axes[2].set_xticks(range(len(ex)), [r.label for r in ex], rotation=35, ha="right", fontsize=8)
+    axes[2].set(yscale="log", ylabel="CPU s per simulated s", title="CPU time (ours: less start-up)")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=6)
-    axes[1].legend(fontsize=6)
-    axes[2].legend(fontsize=6, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.14))
+    axes[0].legend(fontsize=5, ncol=2)
+    axes[1].legend(fontsize=5, ncol=2)
+    axes[2].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
     fig.savefig(svg, metadata={"Date": None})
@@ -625,63 +728,82 @@ def plot(results, png: str, svg: str) -> None:
 DESIGN = """\
 ## What is compared, and how
 
-**Scenes.** The three example scenes (`examples/billiard-break.json`,
-`examples/gravity-box.json`, `examples/spinning-polygons.json`, made by
-`examples/make_examples.py`) and a tunnelling case built in
-(`max2code.reports.event_vs_frame.tunnel_scene`): a bullet of radius 1 cm at 30 m/s
-towards a fixed wall 2 cm thick.
+**Scenes.** Every example scene, `examples/*.json` (made by
+`examples/make_examples.py`), found when the command runs, and a tunnelling
+case built in (`max2code.reports.event_vs_frame.tunnel_scene`): a bullet of
+radius 1 cm at 30 m/s towards a fixed wall 2 cm thick.
 
-**Ours.** `max2code.sim.simulate.run_scene(scene, lang)` for the Python runtime
-and, when they build and run on this machine (checked at run time), the C
-and Rust runtimes.  Its collision events are the exact answer: exact up to
-rounding for scenes without rotation; within the scene's distance tolerance
-(1e-9 m) when polygons spin (Taylor windows).  The wall time is the whole
-`run_scene` call, the build done beforehand (cached): compiling the JSON
-scene to the flat format, starting the process (for Python, the
-interpreter and its imports), the simulator reading the scene, simulating
-(with the scene's 60 frame events a second) and writing the trace to a pipe,
-and Python parsing the trace back.  The start-up alone (a one-ball scene
-that ends at once) is listed below the table.
+**Ours.** Each runtime asked for (`--langs`, C and Rust by default) runs
+each scene through `max2code.sim.simulate.run_scene` once for its events
+(the exact answer: exact up to rounding for scenes without rotation; within
+the scene's distance tolerance, 1e-9 m, when polygons spin), and the
+runtimes' traces are compared with the `max2code crosscheck` rule.  The
+time is the CPU time (user + system) of the simulator's process alone
+(`simulate.time_engine`: the flat scene piped in, the trace drained), best
+of up to 10 runs (fewer when they take more than 2 s), less its *start-up*: the same scene with its end time set
+to 1 ns, run the same way, which is the process start, reading the scene,
+every pair's first prediction and writing the final states.  What is left
+is the simulation of the scene's seconds, frames (60 a second) included,
+and writing their trace.  No runtime change is needed: both runs are
+ordinary runs.
+
+**Our events by kind.** The trace's N lines name every counter of the
+simulator (collisions, inputs, frames, cell crossings, horizons, supports,
+stops, leaves, and whatever kinds a runtime adds; `stale`, `pairs` and
+`features` count work: queue entries dropped, pair and feature
+predictions).  They are read by name and tabled as they come, so a new kind
+shows up without a change here.
 
 **pymunk.** Each scene is translated into a `pymunk.Space` by
-`build_space`: circles with an infinite moment (with friction 0 no contact
-turns them, as in ours), an orbiting circle as an offset on a kinematic body;
-convex polygons with their vertices about the centre of mass and our moment
-of inertia (mass times second moment of area over area, from
-`max2code/sim/scene.py`), not pymunk's own; fixed bodies static, or kinematic
-when they move or spin; elasticity = our restitution (Chipmunk multiplies
-the two shapes' values, as we do); friction 0; the scene's gravity; no
-damping, no sleeping, the default 10 solver iterations.  `collision_slop`
-is 0 (no overlap is tolerated: a contact begins as soon as the shapes
-overlap) and `collision_bias` is 0 (the smallest value: the fraction of an
-overlap left after one second, so an overlap is pushed out within one step);
-the defaults are 0.1 and 0.0018.  Chipmunk integrates positions first,
-then finds contacts: a contact *begin* callback seen during the step from
-`t` to `t + dt` is dated `t + dt`, the time of the positions it saw.
+`build_space`: circles with an infinite moment (contacts never turn them,
+as in ours; with friction they slide and stop as ours do, they do not
+roll), an orbiting circle as an offset on a kinematic body; convex polygons
+with their vertices about the centre of mass and our moment of inertia
+(mass times second moment of area over area, from `max2code/sim/scene.py`),
+not pymunk's own; fixed bodies static, or kinematic when they move or
+spin; elasticity = our restitution and friction = our friction coefficient
+(Chipmunk's arbiter multiplies the two shapes' elasticities and the two
+frictions, the product rule we use for both: pymunk's `Arbiter.restitution`
+and `Arbiter.friction` documentation); the scene's gravity; the scene's
+inputs applied before the first step that starts at or after their time;
+no damping, no sleeping, the default 10 solver iterations.
+`collision_slop` is 0 (no overlap is tolerated: a contact begins as soon as
+the shapes overlap) and `collision_bias` is 0 (the smallest value: the
+fraction of an overlap left after one second, so an overlap is pushed out
+within one step); the defaults are 0.1 and 0.0018.  Chipmunk integrates
+positions first, then finds contacts: a contact *begin* callback seen
+during the step from `t` to `t + dt` is dated `t + dt`, the time of the
+positions it saw.
 
-**Our rest speed.** Our model gives every contact a separation speed of at
-least `min(approach, rest_speed)` (0.05 m/s, docs/simulator.md), so that under
-gravity a resting body keeps hopping 0.13 mm high where Chipmunk holds one
-persistent contact.  A collision of ours where this floor set the separation
-speed (restitution times approach speed below `min(approach, rest_speed)`)
-is a *rest-speed* collision: no frame engine has it, so it is left out of
-the replays and of the free run's divergence (the table gives how many).
+**Our contacts, and rest-speed ones.** Our contacts are our collisions and
+our *support* events (a contact that ends with a body resting or sliding
+on a fixed edge: a frame engine sees its begin too).  Our model gives every
+bouncing contact a separation speed of at least `min(approach, rest_speed)`
+(0.05 m/s, docs/simulator.md), so that a body lying on another movable body
+keeps hopping a fraction of a millimetre where Chipmunk holds one
+persistent contact.  A *rest-speed* contact is one where this floor set the
+separation speed (restitution times approach speed below
+`min(approach, rest_speed)`) or that ends in support, *and* that approaches
+at less than %(rest)g times the rest speed (the hop comes back at about the
+speed it left with): no frame engine has it, so it is left out of the
+replays and of the free run's divergence (the table gives how many).  A
+fast landing with restitution 0 (the platformer's box) is a real contact.
 
 **Replay (error, missed, doubled).** A multi-body scene is chaotic: after a
 few collisions two simulators follow different histories, and comparing
 their events one to one would measure the chaos, not the stepping.  So each
-of our real collisions k (the first %(max_replays)d per scene, in time order) is
+of our real contacts k (the first %(max_replays)d per scene, in time order) is
 replayed on its own: pymunk starts from *our* exact state of every body at
-our previous event (collision or input; between it and k nothing happens in
-our run: every body is in free flight), and steps until %(window)d steps
-after our time of k.  Its steps end on the global grid `n dt`, as in a frame
+our previous state-changing event (between it and k nothing happens in our
+run: every body is in free flight or slides on its support), and steps
+until %(window)d steps after our time of k.  Its steps end on the global grid `n dt`, as in a frame
 engine started at t = 0 (otherwise a collision that follows another closely,
 as in the billiard rack, would always be found a whole step late): a first,
 shorter step takes it to the next grid point, and a fresh Space goes on
 with steps of `dt` (fresh, because Chipmunk warm-starts a contact with its
 last impulse times `dt / previous dt`, which the short step would blow up;
 a contact of k's pair that goes on across the two is one contact).  Its
-begin callbacks for k's pair of bodies are matched to our collisions of that pair in the same span by
+begin callbacks for k's pair of bodies are matched to our contacts of that pair in the same span by
 `match_events` (each of ours, in time order, takes the earliest unused begin
 of its pair within %(window)d steps).  Then:
 * *error*: |pymunk's begin time - our time| of k, when matched; the table
@@ -689,11 +811,11 @@ of its pair within %(window)d steps).  Then:
 * *missed*: no begin of k's pair within %(window)d steps of our time: the
   stepper tunnelled through (or stepped around) the contact;
 * *doubled*: a further begin of the same pair within %(window)d steps of the
-  matched one that no collision of ours accounts for, before our next
-  collision of either body (until then both fly freely in the exact motion:
-  the contact was lost and found again, not changed by a third body).
+  matched one that no contact of ours accounts for, before our next
+  contact of either body (until then both move in the exact motion: the
+  contact was lost and found again, not changed by a third body).
 
-The statistics are over the replays; a scene with more real collisions than
+The statistics are over the replays; a scene with more real contacts than
 %(max_replays)d contributes its first %(max_replays)d.
 
 The window of %(window)d steps is wide enough for a detection that is up to one
@@ -701,72 +823,79 @@ step late plus the drift of Chipmunk's semi-implicit Euler under gravity
 (it lags the exact parabola by `g (t - t0) dt / 2`), and narrow enough not
 to match an unrelated later contact of the same pair.
 
-**Where our time goes.** Under gravity most of our collisions are rest-speed
-hops of bodies lying on the floor or on each other (the table counts them),
-and they are most of our wall time there; a frame engine pays per step
-instead, whatever happens.  Our start-up (a fresh process per run) is
-listed below the table and subtracted in brackets.
+**Free run (divergence, CPU time).** pymunk also runs each scene from t = 0
+to the end on its own, with the scene's inputs; its CPU time per simulated
+second is taken from this run (the stepping only, the Python begin callback
+included: it runs once per contact start; best of up to 3 runs).  Its begin callbacks are matched to all our contacts with the same
+rule; the *divergence* is the first of: a real contact of ours with no
+begin of its pair within the window, or a begin with no contact of ours.
+The table gives its time and how many real contacts agreed before it.
+After it the two runs are different histories.
 
-**Free run (divergence).** pymunk also runs each scene from t = 0 to the
-end on its own; its wall time per simulated second is taken from this run
-(the stepping only, the Python begin callback included: it runs once per
-contact start; best of up to 3 runs, as for ours).  Its begin callbacks are matched to all our events with
-the same rule; the *divergence* is the first of: a real collision of ours
-with no begin of its pair within the window, or a begin with no collision
-of ours.  The table gives its time and how many real collisions agreed
-before it.  After it the two runs are different histories.
-
-What is not modelled alike: our `rest_speed` floor (above); Chipmunk solves
-simultaneous contacts (the billiard rack, whose balls are 5.7e-9 m apart)
-together with an iterative solver where we resolve them one pair at a time
-in time order; Chipmunk's restitution uses the normal velocity at the start
-of the step.
+What is not modelled alike: our `rest_speed` floor (above) and our
+contact model (a body rests or slides only on fixed edges, with the exact
+Coulomb rule, docs/simulator.md; Chipmunk solves every contact, movable
+ones too, with an iterative impulse solver and static friction); Chipmunk
+solves simultaneous contacts (the billiard rack, whose balls are 5.7e-9 m
+apart) together where we resolve them one pair at a time in time order;
+Chipmunk's restitution uses the normal velocity at the start of the step.
 """
 
 
-def write_report(results, avail, startup, out_dir: str, argv: list[str], max_replays: int,
+def write_report(results, avail, langs, out_dir: str, argv: list[str], max_replays: int,
                  load: list[float]) -> list[str]:
     import pymunk
     os.makedirs(out_dir, exist_ok=True)
     md = os.path.join(out_dir, "event-vs-frame.md")
     png = os.path.join(out_dir, "event-vs-frame.png")
     svg = os.path.join(out_dir, "event-vs-frame.svg")
-    plot(results, png, svg)
+    ran = [lang for lang in langs if not avail[lang]]
+    plot(results, ran, png, svg)
     cmd = " ".join([COMMAND, *argv])
     lines = ["# Event versus frame: our simulator against pymunk (Chipmunk) at fixed steps", "",
              f"Made by `{cmd}` (this machine: {platform.machine()}, {os.cpu_count()} cores, "
              f"Python {platform.python_version()}, pymunk {pymunk.version}, Chipmunk "
-             f"{pymunk.chipmunk_version.split('-')[0]}; load average {load[0]:.2f} before the sweep, {load[-1]:.2f} "
-             "after: wall times are single-machine figures, best of up to 3 runs).  Nothing below is typed by "
-             "hand.", "",
-             "## Headline (the three example scenes together)", "", *headline(results, startup), "",
-             "## Per scene", "", *table(results, startup), "",
-             "Columns: *collisions (ours)*: our collision events (rest-speed collisions in brackets); *contacts (pymunk)*: "
-             "begin callbacks in pymunk's free run; *replayed*: our collisions other than rest-speed ones (at most --max-replays) replayed in pymunk from our "
-             "exact state; *error*, *missed*, *doubled*: of those replays; *free run*: the time of the first "
-             "divergence of pymunk's free run from ours and the real collisions that agreed before it.", ""]
-    lines.append("Start-up of our runs (included in their wall time above; a one-ball scene that ends at once, "
-                 "best of 3): " + ", ".join(f"{lang} {startup[lang]:.3f} s" for lang in startup) + ".")
+             f"{pymunk.chipmunk_version.split('-')[0]}; {_load_words(load)}: CPU times are single-machine figures, "
+             "best of several runs).  Nothing below is typed by hand.", "",
+             "## Headline (every example scene)", "", *headline(results, ran), "",
+             "CPU seconds per simulated second: ours is the simulator's process (user + system) on the whole "
+             "scene less the same scene ended at 1 ns (its start-up, in brackets: the process, reading the scene, "
+             "every pair's first prediction, the final states); pymunk's is the stepping of its free run. "
+             "*our events*: every event handled (all the trace's N counters but stale entries and predictions), "
+             "the collisions in brackets.", "",
+             "## Our events by kind", "", *kinds_table(results), "",
+             "Every counter of the trace's N lines, by name (docs/simulator.md): the event kinds, then "
+             f"{', '.join(WORK_COUNTERS)} (queue entries dropped as stale, pair and feature predictions: work, not "
+             "events); *events*: all the event kinds; *per collision*: events over collisions.", "",
+             "## Per scene", "", *table(results), "",
+             "Columns: *contacts (ours)*: our collisions and supports (rest-speed ones in brackets); *begins (pymunk)*: "
+             "begin callbacks in pymunk's free run; *replayed*: our contacts other than rest-speed ones (at most "
+             "--max-replays) replayed in pymunk from our exact state; *error*, *missed*, *doubled*: of those "
+             "replays; *free run*: the time of the first divergence of pymunk's free run from ours and the real "
+             "contacts that agreed before it.", ""]
     for lang, why in avail.items():
         if why:
-            lines.append("")
             lines.append(f"Our {lang} runtime was not available when this was made ({why}).")
-    early = [f"{r.label} at {STEP_NAMES.get(f.step, f'{f.step:g}')} s: {f.early}" for r in results for f in r.frames
-             if f.early]
-    lines += ["", "Replays in which pymunk found the pair's contact more than the window *before* ours: "
+            lines.append("")
+    early = [f"{r.label} at {_step(f.step)} s: {f.early}" for r in results for f in r.frames if f.early]
+    lines += ["Replays in which pymunk found the pair's contact more than the window *before* ours: "
               + ("; ".join(early) if early else "none") + "."]
-    notes = [f"{r.label}, {o.lang}: {o.note}" for r in results for o in r.ours if o.note and not math.isnan(o.wall)]
+    notes = [f"{r.label}, {o.lang}: {o.note}" for r in results for o in r.ours if o.note and o.ran]
     if notes:
         lines += ["", "Our runtimes against each other (`max2code crosscheck` rule): " + "; ".join(notes) + "."]
-    lines += ["", "![error, missed and wall time against the step](event-vs-frame.png)", "",
+    lines += ["", "![error, missed and CPU time](event-vs-frame.png)", "",
               "([SVG](event-vs-frame.svg))", "",
-              DESIGN % {"max_replays": max_replays, "window": WINDOW_STEPS}]
+              DESIGN % {"max_replays": max_replays, "window": WINDOW_STEPS, "rest": REST_FACTOR}]
     with open(md, "w", encoding="utf-8") as f:
         f.write("\n".join(lines).rstrip() + "\n")
     return [md, png, svg]
 
 
-def update_readme(results, startup: dict, argv: list[str]) -> bool:
+def _load_words(load: list[float]) -> str:
+    return f"load average {load[0]:.2f} before the sweep, {load[-1]:.2f} after"
+
+
+def update_readme(results, langs, argv: list[str], load: list[float]) -> bool:
     """Rewrite the block between the README markers with the headline (if
     the markers are there)."""
     path = ROOT / "README.md"
@@ -776,39 +905,44 @@ def update_readme(results, startup: dict, argv: list[str]) -> bool:
     head, rest = text.split(README_BEGIN, 1)
     _, tail = rest.split(README_END, 1)
     cmd = " ".join([COMMAND, *argv])
-    block = [README_BEGIN, "", f"(`{cmd}`; full table, design and plot in "
-             "[docs/event-vs-frame.md](docs/event-vs-frame.md))", "", *headline(results, startup), "", README_END]
+    block = [README_BEGIN, "", f"(`{cmd}`, {_load_words(load)}; CPU seconds per simulated second, ours less "
+             "the start-up in brackets; full tables, design and plot in "
+             "[docs/event-vs-frame.md](docs/event-vs-frame.md))", "", *headline(results, langs), "", README_END]
     path.write_text(head + "\n".join(block) + tail, encoding="utf-8")
     return True
 
 
 def main(argv: list[str]) -> int:
     p = ArgumentParser(prog=COMMAND,
-                                description="Run the example scenes in our simulator and in pymunk at fixed steps "
-                                            "(1/60, 1/240, 1/1000 s); write docs/event-vs-frame.md, .png and .svg "
-                                            "and the headline in README.md.")
+                       description="Run every example scene (examples/*.json) in our simulators and in pymunk at "
+                                   "fixed steps (1/60, 1/240, 1/1000 s); write docs/event-vs-frame.md, .png and "
+                                   ".svg and the headline in README.md.")
     p.add_argument("--langs", default=",".join(OUR_LANGS),
-                   help=f"our runtimes to run and time, when available (default {','.join(OUR_LANGS)})")
+                   help=f"our runtimes to run and time, when available (default {','.join(OUR_LANGS)}; "
+                        f"any of {','.join(LANGS)})")
     p.add_argument("--max-replays", type=int, default=300, metavar="N",
-                   help="replay at most the first N real collisions per scene (default 300)")
+                   help="replay at most the first N real contacts per scene (default 300)")
     p.add_argument("--out-dir", default=str(ROOT / "docs"), help="where the report goes (default docs/)")
     p.add_argument("--no-readme", action="store_true", help="leave README.md alone")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     args = p.parse_args(argv)
-    langs = tuple(x for x in args.langs.split(",") if x)
+    langs = list(dict.fromkeys(x for x in args.langs.split(",") if x))
+    if not langs:
+        raise EvfError("--langs: expected at least one runtime")
     for lang in langs:
-        if lang not in OUR_LANGS:
-            raise EvfError(f"--langs: unknown runtime '{lang}' (expected some of {', '.join(OUR_LANGS)})")
+        if lang not in LANGS:
+            raise EvfError(f"--langs: unknown runtime '{lang}' (expected some of {', '.join(LANGS)})")
     if args.max_replays < 1:
         raise EvfError("--max-replays must be at least 1")
     _pymunk()
     load = [os.getloadavg()[0]]
-    results, avail, startup = sweep(langs, STEPS, args.max_replays, not args.quiet)
+    results, avail = sweep(langs, STEPS, args.max_replays, not args.quiet)
     load.append(os.getloadavg()[0])
     shown = [a for a in argv if a not in ("-q", "--quiet", "--no-readme")]
-    files = write_report(results, avail, startup, args.out_dir, shown, args.max_replays, load)
-    if not args.no_readme and update_readme(results, startup, shown):
+    files = write_report(results, avail, langs, args.out_dir, shown, args.max_replays, load)
+    ran = [lang for lang in langs if not avail[lang]]
+    if not args.no_readme and update_readme(results, ran, shown, load):
         files.append(str(ROOT / "README.md"))
-    print("\n".join(headline(results, startup)))
+    print("\n".join(headline(results, ran)))
     print(f"{COMMAND}: wrote {', '.join(files)}", file=sys.stderr)
     return 0

@@ -48,17 +48,16 @@ def simulate_main(argv: list[str]) -> int:
     limit = args.max_events if args.max_events is not None else scene.max_events
     try:
         with open_output(args.output) as out:
-            _, stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
+            stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
                                     progress=not args.quiet and sys.stderr.isatty())
     except SimulateError as exc:
         raise SimCliError(str(exc)) from None
     if not args.quiet:
         ev = stats["events"]
         used = ", ".join(f"{k} {v}" for k, v in stats["predictions"].items())
-        print(f"max2code simulate: {scene.path} in {args.lang}: {ev.get('collisions', 0)} collisions, "
-              f"{ev.get('inputs', 0)} inputs, {ev.get('frames', 0)} frames, {ev.get('cells', 0)} cell crossings, "
-              f"{ev.get('horizons', 0)} re-predictions at a horizon; effects: {', '.join(scene.effects) or 'none'}; "
-              f"predictions per variant: {used}", file=sys.stderr)
+        counts = ", ".join(f"{k} {v}" for k, v in ev.items())     # every counter of the trace, by name
+        print(f"max2code simulate: {scene.path} in {args.lang}: {counts}; effects: "
+              f"{', '.join(scene.effects) or 'none'}; predictions per variant: {used}", file=sys.stderr)
     return 0
 
 

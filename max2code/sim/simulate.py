@@ -6,9 +6,12 @@ from __future__ import annotations
 
 import hashlib
 import json
+import operator
 import os
+import re
 import subprocess
 import threading
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,6 +25,19 @@ PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
 LANGS = simulator_languages()
 FEATURES = {(0, False): "circle-circle", (0, True): "circle-vertex", (1, False): "circle-edge", (1, True): "vertex-edge"}
+
+
+# the trace's N counters that count work, not handled events: stale queue
+# entries dropped, pair and feature predictions; every other counter (the
+# event kinds: collisions, inputs, frames, cells, horizons, supports, ...,
+# and whatever kinds a runtime adds) is an event
+WORK_COUNTERS = ("stale", "pairs", "features")
+
+
+def handled_events(counts: dict[str, int]) -> int:
+    """Events handled, from the trace's N counters read by name: all but the
+    work counters, so that a new event kind counts without a change here."""
+    return sum(v for k, v in counts.items() if k not in WORK_COUNTERS)
 
 
 class SimulateError(Max2CodeError):
@@ -128,19 +144,85 @@ def _num(w: str) -> str:
     never NaN or infinite.  (Re-printing each number in its shortest form
     would cost more than the simulation.)"""
     if "." in w or "e" in w:
-        if "n" in w:
+        if "n" in w or "N" in w:
             raise ValueError(f"non-finite number {w}")
         return w
-    if "n" in w or "i" in w:
-        raise ValueError(f"non-finite number {w}")
+    if not w.lstrip("-").isdigit():
+        raise ValueError(f"not a finite number: {w}")
     return w + ".0"
 
 
+def _state(body, px, py, vx, vy, angle, omega, ax, ay) -> str:
+    """A state's JSON from the trace's fields (an f-string: faster than % formatting)."""
+    return (f'{{"body":{body},"position":[{px},{py}],"velocity":[{vx},{vy}],"angle":{angle},'
+            f'"angular_velocity":{omega},"acceleration":[{ax},{ay}]}}')
+
+
+_ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
+# a contact's feature from (FEATURE, I < 0, J < 0) (docs/simulator.md)
+_FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
+_FEATURE_OF.update({("1", i, j): FEATURES[(1, not i)] for i in (False, True) for j in (False, True)})
+_first = operator.itemgetter(0)
+
+
+def _columns(lines: list[str], width: int, tag: str, numbers) -> list[list[str]]:
+    """The fields of many lines of `width` single-space-separated fields
+    starting with `tag`, one list per field; the fields `numbers` as JSON
+    numbers: a column in which every field holds a '.' (the count of '.'
+    tells) passes through; in any other, "0" and "-0" get '.0' and what is
+    still without a '.' goes through `_num` (an exponent, another whole
+    number; NaN and infinities are refused).  Anything else raises _Slow
+    (the precise path)."""
+    m = len(lines)
+    if not m:
+        return []
+    toks = " ".join(lines).split(" ")
+    if len(toks) != width * m:
+        raise _Slow                 # other blank space or another number of fields
+    cols = [toks[c::width] for c in range(width)]
+    if cols[0].count(tag) != m:
+        raise _Slow
+    for c in numbers:
+        col = cols[c]
+        if "".join(col).count(".") != m:
+            col = list(map(_ZERO.get, col, col))
+            if "".join(col).count(".") != m:
+                col = [v if "." in v else _num(v) for v in col]
+            cols[c] = col
+    return cols
+def _final(body, px, py, vx, vy, angle, omega) -> str:
+    return (f'{{"body":{body},"position":[{px},{py}],"velocity":[{vx},{vy}],"angle":{angle},'
+            f'"angular_velocity":{omega}}}')
+
+
+def _contact(t, kind, a, b, feature, i, j, cx, cy, nx, ny, impulse) -> str:
+    """A collision's or support's JSON, without its states and closing brace."""
+    return (f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"feature":"{feature}","features":[{i},{j}],'
+            f'"point":[{cx},{cy}],"normal":[{nx},{ny}],"impulse":{impulse}')
+
+
+def _support_end(t, kind, a, b, edge) -> str:
+    return f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"edge":{edge}'
+
+
+class _Slow(Exception):
+    """The fast path met something it does not check itself: the chunk is
+    done again line by line, which gives the precise error (or the same
+    output: the two paths write the same bytes)."""
+
+
 class TraceConverter:
-    """Turns the runtime's flat trace (docs/simulator.md), line by line, into
-    the JSON lines of `max2code simulate`: each event is written when the
-    next record starts, so memory does not grow with the number of events
-    (the final states and statistics are per body and per variant)."""
+    """Turns the runtime's flat trace (docs/simulator.md) into the JSON lines
+    of `max2code simulate`: each event is written when the next record
+    starts, so memory does not grow with the number of events (the final
+    states and statistics are per body and per variant).
+
+    Two paths write the same bytes: `feed(line)` checks and converts one
+    line; `feed_chunk(text)` converts many complete lines at once (the whole
+    numbers of the chunk get their '.0' in one regular-expression pass, the
+    records are formatted from their tokens, nothing is written until the
+    chunk is done) and, on anything unusual (a stop line, a non-finite or
+    malformed number, the event limit), does the chunk again with `feed`."""
 
     def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
                  max_events: int | None = None):
@@ -150,21 +232,29 @@ class TraceConverter:
         self.max_events = max_events
         self.events = 0            # E records seen
         self.line = 0
-        self.pending: list[str] | None = None     # the event being read: its JSON text in pieces
+        self.head: str | None = None    # the event being read: its JSON text without states
+        self.states: list[str] = []     # and its states
         self.final: list[str] = []
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
+        # the fast path's integer fields by their text
+        self._body = {str(i): n for i, n in enumerate(self.names)}
+        most = max([len(scene.bodies), len(scene.inputs)] + [len(b.vertices) for b in scene.bodies])
+        self._int = {str(i): str(i) for i in range(-1, most + 1)}
+
+    def _event(self) -> str:
+        if self.states:
+            return f'{self.head},"states":[{",".join(self.states)}]}}\n'
+        return self.head + "}\n"
 
     def _flush(self) -> None:
-        if self.pending is not None:
-            if len(self.pending) > 1:
-                self.pending.insert(1, ',"states":[')
-                self.pending.append("]")
-            self.pending.append("}\n")
-            self.write("".join(self.pending))
-            self.pending = None
+        if self.head is not None:
+            self.write(self._event())
+            self.head = None
+            self.states = []
 
     def feed(self, line: str) -> None:
+        """One line of the flat trace, checked."""
         self.line += 1
         w = line.split()
         if not w:
@@ -172,12 +262,10 @@ class TraceConverter:
         try:
             tag = w[0]
             if tag == "S":
-                if self.pending is None:
+                if self.head is None:
                     raise ValueError("a state without its event")
-                sep = "," if len(self.pending) > 1 else ""
-                self.pending.append(f'{sep}{{"body":{self.names[int(w[1])]},"position":[{_num(w[3])},{_num(w[4])}],'
-                                    f'"velocity":[{_num(w[5])},{_num(w[6])}],"angle":{_num(w[7])},'
-                                    f'"angular_velocity":{_num(w[8])},"acceleration":[{_num(w[9])},{_num(w[10])}]}}')
+                self.states.append(_state(self.names[int(w[1])], _num(w[3]), _num(w[4]), _num(w[5]),
+                                             _num(w[6]), _num(w[7]), _num(w[8]), _num(w[9]), _num(w[10])))
                 return
             self._flush()
             if tag == "E":
@@ -188,12 +276,10 @@ class TraceConverter:
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[a]},{self.names[b]}],'
-                            f'"feature":"{feature}","features":[{i},{j}],"point":[{_num(w[8])},{_num(w[9])}],'
-                            f'"normal":[{_num(w[10])},{_num(w[11])}],"impulse":{_num(w[12])}')
+                    head = _contact(t, kind, self.names[a], self.names[b], feature, i, j, _num(w[8]),
+                                       _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
-                    head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
-                            f'"edge":{int(w[7])}')
+                    head = _support_end(t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":
@@ -202,11 +288,10 @@ class TraceConverter:
                     head = f'{{"t":{t},"kind":"frame"'
                 else:
                     raise ValueError(f"unknown event kind {kind!r}")
-                self.pending = [head]
+                self.head = head
             elif tag == "F":
-                self.final.append(f'{{"body":{self.names[int(w[1])]},"position":[{_num(w[2])},{_num(w[3])}],'
-                                  f'"velocity":[{_num(w[4])},{_num(w[5])}],"angle":{_num(w[6])},'
-                                  f'"angular_velocity":{_num(w[7])}}}')
+                self.final.append(_final(self.names[int(w[1])], _num(w[2]), _num(w[3]), _num(w[4]),
+                                            _num(w[5]), _num(w[6]), _num(w[7])))
             elif tag == "N":
                 self.counts[w[1]] = int(w[2])
             elif tag == "V":
@@ -221,15 +306,145 @@ class TraceConverter:
             raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
                                 f"({exc})") from None
 
+    def feed_chunk(self, text: str) -> None:
+        """Complete lines of the flat trace (text ends with a newline, or is empty)."""
+        if not text:
+            return
+        try:
+            out = self._fast(text)
+        except (_Slow, IndexError, ValueError, KeyError):
+            self._slow(text)
+            return
+        if out:
+            self.write("".join(out))
+
+    def _slow(self, text: str) -> None:
+        for line in text.splitlines():
+            self.feed(line)
+
+    def _fast(self, text: str) -> list[str]:
+        """The chunk's output; the converter's state changes only when all of
+        it converted.  The S lines (most of a trace) are converted together
+        by `_states`; the loop only notes how many belong to each event."""
+        body, ints, frames, limit = self._body, self._int, self.frames, self.max_events
+        head, events = self.head, self.events
+        final, counts, predictions = [], {}, {}
+        heads: list[tuple[str, int]] = []   # the chunk's finished events: head and number of new states
+        s_lines: list[str] = []
+        c_lines: list[str] = []             # collision and support lines
+        n = 0                               # states of the current event in this chunk
+        lines = text.split("\n")
+        lines.pop()                     # after the last newline
+        for line in lines:
+            tag = line[:1]
+            if tag == "S":
+                if head is None:
+                    raise _Slow
+                s_lines.append(line)
+                n += 1
+                continue
+            if head is not None:
+                heads.append((head, n))
+                head, n = None, 0
+            if tag == "E":
+                events += 1
+                if limit is not None and events > limit:
+                    raise _Slow
+                if line.startswith("E collision ") or line.startswith("E support "):
+                    head = len(c_lines)         # its head is made by _contacts, with the others
+                    c_lines.append(line)
+                    continue
+            w = line.split()
+            if tag == "E":
+                kind = w[1]
+                t = w[2] if "." in w[2] else _num(w[2])
+                if kind == "frame":
+                    if frames:
+                        head = f'{{"t":{t},"kind":"frame"'
+                elif kind == "stop" or kind == "leave":
+                    head = _support_end(t, kind, body[w[3]], body[w[4]], ints[w[7]])
+                elif kind == "input":
+                    head = f'{{"t":{t},"kind":"input","bodies":[{body[w[3]]}],"input":{ints[w[6]]}'
+                else:
+                    raise _Slow
+            elif tag == "F":
+                if len(w) != 8:
+                    raise _Slow
+                x = w[2:]
+                if "".join(x).count(".") != 6:
+                    x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
+                final.append(_final(body[w[1]], *x))
+            elif tag == "N" and len(w) == 3:
+                counts[w[1]] = int(w[2])
+            elif tag == "V" and len(w) == 4:
+                served = int(w[3])
+                if served:
+                    predictions[self.build.variant_names[w[1]][int(w[2])]] = served
+            else:
+                raise _Slow             # blank, unknown or malformed lines: the precise path
+        states = self._states(s_lines)
+        contacts = self._contacts(c_lines)
+        if type(head) is int:
+            head = contacts[head]
+        out: list[str] = []
+        pos = 0
+        carried = self.states            # the states of an event begun in an earlier chunk
+        for h, k in heads:
+            if type(h) is int:
+                h = contacts[h]
+            st = states[pos:pos + k]
+            pos += k
+            if carried:
+                st, carried = carried + st, []
+            out.append(f'{h},"states":[{",".join(st)}]}}\n' if st else h + "}\n")
+        self.head, self.states, self.events = head, carried + states[pos:], events
+        self.line += len(lines)
+        self.final += final
+        self.counts.update(counts)
+        self.predictions.update(predictions)
+        return out
+
+    def _states(self, s_lines: list[str]) -> list[str]:
+        """The JSON of many S lines at once, column by column (no Python
+        call per line): the tokens of all lines, one column per field; a
+        number column in which every field holds a '.' (the count of '.'
+        tells) passes through; in any other, "0" and "-0" get '.0' and
+        what is still without a '.' goes through `_num` (an exponent, any
+        other whole number; NaN and infinities are refused)."""
+        cols = _columns(s_lines, 11, "S", range(3, 11))
+        if not cols:
+            return []
+        names = map(self._body.__getitem__, cols[1])
+        return list(map(_state, names, *cols[3:]))
+
+    def _contacts(self, c_lines: list[str]) -> list[str]:
+        """The JSON heads of many collision and support lines at once, as `_states`."""
+        cols = _columns(c_lines, 13, "E", (2, 8, 9, 10, 11, 12))
+        if not cols:
+            return []
+        ints = self._int.__getitem__
+        i, j = list(map(ints, cols[6])), list(map(ints, cols[7]))
+        minus = "-".__eq__
+        features = list(map(_FEATURE_OF.__getitem__, zip(cols[5], map(minus, map(_first, i)),
+                                                          map(minus, map(_first, j)))))
+        names = self._body.__getitem__
+        return list(map(_contact, cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features,
+                        i, j, *cols[8:]))
+
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
+        final_text, stats = self._finish()
+        return json.loads(final_text), stats
+
+    def _finish(self) -> tuple[str, dict]:
+        """As finish, the final states as their JSON text (reading 10^4 bodies back costs 0.1 s)."""
         self._flush()
         final_text = f'{{"kind":"final","t":{repr(float(self.scene.end_time))},"bodies":[{",".join(self.final)}]}}'
         stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
                  "predictions": dict(sorted(self.predictions.items()))}
         self.write(final_text + "\n")
         self.write(json.dumps(stats, separators=(",", ":")) + "\n")
-        return json.loads(final_text), stats
+        return final_text, stats
 
 
 class TraceLimit(Exception):
@@ -242,30 +457,33 @@ class TraceLimit(Exception):
 
 def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
     """A whole flat trace into a Trace (the JSON events as dicts)."""
-    lines: list[str] = []
-    conv = TraceConverter(scene, build, lines.append)
-    for line in text.splitlines():
-        conv.feed(line)
+    parts: list[str] = []
+    conv = TraceConverter(scene, build, parts.append)
+    conv.feed_chunk(text if not text or text.endswith("\n") else text + "\n")
     final, stats = conv.finish()
+    lines = "".join(parts).splitlines()
     return Trace(build.lang, [json.loads(x) for x in lines[:-2]], final, stats, text)
 
 
+CHUNK = 1 << 16      # bytes of trace converted at a time (a pipe's worth; 1 MB chunks measured slower)
+
+
 def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
-                 progress: bool = False, timeout: float = 3600) -> tuple[dict, dict]:
+                 progress: bool = False, timeout: float = 3600) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
-    `write` as the simulator writes it; returns (final, stats).  More than
+    `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
     and raises SimulateError."""
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     flat = compile_scene(scene)
     conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events)
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=build.workdir, text=True, encoding="ascii", errors="replace", bufsize=1 << 16)
-    err: list[str] = []
+                            cwd=build.workdir)
+    err: list[bytes] = []
 
     def feed_input():
         try:
-            proc.stdin.write(flat)
+            proc.stdin.write(flat.encode("ascii"))
             proc.stdin.close()
         except (BrokenPipeError, OSError):
             pass
@@ -278,11 +496,22 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         th.start()
     timer = threading.Timer(timeout, proc.kill)
     timer.start()
-    last = ""
+    last, rest = "", ""
     try:
-        for line in proc.stdout:
-            last = line
-            conv.feed(line)
+        # chunks of complete lines: the converter's fast path
+        while True:
+            data = proc.stdout.read1(CHUNK)
+            if not data:
+                break
+            text = rest + data.decode("ascii", "replace")
+            cut = text.rfind("\n") + 1
+            if cut:
+                last = text[text.rfind("\n", 0, cut - 1) + 1:cut]
+                conv.feed_chunk(text[:cut])
+            rest = text[cut:]
+        if rest:
+            last = rest
+            conv.feed_chunk(rest + "\n")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
@@ -299,8 +528,9 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         if last.startswith("X "):
             raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:].strip()}")
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
-        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): {''.join(err)[-2000:]}")
-    return conv.finish()
+        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): "
+                            f"{b''.join(err)[-2000:].decode('ascii', 'replace')}")
+    return conv._finish()[1]
 
 
 def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float = 3600) -> Trace:
@@ -316,3 +546,51 @@ def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float
             raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:]}")
         raise SimulateError(f"{scene.path}: {lang} simulator failed (exit {proc.returncode}): {proc.stderr[-2000:]}")
     return parse_trace(proc.stdout, scene, build)
+
+
+def time_engine(build: SimBuild, flat: str, timeout: float = 3600) -> tuple[float, float, dict[str, int]]:
+    """Run the simulator alone on a flat scene: (wall seconds, CPU seconds
+    (user + system) of its process, its N counters by name).  The trace is
+    drained as it comes and only its tail kept (the N lines are near the end)."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=build.workdir)
+    err: list[bytes] = []
+
+    def feed_input():
+        try:
+            proc.stdin.write(flat.encode("ascii"))
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
+
+    threads = [threading.Thread(target=feed_input, daemon=True),
+               threading.Thread(target=lambda: err.append(proc.stderr.read()[-4000:]), daemon=True)]
+    for th in threads:
+        th.start()
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    tail = b""
+    try:
+        while True:
+            chunk = proc.stdout.read(1 << 20)
+            if not chunk:
+                break
+            tail = (tail + chunk)[-65536:]
+    finally:
+        timer.cancel()
+        _, code, usage = os.wait4(proc.pid, 0)
+        proc.returncode = os.waitstatus_to_exitcode(code)
+        for th in threads:
+            th.join(timeout=5)
+        proc.stdout.close()
+    wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise SimulateError(f"{build.lang} simulator failed (exit {proc.returncode}): "
+                            f"{tail[-300:].decode('ascii', 'replace')} {b''.join(err)[-300:].decode('ascii', 'replace')}")
+    counts: dict[str, int] = {}
+    for line in tail.decode("ascii", "replace").splitlines():
+        w = line.split()
+        if len(w) == 3 and w[0] == "N":
+            counts[w[1]] = int(w[2])
+    return wall, usage.ru_utime + usage.ru_stime, counts

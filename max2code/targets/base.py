@@ -4,9 +4,10 @@ form, call names, comment style, line directives, file layout template)
 and overrides a `_print_` method only where its syntax differs."""
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
-from max2code.generate.lower import Node
+if TYPE_CHECKING:       # annotations only: the simulator's commands import the targets without the generator
+    from max2code.generate.lower import Node
 
 # precedence: higher binds tighter
 PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "neg": 3, "call": 4, "lit": 4, "ref": 4}

@@ -1,0 +1,105 @@
+"""The flat trace's two converters (max2code/sim/simulate.py) write the same
+bytes: `feed` (one checked line at a time) and `feed_chunk` (the fast path
+of `max2code simulate`, many lines at once), on every example's trace cut
+into chunks anywhere between lines, and on lines made to hit each special
+case (whole numbers, minus zero, exponents, states of still circles); a
+non-finite number or a bad line is the same error from both."""
+import json
+import random
+
+import pytest
+
+from max2code.paths import ROOT
+from max2code.sim.scene import load_scene, parse_scene
+from max2code.sim.simulate import SimBuild, SimulateError, TraceConverter, build_simulator, run_scene
+
+EXAMPLES = sorted((ROOT / "examples").glob("*.json"))
+
+
+def slow(scene, build, text, **kw):
+    out = []
+    conv = TraceConverter(scene, build, out.append, **kw)
+    for line in text.splitlines():
+        conv.feed(line)
+    return "".join(out), conv.finish()
+
+
+def fast(scene, build, text, cuts, **kw):
+    out = []
+    conv = TraceConverter(scene, build, out.append, **kw)
+    lines = text.splitlines(keepends=True)
+    bounds = [0, *sorted(cuts), len(lines)]
+    for a, b in zip(bounds, bounds[1:]):
+        conv.feed_chunk("".join(lines[a:b]))
+    return "".join(out), conv.finish()
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_fast_path_writes_the_same_bytes_on_every_example(path):
+    scene = load_scene(str(path))
+    trace = run_scene(scene, "c")
+    build = build_simulator("c", scene.effects, scene.taylor_order)
+    n = len(trace.raw.splitlines())
+    rng = random.Random(path.stem)
+    want = slow(scene, build, trace.raw)
+    assert want[0].count("\n") == len(trace.events)
+    for k in (0, 1, 7):
+        cuts = rng.sample(range(1, n), min(k, n - 1))
+        assert fast(scene, build, trace.raw, cuts) == want
+    assert fast(scene, build, trace.raw, [], frames=False) == slow(scene, build, trace.raw, frames=False)
+
+
+SCENE = parse_scene(json.dumps({"end_time": 2.0, "bodies": [
+    {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]},
+    {"name": "b", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1.0, 0.0]},
+    {"name": "box", "shape": "polygon", "mass": 1.0, "position": [3.0, 0.0],
+     "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]}],
+    "inputs": [{"time": 0.5, "body": "a", "set_velocity": [1.0, 0.0]}]}), "<convert>")
+BUILD = SimBuild("c", ".", [], {"circle_circle": ["cc0", "cc1"], "point_edge": ["pe0", "pe1", "pe2"]})
+LINES = """E collision 0 0 1 0 -1 -1 0.5 0 1 -0 2
+S 0 0 0 0 -1 0 0 0 0 0
+S 1 0 1 0 1 -0 0 0 0 0
+E frame 0.016666666666666666 -1 -1 -1 -1 -1 0 0 0 0 0
+E input 0.5 0 -1 -1 0 -1 0 0 0 0 0
+S 0 0.5 1.5 2.5 1 0 0 0 0 -9.8100000000000005
+E support 0.75 2 1 1 3 2 3.0000000000000004 1e-05 0 1 1.5e+20
+S 2 0.75 3.25 1e+20 -2 0 0.25 -3 0 -9.81
+E stop 1 2 1 -1 -1 2 0 0 0 0 0
+S 2 1 3 0 0 0 0 0 0 0
+E leave 1.5 2 1 -1 -1 3 0 0 0 0 0
+E collision 1.75 2 0 1 0 -1 4.25 0.125 -1 0 0.5
+S 2 1.75 3.5 0.25 0.5 0.5 0.125 -0.5 0 0
+F 0 1 2 3 4 0 0
+F 1 -0 0.5 1e-300 -1 0 0
+F 2 3 4 5 6 0.5 -0.25
+N collisions 2
+N stale 0
+N sleeps 4
+V circle_circle 1 12
+V point_edge 0 0
+V point_edge 2 7
+"""
+
+
+def test_special_lines_convert_alike():
+    n = len(LINES.splitlines())
+    want = slow(SCENE, BUILD, LINES)
+    assert '"velocity":[-1.0,0.0]' in want[0] and '"impulse":1.5e+20' in want[0]
+    assert want[1][1]["events"] == {"collisions": 2, "stale": 0, "sleeps": 4}
+    assert want[1][1]["predictions"] == {"cc1": 12, "pe2": 7}
+    for cuts in ([], [1], [2, 5], list(range(1, n))):
+        assert fast(SCENE, BUILD, LINES, cuts) == want
+    assert fast(SCENE, BUILD, LINES, [3], frames=False) == slow(SCENE, BUILD, LINES, frames=False)
+
+
+@pytest.mark.parametrize("bad", ["S 0 0 nan 0 0 0 0 0 0 0", "S 0 0 1 inf 0 0 0 0 0 0", "S 0 0 1 0 -NaN 0 0 0 0 0",
+                                 "S 9 0 1 0 0 0 0 0 0 0", "E collision 1 0 1 7 -1 -1 0 0 1 0 1",
+                                 "E bounce 1 0 1 0 -1 -1 0 0 1 0 1", "Q 1 2", "N collisions 1.5",
+                                 "E collision 1 0 1 0 -1 -1 0 0 1 0 inf"])
+def test_bad_lines_are_the_same_error(bad):
+    text = LINES.replace("S 0 0 0 0 -1 0 0 0 0 0\n", bad + "\n", 1)
+    with pytest.raises(SimulateError) as a:
+        slow(SCENE, BUILD, text)
+    with pytest.raises(SimulateError) as b:
+        fast(SCENE, BUILD, text, [4])
+    assert str(a.value) == str(b.value) and "bad trace line 2" in str(a.value)
