@@ -5,11 +5,13 @@
 #ifndef M2C_SIM_INTERNAL_H
 #define M2C_SIM_INTERNAL_H
 
+#include <setjmp.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
 #include "m2c_sim.h"
+#include "m2c_world.h"
 
 /* ---- scene ---------------------------------------------------------------- */
 
@@ -254,5 +256,58 @@ static inline char *m2c_sim_put_num(char *p, double x)
 }
 
 char *m2c_sim_put_int(char *p, long long v);
+
+/* ---- the world: the simulation's whole state (m2c_sim.c runs it, m2c_sim_world.c is its API) ---- */
+
+/* The counters written as the trace's N lines (the reference's Stats). */
+typedef struct m2c_sim_stats {
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
+} m2c_sim_stats;
+
+#define M2C_WORLD_ERROR_MAX 512
+
+struct m2c_world {
+    m2c_sim_scene *s;                   /* owned */
+    m2c_sim_body *bodies;               /* s->bodies */
+    uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
+    m2c_sim_heap heap;
+    m2c_sim_stats stats;
+    long long *cc_counts, *pe_counts;   /* predictions served per variant */
+    int n_cc, n_pe;
+    m2c_sim_grid grid;
+    int32_t *large;                     /* the bodies outside the grid, by index */
+    int32_t nlarge;
+    size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
+    m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
+    m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
+    m2c_sim_out out;                    /* the trace (out.f NULL: none) */
+    double now;                         /* s: the time reached */
+    double last_t;                      /* s: time of the last event handled (-1 before any) */
+    long long same;                     /* events handled at last_t after the first */
+    m2c_contact_fn fn;                  /* during m2c_world_advance: told of each contact */
+    void *user;
+    int broken;                         /* an error stopped the world */
+    jmp_buf fail;                       /* where the current API call catches an error */
+    char err[M2C_WORLD_ERROR_MAX];
+};
+
+/* The engine's entries (m2c_sim.c); each returns 0, or -1 with the message
+ * in w->err. */
+/* Takes scene (freed by m2c_sim_close even on failure), allocates and
+ * predicts every pair at t = 0. */
+int m2c_sim_open(m2c_world *w, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace);
+/* Handles the events up to t (<= the scene's end). */
+int m2c_sim_advance(m2c_world *w, double t);
+/* The time of the next live event (stale ones are dropped, counted), or +inf. */
+int m2c_sim_next_time(m2c_world *w, double *t);
+/* Every body at the end time, the counters, the variants served; flushed. */
+int m2c_sim_finish(m2c_world *w);
+void m2c_sim_close(m2c_world *w);
+/* Body b's exact state at t (from its state at b->tb). */
+void m2c_sim_body_state(const m2c_sim_body *b, double t, m2c_body_state *s);
+
+/* The event first in the queue (moving `last` on when near is empty), or
+ * NULL when the queue is empty; it stays queued.  -1 out of memory. */
+int m2c_sim_heap_top(m2c_sim_heap *h, const m2c_sim_event **e);
 
 #endif

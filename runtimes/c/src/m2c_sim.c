@@ -18,10 +18,8 @@
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
 
-/* The counters written as the trace's N lines (the reference's Stats). */
-typedef struct stats {
-    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
-} stats;
+typedef m2c_sim_stats stats;
+typedef struct m2c_world sim;
 
 /* The N lines, in their order: each counter's name and place in stats. */
 static const struct {
@@ -36,35 +34,20 @@ static const struct {
     { "leaves", offsetof(stats, leaves) },
 };
 
-typedef struct sim {
-    m2c_sim_scene *s;
-    m2c_sim_body *bodies;
-    uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
-    m2c_sim_heap heap;
-    stats stats;
-    long long *cc_counts, *pe_counts;   /* predictions served per variant */
-    int n_cc, n_pe;
-    m2c_sim_grid grid;
-    int32_t *large;                     /* the bodies outside the grid, by index */
-    int32_t nlarge;
-    size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
-    m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
-    m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
-    m2c_sim_out out;
-    jmp_buf fail;
-    char *err;
-    size_t errlen;
-} sim;
-
-/* The reference's SimError: the message, then back to m2c_sim_run. */
+/* The reference's SimError: the message, then back to the entry that
+ * set m->fail; the world is unusable from then on. */
 static _Noreturn void die(sim *m, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m->err, m->errlen, fmt, ap);
+    vsnprintf(m->err, sizeof m->err, fmt, ap);
     va_end(ap);
+    m->broken = 1;
     longjmp(m->fail, 1);
 }
+
+static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                   int32_t j, double cx, double cy, double nx, double ny, double imp);
 
 /* cos(a) and sin(a), from the cache when a is the angle (to the bit) it
  * last held: libm's answer for the same argument, without the call.  A
@@ -116,6 +99,17 @@ static inline motion state_at(const m2c_sim_body *b, double t)
     q.vy = b->vy + b->ay * dt;
     q.ang = b->ang + b->om * dt;
     return q;
+}
+
+void m2c_sim_body_state(const m2c_sim_body *b, double t, m2c_body_state *s)
+{
+    motion q = state_at(b, t);
+    s->x = q.x;
+    s->y = q.y;
+    s->vx = q.vx;
+    s->vy = q.vy;
+    s->angle = q.ang;
+    s->omega = b->om;
 }
 
 /* rad/s: how fast the body's contact features turn. */
@@ -1052,6 +1046,7 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     enter_support(m, A, B, ev->u.collision.j);
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
+    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp);
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1083,6 +1078,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             end_support(B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
+    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -1309,75 +1305,123 @@ static void count_same_time(sim *m, double t, double *last_t, long long *same)
     }
 }
 
-/* The run: the events in order, each to its kind's handler, up to the end. */
-static void run(sim *m)
+/* Tells the caller of m2c_world_advance of a contact. */
+static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                   int32_t j, double cx, double cy, double nx, double ny, double imp)
 {
-    start(m);
-    double last_t = -1.0;
-    long long same = 0;
+    if (m->fn == NULL)
+        return;
+    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp };
+    m->fn(&c, m->user);
+}
+
+/* The events up to limit (s, at most the end) in order, each to its kind's
+ * handler; the world's time is then limit. */
+static void run_until(sim *m, double limit)
+{
     m2c_sim_event ev;
-    while (m->heap.n > 0) {
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t > limit)
+            break;
         if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        if (ev.t > m->s->end)
-            break;
         if (is_stale(m, &ev)) {
             m->stats.stale++;
             continue;
         }
-        count_same_time(m, ev.t, &last_t, &same);
+        count_same_time(m, ev.t, &m->last_t, &m->same);
         handlers[ev.kind](m, &ev);
     }
-    finish(m);
+    m->now = limit;
 }
 
-int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen)
+/* Entries: each catches the errors of what it calls (die) here. */
+#define CATCH(m)                                                                                            \
+    do {                                                                                                    \
+        if ((m)->broken)                                                                                    \
+            return -1;                                                                                      \
+        if (setjmp((m)->fail) != 0)                                                                         \
+            return -1;                                                                                      \
+    } while (0)
+
+int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace)
 {
-    sim *m = calloc(1, sizeof *m);
-    if (m == NULL) {
-        snprintf(err, errlen, "out of memory");
-        return 1;
-    }
     m->s = scene;
     m->bodies = scene->bodies;
-    m->err = err;
-    m->errlen = errlen;
     m->n_cc = cc_variants;
     m->n_pe = pe_variants;
     m->sweep_at = 4096;
-    volatile int status = 1;
-    if (setjmp(m->fail) == 0) {
-        if (cc_variants < 1 || pe_variants < 1)
-            die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
-        m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
-        m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
-        m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
-        m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
-        if (m->stamp == NULL)
-            die(m, "out of memory");
-        size_t nv = 1;
-        for (int32_t k = 0; k < scene->nbodies; k++)
-            nv += (size_t)scene->bodies[k].nverts;
-        m->vtrig = calloc(nv, sizeof *m->vtrig);
-        m->etrig = calloc(nv, sizeof *m->etrig);
-        if (m->vtrig == NULL || m->etrig == NULL)
-            die(m, "out of memory");
-        if (m->cc_counts == NULL || m->pe_counts == NULL || m->large == NULL || m2c_sim_out_init(&m->out, out) != 0
-            || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
-            die(m, "out of memory");
-        for (int32_t k = 0; k < scene->nbodies; k++)
-            if (scene->bodies[k].large)
-                m->large[m->nlarge++] = k;
-        run(m);
-        status = 0;
-    }
-    if (m->out.buf != NULL) {
-        m2c_sim_out_flush(&m->out);
-        if (m->out.failed && status == 0) {
-            snprintf(err, errlen, "cannot write the trace");
-            status = 1;
+    m->last_t = -1.0;
+    CATCH(m);
+    if (m2c_sim_out_init(&m->out, trace) != 0)
+        die(m, "out of memory");
+    if (cc_variants < 1 || pe_variants < 1)
+        die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
+    m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
+    m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
+    m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+    m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
+    size_t nv = 1;
+    for (int32_t k = 0; k < scene->nbodies; k++)
+        nv += (size_t)scene->bodies[k].nverts;
+    m->vtrig = calloc(nv, sizeof *m->vtrig);
+    m->etrig = calloc(nv, sizeof *m->etrig);
+    if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
+        || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
+        die(m, "out of memory");
+    for (int32_t k = 0; k < scene->nbodies; k++)
+        if (scene->bodies[k].large)
+            m->large[m->nlarge++] = k;
+    start(m);
+    return 0;
+}
+
+int m2c_sim_advance(sim *m, double t)
+{
+    CATCH(m);
+    run_until(m, t);
+    return 0;
+}
+
+int m2c_sim_next_time(sim *m, double *t)
+{
+    CATCH(m);
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t > m->s->end) {
+            *t = INFINITY;
+            return 0;
         }
+        if (!is_stale(m, top)) {
+            *t = top->t;
+            return 0;
+        }
+        m2c_sim_event ev;
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        m->stats.stale++;
     }
+}
+
+int m2c_sim_finish(sim *m)
+{
+    CATCH(m);
+    finish(m);
+    m2c_sim_out_flush(&m->out);
+    if (m->out.failed)
+        die(m, "cannot write the trace");
+    return 0;
+}
+
+void m2c_sim_close(sim *m)
+{
+    if (m->out.buf != NULL)
+        m2c_sim_out_flush(&m->out);
     m2c_sim_out_free(&m->out);
     m2c_sim_grid_free(&m->grid);
     m2c_sim_heap_free(&m->heap);
@@ -1387,6 +1431,6 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
     free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
-    free(m);
-    return status;
+    m2c_sim_scene_free(m->s);
+    m->s = NULL;
 }

@@ -16,6 +16,9 @@
 #include <string.h>
 
 #include "m2c_sim.h"
+#include "m2c_world.h"
+
+enum { M2C_WORLD_ERROR_MAX_COPY = 512 };
 
 #ifndef M2C_SIM_CC_VARIANTS
 #error "build with -DM2C_SIM_CC_VARIANTS=N (the variants circle_circle_variant indexes)"
@@ -109,24 +112,25 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: %s < SCENE   (or --check-format N)\n", argv[0]);
         return 2;
     }
-    char err[512];
     char *text = read_all(stdin);
     if (text == NULL) {
         printf("X cannot read the scene\n");
         return 1;
     }
-    m2c_sim_scene *scene = m2c_sim_scene_read(text, err, sizeof err);
+    m2c_world *w = m2c_world_new(text, stdout);
     free(text);
-    if (scene == NULL) {
-        printf("X %s\n", err);
+    if (w == NULL) {
+        printf("X %s\n", m2c_world_last_error());
         return 1;
     }
-    int status = m2c_sim_run(scene, M2C_SIM_CC_VARIANTS, M2C_SIM_PE_VARIANTS, stdout, err, sizeof err);
-    m2c_sim_scene_free(scene);
-    if (status != 0) {
+    if (m2c_world_finish(w) != 0) {
+        char err[M2C_WORLD_ERROR_MAX_COPY];
+        snprintf(err, sizeof err, "%s", m2c_world_error(w));
+        m2c_world_free(w);          /* flushes the trace written so far */
         printf("X %s\n", err);
         fflush(stdout);
         return 1;
     }
+    m2c_world_free(w);
     return fflush(stdout) == 0 ? 0 : 1;
 }

@@ -1,0 +1,81 @@
+/* max2code C runtime: the live world API (docs/engine-api.md), a port of
+ * the Python reference's World (runtimes/python/max2code_rt/sim.py).
+ *
+ * A world is a scene being simulated: advance it to any time, read the
+ * exact state of any body between events, change velocities at the current
+ * time.  It is built with the generated contact equations of its scene's
+ * effects (`max2code simulate` builds it, and libm2c_world.so beside the
+ * simulator program).  Worlds share nothing: two may run at once (not one
+ * from two threads at once).  Times in s, lengths in m, angles in rad,
+ * velocities in m/s, impulses in kg m/s. */
+#ifndef M2C_WORLD_H
+#define M2C_WORLD_H
+
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct m2c_world m2c_world;
+
+/* One contact reported by m2c_world_advance: bodies a and b (scene
+ * indices), the feature (0 circle-circle: circle of a against the circle
+ * of b, j < 0, or vertex j of b; 1 point-edge: circle of a, i < 0, or
+ * vertex i of a against edge j of b), the contact point, the unit normal
+ * from a to b, and the impulse. */
+typedef struct m2c_contact {
+    double t;
+    int a, b, feature, i, j;
+    double px, py, nx, ny, impulse;
+} m2c_contact;
+
+typedef void (*m2c_contact_fn)(const m2c_contact *c, void *user);
+
+/* A body's exact state at some time. */
+typedef struct m2c_body_state {
+    double x, y, vx, vy, angle, omega;
+} m2c_body_state;
+
+/* A world from a compiled scene (the flat text of max2code/sim/scene.py,
+ * NUL-terminated) at t = 0; trace NULL: no trace, else the flat trace is
+ * written there as events happen.  NULL on a bad scene or out of memory:
+ * the message is then m2c_world_last_error()'s. */
+m2c_world *m2c_world_new(const char *scene_text, FILE *trace);
+/* The same from a file holding the compiled scene. */
+m2c_world *m2c_world_load(const char *path, FILE *trace);
+/* The message of the last m2c_world_new or m2c_world_load that failed in
+ * this thread. */
+const char *m2c_world_last_error(void);
+void m2c_world_free(m2c_world *w);
+
+/* s: the time the world has reached. */
+double m2c_world_time(const m2c_world *w);
+int m2c_world_body_count(const m2c_world *w);
+
+/* Handles every event up to time t (at most the scene's end time), calling
+ * fn (when not NULL) for each contact in order.  0, or -1 with the message
+ * in m2c_world_error(w) (a stuck scene, t before the world's time or not a
+ * number): the world is then unusable but for m2c_world_free. */
+int m2c_world_advance(m2c_world *w, double t, m2c_contact_fn fn, void *user);
+
+/* s: the time of the next event that is due (+inf when none is left). */
+double m2c_world_next_event_time(m2c_world *w);
+
+/* The exact state of body at time t, between the world's time and the
+ * next event (0), or -1 (no such body, or t outside that range). */
+int m2c_world_state(const m2c_world *w, int body, double t, m2c_body_state *s);
+
+/* Advances to the scene's end and writes the end of the trace: every
+ * body's final state, the counters and the predictions per variant (what
+ * the batch simulator writes last).  0, or -1 with m2c_world_error(w). */
+int m2c_world_finish(m2c_world *w);
+
+/* The last error of this world ("" when none). */
+const char *m2c_world_error(const m2c_world *w);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
