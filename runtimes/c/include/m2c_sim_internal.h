@@ -296,11 +296,12 @@ struct m2c_world {
 /* Takes scene (freed by m2c_sim_close even on failure), allocates and
  * predicts every pair at t = 0. */
 int m2c_sim_open(m2c_world *w, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace);
-/* Handles the events up to t (<= the scene's end). */
+/* Handles the events before t (<= the scene's end); the time is then t. */
 int m2c_sim_advance(m2c_world *w, double t);
 /* The time of the next live event (stale ones are dropped, counted), or +inf. */
 int m2c_sim_next_time(m2c_world *w, double *t);
-/* Every body at the end time, the counters, the variants served; flushed. */
+/* Handles the events at the end time too, then writes every body at the
+ * end time, the counters, the variants served; flushed. */
 int m2c_sim_finish(m2c_world *w);
 void m2c_sim_close(m2c_world *w);
 /* Body b's exact state at t (from its state at b->tb). */

@@ -52,24 +52,32 @@ void m2c_world_free(m2c_world *w);
 /* s: the time the world has reached. */
 double m2c_world_time(const m2c_world *w);
 int m2c_world_body_count(const m2c_world *w);
+/* s: the scene's end time (no event after it). */
+double m2c_world_end_time(const m2c_world *w);
 
-/* Handles every event up to time t (at most the scene's end time), calling
- * fn (when not NULL) for each contact in order.  0, or -1 with the message
- * in m2c_world_error(w) (a stuck scene, t before the world's time or not a
- * number): the world is then unusable but for m2c_world_free. */
+/* Handles every event before time t, calling fn (when not NULL) for each
+ * contact in order, and moves the world's time to t.  Events at exactly t
+ * stay queued: an input made at t comes before them, as a scripted input
+ * at t does.  0; -1 with the message in m2c_world_error(w) when t is
+ * outside [the world's time, the scene's end] (the world is unchanged), or
+ * when the scene is stuck or memory runs out (the world is then unusable
+ * but for m2c_world_free). */
 int m2c_world_advance(m2c_world *w, double t, m2c_contact_fn fn, void *user);
 
-/* s: the time of the next event that is due (+inf when none is left). */
+/* s: the time of the next event that is not stale (stale ones at the top
+ * of the queue are dropped and counted as the run would), +inf when none
+ * comes before the end. */
 double m2c_world_next_event_time(m2c_world *w);
 
-/* The exact state of body at time t, between the world's time and the
- * next event (0), or -1 (no such body, or t outside that range). */
-int m2c_world_state(const m2c_world *w, int body, double t, m2c_body_state *s);
+/* The exact state of body at time t, for t from the world's time to the
+ * next event's: 0, or -1 with m2c_world_error(w) (no such body, t outside). */
+int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s);
 
-/* Advances to the scene's end and writes the end of the trace: every
- * body's final state, the counters and the predictions per variant (what
- * the batch simulator writes last).  0, or -1 with m2c_world_error(w). */
-int m2c_world_finish(m2c_world *w);
+/* Handles the events at the end time (fn told of their contacts, as
+ * m2c_world_advance), then writes the end of the trace: every body at the
+ * end time, the counters and the predictions per variant (what the batch
+ * simulator writes last).  0, or -1 with m2c_world_error(w). */
+int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
 
 /* The last error of this world ("" when none). */
 const char *m2c_world_error(const m2c_world *w);

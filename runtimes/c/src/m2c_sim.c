@@ -1315,16 +1315,17 @@ static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *
     m->fn(&c, m->user);
 }
 
-/* The events up to limit (s, at most the end) in order, each to its kind's
- * handler; the world's time is then limit. */
-static void run_until(sim *m, double limit)
+/* The queued events before limit (s; inclusive: at limit too) in
+ * (t, kind, seq) order, each to its kind's handler, the events that
+ * handling schedules included. */
+static void run_until(sim *m, double limit, int inclusive)
 {
     m2c_sim_event ev;
     for (;;) {
         const m2c_sim_event *top;
         if (m2c_sim_heap_top(&m->heap, &top) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        if (top == NULL || top->t > limit)
+        if (top == NULL || top->t > limit || (top->t == limit && !inclusive))
             break;
         if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
@@ -1335,7 +1336,6 @@ static void run_until(sim *m, double limit)
         count_same_time(m, ev.t, &m->last_t, &m->same);
         handlers[ev.kind](m, &ev);
     }
-    m->now = limit;
 }
 
 /* Entries: each catches the errors of what it calls (die) here. */
@@ -1382,7 +1382,8 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
 int m2c_sim_advance(sim *m, double t)
 {
     CATCH(m);
-    run_until(m, t);
+    run_until(m, t, 0);
+    m->now = t;
     return 0;
 }
 
@@ -1411,6 +1412,8 @@ int m2c_sim_next_time(sim *m, double *t)
 int m2c_sim_finish(sim *m)
 {
     CATCH(m);
+    run_until(m, m->s->end, 1);
+    m->now = m->s->end;
     finish(m);
     m2c_sim_out_flush(&m->out);
     if (m->out.failed)

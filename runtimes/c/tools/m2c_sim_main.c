@@ -7,6 +7,10 @@
  *
  *   -DM2C_SIM_CC_VARIANTS=N -DM2C_SIM_PE_VARIANTS=M
  *
+ * `m2c_sim --step DT` drives the world in steps of DT instead (as the
+ * reference's sim_main --step: every body's state after each step on
+ * stderr); the trace must be the same bytes.
+ *
  * `m2c_sim --check-format N` instead compares the trace's number writer with
  * printf("%.17g") on N pseudo-random doubles (exit 1 on any difference). */
 #include <math.h>
@@ -104,12 +108,66 @@ static int check_format(long long n)
     return bad != 0;
 }
 
+static void count_contact(const m2c_contact *c, void *user)
+{
+    (void)c;
+    (*(long long *)user)++;
+}
+
+static void put_number(FILE *f, double x)
+{
+    char buf[M2C_SIM_NUMBER_MAX + 1];
+    buf[m2c_sim_format_number(buf, x)] = '\0';
+    fputs(buf, f);
+}
+
+/* The scene through the live API in steps of dt (the reference's
+ * sim_main --step): advance(k dt) for k = 1, 2, ... below the end, each
+ * followed by every body's state at k dt (P lines) and the number of
+ * contacts (C line) on probe, then finish.  0, or -1 (m2c_world_error). */
+static int stepped(m2c_world *w, double end, double dt, FILE *probe)
+{
+    int n = m2c_world_body_count(w);
+    for (long long k = 1; (double)k * dt < end; k++) {
+        double t = (double)k * dt;
+        long long got = 0;
+        if (m2c_world_advance(w, t, count_contact, &got) != 0)
+            return -1;
+        for (int b = 0; b < n; b++) {
+            m2c_body_state st;
+            if (m2c_world_state(w, b, t, &st) != 0)
+                return -1;
+            fputs("P ", probe);
+            put_number(probe, t);
+            fprintf(probe, " %d", b);
+            const double v[6] = { st.x, st.y, st.vx, st.vy, st.angle, st.omega };
+            for (int q = 0; q < 6; q++) {
+                fputc(' ', probe);
+                put_number(probe, v[q]);
+            }
+            fputc('\n', probe);
+        }
+        fputs("C ", probe);
+        put_number(probe, t);
+        fprintf(probe, " %lld\n", got);
+    }
+    return m2c_world_finish(w, NULL, NULL);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "--check-format") == 0)
         return check_format(atoll(argv[2]));
-    if (argc != 1) {
-        fprintf(stderr, "usage: %s < SCENE   (or --check-format N)\n", argv[0]);
+    double dt = 0.0;
+    if (argc == 3 && strcmp(argv[1], "--step") == 0) {
+        char *rest;
+        dt = strtod(argv[2], &rest);
+        if (*rest != '\0' || !(dt > 0.0)) {
+            fprintf(stderr, "%s: --step wants a positive number of seconds\n", argv[0]);
+            return 2;
+        }
+    } else if (argc != 1) {
+        fprintf(stderr, "usage: %s [--step DT] < SCENE   (or --check-format N)\n", argv[0]);
         return 2;
     }
     char *text = read_all(stdin);
@@ -123,7 +181,15 @@ int main(int argc, char **argv)
         printf("X %s\n", m2c_world_last_error());
         return 1;
     }
-    if (m2c_world_finish(w) != 0) {
+    int status;
+    if (dt > 0.0) {
+        status = stepped(w, m2c_world_end_time(w), dt, stderr);
+    } else {
+        status = m2c_world_advance(w, m2c_world_end_time(w), NULL, NULL);
+        if (status == 0)
+            status = m2c_world_finish(w, NULL, NULL);
+    }
+    if (status != 0) {
         char err[M2C_WORLD_ERROR_MAX_COPY];
         snprintf(err, sizeof err, "%s", m2c_world_error(w));
         m2c_world_free(w);          /* flushes the trace written so far */
