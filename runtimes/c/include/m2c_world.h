@@ -19,15 +19,18 @@ extern "C" {
 
 typedef struct m2c_world m2c_world;
 
-/* One contact reported by m2c_world_advance: bodies a and b (scene
- * indices), the feature (0 circle-circle: circle of a against the circle
- * of b, j < 0, or vertex j of b; 1 point-edge: circle of a, i < 0, or
- * vertex i of a against edge j of b), the contact point, the unit normal
- * from a to b, and the impulse. */
+/* One contact reported by m2c_world_advance: the fields of the trace's
+ * E collision / E support line: bodies a and b (scene indices), the
+ * feature (0 circle-circle: circle of a against the circle of b, j < 0, or
+ * vertex j of b; 1 point-edge: circle of a, i < 0, or vertex i of a against
+ * edge j of b), the contact point, the unit normal from a to b, the
+ * impulse; support: 1 when the contact ended in support (a resting or
+ * sliding body, E support), 0 for a collision. */
 typedef struct m2c_contact {
     double t;
     int a, b, feature, i, j;
     double px, py, nx, ny, impulse;
+    int support;
 } m2c_contact;
 
 typedef void (*m2c_contact_fn)(const m2c_contact *c, void *user);

@@ -47,7 +47,7 @@ static _Noreturn void die(sim *m, const char *fmt, ...)
 }
 
 static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
-                   int32_t j, double cx, double cy, double nx, double ny, double imp);
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support);
 
 /* cos(a) and sin(a), from the cache when a is the angle (to the bit) it
  * last held: libm's answer for the same argument, without the call.  A
@@ -1046,7 +1046,7 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     enter_support(m, A, B, ev->u.collision.j);
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
-    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp);
+    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1078,7 +1078,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             end_support(B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
-    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp);
+    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -1307,11 +1307,11 @@ static void count_same_time(sim *m, double t, double *last_t, long long *same)
 
 /* Tells the caller of m2c_world_advance of a contact. */
 static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
-                   int32_t j, double cx, double cy, double nx, double ny, double imp)
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support)
 {
     if (m->fn == NULL)
         return;
-    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp };
+    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp, support };
     m->fn(&c, m->user);
 }
 
