@@ -82,6 +82,22 @@ int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s);
  * simulator writes last).  0, or -1 with m2c_world_error(w). */
 int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
 
+/* Live inputs, at the world's time T (docs/engine-api.md, "Live inputs"):
+ * handled as the same input scripted at T and listed after the scene's
+ * would be (the scene's inputs at T first, then this one, before any other
+ * event at T), and appended to the world's input list: the recording.
+ * Movable bodies only.  0, or -1 with m2c_world_error(w): no such body, a
+ * fixed body, a coordinate that is not finite (the world unchanged), or a
+ * failure (the world unusable).  Velocities in m/s; an impulse in N s
+ * through the centre (dv = J / mass). */
+int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy);
+int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy);
+int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy);
+/* Moves the body's centre to (x, y) now, keeping its velocity: 1; 0 (the
+ * world unchanged) when it would overlap another body there by more than
+ * the tolerance; -1 as above. */
+int m2c_world_teleport(m2c_world *w, int body, double x, double y);
+
 /* The last error of this world ("" when none). */
 const char *m2c_world_error(const m2c_world *w);
 

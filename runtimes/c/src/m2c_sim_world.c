@@ -183,3 +183,36 @@ int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user)
     w->user = NULL;
     return status;
 }
+
+/* A live input: 0, or -1 with the message (a refused teleport is 0 with
+ * *done 0). */
+static int live(m2c_world *w, int body, int mode, double x, double y, int *done)
+{
+    return m2c_sim_live_input(w, body, mode, x, y, done);
+}
+
+int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy)
+{
+    int done;
+    return live(w, body, M2C_SIM_SET_VELOCITY, vx, vy, &done);
+}
+
+int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy)
+{
+    int done;
+    return live(w, body, M2C_SIM_ADD_VELOCITY, dvx, dvy, &done);
+}
+
+int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy)
+{
+    int done;
+    return live(w, body, M2C_SIM_IMPULSE, jx, jy, &done);
+}
+
+int m2c_world_teleport(m2c_world *w, int body, double x, double y)
+{
+    int done;
+    if (live(w, body, M2C_SIM_TELEPORT, x, y, &done) != 0)
+        return -1;
+    return done;
+}
