@@ -64,11 +64,17 @@ typedef struct m2c_sim_trig {
     int valid;
 } m2c_sim_trig;
 
+/* input modes (the flat scene's MODE; docs/simulator.md) */
+enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3 };
+
+/* A scripted or live input. */
 typedef struct m2c_sim_input {
     double t;               /* s */
     int32_t body;
-    int32_t mode;           /* 0: set velocity, 1: add velocity */
-    double vx, vy;          /* m/s */
+    int32_t mode;           /* M2C_SIM_SET_VELOCITY, M2C_SIM_ADD_VELOCITY (vx, vy m/s), M2C_SIM_IMPULSE
+                               (vx, vy: the impulse, N s, through the centre), M2C_SIM_TELEPORT (vx, vy:
+                               the new centre, m) */
+    double vx, vy;
 } m2c_sim_input;
 
 struct m2c_sim_scene {
@@ -81,6 +87,7 @@ struct m2c_sim_scene {
     double x0, y0, cw, ch;  /* m: grid origin and cell size */
     int32_t nx, ny;         /* grid cells per axis */
     int32_t nbodies, ninputs;
+    int32_t inputs_cap;     /* room in inputs (live inputs are appended: the recording) */
     m2c_sim_body *bodies;
     m2c_sim_vertex *verts;  /* every polygon's vertices, one block */
     m2c_sim_input *inputs;
@@ -296,11 +303,17 @@ struct m2c_world {
 /* Takes scene (freed by m2c_sim_close even on failure), allocates and
  * predicts every pair at t = 0. */
 int m2c_sim_open(m2c_world *w, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace);
-/* Handles the events up to t (<= the scene's end). */
+/* Handles the events before t (<= the scene's end); the time is then t. */
 int m2c_sim_advance(m2c_world *w, double t);
 /* The time of the next live event (stale ones are dropped, counted), or +inf. */
 int m2c_sim_next_time(m2c_world *w, double *t);
-/* Every body at the end time, the counters, the variants served; flushed. */
+/* A live input at the world's time (docs/engine-api.md): 0 with *done 1,
+ * or *done 0 when a teleport is refused (it would overlap; the world is
+ * unchanged); -1 on a bad call (the world is unchanged: no such body, a
+ * fixed body, a coordinate that is not finite) or a failure. */
+int m2c_sim_live_input(m2c_world *w, int body, int mode, double x, double y, int *done);
+/* Handles the events at the end time too, then writes every body at the
+ * end time, the counters, the variants served; flushed. */
 int m2c_sim_finish(m2c_world *w);
 void m2c_sim_close(m2c_world *w);
 /* Body b's exact state at t (from its state at b->tb). */

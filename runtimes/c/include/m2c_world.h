@@ -19,15 +19,18 @@ extern "C" {
 
 typedef struct m2c_world m2c_world;
 
-/* One contact reported by m2c_world_advance: bodies a and b (scene
- * indices), the feature (0 circle-circle: circle of a against the circle
- * of b, j < 0, or vertex j of b; 1 point-edge: circle of a, i < 0, or
- * vertex i of a against edge j of b), the contact point, the unit normal
- * from a to b, and the impulse. */
+/* One contact reported by m2c_world_advance: the fields of the trace's
+ * E collision / E support line: bodies a and b (scene indices), the
+ * feature (0 circle-circle: circle of a against the circle of b, j < 0, or
+ * vertex j of b; 1 point-edge: circle of a, i < 0, or vertex i of a against
+ * edge j of b), the contact point, the unit normal from a to b, the
+ * impulse; support: 1 when the contact ended in support (a resting or
+ * sliding body, E support), 0 for a collision. */
 typedef struct m2c_contact {
     double t;
     int a, b, feature, i, j;
     double px, py, nx, ny, impulse;
+    int support;
 } m2c_contact;
 
 typedef void (*m2c_contact_fn)(const m2c_contact *c, void *user);
@@ -52,24 +55,48 @@ void m2c_world_free(m2c_world *w);
 /* s: the time the world has reached. */
 double m2c_world_time(const m2c_world *w);
 int m2c_world_body_count(const m2c_world *w);
+/* s: the scene's end time (no event after it). */
+double m2c_world_end_time(const m2c_world *w);
 
-/* Handles every event up to time t (at most the scene's end time), calling
- * fn (when not NULL) for each contact in order.  0, or -1 with the message
- * in m2c_world_error(w) (a stuck scene, t before the world's time or not a
- * number): the world is then unusable but for m2c_world_free. */
+/* Handles every event before time t, calling fn (when not NULL) for each
+ * contact in order, and moves the world's time to t.  Events at exactly t
+ * stay queued: an input made at t comes before them, as a scripted input
+ * at t does.  0; -1 with the message in m2c_world_error(w) when t is
+ * outside [the world's time, the scene's end] (the world is unchanged), or
+ * when the scene is stuck or memory runs out (the world is then unusable
+ * but for m2c_world_free). */
 int m2c_world_advance(m2c_world *w, double t, m2c_contact_fn fn, void *user);
 
-/* s: the time of the next event that is due (+inf when none is left). */
+/* s: the time of the next event that is not stale (stale ones at the top
+ * of the queue are dropped and counted as the run would), +inf when none
+ * comes before the end. */
 double m2c_world_next_event_time(m2c_world *w);
 
-/* The exact state of body at time t, between the world's time and the
- * next event (0), or -1 (no such body, or t outside that range). */
-int m2c_world_state(const m2c_world *w, int body, double t, m2c_body_state *s);
+/* The exact state of body at time t, for t from the world's time to the
+ * next event's: 0, or -1 with m2c_world_error(w) (no such body, t outside). */
+int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s);
 
-/* Advances to the scene's end and writes the end of the trace: every
- * body's final state, the counters and the predictions per variant (what
- * the batch simulator writes last).  0, or -1 with m2c_world_error(w). */
-int m2c_world_finish(m2c_world *w);
+/* Handles the events at the end time (fn told of their contacts, as
+ * m2c_world_advance), then writes the end of the trace: every body at the
+ * end time, the counters and the predictions per variant (what the batch
+ * simulator writes last).  0, or -1 with m2c_world_error(w). */
+int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
+
+/* Live inputs, at the world's time T (docs/engine-api.md, "Live inputs"):
+ * handled as the same input scripted at T and listed after the scene's
+ * would be (the scene's inputs at T first, then this one, before any other
+ * event at T), and appended to the world's input list: the recording.
+ * Movable bodies only.  0, or -1 with m2c_world_error(w): no such body, a
+ * fixed body, a coordinate that is not finite (the world unchanged), or a
+ * failure (the world unusable).  Velocities in m/s; an impulse in N s
+ * through the centre (dv = J / mass). */
+int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy);
+int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy);
+int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy);
+/* Moves the body's centre to (x, y) now, keeping its velocity: 1; 0 (the
+ * world unchanged) when it would overlap another body there by more than
+ * the tolerance; -1 as above. */
+int m2c_world_teleport(m2c_world *w, int body, double x, double y);
 
 /* The last error of this world ("" when none). */
 const char *m2c_world_error(const m2c_world *w);

@@ -47,7 +47,14 @@ static _Noreturn void die(sim *m, const char *fmt, ...)
 }
 
 static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
-                   int32_t j, double cx, double cy, double nx, double ny, double imp);
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support);
+
+/* %.17g of x (as the reference's _fmt) into buf, NUL-terminated. */
+static const char *fmt(char *buf, double x)
+{
+    buf[m2c_sim_format_number(buf, x)] = '\0';
+    return buf;
+}
 
 /* cos(a) and sin(a), from the cache when a is the angle (to the bit) it
  * last held: libm's answer for the same argument, without the call.  A
@@ -964,7 +971,7 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
  * material points do not approach and are not pressed together, else the
  * impulse j >= 0 (velocities changed).  Pressed together, they leave at
  * rest_speed at least, so time advances (docs/simulator.md). */
-static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                             double ny)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
@@ -1046,7 +1053,7 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     enter_support(m, A, B, ev->u.collision.j);
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
-    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp);
+    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1070,7 +1077,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         return;
     }
     m->stats.collisions++;
-    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
     if (imp != 0.0) {
         if (A->sup >= 0)
             end_support(A);
@@ -1078,7 +1085,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             end_support(B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
-    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp);
+    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -1124,7 +1131,147 @@ static void handle_leave(sim *m, const m2c_sim_event *ev)
     predict_body(m, A, ev->t, NULL);
 }
 
-/* Scripted input number k: its body's velocity set or added to. */
+/* ---- overlap (a teleport's check) ------------------------------------------------------------ */
+
+/* Python's max(a, b) and min(a, b): the first unless the second is larger
+ * (smaller). */
+static inline double py_max(double a, double b)
+{
+    return b > a ? b : a;
+}
+
+static inline double py_min(double a, double b)
+{
+    return b < a ? b : a;
+}
+
+/* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
+ * line, (ox, oy) . point = off. */
+static void edge_line(const m2c_sim_body *P, int32_t j, double t, double *ox, double *oy, double *off)
+{
+    const m2c_sim_vertex *ed = &P->verts[j];
+    motion q = state_at(P, t);
+    double c = cos(q.ang);
+    double s = sin(q.ang);
+    *ox = c * ed->nx - s * ed->ny;
+    *oy = s * ed->nx + c * ed->ny;
+    *off = *ox * q.x + *oy * q.y + ed->h;
+}
+
+/* Along the edge normals of P: the largest over P's edges of the smallest
+ * distance of Q's vertices beyond the edge's line. */
+static double edges_separation(sim *m, const m2c_sim_body *P, const m2c_sim_body *Q, double t)
+{
+    double best = -INFINITY;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, t, &ox, &oy, &off);
+        double lo = INFINITY;
+        for (int32_t k = 0; k < Q->nverts; k++) {
+            double qx, qy;
+            point_at(m, Q, &Q->verts[k], t, &qx, &qy);
+            lo = py_min(lo, ox * qx + oy * qy - off);
+        }
+        best = py_max(best, lo);
+    }
+    return best;
+}
+
+/* A circle against a polygon: along P's edge normals, and along the line
+ * from P's nearest vertex (the first of the nearest) to the circle's centre. */
+static double circle_separation(sim *m, const m2c_sim_body *C, const m2c_sim_body *P, double t)
+{
+    double cx, cy;
+    point_at(m, C, NULL, t, &cx, &cy);
+    double best = -INFINITY;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, t, &ox, &oy, &off);
+        best = py_max(best, ox * cx + oy * cy - off - C->r);
+    }
+    double d2 = INFINITY, nearx = 0.0, neary = 0.0;
+    for (int32_t k = 0; k < P->nverts; k++) {
+        double qx, qy;
+        point_at(m, P, &P->verts[k], t, &qx, &qy);
+        double e2 = (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy);
+        if (e2 < d2) {
+            d2 = e2;
+            nearx = qx;
+            neary = qy;
+        }
+    }
+    if (d2 > 0.0) {
+        double d = sqrt(d2);
+        double ux = (cx - nearx) / d, uy = (cy - neary) / d;
+        double hi = -INFINITY;
+        for (int32_t k = 0; k < P->nverts; k++) {
+            double qx, qy;
+            point_at(m, P, &P->verts[k], t, &qx, &qy);
+            hi = py_max(hi, ux * qx + uy * qy);
+        }
+        best = py_max(best, ux * cx + uy * cy - C->r - hi);
+    }
+    return best;
+}
+
+/* The largest gap between A and B at t along a separating axis: negative
+ * by the depth they overlap (edge normals of either polygon, and for a
+ * circle the line from the nearest vertex; circles: the distance of the
+ * centres less the radii). */
+static double separation(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double t)
+{
+    if (!A->polygon && !B->polygon) {
+        double ax, ay, bx, by;
+        point_at(m, A, NULL, t, &ax, &ay);
+        point_at(m, B, NULL, t, &bx, &by);
+        return sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A->r + B->r);
+    }
+    if (!A->polygon)
+        return circle_separation(m, A, B, t);
+    if (!B->polygon)
+        return circle_separation(m, B, A, t);
+    return py_max(edges_separation(m, A, B, t), edges_separation(m, B, A, t));
+}
+
+/* The first body (by index) that A, with its centre moved to (x, y) at
+ * time t, would overlap by more than the tolerance; -1 when none. */
+static int32_t overlapping(sim *m, m2c_sim_body *A, double x, double y, double t)
+{
+    double tol = m->s->tol;
+    double spx = A->px, spy = A->py, svx = A->vx, svy = A->vy, sang = A->ang, stb = A->tb;
+    motion q = state_at(A, t);
+    A->px = x;                          /* A at t, moved (restored below) */
+    A->py = y;
+    A->vx = q.vx;
+    A->vy = q.vy;
+    A->ang = q.ang;
+    A->tb = t;
+    int32_t found = -1;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        const m2c_sim_body *B = &m->bodies[k];
+        if (B == A)
+            continue;
+        motion qb = state_at(B, t);
+        double dx = qb.x - x, dy = qb.y - y;
+        double reach = A->bound + B->bound + tol;
+        if (dx * dx + dy * dy > reach * reach)
+            continue;
+        if (separation(m, A, B, t) < -tol) {
+            found = B->idx;
+            break;
+        }
+    }
+    A->px = spx;
+    A->py = spy;
+    A->vx = svx;
+    A->vy = svy;
+    A->ang = sang;
+    A->tb = stb;
+    return found;
+}
+
+/* Scripted or live input number k: its body's velocity set or added to,
+ * an impulse through its centre, or its centre moved. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
 {
     m->stats.inputs++;
@@ -1133,14 +1280,31 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     const m2c_sim_input *in = &m->s->inputs[k];
     m2c_sim_body *body = &m->bodies[in->body];
     advance(body, t);
+    if (in->mode == M2C_SIM_TELEPORT) {
+        int32_t o = overlapping(m, body, in->vx, in->vy, t);
+        if (o >= 0) {
+            char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+            die(m, "input %d: body %d teleported to (%s, %s) at t = %s would overlap body %d", (int)k,
+                (int)body->idx, fmt(a, in->vx), fmt(b, in->vy), fmt(c, t), (int)o);
+        }
+    }
     if (body->sup >= 0)
         end_support(body);
-    if (in->mode == 0) {
+    if (in->mode == M2C_SIM_SET_VELOCITY) {
         body->vx = in->vx;
         body->vy = in->vy;
-    } else {
+    } else if (in->mode == M2C_SIM_ADD_VELOCITY) {
         body->vx = body->vx + in->vx;
         body->vy = body->vy + in->vy;
+    } else if (in->mode == M2C_SIM_IMPULSE) {
+        body->vx = body->vx + in->vx * body->inv_m;
+        body->vy = body->vy + in->vy * body->inv_m;
+    } else {
+        body->px = in->vx;
+        body->py = in->vy;
+        m2c_sim_grid_remove(&m->grid, m->bodies, body);
+        cell_of(m, body->px, body->py, &body->cx, &body->cy);
+        cell_add(m, body);
     }
     m->stamp[body->idx]++;
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
@@ -1307,35 +1471,58 @@ static void count_same_time(sim *m, double t, double *last_t, long long *same)
 
 /* Tells the caller of m2c_world_advance of a contact. */
 static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
-                   int32_t j, double cx, double cy, double nx, double ny, double imp)
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support)
 {
     if (m->fn == NULL)
         return;
-    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp };
+    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp, support };
     m->fn(&c, m->user);
 }
 
-/* The events up to limit (s, at most the end) in order, each to its kind's
- * handler; the world's time is then limit. */
-static void run_until(sim *m, double limit)
+/* Handles one event popped from the queue: dropped when stale, counted
+ * among the events at one instant (max_same_time), to its kind's handler. */
+static void dispatch(sim *m, const m2c_sim_event *ev)
+{
+    if (is_stale(m, ev)) {
+        m->stats.stale++;
+        return;
+    }
+    count_same_time(m, ev->t, &m->last_t, &m->same);
+    handlers[ev->kind](m, ev);
+}
+
+/* The queued events before limit (s; inclusive: at limit too) in
+ * (t, kind, seq) order, each to its kind's handler, the events that
+ * handling schedules included. */
+static void run_until(sim *m, double limit, int inclusive)
 {
     m2c_sim_event ev;
     for (;;) {
         const m2c_sim_event *top;
         if (m2c_sim_heap_top(&m->heap, &top) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        if (top == NULL || top->t > limit)
+        if (top == NULL || top->t > limit || (top->t == limit && !inclusive))
             break;
         if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        if (is_stale(m, &ev)) {
-            m->stats.stale++;
-            continue;
-        }
-        count_same_time(m, ev.t, &m->last_t, &m->same);
-        handlers[ev.kind](m, &ev);
+        dispatch(m, &ev);
     }
-    m->now = limit;
+}
+
+/* Handles the input events queued at exactly the world's time. */
+static void inputs_now(sim *m)
+{
+    m2c_sim_event ev;
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t != m->now || top->kind != M2C_SIM_INPUT)
+            break;
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        dispatch(m, &ev);
+    }
 }
 
 /* Entries: each catches the errors of what it calls (die) here. */
@@ -1382,7 +1569,8 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
 int m2c_sim_advance(sim *m, double t)
 {
     CATCH(m);
-    run_until(m, t);
+    run_until(m, t, 0);
+    m->now = t;
     return 0;
 }
 
@@ -1408,9 +1596,57 @@ int m2c_sim_next_time(sim *m, double *t)
     }
 }
 
+int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done)
+{
+    *done = 0;
+    if (m->broken)
+        return -1;
+    if (body < 0 || body >= m->s->nbodies) {
+        snprintf(m->err, sizeof m->err, "no body %d (the world has %d)", body, (int)m->s->nbodies);
+        return -1;
+    }
+    m2c_sim_body *b = &m->bodies[body];
+    if (b->fixed) {
+        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only", body);
+        return -1;
+    }
+    if (!isfinite(x) || !isfinite(y)) {
+        char a[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(m->err, sizeof m->err, "input on body %d: (%s, %s) is not finite", body, fmt(a, x), fmt(c, y));
+        return -1;
+    }
+    CATCH(m);
+    double t = m->now;
+    inputs_now(m);
+    if (mode == M2C_SIM_TELEPORT && overlapping(m, b, x, y, t) >= 0)
+        return 0;
+    m2c_sim_scene *s = m->s;
+    if (s->ninputs == s->inputs_cap) {
+        if (s->inputs_cap > (1 << 28))
+            die(m, "too many inputs");
+        m2c_sim_input *more = realloc(s->inputs, 2 * (size_t)s->inputs_cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (inputs)");
+        s->inputs = more;
+        s->inputs_cap *= 2;
+    }
+    m2c_sim_input *in = &s->inputs[s->ninputs++];
+    in->t = t;
+    in->body = body;
+    in->mode = mode;
+    in->vx = x;
+    in->vy = y;
+    push_input(m, t, s->ninputs - 1);
+    inputs_now(m);
+    *done = 1;
+    return 0;
+}
+
 int m2c_sim_finish(sim *m)
 {
     CATCH(m);
+    run_until(m, m->s->end, 1);
+    m->now = m->s->end;
     finish(m);
     m2c_sim_out_flush(&m->out);
     if (m->out.failed)

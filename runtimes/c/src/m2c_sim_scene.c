@@ -229,7 +229,8 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     word(r, "inputs");
     s->ninputs = count(r, 1 << 28);
     if (!r->failed) {
-        s->inputs = calloc((size_t)s->ninputs + 1, sizeof *s->inputs);
+        s->inputs_cap = s->ninputs + 1;
+        s->inputs = calloc((size_t)s->inputs_cap, sizeof *s->inputs);
         if (s->inputs == NULL)
             fail(r, "out of memory");
     }

@@ -102,6 +102,11 @@ double m2c_world_time(const m2c_world *w)
     return w->now;
 }
 
+double m2c_world_end_time(const m2c_world *w)
+{
+    return w->s->end;
+}
+
 int m2c_world_body_count(const m2c_world *w)
 {
     return (int)w->s->nbodies;
@@ -112,23 +117,24 @@ const char *m2c_world_error(const m2c_world *w)
     return w->err;
 }
 
-/* An error of a call that leaves the world as it was. */
-static int refuse(m2c_world *w, const char *msg)
+/* %.17g of x, as the reference writes numbers in its messages. */
+static const char *num(char *buf, double x)
 {
-    snprintf(w->err, sizeof w->err, "%s", msg);
-    return -1;
+    buf[m2c_sim_format_number(buf, x)] = '\0';
+    return buf;
 }
 
 int m2c_world_advance(m2c_world *w, double t, m2c_contact_fn fn, void *user)
 {
     if (w->broken)
         return -1;
-    if (t != t)
-        return refuse(w, "advance: the time is not a number");
-    if (t < w->now)
-        return refuse(w, "advance: the time is before the world's time");
-    if (t > w->s->end)
-        t = w->s->end;
+    if (!(t >= w->now && t <= w->s->end)) {
+        /* the world is unchanged: the caller may go on */
+        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(w->err, sizeof w->err, "advance: t = %s is outside [%s, %s] (the world's time .. the scene's end)",
+                 num(a, t), num(b, w->now), num(c, w->s->end));
+        return -1;
+    }
     w->fn = fn;
     w->user = user;
     int status = m2c_sim_advance(w, t);
@@ -145,17 +151,68 @@ double m2c_world_next_event_time(m2c_world *w)
     return t;
 }
 
-int m2c_world_state(const m2c_world *w, int body, double t, m2c_body_state *s)
+int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s)
 {
-    if (body < 0 || body >= w->s->nbodies || !(t >= w->now) || t > w->s->end)
+    if (w->broken)
         return -1;
+    if (body < 0 || body >= w->s->nbodies) {
+        snprintf(w->err, sizeof w->err, "no body %d (the world has %d)", body, (int)w->s->nbodies);
+        return -1;
+    }
+    double nxt = m2c_world_next_event_time(w);
+    if (w->broken)
+        return -1;
+    if (!(t >= w->now && t <= nxt && t <= w->s->end)) {
+        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(w->err, sizeof w->err, "state: t = %s is outside [%s, %s] (the world's time .. the next event)",
+                 num(a, t), num(b, w->now), num(c, nxt));
+        return -1;
+    }
     m2c_sim_body_state(&w->bodies[body], t, s);
     return 0;
 }
 
-int m2c_world_finish(m2c_world *w)
+int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user)
 {
-    if (m2c_world_advance(w, w->s->end, NULL, NULL) != 0)
+    if (w->broken)
         return -1;
-    return m2c_sim_finish(w);
+    w->fn = fn;
+    w->user = user;
+    int status = m2c_sim_finish(w);
+    w->fn = NULL;
+    w->user = NULL;
+    return status;
+}
+
+/* A live input: 0, or -1 with the message (a refused teleport is 0 with
+ * *done 0). */
+static int live(m2c_world *w, int body, int mode, double x, double y, int *done)
+{
+    return m2c_sim_live_input(w, body, mode, x, y, done);
+}
+
+int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy)
+{
+    int done;
+    return live(w, body, M2C_SIM_SET_VELOCITY, vx, vy, &done);
+}
+
+int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy)
+{
+    int done;
+    return live(w, body, M2C_SIM_ADD_VELOCITY, dvx, dvy, &done);
+}
+
+int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy)
+{
+    int done;
+    return live(w, body, M2C_SIM_IMPULSE, jx, jy, &done);
+}
+
+int m2c_world_teleport(m2c_world *w, int body, double x, double y)
+{
+    int done;
+    if (live(w, body, M2C_SIM_TELEPORT, x, y, &done) != 0)
+        return -1;
+    return done;
 }

@@ -1,0 +1,176 @@
+"""The C world API (runtimes/c/include/m2c_world.h, docs/engine-api.md):
+the example program of the docs compiles warning-free against the
+libm2c_world.so that the simulator's build makes and reports the contacts
+of the batch trace; two worlds at once, driven in different steps through
+ctypes, write the batch bytes."""
+from __future__ import annotations
+
+import ctypes
+import os
+import subprocess
+
+import pytest
+
+from max2code.sim.scene import compile_scene, load_scene
+from max2code.sim.simulate import run_scene, world_library
+from max2code.targets.c import FLAGS
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")
+EXAMPLE = os.path.join(ROOT, "runtimes", "c", "examples", "world_loop.c")
+
+
+def test_the_docs_example_program_runs(tmp_path):
+    scene = load_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
+    lib = world_library(scene)
+    exe = tmp_path / "world_loop"
+    subprocess.run([*FLAGS, f"-I{INCLUDE}", EXAMPLE, str(lib), f"-Wl,-rpath,{lib.parent}", "-lm", "-o", str(exe)],
+                   check=True)
+    flat = tmp_path / "cradle.txt"
+    flat.write_text(compile_scene(scene))
+    out = subprocess.run([str(exe), str(flat), "1"], capture_output=True, text=True, check=True).stdout.splitlines()
+    batch = run_scene(scene, "c")
+    contacts = [e for e in batch.events if e["kind"] in ("collision", "support")]
+    assert sum(1 for line in out if line.startswith("contact ")) == len(contacts) > 0
+    assert out[-1].startswith(f"{len(contacts)} contacts")
+    assert sum(1 for line in out if line.startswith("frame ")) == int(scene.end_time * 60) // 30
+    bad = subprocess.run([str(exe), str(tmp_path / "missing.txt"), "0"], capture_output=True, text=True)
+    assert bad.returncode == 1 and "missing.txt" in bad.stderr
+
+
+class _Lib:
+    """The C world through ctypes (the calls this test needs)."""
+
+    def __init__(self, path):
+        lib = ctypes.CDLL(str(path))
+        vp, d = ctypes.c_void_p, ctypes.c_double
+        lib.m2c_world_new.restype = vp
+        lib.m2c_world_new.argtypes = [ctypes.c_char_p, vp]
+        lib.m2c_world_advance.argtypes = [vp, d, vp, vp]
+        lib.m2c_world_finish.argtypes = [vp, vp, vp]
+        lib.m2c_world_free.argtypes = [vp]
+        lib.m2c_world_error.restype = ctypes.c_char_p
+        lib.m2c_world_error.argtypes = [vp]
+        lib.m2c_world_last_error.restype = ctypes.c_char_p
+        lib.m2c_world_next_event_time.restype = d
+        lib.m2c_world_next_event_time.argtypes = [vp]
+        lib.m2c_world_time.restype = d
+        lib.m2c_world_time.argtypes = [vp]
+        self.lib = lib
+        libc = ctypes.CDLL(None)
+        libc.fopen.restype = vp
+        libc.fopen.argtypes = [ctypes.c_char_p, ctypes.c_char_p]
+        libc.fclose.argtypes = [vp]
+        self.libc = libc
+
+
+@pytest.mark.parametrize("name", ["platformer.json", "spinning-polygons.json"])
+def test_two_worlds_at_once_write_the_batch_bytes(tmp_path, name):
+    scene = load_scene(os.path.join(ROOT, "examples", name))
+    c = _Lib(world_library(scene))
+    lib, flat = c.lib, compile_scene(scene).encode()
+    files = [c.libc.fopen(str(tmp_path / f"w{k}.txt").encode(), b"w") for k in range(2)]
+    worlds = [lib.m2c_world_new(flat, f) for f in files]
+    assert all(worlds), lib.m2c_world_last_error()
+    end, t, steps = scene.end_time, 0.0, 0
+    while t < end:                          # world 1 in steps of 0.013 s, asking for the next event each time
+        t = min(end, t + 0.013)
+        assert lib.m2c_world_advance(worlds[1], t, None, None) == 0, lib.m2c_world_error(worlds[1])
+        assert lib.m2c_world_next_event_time(worlds[1]) >= t
+        steps += 1
+        if steps % 50 == 0:                 # world 0 catches up now and then
+            assert lib.m2c_world_advance(worlds[0], t / 2, None, None) == 0
+    assert lib.m2c_world_advance(worlds[0], end, None, None) == 0
+    assert lib.m2c_world_advance(worlds[0], end / 2, None, None) == -1      # time never goes back
+    assert b"outside" in lib.m2c_world_error(worlds[0])
+    for w in worlds:
+        assert lib.m2c_world_finish(w, None, None) == 0
+        lib.m2c_world_free(w)
+    for f in files:
+        c.libc.fclose(f)
+    batch = run_scene(scene, "c").raw
+    assert (tmp_path / "w0.txt").read_text() == batch
+    assert (tmp_path / "w1.txt").read_text() == batch
+    assert lib.m2c_world_new(b"m2c-scene 9", None) is None
+    assert b"version" in lib.m2c_world_last_error()
+
+
+def _c_session(scene, path, ops):
+    """The flat trace of the C world with the ops [(t, name, body, x, y)]
+    made live (advance to t first), then finished; and what each returned."""
+    from max2code.sim.live import python_world  # noqa: F401  (the same scene compile as the reference's)
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    for name in ("set_velocity", "add_velocity", "apply_impulse", "teleport"):
+        f = getattr(lib, f"m2c_world_{name}")
+        f.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_double, ctypes.c_double]
+    fh = c.libc.fopen(str(path).encode(), b"w")
+    w = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    results = []
+    for t, name, body, x, y in ops:
+        assert lib.m2c_world_advance(w, t, None, None) == 0, lib.m2c_world_error(w)
+        results.append(getattr(lib, f"m2c_world_{name}")(w, body, x, y))
+    assert lib.m2c_world_finish(w, None, None) == 0, lib.m2c_world_error(w)
+    lib.m2c_world_free(w)
+    c.libc.fclose(fh)
+    return path.read_text(), results
+
+
+def _py_session(scene, ops):
+    import io
+    from max2code.sim.live import python_world
+    out = io.StringIO()
+    w = python_world(scene, out)
+    results = []
+    for t, name, body, x, y in ops:
+        w.advance(t)
+        r = getattr(w, name)(body, x, y)
+        results.append(int(r) if name == "teleport" else 0)
+    w.finish()
+    return out.getvalue(), results
+
+
+def test_live_inputs_and_teleports_refused_or_made_as_the_reference(tmp_path):
+    """Teleports of a circle, a turned box and a small circle to a grid of
+    places over the box (into walls, the floor, each other, free space),
+    with velocity inputs between: C refuses exactly the teleports the
+    reference refuses and writes its bytes."""
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.scene import parse_scene
+    scene = parse_scene(json.dumps(inputs_scene(2.0) | {"inputs": []}))
+    names = [b.name for b in scene.bodies]
+    ops, t = [], 0.0
+    grid = [-0.05 + 0.3 * k for k in range(8)]
+    for n, who in enumerate(("ball", "crate", "pebble")):
+        for k, (x, y) in enumerate((x, y) for x in grid for y in grid):
+            t = round(t + 0.007, 6)
+            ops.append((t, "teleport", names.index(who), x, y))
+            if k % 9 == 0:
+                ops.append((t, ("set_velocity", "add_velocity", "apply_impulse")[(k // 9) % 3], names.index(who),
+                            0.3 - 0.1 * n, 0.2))
+    assert t < scene.end_time
+    ref, want = _py_session(scene, ops)
+    got_trace, got = _c_session(scene, tmp_path / "c.txt", ops)
+    assert got == want
+    assert 0 < sum(want) < len([o for o in ops if o[1] == "teleport"])      # some refused, some made
+    assert got_trace == ref
+
+
+def test_a_scripted_teleport_into_overlap_is_the_references_error():
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.scene import parse_scene
+    from max2code.sim.simulate import SimulateError
+    raw = inputs_scene(1.0)
+    raw["inputs"] = [{"time": 0.25, "body": "ball", "teleport": [1.0, 0.0]}]
+    msgs = []
+    for lang in ("python", "c"):
+        with pytest.raises(SimulateError, match="input 0: body .* would overlap body 0") as exc:
+            run_scene(parse_scene(json.dumps(raw)), lang)
+        msgs.append(str(exc.value).split("simulator: ")[1])
+    assert msgs[0] == msgs[1]
