@@ -95,7 +95,8 @@ class CWorld:
     """A live world in C.  `out`: None (no trace) or an object with write(str),
     as the reference's World takes: the C world writes its flat trace to a
     temporary file whose new bytes are passed on after every call that may
-    write (advance, next_event_time never writes, finish)."""
+    write (advance, the inputs, finish) and at close() (the C world buffers
+    its trace: the last bytes come when it is freed)."""
 
     def __init__(self, library: str, scene_text: str, out=None):
         self._lib = load_library(library)
@@ -164,9 +165,9 @@ class CWorld:
     def close(self) -> None:
         """Free the C world (its trace passed on first); the object is then unusable."""
         if self._w is not None:
-            self._pass_trace()
-            self._lib.m2c_world_free(self._w)
+            self._lib.m2c_world_free(self._w)      # writes out what the world still buffers
             self._w = None
+            self._pass_trace()
         self._close_trace()
 
     def __enter__(self):
