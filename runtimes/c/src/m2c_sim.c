@@ -786,6 +786,8 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
 
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
@@ -1010,6 +1012,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
                          int32_t feature, int32_t i, int32_t j, double cx, double cy, double nx, double ny,
                          double imp)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1031,6 +1035,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
 static void emit_support_change(sim *m, const char *kind, double t, const m2c_sim_body *A, int32_t sup,
                                 int32_t edge)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1273,6 +1279,8 @@ static int32_t overlapping(sim *m, m2c_sim_body *A, double x, double y, double t
 /* An E line of an input (k: its index in the input list). */
 static void emit_input(sim *m, double t, const m2c_sim_body *body, int32_t k)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E input ");
     p = m2c_sim_put_num(p, t);
@@ -1412,11 +1420,13 @@ static void handle_frame(sim *m, const m2c_sim_event *ev)
 {
     m->stats.frames++;
     const m2c_sim_scene *s = m->s;
-    char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E frame ");
-    p = m2c_sim_put_num(p, ev->t);
-    p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
-    m->out.n += (size_t)(p - start);
+    if (m->out.f != NULL) {
+        char *start = m2c_sim_out_reserve(&m->out), *p = start;
+        p = m2c_sim_put_str(p, "E frame ");
+        p = m2c_sim_put_num(p, ev->t);
+        p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+        m->out.n += (size_t)(p - start);
+    }
     double nxt = (double)(ev->u.frame.k + 1) * s->frame_dt;
     if (nxt <= s->end)
         push_frame(m, nxt, ev->u.frame.k + 1);
