@@ -56,6 +56,7 @@ typedef struct m2c_sim_body {
     double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
     double load;            /* m/s^2: free acceleration pressing onto the support, > 0 */
     double at;              /* m/s^2: free acceleration along the tangent */
+    unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -65,7 +66,8 @@ typedef struct m2c_sim_trig {
 } m2c_sim_trig;
 
 /* input modes (the flat scene's MODE; docs/simulator.md) */
-enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3 };
+enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3,
+       M2C_SIM_REMOVE = 4 };
 
 /* A scripted or live input. */
 typedef struct m2c_sim_input {
@@ -73,7 +75,7 @@ typedef struct m2c_sim_input {
     int32_t body;
     int32_t mode;           /* M2C_SIM_SET_VELOCITY, M2C_SIM_ADD_VELOCITY (vx, vy m/s), M2C_SIM_IMPULSE
                                (vx, vy: the impulse, N s, through the centre), M2C_SIM_TELEPORT (vx, vy:
-                               the new centre, m) */
+                               the new centre, m), M2C_SIM_REMOVE (vx, vy unused, 0) */
     double vx, vy;
 } m2c_sim_input;
 
@@ -88,6 +90,8 @@ struct m2c_sim_scene {
     int32_t nx, ny;         /* grid cells per axis */
     int32_t nbodies, ninputs;
     int32_t inputs_cap;     /* room in inputs (live inputs are appended: the recording) */
+    int32_t bodies_cap;     /* room in bodies (add_body appends) */
+    size_t nverts_all, verts_cap;   /* vertices in verts, and room */
     m2c_sim_body *bodies;
     m2c_sim_vertex *verts;  /* every polygon's vertices, one block */
     m2c_sim_input *inputs;
@@ -293,6 +297,8 @@ struct m2c_world {
     long long same;                     /* events handled at last_t after the first */
     m2c_contact_fn fn;                  /* during m2c_world_advance: told of each contact */
     void *user;
+    size_t trig_cap;                    /* entries of vtrig and etrig */
+    long long added;                    /* bodies added by add_body (a recording refuses them) */
     int broken;                         /* an error stopped the world */
     jmp_buf fail;                       /* where the current API call catches an error */
     char err[M2C_WORLD_ERROR_MAX];
@@ -312,6 +318,16 @@ int m2c_sim_next_time(m2c_world *w, double *t);
  * unchanged); -1 on a bad call (the world is unchanged: no such body, a
  * fixed body, a coordinate that is not finite) or a failure. */
 int m2c_sim_live_input(m2c_world *w, int body, int mode, double x, double y, int *done);
+/* add_body (docs/engine-api.md): a body from its flat lines, at the
+ * world's time.  0 with *idx its index, or *idx -1 when it would overlap a
+ * body (the world unchanged); -1 on a bad body (the world unchanged) or a
+ * failure. */
+int m2c_sim_add_body(m2c_world *w, const char *text, int *idx);
+/* A `body ...` line and its `v` lines (the whole text) into b, index idx,
+ * its vertices into a new *verts (b->verts left NULL): 0, or -1 with the
+ * message ("add_body: ..."). */
+int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_vertex **verts, char *err,
+                      size_t errlen);
 /* Handles the events at the end time too, then writes every body at the
  * end time, the counters, the variants served; flushed. */
 int m2c_sim_finish(m2c_world *w);

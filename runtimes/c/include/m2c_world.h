@@ -98,6 +98,18 @@ int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy);
  * the tolerance; -1 as above. */
 int m2c_world_teleport(m2c_world *w, int body, double x, double y);
 
+/* Takes a body (movable or fixed) out of the world now: an input (MODE 4)
+ * like the others, so recorded.  It stops where it is, is never predicted
+ * again, and bodies resting on it leave.  0, or -1 as above. */
+int m2c_world_remove_body(m2c_world *w, int body);
+/* Adds a body given as its flat lines (max2code/sim/scene.py body_lines:
+ * `body ...` and its `v` lines, the state at the world's time) now.  Its
+ * index (the next one); -1 when it would overlap a body by more than the
+ * tolerance (the world unchanged); -2 with m2c_world_error(w) on a bad text
+ * (the world unchanged) or a failure.  Not an input: a recording refuses a
+ * session that added bodies. */
+int m2c_world_add_body(m2c_world *w, const char *body_text);
+
 /* The last error of this world ("" when none). */
 const char *m2c_world_error(const m2c_world *w);
 

@@ -786,6 +786,8 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
 
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
@@ -1010,6 +1012,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
                          int32_t feature, int32_t i, int32_t j, double cx, double cy, double nx, double ny,
                          double imp)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1031,6 +1035,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
 static void emit_support_change(sim *m, const char *kind, double t, const m2c_sim_body *A, int32_t sup,
                                 int32_t edge)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1249,7 +1255,7 @@ static int32_t overlapping(sim *m, m2c_sim_body *A, double x, double y, double t
     int32_t found = -1;
     for (int32_t k = 0; k < m->s->nbodies; k++) {
         const m2c_sim_body *B = &m->bodies[k];
-        if (B == A)
+        if (B == A || B->gone)
             continue;
         motion qb = state_at(B, t);
         double dx = qb.x - x, dy = qb.y - y;
@@ -1270,6 +1276,59 @@ static int32_t overlapping(sim *m, m2c_sim_body *A, double x, double y, double t
     return found;
 }
 
+/* An E line of an input (k: its index in the input list). */
+static void emit_input(sim *m, double t, const m2c_sim_body *body, int32_t k)
+{
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E input ");
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, body->idx);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, k);
+    p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+}
+
+/* Input k removes the body (based at t): it stops where it is (v, a, w
+ * zero), leaves the grid (or the large list), its stamp changes (its
+ * queued events go stale) and it is never predicted again; bodies it
+ * supported leave. */
+static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
+{
+    body->vx = body->vy = body->ax = body->ay = body->fax = body->fay = body->om = 0.0;
+    if (body->sup >= 0)
+        end_support(body);
+    body->gone = 1;
+    m->stamp[body->idx]++;
+    if (body->large) {
+        int32_t q = 0;
+        while (m->large[q] != body->idx)
+            q++;
+        for (; q + 1 < m->nlarge; q++)          /* the others keep their order */
+            m->large[q] = m->large[q + 1];
+        m->nlarge--;
+    } else {
+        m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    }
+    emit_input(m, t, body, k);
+    for (int32_t q = 0; q < m->s->nbodies; q++) {
+        m2c_sim_body *A = &m->bodies[q];
+        if (A->sup != body->idx)
+            continue;
+        m->stats.leaves++;
+        advance(A, t);
+        int32_t edge = A->sup_edge;
+        end_support(A);
+        m->stamp[A->idx]++;
+        emit_support_change(m, "E leave ", t, A, body->idx, edge);
+        emit_state(m, A);
+        predict_body(m, A, t, NULL);
+    }
+}
+
 /* Scripted or live input number k: its body's velocity set or added to,
  * an impulse through its centre, or its centre moved. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
@@ -1279,7 +1338,15 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     int32_t k = ev->u.input.k;
     const m2c_sim_input *in = &m->s->inputs[k];
     m2c_sim_body *body = &m->bodies[in->body];
+    if (body->gone) {
+        char a[M2C_SIM_NUMBER_MAX + 1];
+        die(m, "input %d: body %d was removed before t = %s", (int)k, (int)body->idx, fmt(a, t));
+    }
     advance(body, t);
+    if (in->mode == M2C_SIM_REMOVE) {
+        remove_body(m, body, k, t);
+        return;
+    }
     if (in->mode == M2C_SIM_TELEPORT) {
         int32_t o = overlapping(m, body, in->vx, in->vy, t);
         if (o >= 0) {
@@ -1307,15 +1374,7 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
         cell_add(m, body);
     }
     m->stamp[body->idx]++;
-    char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E input ");
-    p = m2c_sim_put_num(p, t);
-    *p++ = ' ';
-    p = m2c_sim_put_int(p, body->idx);
-    p = m2c_sim_put_str(p, " -1 -1 ");
-    p = m2c_sim_put_int(p, k);
-    p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
-    m->out.n += (size_t)(p - start);
+    emit_input(m, t, body, k);
     emit_state(m, body);
     predict_body(m, body, t, NULL);
 }
@@ -1361,11 +1420,13 @@ static void handle_frame(sim *m, const m2c_sim_event *ev)
 {
     m->stats.frames++;
     const m2c_sim_scene *s = m->s;
-    char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E frame ");
-    p = m2c_sim_put_num(p, ev->t);
-    p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
-    m->out.n += (size_t)(p - start);
+    if (m->out.f != NULL) {
+        char *start = m2c_sim_out_reserve(&m->out), *p = start;
+        p = m2c_sim_put_str(p, "E frame ");
+        p = m2c_sim_put_num(p, ev->t);
+        p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+        m->out.n += (size_t)(p - start);
+    }
     double nxt = (double)(ev->u.frame.k + 1) * s->frame_dt;
     if (nxt <= s->end)
         push_frame(m, nxt, ev->u.frame.k + 1);
@@ -1551,9 +1612,8 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
     m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
     m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
-    size_t nv = 1;
-    for (int32_t k = 0; k < scene->nbodies; k++)
-        nv += (size_t)scene->bodies[k].nverts;
+    size_t nv = scene->verts_cap + 1;
+    m->trig_cap = nv;
     m->vtrig = calloc(nv, sizeof *m->vtrig);
     m->etrig = calloc(nv, sizeof *m->etrig);
     if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
@@ -1606,7 +1666,11 @@ int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done
         return -1;
     }
     m2c_sim_body *b = &m->bodies[body];
-    if (b->fixed) {
+    if (b->gone) {
+        snprintf(m->err, sizeof m->err, "body %d was removed", body);
+        return -1;
+    }
+    if (b->fixed && mode != M2C_SIM_REMOVE) {
         snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only", body);
         return -1;
     }
@@ -1639,6 +1703,137 @@ int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done
     push_input(m, t, s->ninputs - 1);
     inputs_now(m);
     *done = 1;
+    return 0;
+}
+
+/* Room for one more body with nverts vertices: 0, or -1 (out of memory;
+ * what was grown stays grown, nothing else changes). */
+static int reserve_body(sim *m, int32_t nverts)
+{
+    m2c_sim_scene *s = m->s;
+    if (s->nbodies + 1 >= s->bodies_cap) {
+        if (s->bodies_cap > (1 << 28))
+            return -1;
+        int32_t cap = 2 * s->bodies_cap;
+        m2c_sim_body *b = aligned_alloc(64, (size_t)cap * sizeof *b);     /* a multiple of 64 */
+        uint32_t *st = realloc(m->stamp, (size_t)cap * sizeof *st);
+        if (st != NULL)
+            m->stamp = st;
+        int32_t *lg = realloc(m->large, (size_t)cap * sizeof *lg);
+        if (lg != NULL)
+            m->large = lg;
+        if (b == NULL || st == NULL || lg == NULL) {
+            free(b);
+            return -1;
+        }
+        memset(b, 0, (size_t)cap * sizeof *b);
+        memcpy(b, s->bodies, (size_t)s->nbodies * sizeof *b);
+        memset(st + s->bodies_cap, 0, (size_t)(cap - s->bodies_cap) * sizeof *st);
+        free(s->bodies);
+        s->bodies = m->bodies = b;
+        s->bodies_cap = cap;
+    }
+    if (s->nverts_all + (size_t)nverts > s->verts_cap) {
+        size_t cap = 2 * (s->nverts_all + (size_t)nverts) + 64;
+        size_t *first = malloc(((size_t)s->nbodies + 1) * sizeof *first);
+        if (first == NULL)
+            return -1;
+        for (int32_t k = 0; k < s->nbodies; k++)
+            first[k] = s->bodies[k].verts != NULL ? (size_t)(s->bodies[k].verts - s->verts) : 0;
+        m2c_sim_vertex *v = realloc(s->verts, cap * sizeof *v);
+        if (v == NULL) {
+            free(first);
+            return -1;
+        }
+        s->verts = v;
+        s->verts_cap = cap;
+        for (int32_t k = 0; k < s->nbodies; k++)
+            if (s->bodies[k].verts != NULL)
+                s->bodies[k].verts = v + first[k];
+        free(first);
+    }
+    if (s->verts_cap + 1 > m->trig_cap) {
+        size_t cap = s->verts_cap + 1;
+        m2c_sim_trig *vt = realloc(m->vtrig, cap * sizeof *vt);
+        if (vt != NULL)
+            m->vtrig = vt;
+        m2c_sim_trig *et = realloc(m->etrig, cap * sizeof *et);
+        if (et != NULL)
+            m->etrig = et;
+        if (vt == NULL || et == NULL)
+            return -1;
+        memset(vt + m->trig_cap, 0, (cap - m->trig_cap) * sizeof *vt);
+        memset(et + m->trig_cap, 0, (cap - m->trig_cap) * sizeof *et);
+        m->trig_cap = cap;
+    }
+    return 0;
+}
+
+int m2c_sim_add_body(sim *m, const char *text, int *idx)
+{
+    *idx = -1;
+    if (m->broken)
+        return -1;
+    m2c_sim_scene *s = m->s;
+    m2c_sim_body nb;
+    memset(&nb, 0, sizeof nb);
+    m2c_sim_vertex *nv = NULL;
+    if (m2c_sim_body_read(text, &nb, s->nbodies, &nv, m->err, sizeof m->err) != 0)
+        return -1;
+    nb.large = 2.0 * nb.bound > py_min(s->cw, s->ch);
+    if (nb.large && !nb.fixed) {
+        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(m->err, sizeof m->err, "add_body: a movable body of bound %s m does not fit the grid's cells "
+                 "(%s x %s m): put such a body in the scene", fmt(a, nb.bound), fmt(b, s->cw), fmt(c, s->ch));
+        free(nv);
+        return -1;
+    }
+    if (reserve_body(m, nb.nverts) != 0) {
+        free(nv);
+        snprintf(m->err, sizeof m->err, "out of memory (add_body)");
+        m->broken = 1;
+        return -1;
+    }
+    /* the body waits in the first unused place (not counted until it is added) */
+    if (nb.nverts > 0) {
+        memcpy(s->verts + s->nverts_all, nv, (size_t)nb.nverts * sizeof *nv);
+        nb.verts = s->verts + s->nverts_all;
+    }
+    free(nv);
+    m2c_sim_body *b = &s->bodies[s->nbodies];
+    *b = nb;
+    m->stamp[b->idx] = 0;
+    CATCH(m);
+    double t = m->now;
+    b->tb = t;
+    inputs_now(m);
+    if (overlapping(m, b, b->px, b->py, t) >= 0)
+        return 0;
+    s->nbodies++;
+    s->nverts_all += (size_t)b->nverts;
+    m->added++;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E add ");
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, b->idx);
+    p = m2c_sim_put_str(p, " -1 -1 -1 -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    if (b->large) {
+        m->large[m->nlarge++] = b->idx;
+        for (int32_t k = 0; k < s->nbodies; k++) {
+            const m2c_sim_body *o = &m->bodies[k];
+            if (!o->large && !o->gone && !(o->fixed && b->fixed))
+                predict_pair(m, o, b, t);
+        }
+    } else {
+        cell_of(m, b->px, b->py, &b->cx, &b->cy);
+        cell_add(m, b);
+        if (!b->fixed)
+            emit_state(m, b);
+        predict_body(m, b, t, NULL);
+    }
+    *idx = b->idx;
     return 0;
 }
 

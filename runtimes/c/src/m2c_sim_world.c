@@ -216,3 +216,21 @@ int m2c_world_teleport(m2c_world *w, int body, double x, double y)
         return -1;
     return done;
 }
+
+int m2c_world_remove_body(m2c_world *w, int body)
+{
+    int done;
+    return live(w, body, M2C_SIM_REMOVE, 0.0, 0.0, &done);
+}
+
+int m2c_world_add_body(m2c_world *w, const char *body_text)
+{
+    int idx;
+    if (body_text == NULL) {
+        snprintf(w->err, sizeof w->err, "add_body: no text");
+        return -2;
+    }
+    if (m2c_sim_add_body(w, body_text, &idx) != 0)
+        return -2;
+    return idx;
+}

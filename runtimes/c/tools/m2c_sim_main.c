@@ -182,10 +182,12 @@ static int live_op(m2c_world *w, const live_input *in)
         return m2c_world_add_velocity(w, in->body, in->x, in->y);
     case 2:
         return m2c_world_apply_impulse(w, in->body, in->x, in->y);
-    default: {
+    case 3: {
         int r = m2c_world_teleport(w, in->body, in->x, in->y);
         return r < 0 ? -1 : r == 0;
     }
+    default:
+        return m2c_world_remove_body(w, in->body);
     }
 }
 
