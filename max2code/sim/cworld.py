@@ -22,7 +22,7 @@ import ctypes
 import ctypes.util
 import os
 
-from max2code_rt.sim import Contact, SimError
+from max2code_rt.sim import ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT, Contact, Scene, SimError
 
 
 class _Contact(ctypes.Structure):
@@ -38,6 +38,7 @@ class _State(ctypes.Structure):
 
 
 _CONTACT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(_Contact), ctypes.c_void_p)
+REMOVE = 4          # the input MODE of remove_body (docs/engine-api.md)
 _P = ctypes.c_void_p
 _D = ctypes.c_double
 _I = ctypes.c_int
@@ -57,6 +58,8 @@ _SIGNATURES = {
     "m2c_world_add_velocity": (_I, [_P, _I, _D, _D]),
     "m2c_world_apply_impulse": (_I, [_P, _I, _D, _D]),
     "m2c_world_teleport": (_I, [_P, _I, _D, _D]),
+    "m2c_world_remove_body": (_I, [_P, _I]),
+    "m2c_world_add_body": (_I, [_P, ctypes.c_char_p]),
     "m2c_world_error": (ctypes.c_char_p, [_P]),
 }
 _libs: dict[str, ctypes.CDLL] = {}
@@ -115,6 +118,10 @@ class CWorld:
             self._close_trace()
             raise SimError(msg)
         self._w = w
+        # the input log (the recording): the scene's own inputs, then each live
+        # one as it is made; the same doubles the C world's input list holds
+        self._log = [(i.t, i.body, i.mode, i.vx, i.vy) for i in Scene(scene_text).inputs]
+        self.added = 0                      # bodies add_body added (a recording refuses them)
         self._contacts: list[Contact] = []
         self._error: BaseException | None = None
         self._callback = _CONTACT_FN(self._collect)
@@ -218,27 +225,50 @@ class CWorld:
         return s.x, s.y, s.vx, s.vy, s.angle, s.omega
 
     # ---- live inputs at the world's time (recorded in the world's input list) ----------
-    def _input(self, fn, body: int, x: float, y: float) -> int:
-        rc = fn(self._handle(), body, x, y)
+    def _input(self, mode: int, fn, body: int, x: float, y: float) -> int:
+        t = self._lib.m2c_world_time(self._handle())
+        rc = fn(self._w, body, x, y)
         self._pass_trace()
         if rc < 0:
             raise self._fail()
+        if mode != TELEPORT or rc == 1:
+            self._log.append((t, body, mode, x, y))
         return rc
 
     def set_velocity(self, body: int, vx: float, vy: float) -> None:
-        self._input(self._lib.m2c_world_set_velocity, body, vx, vy)
+        self._input(SET_VELOCITY, self._lib.m2c_world_set_velocity, body, vx, vy)
 
     def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
-        self._input(self._lib.m2c_world_add_velocity, body, dvx, dvy)
+        self._input(ADD_VELOCITY, self._lib.m2c_world_add_velocity, body, dvx, dvy)
 
     def apply_impulse(self, body: int, jx: float, jy: float) -> None:
         """An impulse (N s) through the centre: dv = J inv_mass."""
-        self._input(self._lib.m2c_world_apply_impulse, body, jx, jy)
+        self._input(IMPULSE, self._lib.m2c_world_apply_impulse, body, jx, jy)
 
     def teleport(self, body: int, x: float, y: float) -> bool:
         """Move the body's centre to (x, y) now, keeping its velocity; False
-        (the world unchanged) when it would overlap another body there."""
-        return self._input(self._lib.m2c_world_teleport, body, x, y) == 1
+        (the world unchanged, nothing recorded) when it would overlap another body there."""
+        return self._input(TELEPORT, self._lib.m2c_world_teleport, body, x, y) == 1
+
+    def remove_body(self, body: int) -> None:
+        """Take a body (movable or fixed) out of the world now (input MODE 4)."""
+        self._input(REMOVE, lambda w, b, _x, _y: self._lib.m2c_world_remove_body(w, b), body, 0.0, 0.0)
+
+    def add_body(self, text: str) -> int:
+        """A body from its flat lines (the state at the world's time) added now:
+        its index, or -1 (the world unchanged) when it would overlap a body."""
+        k = self._lib.m2c_world_add_body(self._handle(), text.encode("ascii"))
+        self._pass_trace()
+        if k == -2:
+            raise self._fail()
+        if k >= 0:
+            self.added += 1
+        return k
+
+    def input_log(self) -> list[tuple[float, int, int, float, float]]:
+        """(t, body, mode, x, y) of every input, the scene's own first, then
+        the live ones in the order they were made (what a recording writes)."""
+        return list(self._log)
 
     def finish(self) -> list[Contact]:
         """The events at the end time, then the trace's final lines; the last contacts."""
