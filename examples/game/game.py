@@ -25,6 +25,7 @@ played live, the clock is the wall clock.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -201,14 +202,20 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     import pygame
-    from max2code.sim.live import as_scene, open_world
+    from max2code.sim.live import open_world
+    from max2code.sim.scene import SceneError, parse_scene
 
     try:
         script = read_keys(args.keys) if args.keys else None
-    except (OSError, GameError) as exc:
+        with open(args.scene, encoding="utf-8") as fh:
+            raw = json.load(fh)
+        if args.frames is not None:
+            # the world ends at the last frame: the recording then replays the whole session, final lines included
+            raw["end_time"] = args.frames / args.fps
+        scene = parse_scene(json.dumps(raw), args.scene)
+    except (OSError, ValueError, GameError, SceneError) as exc:
         print(f"game: {exc}", file=sys.stderr)
         return 1
-    scene = as_scene(args.scene)
     trace = open(args.trace, "w", encoding="ascii") if args.trace else None
     world = open_world(scene, args.engine, out=trace)
     pygame.display.init()        # no sound: the mixer is never started
@@ -223,6 +230,7 @@ def main(argv=None) -> int:
     busy = 0.0          # s of CPU in the engine (advance, inputs, state reads), all frames
     t = 0.0
     frame = 0
+    drawn = 0
     running = True
     while running:
         frame += 1
@@ -247,10 +255,12 @@ def main(argv=None) -> int:
         busy_frame = time.process_time() - c0
         busy += busy_frame
         view.draw(game, t, busy_frame * 1e3)
+        drawn += 1
         if args.shots and frame % args.every == 0:
             os.makedirs(args.shots, exist_ok=True)
             pygame.image.save(view.screen, os.path.join(args.shots, f"frame{frame:05d}.png"))
         if t >= scene.end_time:
+            game.contacts(world.finish())        # the events at the end, the trace's final lines
             break
         if script is None:
             clock.tick(args.fps)
@@ -265,8 +275,8 @@ def main(argv=None) -> int:
     if args.record:
         world.save_recording(args.record)
     if not args.quiet:
-        n = max(frame - 1, 1)
-        print(f"game: {n} frames to t = {t:.3f} s on the {args.engine} engine: gems {game.score}/{len(game.gems)}, "
+        n = max(drawn, 1)
+        print(f"game: {drawn} frames to t = {t:.3f} s on the {args.engine} engine: gems {game.score}/{len(game.gems)}, "
               f"hits {game.hits}, live inputs {game.inputs}; engine {busy / n * 1e3:.3f} ms CPU per frame"
               + (f"; recording {args.record}" if args.record else ""))
     return 0
