@@ -59,6 +59,15 @@ def python_world(scene: Scene, out=None):
     return _runtime().World(compile_scene(scene), cc, pe, out)
 
 
+def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:
+    """The flat lines add_body takes for a body given as in a JSON scene
+    (checked as in one: the scene's gravity applies; position and velocity
+    are the state at the world's time of the add)."""
+    from max2code.sim.scene import body_lines
+    one = parse_scene(json.dumps({"end_time": scene.end_time, "gravity": list(scene.gravity), "bodies": [raw]}), path)
+    return "\n".join(body_lines(one.bodies[0], False)) + "\n"
+
+
 def as_scene(scene) -> Scene:
     """A checked Scene from a path to a JSON scene, a dict (a JSON scene
     already read) or a Scene."""
