@@ -110,6 +110,22 @@ int m2c_world_remove_body(m2c_world *w, int body);
  * session that added bodies. */
 int m2c_world_add_body(m2c_world *w, const char *body_text);
 
+/* Recordings (docs/engine-api.md): the world's input log, the scene's
+ * inputs then the live ones in the order they were made (what
+ * max2code/sim/recording.py writes as a scene); mode 0 set velocity, 1 add
+ * velocity, 2 impulse, 3 teleport, 4 remove (x, y 0). */
+typedef struct m2c_input {
+    double t;
+    int body, mode;
+    double x, y;
+} m2c_input;
+
+int m2c_world_input_count(const m2c_world *w);
+/* Input k of the log: 0, or -1 when there is no input k. */
+int m2c_world_input(const m2c_world *w, int k, m2c_input *in);
+/* How many bodies add_body added (a recording refuses such a session). */
+long long m2c_world_added(const m2c_world *w);
+
 /* The last error of this world ("" when none). */
 const char *m2c_world_error(const m2c_world *w);
 

@@ -234,3 +234,26 @@ int m2c_world_add_body(m2c_world *w, const char *body_text)
         return -2;
     return idx;
 }
+
+int m2c_world_input_count(const m2c_world *w)
+{
+    return (int)w->s->ninputs;
+}
+
+int m2c_world_input(const m2c_world *w, int k, m2c_input *in)
+{
+    if (k < 0 || k >= w->s->ninputs)
+        return -1;
+    const m2c_sim_input *e = &w->s->inputs[k];
+    in->t = e->t;
+    in->body = (int)e->body;
+    in->mode = (int)e->mode;
+    in->x = e->vx;
+    in->y = e->vy;
+    return 0;
+}
+
+long long m2c_world_added(const m2c_world *w)
+{
+    return w->added;
+}
