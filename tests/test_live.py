@@ -105,11 +105,13 @@ def _session(world, scene):
 def test_live_inputs_same_in_both_engines():
     scene = as_scene(os.path.join(ROOT, "examples", "platformer.json"))
     bufs = {e: io.StringIO() for e in ("c", "python")}
-    runs = {}
+    runs, logs = {}, {}
     for engine in ("c", "python"):
         w = open_world(scene, engine, out=bufs[engine])
         runs[engine] = _session(w, scene)
         w.finish()
+        # the input log a recording writes: the C world's own, the reference's input list
+        logs[engine] = w.input_log() if engine == "c" else [(i.t, i.body, i.mode, i.vx, i.vy) for i in w.s.inputs]
         if engine == "c":
             w.close()
     answers = [x for x in runs["python"] if x[0] == "teleport"]
@@ -117,3 +119,19 @@ def test_live_inputs_same_in_both_engines():
     assert runs["c"] == runs["python"]
     assert bufs["c"].getvalue() == bufs["python"].getvalue()
     assert bufs["c"].getvalue().count("E input") == 6 + len(scene.inputs)
+    assert logs["c"] == logs["python"] and len(logs["c"]) == 6 + len(scene.inputs)   # the refused teleport: not logged
+
+
+@pytest.mark.parametrize("engine", ["c", "python"])
+def test_a_removed_body_is_gone(engine):
+    """remove_body through the binding: the ball leaves the cradle's chain, so
+    no contact names it afterwards and the log holds the removal (MODE 4)."""
+    scene = as_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
+    w = open_world(scene, engine)
+    k = next(i for i, b in enumerate(scene.bodies) if b.name == "ball2")
+    w.advance(0.25)
+    w.remove_body(k)
+    after = w.advance(2.5)
+    assert after and all(k not in (c.a, c.b) for c in after)
+    log = w.input_log() if engine == "c" else [(i.t, i.body, i.mode, i.vx, i.vy) for i in w.s.inputs]
+    assert log[-1] == (0.25, k, 4, 0.0, 0.0)

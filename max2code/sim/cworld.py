@@ -22,7 +22,7 @@ import ctypes
 import ctypes.util
 import os
 
-from max2code_rt.sim import ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT, Contact, Scene, SimError
+from max2code_rt.sim import Contact, SimError
 
 
 class _Contact(ctypes.Structure):
@@ -37,8 +37,12 @@ class _State(ctypes.Structure):
                 ("angle", ctypes.c_double), ("omega", ctypes.c_double)]
 
 
+class _Input(ctypes.Structure):
+    _fields_ = [("t", ctypes.c_double), ("body", ctypes.c_int), ("mode", ctypes.c_int), ("x", ctypes.c_double),
+                ("y", ctypes.c_double)]
+
+
 _CONTACT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(_Contact), ctypes.c_void_p)
-REMOVE = 4          # the input MODE of remove_body (docs/engine-api.md)
 _P = ctypes.c_void_p
 _D = ctypes.c_double
 _I = ctypes.c_int
@@ -60,6 +64,9 @@ _SIGNATURES = {
     "m2c_world_teleport": (_I, [_P, _I, _D, _D]),
     "m2c_world_remove_body": (_I, [_P, _I]),
     "m2c_world_add_body": (_I, [_P, ctypes.c_char_p]),
+    "m2c_world_input_count": (_I, [_P]),
+    "m2c_world_input": (_I, [_P, _I, ctypes.POINTER(_Input)]),
+    "m2c_world_added": (ctypes.c_longlong, [_P]),
     "m2c_world_error": (ctypes.c_char_p, [_P]),
 }
 _libs: dict[str, ctypes.CDLL] = {}
@@ -118,10 +125,6 @@ class CWorld:
             self._close_trace()
             raise SimError(msg)
         self._w = w
-        # the input log (the recording): the scene's own inputs, then each live
-        # one as it is made; the same doubles the C world's input list holds
-        self._log = [(i.t, i.body, i.mode, i.vx, i.vy) for i in Scene(scene_text).inputs]
-        self.added = 0                      # bodies add_body added (a recording refuses them)
         self._contacts: list[Contact] = []
         self._error: BaseException | None = None
         self._callback = _CONTACT_FN(self._collect)
@@ -225,34 +228,31 @@ class CWorld:
         return s.x, s.y, s.vx, s.vy, s.angle, s.omega
 
     # ---- live inputs at the world's time (recorded in the world's input list) ----------
-    def _input(self, mode: int, fn, body: int, x: float, y: float) -> int:
-        t = self._lib.m2c_world_time(self._handle())
-        rc = fn(self._w, body, x, y)
+    def _input(self, fn, *args) -> int:
+        rc = fn(self._handle(), *args)
         self._pass_trace()
         if rc < 0:
             raise self._fail()
-        if mode != TELEPORT or rc == 1:
-            self._log.append((t, body, mode, x, y))
         return rc
 
     def set_velocity(self, body: int, vx: float, vy: float) -> None:
-        self._input(SET_VELOCITY, self._lib.m2c_world_set_velocity, body, vx, vy)
+        self._input(self._lib.m2c_world_set_velocity, body, vx, vy)
 
     def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
-        self._input(ADD_VELOCITY, self._lib.m2c_world_add_velocity, body, dvx, dvy)
+        self._input(self._lib.m2c_world_add_velocity, body, dvx, dvy)
 
     def apply_impulse(self, body: int, jx: float, jy: float) -> None:
         """An impulse (N s) through the centre: dv = J inv_mass."""
-        self._input(IMPULSE, self._lib.m2c_world_apply_impulse, body, jx, jy)
+        self._input(self._lib.m2c_world_apply_impulse, body, jx, jy)
 
     def teleport(self, body: int, x: float, y: float) -> bool:
         """Move the body's centre to (x, y) now, keeping its velocity; False
         (the world unchanged, nothing recorded) when it would overlap another body there."""
-        return self._input(TELEPORT, self._lib.m2c_world_teleport, body, x, y) == 1
+        return self._input(self._lib.m2c_world_teleport, body, x, y) == 1
 
     def remove_body(self, body: int) -> None:
         """Take a body (movable or fixed) out of the world now (input MODE 4)."""
-        self._input(REMOVE, lambda w, b, _x, _y: self._lib.m2c_world_remove_body(w, b), body, 0.0, 0.0)
+        self._input(self._lib.m2c_world_remove_body, body)
 
     def add_body(self, text: str) -> int:
         """A body from its flat lines (the state at the world's time) added now:
@@ -261,14 +261,24 @@ class CWorld:
         self._pass_trace()
         if k == -2:
             raise self._fail()
-        if k >= 0:
-            self.added += 1
         return k
+
+    @property
+    def added(self) -> int:
+        """How many bodies add_body added (a recording refuses such a session)."""
+        return self._lib.m2c_world_added(self._handle())
 
     def input_log(self) -> list[tuple[float, int, int, float, float]]:
         """(t, body, mode, x, y) of every input, the scene's own first, then
         the live ones in the order they were made (what a recording writes)."""
-        return list(self._log)
+        w = self._handle()
+        rec = _Input()
+        out = []
+        for k in range(self._lib.m2c_world_input_count(w)):
+            if self._lib.m2c_world_input(w, k, ctypes.byref(rec)) != 0:
+                raise SimError(f"the C world has no input {k}")
+            out.append((rec.t, rec.body, rec.mode, rec.x, rec.y))
+        return out
 
     def finish(self) -> list[Contact]:
         """The events at the end time, then the trace's final lines; the last contacts."""
