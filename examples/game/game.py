@@ -137,6 +137,21 @@ class Game:
             self.vx_set = want
 
 
+def save_recording(scene_path: str, world, end_time: float, path: str) -> None:
+    """The session as a scene (max2code.sim.recording: the scene with every
+    live input scripted at its time), ending at end_time: with --frames the
+    world's own end, so that the scene's trace is the session's byte for byte;
+    played live, the time the game stopped."""
+    from max2code.sim.recording import recording
+    from max2code.sim.scene import parse_scene
+    rec = recording(scene_path, world.input_log(), world.added)
+    rec["end_time"] = end_time
+    text = json.dumps(rec, indent=1) + "\n"
+    parse_scene(text, path)                 # checked as any scene is
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+
+
 class View:
     """Draws the world's bodies from their exact states at the frame's time."""
 
@@ -265,6 +280,8 @@ def main(argv=None) -> int:
         if script is None:
             clock.tick(args.fps)
     pygame.quit()
+    if args.record:
+        save_recording(args.scene, world, scene.end_time if t >= scene.end_time else t, args.record)
     if hasattr(world, "close"):
         world.close()           # the C world passes the rest of its trace on
     if trace is not None:
@@ -272,8 +289,6 @@ def main(argv=None) -> int:
     if args.save_keys:
         with open(args.save_keys, "w", encoding="utf-8") as fh:
             fh.write("# frame key down|up (examples/game/game.py --keys)\n" + "".join(p + "\n" for p in played))
-    if args.record:
-        world.save_recording(args.record)
     if not args.quiet:
         n = max(drawn, 1)
         print(f"game: {drawn} frames to t = {t:.3f} s on the {args.engine} engine: gems {game.score}/{len(game.gems)}, "
