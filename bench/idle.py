@@ -36,7 +36,7 @@ sys.path.insert(0, ROOT)
 
 from max2code.reports.event_vs_frame import build_space  # noqa: E402
 from max2code.sim.live import open_world  # noqa: E402
-from max2code.sim.scene import parse_scene  # noqa: E402
+from max2code.sim.scene import ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT, parse_scene  # noqa: E402
 
 GAME_SCENE = os.path.join(ROOT, "examples", "game", "recording.json")
 
@@ -74,15 +74,20 @@ def ours(scene, engine: str, fps: float):
     return total, per, reads
 
 
-def _apply(body, inp, scene) -> None:
-    """A scripted input on a pymunk body (what our scene format scripts)."""
-    vx, vy = inp.velocity
-    if inp.mode == 0:
-        body.velocity = (vx, vy)
-    elif inp.mode == 1:
-        body.velocity = (body.velocity.x + vx, body.velocity.y + vy)
-    else:
-        raise ValueError(f"{scene.path}: input mode {inp.mode} has no pymunk counterpart in this benchmark")
+def _apply(space, body, inp) -> None:
+    """A scripted input on a pymunk body, as our scene format means it."""
+    x, y = inp.velocity
+    if inp.mode == SET_VELOCITY:
+        body.velocity = (x, y)
+    elif inp.mode == ADD_VELOCITY:
+        body.velocity = (body.velocity.x + x, body.velocity.y + y)
+    elif inp.mode == IMPULSE:
+        body.apply_impulse_at_local_point((x, y))
+    elif inp.mode == TELEPORT:
+        body.position = (x, y)
+        space.reindex_shapes_for_body(body)
+    else:                                       # REMOVE
+        space.remove(body, *body.shapes)
 
 
 def frames(scene, dt: float, fps: float):
@@ -101,12 +106,12 @@ def frames(scene, dt: float, fps: float):
         c0 = clock()
         for _ in range(per_frame):
             while nxt < len(inputs) and inputs[nxt].time <= t + dt * 0.5:
-                _apply(pbodies[inputs[nxt].body], inputs[nxt], scene)
+                _apply(space, pbodies[inputs[nxt].body], inputs[nxt])
                 nxt += 1
             space.step(dt)
             t += dt
         for b in pbodies:
-            b.position, b.angle       # noqa: B018  (the reads drawing needs)
+            b.position, b.angle       # noqa: B018  (the reads drawing needs; a removed body's too, as ours)
         per.append(clock() - c0)
     return clock() - start, per, None
 
