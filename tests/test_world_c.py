@@ -174,3 +174,53 @@ def test_a_scripted_teleport_into_overlap_is_the_references_error():
             run_scene(parse_scene(json.dumps(raw)), lang)
         msgs.append(str(exc.value).split("simulator: ")[1])
     assert msgs[0] == msgs[1]
+
+
+def test_add_body_made_or_refused_as_the_reference(tmp_path):
+    """Bodies added live (a circle, a spinning triangle, a circle into the
+    left wall: refused, a fixed ledge, the circle again) give the
+    reference's indices and bytes; a bad text is refused with a message."""
+    import io
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.live import python_world
+    from max2code.sim.scene import body_lines, parse_scene
+    raw = inputs_scene(2.0) | {"inputs": []}
+    scene = parse_scene(json.dumps(raw))
+    new = [{"name": "new1", "shape": "circle", "radius": 0.07, "mass": 0.5, "position": [1.0, 1.2],
+            "velocity": [0.3, 0.0]},
+           {"name": "new2", "shape": "polygon", "mass": 1.0, "position": [0.6, 1.5],
+            "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.0, 0.12]], "angular_velocity": 2.0},
+           {"name": "bad", "shape": "circle", "radius": 0.2, "mass": 0.5, "position": [0.05, 1.0]},
+           {"name": "ledge", "shape": "polygon", "fixed": True, "position": [1.5, 1.0],
+            "vertices": [[-0.3, -0.02], [0.3, -0.02], [0.3, 0.02], [-0.3, 0.02]]}]
+    texts = ["\n".join(body_lines(parse_scene(json.dumps(raw | {"bodies": [b]})).bodies[0], False)) for b in new]
+    ops = [(0.2, texts[0]), (0.7, texts[1]), (0.9, texts[2]), (1.0, texts[3]), (1.3, texts[0])]
+    out = io.StringIO()
+    w = python_world(scene, out)
+    want = []
+    for t, text in ops:
+        w.advance(t)
+        want.append(w.add_body(text))
+    w.advance(scene.end_time)
+    w.finish()
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    lib.m2c_world_add_body.argtypes = [ctypes.c_void_p, ctypes.c_char_p]
+    fh = c.libc.fopen(str(tmp_path / "c.txt").encode(), b"w")
+    cw = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    got = []
+    for t, text in ops:
+        assert lib.m2c_world_advance(cw, t, None, None) == 0
+        got.append(lib.m2c_world_add_body(cw, text.encode()))
+    assert lib.m2c_world_add_body(cw, b"body 0 0 1") == -2 and b"add_body: ends early" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_add_body(cw, (texts[0] + " x").encode()) == -2
+    assert b"unexpected 'x' after the body" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_advance(cw, scene.end_time, None, None) == 0
+    assert lib.m2c_world_finish(cw, None, None) == 0
+    lib.m2c_world_free(cw)
+    c.libc.fclose(fh)
+    assert got == want and -1 in want and want[0] == len(scene.bodies)
+    assert (tmp_path / "c.txt").read_text() == out.getvalue()
