@@ -174,3 +174,129 @@ def test_a_scripted_teleport_into_overlap_is_the_references_error():
             run_scene(parse_scene(json.dumps(raw)), lang)
         msgs.append(str(exc.value).split("simulator: ")[1])
     assert msgs[0] == msgs[1]
+
+
+def test_add_body_made_or_refused_as_the_reference(tmp_path):
+    """Bodies added live (a circle, a spinning triangle, a circle into the
+    left wall: refused, a fixed ledge, the circle again) give the
+    reference's indices and bytes; a bad text is refused with a message."""
+    import io
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.live import python_world
+    from max2code.sim.scene import body_lines, parse_scene
+    raw = inputs_scene(2.0) | {"inputs": []}
+    scene = parse_scene(json.dumps(raw))
+    new = [{"name": "new1", "shape": "circle", "radius": 0.07, "mass": 0.5, "position": [1.0, 1.2],
+            "velocity": [0.3, 0.0]},
+           {"name": "new2", "shape": "polygon", "mass": 1.0, "position": [0.6, 1.5],
+            "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.0, 0.12]], "angular_velocity": 2.0},
+           {"name": "bad", "shape": "circle", "radius": 0.2, "mass": 0.5, "position": [0.05, 1.0]},
+           {"name": "ledge", "shape": "polygon", "fixed": True, "position": [1.5, 1.0],
+            "vertices": [[-0.3, -0.02], [0.3, -0.02], [0.3, 0.02], [-0.3, 0.02]]}]
+    texts = ["\n".join(body_lines(parse_scene(json.dumps(raw | {"bodies": [b]})).bodies[0], False)) for b in new]
+    ops = [(0.2, texts[0]), (0.7, texts[1]), (0.9, texts[2]), (1.0, texts[3]), (1.3, texts[0])]
+    out = io.StringIO()
+    w = python_world(scene, out)
+    want = []
+    for t, text in ops:
+        w.advance(t)
+        want.append(w.add_body(text))
+    w.advance(scene.end_time)
+    w.finish()
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    lib.m2c_world_add_body.argtypes = [ctypes.c_void_p, ctypes.c_char_p]
+    fh = c.libc.fopen(str(tmp_path / "c.txt").encode(), b"w")
+    cw = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    got = []
+    for t, text in ops:
+        assert lib.m2c_world_advance(cw, t, None, None) == 0
+        got.append(lib.m2c_world_add_body(cw, text.encode()))
+    assert lib.m2c_world_add_body(cw, b"body 0 0 1") == -2 and b"add_body: ends early" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_add_body(cw, (texts[0] + " x").encode()) == -2
+    assert b"unexpected 'x' after the body" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_advance(cw, scene.end_time, None, None) == 0
+    assert lib.m2c_world_finish(cw, None, None) == 0
+    lib.m2c_world_free(cw)
+    c.libc.fclose(fh)
+    assert got == want and -1 in want and want[0] == len(scene.bodies)
+    assert (tmp_path / "c.txt").read_text() == out.getvalue()
+
+
+class _CRecorded:
+    """What max2code/sim/recording.py reads of a world (input_log(), added),
+    from a C world through its input-log calls."""
+
+    def __init__(self, lib, w):
+        class Input(ctypes.Structure):
+            _fields_ = [("t", ctypes.c_double), ("body", ctypes.c_int), ("mode", ctypes.c_int),
+                        ("x", ctypes.c_double), ("y", ctypes.c_double)]
+        lib.m2c_world_input_count.argtypes = [ctypes.c_void_p]
+        lib.m2c_world_input.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.POINTER(Input)]
+        lib.m2c_world_added.restype = ctypes.c_longlong
+        lib.m2c_world_added.argtypes = [ctypes.c_void_p]
+        self.log = []
+        for k in range(lib.m2c_world_input_count(w)):
+            e = Input()
+            assert lib.m2c_world_input(w, k, ctypes.byref(e)) == 0
+            self.log.append((e.t, e.body, e.mode, e.x, e.y))
+        assert lib.m2c_world_input(w, len(self.log), ctypes.byref(Input())) == -1
+        self.added = lib.m2c_world_added(w)
+
+    def input_log(self):
+        return self.log
+
+
+def test_a_c_session_recorded_replays_in_c_and_python(tmp_path):
+    """A live session in the C world (inputs of every kind, one at an
+    event's exact time, a refused teleport, removals), written as a scene
+    from C's input log: the batch simulators of C and Python write the
+    session's trace again."""
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.recording import write_recording
+    raw = inputs_scene(2.0, remove=True)
+    raw["inputs"] = [{"time": 0.5, "body": "crate", "set_velocity": [-1.0, 2.0]}]
+    path = str(tmp_path / "scene.json")
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(raw, fh)
+    scene = load_scene(path)
+    names = {b.name: k for k, b in enumerate(scene.bodies)}
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    for name in ("set_velocity", "add_velocity", "apply_impulse", "teleport"):
+        getattr(lib, f"m2c_world_{name}").argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_double,
+                                                       ctypes.c_double]
+    lib.m2c_world_remove_body.argtypes = [ctypes.c_void_p, ctypes.c_int]
+    fh = c.libc.fopen(str(tmp_path / "session.txt").encode(), b"w")
+    w = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    assert lib.m2c_world_advance(w, 0.3, None, None) == 0
+    assert lib.m2c_world_apply_impulse(w, names["ball"], 0.5, 2.0) == 0
+    assert lib.m2c_world_set_velocity(w, names["crate"], 0.0, 1.0) == 0
+    hit = lib.m2c_world_next_event_time(w)                                   # an event's exact time
+    assert 0.3 < hit < 0.5
+    assert lib.m2c_world_advance(w, hit, None, None) == 0
+    assert lib.m2c_world_add_velocity(w, names["pebble"], 0.1, 0.1) == 0
+    assert lib.m2c_world_advance(w, 0.5, None, None) == 0
+    assert lib.m2c_world_teleport(w, names["ball"], 1.0, 1.2) == 1
+    assert lib.m2c_world_teleport(w, names["crate"], 1.0, -0.05) == 0        # into the floor: refused
+    assert lib.m2c_world_advance(w, 1.4, None, None) == 0
+    assert lib.m2c_world_remove_body(w, names["ledge"]) == 0
+    assert lib.m2c_world_remove_body(w, names["ledge"]) == -1 and b"removed" in lib.m2c_world_error(w)
+    assert lib.m2c_world_advance(w, 1.9, None, None) == 0
+    assert lib.m2c_world_remove_body(w, names["pebble"]) == 0
+    assert lib.m2c_world_finish(w, None, None) == 0
+    rec_world = _CRecorded(lib, w)
+    lib.m2c_world_free(w)
+    c.libc.fclose(fh)
+    assert len(rec_world.log) == 1 + 6 and rec_world.added == 0
+    rec = str(tmp_path / "recording.json")
+    write_recording(path, rec_world, rec)
+    session = (tmp_path / "session.txt").read_text()
+    for lang in ("c", "python"):
+        assert run_scene(load_scene(rec), lang).raw == session, lang
