@@ -95,8 +95,11 @@ def test_a_bad_key_script_is_one_line(tmp_path):
     bad.write_text("10 right down\n20 fly down\n")
     proc = play("--keys", str(bad), "--frames", "5")
     assert proc.returncode == 1
-    assert proc.stderr.strip() == (f"game: {bad}:2: error: expected 'FRAME KEY down|up' with KEY one of "
+    assert proc.stderr.strip() == (f"{bad}:2: error: expected 'FRAME KEY down|up' with KEY one of "
                                    f"left, right, jump, got '20 fly down'")
+    proc = play("--scene", str(tmp_path / "none.json"), "--frames", "5")
+    assert (proc.returncode, proc.stderr.strip()) == (1, f"{tmp_path / 'none.json'}: error: cannot read: "
+                                                         "No such file or directory")
 
 
 @pytest.mark.xfail(strict=True, reason="the reference's contact model loops support/leave at one instant when "

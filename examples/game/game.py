@@ -228,8 +228,14 @@ def main(argv=None) -> int:
             # the world ends at the last frame: the recording then replays the whole session, final lines included
             raw["end_time"] = args.frames / args.fps
         scene = parse_scene(json.dumps(raw), args.scene)
-    except (OSError, ValueError, GameError, SceneError) as exc:
-        print(f"game: {exc}", file=sys.stderr)
+    except OSError as exc:
+        print(f"{exc.filename}: error: cannot read: {exc.strerror}", file=sys.stderr)
+        return 1
+    except ValueError as exc:          # not JSON
+        print(f"{args.scene}: error: not a JSON scene: {exc}", file=sys.stderr)
+        return 1
+    except (GameError, SceneError) as exc:
+        print(str(exc), file=sys.stderr)
         return 1
     trace = open(args.trace, "w", encoding="ascii") if args.trace else None
     world = open_world(scene, args.engine, out=trace)
