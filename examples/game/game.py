@@ -219,6 +219,7 @@ def main(argv=None) -> int:
     import pygame
     from max2code.sim.live import open_world
     from max2code.sim.scene import SceneError, parse_scene
+    from max2code_rt.sim import SimError
 
     try:
         script = read_keys(args.keys) if args.keys else None
@@ -252,6 +253,7 @@ def main(argv=None) -> int:
     t = 0.0
     frame = 0
     drawn = 0
+    status = 0
     running = True
     while running:
         frame += 1
@@ -271,8 +273,13 @@ def main(argv=None) -> int:
             t = max(t, time.monotonic() - start)
         t = min(t, scene.end_time)
         c0 = time.process_time()
-        game.contacts(world.advance(t))
-        game.step(t)
+        try:
+            game.contacts(world.advance(t))
+            game.step(t)
+        except SimError as exc:         # a stuck scene: the world cannot go on
+            print(f"{args.scene}: error: the engine stopped before t = {t:.6f} s: {exc}", file=sys.stderr)
+            status = 1
+            break
         busy_frame = time.process_time() - c0
         busy += busy_frame
         view.draw(game, t, busy_frame * 1e3)
@@ -286,7 +293,7 @@ def main(argv=None) -> int:
         if script is None:
             clock.tick(args.fps)
     pygame.quit()
-    if args.record:
+    if args.record and status == 0:
         save_recording(args.scene, world, scene.end_time if t >= scene.end_time else t, args.record)
     if hasattr(world, "close"):
         world.close()           # the C world passes the rest of its trace on
@@ -300,7 +307,7 @@ def main(argv=None) -> int:
         print(f"game: {drawn} frames to t = {t:.3f} s on the {args.engine} engine: gems {game.score}/{len(game.gems)}, "
               f"hits {game.hits}, live inputs {game.inputs}; engine {busy / n * 1e3:.3f} ms CPU per frame"
               + (f"; recording {args.record}" if args.record else ""))
-    return 0
+    return status
 
 
 if __name__ == "__main__":
