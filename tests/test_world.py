@@ -27,7 +27,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python"}, "inputs": {"python"}, "bodies": {"python"}, "recordings": {"python"}}
+PORTED = {"world": {"python", "c"}, "inputs": {"python", "c"}, "bodies": {"python", "c"}, "recordings": {"python", "c"}}
 
 
 def runtimes(step: str):

@@ -62,6 +62,12 @@ def c_library() -> Path:
     return BUILD / "c" / "libm2c.a"
 
 
+def c_pic_library() -> Path:
+    """BUILD/c/libm2c_pic.a: libm2c's position-independent objects, for shared libraries."""
+    make_c(BUILD / "c" / "libm2c_pic.a")
+    return BUILD / "c" / "libm2c_pic.a"
+
+
 def rust_library() -> Path:
     """The max2code_rt rlib (cargo, release, warnings denied)."""
     cargo("build", "--release", "--quiet", "--lib")

@@ -1,15 +1,29 @@
-"""The live world of the Python runtime (docs/engine-api.md) made from a
-JSON scene: the contact equations generated for the scene's effects (as
-`max2code simulate --lang python` builds them), loaded as modules, and
-`max2code_rt.sim.World` made from the compiled scene."""
+"""Live worlds (docs/engine-api.md) made from a JSON scene, for programs
+that drive the engine themselves (a game loop, a test bed).
+
+`open_world(scene, engine)` checks and compiles the scene
+(max2code/sim/scene.py), builds the contact equations for exactly its
+effects (cached, as `max2code simulate` builds them) and returns a world:
+
+* engine="c": the compiled C world through ctypes (max2code/sim/cworld.py,
+  libm2c_world.so of the scene's build), at C speed;
+* engine="python": the pure-Python reference, `max2code_rt.sim.World`
+  (`python_world`): the contact equations generated for the scene's
+  effects, loaded as modules, and the world made from the compiled scene.
+
+Both take the same calls and give the same contacts, states and trace bytes
+(tests/test_live.py)."""
 from __future__ import annotations
 
 import importlib.util
 import json
+import os
 
 from max2code.paths import RUNTIMES
-from max2code.sim.scene import Scene, compile_scene
-from max2code.sim.simulate import build_simulator
+from max2code.sim.scene import Scene, SceneError, compile_scene, load_scene, parse_scene
+from max2code.sim.simulate import build_simulator, world_library
+
+ENGINES = ("c", "python")
 
 
 def _runtime():
@@ -49,6 +63,40 @@ def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:
     """The flat lines add_body takes for a body given as in a JSON scene
     (checked as in one: the scene's gravity applies; position and velocity
     are the state at the world's time of the add)."""
-    from max2code.sim.scene import body_lines, parse_scene
+    from max2code.sim.scene import body_lines
     one = parse_scene(json.dumps({"end_time": scene.end_time, "gravity": list(scene.gravity), "bodies": [raw]}), path)
     return "\n".join(body_lines(one.bodies[0], False)) + "\n"
+
+
+def as_scene(scene) -> Scene:
+    """A checked Scene from a path to a JSON scene, a dict (a JSON scene
+    already read) or a Scene."""
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, dict):
+        name = scene.get("name")
+        return parse_scene(json.dumps(scene), name if isinstance(name, str) else "<scene>")
+    if isinstance(scene, (str, os.PathLike)):
+        return load_scene(os.fspath(scene))
+    raise SceneError(f"<scene>: error: expected a path, a dict or a Scene, got {type(scene).__name__}")
+
+
+def open_world(scene, engine: str = "c", *, out=None):
+    """A world at t = 0 of the scene (a path, a dict or a Scene: as_scene) in
+    `engine` ("c" or "python"); `out`: None or an object with write(str) that
+    receives the flat trace as events happen."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(ENGINES)}, not {engine!r}")
+    sc = as_scene(scene)
+    if engine == "python":
+        return python_world(sc, out)
+    from max2code.sim.cworld import CWorld
+    return CWorld(str(world_library(sc, "c")), compile_scene(sc), out)
+
+
+def body_index(scene: Scene, name: str) -> int:
+    """The index of the body called name (the worlds' calls take indices)."""
+    for k, b in enumerate(scene.bodies):
+        if b.name == name:
+            return k
+    raise KeyError(f"{scene.path}: no body named {name!r}")

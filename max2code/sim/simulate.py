@@ -138,6 +138,19 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     return SimBuild(lang, str(workdir), run, names, generated)
 
 
+def world_library(scene: Scene, lang: str = "c", *, progress: bool = False) -> Path:
+    """The shared library of `lang`'s live world API (docs/engine-api.md),
+    built with the equations of the scene's effects (beside its simulator,
+    built when needed): for ctypes and other programs.  SimulateError when
+    `lang` makes none."""
+    from max2code.targets import target as get_target
+    name = get_target(lang).world_library
+    if name is None:
+        raise SimulateError(f"the {lang} simulator has no shared library of the world API")
+    build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
+    return Path(build.workdir) / name
+
+
 def _num(w: str) -> str:
     """A trace number as JSON: the runtime's `%.17g` text, which reads back as
     the same double (a whole number gets '.0' so that it stays a float);

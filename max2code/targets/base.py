@@ -103,6 +103,10 @@ class Target:
         """The command that runs the built simulator (compiled scene on stdin)."""
         raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
 
+    # the file name of the shared library of the live world API (docs/engine-api.md)
+    # that sim_build also makes in workdir, or None when it makes none
+    world_library: str | None = None
+
     # ---- conformance testee (docs/roots.md, "Conformance suite") -------
     def testee(self, baseline: bool = False) -> list[str]:
         """Build this runtime's conformance testee if needed (the GSL baseline's

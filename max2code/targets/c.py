@@ -5,6 +5,8 @@ from max2code.targets.base import Target
 
 # flags of every C build: warnings are errors, no FMA contraction (the
 # simulator performs the same operations as the Python reference)
+# the shared library of the world API that the sim build makes beside the program
+WORLD_LIBRARY = "libm2c_world.so"
 FLAGS = ["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off"]
 
 
@@ -15,6 +17,7 @@ class C(Target):
     line_directive = '#line {line} "{file}"'
     header_extension = ".h"          # eq.h: every entry's prototype and the degree constants
     gsl_baseline = "gsl"
+    world_library = WORLD_LIBRARY
     requires = "a C11 compiler; GSL (the library's baseline solver)"
     links = "compile eq.c, include eq.h; link libm2c (static or shared) through `pkg-config m2c`"
 
@@ -67,7 +70,9 @@ class C(Target):
         """Compile the generated circle_circle.c and point_edge.c (checked
         against the declarations of m2c_sim_equations.h), then the simulator
         (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
-        each NAME_variant counts, and link them with libm2c.a into workdir/sim."""
+        each NAME_variant counts, and link them with libm2c.a into workdir/sim;
+        the same world (m2c_world.h) with libm2c's position-independent
+        objects into workdir/libm2c_world.so."""
         from max2code.harness import runtimes
         c = runtimes.C_RUNTIME
         lib = runtimes.c_library()
@@ -85,6 +90,15 @@ class C(Target):
         sources = sorted(str(p) for p in (c / "src").glob("m2c_sim*.c"))
         cmds.append([*FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
                      "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
+        # the same world as a shared library, for ctypes and other programs (m2c_world.h)
+        pic_objs = []
+        for eq in ("circle_circle", "point_edge"):
+            obj = os.path.join(workdir, eq + ".pic.o")
+            cmds.append([*FLAGS, "-fPIC", "-Wno-array-parameter", f"-I{inc}", "-include",
+                         str(inc / "m2c_sim_equations.h"), "-c", generated[eq], "-o", obj])
+            pic_objs.append(obj)
+        cmds.append([*FLAGS, "-fPIC", "-shared", f"-I{inc}", *counts, *sources, *pic_objs, "-o",
+                     os.path.join(workdir, WORLD_LIBRARY), str(runtimes.c_pic_library()), "-lm"])
         return cmds
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:

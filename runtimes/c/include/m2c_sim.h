@@ -29,13 +29,7 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen);
 
 void m2c_sim_scene_free(m2c_sim_scene *scene);
 
-/* Runs the scene to its end time and writes the flat trace to out.
- * cc_variants and pe_variants are the numbers of variants the generated
- * circle_circle_variant and point_edge_variant index (one V line each).
- * Returns 0, or 1 with the message of the reference's X line in err (a
- * stuck scene, an effect the generated code leaves out, out of memory); the
- * trace written so far is flushed first.  The scene's bodies are advanced. */
-int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen);
+/* Running a scene: the world API of m2c_world.h. */
 
 /* Writes x into buf exactly as C's printf("%.17g", x) and Python's
  * "%.17g" % x do (a NaN of either sign as "nan", like Python); returns the

@@ -5,11 +5,13 @@
 #ifndef M2C_SIM_INTERNAL_H
 #define M2C_SIM_INTERNAL_H
 
+#include <setjmp.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
 #include "m2c_sim.h"
+#include "m2c_world.h"
 
 /* ---- scene ---------------------------------------------------------------- */
 
@@ -54,6 +56,7 @@ typedef struct m2c_sim_body {
     double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
     double load;            /* m/s^2: free acceleration pressing onto the support, > 0 */
     double at;              /* m/s^2: free acceleration along the tangent */
+    unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -62,11 +65,18 @@ typedef struct m2c_sim_trig {
     int valid;
 } m2c_sim_trig;
 
+/* input modes (the flat scene's MODE; docs/simulator.md) */
+enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3,
+       M2C_SIM_REMOVE = 4 };
+
+/* A scripted or live input. */
 typedef struct m2c_sim_input {
     double t;               /* s */
     int32_t body;
-    int32_t mode;           /* 0: set velocity, 1: add velocity */
-    double vx, vy;          /* m/s */
+    int32_t mode;           /* M2C_SIM_SET_VELOCITY, M2C_SIM_ADD_VELOCITY (vx, vy m/s), M2C_SIM_IMPULSE
+                               (vx, vy: the impulse, N s, through the centre), M2C_SIM_TELEPORT (vx, vy:
+                               the new centre, m), M2C_SIM_REMOVE (vx, vy unused, 0) */
+    double vx, vy;
 } m2c_sim_input;
 
 struct m2c_sim_scene {
@@ -79,6 +89,9 @@ struct m2c_sim_scene {
     double x0, y0, cw, ch;  /* m: grid origin and cell size */
     int32_t nx, ny;         /* grid cells per axis */
     int32_t nbodies, ninputs;
+    int32_t inputs_cap;     /* room in inputs (live inputs are appended: the recording) */
+    int32_t bodies_cap;     /* room in bodies (add_body appends) */
+    size_t nverts_all, verts_cap;   /* vertices in verts, and room */
     m2c_sim_body *bodies;
     m2c_sim_vertex *verts;  /* every polygon's vertices, one block */
     m2c_sim_input *inputs;
@@ -254,5 +267,76 @@ static inline char *m2c_sim_put_num(char *p, double x)
 }
 
 char *m2c_sim_put_int(char *p, long long v);
+
+/* ---- the world: the simulation's whole state (m2c_sim.c runs it, m2c_sim_world.c is its API) ---- */
+
+/* The counters written as the trace's N lines (the reference's Stats). */
+typedef struct m2c_sim_stats {
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
+} m2c_sim_stats;
+
+#define M2C_WORLD_ERROR_MAX 512
+
+struct m2c_world {
+    m2c_sim_scene *s;                   /* owned */
+    m2c_sim_body *bodies;               /* s->bodies */
+    uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
+    m2c_sim_heap heap;
+    m2c_sim_stats stats;
+    long long *cc_counts, *pe_counts;   /* predictions served per variant */
+    int n_cc, n_pe;
+    m2c_sim_grid grid;
+    int32_t *large;                     /* the bodies outside the grid, by index */
+    int32_t nlarge;
+    size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
+    m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
+    m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
+    m2c_sim_out out;                    /* the trace (out.f NULL: none) */
+    double now;                         /* s: the time reached */
+    double last_t;                      /* s: time of the last event handled (-1 before any) */
+    long long same;                     /* events handled at last_t after the first */
+    m2c_contact_fn fn;                  /* during m2c_world_advance: told of each contact */
+    void *user;
+    size_t trig_cap;                    /* entries of vtrig and etrig */
+    long long added;                    /* bodies added by add_body (a recording refuses them) */
+    int broken;                         /* an error stopped the world */
+    jmp_buf fail;                       /* where the current API call catches an error */
+    char err[M2C_WORLD_ERROR_MAX];
+};
+
+/* The engine's entries (m2c_sim.c); each returns 0, or -1 with the message
+ * in w->err. */
+/* Takes scene (freed by m2c_sim_close even on failure), allocates and
+ * predicts every pair at t = 0. */
+int m2c_sim_open(m2c_world *w, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace);
+/* Handles the events before t (<= the scene's end); the time is then t. */
+int m2c_sim_advance(m2c_world *w, double t);
+/* The time of the next live event (stale ones are dropped, counted), or +inf. */
+int m2c_sim_next_time(m2c_world *w, double *t);
+/* A live input at the world's time (docs/engine-api.md): 0 with *done 1,
+ * or *done 0 when a teleport is refused (it would overlap; the world is
+ * unchanged); -1 on a bad call (the world is unchanged: no such body, a
+ * fixed body, a coordinate that is not finite) or a failure. */
+int m2c_sim_live_input(m2c_world *w, int body, int mode, double x, double y, int *done);
+/* add_body (docs/engine-api.md): a body from its flat lines, at the
+ * world's time.  0 with *idx its index, or *idx -1 when it would overlap a
+ * body (the world unchanged); -1 on a bad body (the world unchanged) or a
+ * failure. */
+int m2c_sim_add_body(m2c_world *w, const char *text, int *idx);
+/* A `body ...` line and its `v` lines (the whole text) into b, index idx,
+ * its vertices into a new *verts (b->verts left NULL): 0, or -1 with the
+ * message ("add_body: ..."). */
+int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_vertex **verts, char *err,
+                      size_t errlen);
+/* Handles the events at the end time too, then writes every body at the
+ * end time, the counters, the variants served; flushed. */
+int m2c_sim_finish(m2c_world *w);
+void m2c_sim_close(m2c_world *w);
+/* Body b's exact state at t (from its state at b->tb). */
+void m2c_sim_body_state(const m2c_sim_body *b, double t, m2c_body_state *s);
+
+/* The event first in the queue (moving `last` on when near is empty), or
+ * NULL when the queue is empty; it stays queued.  -1 out of memory. */
+int m2c_sim_heap_top(m2c_sim_heap *h, const m2c_sim_event **e);
 
 #endif

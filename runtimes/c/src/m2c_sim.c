@@ -18,10 +18,8 @@
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
 
-/* The counters written as the trace's N lines (the reference's Stats). */
-typedef struct stats {
-    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
-} stats;
+typedef m2c_sim_stats stats;
+typedef struct m2c_world sim;
 
 /* The N lines, in their order: each counter's name and place in stats. */
 static const struct {
@@ -36,34 +34,26 @@ static const struct {
     { "leaves", offsetof(stats, leaves) },
 };
 
-typedef struct sim {
-    m2c_sim_scene *s;
-    m2c_sim_body *bodies;
-    uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
-    m2c_sim_heap heap;
-    stats stats;
-    long long *cc_counts, *pe_counts;   /* predictions served per variant */
-    int n_cc, n_pe;
-    m2c_sim_grid grid;
-    int32_t *large;                     /* the bodies outside the grid, by index */
-    int32_t nlarge;
-    size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
-    m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
-    m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
-    m2c_sim_out out;
-    jmp_buf fail;
-    char *err;
-    size_t errlen;
-} sim;
-
-/* The reference's SimError: the message, then back to m2c_sim_run. */
+/* The reference's SimError: the message, then back to the entry that
+ * set m->fail; the world is unusable from then on. */
 static _Noreturn void die(sim *m, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m->err, m->errlen, fmt, ap);
+    vsnprintf(m->err, sizeof m->err, fmt, ap);
     va_end(ap);
+    m->broken = 1;
     longjmp(m->fail, 1);
+}
+
+static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support);
+
+/* %.17g of x (as the reference's _fmt) into buf, NUL-terminated. */
+static const char *fmt(char *buf, double x)
+{
+    buf[m2c_sim_format_number(buf, x)] = '\0';
+    return buf;
 }
 
 /* cos(a) and sin(a), from the cache when a is the angle (to the bit) it
@@ -116,6 +106,17 @@ static inline motion state_at(const m2c_sim_body *b, double t)
     q.vy = b->vy + b->ay * dt;
     q.ang = b->ang + b->om * dt;
     return q;
+}
+
+void m2c_sim_body_state(const m2c_sim_body *b, double t, m2c_body_state *s)
+{
+    motion q = state_at(b, t);
+    s->x = q.x;
+    s->y = q.y;
+    s->vx = q.vx;
+    s->vy = q.vy;
+    s->angle = q.ang;
+    s->omega = b->om;
 }
 
 /* rad/s: how fast the body's contact features turn. */
@@ -785,6 +786,8 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
 
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
@@ -970,7 +973,7 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
  * material points do not approach and are not pressed together, else the
  * impulse j >= 0 (velocities changed).  Pressed together, they leave at
  * rest_speed at least, so time advances (docs/simulator.md). */
-static double apply_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                             double ny)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
@@ -1009,6 +1012,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
                          int32_t feature, int32_t i, int32_t j, double cx, double cy, double nx, double ny,
                          double imp)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1030,6 +1035,8 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
 static void emit_support_change(sim *m, const char *kind, double t, const m2c_sim_body *A, int32_t sup,
                                 int32_t edge)
 {
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
     p = m2c_sim_put_num(p, t);
@@ -1052,6 +1059,7 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     enter_support(m, A, B, ev->u.collision.j);
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
+    report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1075,7 +1083,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         return;
     }
     m->stats.collisions++;
-    double imp = apply_impulse(m, A, B, cx, cy, nx, ny);
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
     if (imp != 0.0) {
         if (A->sup >= 0)
             end_support(A);
@@ -1083,6 +1091,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             end_support(B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
+    report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
         if (!both[k]->fixed) {
@@ -1128,25 +1137,150 @@ static void handle_leave(sim *m, const m2c_sim_event *ev)
     predict_body(m, A, ev->t, NULL);
 }
 
-/* Scripted input number k: its body's velocity set or added to. */
-static void handle_input(sim *m, const m2c_sim_event *ev)
+/* ---- overlap (a teleport's check) ------------------------------------------------------------ */
+
+/* Python's max(a, b) and min(a, b): the first unless the second is larger
+ * (smaller). */
+static inline double py_max(double a, double b)
 {
-    m->stats.inputs++;
-    double t = ev->t;
-    int32_t k = ev->u.input.k;
-    const m2c_sim_input *in = &m->s->inputs[k];
-    m2c_sim_body *body = &m->bodies[in->body];
-    advance(body, t);
-    if (body->sup >= 0)
-        end_support(body);
-    if (in->mode == 0) {
-        body->vx = in->vx;
-        body->vy = in->vy;
-    } else {
-        body->vx = body->vx + in->vx;
-        body->vy = body->vy + in->vy;
+    return b > a ? b : a;
+}
+
+static inline double py_min(double a, double b)
+{
+    return b < a ? b : a;
+}
+
+/* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
+ * line, (ox, oy) . point = off. */
+static void edge_line(const m2c_sim_body *P, int32_t j, double t, double *ox, double *oy, double *off)
+{
+    const m2c_sim_vertex *ed = &P->verts[j];
+    motion q = state_at(P, t);
+    double c = cos(q.ang);
+    double s = sin(q.ang);
+    *ox = c * ed->nx - s * ed->ny;
+    *oy = s * ed->nx + c * ed->ny;
+    *off = *ox * q.x + *oy * q.y + ed->h;
+}
+
+/* Along the edge normals of P: the largest over P's edges of the smallest
+ * distance of Q's vertices beyond the edge's line. */
+static double edges_separation(sim *m, const m2c_sim_body *P, const m2c_sim_body *Q, double t)
+{
+    double best = -INFINITY;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, t, &ox, &oy, &off);
+        double lo = INFINITY;
+        for (int32_t k = 0; k < Q->nverts; k++) {
+            double qx, qy;
+            point_at(m, Q, &Q->verts[k], t, &qx, &qy);
+            lo = py_min(lo, ox * qx + oy * qy - off);
+        }
+        best = py_max(best, lo);
     }
-    m->stamp[body->idx]++;
+    return best;
+}
+
+/* A circle against a polygon: along P's edge normals, and along the line
+ * from P's nearest vertex (the first of the nearest) to the circle's centre. */
+static double circle_separation(sim *m, const m2c_sim_body *C, const m2c_sim_body *P, double t)
+{
+    double cx, cy;
+    point_at(m, C, NULL, t, &cx, &cy);
+    double best = -INFINITY;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, t, &ox, &oy, &off);
+        best = py_max(best, ox * cx + oy * cy - off - C->r);
+    }
+    double d2 = INFINITY, nearx = 0.0, neary = 0.0;
+    for (int32_t k = 0; k < P->nverts; k++) {
+        double qx, qy;
+        point_at(m, P, &P->verts[k], t, &qx, &qy);
+        double e2 = (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy);
+        if (e2 < d2) {
+            d2 = e2;
+            nearx = qx;
+            neary = qy;
+        }
+    }
+    if (d2 > 0.0) {
+        double d = sqrt(d2);
+        double ux = (cx - nearx) / d, uy = (cy - neary) / d;
+        double hi = -INFINITY;
+        for (int32_t k = 0; k < P->nverts; k++) {
+            double qx, qy;
+            point_at(m, P, &P->verts[k], t, &qx, &qy);
+            hi = py_max(hi, ux * qx + uy * qy);
+        }
+        best = py_max(best, ux * cx + uy * cy - C->r - hi);
+    }
+    return best;
+}
+
+/* The largest gap between A and B at t along a separating axis: negative
+ * by the depth they overlap (edge normals of either polygon, and for a
+ * circle the line from the nearest vertex; circles: the distance of the
+ * centres less the radii). */
+static double separation(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double t)
+{
+    if (!A->polygon && !B->polygon) {
+        double ax, ay, bx, by;
+        point_at(m, A, NULL, t, &ax, &ay);
+        point_at(m, B, NULL, t, &bx, &by);
+        return sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A->r + B->r);
+    }
+    if (!A->polygon)
+        return circle_separation(m, A, B, t);
+    if (!B->polygon)
+        return circle_separation(m, B, A, t);
+    return py_max(edges_separation(m, A, B, t), edges_separation(m, B, A, t));
+}
+
+/* The first body (by index) that A, with its centre moved to (x, y) at
+ * time t, would overlap by more than the tolerance; -1 when none. */
+static int32_t overlapping(sim *m, m2c_sim_body *A, double x, double y, double t)
+{
+    double tol = m->s->tol;
+    double spx = A->px, spy = A->py, svx = A->vx, svy = A->vy, sang = A->ang, stb = A->tb;
+    motion q = state_at(A, t);
+    A->px = x;                          /* A at t, moved (restored below) */
+    A->py = y;
+    A->vx = q.vx;
+    A->vy = q.vy;
+    A->ang = q.ang;
+    A->tb = t;
+    int32_t found = -1;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        const m2c_sim_body *B = &m->bodies[k];
+        if (B == A || B->gone)
+            continue;
+        motion qb = state_at(B, t);
+        double dx = qb.x - x, dy = qb.y - y;
+        double reach = A->bound + B->bound + tol;
+        if (dx * dx + dy * dy > reach * reach)
+            continue;
+        if (separation(m, A, B, t) < -tol) {
+            found = B->idx;
+            break;
+        }
+    }
+    A->px = spx;
+    A->py = spy;
+    A->vx = svx;
+    A->vy = svy;
+    A->ang = sang;
+    A->tb = stb;
+    return found;
+}
+
+/* An E line of an input (k: its index in the input list). */
+static void emit_input(sim *m, double t, const m2c_sim_body *body, int32_t k)
+{
+    if (m->out.f == NULL)
+        return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E input ");
     p = m2c_sim_put_num(p, t);
@@ -1156,6 +1290,91 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     p = m2c_sim_put_int(p, k);
     p = m2c_sim_put_str(p, " -1 0 0 0 0 0\n");
     m->out.n += (size_t)(p - start);
+}
+
+/* Input k removes the body (based at t): it stops where it is (v, a, w
+ * zero), leaves the grid (or the large list), its stamp changes (its
+ * queued events go stale) and it is never predicted again; bodies it
+ * supported leave. */
+static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
+{
+    body->vx = body->vy = body->ax = body->ay = body->fax = body->fay = body->om = 0.0;
+    if (body->sup >= 0)
+        end_support(body);
+    body->gone = 1;
+    m->stamp[body->idx]++;
+    if (body->large) {
+        int32_t q = 0;
+        while (m->large[q] != body->idx)
+            q++;
+        for (; q + 1 < m->nlarge; q++)          /* the others keep their order */
+            m->large[q] = m->large[q + 1];
+        m->nlarge--;
+    } else {
+        m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    }
+    emit_input(m, t, body, k);
+    for (int32_t q = 0; q < m->s->nbodies; q++) {
+        m2c_sim_body *A = &m->bodies[q];
+        if (A->sup != body->idx)
+            continue;
+        m->stats.leaves++;
+        advance(A, t);
+        int32_t edge = A->sup_edge;
+        end_support(A);
+        m->stamp[A->idx]++;
+        emit_support_change(m, "E leave ", t, A, body->idx, edge);
+        emit_state(m, A);
+        predict_body(m, A, t, NULL);
+    }
+}
+
+/* Scripted or live input number k: its body's velocity set or added to,
+ * an impulse through its centre, or its centre moved. */
+static void handle_input(sim *m, const m2c_sim_event *ev)
+{
+    m->stats.inputs++;
+    double t = ev->t;
+    int32_t k = ev->u.input.k;
+    const m2c_sim_input *in = &m->s->inputs[k];
+    m2c_sim_body *body = &m->bodies[in->body];
+    if (body->gone) {
+        char a[M2C_SIM_NUMBER_MAX + 1];
+        die(m, "input %d: body %d was removed before t = %s", (int)k, (int)body->idx, fmt(a, t));
+    }
+    advance(body, t);
+    if (in->mode == M2C_SIM_REMOVE) {
+        remove_body(m, body, k, t);
+        return;
+    }
+    if (in->mode == M2C_SIM_TELEPORT) {
+        int32_t o = overlapping(m, body, in->vx, in->vy, t);
+        if (o >= 0) {
+            char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+            die(m, "input %d: body %d teleported to (%s, %s) at t = %s would overlap body %d", (int)k,
+                (int)body->idx, fmt(a, in->vx), fmt(b, in->vy), fmt(c, t), (int)o);
+        }
+    }
+    if (body->sup >= 0)
+        end_support(body);
+    if (in->mode == M2C_SIM_SET_VELOCITY) {
+        body->vx = in->vx;
+        body->vy = in->vy;
+    } else if (in->mode == M2C_SIM_ADD_VELOCITY) {
+        body->vx = body->vx + in->vx;
+        body->vy = body->vy + in->vy;
+    } else if (in->mode == M2C_SIM_IMPULSE) {
+        body->vx = body->vx + in->vx * body->inv_m;
+        body->vy = body->vy + in->vy * body->inv_m;
+    } else {
+        body->px = in->vx;
+        body->py = in->vy;
+        m2c_sim_grid_remove(&m->grid, m->bodies, body);
+        cell_of(m, body->px, body->py, &body->cx, &body->cy);
+        cell_add(m, body);
+    }
+    m->stamp[body->idx]++;
+    emit_input(m, t, body, k);
     emit_state(m, body);
     predict_body(m, body, t, NULL);
 }
@@ -1201,11 +1420,13 @@ static void handle_frame(sim *m, const m2c_sim_event *ev)
 {
     m->stats.frames++;
     const m2c_sim_scene *s = m->s;
-    char *start = m2c_sim_out_reserve(&m->out), *p = start;
-    p = m2c_sim_put_str(p, "E frame ");
-    p = m2c_sim_put_num(p, ev->t);
-    p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
-    m->out.n += (size_t)(p - start);
+    if (m->out.f != NULL) {
+        char *start = m2c_sim_out_reserve(&m->out), *p = start;
+        p = m2c_sim_put_str(p, "E frame ");
+        p = m2c_sim_put_num(p, ev->t);
+        p = m2c_sim_put_str(p, " -1 -1 -1 -1 -1 0 0 0 0 0\n");
+        m->out.n += (size_t)(p - start);
+    }
     double nxt = (double)(ev->u.frame.k + 1) * s->frame_dt;
     if (nxt <= s->end)
         push_frame(m, nxt, ev->u.frame.k + 1);
@@ -1309,75 +1530,329 @@ static void count_same_time(sim *m, double t, double *last_t, long long *same)
     }
 }
 
-/* The run: the events in order, each to its kind's handler, up to the end. */
-static void run(sim *m)
+/* Tells the caller of m2c_world_advance of a contact. */
+static void report(sim *m, double t, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                   int32_t j, double cx, double cy, double nx, double ny, double imp, int support)
 {
-    start(m);
-    double last_t = -1.0;
-    long long same = 0;
-    m2c_sim_event ev;
-    while (m->heap.n > 0) {
-        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
-            die(m, "out of memory (event queue of %zu events)", m->heap.n);
-        if (ev.t > m->s->end)
-            break;
-        if (is_stale(m, &ev)) {
-            m->stats.stale++;
-            continue;
-        }
-        count_same_time(m, ev.t, &last_t, &same);
-        handlers[ev.kind](m, &ev);
-    }
-    finish(m);
+    if (m->fn == NULL)
+        return;
+    m2c_contact c = { t, A->idx, B->idx, feature, i, j, cx, cy, nx, ny, imp, support };
+    m->fn(&c, m->user);
 }
 
-int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *out, char *err, size_t errlen)
+/* Handles one event popped from the queue: dropped when stale, counted
+ * among the events at one instant (max_same_time), to its kind's handler. */
+static void dispatch(sim *m, const m2c_sim_event *ev)
 {
-    sim *m = calloc(1, sizeof *m);
-    if (m == NULL) {
-        snprintf(err, errlen, "out of memory");
-        return 1;
+    if (is_stale(m, ev)) {
+        m->stats.stale++;
+        return;
     }
+    count_same_time(m, ev->t, &m->last_t, &m->same);
+    handlers[ev->kind](m, ev);
+}
+
+/* The queued events before limit (s; inclusive: at limit too) in
+ * (t, kind, seq) order, each to its kind's handler, the events that
+ * handling schedules included. */
+static void run_until(sim *m, double limit, int inclusive)
+{
+    m2c_sim_event ev;
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t > limit || (top->t == limit && !inclusive))
+            break;
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        dispatch(m, &ev);
+    }
+}
+
+/* Handles the input events queued at exactly the world's time. */
+static void inputs_now(sim *m)
+{
+    m2c_sim_event ev;
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t != m->now || top->kind != M2C_SIM_INPUT)
+            break;
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        dispatch(m, &ev);
+    }
+}
+
+/* Entries: each catches the errors of what it calls (die) here. */
+#define CATCH(m)                                                                                            \
+    do {                                                                                                    \
+        if ((m)->broken)                                                                                    \
+            return -1;                                                                                      \
+        if (setjmp((m)->fail) != 0)                                                                         \
+            return -1;                                                                                      \
+    } while (0)
+
+int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace)
+{
     m->s = scene;
     m->bodies = scene->bodies;
-    m->err = err;
-    m->errlen = errlen;
     m->n_cc = cc_variants;
     m->n_pe = pe_variants;
     m->sweep_at = 4096;
-    volatile int status = 1;
-    if (setjmp(m->fail) == 0) {
-        if (cc_variants < 1 || pe_variants < 1)
-            die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
-        m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
-        m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
-        m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
-        m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
-        if (m->stamp == NULL)
-            die(m, "out of memory");
-        size_t nv = 1;
-        for (int32_t k = 0; k < scene->nbodies; k++)
-            nv += (size_t)scene->bodies[k].nverts;
-        m->vtrig = calloc(nv, sizeof *m->vtrig);
-        m->etrig = calloc(nv, sizeof *m->etrig);
-        if (m->vtrig == NULL || m->etrig == NULL)
-            die(m, "out of memory");
-        if (m->cc_counts == NULL || m->pe_counts == NULL || m->large == NULL || m2c_sim_out_init(&m->out, out) != 0
-            || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
-            die(m, "out of memory");
-        for (int32_t k = 0; k < scene->nbodies; k++)
-            if (scene->bodies[k].large)
-                m->large[m->nlarge++] = k;
-        run(m);
-        status = 0;
-    }
-    if (m->out.buf != NULL) {
-        m2c_sim_out_flush(&m->out);
-        if (m->out.failed && status == 0) {
-            snprintf(err, errlen, "cannot write the trace");
-            status = 1;
+    m->last_t = -1.0;
+    CATCH(m);
+    if (m2c_sim_out_init(&m->out, trace) != 0)
+        die(m, "out of memory");
+    if (cc_variants < 1 || pe_variants < 1)
+        die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
+    m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
+    m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
+    m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+    m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
+    size_t nv = scene->verts_cap + 1;
+    m->trig_cap = nv;
+    m->vtrig = calloc(nv, sizeof *m->vtrig);
+    m->etrig = calloc(nv, sizeof *m->etrig);
+    if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
+        || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
+        die(m, "out of memory");
+    for (int32_t k = 0; k < scene->nbodies; k++)
+        if (scene->bodies[k].large)
+            m->large[m->nlarge++] = k;
+    start(m);
+    return 0;
+}
+
+int m2c_sim_advance(sim *m, double t)
+{
+    CATCH(m);
+    run_until(m, t, 0);
+    m->now = t;
+    return 0;
+}
+
+int m2c_sim_next_time(sim *m, double *t)
+{
+    CATCH(m);
+    for (;;) {
+        const m2c_sim_event *top;
+        if (m2c_sim_heap_top(&m->heap, &top) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (top == NULL || top->t > m->s->end) {
+            *t = INFINITY;
+            return 0;
         }
+        if (!is_stale(m, top)) {
+            *t = top->t;
+            return 0;
+        }
+        m2c_sim_event ev;
+        if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        m->stats.stale++;
     }
+}
+
+int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done)
+{
+    *done = 0;
+    if (m->broken)
+        return -1;
+    if (body < 0 || body >= m->s->nbodies) {
+        snprintf(m->err, sizeof m->err, "no body %d (the world has %d)", body, (int)m->s->nbodies);
+        return -1;
+    }
+    m2c_sim_body *b = &m->bodies[body];
+    if (b->gone) {
+        snprintf(m->err, sizeof m->err, "body %d was removed", body);
+        return -1;
+    }
+    if (b->fixed && mode != M2C_SIM_REMOVE) {
+        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only", body);
+        return -1;
+    }
+    if (!isfinite(x) || !isfinite(y)) {
+        char a[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(m->err, sizeof m->err, "input on body %d: (%s, %s) is not finite", body, fmt(a, x), fmt(c, y));
+        return -1;
+    }
+    CATCH(m);
+    double t = m->now;
+    inputs_now(m);
+    if (mode == M2C_SIM_TELEPORT && overlapping(m, b, x, y, t) >= 0)
+        return 0;
+    m2c_sim_scene *s = m->s;
+    if (s->ninputs == s->inputs_cap) {
+        if (s->inputs_cap > (1 << 28))
+            die(m, "too many inputs");
+        m2c_sim_input *more = realloc(s->inputs, 2 * (size_t)s->inputs_cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (inputs)");
+        s->inputs = more;
+        s->inputs_cap *= 2;
+    }
+    m2c_sim_input *in = &s->inputs[s->ninputs++];
+    in->t = t;
+    in->body = body;
+    in->mode = mode;
+    in->vx = x;
+    in->vy = y;
+    push_input(m, t, s->ninputs - 1);
+    inputs_now(m);
+    *done = 1;
+    return 0;
+}
+
+/* Room for one more body with nverts vertices: 0, or -1 (out of memory;
+ * what was grown stays grown, nothing else changes). */
+static int reserve_body(sim *m, int32_t nverts)
+{
+    m2c_sim_scene *s = m->s;
+    if (s->nbodies + 1 >= s->bodies_cap) {
+        if (s->bodies_cap > (1 << 28))
+            return -1;
+        int32_t cap = 2 * s->bodies_cap;
+        m2c_sim_body *b = aligned_alloc(64, (size_t)cap * sizeof *b);     /* a multiple of 64 */
+        uint32_t *st = realloc(m->stamp, (size_t)cap * sizeof *st);
+        if (st != NULL)
+            m->stamp = st;
+        int32_t *lg = realloc(m->large, (size_t)cap * sizeof *lg);
+        if (lg != NULL)
+            m->large = lg;
+        if (b == NULL || st == NULL || lg == NULL) {
+            free(b);
+            return -1;
+        }
+        memset(b, 0, (size_t)cap * sizeof *b);
+        memcpy(b, s->bodies, (size_t)s->nbodies * sizeof *b);
+        memset(st + s->bodies_cap, 0, (size_t)(cap - s->bodies_cap) * sizeof *st);
+        free(s->bodies);
+        s->bodies = m->bodies = b;
+        s->bodies_cap = cap;
+    }
+    if (s->nverts_all + (size_t)nverts > s->verts_cap) {
+        size_t cap = 2 * (s->nverts_all + (size_t)nverts) + 64;
+        size_t *first = malloc(((size_t)s->nbodies + 1) * sizeof *first);
+        if (first == NULL)
+            return -1;
+        for (int32_t k = 0; k < s->nbodies; k++)
+            first[k] = s->bodies[k].verts != NULL ? (size_t)(s->bodies[k].verts - s->verts) : 0;
+        m2c_sim_vertex *v = realloc(s->verts, cap * sizeof *v);
+        if (v == NULL) {
+            free(first);
+            return -1;
+        }
+        s->verts = v;
+        s->verts_cap = cap;
+        for (int32_t k = 0; k < s->nbodies; k++)
+            if (s->bodies[k].verts != NULL)
+                s->bodies[k].verts = v + first[k];
+        free(first);
+    }
+    if (s->verts_cap + 1 > m->trig_cap) {
+        size_t cap = s->verts_cap + 1;
+        m2c_sim_trig *vt = realloc(m->vtrig, cap * sizeof *vt);
+        if (vt != NULL)
+            m->vtrig = vt;
+        m2c_sim_trig *et = realloc(m->etrig, cap * sizeof *et);
+        if (et != NULL)
+            m->etrig = et;
+        if (vt == NULL || et == NULL)
+            return -1;
+        memset(vt + m->trig_cap, 0, (cap - m->trig_cap) * sizeof *vt);
+        memset(et + m->trig_cap, 0, (cap - m->trig_cap) * sizeof *et);
+        m->trig_cap = cap;
+    }
+    return 0;
+}
+
+int m2c_sim_add_body(sim *m, const char *text, int *idx)
+{
+    *idx = -1;
+    if (m->broken)
+        return -1;
+    m2c_sim_scene *s = m->s;
+    m2c_sim_body nb;
+    memset(&nb, 0, sizeof nb);
+    m2c_sim_vertex *nv = NULL;
+    if (m2c_sim_body_read(text, &nb, s->nbodies, &nv, m->err, sizeof m->err) != 0)
+        return -1;
+    nb.large = 2.0 * nb.bound > py_min(s->cw, s->ch);
+    if (nb.large && !nb.fixed) {
+        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
+        snprintf(m->err, sizeof m->err, "add_body: a movable body of bound %s m does not fit the grid's cells "
+                 "(%s x %s m): put such a body in the scene", fmt(a, nb.bound), fmt(b, s->cw), fmt(c, s->ch));
+        free(nv);
+        return -1;
+    }
+    if (reserve_body(m, nb.nverts) != 0) {
+        free(nv);
+        snprintf(m->err, sizeof m->err, "out of memory (add_body)");
+        m->broken = 1;
+        return -1;
+    }
+    /* the body waits in the first unused place (not counted until it is added) */
+    if (nb.nverts > 0) {
+        memcpy(s->verts + s->nverts_all, nv, (size_t)nb.nverts * sizeof *nv);
+        nb.verts = s->verts + s->nverts_all;
+    }
+    free(nv);
+    m2c_sim_body *b = &s->bodies[s->nbodies];
+    *b = nb;
+    m->stamp[b->idx] = 0;
+    CATCH(m);
+    double t = m->now;
+    b->tb = t;
+    inputs_now(m);
+    if (overlapping(m, b, b->px, b->py, t) >= 0)
+        return 0;
+    s->nbodies++;
+    s->nverts_all += (size_t)b->nverts;
+    m->added++;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, "E add ");
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, b->idx);
+    p = m2c_sim_put_str(p, " -1 -1 -1 -1 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+    if (b->large) {
+        m->large[m->nlarge++] = b->idx;
+        for (int32_t k = 0; k < s->nbodies; k++) {
+            const m2c_sim_body *o = &m->bodies[k];
+            if (!o->large && !o->gone && !(o->fixed && b->fixed))
+                predict_pair(m, o, b, t);
+        }
+    } else {
+        cell_of(m, b->px, b->py, &b->cx, &b->cy);
+        cell_add(m, b);
+        if (!b->fixed)
+            emit_state(m, b);
+        predict_body(m, b, t, NULL);
+    }
+    *idx = b->idx;
+    return 0;
+}
+
+int m2c_sim_finish(sim *m)
+{
+    CATCH(m);
+    run_until(m, m->s->end, 1);
+    m->now = m->s->end;
+    finish(m);
+    m2c_sim_out_flush(&m->out);
+    if (m->out.failed)
+        die(m, "cannot write the trace");
+    return 0;
+}
+
+void m2c_sim_close(sim *m)
+{
+    if (m->out.buf != NULL)
+        m2c_sim_out_flush(&m->out);
     m2c_sim_out_free(&m->out);
     m2c_sim_grid_free(&m->grid);
     m2c_sim_heap_free(&m->heap);
@@ -1387,6 +1862,6 @@ int m2c_sim_run(m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *ou
     free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
-    free(m);
-    return status;
+    m2c_sim_scene_free(m->s);
+    m->s = NULL;
 }

@@ -268,6 +268,17 @@ int m2c_sim_heap_pop(m2c_sim_heap *h, m2c_sim_event *e)
     return 0;
 }
 
+int m2c_sim_heap_top(m2c_sim_heap *h, const m2c_sim_event **e)
+{
+    *e = NULL;
+    if (h->n == 0)
+        return 0;
+    if (h->near.n == 0 && advance(h) != 0)
+        return -1;
+    *e = &h->rest[h->near.e[0].key & SLOT_MASK];
+    return 0;
+}
+
 void m2c_sim_heap_sweep(m2c_sim_heap *h, int (*drop)(void *ctx, const m2c_sim_event *e), void *ctx)
 {
     for (int b = 0; b <= 64; b++) {

@@ -10,6 +10,7 @@
 
 typedef struct reader {
     const char *p;
+    const char *what;       /* the messages' prefix: "scene", "add_body" */
     char *err;
     size_t errlen;
     int failed;
@@ -25,7 +26,7 @@ static void fail(reader *r, const char *fmt, ...)
     if (!r->failed) {
         va_list ap;
         va_start(ap, fmt);
-        int n = snprintf(r->err, r->errlen, "scene: ");
+        int n = snprintf(r->err, r->errlen, "%s: ", r->what);
         if (n > 0 && (size_t)n < r->errlen)
             vsnprintf(r->err + n, r->errlen - (size_t)n, fmt, ap);
         va_end(ap);
@@ -33,8 +34,9 @@ static void fail(reader *r, const char *fmt, ...)
     r->failed = 1;
 }
 
-/* The next token: *len characters at the returned pointer (0: none left). */
-static const char *token(reader *r, size_t *len)
+/* The next token: *len characters at the returned pointer (0: none left;
+ * expect: the word wanted, for the message). */
+static const char *token(reader *r, size_t *len, const char *expect)
 {
     const char *p = r->p;
     while (*p && is_space(*p))
@@ -44,15 +46,19 @@ static const char *token(reader *r, size_t *len)
         p++;
     r->p = p;
     *len = (size_t)(p - start);
-    if (*len == 0)
-        fail(r, "unexpected end of the scene");
+    if (*len == 0) {
+        if (expect != NULL)
+            fail(r, "ends early (expected '%s')", expect);
+        else
+            fail(r, "ends early");
+    }
     return start;
 }
 
 static void word(reader *r, const char *expect)
 {
     size_t n;
-    const char *w = token(r, &n);
+    const char *w = token(r, &n, expect);
     if (r->failed)
         return;
     if (n != strlen(expect) || memcmp(w, expect, n) != 0)
@@ -62,12 +68,12 @@ static void word(reader *r, const char *expect)
 static double num(reader *r)
 {
     size_t n;
-    const char *w = token(r, &n);
+    const char *w = token(r, &n, NULL);
     if (r->failed)
         return 0.0;
     char buf[64];
     if (n >= sizeof buf) {
-        fail(r, "not a number: '%.*s'", 40, w);
+        fail(r, "expected a number, found '%.*s'", 40, w);
         return 0.0;
     }
     memcpy(buf, w, n);
@@ -76,7 +82,7 @@ static double num(reader *r)
     errno = 0;
     double x = strtod(buf, &end);
     if (end != buf + n) {
-        fail(r, "not a number: '%.*s'", (int)n, w);
+        fail(r, "expected a number, found '%.*s'", (int)n, w);
         return 0.0;
     }
     return x;
@@ -85,12 +91,12 @@ static double num(reader *r)
 static long long integer(reader *r)
 {
     size_t n;
-    const char *w = token(r, &n);
+    const char *w = token(r, &n, NULL);
     if (r->failed)
         return 0;
     char buf[32];
     if (n >= sizeof buf) {
-        fail(r, "not an integer: '%.*s'", 20, w);
+        fail(r, "expected an integer, found '%.*s'", 20, w);
         return 0;
     }
     memcpy(buf, w, n);
@@ -99,7 +105,7 @@ static long long integer(reader *r)
     errno = 0;
     long long v = strtoll(buf, &end, 10);
     if (end != buf + n || errno != 0) {
-        fail(r, "not an integer: '%.*s'", (int)n, w);
+        fail(r, "expected an integer, found '%.*s'", (int)n, w);
         return 0;
     }
     return v;
@@ -123,9 +129,96 @@ void m2c_sim_scene_free(m2c_sim_scene *s)
     free(s);
 }
 
+/* A `body ...` line and its `v` lines into b (index i; b->verts is left
+ * NULL), the vertices appended to *verts (*n of them, room for *cap). */
+static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **verts, size_t *n, size_t *cap)
+{
+    word(r, "body");
+    b->idx = i;
+    b->polygon = integer(r) == 1;
+    b->fixed = integer(r) == 1;
+    b->inv_m = num(r);
+    b->inv_i = num(r);
+    b->e = num(r);
+    b->mu = num(r);
+    b->px = num(r);
+    b->py = num(r);
+    b->vx = num(r);
+    b->vy = num(r);
+    b->ax = num(r);
+    b->ay = num(r);
+    b->fax = b->ax;
+    b->fay = b->ay;
+    b->sup = -1;
+    b->sup_edge = -1;
+    b->ang = num(r);
+    b->om = num(r);
+    b->r = num(r);
+    b->orbit = num(r);
+    b->ophase = num(r);
+    b->bound = num(r);
+    b->large = integer(r) == 1;
+    b->nverts = count(r, 1 << 20);
+    b->tb = 0.0;
+    b->cx = b->cy = 0;
+    b->slot = -1;
+    b->gone = 0;
+    b->verts = NULL;
+    for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
+        if (*n == *cap) {
+            size_t c = *cap ? 2 * *cap : 64;
+            m2c_sim_vertex *v = realloc(*verts, c * sizeof *v);
+            if (v == NULL) {
+                fail(r, "out of memory");
+                break;
+            }
+            *verts = v;
+            *cap = c;
+        }
+        m2c_sim_vertex *v = &(*verts)[(*n)++];
+        word(r, "v");
+        v->lx = num(r);
+        v->ly = num(r);
+        v->rho = num(r);
+        v->beta = num(r);
+        v->psi = num(r);
+        v->h = num(r);
+        v->s1 = num(r);
+        v->s2 = num(r);
+        v->nx = num(r);
+        v->ny = num(r);
+    }
+}
+
+int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_vertex **verts, char *err,
+                      size_t errlen)
+{
+    reader rd = { text, "add_body", err, errlen, 0 };
+    size_t n = 0, cap = 0;
+    *verts = NULL;
+    read_body(&rd, b, idx, verts, &n, &cap);
+    if (!rd.failed) {
+        const char *p = rd.p;
+        while (*p && is_space(*p))
+            p++;
+        if (*p) {
+            const char *e = p;
+            while (*e && !is_space(*e))
+                e++;
+            fail(&rd, "unexpected '%.*s' after the body", (int)(e - p > 40 ? 40 : e - p), p);
+        }
+    }
+    if (rd.failed) {
+        free(*verts);
+        *verts = NULL;
+        return -1;
+    }
+    return 0;
+}
+
 m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
 {
-    reader rd = { text, err, errlen, 0 };
+    reader rd = { text, "scene", err, errlen, 0 };
     reader *r = &rd;
     m2c_sim_scene *s = calloc(1, sizeof *s);
     if (s == NULL) {
@@ -161,6 +254,7 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     word(r, "bodies");
     s->nbodies = count(r, 1 << 28);
     if (!r->failed) {
+        s->bodies_cap = s->nbodies + 1;
         size_t bytes = ((size_t)s->nbodies + 1) * sizeof *s->bodies;      /* a multiple of 64 */
         s->bodies = aligned_alloc(64, bytes);
         if (s->bodies != NULL)
@@ -170,66 +264,14 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
             fail(r, "out of memory");
     }
     for (int32_t i = 0; i < s->nbodies && !r->failed; i++) {
-        m2c_sim_body *b = &s->bodies[i];
-        word(r, "body");
-        b->idx = i;
-        b->polygon = integer(r) == 1;
-        b->fixed = integer(r) == 1;
-        b->inv_m = num(r);
-        b->inv_i = num(r);
-        b->e = num(r);
-        b->mu = num(r);
-        b->px = num(r);
-        b->py = num(r);
-        b->vx = num(r);
-        b->vy = num(r);
-        b->ax = num(r);
-        b->ay = num(r);
-        b->fax = b->ax;
-        b->fay = b->ay;
-        b->sup = -1;
-        b->sup_edge = -1;
-        b->ang = num(r);
-        b->om = num(r);
-        b->r = num(r);
-        b->orbit = num(r);
-        b->ophase = num(r);
-        b->bound = num(r);
-        b->large = integer(r) == 1;
-        b->nverts = count(r, 1 << 20);
-        b->tb = 0.0;
-        b->cx = b->cy = 0;
-        b->slot = -1;
         first[i] = nverts;
-        for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
-            if (nverts == capverts) {
-                size_t cap = capverts ? 2 * capverts : 64;
-                m2c_sim_vertex *v = realloc(s->verts, cap * sizeof *v);
-                if (v == NULL) {
-                    fail(r, "out of memory");
-                    break;
-                }
-                s->verts = v;
-                capverts = cap;
-            }
-            m2c_sim_vertex *v = &s->verts[nverts++];
-            word(r, "v");
-            v->lx = num(r);
-            v->ly = num(r);
-            v->rho = num(r);
-            v->beta = num(r);
-            v->psi = num(r);
-            v->h = num(r);
-            v->s1 = num(r);
-            v->s2 = num(r);
-            v->nx = num(r);
-            v->ny = num(r);
-        }
+        read_body(r, &s->bodies[i], i, &s->verts, &nverts, &capverts);
     }
     word(r, "inputs");
     s->ninputs = count(r, 1 << 28);
     if (!r->failed) {
-        s->inputs = calloc((size_t)s->ninputs + 1, sizeof *s->inputs);
+        s->inputs_cap = s->ninputs + 1;
+        s->inputs = calloc((size_t)s->inputs_cap, sizeof *s->inputs);
         if (s->inputs == NULL)
             fail(r, "out of memory");
     }
@@ -253,6 +295,8 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     }
     for (int32_t i = 0; i < s->nbodies; i++)
         s->bodies[i].verts = s->bodies[i].nverts > 0 ? s->verts + first[i] : NULL;
+    s->nverts_all = nverts;
+    s->verts_cap = capverts;
     free(first);
     return s;
 }

@@ -7,6 +7,11 @@
  *
  *   -DM2C_SIM_CC_VARIANTS=N -DM2C_SIM_PE_VARIANTS=M
  *
+ * `m2c_sim --step DT [--live]` drives the world in steps of DT instead (as
+ * the reference's sim_main --step: every body's state after each step on
+ * stderr; --live: the scene's inputs made as live inputs at their times);
+ * the trace must be the same bytes.
+ *
  * `m2c_sim --check-format N` instead compares the trace's number writer with
  * printf("%.17g") on N pseudo-random doubles (exit 1 on any difference). */
 #include <math.h>
@@ -16,6 +21,9 @@
 #include <string.h>
 
 #include "m2c_sim.h"
+#include "m2c_world.h"
+
+enum { M2C_WORLD_ERROR_MAX_COPY = 512 };
 
 #ifndef M2C_SIM_CC_VARIANTS
 #error "build with -DM2C_SIM_CC_VARIANTS=N (the variants circle_circle_variant indexes)"
@@ -101,28 +109,202 @@ static int check_format(long long n)
     return bad != 0;
 }
 
+static void count_contact(const m2c_contact *c, void *user)
+{
+    (void)c;
+    (*(long long *)user)++;
+}
+
+static void put_number(FILE *f, double x)
+{
+    char buf[M2C_SIM_NUMBER_MAX + 1];
+    buf[m2c_sim_format_number(buf, x)] = '\0';
+    fputs(buf, f);
+}
+
+/* One input line of the flat scene: T BODY MODE X Y. */
+typedef struct live_input {
+    double t, x, y;
+    int body, mode;
+} live_input;
+
+/* The reference's split_inputs: the flat scene in text with its input
+ * lines taken out (`inputs 0`), and those inputs in order into *inputs
+ * (*n of them; malloc'ed).  0, or -1 with err. */
+static int split_inputs(char *text, live_input **inputs, long *n, char *err, size_t errlen)
+{
+    *inputs = NULL;
+    *n = 0;
+    char *at = strstr(text, "\ninputs ");
+    if (at == NULL) {
+        snprintf(err, errlen, "scene: expected 'inputs'");
+        return -1;
+    }
+    char *p = at + 8, *q;
+    long k = strtol(p, &q, 10);
+    if (q == p || k < 0) {
+        snprintf(err, errlen, "scene: a count out of range");
+        return -1;
+    }
+    p = q;
+    *inputs = calloc((size_t)k + 1, sizeof **inputs);
+    if (*inputs == NULL) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    for (long i = 0; i < k; i++) {
+        while (*p == ' ' || *p == '\n')
+            p++;
+        if (strncmp(p, "input ", 6) != 0) {
+            snprintf(err, errlen, "scene: expected 'input'");
+            return -1;
+        }
+        live_input *in = &(*inputs)[i];
+        in->t = strtod(p + 6, &p);
+        in->body = (int)strtol(p, &p, 10);
+        in->mode = (int)strtol(p, &p, 10);
+        in->x = strtod(p, &p);
+        in->y = strtod(p, &p);
+    }
+    *n = k;
+    strcpy(at, "\ninputs 0\nend\n");
+    return 0;
+}
+
+/* The live operation of an input's mode (as the reference's ops, by MODE):
+ * 0 done, 1 a teleport refused, -1 an error. */
+static int live_op(m2c_world *w, const live_input *in)
+{
+    switch (in->mode) {
+    case 0:
+        return m2c_world_set_velocity(w, in->body, in->x, in->y);
+    case 1:
+        return m2c_world_add_velocity(w, in->body, in->x, in->y);
+    case 2:
+        return m2c_world_apply_impulse(w, in->body, in->x, in->y);
+    case 3: {
+        int r = m2c_world_teleport(w, in->body, in->x, in->y);
+        return r < 0 ? -1 : r == 0;
+    }
+    default:
+        return m2c_world_remove_body(w, in->body);
+    }
+}
+
+/* The scene through the live API in steps of dt (the reference's
+ * sim_main --step): advance(k dt) for k = 1, 2, ... below the end, each
+ * followed by every body's state at k dt (P lines) and the number of
+ * contacts (C line) on probe, then finish.  With inputs (--live: the
+ * scene's inputs taken out of it), before each step the world advances to
+ * each input's time due by then and makes it live.  0, or -1 with err. */
+static int stepped(m2c_world *w, double end, double dt, FILE *probe, const live_input *inputs, long ninputs,
+                   char *err, size_t errlen)
+{
+    int n = m2c_world_body_count(w);
+    long nxt = 0;
+    for (long long k = 1;; k++) {
+        double t = (double)k * dt;
+        while (nxt < ninputs && (!(t < end) || inputs[nxt].t <= t)) {
+            if (m2c_world_advance(w, inputs[nxt].t, NULL, NULL) != 0)
+                goto failed;
+            int r = live_op(w, &inputs[nxt]);
+            if (r < 0)
+                goto failed;
+            if (r > 0) {
+                snprintf(err, errlen, "live input %ld: teleport refused (the body would overlap another)", nxt);
+                return -1;
+            }
+            nxt++;
+        }
+        if (!(t < end))
+            break;
+        long long got = 0;
+        if (m2c_world_advance(w, t, count_contact, &got) != 0)
+            goto failed;
+        for (int b = 0; b < n; b++) {
+            m2c_body_state st;
+            if (m2c_world_state(w, b, t, &st) != 0)
+                goto failed;
+            fputs("P ", probe);
+            put_number(probe, t);
+            fprintf(probe, " %d", b);
+            const double v[6] = { st.x, st.y, st.vx, st.vy, st.angle, st.omega };
+            for (int q = 0; q < 6; q++) {
+                fputc(' ', probe);
+                put_number(probe, v[q]);
+            }
+            fputc('\n', probe);
+        }
+        fputs("C ", probe);
+        put_number(probe, t);
+        fprintf(probe, " %lld\n", got);
+    }
+    if (m2c_world_finish(w, NULL, NULL) == 0)
+        return 0;
+failed:
+    snprintf(err, errlen, "%s", m2c_world_error(w));
+    return -1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "--check-format") == 0)
         return check_format(atoll(argv[2]));
-    if (argc != 1) {
-        fprintf(stderr, "usage: %s < SCENE   (or --check-format N)\n", argv[0]);
+    double dt = 0.0;
+    int live = 0, nargs = 0;
+    const char *args[3] = { NULL, NULL, NULL };
+    for (int k = 1; k < argc; k++) {
+        if (strcmp(argv[k], "--live") == 0)
+            live = 1;
+        else if (nargs < 3)
+            args[nargs++] = argv[k];
+        else
+            nargs = 3;
+    }
+    if (nargs == 2 && strcmp(args[0], "--step") == 0) {
+        char *rest;
+        dt = strtod(args[1], &rest);
+        if (*rest != '\0' || !(dt > 0.0)) {
+            fprintf(stderr, "%s: --step wants a positive number of seconds\n", argv[0]);
+            return 2;
+        }
+    } else if (nargs != 0 || live) {
+        fprintf(stderr, "usage: %s [--step DT [--live]] < SCENE   (or --check-format N)\n", argv[0]);
         return 2;
     }
-    char err[512];
+    char err[M2C_WORLD_ERROR_MAX_COPY];
     char *text = read_all(stdin);
     if (text == NULL) {
         printf("X cannot read the scene\n");
         return 1;
     }
-    m2c_sim_scene *scene = m2c_sim_scene_read(text, err, sizeof err);
-    free(text);
-    if (scene == NULL) {
+    live_input *inputs = NULL;
+    long ninputs = 0;
+    if (live && split_inputs(text, &inputs, &ninputs, err, sizeof err) != 0) {
+        free(text);
+        free(inputs);
         printf("X %s\n", err);
         return 1;
     }
-    int status = m2c_sim_run(scene, M2C_SIM_CC_VARIANTS, M2C_SIM_PE_VARIANTS, stdout, err, sizeof err);
-    m2c_sim_scene_free(scene);
+    m2c_world *w = m2c_world_new(text, stdout);
+    free(text);
+    if (w == NULL) {
+        free(inputs);
+        printf("X %s\n", m2c_world_last_error());
+        return 1;
+    }
+    int status;
+    if (dt > 0.0) {
+        status = stepped(w, m2c_world_end_time(w), dt, stderr, inputs, ninputs, err, sizeof err);
+    } else {
+        status = m2c_world_advance(w, m2c_world_end_time(w), NULL, NULL);
+        if (status == 0)
+            status = m2c_world_finish(w, NULL, NULL);
+        if (status != 0)
+            snprintf(err, sizeof err, "%s", m2c_world_error(w));
+    }
+    free(inputs);
+    m2c_world_free(w);              /* flushes the trace written so far */
     if (status != 0) {
         printf("X %s\n", err);
         fflush(stdout);

@@ -1,0 +1,291 @@
+"""The compiled C world (runtimes/c/include/m2c_world.h) driven from Python
+through ctypes, with the methods of the pure-Python reference's World
+(runtimes/python/max2code_rt/sim.py, docs/engine-api.md): a Python program
+runs the engine at C speed and can switch to the reference by changing one
+argument of max2code.sim.live.open_world.
+
+Why ctypes and not cffi: the library is ours and already built (one
+libm2c_world.so per scene build, max2code/sim/simulate.py world_library),
+its interface is a dozen plain C functions over doubles, ints and two small
+structs, so ctypes declares it in a few lines with nothing to compile and no
+dependency; cffi's API mode would add a C compiler step at import time and
+its ABI mode is ctypes by another name.  The price is per call (about a
+microsecond), which the game pays a few thousand times a second at most.
+
+Contacts come back as the reference's own Contact objects, states as the
+same 6-tuples, errors as the same SimError, so results of the two engines
+compare with ==.
+"""
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+
+from max2code_rt.sim import Contact, SimError
+
+
+class _Contact(ctypes.Structure):
+    _fields_ = [("t", ctypes.c_double), ("a", ctypes.c_int), ("b", ctypes.c_int), ("feature", ctypes.c_int),
+                ("i", ctypes.c_int), ("j", ctypes.c_int), ("px", ctypes.c_double), ("py", ctypes.c_double),
+                ("nx", ctypes.c_double), ("ny", ctypes.c_double), ("impulse", ctypes.c_double),
+                ("support", ctypes.c_int)]
+
+
+class _State(ctypes.Structure):
+    _fields_ = [("x", ctypes.c_double), ("y", ctypes.c_double), ("vx", ctypes.c_double), ("vy", ctypes.c_double),
+                ("angle", ctypes.c_double), ("omega", ctypes.c_double)]
+
+
+class _Input(ctypes.Structure):
+    _fields_ = [("t", ctypes.c_double), ("body", ctypes.c_int), ("mode", ctypes.c_int), ("x", ctypes.c_double),
+                ("y", ctypes.c_double)]
+
+
+_CONTACT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(_Contact), ctypes.c_void_p)
+_P = ctypes.c_void_p
+_D = ctypes.c_double
+_I = ctypes.c_int
+# name: (result, arguments), exactly as m2c_world.h declares them
+_SIGNATURES = {
+    "m2c_world_new": (_P, [ctypes.c_char_p, _P]),
+    "m2c_world_last_error": (ctypes.c_char_p, []),
+    "m2c_world_free": (None, [_P]),
+    "m2c_world_time": (_D, [_P]),
+    "m2c_world_body_count": (_I, [_P]),
+    "m2c_world_end_time": (_D, [_P]),
+    "m2c_world_advance": (_I, [_P, _D, _CONTACT_FN, _P]),
+    "m2c_world_next_event_time": (_D, [_P]),
+    "m2c_world_state": (_I, [_P, _I, _D, ctypes.POINTER(_State)]),
+    "m2c_world_finish": (_I, [_P, _CONTACT_FN, _P]),
+    "m2c_world_set_velocity": (_I, [_P, _I, _D, _D]),
+    "m2c_world_add_velocity": (_I, [_P, _I, _D, _D]),
+    "m2c_world_apply_impulse": (_I, [_P, _I, _D, _D]),
+    "m2c_world_teleport": (_I, [_P, _I, _D, _D]),
+    "m2c_world_remove_body": (_I, [_P, _I]),
+    "m2c_world_add_body": (_I, [_P, ctypes.c_char_p]),
+    "m2c_world_input_count": (_I, [_P]),
+    "m2c_world_input": (_I, [_P, _I, ctypes.POINTER(_Input)]),
+    "m2c_world_added": (ctypes.c_longlong, [_P]),
+    "m2c_world_error": (ctypes.c_char_p, [_P]),
+}
+_libs: dict[str, ctypes.CDLL] = {}
+_libc = None
+
+
+def _fmt(x: float) -> str:
+    return "%.17g" % x
+
+
+def load_library(path: str) -> ctypes.CDLL:
+    """The library at path with its functions declared (loaded once per path)."""
+    path = os.fspath(path)
+    lib = _libs.get(path)
+    if lib is None:
+        lib = ctypes.CDLL(path)
+        for name, (res, args) in _SIGNATURES.items():
+            fn = getattr(lib, name)
+            fn.restype, fn.argtypes = res, args
+        _libs[path] = lib
+    return lib
+
+
+def _c_library():
+    global _libc
+    if _libc is None:
+        _libc = ctypes.CDLL(ctypes.util.find_library("c"))
+        _libc.tmpfile.restype, _libc.tmpfile.argtypes = _P, []
+        _libc.fflush.restype, _libc.fflush.argtypes = _I, [_P]
+        _libc.fclose.restype, _libc.fclose.argtypes = _I, [_P]
+        _libc.fileno.restype, _libc.fileno.argtypes = _I, [_P]
+    return _libc
+
+
+class CWorld:
+    """A live world in C.  `out`: None (no trace) or an object with write(str),
+    as the reference's World takes: the C world writes its flat trace to a
+    temporary file whose new bytes are passed on after every call that may
+    write (advance, the inputs, finish) and at close() (the C world buffers
+    its trace: the last bytes come when it is freed)."""
+
+    def __init__(self, library: str, scene_text: str, out=None):
+        self._lib = load_library(library)
+        self._w = None
+        self._out = out
+        self._file = None
+        self._sent = 0
+        if out is not None:
+            libc = _c_library()
+            self._file = libc.tmpfile()
+            if not self._file:
+                raise OSError("tmpfile() failed: no trace file for the C world")
+        w = self._lib.m2c_world_new(scene_text.encode("ascii"), self._file)
+        if not w:
+            msg = (self._lib.m2c_world_last_error() or b"").decode("utf-8", "replace")
+            self._close_trace()
+            raise SimError(msg)
+        self._w = w
+        self._contacts: list[Contact] = []
+        self._error: BaseException | None = None
+        self._callback = _CONTACT_FN(self._collect)
+
+    # ---- plumbing ----------------------------------------------------------------
+    def _collect(self, c, _user) -> None:
+        try:
+            k = c.contents
+            self._contacts.append(Contact(k.t, k.a, k.b, k.feature, k.i, k.j, k.px, k.py, k.nx, k.ny, k.impulse,
+                                          k.support != 0))
+        except BaseException as exc:       # never let an exception cross the C frames
+            self._error = exc
+
+    def _handle(self):
+        if self._w is None:
+            raise SimError("the world is closed")
+        return self._w
+
+    def _fail(self) -> SimError:
+        return SimError(self._lib.m2c_world_error(self._w).decode("utf-8", "replace"))
+
+    def _pass_trace(self) -> None:
+        """Hand the trace bytes written since the last call to out.write."""
+        if self._file is None:
+            return
+        libc = _c_library()
+        libc.fflush(self._file)
+        fd = libc.fileno(self._file)
+        while True:
+            chunk = os.pread(fd, 1 << 20, self._sent)
+            if not chunk:
+                break
+            self._sent += len(chunk)
+            self._out.write(chunk.decode("ascii"))
+
+    def _take(self) -> list[Contact]:
+        got, self._contacts = self._contacts, []
+        if self._error is not None:
+            err, self._error = self._error, None
+            raise err
+        return got
+
+    def _close_trace(self) -> None:
+        if self._file is not None:
+            _c_library().fclose(self._file)
+            self._file = None
+
+    def close(self) -> None:
+        """Free the C world (its trace passed on first); the object is then unusable."""
+        if self._w is not None:
+            self._lib.m2c_world_free(self._w)      # writes out what the world still buffers
+            self._w = None
+            self._pass_trace()
+        self._close_trace()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    # ---- the live API (docs/engine-api.md) ------------------------------------------
+    @property
+    def time(self) -> float:
+        """s: the world's current time."""
+        return self._lib.m2c_world_time(self._handle())
+
+    def body_count(self) -> int:
+        return self._lib.m2c_world_body_count(self._handle())
+
+    def end_time(self) -> float:
+        """s: the scene's end time."""
+        return self._lib.m2c_world_end_time(self._handle())
+
+    def advance(self, t: float) -> list[Contact]:
+        """Every event before t handled, the world's time moved to t; the contacts handled."""
+        w = self._handle()
+        rc = self._lib.m2c_world_advance(w, t, self._callback, None)
+        self._pass_trace()
+        if rc != 0:
+            self._contacts = []
+            raise self._fail()
+        return self._take()
+
+    def next_event_time(self) -> float:
+        """s: the time of the next event that is due (inf when none)."""
+        return self._lib.m2c_world_next_event_time(self._handle())
+
+    def state(self, body: int, t: float) -> tuple[float, float, float, float, float, float]:
+        """(px, py, vx, vy, angle, omega) of a body at t, from the world's time to the next event's."""
+        w = self._handle()
+        s = _State()
+        if self._lib.m2c_world_state(w, body, t, ctypes.byref(s)) != 0:
+            raise self._fail()
+        return s.x, s.y, s.vx, s.vy, s.angle, s.omega
+
+    # ---- live inputs at the world's time (recorded in the world's input list) ----------
+    def _input(self, fn, *args) -> int:
+        rc = fn(self._handle(), *args)
+        self._pass_trace()
+        if rc < 0:
+            raise self._fail()
+        return rc
+
+    def set_velocity(self, body: int, vx: float, vy: float) -> None:
+        self._input(self._lib.m2c_world_set_velocity, body, vx, vy)
+
+    def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
+        self._input(self._lib.m2c_world_add_velocity, body, dvx, dvy)
+
+    def apply_impulse(self, body: int, jx: float, jy: float) -> None:
+        """An impulse (N s) through the centre: dv = J inv_mass."""
+        self._input(self._lib.m2c_world_apply_impulse, body, jx, jy)
+
+    def teleport(self, body: int, x: float, y: float) -> bool:
+        """Move the body's centre to (x, y) now, keeping its velocity; False
+        (the world unchanged, nothing recorded) when it would overlap another body there."""
+        return self._input(self._lib.m2c_world_teleport, body, x, y) == 1
+
+    def remove_body(self, body: int) -> None:
+        """Take a body (movable or fixed) out of the world now (input MODE 4)."""
+        self._input(self._lib.m2c_world_remove_body, body)
+
+    def add_body(self, text: str) -> int:
+        """A body from its flat lines (the state at the world's time) added now:
+        its index, or -1 (the world unchanged) when it would overlap a body."""
+        k = self._lib.m2c_world_add_body(self._handle(), text.encode("ascii"))
+        self._pass_trace()
+        if k == -2:
+            raise self._fail()
+        return k
+
+    @property
+    def added(self) -> int:
+        """How many bodies add_body added (a recording refuses such a session)."""
+        return self._lib.m2c_world_added(self._handle())
+
+    def input_log(self) -> list[tuple[float, int, int, float, float]]:
+        """(t, body, mode, x, y) of every input, the scene's own first, then
+        the live ones in the order they were made (what a recording writes)."""
+        w = self._handle()
+        rec = _Input()
+        out = []
+        for k in range(self._lib.m2c_world_input_count(w)):
+            if self._lib.m2c_world_input(w, k, ctypes.byref(rec)) != 0:
+                raise SimError(f"the C world has no input {k}")
+            out.append((rec.t, rec.body, rec.mode, rec.x, rec.y))
+        return out
+
+    def finish(self) -> list[Contact]:
+        """The events at the end time, then the trace's final lines; the last contacts."""
+        w = self._handle()
+        rc = self._lib.m2c_world_finish(w, self._callback, None)
+        self._pass_trace()
+        if rc != 0:
+            self._contacts = []
+            raise self._fail()
+        return self._take()

@@ -1,0 +1,122 @@
+"""The PyGame platformer (examples/game/game.py) runs headless
+(SDL_VIDEODRIVER=dummy) from its key script: on the C engine through
+max2code.sim.cworld and on the pure-Python reference, with the same live
+inputs, the same outcome and the same trace bytes; its recording (the
+session as a scene) gives the session's trace in the batch simulators."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("pygame")
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GAME = os.path.join(ROOT, "examples", "game", "game.py")
+KEYS = os.path.join(ROOT, "examples", "game", "keys.txt")
+FRAMES = 1200          # 20 s at 60 frames per second
+
+
+def play(*args, timeout=600):
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy", SDL_AUDIODRIVER="dummy")
+    env["PYTHONPATH"] = os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python"), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, GAME, *args], capture_output=True, text=True, env=env, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def sessions(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("game")
+    out = {}
+    for engine in ("c", "python"):
+        trace = str(folder / f"{engine}.trace")
+        rec = str(folder / f"{engine}-recording.json")
+        proc = play("--keys", KEYS, "--frames", str(FRAMES), "--engine", engine, "--trace", trace,
+                    "--shots", str(folder / engine), "--every", "600", "--record", rec)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        with open(trace, encoding="ascii") as fh:
+            out[engine] = (proc.stdout, fh.read(), folder / engine, rec)
+    return out
+
+
+def test_game_runs_headless_from_its_key_script(sessions):
+    line, trace, shots, _ = sessions["c"]
+    assert line.startswith(f"game: {FRAMES} frames to t = 20.000 s on the c engine"), line
+    # the script plays the game: gems taken (teleported to the shelf), live inputs made
+    gems = int(line.split("gems ")[1].split("/")[0])
+    inputs = int(line.split("live inputs ")[1].split(";")[0])
+    assert gems >= 1 and inputs >= 10, line
+    assert trace.count("E input") == inputs
+    assert sorted(os.listdir(shots)) == ["frame00600.png", "frame01200.png"]
+
+
+def test_both_engines_play_the_same_game(sessions):
+    c_line, c_trace, _, c_rec = sessions["c"]
+    py_line, py_trace, _, py_rec = sessions["python"]
+    assert c_line.split(" engine:")[1].split("; engine")[0] == py_line.split(" engine:")[1].split("; engine")[0]
+    assert c_trace == py_trace
+    with open(c_rec, encoding="utf-8") as a, open(py_rec, encoding="utf-8") as b:
+        assert a.read() == b.read()
+    # the committed recording (bench/idle.py's game scene) is this session's
+    with open(c_rec, encoding="utf-8") as a, open(os.path.join(ROOT, "examples", "game", "recording.json"),
+                                                   encoding="utf-8") as b:
+        assert a.read() == b.read()
+
+
+def test_the_recording_replays_the_session_in_python_and_c(sessions):
+    """The recording (level.json with the session's 30-odd live inputs
+    scripted, teleports included) run by the batch simulators writes the
+    session's trace, byte for byte."""
+    from max2code.sim.commands import crosscheck
+    from max2code.sim.scene import load_scene
+    _, trace, _, rec = sessions["c"]
+    scene = load_scene(rec)
+    assert len(scene.inputs) >= 10 and any(i.mode == 3 for i in scene.inputs)      # teleports recorded
+    traces, problems = crosscheck(scene, ("python", "c"))
+    assert not problems, problems
+    assert traces["python"].raw == traces["c"].raw == trace
+
+
+@pytest.mark.parametrize("lang", [pytest.param(x, marks=pytest.mark.xfail(
+    reason=f"the {x} port may lag the live inputs (input MODE 3, teleport): visible here until it lands"))
+    for x in ("rust", "m2")])
+def test_the_recording_crosschecks_in_the_other_runtimes(sessions, lang):
+    from max2code.sim.commands import crosscheck
+    from max2code.sim.scene import load_scene
+    _, trace, _, rec = sessions["c"]
+    traces, problems = crosscheck(load_scene(rec), ("c", lang))
+    assert not problems, problems
+    assert traces[lang].raw == trace
+
+
+def test_a_bad_key_script_is_one_line(tmp_path):
+    bad = tmp_path / "keys.txt"
+    bad.write_text("10 right down\n20 fly down\n")
+    proc = play("--keys", str(bad), "--frames", "5")
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == (f"{bad}:2: error: expected 'FRAME KEY down|up' with KEY one of "
+                                   f"left, right, jump, got '20 fly down'")
+    proc = play("--scene", str(tmp_path / "none.json"), "--frames", "5")
+    assert (proc.returncode, proc.stderr.strip()) == (1, f"{tmp_path / 'none.json'}: error: cannot read: "
+                                                         "No such file or directory")
+
+
+STUCK = os.path.join(ROOT, "tests", "data", "game-stuck-keys.txt")
+
+
+def test_a_stuck_engine_is_one_line():
+    """While the contact-model bug below stands: the game stops with one line
+    naming the scene and the time, exit 1, no traceback."""
+    proc = play("--keys", STUCK, "--frames", "700", "--quiet")
+    assert proc.returncode == 1
+    assert proc.stderr.strip().splitlines() == [
+        f"{os.path.join(ROOT, 'examples', 'game', 'level.json')}: error: the engine stopped before t = 10.066667 s: "
+        "more than 100000 events at t = 10.057367416009587: the scene is stuck"]
+
+
+@pytest.mark.xfail(strict=True, reason="the reference's contact model loops support/leave at one instant when "
+                   "the hero reaches ledge1's left end so (the scene is stuck at t = 10.057 s): not a game bug")
+def test_stuck_at_a_ledge_end():
+    proc = play("--keys", STUCK, "--frames", "700")
+    assert proc.returncode == 0, proc.stderr[-500:]

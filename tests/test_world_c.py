@@ -1,0 +1,302 @@
+"""The C world API (runtimes/c/include/m2c_world.h, docs/engine-api.md):
+the example program of the docs compiles warning-free against the
+libm2c_world.so that the simulator's build makes and reports the contacts
+of the batch trace; two worlds at once, driven in different steps through
+ctypes, write the batch bytes."""
+from __future__ import annotations
+
+import ctypes
+import os
+import subprocess
+
+import pytest
+
+from max2code.sim.scene import compile_scene, load_scene
+from max2code.sim.simulate import run_scene, world_library
+from max2code.targets.c import FLAGS
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")
+EXAMPLE = os.path.join(ROOT, "runtimes", "c", "examples", "world_loop.c")
+
+
+def test_the_docs_example_program_runs(tmp_path):
+    scene = load_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
+    lib = world_library(scene)
+    exe = tmp_path / "world_loop"
+    subprocess.run([*FLAGS, f"-I{INCLUDE}", EXAMPLE, str(lib), f"-Wl,-rpath,{lib.parent}", "-lm", "-o", str(exe)],
+                   check=True)
+    flat = tmp_path / "cradle.txt"
+    flat.write_text(compile_scene(scene))
+    out = subprocess.run([str(exe), str(flat), "1"], capture_output=True, text=True, check=True).stdout.splitlines()
+    batch = run_scene(scene, "c")
+    contacts = [e for e in batch.events if e["kind"] in ("collision", "support")]
+    assert sum(1 for line in out if line.startswith("contact ")) == len(contacts) > 0
+    assert out[-1].startswith(f"{len(contacts)} contacts")
+    assert sum(1 for line in out if line.startswith("frame ")) == int(scene.end_time * 60) // 30
+    bad = subprocess.run([str(exe), str(tmp_path / "missing.txt"), "0"], capture_output=True, text=True)
+    assert bad.returncode == 1 and "missing.txt" in bad.stderr
+
+
+class _Lib:
+    """The C world through ctypes (the calls this test needs)."""
+
+    def __init__(self, path):
+        lib = ctypes.CDLL(str(path))
+        vp, d = ctypes.c_void_p, ctypes.c_double
+        lib.m2c_world_new.restype = vp
+        lib.m2c_world_new.argtypes = [ctypes.c_char_p, vp]
+        lib.m2c_world_advance.argtypes = [vp, d, vp, vp]
+        lib.m2c_world_finish.argtypes = [vp, vp, vp]
+        lib.m2c_world_free.argtypes = [vp]
+        lib.m2c_world_error.restype = ctypes.c_char_p
+        lib.m2c_world_error.argtypes = [vp]
+        lib.m2c_world_last_error.restype = ctypes.c_char_p
+        lib.m2c_world_next_event_time.restype = d
+        lib.m2c_world_next_event_time.argtypes = [vp]
+        lib.m2c_world_time.restype = d
+        lib.m2c_world_time.argtypes = [vp]
+        self.lib = lib
+        libc = ctypes.CDLL(None)
+        libc.fopen.restype = vp
+        libc.fopen.argtypes = [ctypes.c_char_p, ctypes.c_char_p]
+        libc.fclose.argtypes = [vp]
+        self.libc = libc
+
+
+@pytest.mark.parametrize("name", ["platformer.json", "spinning-polygons.json"])
+def test_two_worlds_at_once_write_the_batch_bytes(tmp_path, name):
+    scene = load_scene(os.path.join(ROOT, "examples", name))
+    c = _Lib(world_library(scene))
+    lib, flat = c.lib, compile_scene(scene).encode()
+    files = [c.libc.fopen(str(tmp_path / f"w{k}.txt").encode(), b"w") for k in range(2)]
+    worlds = [lib.m2c_world_new(flat, f) for f in files]
+    assert all(worlds), lib.m2c_world_last_error()
+    end, t, steps = scene.end_time, 0.0, 0
+    while t < end:                          # world 1 in steps of 0.013 s, asking for the next event each time
+        t = min(end, t + 0.013)
+        assert lib.m2c_world_advance(worlds[1], t, None, None) == 0, lib.m2c_world_error(worlds[1])
+        assert lib.m2c_world_next_event_time(worlds[1]) >= t
+        steps += 1
+        if steps % 50 == 0:                 # world 0 catches up now and then
+            assert lib.m2c_world_advance(worlds[0], t / 2, None, None) == 0
+    assert lib.m2c_world_advance(worlds[0], end, None, None) == 0
+    assert lib.m2c_world_advance(worlds[0], end / 2, None, None) == -1      # time never goes back
+    assert b"outside" in lib.m2c_world_error(worlds[0])
+    for w in worlds:
+        assert lib.m2c_world_finish(w, None, None) == 0
+        lib.m2c_world_free(w)
+    for f in files:
+        c.libc.fclose(f)
+    batch = run_scene(scene, "c").raw
+    assert (tmp_path / "w0.txt").read_text() == batch
+    assert (tmp_path / "w1.txt").read_text() == batch
+    assert lib.m2c_world_new(b"m2c-scene 9", None) is None
+    assert b"version" in lib.m2c_world_last_error()
+
+
+def _c_session(scene, path, ops):
+    """The flat trace of the C world with the ops [(t, name, body, x, y)]
+    made live (advance to t first), then finished; and what each returned."""
+    from max2code.sim.live import python_world  # noqa: F401  (the same scene compile as the reference's)
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    for name in ("set_velocity", "add_velocity", "apply_impulse", "teleport"):
+        f = getattr(lib, f"m2c_world_{name}")
+        f.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_double, ctypes.c_double]
+    fh = c.libc.fopen(str(path).encode(), b"w")
+    w = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    results = []
+    for t, name, body, x, y in ops:
+        assert lib.m2c_world_advance(w, t, None, None) == 0, lib.m2c_world_error(w)
+        results.append(getattr(lib, f"m2c_world_{name}")(w, body, x, y))
+    assert lib.m2c_world_finish(w, None, None) == 0, lib.m2c_world_error(w)
+    lib.m2c_world_free(w)
+    c.libc.fclose(fh)
+    return path.read_text(), results
+
+
+def _py_session(scene, ops):
+    import io
+    from max2code.sim.live import python_world
+    out = io.StringIO()
+    w = python_world(scene, out)
+    results = []
+    for t, name, body, x, y in ops:
+        w.advance(t)
+        r = getattr(w, name)(body, x, y)
+        results.append(int(r) if name == "teleport" else 0)
+    w.finish()
+    return out.getvalue(), results
+
+
+def test_live_inputs_and_teleports_refused_or_made_as_the_reference(tmp_path):
+    """Teleports of a circle, a turned box and a small circle to a grid of
+    places over the box (into walls, the floor, each other, free space),
+    with velocity inputs between: C refuses exactly the teleports the
+    reference refuses and writes its bytes."""
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.scene import parse_scene
+    scene = parse_scene(json.dumps(inputs_scene(2.0) | {"inputs": []}))
+    names = [b.name for b in scene.bodies]
+    ops, t = [], 0.0
+    grid = [-0.05 + 0.3 * k for k in range(8)]
+    for n, who in enumerate(("ball", "crate", "pebble")):
+        for k, (x, y) in enumerate((x, y) for x in grid for y in grid):
+            t = round(t + 0.007, 6)
+            ops.append((t, "teleport", names.index(who), x, y))
+            if k % 9 == 0:
+                ops.append((t, ("set_velocity", "add_velocity", "apply_impulse")[(k // 9) % 3], names.index(who),
+                            0.3 - 0.1 * n, 0.2))
+    assert t < scene.end_time
+    ref, want = _py_session(scene, ops)
+    got_trace, got = _c_session(scene, tmp_path / "c.txt", ops)
+    assert got == want
+    assert 0 < sum(want) < len([o for o in ops if o[1] == "teleport"])      # some refused, some made
+    assert got_trace == ref
+
+
+def test_a_scripted_teleport_into_overlap_is_the_references_error():
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.scene import parse_scene
+    from max2code.sim.simulate import SimulateError
+    raw = inputs_scene(1.0)
+    raw["inputs"] = [{"time": 0.25, "body": "ball", "teleport": [1.0, 0.0]}]
+    msgs = []
+    for lang in ("python", "c"):
+        with pytest.raises(SimulateError, match="input 0: body .* would overlap body 0") as exc:
+            run_scene(parse_scene(json.dumps(raw)), lang)
+        msgs.append(str(exc.value).split("simulator: ")[1])
+    assert msgs[0] == msgs[1]
+
+
+def test_add_body_made_or_refused_as_the_reference(tmp_path):
+    """Bodies added live (a circle, a spinning triangle, a circle into the
+    left wall: refused, a fixed ledge, the circle again) give the
+    reference's indices and bytes; a bad text is refused with a message."""
+    import io
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.live import python_world
+    from max2code.sim.scene import body_lines, parse_scene
+    raw = inputs_scene(2.0) | {"inputs": []}
+    scene = parse_scene(json.dumps(raw))
+    new = [{"name": "new1", "shape": "circle", "radius": 0.07, "mass": 0.5, "position": [1.0, 1.2],
+            "velocity": [0.3, 0.0]},
+           {"name": "new2", "shape": "polygon", "mass": 1.0, "position": [0.6, 1.5],
+            "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.0, 0.12]], "angular_velocity": 2.0},
+           {"name": "bad", "shape": "circle", "radius": 0.2, "mass": 0.5, "position": [0.05, 1.0]},
+           {"name": "ledge", "shape": "polygon", "fixed": True, "position": [1.5, 1.0],
+            "vertices": [[-0.3, -0.02], [0.3, -0.02], [0.3, 0.02], [-0.3, 0.02]]}]
+    texts = ["\n".join(body_lines(parse_scene(json.dumps(raw | {"bodies": [b]})).bodies[0], False)) for b in new]
+    ops = [(0.2, texts[0]), (0.7, texts[1]), (0.9, texts[2]), (1.0, texts[3]), (1.3, texts[0])]
+    out = io.StringIO()
+    w = python_world(scene, out)
+    want = []
+    for t, text in ops:
+        w.advance(t)
+        want.append(w.add_body(text))
+    w.advance(scene.end_time)
+    w.finish()
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    lib.m2c_world_add_body.argtypes = [ctypes.c_void_p, ctypes.c_char_p]
+    fh = c.libc.fopen(str(tmp_path / "c.txt").encode(), b"w")
+    cw = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    got = []
+    for t, text in ops:
+        assert lib.m2c_world_advance(cw, t, None, None) == 0
+        got.append(lib.m2c_world_add_body(cw, text.encode()))
+    assert lib.m2c_world_add_body(cw, b"body 0 0 1") == -2 and b"add_body: ends early" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_add_body(cw, (texts[0] + " x").encode()) == -2
+    assert b"unexpected 'x' after the body" in lib.m2c_world_error(cw)
+    assert lib.m2c_world_advance(cw, scene.end_time, None, None) == 0
+    assert lib.m2c_world_finish(cw, None, None) == 0
+    lib.m2c_world_free(cw)
+    c.libc.fclose(fh)
+    assert got == want and -1 in want and want[0] == len(scene.bodies)
+    assert (tmp_path / "c.txt").read_text() == out.getvalue()
+
+
+class _CRecorded:
+    """What max2code/sim/recording.py reads of a world (input_log(), added),
+    from a C world through its input-log calls."""
+
+    def __init__(self, lib, w):
+        class Input(ctypes.Structure):
+            _fields_ = [("t", ctypes.c_double), ("body", ctypes.c_int), ("mode", ctypes.c_int),
+                        ("x", ctypes.c_double), ("y", ctypes.c_double)]
+        lib.m2c_world_input_count.argtypes = [ctypes.c_void_p]
+        lib.m2c_world_input.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.POINTER(Input)]
+        lib.m2c_world_added.restype = ctypes.c_longlong
+        lib.m2c_world_added.argtypes = [ctypes.c_void_p]
+        self.log = []
+        for k in range(lib.m2c_world_input_count(w)):
+            e = Input()
+            assert lib.m2c_world_input(w, k, ctypes.byref(e)) == 0
+            self.log.append((e.t, e.body, e.mode, e.x, e.y))
+        assert lib.m2c_world_input(w, len(self.log), ctypes.byref(Input())) == -1
+        self.added = lib.m2c_world_added(w)
+
+    def input_log(self):
+        return self.log
+
+
+def test_a_c_session_recorded_replays_in_c_and_python(tmp_path):
+    """A live session in the C world (inputs of every kind, one at an
+    event's exact time, a refused teleport, removals), written as a scene
+    from C's input log: the batch simulators of C and Python write the
+    session's trace again."""
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.recording import write_recording
+    raw = inputs_scene(2.0, remove=True)
+    raw["inputs"] = [{"time": 0.5, "body": "crate", "set_velocity": [-1.0, 2.0]}]
+    path = str(tmp_path / "scene.json")
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(raw, fh)
+    scene = load_scene(path)
+    names = {b.name: k for k, b in enumerate(scene.bodies)}
+    c = _Lib(world_library(scene))
+    lib = c.lib
+    for name in ("set_velocity", "add_velocity", "apply_impulse", "teleport"):
+        getattr(lib, f"m2c_world_{name}").argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_double,
+                                                       ctypes.c_double]
+    lib.m2c_world_remove_body.argtypes = [ctypes.c_void_p, ctypes.c_int]
+    fh = c.libc.fopen(str(tmp_path / "session.txt").encode(), b"w")
+    w = lib.m2c_world_new(compile_scene(scene).encode(), fh)
+    assert lib.m2c_world_advance(w, 0.3, None, None) == 0
+    assert lib.m2c_world_apply_impulse(w, names["ball"], 0.5, 2.0) == 0
+    assert lib.m2c_world_set_velocity(w, names["crate"], 0.0, 1.0) == 0
+    hit = lib.m2c_world_next_event_time(w)                                   # an event's exact time
+    assert 0.3 < hit < 0.5
+    assert lib.m2c_world_advance(w, hit, None, None) == 0
+    assert lib.m2c_world_add_velocity(w, names["pebble"], 0.1, 0.1) == 0
+    assert lib.m2c_world_advance(w, 0.5, None, None) == 0
+    assert lib.m2c_world_teleport(w, names["ball"], 1.0, 1.2) == 1
+    assert lib.m2c_world_teleport(w, names["crate"], 1.0, -0.05) == 0        # into the floor: refused
+    assert lib.m2c_world_advance(w, 1.4, None, None) == 0
+    assert lib.m2c_world_remove_body(w, names["ledge"]) == 0
+    assert lib.m2c_world_remove_body(w, names["ledge"]) == -1 and b"removed" in lib.m2c_world_error(w)
+    assert lib.m2c_world_advance(w, 1.9, None, None) == 0
+    assert lib.m2c_world_remove_body(w, names["pebble"]) == 0
+    assert lib.m2c_world_finish(w, None, None) == 0
+    rec_world = _CRecorded(lib, w)
+    lib.m2c_world_free(w)
+    c.libc.fclose(fh)
+    assert len(rec_world.log) == 1 + 6 and rec_world.added == 0
+    rec = str(tmp_path / "recording.json")
+    write_recording(path, rec_world, rec)
+    session = (tmp_path / "session.txt").read_text()
+    for lang in ("c", "python"):
+        assert run_scene(load_scene(rec), lang).raw == session, lang
