@@ -1,14 +1,24 @@
 IMPLEMENTATION MODULE SimGrid ;
 
-FROM SimC IMPORT floor ;
+FROM SimC IMPORT floor, free ;
 FROM SimScene IMPORT Bodies, NBodies, GridX0, GridY0, CellW, CellH, GridNX, GridNY, Grow ;
+
+
+VAR
+   NCells: INTEGER ;           (* the cells InitGrid made *)
 
 
 PROCEDURE InitGrid ;
 VAR
    i, k: INTEGER ;
 BEGIN
-   Cells := Grow (NIL, GridNX * GridNY, SIZE (CellRec)) ;
+   IF Cells # NIL THEN
+      FOR k := 0 TO NCells - 1 DO free (Cells^[k].items) END ;
+      free (Cells) ;
+      free (Large)
+   END ;
+   NCells := GridNX * GridNY ;
+   Cells := Grow (NIL, NCells, SIZE (CellRec)) ;
    FOR k := 0 TO GridNX * GridNY - 1 DO
       Cells^[k].n := 0 ;
       Cells^[k].cap := 0 ;
@@ -73,6 +83,7 @@ END CellAdd ;
 
 
 BEGIN
+   NCells := 0 ;
    Cells := NIL ;
    Large := NIL ;
    NLarge := 0

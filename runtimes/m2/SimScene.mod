@@ -1,23 +1,30 @@
 IMPLEMENTATION MODULE SimScene ;
 
-(* Reading the flat scene: whitespace-separated tokens from standard input,
-   numbers through the C library's strtod (the scene's shortest round-trip
+(* Reading the flat scene: whitespace-separated tokens from a text in
+   memory, a file or standard input, numbers through the C library's strtod (the scene's shortest round-trip
    decimals are read exactly), whole numbers digit by digit. *)
 
 FROM SYSTEM IMPORT ADDRESS, ADR ;
-FROM CMath IMPORT getchar ;
-FROM SimC IMPORT strtod, realloc ;
-FROM SimOut IMPORT Str, Ln, Fail, FailMsg ;
+FROM SimC IMPORT strtod, realloc, fopen, fdopen, fclose, fgetc ;
+FROM SimOut IMPORT FailMsg ;
 
 CONST
    TokLen = 255 ;
 
 TYPE
    Token = ARRAY [0..TokLen] OF CHAR ;
+   Chars = POINTER TO ARRAY [0..MAX (INTEGER)] OF CHAR ;
 
 VAR
    Pending: INTEGER ;          (* a character read ahead, or -2 *)
    Tok: Token ;                (* the last token read *)
+   Failed: BOOLEAN ;           (* the reading failed: Message says why *)
+   Message: ARRAY [0..TokLen + 128] OF CHAR ;
+   FromFile: BOOLEAN ;         (* the source: Src, else SrcText^[SrcPos .. SrcLen - 1] *)
+   Src: ADDRESS ;              (* a C FILE * *)
+   SrcText: Chars ;
+   SrcLen, SrcPos: CARDINAL ;
+   CapBodies, CapVerts, CapInputs: INTEGER ;   (* the arrays' room *)
 
 
 PROCEDURE Grow (p: ADDRESS; count, size: INTEGER) : ADDRESS ;
@@ -34,6 +41,38 @@ BEGIN
 END Grow ;
 
 
+(* The first error of this reading: "scene: " and msg, then extra, then
+   "'" when extra is not empty. *)
+PROCEDURE Error (msg, extra: ARRAY OF CHAR) ;
+BEGIN
+   IF Failed THEN RETURN END ;
+   Failed := TRUE ;
+   Message[0] := 0C ;
+   Append (Message, "scene: ") ;
+   Append (Message, msg) ;
+   IF extra[0] # 0C THEN
+      Append (Message, extra) ;
+      Append (Message, "'")
+   END
+END Error ;
+
+
+PROCEDURE Append (VAR s: ARRAY OF CHAR; t: ARRAY OF CHAR) ;
+VAR
+   n, k: CARDINAL ;
+BEGIN
+   n := 0 ;
+   WHILE (n < HIGH (s)) AND (s[n] # 0C) DO INC (n) END ;
+   k := 0 ;
+   WHILE (n < HIGH (s)) AND (k <= HIGH (t)) AND (t[k] # 0C) DO
+      s[n] := t[k] ;
+      INC (n) ;
+      INC (k)
+   END ;
+   s[n] := 0C
+END Append ;
+
+
 PROCEDURE NextChar () : INTEGER ;
 VAR
    ch: INTEGER ;
@@ -43,22 +82,40 @@ BEGIN
       Pending := -2 ;
       RETURN ch
    END ;
-   RETURN getchar ()
+   IF FromFile THEN
+      RETURN fgetc (Src)
+   ELSIF SrcPos >= SrcLen THEN
+      RETURN -1
+   END ;
+   ch := ORD (SrcText^[SrcPos]) ;
+   INC (SrcPos) ;
+   IF ch = 0 THEN RETURN -1 END ;
+   RETURN ch
 END NextChar ;
 
 
-(* The next whitespace-delimited token into Tok; its length. *)
+(* The next whitespace-delimited token into Tok; its length (0 and an empty
+   Tok after an error). *)
 PROCEDURE Word () : INTEGER ;
 VAR
    ch, k: INTEGER ;
 BEGIN
+   Tok[0] := 0C ;
+   IF Failed THEN RETURN 0 END ;
    REPEAT
       ch := NextChar ()
    UNTIL (ch < 0) OR (ch > 32) ;
-   IF ch < 0 THEN FailMsg ("scene: unexpected end of input") END ;
+   IF ch < 0 THEN
+      Error ("unexpected end of input", "") ;
+      RETURN 0
+   END ;
    k := 0 ;
    WHILE ch > 32 DO
-      IF k >= TokLen THEN FailMsg ("scene: token too long") END ;
+      IF k >= TokLen THEN
+         Tok[0] := 0C ;
+         Error ("token too long", "") ;
+         RETURN 0
+      END ;
       Tok[k] := CHR (ch) ;
       INC (k) ;
       ch := NextChar ()
@@ -74,8 +131,10 @@ PROCEDURE Expect (expect: ARRAY OF CHAR) ;
 VAR
    k, n: INTEGER ;
    same: BOOLEAN ;
+   what: ARRAY [0..TokLen + 64] OF CHAR ;
 BEGIN
    n := Word () ;
+   IF Failed THEN RETURN END ;
    same := TRUE ;
    k := 0 ;
    WHILE same AND (k <= n) DO
@@ -89,13 +148,10 @@ BEGIN
       INC (k)
    END ;
    IF NOT same THEN
-      Str ("X scene: expected '") ;
-      Str (expect) ;
-      Str ("', found '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      what := "expected '" ;
+      Append (what, expect) ;
+      Append (what, "', found '") ;
+      Error (what, Tok)
    END
 END Expect ;
 
@@ -107,14 +163,12 @@ VAR
    endp: ADDRESS ;
 BEGIN
    n := Word () ;
+   IF Failed THEN RETURN 0.0 END ;
    endp := NIL ;
    x := strtod (Tok, endp) ;
    IF endp # ADR (Tok[n]) THEN
-      Str ("X scene: not a number: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("not a number: '", Tok) ;
+      RETURN 0.0
    END ;
    RETURN x
 END Num ;
@@ -128,6 +182,7 @@ VAR
    neg, ok: BOOLEAN ;
 BEGIN
    n := Word () ;
+   IF Failed THEN RETURN 0 END ;
    k := 0 ;
    neg := FALSE ;
    IF (Tok[0] = '-') OR (Tok[0] = '+') THEN
@@ -145,11 +200,8 @@ BEGIN
       INC (k)
    END ;
    IF NOT ok THEN
-      Str ("X scene: not an integer: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("not an integer: '", Tok) ;
+      RETURN 0
    END ;
    IF neg THEN RETURN -v END ;
    RETURN v
@@ -162,25 +214,38 @@ VAR
    v: LONGINT ;
 BEGIN
    v := ReadLongInt () ;
+   IF Failed THEN RETURN 0 END ;
    IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
-      Str ("X scene: integer out of range: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("integer out of range: '", Tok) ;
+      RETURN 0
    END ;
    RETURN VAL (INTEGER, v)
 END ReadInt ;
 
 
-PROCEDURE ReadScene ;
+(* A count of items read from the scene: 0 .. MaxItems. *)
+PROCEDURE ReadCount () : INTEGER ;
 VAR
-   i, k, nv, capVerts: INTEGER ;
+   n: INTEGER ;
+BEGIN
+   n := ReadInt () ;
+   IF (n < 0) OR (n > MaxItems) THEN
+      Error ("bad count: '", Tok) ;
+      RETURN 0
+   END ;
+   RETURN n
+END ReadCount ;
+
+
+(* Reads the scene from the current source (text or file). *)
+PROCEDURE Read ;
+VAR
+   i, k, nv: INTEGER ;
    b: BodyRef ;
    v: Vertex ;
 BEGIN
    Expect ("m2c-scene") ;
-   IF ReadInt () # 1 THEN FailMsg ("scene: unknown version") END ;
+   IF ReadInt () # 1 THEN Error ("unknown version", "") END ;
    Expect ("end") ; EndT := Num () ;
    Expect ("frame") ; FrameDt := Num () ;
    Expect ("tolerance") ; Tol := Num () ;
@@ -190,15 +255,16 @@ BEGIN
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
    GridNX := ReadInt () ; GridNY := ReadInt () ;
-   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN FailMsg ("scene: bad grid") END ;
+   IF Failed THEN RETURN END ;
+   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN Error ("bad grid", "") ; RETURN END ;
    Expect ("bodies") ;
-   NBodies := ReadInt () ;
-   Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
+   NBodies := ReadCount () ;
+   IF Failed THEN RETURN END ;
+   Reserve (NBodies) ;
    NVerts := 0 ;
-   capVerts := 16 ;
-   Verts := Grow (NIL, capVerts, SIZE (Vertex)) ;
    FOR i := 0 TO NBodies - 1 DO
       Expect ("body") ;
+      IF Failed THEN RETURN END ;
       b := ADR (Bodies^[i]) ;
       b^.idx := i ;
       b^.polygon := ReadInt () = 1 ;
@@ -212,16 +278,14 @@ BEGIN
       b^.ang := Num () ; b^.om := Num () ;
       b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
       b^.large := ReadInt () = 1 ;
-      nv := ReadInt () ;
-      IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
+      nv := ReadCount () ;
+      IF Failed THEN RETURN END ;
       b^.v0 := NVerts ;
       b^.nv := nv ;
-      IF NVerts + nv > capVerts THEN
-         WHILE NVerts + nv > capVerts DO capVerts := 2 * capVerts END ;
-         Verts := Grow (Verts, capVerts, SIZE (Vertex))
-      END ;
+      ReserveVerts (NVerts + nv) ;
       FOR k := 0 TO nv - 1 DO
          Expect ("v") ;
+         IF Failed THEN RETURN END ;
          v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
          v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
          v.nx := Num () ; v.ny := Num () ;
@@ -234,28 +298,143 @@ BEGIN
       b^.cy := 0
    END ;
    Expect ("inputs") ;
-   NInputs := ReadInt () ;
-   Inputs := Grow (NIL, NInputs, SIZE (Input)) ;
+   NInputs := ReadCount () ;
+   IF Failed THEN RETURN END ;
+   ReserveInputs (NInputs) ;
    FOR i := 0 TO NInputs - 1 DO
       Expect ("input") ;
+      IF Failed THEN RETURN END ;
       Inputs^[i].t := Num () ;
       Inputs^[i].body := ReadInt () ;
       Inputs^[i].mode := ReadInt () ;
       Inputs^[i].vx := Num () ;
       Inputs^[i].vy := Num () ;
-      IF (Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies) THEN
-         FailMsg ("scene: input of an unknown body")
+      IF (NOT Failed) AND ((Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies)) THEN
+         Error ("input of an unknown body", "")
       END
    END ;
    Expect ("end")
-END ReadScene ;
+END Read ;
 
 
+(* Reads from the current source; afterwards, no source. *)
+PROCEDURE Load () : BOOLEAN ;
 BEGIN
+   Failed := FALSE ;
+   Message[0] := 0C ;
    Pending := -2 ;
    NBodies := 0 ;
    NVerts := 0 ;
    NInputs := 0 ;
+   Read ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   SrcPos := 0 ;
+   RETURN NOT Failed
+END Load ;
+
+
+PROCEDURE ReadText (text: ADDRESS; len: CARDINAL) : BOOLEAN ;
+BEGIN
+   FromFile := FALSE ;
+   SrcText := text ;
+   SrcLen := len ;
+   SrcPos := 0 ;
+   RETURN Load ()
+END ReadText ;
+
+
+PROCEDURE ReadFile (path: ARRAY OF CHAR) : BOOLEAN ;
+VAR
+   ok: BOOLEAN ;
+BEGIN
+   Src := fopen (path, "r") ;
+   IF Src = NIL THEN
+      Failed := TRUE ;
+      Message := "cannot open the scene file '" ;
+      Append (Message, path) ;
+      Append (Message, "'") ;
+      RETURN FALSE
+   END ;
+   FromFile := TRUE ;
+   ok := Load () ;
+   IF fclose (Src) # 0 THEN END ;
+   FromFile := FALSE ;
+   RETURN ok
+END ReadFile ;
+
+
+PROCEDURE ReadStdin () : BOOLEAN ;
+BEGIN
+   Src := fdopen (0, "r") ;
+   IF Src = NIL THEN
+      Failed := TRUE ;
+      Message := "cannot read standard input" ;
+      RETURN FALSE
+   END ;
+   FromFile := TRUE ;
+   RETURN Load ()
+END ReadStdin ;
+
+
+PROCEDURE ReadError (VAR msg: ARRAY OF CHAR) ;
+VAR
+   k: CARDINAL ;
+BEGIN
+   k := 0 ;
+   WHILE (k < HIGH (msg)) AND (k <= HIGH (Message)) AND (Message[k] # 0C) DO
+      msg[k] := Message[k] ;
+      INC (k)
+   END ;
+   msg[k] := 0C
+END ReadError ;
+
+
+PROCEDURE Reserve (n: INTEGER) ;
+BEGIN
+   IF n > CapBodies THEN
+      IF CapBodies = 0 THEN CapBodies := 16 END ;
+      WHILE CapBodies < n DO CapBodies := 2 * CapBodies END ;
+      Bodies := Grow (Bodies, CapBodies, SIZE (Body))
+   END
+END Reserve ;
+
+
+PROCEDURE ReserveVerts (n: INTEGER) ;
+BEGIN
+   IF n > CapVerts THEN
+      IF CapVerts = 0 THEN CapVerts := 16 END ;
+      WHILE CapVerts < n DO CapVerts := 2 * CapVerts END ;
+      Verts := Grow (Verts, CapVerts, SIZE (Vertex))
+   END
+END ReserveVerts ;
+
+
+PROCEDURE ReserveInputs (n: INTEGER) ;
+BEGIN
+   IF n > CapInputs THEN
+      IF CapInputs = 0 THEN CapInputs := 16 END ;
+      WHILE CapInputs < n DO CapInputs := 2 * CapInputs END ;
+      Inputs := Grow (Inputs, CapInputs, SIZE (Input))
+   END
+END ReserveInputs ;
+
+
+BEGIN
+   Pending := -2 ;
+   Failed := FALSE ;
+   Message[0] := 0C ;
+   FromFile := FALSE ;
+   Src := NIL ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   SrcPos := 0 ;
+   NBodies := 0 ;
+   NVerts := 0 ;
+   NInputs := 0 ;
+   CapBodies := 0 ;
+   CapVerts := 0 ;
+   CapInputs := 0 ;
    Bodies := NIL ;
    Verts := NIL ;
    Inputs := NIL
