@@ -5,30 +5,49 @@ MODULE SimMain ;
    user of the live world SimWorld.  On a stuck or bad scene it writes
    "X message" and ends with status 1.
 
-   sim --step DT drives the world in steps instead (docs/engine-api.md,
-   "Checking a port"): Advance (k DT) for k = 1, 2, ... while k DT < end,
-   then Finish; after each advance it writes on standard error
-   "P T BODY PX PY VX VY ANGLE OMEGA" (State of every body at T) and
-   "C T COUNT" (the contacts that advance reported), numbers as "%.17g". *)
+   sim --step DT [--live] drives the world in steps instead
+   (docs/engine-api.md, "Checking a port"): Advance (k DT) for k = 1, 2, ...
+   while k DT < end, then Finish; after each advance it writes on standard
+   error "P T BODY PX PY VX VY ANGLE OMEGA" (State of every body at T) and
+   "C T COUNT" (the contacts that advance reported), numbers as "%.17g".
+   With --live, the scene's input lines are taken out (the world is made
+   from the text with "inputs 0") and each, in order, is made live: before
+   the step to k DT, every input at a time T <= k DT (after the last step:
+   every one left) is applied by Advance (T) and the operation of its MODE;
+   a refused teleport is an error. *)
 
 FROM SYSTEM IMPORT ADDRESS, ADR ;
 FROM UnixArgs IMPORT ArgC, ArgV ;
-FROM SimC IMPORT strtod, snprintf, write, exit ;
-FROM SimWorld IMPORT Contact, FromStdin, Run, Advance, State, Finish, EndTime, BodyCount, Error ;
-FROM SimOut IMPORT SetOn, Str, Ln, Fail ;
+FROM CMath IMPORT getchar ;
+FROM SimC IMPORT strtod, snprintf, write, exit, realloc ;
+FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, Finish, EndTime, BodyCount, Error,
+                     SetVelocity, AddVelocity, ApplyImpulse, Teleport ;
+FROM SimOut IMPORT SetOn, Str, Ln, Fail, FailMsg ;
 
 CONST
    ProbeSize = 65536 ;
+   MaxText = 1073741824 ;       (* bound of the array type only: storage grows *)
 
 TYPE
    CharPtr = POINTER TO ARRAY [0..255] OF CHAR ;
    ArgArray = POINTER TO ARRAY [0..255] OF CharPtr ;
+   Text = POINTER TO ARRAY [0..MaxText - 1] OF CHAR ;
+   LiveInput = RECORD
+      t: REAL ;
+      body, mode: INTEGER ;
+      x, y: REAL ;
+   END ;
+   LiveInputs = POINTER TO ARRAY [0..16777215] OF LiveInput ;
 
 VAR
    probe: ARRAY [0..ProbeSize - 1] OF CHAR ;   (* standard error's buffer *)
    ppos: INTEGER ;
-   count: INTEGER ;             (* contacts reported by the last advance *)
+   counting: BOOLEAN ;          (* the contacts reported are the step's *)
+   count: INTEGER ;             (* contacts reported by the last step's advance *)
    lastT, stepT: REAL ;         (* the last contact's time, the step's *)
+   text: Text ;                 (* the scene (--live) *)
+   live: LiveInputs ;           (* its inputs (--live) *)
+   nLive: INTEGER ;
 
 
 (* Argument k (up to HIGH (s) characters). *)
@@ -45,6 +64,16 @@ BEGIN
    END ;
    s[n] := 0C
 END Arg ;
+
+
+PROCEDURE Same (a, b: ARRAY OF CHAR) : BOOLEAN ;
+VAR
+   k: CARDINAL ;
+BEGIN
+   k := 0 ;
+   WHILE (k <= HIGH (a)) AND (k <= HIGH (b)) AND (a[k] = b[k]) AND (a[k] # 0C) DO INC (k) END ;
+   RETURN ((k > HIGH (a)) OR (a[k] = 0C)) AND ((k > HIGH (b)) OR (b[k] = 0C))
+END Same ;
 
 
 PROCEDURE ProbeFlush ;
@@ -97,10 +126,11 @@ BEGIN
 END ProbeLn ;
 
 
-(* Counts a reported contact; one later than the step, or out of time
-   order, is a bug of the world (checked, the probe's count becomes -1). *)
+(* Counts a reported contact of a step; one later than the step, or out of
+   time order, is a bug of the world (checked: the probe's count becomes -1). *)
 PROCEDURE Counted (c: Contact) ;
 BEGIN
+   IF NOT counting THEN RETURN END ;
    IF (count >= 0) AND (c.t >= lastT) AND (c.t <= stepT) THEN
       INC (count) ;
       lastT := c.t
@@ -110,19 +140,53 @@ BEGIN
 END Counted ;
 
 
-(* The world in steps of dt, probed after each (the ports' check). *)
+(* The live input k: Advance to its time, then its operation. *)
+PROCEDURE ApplyLive (k: INTEGER) : BOOLEAN ;
+VAR
+   ok, moved: BOOLEAN ;
+   m: ARRAY [0..127] OF CHAR ;
+BEGIN
+   counting := FALSE ;
+   IF NOT Advance (live^[k].t, Counted) THEN RETURN FALSE END ;
+   moved := TRUE ;
+   CASE live^[k].mode OF
+      0: ok := SetVelocity (live^[k].body, live^[k].x, live^[k].y)
+    | 1: ok := AddVelocity (live^[k].body, live^[k].x, live^[k].y)
+    | 2: ok := ApplyImpulse (live^[k].body, live^[k].x, live^[k].y)
+    | 3: ok := Teleport (live^[k].body, live^[k].x, live^[k].y, moved)
+   ELSE
+      FailMsg ("live input: unknown mode")
+   END ;
+   IF ok AND NOT moved THEN
+      m[0] := 0C ;
+      IF snprintf (ADR (m), 128, "live input %d: teleport refused (the body would overlap another)", k) > 0 THEN END ;
+      FailMsg (m)
+   END ;
+   RETURN ok
+END ApplyLive ;
+
+
+(* The world in steps of dt, probed after each (the ports' check), with the
+   live inputs (nLive of them) made at their times. *)
 PROCEDURE Stepped (dt: REAL) : BOOLEAN ;
 VAR
    k: CARDINAL ;
-   b: INTEGER ;
+   b, nxt: INTEGER ;
    t, px, py, vx, vy, ang, om: REAL ;
 BEGIN
    lastT := 0.0 ;
+   nxt := 0 ;
    k := 1 ;
-   WHILE VAL (REAL, k) * dt < EndTime () DO
+   LOOP
       t := VAL (REAL, k) * dt ;
+      WHILE (nxt < nLive) AND ((NOT (t < EndTime ())) OR (live^[nxt].t <= t)) DO
+         IF NOT ApplyLive (nxt) THEN RETURN FALSE END ;
+         INC (nxt)
+      END ;
+      IF NOT (t < EndTime ()) THEN EXIT END ;
       count := 0 ;
       stepT := t ;
+      counting := TRUE ;
       IF NOT Advance (t, Counted) THEN RETURN FALSE END ;
       FOR b := 0 TO BodyCount () - 1 DO
          IF NOT State (b, t, px, py, vx, vy, ang, om) THEN RETURN FALSE END ;
@@ -141,10 +205,107 @@ BEGIN
       ProbeLn ;
       INC (k)
    END ;
-   count := 0 ;
-   stepT := EndTime () ;
+   counting := FALSE ;
    RETURN Finish (Counted)
 END Stepped ;
+
+
+(* Standard input into text (0C-terminated). *)
+PROCEDURE ReadAll ;
+VAR
+   n, cap, ch: INTEGER ;
+BEGIN
+   n := 0 ;
+   cap := 0 ;
+   text := NIL ;
+   REPEAT
+      IF n + 1 >= cap THEN
+         IF cap = 0 THEN cap := 65536 ELSE cap := 2 * cap END ;
+         IF cap > MaxText THEN FailMsg ("scene: too large") END ;
+         text := realloc (text, VAL (LONGCARD, cap)) ;
+         IF text = NIL THEN FailMsg ("out of memory") END
+      END ;
+      ch := getchar () ;
+      IF ch >= 0 THEN
+         text^[n] := CHR (ch) ;
+         INC (n)
+      END
+   UNTIL ch < 0 ;
+   text^[n] := 0C
+END ReadAll ;
+
+
+(* The next whitespace-delimited token of text from pos into tok. *)
+PROCEDURE Token (VAR pos: INTEGER; VAR tok: ARRAY OF CHAR) ;
+VAR
+   k: CARDINAL ;
+BEGIN
+   WHILE (text^[pos] # 0C) AND (text^[pos] <= ' ') DO INC (pos) END ;
+   k := 0 ;
+   WHILE (text^[pos] > ' ') AND (k < HIGH (tok)) DO
+      tok[k] := text^[pos] ;
+      INC (k) ;
+      INC (pos)
+   END ;
+   tok[k] := 0C
+END Token ;
+
+
+PROCEDURE TokenReal (VAR pos: INTEGER) : REAL ;
+VAR
+   tok: ARRAY [0..255] OF CHAR ;
+   endp: ADDRESS ;
+BEGIN
+   Token (pos, tok) ;
+   endp := NIL ;
+   RETURN strtod (tok, endp)
+END TokenReal ;
+
+
+PROCEDURE TokenInt (VAR pos: INTEGER) : INTEGER ;
+BEGIN
+   RETURN VAL (INTEGER, TokenReal (pos))
+END TokenInt ;
+
+
+(* Takes the input lines out of text ("inputs 0" instead) into live. *)
+PROCEDURE SplitInputs ;
+VAR
+   pos, cut, k: INTEGER ;
+   tok: ARRAY [0..255] OF CHAR ;
+BEGIN
+   pos := 0 ;
+   LOOP
+      IF text^[pos] = 0C THEN FailMsg ("scene: expected 'inputs'") END ;
+      IF (text^[pos] = 12C) AND (text^[pos + 1] = 'i') AND (text^[pos + 2] = 'n') AND (text^[pos + 3] = 'p')
+         AND (text^[pos + 4] = 'u') AND (text^[pos + 5] = 't') AND (text^[pos + 6] = 's')
+         AND (text^[pos + 7] = ' ') THEN
+         EXIT
+      END ;
+      INC (pos)
+   END ;
+   cut := pos + 1 ;
+   pos := pos + 8 ;
+   nLive := TokenInt (pos) ;
+   live := realloc (NIL, VAL (LONGCARD, nLive + 1) * VAL (LONGCARD, SIZE (LiveInput))) ;
+   IF live = NIL THEN FailMsg ("out of memory") END ;
+   FOR k := 0 TO nLive - 1 DO
+      Token (pos, tok) ;          (* "input" *)
+      live^[k].t := TokenReal (pos) ;
+      live^[k].body := TokenInt (pos) ;
+      live^[k].mode := TokenInt (pos) ;
+      live^[k].x := TokenReal (pos) ;
+      live^[k].y := TokenReal (pos)
+   END ;
+   tok := "inputs 0" ;
+   FOR k := 0 TO 7 DO text^[cut + k] := tok[k] END ;
+   text^[cut + 8] := 12C ;
+   text^[cut + 9] := 'e' ;
+   text^[cut + 10] := 'n' ;
+   text^[cut + 11] := 'd' ;
+   text^[cut + 12] := 12C ;
+   text^[cut + 13] := 0C
+END SplitInputs ;
 
 
 VAR
@@ -152,31 +313,45 @@ VAR
    a: ARRAY [0..255] OF CHAR ;
    endp: ADDRESS ;
    dt: REAL ;
-   ok: BOOLEAN ;
+   ok, isLive, usage: BOOLEAN ;
+   k: CARDINAL ;
+   nargs: INTEGER ;
 BEGIN
    ppos := 0 ;
+   nLive := 0 ;
+   counting := FALSE ;
    dt := 0.0 ;
-   IF ArgC = 3 THEN
-      Arg (1, a) ;
-      IF (a[0] = '-') AND (a[1] = '-') AND (a[2] = 's') AND (a[3] = 't') AND (a[4] = 'e') AND (a[5] = 'p')
-         AND (a[6] = 0C) THEN
-         Arg (2, a) ;
+   isLive := FALSE ;
+   usage := FALSE ;
+   nargs := 0 ;
+   k := 1 ;
+   WHILE k < ArgC DO
+      Arg (k, a) ;
+      IF Same (a, "--live") THEN
+         isLive := TRUE
+      ELSIF Same (a, "--step") AND (k + 1 < ArgC) AND (nargs = 0) THEN
+         INC (k) ;
+         Arg (k, a) ;
          endp := NIL ;
          dt := strtod (a, endp) ;
-         IF NOT (dt > 0.0) THEN dt := -1.0 END
+         IF NOT (dt > 0.0) THEN usage := TRUE END ;
+         INC (nargs)
       ELSE
-         dt := -1.0
-      END
-   ELSIF ArgC # 1 THEN
-      dt := -1.0
+         usage := TRUE
+      END ;
+      INC (k)
    END ;
-   IF dt < 0.0 THEN
-      msg := "usage: sim [--step DT] < scene (DT > 0)" ;
-      msg[39] := 12C ;
-      IF write (2, ADR (msg), 40) # 40 THEN END ;
+   IF usage OR (isLive AND (nargs = 0)) THEN
+      msg := "usage: sim [--step DT [--live]] < scene (DT > 0)" ;
+      msg[48] := 12C ;
+      IF write (2, ADR (msg), 49) # 49 THEN END ;
       exit (2)
    END ;
-   IF dt > 0.0 THEN
+   IF isLive THEN
+      ReadAll ;
+      SplitInputs ;
+      ok := New (text^, TRUE) AND Stepped (dt)
+   ELSIF dt > 0.0 THEN
       ok := FromStdin (TRUE) AND Stepped (dt)
    ELSE
       ok := FromStdin (TRUE) AND Run ()

@@ -390,6 +390,19 @@ BEGIN
 END ReadError ;
 
 
+PROCEDURE AddInput (t: REAL; body, mode: INTEGER; x, y: REAL) : INTEGER ;
+BEGIN
+   ReserveInputs (NInputs + 1) ;
+   Inputs^[NInputs].t := t ;
+   Inputs^[NInputs].body := body ;
+   Inputs^[NInputs].mode := mode ;
+   Inputs^[NInputs].vx := x ;
+   Inputs^[NInputs].vy := y ;
+   INC (NInputs) ;
+   RETURN NInputs - 1
+END AddInput ;
+
+
 PROCEDURE Reserve (n: INTEGER) ;
 BEGIN
    IF n > CapBodies THEN

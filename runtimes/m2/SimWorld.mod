@@ -17,8 +17,10 @@ IMPLEMENTATION MODULE SimWorld ;
    handle_collision, handle_cell, handle_horizon, handle_frame,
    handle_support, handle_stop, handle_leave, start, finish, dispatch,
    process, is_stale, push, push_collision, push_horizon, contact_frame,
-   apply_impulse, normal_speed, can_support, flat, enter_support,
-   slide_accel, end_support, schedule_support, first_crossing, rebase).
+   contact_impulse, normal_speed, can_support, flat, enter_support,
+   slide_accel, end_support, schedule_support, first_crossing, rebase,
+   overlapping, separation, edge_line, edges_separation, circle_separation,
+   live_input, inputs_now).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -35,7 +37,7 @@ FROM SimC IMPORT snprintf, strtod, realloc ;
 FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
                     InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
-FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
+FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
                      ReadText, ReadFile, ReadStdin, ReadError ;
 FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove ;
@@ -45,6 +47,11 @@ FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove 
 
 CONST
    MsgLen = 511 ;
+   (* input modes (the flat scene's MODE; docs/simulator.md) *)
+   SetVelocityMode = 0 ;
+   AddVelocityMode = 1 ;
+   ImpulseMode = 2 ;
+   TeleportMode = 3 ;
    MaxContacts = 16777216 ;    (* bound of the array type only: storage grows *)
    HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
    (* contact features *)
@@ -1028,7 +1035,7 @@ END pressed ;
    points do not approach and are not pressed together, else the impulse
    j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
    at least, so time advances (docs/simulator.md). *)
-PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
    press: BOOLEAN ;
@@ -1060,7 +1067,7 @@ BEGIN
       B^.om := B^.om + imp * B^.invI * rbn
    END ;
    RETURN imp
-END apply_impulse ;
+END contact_impulse ;
 
 
 PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
@@ -1091,7 +1098,7 @@ BEGIN
       RETURN
    END ;
    INC (Stats.collisions) ;
-   imp := apply_impulse (A, B, cx, cy, nx, ny) ;
+   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
    IF imp # 0.0 THEN
       IF A^.sup >= 0 THEN end_support (A) END ;
       IF B^.sup >= 0 THEN end_support (B) END
@@ -1244,17 +1251,49 @@ END handle_leave ;
 PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
 VAR
    b: BodyRef ;
+   inp: Input ;
+   o: INTEGER ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    INC (Stats.inputs) ;
-   b := ADR (Bodies^[Inputs^[ev.k].body]) ;
+   inp := Inputs^[ev.k] ;
+   b := ADR (Bodies^[inp.body]) ;
    rebase (b, t) ;
+   IF inp.mode = TeleportMode THEN
+      o := overlapping (b, inp.vx, inp.vy, t) ;
+      IF o >= 0 THEN
+         m := "input " ;
+         AppendInt (m, ev.k) ;
+         Append (m, ": body ") ;
+         AppendInt (m, b^.idx) ;
+         Append (m, " teleported to (") ;
+         AppendReal (m, inp.vx) ;
+         Append (m, ", ") ;
+         AppendReal (m, inp.vy) ;
+         Append (m, ") at t = ") ;
+         AppendReal (m, t) ;
+         Append (m, " would overlap body ") ;
+         AppendInt (m, o) ;
+         Fails (m) ;
+         RETURN
+      END
+   END ;
    IF b^.sup >= 0 THEN end_support (b) END ;
-   IF Inputs^[ev.k].mode = 0 THEN
-      b^.vx := Inputs^[ev.k].vx ;
-      b^.vy := Inputs^[ev.k].vy
+   IF inp.mode = SetVelocityMode THEN
+      b^.vx := inp.vx ;
+      b^.vy := inp.vy
+   ELSIF inp.mode = AddVelocityMode THEN
+      b^.vx := b^.vx + inp.vx ;
+      b^.vy := b^.vy + inp.vy
+   ELSIF inp.mode = ImpulseMode THEN
+      b^.vx := b^.vx + inp.vx * b^.invM ;
+      b^.vy := b^.vy + inp.vy * b^.invM
    ELSE
-      b^.vx := b^.vx + Inputs^[ev.k].vx ;
-      b^.vy := b^.vy + Inputs^[ev.k].vy
+      b^.px := inp.vx ;
+      b^.py := inp.vy ;
+      CellRemove (b) ;
+      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+      CellAdd (b)
    END ;
    INC (b^.stamp) ;
    Str ("E input ") ;
@@ -1268,6 +1307,144 @@ BEGIN
    EmitState (b) ;
    PredictBody (b, t, -1)
 END handle_input ;
+
+
+(* ---- overlap (a teleport's check) -------------------------------------------- *)
+
+(* The first body (by index) that A, with its centre moved to (x, y) at time
+   t, would overlap by more than the tolerance; -1 when none. *)
+PROCEDURE overlapping (A: BodyRef; x, y, t: REAL) : INTEGER ;
+VAR
+   spx, spy, svx, svy, sang, stb: REAL ;
+   ax, ay, vx, vy, ang, bx, by, bvx, bvy, bang, dx, dy, reach: REAL ;
+   k, found: INTEGER ;
+   B: BodyRef ;
+BEGIN
+   spx := A^.px ; spy := A^.py ; svx := A^.vx ; svy := A^.vy ; sang := A^.ang ; stb := A^.tb ;
+   StateAt (A, t, ax, ay, vx, vy, ang) ;
+   (* A at t, moved (restored below) *)
+   A^.px := x ; A^.py := y ; A^.vx := vx ; A^.vy := vy ; A^.ang := ang ; A^.tb := t ;
+   found := -1 ;
+   k := 0 ;
+   WHILE (found < 0) AND (k < NBodies) DO
+      B := ADR (Bodies^[k]) ;
+      IF B # A THEN
+         StateAt (B, t, bx, by, bvx, bvy, bang) ;
+         dx := bx - x ;
+         dy := by - y ;
+         reach := A^.bound + B^.bound + Tol ;
+         IF (NOT (dx * dx + dy * dy > reach * reach)) AND (separation (A, B, t) < -Tol) THEN
+            found := B^.idx
+         END
+      END ;
+      INC (k)
+   END ;
+   A^.px := spx ; A^.py := spy ; A^.vx := svx ; A^.vy := svy ; A^.ang := sang ; A^.tb := stb ;
+   RETURN found
+END overlapping ;
+
+
+(* The largest gap between A and B at t along a separating axis: negative
+   by the depth they overlap (edge normals of either polygon, and for a
+   circle the line from the nearest vertex; circles: the distance of the
+   centres less the radii). *)
+PROCEDURE separation (A, B: BodyRef; t: REAL) : REAL ;
+VAR
+   ax, ay, bx, by, s1, s2: REAL ;
+BEGIN
+   IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
+      PointAt (A, -1, t, ax, ay) ;
+      PointAt (B, -1, t, bx, by) ;
+      RETURN sqrt ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A^.r + B^.r)
+   END ;
+   IF NOT A^.polygon THEN RETURN circle_separation (A, B, t) END ;
+   IF NOT B^.polygon THEN RETURN circle_separation (B, A, t) END ;
+   s1 := edges_separation (A, B, t) ;
+   s2 := edges_separation (B, A, t) ;
+   IF s2 > s1 THEN RETURN s2 END ;     (* Python's max: the first unless the second is larger *)
+   RETURN s1
+END separation ;
+
+
+(* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
+   line, (ox, oy) . point = off. *)
+PROCEDURE edge_line (P: BodyRef; j: INTEGER; t: REAL; VAR ox, oy, off: REAL) ;
+VAR
+   px, py, vx, vy, ang, c, s, enx, eny: REAL ;
+BEGIN
+   enx := Verts^[P^.v0 + j].nx ;
+   eny := Verts^[P^.v0 + j].ny ;
+   StateAt (P, t, px, py, vx, vy, ang) ;
+   c := cos (ang) ;
+   s := sin (ang) ;
+   ox := c * enx - s * eny ;
+   oy := s * enx + c * eny ;
+   off := ox * px + oy * py + Verts^[P^.v0 + j].h
+END edge_line ;
+
+
+(* Along the edge normals of P: the largest over P's edges of the smallest
+   distance of Q's vertices beyond the edge's line. *)
+PROCEDURE edges_separation (P, Q: BodyRef; t: REAL) : REAL ;
+VAR
+   best, lo, d, ox, oy, off, qx, qy: REAL ;
+   j, v: INTEGER ;
+BEGIN
+   best := -Inf ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, t, ox, oy, off) ;
+      lo := Inf ;
+      FOR v := 0 TO Q^.nv - 1 DO
+         PointAt (Q, Q^.v0 + v, t, qx, qy) ;
+         d := ox * qx + oy * qy - off ;
+         IF d < lo THEN lo := d END
+      END ;
+      IF lo > best THEN best := lo END
+   END ;
+   RETURN best
+END edges_separation ;
+
+
+(* Circle C against polygon P: along P's edge normals and the line from
+   P's nearest vertex to C's centre. *)
+PROCEDURE circle_separation (C, P: BodyRef; t: REAL) : REAL ;
+VAR
+   cx, cy, best, ox, oy, off, g, qx, qy, e2, d2, d, ux, uy, hi, nqx, nqy: REAL ;
+   j, k: INTEGER ;
+BEGIN
+   PointAt (C, -1, t, cx, cy) ;
+   best := -Inf ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, t, ox, oy, off) ;
+      g := ox * cx + oy * cy - off - C^.r ;
+      IF g > best THEN best := g END
+   END ;
+   d2 := Inf ;
+   PointAt (P, P^.v0, t, nqx, nqy) ;    (* vertex 0 unless a nearer one is found *)
+   FOR k := 0 TO P^.nv - 1 DO
+      PointAt (P, P^.v0 + k, t, qx, qy) ;
+      e2 := (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy) ;
+      IF e2 < d2 THEN
+         d2 := e2 ;
+         nqx := qx ;
+         nqy := qy
+      END
+   END ;
+   IF d2 > 0.0 THEN
+      d := sqrt (d2) ;
+      ux := (cx - nqx) / d ;
+      uy := (cy - nqy) / d ;
+      hi := -Inf ;
+      FOR k := 0 TO P^.nv - 1 DO
+         PointAt (P, P^.v0 + k, t, qx, qy) ;
+         g := ux * qx + uy * qy ;
+         IF g > hi THEN hi := g END
+      END ;
+      g := ux * cx + uy * cy - C^.r - hi ;
+      IF g > best THEN best := g END
+   END ;
+   RETURN best
+END circle_separation ;
 
 
 (* The body's centre crossed into the next cell along an axis: it moves
@@ -1535,7 +1712,7 @@ BEGIN
 END Begin ;
 
 
-PROCEDURE New (text: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
+PROCEDURE New (VAR text: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
 BEGIN
    RETURN Begin (ReadText (ADR (text), HIGH (text) + 1), trace)
 END New ;
@@ -1646,6 +1823,93 @@ BEGIN
    Append (m, ")") ;
    RETURN Refuse (m)
 END BodyOk ;
+
+
+(* ---- live inputs: at the world's time, recorded in the input list ---------------- *)
+
+(* Handles the input events queued at exactly the world's time. *)
+PROCEDURE inputs_now ;
+VAR
+   ev: Event ;
+BEGIN
+   WHILE (NOT Failed) AND Top (ev) AND (ev.t = WorldT) AND (ev.kind = KInput) DO
+      IF Pop (ev) THEN dispatch (ev) END
+   END
+END inputs_now ;
+
+
+(* An input at the world's time T, handled as the same input scripted at T
+   and listed after the scene's would be: the scene's inputs at T first,
+   then this one, before any other event at T (docs/engine-api.md, "Live
+   inputs").  It is appended to the input list, which is the recording.
+   done: FALSE when a teleport is refused (nothing changed). *)
+PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
+VAR
+   b: BodyRef ;
+   ev: Event ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   done := FALSE ;
+   IF (NOT Usable ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   IF b^.fixed THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " is fixed: inputs move movable bodies only") ;
+      RETURN Refuse (m)
+   END ;
+   IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
+      m := "input on body " ;
+      AppendInt (m, body) ;
+      Append (m, ": (") ;
+      AppendReal (m, x) ;
+      Append (m, ", ") ;
+      AppendReal (m, y) ;
+      Append (m, ") is not finite") ;
+      RETURN Refuse (m)
+   END ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   IF (mode = TeleportMode) AND (overlapping (b, x, y, WorldT) >= 0) THEN RETURN TRUE END ;
+   ev.t := WorldT ;
+   ev.kind := KInput ;
+   ev.input.k := AddInput (WorldT, body, mode, x, y) ;
+   push (ev) ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   done := TRUE ;
+   RETURN TRUE
+END live_input ;
+
+
+PROCEDURE SetVelocity (body: INTEGER; vx, vy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, SetVelocityMode, vx, vy, done)
+END SetVelocity ;
+
+
+PROCEDURE AddVelocity (body: INTEGER; dvx, dvy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, AddVelocityMode, dvx, dvy, done)
+END AddVelocity ;
+
+
+PROCEDURE ApplyImpulse (body: INTEGER; jx, jy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, ImpulseMode, jx, jy, done)
+END ApplyImpulse ;
+
+
+PROCEDURE Teleport (body: INTEGER; x, y: REAL; VAR moved: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN live_input (body, TeleportMode, x, y, moved)
+END Teleport ;
 
 
 PROCEDURE Finish (report: ContactProc) : BOOLEAN ;
