@@ -62,3 +62,91 @@ def test_the_modula2_example_runs_as_the_reference(tmp_path):
     words = lines[3].split()
     assert words[:4] == ["striker", "at", "the", "end:"]
     assert (float(words[4]), float(words[5])) == (x, y)       # 17 significant digits: the same double
+
+
+ADD_PROGRAM = """MODULE AddDemo ;
+FROM SYSTEM IMPORT ADR ;
+FROM SimC IMPORT write, snprintf ;
+FROM SimWorld IMPORT Contact, FromFile, Advance, AddBody, Finish, Error ;
+
+VAR
+   text: ARRAY [0..4095] OF CHAR ;
+   msg: ARRAY [0..511] OF CHAR ;
+   k: INTEGER ;
+
+PROCEDURE Check (c: Contact) ;
+BEGIN
+   IF c.t > 1.5 THEN HALT END
+END Check ;
+
+PROCEDURE Say (ok: BOOLEAN) ;
+VAR
+   line: ARRAY [0..1023] OF CHAR ;
+   n: INTEGER ;
+BEGIN
+   line[0] := 0C ;
+   IF ok THEN
+      n := snprintf (ADR (line), 1023, "index %d", k)
+   ELSE
+      Error (msg) ;
+      n := snprintf (ADR (line), 1023, "error %s", ADR (msg))
+   END ;
+   line[n] := 12C ;
+   IF write (2, ADR (line), VAL (LONGCARD, n + 1)) # VAL (LONGINT, n + 1) THEN HALT END
+END Say ;
+
+BEGIN
+   IF NOT FromFile ("scene.txt", TRUE) THEN HALT END ;
+   IF NOT Advance (0.5, Check) THEN HALT END ;
+%s
+   IF NOT Advance (1.5, Check) THEN HALT END ;
+   IF NOT Finish (Check) THEN HALT END
+END AddDemo.
+"""
+
+
+def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
+    """SimWorld.AddBody: refused where it overlaps (-1), a movable body too
+    large for the cells is an error (the reference's message), a good one
+    joins with the next index and lands on the floor: the trace is the
+    Python world's byte for byte."""
+    import io
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.live import flat_body
+    from max2code.sim.scene import parse_scene
+    raw = inputs_scene(1.5)
+    raw["inputs"] = []
+    scene = parse_scene(json.dumps(raw))
+    drop = {"name": "drop", "shape": "circle", "radius": 0.08, "mass": 0.5, "position": [0.3, 1.5],
+            "velocity": [0.0, -1.0]}
+    crate = {"name": "box", "shape": "polygon", "mass": 1.0, "position": [1.5, 1.7], "angular_velocity": 2.0,
+             "vertices": [[-0.1, -0.05], [0.1, -0.05], [0.1, 0.05], [-0.1, 0.05]]}
+    bodies = [drop | {"position": [1.0, 0.0]}, drop, drop | {"radius": 5.0, "position": [30.0, 30.0]}, crate]
+    texts = [" ".join(flat_body(scene, b).split()) for b in bodies]
+    out = io.StringIO()
+    w = python_world(scene, out)
+    w.advance(0.5)
+    expect = []
+    for text in texts:
+        try:
+            expect.append(f"index {w.add_body(text)}")
+        except Exception as exc:           # the reference's SimError
+            expect.append(f"error {exc}")
+    w.advance(1.5)
+    w.finish()
+    assert expect[0] == "index -1" and expect[2].startswith("error add_body: a movable body")
+    calls = "\n".join(f'   text := "{t}" ;\n   Say (AddBody (text, k)) ;' for t in texts)
+    (tmp_path / "AddDemo.mod").write_text(ADD_PROGRAM.replace("%s\n", calls + "\n", 1), encoding="ascii")
+    (tmp_path / "scene.txt").write_text(compile_scene(scene), encoding="ascii")
+    build = build_simulator("m2", scene.effects, scene.taylor_order)
+    exe = str(tmp_path / "add")
+    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / "AddDemo.mod"), exe),
+                          cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
+    assert made.returncode == 0, made.stderr[-3000:]
+    run = subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr
+    assert run.stderr.splitlines() == expect
+    assert run.stdout == out.getvalue()

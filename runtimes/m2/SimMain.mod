@@ -21,7 +21,7 @@ FROM UnixArgs IMPORT ArgC, ArgV ;
 FROM CMath IMPORT getchar ;
 FROM SimC IMPORT strtod, snprintf, write, exit, realloc ;
 FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, Finish, EndTime, BodyCount, Error,
-                     SetVelocity, AddVelocity, ApplyImpulse, Teleport ;
+                     SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody ;
 FROM SimOut IMPORT SetOn, Str, Ln, Fail, FailMsg ;
 
 CONST
@@ -154,6 +154,7 @@ BEGIN
     | 1: ok := AddVelocity (live^[k].body, live^[k].x, live^[k].y)
     | 2: ok := ApplyImpulse (live^[k].body, live^[k].x, live^[k].y)
     | 3: ok := Teleport (live^[k].body, live^[k].x, live^[k].y, moved)
+    | 4: ok := RemoveBody (live^[k].body)
    ELSE
       FailMsg ("live input: unknown mode")
    END ;

@@ -19,6 +19,7 @@ VAR
    Pending: INTEGER ;          (* a character read ahead, or -2 *)
    Tok: Token ;                (* the last token read *)
    Failed: BOOLEAN ;           (* the reading failed: Message says why *)
+   What: ARRAY [0..15] OF CHAR ;   (* what is read, for the messages: "scene" or "add_body" *)
    Message: ARRAY [0..TokLen + 128] OF CHAR ;
    FromFile: BOOLEAN ;         (* the source: Src, else SrcText^[SrcPos .. SrcLen - 1] *)
    Src: ADDRESS ;              (* a C FILE * *)
@@ -41,14 +42,15 @@ BEGIN
 END Grow ;
 
 
-(* The first error of this reading: "scene: " and msg, then extra, then
-   "'" when extra is not empty. *)
+(* The first error of this reading: What, ": ", msg, then extra and "'"
+   when extra is not empty. *)
 PROCEDURE Error (msg, extra: ARRAY OF CHAR) ;
 BEGIN
    IF Failed THEN RETURN END ;
    Failed := TRUE ;
    Message[0] := 0C ;
-   Append (Message, "scene: ") ;
+   Append (Message, What) ;
+   Append (Message, ": ") ;
    Append (Message, msg) ;
    IF extra[0] # 0C THEN
       Append (Message, extra) ;
@@ -95,10 +97,12 @@ END NextChar ;
 
 
 (* The next whitespace-delimited token into Tok; its length (0 and an empty
-   Tok after an error). *)
-PROCEDURE Word () : INTEGER ;
+   Tok after an error).  expect: the token wanted, for the message when the
+   text ends early ("" for any). *)
+PROCEDURE Word (expect: ARRAY OF CHAR) : INTEGER ;
 VAR
    ch, k: INTEGER ;
+   msg: ARRAY [0..TokLen + 64] OF CHAR ;
 BEGIN
    Tok[0] := 0C ;
    IF Failed THEN RETURN 0 END ;
@@ -106,7 +110,14 @@ BEGIN
       ch := NextChar ()
    UNTIL (ch < 0) OR (ch > 32) ;
    IF ch < 0 THEN
-      Error ("unexpected end of input", "") ;
+      IF expect[0] = 0C THEN
+         Error ("ends early", "")
+      ELSE
+         msg := "ends early (expected '" ;
+         Append (msg, expect) ;
+         Append (msg, "')") ;
+         Error (msg, "")
+      END ;
       RETURN 0
    END ;
    k := 0 ;
@@ -131,9 +142,9 @@ PROCEDURE Expect (expect: ARRAY OF CHAR) ;
 VAR
    k, n: INTEGER ;
    same: BOOLEAN ;
-   what: ARRAY [0..TokLen + 64] OF CHAR ;
+   msg: ARRAY [0..TokLen + 64] OF CHAR ;
 BEGIN
-   n := Word () ;
+   n := Word (expect) ;
    IF Failed THEN RETURN END ;
    same := TRUE ;
    k := 0 ;
@@ -148,10 +159,10 @@ BEGIN
       INC (k)
    END ;
    IF NOT same THEN
-      what := "expected '" ;
-      Append (what, expect) ;
-      Append (what, "', found '") ;
-      Error (what, Tok)
+      msg := "expected '" ;
+      Append (msg, expect) ;
+      Append (msg, "', found '") ;
+      Error (msg, Tok)
    END
 END Expect ;
 
@@ -162,12 +173,12 @@ VAR
    x: REAL ;
    endp: ADDRESS ;
 BEGIN
-   n := Word () ;
+   n := Word ("") ;
    IF Failed THEN RETURN 0.0 END ;
    endp := NIL ;
    x := strtod (Tok, endp) ;
    IF endp # ADR (Tok[n]) THEN
-      Error ("not a number: '", Tok) ;
+      Error ("expected a number, found '", Tok) ;
       RETURN 0.0
    END ;
    RETURN x
@@ -181,7 +192,7 @@ VAR
    v: LONGINT ;
    neg, ok: BOOLEAN ;
 BEGIN
-   n := Word () ;
+   n := Word ("") ;
    IF Failed THEN RETURN 0 END ;
    k := 0 ;
    neg := FALSE ;
@@ -200,7 +211,7 @@ BEGIN
       INC (k)
    END ;
    IF NOT ok THEN
-      Error ("not an integer: '", Tok) ;
+      Error ("expected an integer, found '", Tok) ;
       RETURN 0
    END ;
    IF neg THEN RETURN -v END ;
@@ -237,12 +248,55 @@ BEGIN
 END ReadCount ;
 
 
+(* A "body ..." line and its "v" lines into Bodies^[i], its vertices from
+   Verts^[v0] on (room is made); the number of vertices. *)
+PROCEDURE ReadBody (i, v0: INTEGER) : INTEGER ;
+VAR
+   k, nv: INTEGER ;
+   b: BodyRef ;
+   v: Vertex ;
+BEGIN
+   Expect ("body") ;
+   IF Failed THEN RETURN 0 END ;
+   b := ADR (Bodies^[i]) ;
+   b^.idx := i ;
+   b^.polygon := ReadInt () = 1 ;
+   b^.fixed := ReadInt () = 1 ;
+   b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ; b^.mu := Num () ;
+   b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
+   b^.ax := Num () ; b^.ay := Num () ;
+   b^.fax := b^.ax ; b^.fay := b^.ay ;
+   b^.sup := -1 ; b^.sup_edge := -1 ;
+   b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
+   b^.ang := Num () ; b^.om := Num () ;
+   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
+   b^.large := ReadInt () = 1 ;
+   nv := ReadCount () ;
+   IF Failed THEN RETURN 0 END ;
+   b^.v0 := v0 ;
+   b^.nv := nv ;
+   ReserveVerts (v0 + nv) ;
+   FOR k := 0 TO nv - 1 DO
+      Expect ("v") ;
+      IF Failed THEN RETURN 0 END ;
+      v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
+      v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
+      v.nx := Num () ; v.ny := Num () ;
+      Verts^[v0 + k] := v
+   END ;
+   b^.tb := 0.0 ;
+   b^.stamp := 0 ;
+   b^.cx := 0 ;
+   b^.cy := 0 ;
+   b^.gone := FALSE ;
+   RETURN nv
+END ReadBody ;
+
+
 (* Reads the scene from the current source (text or file). *)
 PROCEDURE Read ;
 VAR
-   i, k, nv: INTEGER ;
-   b: BodyRef ;
-   v: Vertex ;
+   i: INTEGER ;
 BEGIN
    Expect ("m2c-scene") ;
    IF ReadInt () # 1 THEN Error ("unknown version", "") END ;
@@ -263,39 +317,8 @@ BEGIN
    Reserve (NBodies) ;
    NVerts := 0 ;
    FOR i := 0 TO NBodies - 1 DO
-      Expect ("body") ;
-      IF Failed THEN RETURN END ;
-      b := ADR (Bodies^[i]) ;
-      b^.idx := i ;
-      b^.polygon := ReadInt () = 1 ;
-      b^.fixed := ReadInt () = 1 ;
-      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ; b^.mu := Num () ;
-      b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
-      b^.ax := Num () ; b^.ay := Num () ;
-      b^.fax := b^.ax ; b^.fay := b^.ay ;
-      b^.sup := -1 ; b^.sup_edge := -1 ;
-      b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
-      b^.ang := Num () ; b^.om := Num () ;
-      b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
-      b^.large := ReadInt () = 1 ;
-      nv := ReadCount () ;
-      IF Failed THEN RETURN END ;
-      b^.v0 := NVerts ;
-      b^.nv := nv ;
-      ReserveVerts (NVerts + nv) ;
-      FOR k := 0 TO nv - 1 DO
-         Expect ("v") ;
-         IF Failed THEN RETURN END ;
-         v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
-         v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-         v.nx := Num () ; v.ny := Num () ;
-         Verts^[NVerts] := v ;
-         INC (NVerts)
-      END ;
-      b^.tb := 0.0 ;
-      b^.stamp := 0 ;
-      b^.cx := 0 ;
-      b^.cy := 0
+      NVerts := NVerts + ReadBody (i, NVerts) ;
+      IF Failed THEN RETURN END
    END ;
    Expect ("inputs") ;
    NInputs := ReadCount () ;
@@ -320,6 +343,7 @@ END Read ;
 (* Reads from the current source; afterwards, no source. *)
 PROCEDURE Load () : BOOLEAN ;
 BEGIN
+   What := "scene" ;
    Failed := FALSE ;
    Message[0] := 0C ;
    Pending := -2 ;
@@ -375,6 +399,38 @@ BEGIN
    FromFile := TRUE ;
    RETURN Load ()
 END ReadStdin ;
+
+
+PROCEDURE ReadBodyText (text: ADDRESS; len: CARDINAL; i, v0: INTEGER; VAR nv: INTEGER) : BOOLEAN ;
+VAR
+   n: INTEGER ;
+BEGIN
+   What := "add_body" ;
+   Failed := FALSE ;
+   Message[0] := 0C ;
+   Pending := -2 ;
+   FromFile := FALSE ;
+   SrcText := text ;
+   SrcLen := len ;
+   SrcPos := 0 ;
+   Reserve (i + 1) ;
+   nv := ReadBody (i, v0) ;
+   IF NOT Failed THEN
+      (* nothing may follow: a word there is an error, the end is not *)
+      REPEAT
+         n := NextChar ()
+      UNTIL (n < 0) OR (n > 32) ;
+      IF n >= 0 THEN
+         Pending := n ;
+         n := Word ("") ;
+         Error ("unexpected '", Tok) ;
+         Append (Message, " after the body")
+      END
+   END ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   RETURN NOT Failed
+END ReadBodyText ;
 
 
 PROCEDURE ReadError (VAR msg: ARRAY OF CHAR) ;
@@ -435,6 +491,7 @@ END ReserveInputs ;
 
 BEGIN
    Pending := -2 ;
+   What := "scene" ;
    Failed := FALSE ;
    Message[0] := 0C ;
    FromFile := FALSE ;

@@ -37,10 +37,10 @@ FROM SimC IMPORT snprintf, strtod, realloc ;
 FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
                     InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
-FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
+FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
-                     ReadText, ReadFile, ReadStdin, ReadError ;
-FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove ;
+                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText ;
+FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove, LargeAdd, LargeRemove ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -52,6 +52,7 @@ CONST
    AddVelocityMode = 1 ;
    ImpulseMode = 2 ;
    TeleportMode = 3 ;
+   RemoveMode = 4 ;
    MaxContacts = 16777216 ;    (* bound of the array type only: storage grows *)
    HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
    (* contact features *)
@@ -91,6 +92,7 @@ VAR
    Contacts: ContactArray ;
    NContacts, CapContacts: INTEGER ;
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
+   Added: INTEGER ;            (* bodies added by AddBody (a recording refuses them) *)
 
 
 (* ---- errors ------------------------------------------------------------ *)
@@ -1258,7 +1260,21 @@ BEGIN
    INC (Stats.inputs) ;
    inp := Inputs^[ev.k] ;
    b := ADR (Bodies^[inp.body]) ;
+   IF b^.gone THEN
+      m := "input " ;
+      AppendInt (m, ev.k) ;
+      Append (m, ": body ") ;
+      AppendInt (m, b^.idx) ;
+      Append (m, " was removed before t = ") ;
+      AppendReal (m, t) ;
+      Fails (m) ;
+      RETURN
+   END ;
    rebase (b, t) ;
+   IF inp.mode = RemoveMode THEN
+      remove (b, ev.k, t) ;
+      RETURN
+   END ;
    IF inp.mode = TeleportMode THEN
       o := overlapping (b, inp.vx, inp.vy, t) ;
       IF o >= 0 THEN
@@ -1309,6 +1325,43 @@ BEGIN
 END handle_input ;
 
 
+(* Input k removes the body (based at t): it stops where it is (v, a, w
+   zero), leaves the grid, its stamp changes (its queued events go stale)
+   and it is never predicted again; bodies it supported leave. *)
+PROCEDURE remove (b: BodyRef; k: INTEGER; t: REAL) ;
+VAR
+   i, edge: INTEGER ;
+   A: BodyRef ;
+BEGIN
+   b^.vx := 0.0 ; b^.vy := 0.0 ; b^.ax := 0.0 ; b^.ay := 0.0 ; b^.fax := 0.0 ; b^.fay := 0.0 ; b^.om := 0.0 ;
+   IF b^.sup >= 0 THEN end_support (b) END ;
+   b^.gone := TRUE ;
+   INC (b^.stamp) ;
+   IF b^.large THEN LargeRemove (b^.idx) ELSE CellRemove (b) END ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   FOR i := 0 TO NBodies - 1 DO
+      A := ADR (Bodies^[i]) ;
+      IF A^.sup = b^.idx THEN
+         INC (Stats.leaves) ;
+         rebase (A, t) ;
+         edge := A^.sup_edge ;
+         end_support (A) ;
+         INC (A^.stamp) ;
+         EmitSupportEnd ("leave", t, A^.idx, b^.idx, edge) ;
+         EmitState (A) ;
+         PredictBody (A, t, -1)
+      END
+   END
+END remove ;
+
+
 (* ---- overlap (a teleport's check) -------------------------------------------- *)
 
 (* The first body (by index) that A, with its centre moved to (x, y) at time
@@ -1328,7 +1381,7 @@ BEGIN
    k := 0 ;
    WHILE (found < 0) AND (k < NBodies) DO
       B := ADR (Bodies^[k]) ;
-      IF B # A THEN
+      IF (B # A) AND NOT B^.gone THEN
          StateAt (B, t, bx, by, bvx, bvy, bang) ;
          dx := bx - x ;
          dy := by - y ;
@@ -1552,6 +1605,7 @@ BEGIN
    LastT := -1.0 ;
    Same := 0 ;
    NContacts := 0 ;
+   Added := 0 ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF NOT b^.large THEN
@@ -1852,7 +1906,13 @@ BEGIN
    done := FALSE ;
    IF (NOT Usable ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
    b := ADR (Bodies^[body]) ;
-   IF b^.fixed THEN
+   IF b^.gone THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " was removed") ;
+      RETURN Refuse (m)
+   END ;
+   IF b^.fixed AND (mode # RemoveMode) THEN
       m := "body " ;
       AppendInt (m, body) ;
       Append (m, " is fixed: inputs move movable bodies only") ;
@@ -1910,6 +1970,77 @@ PROCEDURE Teleport (body: INTEGER; x, y: REAL; VAR moved: BOOLEAN) : BOOLEAN ;
 BEGIN
    RETURN live_input (body, TeleportMode, x, y, moved)
 END Teleport ;
+
+
+PROCEDURE RemoveBody (body: INTEGER) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, RemoveMode, 0.0, 0.0, done)
+END RemoveBody ;
+
+
+PROCEDURE AddBody (VAR text: ARRAY OF CHAR; VAR index: INTEGER) : BOOLEAN ;
+VAR
+   b, o: BodyRef ;
+   nv, i: INTEGER ;
+   t, lim: REAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   index := -1 ;
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT ReadBodyText (ADR (text), HIGH (text) + 1, NBodies, NVerts, nv) THEN
+      ReadError (ErrMsg) ;
+      RETURN FALSE
+   END ;
+   b := ADR (Bodies^[NBodies]) ;      (* read, not yet in the world *)
+   b^.idx := NBodies ;
+   lim := CellW ;
+   IF CellH < lim THEN lim := CellH END ;     (* Python's min (cw, ch) *)
+   b^.large := 2.0 * b^.bound > lim ;
+   IF b^.large AND NOT b^.fixed THEN
+      m := "add_body: a movable body of bound " ;
+      AppendReal (m, b^.bound) ;
+      Append (m, " m does not fit the grid's cells (") ;
+      AppendReal (m, CellW) ;
+      Append (m, " x ") ;
+      AppendReal (m, CellH) ;
+      Append (m, " m): put such a body in the scene") ;
+      RETURN Refuse (m)
+   END ;
+   t := WorldT ;
+   b^.tb := t ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   b := ADR (Bodies^[NBodies]) ;
+   IF overlapping (b, b^.px, b^.py, t) >= 0 THEN RETURN TRUE END ;
+   INC (NBodies) ;
+   NVerts := NVerts + nv ;
+   INC (Added) ;
+   index := b^.idx ;
+   Str ("E add ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   IF b^.large THEN
+      LargeAdd (b^.idx) ;
+      FOR i := 0 TO NBodies - 1 DO
+         o := ADR (Bodies^[i]) ;
+         IF (NOT o^.large) AND (NOT o^.gone) AND NOT (o^.fixed AND b^.fixed) THEN
+            PredictPair (o, b, t)
+         END
+      END
+   ELSE
+      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+      CellAdd (b) ;
+      IF NOT b^.fixed THEN EmitState (b) END ;
+      PredictBody (b, t, -1)
+   END ;
+   IF Failed THEN RETURN FALSE END ;
+   RETURN TRUE
+END AddBody ;
 
 
 PROCEDURE Finish (report: ContactProc) : BOOLEAN ;
