@@ -150,3 +150,93 @@ def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr
     assert run.stderr.splitlines() == expect
     assert run.stdout == out.getvalue()
+
+
+SESSION_PROGRAM = """MODULE Session ;
+FROM SYSTEM IMPORT ADR ;
+FROM SimC IMPORT write, snprintf ;
+FROM SimWorld IMPORT Contact, FromFile, Advance, SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody,
+                     Finish, InputLogLength, InputLog, Added ;
+
+VAR
+   k, body, mode, n: INTEGER ;
+   t, x, y: REAL ;
+   moved: BOOLEAN ;
+   line: ARRAY [0..255] OF CHAR ;
+
+PROCEDURE Check (c: Contact) ;
+BEGIN
+   IF c.t > 2.0 THEN HALT END
+END Check ;
+
+PROCEDURE Ok (ok: BOOLEAN) ;
+BEGIN
+   IF NOT ok THEN HALT END
+END Ok ;
+
+BEGIN
+   Ok (FromFile ("scene.txt", TRUE)) ;
+   Ok (Advance (0.3, Check)) ;
+   Ok (ApplyImpulse (%(ball)d, 0.5, 2.0)) ;
+   Ok (SetVelocity (%(crate)d, 0.0, 1.0)) ;
+   Ok (Advance (%(hit)s, Check)) ;
+   Ok (AddVelocity (%(pebble)d, 0.1, 0.1)) ;
+   Ok (Advance (0.5, Check)) ;
+   Ok (Teleport (%(ball)d, 1.0, 1.2, moved)) ; Ok (moved) ;
+   Ok (Teleport (%(crate)d, 1.0, -0.05, moved)) ; Ok (NOT moved) ;
+   Ok (Advance (1.1, Check)) ;
+   Ok (SetVelocity (%(pebble)d, 0.0, 0.0)) ;
+   Ok (Advance (1.4, Check)) ;
+   Ok (RemoveBody (%(ledge)d)) ;
+   Ok (Advance (1.9, Check)) ;
+   Ok (RemoveBody (%(pebble)d)) ;
+   Ok (Finish (Check)) ;
+   Ok (Added () = 0) ;
+   FOR k := 0 TO InputLogLength () - 1 DO
+      Ok (InputLog (k, t, body, mode, x, y)) ;
+      line[0] := 0C ;
+      n := snprintf (ADR (line), 255, "%%.17g %%d %%d %%.17g %%.17g", t, body, mode, x, y) ;
+      line[n] := 12C ;
+      Ok (write (2, ADR (line), VAL (LONGCARD, n + 1)) = VAL (LONGINT, n + 1))
+   END
+END Session.
+"""
+
+
+def test_a_modula2_session_is_recorded_and_replays_in_the_batch_simulators(tmp_path):
+    """The live session of tests/test_world.py's recording test driven from
+    Modula-2 (inputs at an event's exact time and at the scene's own input
+    times, a refused teleport, removals): its input log (InputLog) made into
+    a recording (max2code.sim.recording) replays the session's trace byte
+    for byte in the Modula-2 and the Python batch simulators."""
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.recording import recording
+    from max2code.sim.scene import parse_scene
+    from max2code.sim.simulate import run_scene
+    raw = inputs_scene(2.0, remove=True)
+    raw["inputs"] = [{"time": 0.5, "body": "crate", "set_velocity": [-1.0, 2.0]},
+                     {"time": 1.1, "body": "pebble", "teleport": [1.0, 0.7]}]
+    path = str(tmp_path / "scene.json")
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(raw, fh)
+    scene = load_scene(path)
+    names = {b.name: k for k, b in enumerate(scene.bodies)}
+    hit = python_world(scene).advance(0.45)[3].t               # an event's exact time
+    (tmp_path / "Session.mod").write_text(SESSION_PROGRAM % dict(names, hit=repr(hit).replace("e", "E")),
+                                          encoding="ascii")
+    (tmp_path / "scene.txt").write_text(compile_scene(scene), encoding="ascii")
+    build = build_simulator("m2", scene.effects, scene.taylor_order)
+    exe = str(tmp_path / "session")
+    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / "Session.mod"), exe),
+                          cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
+    assert made.returncode == 0, made.stderr[-3000:]
+    run = subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr
+    log = [(float(t), int(b), int(m), float(x), float(y)) for t, b, m, x, y in map(str.split, run.stderr.splitlines())]
+    assert len(log) == 2 + 7
+    rec = parse_scene(json.dumps(recording(path, log)), "recording.json")
+    for lang in ("m2", "python"):
+        assert run_scene(rec, lang).raw == run.stdout, lang

@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python", "m2"}, "inputs": {"python", "m2"}, "bodies": {"python", "m2"}, "recordings": {"python"}}
+PORTED = {"world": {"python", "m2"}, "inputs": {"python", "m2"}, "bodies": {"python", "m2"}, "recordings": {"python", "m2"}}
 
 
 def runtimes(step: str):

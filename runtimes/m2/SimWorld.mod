@@ -92,7 +92,7 @@ VAR
    Contacts: ContactArray ;
    NContacts, CapContacts: INTEGER ;
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
-   Added: INTEGER ;            (* bodies added by AddBody (a recording refuses them) *)
+   NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
 
 
 (* ---- errors ------------------------------------------------------------ *)
@@ -1605,7 +1605,7 @@ BEGIN
    LastT := -1.0 ;
    Same := 0 ;
    NContacts := 0 ;
-   Added := 0 ;
+   NAdded := 0 ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF NOT b^.large THEN
@@ -2016,7 +2016,7 @@ BEGIN
    IF overlapping (b, b^.px, b^.py, t) >= 0 THEN RETURN TRUE END ;
    INC (NBodies) ;
    NVerts := NVerts + nv ;
-   INC (Added) ;
+   INC (NAdded) ;
    index := b^.idx ;
    Str ("E add ") ;
    Real (t) ;
@@ -2041,6 +2041,41 @@ BEGIN
    IF Failed THEN RETURN FALSE END ;
    RETURN TRUE
 END AddBody ;
+
+
+(* ---- the input log (recordings) ------------------------------------------------ *)
+
+PROCEDURE InputLogLength () : INTEGER ;
+BEGIN
+   RETURN NInputs
+END InputLogLength ;
+
+
+PROCEDURE InputLog (k: INTEGER; VAR t: REAL; VAR body, mode: INTEGER; VAR x, y: REAL) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF (k < 0) OR (k >= NInputs) THEN
+      m := "no input " ;
+      AppendInt (m, k) ;
+      Append (m, " (the log has ") ;
+      AppendInt (m, NInputs) ;
+      Append (m, ")") ;
+      RETURN Refuse (m)
+   END ;
+   t := Inputs^[k].t ;
+   body := Inputs^[k].body ;
+   mode := Inputs^[k].mode ;
+   x := Inputs^[k].vx ;
+   y := Inputs^[k].vy ;
+   RETURN TRUE
+END InputLog ;
+
+
+PROCEDURE Added () : INTEGER ;
+BEGIN
+   RETURN NAdded
+END Added ;
 
 
 PROCEDURE Finish (report: ContactProc) : BOOLEAN ;
