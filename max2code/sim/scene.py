@@ -28,13 +28,15 @@ SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": 
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
               "tolerance": "distance tolerance (m)", "rest_speed": "smallest separation speed of a contact (m/s)",
               "taylor_order": "Taylor order of the turns' sin and cos", "bodies": "the bodies",
-              "inputs": "scripted velocity changes", "max_events_at_one_time": "guard against a stuck scene",
+              "inputs": "scripted inputs (velocity, impulse, teleport)", "max_events_at_one_time": "guard against a stuck scene",
               "max_events": "events (collisions, inputs, frames) a run may write",
               "max_frame_rate": "largest frame_rate accepted", "comment": "free text"}
 BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
              "angle", "angular_velocity", "orbit", "restitution", "friction", "comment"}
 ORBIT_KEYS = {"radius", "angle"}
-INPUT_KEYS = {"time", "body", "set_velocity", "add_velocity"}
+INPUT_KINDS = ("set_velocity", "add_velocity", "impulse", "teleport", "remove")     # the flat MODE is the index
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT, REMOVE = range(5)
+INPUT_KEYS = {"time", "body", *INPUT_KINDS}
 
 
 class SceneError(Max2CodeError):
@@ -82,8 +84,8 @@ class Body:
 class Input:
     time: float
     body: int
-    mode: int          # 0: set velocity, 1: add velocity
-    velocity: tuple[float, float]
+    mode: int          # index in INPUT_KINDS: set/add velocity (m/s), impulse (N s), teleport (the new centre, m)
+    velocity: tuple[float, float]     # the mode's vector (named for the first two)
 
 
 @dataclass
@@ -319,6 +321,7 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         bodies.append(body)
 
     inputs: list[Input] = []
+    removed: dict[int, int] = {}        # body -> the input that removes it
     raw_inputs = raw.get("inputs", [])
     if not isinstance(raw_inputs, list):
         rd.fail("inputs", "expected a list")
@@ -331,12 +334,22 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         if e["body"] not in names:
             rd.fail(f"{where}.body", f"no body is named {json.dumps(e['body'])}")
         bi = names[e["body"]]
-        if bodies[bi].fixed:
-            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only")
-        modes = [m for m in ("set_velocity", "add_velocity") if m in e]
+        modes = [m for m in INPUT_KINDS if m in e]
         if len(modes) != 1:
-            rd.fail(where, "give exactly one of set_velocity, add_velocity")
-        inputs.append(Input(t, bi, 0 if modes[0] == "set_velocity" else 1, rd.vec(e, modes[0], where, None)))
+            rd.fail(where, f"give exactly one of {', '.join(INPUT_KINDS)}")
+        if bodies[bi].fixed and modes[0] != "remove":
+            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only (or remove them)")
+        if bi in removed:
+            rd.fail(f"{where}.body", f"'{e['body']}' was removed by inputs[{removed[bi]}]")
+        if modes[0] == "remove":
+            if e["remove"] is not True:
+                rd.fail(f"{where}.remove", "expected true")
+            if any(x.body == bi and x.time > t for x in inputs):
+                rd.fail(f"{where}.time", f"'{e['body']}' has an input listed before this one at a later time")
+            removed[bi] = k
+            inputs.append(Input(t, bi, REMOVE, (0.0, 0.0)))
+            continue
+        inputs.append(Input(t, bi, INPUT_KINDS.index(modes[0]), rd.vec(e, modes[0], where, None)))
 
     scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
                   int(max_events))
@@ -353,11 +366,17 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
     inverse overflows.  Everything else is simulated."""
     T = scene.end_time
     kick = [0.0] * len(scene.bodies)
+    jump = [0.0] * len(scene.bodies)
     for e in scene.inputs:
-        kick[e.body] = max(kick[e.body], math.hypot(*e.velocity) if e.mode == 0 else 0.0)
-    for e in scene.inputs:        # added velocities add up
-        if e.mode == 1:
+        if e.mode == SET_VELOCITY:
+            kick[e.body] = max(kick[e.body], math.hypot(*e.velocity))
+        elif e.mode == TELEPORT:
+            jump[e.body] = max(jump[e.body], math.hypot(*e.velocity))
+    for e in scene.inputs:        # added velocities and impulses add up
+        if e.mode == ADD_VELOCITY:
             kick[e.body] += math.hypot(*e.velocity)
+        elif e.mode == IMPULSE:
+            kick[e.body] += math.hypot(*e.velocity) / scene.bodies[e.body].mass
     for k, b in enumerate(scene.bodies):
         where = f"bodies[{k}] ({b.name})"
         sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
@@ -370,13 +389,14 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
                 rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
         speed = math.hypot(*b.velocity) + kick[k]
         accel = math.hypot(*b.acceleration)
-        for field_name, v, limit in (("position", math.hypot(*b.position), LENGTH_MAX),
+        far = max(math.hypot(*b.position), jump[k])       # teleports included
+        for field_name, v, limit in (("position", far, LENGTH_MAX),
                                      ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
                                      ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
             if v > limit:
                 rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
                                                  f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
-        reach = math.hypot(*b.position) + speed * T + accel * T * T / 2.0 + b.bound
+        reach = far + speed * T + accel * T * T / 2.0 + b.bound
         if not reach <= LENGTH_MAX:
             rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
                            "where squares overflow; scale the scene")
@@ -557,6 +577,30 @@ def _r(x: float) -> str:
     return repr(float(x))
 
 
+def body_lines(b: Body, large: bool) -> list[str]:
+    """A body's `body` line and its `v` lines in the flat format."""
+    out = []
+    inv_m = 0.0 if b.fixed else 1.0 / b.mass
+    inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
+    out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
+                         _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
+                         _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
+                         _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
+                         _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
+                         "1" if large else "0", str(len(b.vertices))]))
+    n = len(b.vertices)
+    for k in range(n):
+        (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
+        ex, ey = x1 - x0, y1 - y0
+        ln = math.hypot(ex, ey)
+        nx, ny = ey / ln, -ex / ln                  # outward: the polygon is counter-clockwise
+        tx, ty = ex / ln, ey / ln
+        out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
+                             _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
+                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+    return out
+
+
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
     g = make_grid(scene)
@@ -570,24 +614,7 @@ def compile_scene(scene: Scene) -> str:
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
     for b, large in zip(scene.bodies, g.large):
-        inv_m = 0.0 if b.fixed else 1.0 / b.mass
-        inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
-        out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
-                             _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
-                             _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
-                             _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
-                             _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
-                             "1" if large else "0", str(len(b.vertices))]))
-        n = len(b.vertices)
-        for k in range(n):
-            (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
-            ex, ey = x1 - x0, y1 - y0
-            ln = math.hypot(ex, ey)
-            nx, ny = ey / ln, -ex / ln                  # outward: the polygon is counter-clockwise
-            tx, ty = ex / ln, ey / ln
-            out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
-                                 _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
-                                 _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+        out += body_lines(b, large)
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

@@ -55,7 +55,7 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "asleep", "island")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -79,6 +79,7 @@ class Body:
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
     # load           m/s^2: free acceleration pressing onto the support, > 0
     # at             m/s^2: free acceleration along the tangent
+    # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
     # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
     # island         the island's number (the index of its first sleeper), -1: awake
 
@@ -166,35 +167,89 @@ def _fmt(x: float) -> str:
     return "%.17g" % x
 
 
+# input modes (the flat scene's MODE; docs/simulator.md)
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT, REMOVE = 0, 1, 2, 3, 4
+
+
 class Input:
-    """A scripted velocity change."""
+    """A scripted or live input."""
     __slots__ = ("t", "body", "mode", "vx", "vy")
-    # t s; body index; mode 0: set velocity, 1: add velocity; vx, vy m/s
+    # t s; body index; mode SET_VELOCITY, ADD_VELOCITY (vx, vy m/s), IMPULSE
+    # (vx, vy: the impulse, N s, through the centre), TELEPORT (vx, vy: the
+    # new centre, m), REMOVE (vx, vy unused, 0)
 
     def __init__(self, t: float, body: int, mode: int, vx: float, vy: float):
         self.t, self.body, self.mode, self.vx, self.vy = t, body, mode, vx, vy
+
+
+class Tokens:
+    """The whitespace-separated words of a flat text, read in order."""
+
+    def __init__(self, text: str, what: str):
+        self.tok = text.split()
+        self.pos = 0
+        self.what = what
+
+    def word(self, expect=None) -> str:
+        if self.pos >= len(self.tok):
+            raise SimError(f"{self.what}: ends early" + (f" (expected '{expect}')" if expect else ""))
+        w = self.tok[self.pos]
+        self.pos += 1
+        if expect is not None and w != expect:
+            raise SimError(f"{self.what}: expected '{expect}', found '{w}'")
+        return w
+
+    def num(self) -> float:
+        w = self.word()
+        try:
+            return float(w)
+        except ValueError:
+            raise SimError(f"{self.what}: expected a number, found '{w}'") from None
+
+    def integer(self) -> int:
+        w = self.word()
+        try:
+            return int(w)
+        except ValueError:
+            raise SimError(f"{self.what}: expected an integer, found '{w}'") from None
+
+
+def read_body(tk: Tokens, i: int) -> Body:
+    """A `body ...` line and its `v` lines (docs/simulator.md, Flat scene)."""
+    num, integer = tk.num, tk.integer
+    tk.word("body")
+    b = Body()
+    b.idx = i
+    b.polygon = integer() == 1
+    b.fixed = integer() == 1
+    b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
+    b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
+    b.fax, b.fay = b.ax, b.ay
+    b.sup, b.sup_edge = -1, -1
+    b.tx = b.ty = b.load = b.at = 0.0
+    b.ang, b.om = num(), num()
+    b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
+    b.large = integer() == 1
+    nv = integer()
+    b.verts = []
+    for _ in range(nv):
+        tk.word("v")
+        b.verts.append(Vertex([num() for _ in range(10)]))
+    b.tb = 0.0
+    b.stamp = 0
+    b.cx = b.cy = 0
+    b.gone = False
+    b.asleep = False
+    b.island = -1
+    return b
 
 
 class Scene:
     """A compiled scene, read from the flat format."""
 
     def __init__(self, text: str):
-        tok = text.split()
-        pos = [0]
-
-        def word(expect=None):
-            w = tok[pos[0]]
-            pos[0] += 1
-            if expect is not None and w != expect:
-                raise SimError(f"scene: expected '{expect}', found '{w}'")
-            return w
-
-        def num():
-            return float(word())
-
-        def integer():
-            return int(word())
-
+        tk = Tokens(text, "scene")
+        word, num, integer = tk.word, tk.num, tk.integer
         word("m2c-scene")
         if integer() != 1:
             raise SimError("scene: unknown version")
@@ -207,32 +262,7 @@ class Scene:
         word("grid"); self.x0 = num(); self.y0 = num(); self.cw = num(); self.ch = num()
         self.nx = integer(); self.ny = integer()
         word("bodies"); n = integer()
-        self.bodies: list[Body] = []
-        for i in range(n):
-            word("body")
-            b = Body()
-            b.idx = i
-            b.polygon = integer() == 1
-            b.fixed = integer() == 1
-            b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
-            b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
-            b.fax, b.fay = b.ax, b.ay
-            b.sup, b.sup_edge = -1, -1
-            b.tx = b.ty = b.load = b.at = 0.0
-            b.asleep = False
-            b.island = -1
-            b.ang, b.om = num(), num()
-            b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
-            b.large = integer() == 1
-            nv = integer()
-            b.verts = []
-            for _ in range(nv):
-                word("v")
-                b.verts.append(Vertex([num() for _ in range(10)]))
-            b.tb = 0.0
-            b.stamp = 0
-            b.cx = b.cy = 0
-            self.bodies.append(b)
+        self.bodies: list[Body] = [read_body(tk, i) for i in range(n)]
         word("inputs"); k = integer()
         self.inputs = []
         for _ in range(k):
@@ -241,8 +271,36 @@ class Scene:
         word("end")
 
 
-class Simulator:
-    def __init__(self, scene: Scene, cc, pe, out):
+class Contact:
+    """A collision or support as advance() reports it: the fields of the
+    trace's E collision / E support line (docs/engine-api.md)."""
+    __slots__ = ("t", "a", "b", "feature", "i", "j", "px", "py", "nx", "ny", "impulse", "support")
+    # support: True when the contact ended in support (E support), else a collision
+
+    def __init__(self, t, a, b, feature, i, j, px, py, nx, ny, impulse, support):
+        self.t, self.a, self.b, self.feature, self.i, self.j = t, a, b, feature, i, j
+        self.px, self.py, self.nx, self.ny, self.impulse, self.support = px, py, nx, ny, impulse, support
+
+    def __repr__(self):
+        return (f"Contact(t={self.t!r}, a={self.a}, b={self.b}, feature={self.feature}, i={self.i}, j={self.j}, "
+                f"p=({self.px!r}, {self.py!r}), n=({self.nx!r}, {self.ny!r}), impulse={self.impulse!r}, "
+                f"support={self.support})")
+
+
+class NoTrace:
+    """The trace sink of a world without a trace."""
+
+    @staticmethod
+    def write(text: str) -> None:
+        pass
+
+
+class World:
+    """A live world (docs/engine-api.md): made from a flat scene, driven by
+    advance(t); the batch simulator is run() = advance(end) + finish()."""
+
+    def __init__(self, scene_text: str, cc, pe, out=None):
+        scene = Scene(scene_text)
         self.s = scene
         self.cc_coef = cc.circle_circle_coefficients
         self.cc_var = cc.circle_circle_variant
@@ -250,16 +308,30 @@ class Simulator:
         self.pe_var = pe.point_edge_variant
         self.cc_counts = [0] * len(cc.CIRCLE_CIRCLE_VARIANT_NAMES)
         self.pe_counts = [0] * len(pe.POINT_EDGE_VARIANT_NAMES)
-        self.out = out
+        self.out = NoTrace if out is None else out
         self.heap: list = []
         self.seq = 0
         self.stats = Stats()
         self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
         self.large: list[Body] = [b for b in scene.bodies if b.large]
+        self.time = 0.0             # s: the world's current time
+        self.last_t = -1.0          # the instant of the last event handled, and how many came at it
+        self.same = 0
+        self.contacts: list[Contact] = []    # reported by the next advance()
+        self.added = 0              # bodies added by add_body (a recording refuses them)
+        self.handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
+                         self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
+        self.start()
+
+    @classmethod
+    def from_file(cls, path: str, cc, pe, out=None) -> "World":
+        with open(path, encoding="ascii") as fh:
+            return cls(fh.read(), cc, pe, out)
 
     # ---- motion -----------------------------------------------------------
     @staticmethod
-    def advance(b: Body, t: float) -> None:
+    def rebase(b: Body, t: float) -> None:
+        """Carry b's state to time t (only events do this: re-basing rounds)."""
         dt = t - b.tb
         b.px = b.px + (b.vx + 0.5 * b.ax * dt) * dt
         b.py = b.py + (b.vy + 0.5 * b.ay * dt) * dt
@@ -754,7 +826,7 @@ class Simulator:
             lo = u
         return None
 
-    def apply_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+    def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
         """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
         from A to B (both advanced to the contact time): 0.0 when the material
         points do not approach and are not pressed together, else the
@@ -852,7 +924,7 @@ class Simulator:
         bodies = self.s.bodies
         for b in bodies:
             if b.asleep and b.island == island:
-                self.advance(b, t)
+                self.rebase(b, t)
                 b.asleep = False
                 b.ax = b.fax
                 b.ay = b.fay
@@ -881,8 +953,8 @@ class Simulator:
         t = ev.t
         A = self.s.bodies[ev.a]
         B = self.s.bodies[ev.b]
-        self.advance(A, t)
-        self.advance(B, t)
+        self.rebase(A, t)
+        self.rebase(B, t)
         cx, cy, nx, ny = self.contact_frame(t, ev.feature, A, B, ev.i, ev.j)
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
         if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
@@ -897,7 +969,7 @@ class Simulator:
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
         # on it); an impulse wakes its island, none leaves it asleep
-        imp = self.apply_impulse(A, B, cx, cy, nx, ny)
+        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
         if imp != 0.0:
             if A.asleep:
                 self.handle_wake(A, t)
@@ -909,6 +981,7 @@ class Simulator:
                 self.end_support(B)
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        self.contacts.append(Contact(t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, False))
         for b in (A, B):
             if not b.fixed:
                 b.stamp += 1
@@ -926,6 +999,7 @@ class Simulator:
         self.enter_support(A, B, ev.j)
         self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        self.contacts.append(Contact(ev.t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, True))
         if self.at_rest(A):
             self.handle_sleep(A, B, ev.t)
             return
@@ -937,7 +1011,7 @@ class Simulator:
         """Sliding stops: velocity exactly zero, then rest or slide back."""
         self.stats.stops += 1
         A = self.s.bodies[ev.body]
-        self.advance(A, ev.t)
+        self.rebase(A, ev.t)
         A.vx = 0.0
         A.vy = 0.0
         self.slide_accel(A, 0.0)
@@ -953,7 +1027,7 @@ class Simulator:
         """The support's edge ends under the body: free motion again."""
         self.stats.leaves += 1
         A = self.s.bodies[ev.body]
-        self.advance(A, ev.t)
+        self.rebase(A, ev.t)
         sup, edge = A.sup, A.sup_edge
         self.end_support(A)
         A.stamp += 1
@@ -966,19 +1040,158 @@ class Simulator:
         t = ev.t
         inp = self.s.inputs[ev.k]
         body = self.s.bodies[inp.body]
+        if body.gone:
+            raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
         if body.asleep:
-            self.handle_wake(body, t)
-        self.advance(body, t)
+            self.handle_wake(body, t)      # any input on a sleeper wakes its island first
+        self.rebase(body, t)
+        if inp.mode == REMOVE:
+            self.remove(body, ev.k, t)
+            return
+        if inp.mode == TELEPORT:
+            o = self.overlapping(body, inp.vx, inp.vy, t)
+            if o >= 0:
+                raise SimError(f"input {ev.k}: body {body.idx} teleported to ({_fmt(inp.vx)}, {_fmt(inp.vy)}) at "
+                               f"t = {_fmt(t)} would overlap body {o}")
         if body.sup >= 0:
             self.end_support(body)
-        if inp.mode == 0:
+        if inp.mode == SET_VELOCITY:
             body.vx, body.vy = inp.vx, inp.vy
-        else:
+        elif inp.mode == ADD_VELOCITY:
             body.vx, body.vy = body.vx + inp.vx, body.vy + inp.vy
+        elif inp.mode == IMPULSE:
+            body.vx, body.vy = body.vx + inp.vx * body.inv_m, body.vy + inp.vy * body.inv_m
+        else:
+            body.px, body.py = inp.vx, inp.vy
+            self.cell_remove(body)
+            body.cx, body.cy = self.cell_of(body.px, body.py)
+            self.cell_add(body)
         body.stamp += 1
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {ev.k} -1 0 0 0 0 0\n")
         self.emit_state(body)
         self.predict_body(body, t, None)
+
+    def remove(self, body: Body, k: int, t: float) -> None:
+        """Input k removes the body (based at t): it stops where it is (v, a,
+        w zero), leaves the grid, its stamp changes (its queued events go
+        stale) and it is never predicted again; bodies it supported leave."""
+        body.vx = body.vy = body.ax = body.ay = body.fax = body.fay = body.om = 0.0
+        if body.sup >= 0:
+            self.end_support(body)
+        body.gone = True
+        body.stamp += 1
+        if body.large:
+            self.large.remove(body)
+        else:
+            self.cell_remove(body)
+        self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {k} -1 0 0 0 0 0\n")
+        for A in self.s.bodies:
+            if A.sup == body.idx:
+                self.stats.leaves += 1
+                self.rebase(A, t)
+                edge = A.sup_edge
+                self.end_support(A)
+                A.stamp += 1
+                self.out.write(f"E leave {_fmt(t)} {A.idx} {body.idx} -1 -1 {edge} 0 0 0 0 0\n")
+                self.emit_state(A)
+                self.predict_body(A, t, None)
+        self.wake_touching(body, t)
+
+    def wake_touching(self, body: Body, t: float) -> None:
+        """The islands of the sleepers whose bounding circles reach the
+        removed body's (within the tolerance) wake: it may have held them
+        (by index; a woken island's other members are awake already)."""
+        tol = self.s.tol
+        for o in self.s.bodies:
+            if o.asleep:
+                dx = o.px - body.px
+                dy = o.py - body.py
+                reach = o.bound + body.bound + tol
+                if dx * dx + dy * dy <= reach * reach:
+                    self.handle_wake(o, t)
+
+    # ---- overlap (a teleport's check) ----------------------------------------
+    def overlapping(self, A: Body, x: float, y: float, t: float) -> int:
+        """The first body (by index) that A, with its centre moved to (x, y)
+        at time t, would overlap by more than the tolerance; -1 when none."""
+        tol = self.s.tol
+        saved = (A.px, A.py, A.vx, A.vy, A.ang, A.tb)
+        _, _, vx, vy, ang = self.state_at(A, t)
+        A.px, A.py, A.vx, A.vy, A.ang, A.tb = x, y, vx, vy, ang, t     # A at t, moved (restored below)
+        found = -1
+        for B in self.s.bodies:
+            if B is A or B.gone:
+                continue
+            bx, by, _, _, _ = self.state_at(B, t)
+            dx, dy = bx - x, by - y
+            reach = A.bound + B.bound + tol
+            if dx * dx + dy * dy > reach * reach:
+                continue
+            if self.separation(A, B, t) < -tol:
+                found = B.idx
+                break
+        A.px, A.py, A.vx, A.vy, A.ang, A.tb = saved
+        return found
+
+    def separation(self, A: Body, B: Body, t: float) -> float:
+        """The largest gap between A and B at t along a separating axis:
+        negative by the depth they overlap (edge normals of either polygon,
+        and for a circle the line from the nearest vertex; circles: the
+        distance of the centres less the radii)."""
+        if not A.polygon and not B.polygon:
+            ax, ay = self.point_at(A, None, t)
+            bx, by = self.point_at(B, None, t)
+            return math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A.r + B.r)
+        if not A.polygon:
+            return self.circle_separation(A, B, t)
+        if not B.polygon:
+            return self.circle_separation(B, A, t)
+        return max(self.edges_separation(A, B, t), self.edges_separation(B, A, t))
+
+    def edge_line(self, P: Body, j: int, t: float):
+        """Outward unit normal (ox, oy) of edge j of P at t and the offset
+        of its line, (ox, oy) . point = off."""
+        ed = P.verts[j]
+        px, py, _, _, ang = self.state_at(P, t)
+        c = math.cos(ang)
+        s = math.sin(ang)
+        ox = c * ed.nx - s * ed.ny
+        oy = s * ed.nx + c * ed.ny
+        return ox, oy, ox * px + oy * py + ed.h
+
+    def edges_separation(self, P: Body, Q: Body, t: float) -> float:
+        """Along the edge normals of P: the largest over P's edges of the
+        smallest distance of Q's vertices beyond the edge's line."""
+        best = -math.inf
+        pts = [self.point_at(Q, v, t) for v in Q.verts]
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, t)
+            lo = math.inf
+            for qx, qy in pts:
+                lo = min(lo, ox * qx + oy * qy - off)
+            best = max(best, lo)
+        return best
+
+    def circle_separation(self, C: Body, P: Body, t: float) -> float:
+        cx, cy = self.point_at(C, None, t)
+        best = -math.inf
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, t)
+            best = max(best, ox * cx + oy * cy - off - C.r)
+        pts = [self.point_at(P, v, t) for v in P.verts]
+        near, d2 = 0, math.inf
+        for k, (qx, qy) in enumerate(pts):
+            e2 = (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy)
+            if e2 < d2:
+                near, d2 = k, e2
+        if d2 > 0.0:
+            d = math.sqrt(d2)
+            ux, uy = (cx - pts[near][0]) / d, (cy - pts[near][1]) / d
+            hi = -math.inf
+            for qx, qy in pts:
+                hi = max(hi, ux * qx + uy * qy)
+            best = max(best, ux * cx + uy * cy - C.r - hi)
+        return best
 
     def handle_cell(self, ev: CellEvent) -> None:
         """The body's centre crossed into the next cell along an axis: move
@@ -1036,11 +1249,180 @@ class Simulator:
                     self.predict_pair(b, o, 0.0)
             self.schedule_cell(b, 0.0)
 
-    def finish(self) -> None:
-        """Every body at the end time, the counters and the variants served."""
+    def dispatch(self, ev) -> None:
+        """Handle one event popped from the queue: drop it when stale, count
+        the events at one instant (max_same_time), call its kind's handler."""
+        if self.is_stale(ev):
+            self.stats.stale += 1
+            return
+        if ev.t == self.last_t:
+            self.same += 1
+            if self.same > self.s.max_same:
+                raise SimError(f"more than {self.s.max_same} events at t = {_fmt(ev.t)}: the scene is stuck")
+        else:
+            self.last_t, self.same = ev.t, 0
+        self.handlers[ev.kind](ev)
+
+    def process(self, t: float, inclusive: bool) -> None:
+        """Handle every queued event before t (inclusive: at t too), in
+        (t, kind, seq) order, events that handling schedules included."""
+        heap = self.heap
+        while heap:
+            top = heap[0][0]
+            if top > t or (top == t and not inclusive):
+                return
+            self.dispatch(heapq.heappop(heap)[3])
+
+    # ---- the live API (docs/engine-api.md) ------------------------------------
+    def advance(self, t: float) -> list[Contact]:
+        """Handle every event at a time before t, move the world's time to t
+        and return the contacts handled since the last call.  Events at
+        exactly t stay queued: an input made at t comes before them, as a
+        scripted input at t does.  No body is re-based but by its events."""
+        if not (t >= self.time and t <= self.s.end):
+            raise SimError(f"advance: t = {_fmt(t)} is outside [{_fmt(self.time)}, {_fmt(self.s.end)}] "
+                           f"(the world's time .. the scene's end)")
+        self.process(t, False)
+        self.time = t
+        return self.take_contacts()
+
+    def take_contacts(self) -> list[Contact]:
+        got = self.contacts
+        self.contacts = []
+        return got
+
+    def next_event_time(self) -> float:
+        """The time of the next event that is not stale (stale ones at the
+        top of the queue are dropped and counted as the run would); inf when
+        none comes before the end."""
+        heap = self.heap
+        while heap:
+            top = heap[0]
+            if top[0] > self.s.end:
+                break
+            if not self.is_stale(top[3]):
+                return top[0]
+            heapq.heappop(heap)
+            self.stats.stale += 1
+        return math.inf
+
+    def state(self, body: int, t: float) -> tuple[float, float, float, float, float, float]:
+        """(px, py, vx, vy, angle, omega) of a body at t, exact, for t from
+        the world's time to the next event's (a removed body: where it was
+        removed, at rest)."""
+        b = self.body(body)
+        nxt = self.next_event_time()
+        if not (t >= self.time and t <= nxt and t <= self.s.end):
+            raise SimError(f"state: t = {_fmt(t)} is outside [{_fmt(self.time)}, {_fmt(nxt)}] "
+                           f"(the world's time .. the next event)")
+        px, py, vx, vy, ang = self.state_at(b, t)
+        return px, py, vx, vy, ang, b.om
+
+    def body(self, k: int) -> Body:
+        if not (0 <= k < len(self.s.bodies)):
+            raise SimError(f"no body {k} (the world has {len(self.s.bodies)})")
+        return self.s.bodies[k]
+
+    def remove_body(self, body: int) -> None:
+        """Take a body (movable or fixed) out of the world now: input MODE 4
+        (docs/engine-api.md)."""
+        self.live_input(body, REMOVE, 0.0, 0.0)
+
+    def add_body(self, text: str) -> int:
+        """A body from its flat lines (`body ...` and its `v` lines, the
+        state at the world's time) added now; its index, or -1 (the world
+        unchanged) when it would overlap a body by more than the tolerance.
+        Not an input: a recording refuses a session that added bodies."""
+        tk = Tokens(text, "add_body")
         s = self.s
+        b = read_body(tk, len(s.bodies))
+        if tk.pos != len(tk.tok):
+            raise SimError(f"add_body: unexpected '{tk.tok[tk.pos]}' after the body")
+        b.large = 2.0 * b.bound > min(s.cw, s.ch)
+        if b.large and not b.fixed:
+            raise SimError(f"add_body: a movable body of bound {_fmt(b.bound)} m does not fit the grid's cells "
+                           f"({_fmt(s.cw)} x {_fmt(s.ch)} m): put such a body in the scene")
+        t = self.time
+        b.tb = t
+        self.inputs_now()
+        if self.overlapping(b, b.px, b.py, t) >= 0:
+            return -1
+        s.bodies.append(b)
+        self.added += 1
+        self.out.write(f"E add {_fmt(t)} {b.idx} -1 -1 -1 -1 0 0 0 0 0\n")
+        if b.large:
+            self.large.append(b)
+            for o in s.bodies:
+                if not o.large and not o.gone and not (o.fixed and b.fixed):
+                    self.predict_pair(o, b, t)
+        else:
+            b.cx, b.cy = self.cell_of(b.px, b.py)
+            self.cell_add(b)
+            if not b.fixed:
+                self.emit_state(b)
+            self.predict_body(b, t, None)
+        return b.idx
+
+    # ---- live inputs: at the world's time, recorded in the input list --------
+    def set_velocity(self, body: int, vx: float, vy: float) -> None:
+        self.live_input(body, SET_VELOCITY, vx, vy)
+
+    def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
+        self.live_input(body, ADD_VELOCITY, dvx, dvy)
+
+    def apply_impulse(self, body: int, jx: float, jy: float) -> None:
+        """An impulse (N s) through the centre: dv = J inv_mass."""
+        self.live_input(body, IMPULSE, jx, jy)
+
+    def teleport(self, body: int, x: float, y: float) -> bool:
+        """Move the body's centre to (x, y) now, keeping its velocity; False
+        (the world unchanged) when it would overlap another body by more
+        than the tolerance there."""
+        return self.live_input(body, TELEPORT, x, y)
+
+    def live_input(self, body: int, mode: int, x: float, y: float) -> bool:
+        """An input at the world's time T, handled as the same input scripted
+        at T and listed after the scene's would be: the scene's inputs at T
+        are handled first, then this one, before any other event at T
+        (docs/engine-api.md, "Live inputs").  It is appended to the input
+        list (s.inputs), which is the recording."""
+        b = self.body(body)
+        if b.gone:
+            raise SimError(f"body {body} was removed")
+        if b.fixed and mode != REMOVE:
+            raise SimError(f"body {body} is fixed: inputs move movable bodies only")
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")
+        t = self.time
+        self.inputs_now()
+        if mode == TELEPORT:
+            if self.overlapping(b, x, y, t) >= 0:
+                return False
+        self.s.inputs.append(Input(t, body, mode, x, y))
+        self.push(InputEvent(t, len(self.s.inputs) - 1))
+        self.inputs_now()
+        return True
+
+    def input_log(self) -> list[tuple[float, int, int, float, float]]:
+        """Every input, (t, body, mode, x, y): the scene's, then the live ones
+        in the order they were made (what a recording writes)."""
+        return [(e.t, e.body, e.mode, e.vx, e.vy) for e in self.s.inputs]
+
+    def inputs_now(self) -> None:
+        """Handle the input events queued at exactly the world's time."""
+        heap = self.heap
+        while heap and heap[0][0] == self.time and heap[0][1] == INPUT:
+            self.dispatch(heapq.heappop(heap)[3])
+
+    def finish(self) -> list[Contact]:
+        """Handle the events at the end time, then write every body at the
+        end, the counters and the variants served; returns the contacts
+        handled since the last advance."""
+        s = self.s
+        self.process(s.end, True)
+        self.time = s.end
         for b in s.bodies:
-            self.advance(b, s.end)
+            self.rebase(b, s.end)
         for b in s.bodies:
             self.out.write(f"F {b.idx} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
                            f"{_fmt(b.ang)} {_fmt(b.om)}\n")
@@ -1050,32 +1432,14 @@ class Simulator:
             self.out.write(f"V circle_circle {k} {c}\n")
         for k, c in enumerate(self.pe_counts):
             self.out.write(f"V point_edge {k} {c}\n")
+        return self.take_contacts()
 
     def run(self) -> None:
-        s = self.s
-        self.start()
-        handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
-                    self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
-        last_t = -1.0
-        same = 0
-        heap = self.heap
-        while heap:
-            ev = heapq.heappop(heap)[3]
-            if ev.t > s.end:
-                break
-            if self.is_stale(ev):
-                self.stats.stale += 1
-                continue
-            if ev.t == last_t:
-                same += 1
-                if same > s.max_same:
-                    raise SimError(f"more than {s.max_same} events at t = {_fmt(ev.t)}: the scene is stuck")
-            else:
-                last_t, same = ev.t, 0
-            handlers[ev.kind](ev)
+        """The batch simulator: every event to the end, then the final lines."""
+        self.advance(self.s.end)
         self.finish()
 
 
 def simulate(scene_text: str, cc, pe, out) -> None:
     """Run a compiled scene; raises SimError with a message on a stuck or bad scene."""
-    Simulator(Scene(scene_text), cc, pe, out).run()
+    World(scene_text, cc, pe, out).run()
