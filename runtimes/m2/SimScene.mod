@@ -289,6 +289,8 @@ BEGIN
    b^.cx := 0 ;
    b^.cy := 0 ;
    b^.gone := FALSE ;
+   b^.asleep := FALSE ;
+   b^.island := -1 ;
    RETURN nv
 END ReadBody ;
 

@@ -20,7 +20,8 @@ IMPLEMENTATION MODULE SimWorld ;
    contact_impulse, normal_speed, can_support, flat, enter_support,
    slide_accel, end_support, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
-   live_input, inputs_now).
+   live_input, inputs_now, remove, wake_touching, grounded, at_rest,
+   can_sleep, handle_sleep, handle_wake, predict_woken).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -67,7 +68,8 @@ TYPE
    ContactArray = POINTER TO ARRAY [0..MaxContacts - 1] OF Contact ;
    (* the counters written as the trace's N lines, in this order *)
    StatCounts = RECORD
-      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves: LONGINT ;
+      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves, sleeps,
+      wakes: LONGINT ;
    END ;
 
 VAR
@@ -610,6 +612,9 @@ BEGIN
    IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
       RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
    END ;
+   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
+      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
+   END ;
    INC (Stats.pairs) ;
    w := EndT - now ;
    IF NOT (w > 0.0) THEN RETURN END ;
@@ -1082,6 +1087,149 @@ BEGIN
 END Stat ;
 
 
+(* ---- sleeping islands ------------------------------------------------------------ *)
+
+(* A body others can fall asleep on: asleep, or fixed and unmoving. *)
+PROCEDURE grounded (G: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN G^.asleep OR (G^.fixed AND static (G))
+END grounded ;
+
+
+(* A supported body that stays where it is: no acceleration along its edge
+   (level, or static friction holds) and slower than rest_speed. *)
+PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
+VAR
+   u: REAL ;
+BEGIN
+   IF (A^.ax # 0.0) OR (A^.ay # 0.0) THEN RETURN FALSE END ;
+   u := A^.vx * A^.tx + A^.vy * A^.ty ;
+   RETURN u * u < RestSpeed * RestSpeed
+END at_rest ;
+
+
+(* Awake movable M, one body of the collision ev with grounded G (both
+   advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
+   normal speed), falls asleep on G: M's free acceleration presses it onto G
+   (load > 0), the contact is slow (vn < rest_speed and eM eG (-vn) <
+   rest_speed), M's speed across the normal is below rest_speed, and a
+   polygon M turns slower than rest_speed / bound and lies on a face: a
+   vertex-edge contact with a neighbour of the vertex on the edge's line
+   (flat, whichever body has the vertex). *)
+PROCEDURE can_sleep (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
+VAR
+   mx, my, load, ut: REAL ;
+BEGIN
+   IF M^.fixed OR M^.asleep OR NOT grounded (G) THEN RETURN FALSE END ;
+   IF M^.idx = ev.a THEN
+      mx := nx ;
+      my := ny
+   ELSE
+      mx := -nx ;
+      my := -ny
+   END ;
+   load := M^.fax * mx + M^.fay * my ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (M^.e * G^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   ut := M^.vy * mx - M^.vx * my ;
+   IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
+   IF M^.polygon THEN
+      IF (ABS (M^.om) * M^.bound >= RestSpeed) OR (ev.feature # FeatPE) OR (ev.i < 0) THEN RETURN FALSE END ;
+      RETURN flat (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j, -nx, -ny, load)
+   END ;
+   RETURN TRUE
+END can_sleep ;
+
+
+(* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
+   G's island, or in a new one numbered A's index when G is fixed.  Its
+   awake neighbours are predicted against it again. *)
+PROCEDURE handle_sleep (A, G: BodyRef; t: REAL) ;
+BEGIN
+   INC (Stats.sleeps) ;
+   IF A^.sup >= 0 THEN end_support (A) END ;
+   A^.vx := 0.0 ;
+   A^.vy := 0.0 ;
+   A^.om := 0.0 ;
+   A^.ax := 0.0 ;
+   A^.ay := 0.0 ;
+   A^.asleep := TRUE ;
+   IF G^.asleep THEN A^.island := G^.island ELSE A^.island := A^.idx END ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("sleep", t, A^.idx, G^.idx, A^.island) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_sleep ;
+
+
+(* S's island wakes at t: every member (by index) gets its free
+   acceleration back, then fresh predictions (a pair of members once). *)
+PROCEDURE handle_wake (S: BodyRef; t: REAL) ;
+VAR
+   island, i: INTEGER ;
+   b: BodyRef ;
+BEGIN
+   INC (Stats.wakes) ;
+   island := S^.island ;
+   Str ("E wake ") ;
+   Real (t) ;
+   Str (" ") ; Int (S^.idx) ;
+   Str (" -1 -1 -1 ") ; Int (island) ;
+   Str (" 0 0 0 0 0") ;
+   Ln ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.asleep AND (b^.island = island) THEN
+         rebase (b, t) ;
+         b^.asleep := FALSE ;
+         b^.ax := b^.fax ;
+         b^.ay := b^.fay ;
+         INC (b^.stamp) ;
+         EmitState (b)
+      END
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.island = island THEN predict_woken (b, t, island) END
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.island = island THEN b^.island := -1 END
+   END
+END handle_wake ;
+
+
+(* PredictBody for a member of a waking island: a pair of two members is
+   predicted by the one with the smaller index. *)
+PROCEDURE predict_woken (b: BodyRef; now: REAL; island: INTEGER) ;
+VAR
+   jx, jy, c, k, oi: INTEGER ;
+   o: BodyRef ;
+BEGIN
+   FOR jy := Max (b^.cy - 1, 0) TO Min (b^.cy + 1, GridNY - 1) DO
+      FOR jx := Max (b^.cx - 1, 0) TO Min (b^.cx + 1, GridNX - 1) DO
+         c := jy * GridNX + jx ;
+         FOR k := 0 TO Cells^[c].n - 1 DO
+            oi := Cells^[c].items^[k] ;
+            IF oi # b^.idx THEN
+               o := ADR (Bodies^[oi]) ;
+               IF (NOT ((o^.island = island) AND (o^.idx < b^.idx))) AND NOT (b^.fixed AND o^.fixed) THEN
+                  PredictPair (b, o, now)
+               END
+            END
+         END
+      END
+   END ;
+   FOR k := 0 TO NLarge - 1 DO
+      oi := Large^[k] ;
+      o := ADR (Bodies^[oi]) ;
+      IF (oi # b^.idx) AND NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
+         PredictPair (b, o, now)
+      END
+   END ;
+   ScheduleCell (b, now)
+END predict_woken ;
+
+
 (* ---- event handlers: one per kind --------------------------------------------- *)
 
 PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
@@ -1099,9 +1247,21 @@ BEGIN
       handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
       RETURN
    END ;
+   IF can_sleep (A, B, ev, nx, ny, vn) THEN
+      handle_sleep (A, B, t) ;
+      RETURN
+   END ;
+   IF can_sleep (B, A, ev, nx, ny, vn) THEN
+      handle_sleep (B, A, t) ;
+      RETURN
+   END ;
    INC (Stats.collisions) ;
+   (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+      on it); an impulse wakes its island, none leaves it asleep *)
    imp := contact_impulse (A, B, cx, cy, nx, ny) ;
    IF imp # 0.0 THEN
+      IF A^.asleep THEN handle_wake (A, t) END ;
+      IF B^.asleep THEN handle_wake (B, t) END ;
       IF A^.sup >= 0 THEN end_support (A) END ;
       IF B^.sup >= 0 THEN end_support (B) END
    END ;
@@ -1192,6 +1352,10 @@ BEGIN
    enter_support (A, B, ev.j) ;
    EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, TRUE) ;
+   IF at_rest (A) THEN
+      handle_sleep (A, B, t) ;
+      RETURN
+   END ;
    INC (A^.stamp) ;
    EmitState (A) ;
    PredictBody (A, t, -1)
@@ -1224,8 +1388,12 @@ BEGIN
    A^.vx := 0.0 ;
    A^.vy := 0.0 ;
    slide_accel (A, 0.0) ;
-   INC (A^.stamp) ;
    EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
+   IF at_rest (A) THEN
+      handle_sleep (A, ADR (Bodies^[A^.sup]), t) ;
+      RETURN
+   END ;
+   INC (A^.stamp) ;
    EmitState (A) ;
    PredictBody (A, t, -1)
 END handle_stop ;
@@ -1270,6 +1438,7 @@ BEGIN
       Fails (m) ;
       RETURN
    END ;
+   IF b^.asleep THEN handle_wake (b, t) END ;
    rebase (b, t) ;
    IF inp.mode = RemoveMode THEN
       remove (b, ev.k, t) ;
@@ -1358,8 +1527,30 @@ BEGIN
          EmitState (A) ;
          PredictBody (A, t, -1)
       END
-   END
+   END ;
+   wake_touching (b, t)
 END remove ;
+
+
+(* The islands of the sleepers whose bounding circles reach the removed
+   body's (within the tolerance) wake: it may have held them (by index; a
+   woken island's other members are awake already). *)
+PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
+VAR
+   i: INTEGER ;
+   o: BodyRef ;
+   dx, dy, reach: REAL ;
+BEGIN
+   FOR i := 0 TO NBodies - 1 DO
+      o := ADR (Bodies^[i]) ;
+      IF o^.asleep THEN
+         dx := o^.px - b^.px ;
+         dy := o^.py - b^.py ;
+         reach := o^.bound + b^.bound + Tol ;
+         IF dx * dx + dy * dy <= reach * reach THEN handle_wake (o, t) END
+      END
+   END
+END wake_touching ;
 
 
 (* ---- overlap (a teleport's check) -------------------------------------------- *)
@@ -1599,6 +1790,8 @@ BEGIN
    Stats.supports := 0 ;
    Stats.stops := 0 ;
    Stats.leaves := 0 ;
+   Stats.sleeps := 0 ;
+   Stats.wakes := 0 ;
    FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
    FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
    WorldT := 0.0 ;
@@ -1729,6 +1922,8 @@ BEGIN
    Stat ("supports", Stats.supports) ;
    Stat ("stops", Stats.stops) ;
    Stat ("leaves", Stats.leaves) ;
+   Stat ("sleeps", Stats.sleeps) ;
+   Stat ("wakes", Stats.wakes) ;
    FOR k := 0 TO CcVariants - 1 DO
       Str ("V circle_circle ") ;
       Int (k) ;
