@@ -21,7 +21,8 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
-   can_sleep, handle_sleep, handle_wake, predict_woken).
+   can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   predict_woken).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -743,6 +744,17 @@ BEGIN
             bound := origin + VAL (REAL, i) * size ;
             crossed := TRUE
          END ;
+         IF crossed AND (p - bound = 0.0) AND (ulo = 0.0) AND (v * VAL (REAL, direction) > 0.0) THEN
+            (* exactly on the boundary now and moving across it: the root
+               finder reports no root at the interval's start *)
+            IF (NOT found) OR (0.0 < bu) THEN
+               found := TRUE ;
+               bu := 0.0 ;
+               baxis := axis ;
+               bdir := direction
+            END ;
+            crossed := FALSE
+         END ;
          IF crossed THEN
             c[0] := p - bound ;
             c[1] := v ;
@@ -899,7 +911,7 @@ END flat ;
    B becomes support (docs/simulator.md, Contact model). *)
 PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
 VAR
-   tx, ty, ox, oy, load, q: REAL ;
+   tx, ty, ox, oy, load, q, u: REAL ;
 BEGIN
    IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
    support_frame (B, j, tx, ty, ox, oy) ;
@@ -907,6 +919,12 @@ BEGIN
    IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
    q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
    IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
+   (* at an end of the edge (within the tolerance) and moving past it: it is
+      leaving (a support would end at once, again and again) *)
+   u := A^.vx * tx + A^.vy * ty ;
+   IF ((u > 0.0) AND (q >= Verts^[B^.v0 + j].s2 - Tol)) OR ((u < 0.0) AND (q <= Verts^[B^.v0 + j].s1 + Tol)) THEN
+      RETURN FALSE
+   END ;
    IF A^.polygon THEN
       IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
       RETURN flat (A, B, i, j, ox, oy, load)
@@ -1096,16 +1114,63 @@ BEGIN
 END grounded ;
 
 
-(* A supported body that stays where it is: no acceleration along its edge
-   (level, or static friction holds) and slower than rest_speed. *)
+(* A supported body slower than rest_speed along its edge that static
+   friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
+   on a level frictionless edge at = 0): it stays where it is. *)
 PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
 VAR
-   u: REAL ;
+   u, f: REAL ;
 BEGIN
-   IF (A^.ax # 0.0) OR (A^.ay # 0.0) THEN RETURN FALSE END ;
    u := A^.vx * A^.tx + A^.vy * A^.ty ;
-   RETURN u * u < RestSpeed * RestSpeed
+   IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
+   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   RETURN (NOT (A^.at > f)) AND NOT (A^.at < -f)
 END at_rest ;
+
+
+(* The impulse of a contact of A and B, one of them (S) asleep: first with
+   S held as if fixed (its 1/m and 1/I zero); when that impulse would change
+   the normal speed of S's material point by less than rest_speed,
+   j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
+   unchanged: a gentle touch); else the other body's velocity is restored
+   and the full impulse is applied (S moves: jolted, its island wakes).
+   Returns the impulse applied. *)
+PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   S, M: BodyRef ;
+   vx, vy, om, invM, invI, imp, rsn: REAL ;
+BEGIN
+   IF A^.asleep THEN
+      S := A ;
+      M := B
+   ELSE
+      S := B ;
+      M := A
+   END ;
+   vx := M^.vx ;
+   vy := M^.vy ;
+   om := M^.om ;
+   invM := S^.invM ;
+   invI := S^.invI ;
+   S^.invM := 0.0 ;
+   S^.invI := 0.0 ;
+   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
+   S^.invM := invM ;
+   S^.invI := invI ;
+   rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
+   IF imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed THEN RETURN imp END ;
+   M^.vx := vx ;
+   M^.vy := vy ;
+   M^.om := om ;
+   RETURN contact_impulse (A, B, cx, cy, nx, ny)
+END sleeper_impulse ;
+
+
+(* A sleeper an impulse has set moving. *)
+PROCEDURE jolted (S: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN (S^.vx # 0.0) OR (S^.vy # 0.0) OR (S^.om # 0.0)
+END jolted ;
 
 
 (* Awake movable M, one body of the collision ev with grounded G (both
@@ -1257,29 +1322,37 @@ BEGIN
    END ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-      on it); an impulse wakes its island, none leaves it asleep *)
-   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
+      on it); a gentle touch leaves it asleep, a real impulse wakes its island *)
+   IF A^.asleep OR B^.asleep THEN
+      imp := sleeper_impulse (A, B, cx, cy, nx, ny)
+   ELSE
+      imp := contact_impulse (A, B, cx, cy, nx, ny)
+   END ;
    IF imp # 0.0 THEN
-      IF A^.asleep THEN handle_wake (A, t) END ;
-      IF B^.asleep THEN handle_wake (B, t) END ;
+      IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
+      IF B^.asleep AND jolted (B) THEN handle_wake (B, t) END ;
       IF A^.sup >= 0 THEN end_support (A) END ;
       IF B^.sup >= 0 THEN end_support (B) END
    END ;
    EmitContact ("collision", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, FALSE) ;
-   IF NOT A^.fixed THEN
+   (* a sleeper still asleep (zero impulse: the bodies graze, the other not
+      pressed onto it) is unchanged; the other is predicted again without it
+      (so the graze is not found again at once): only a later change of the
+      other's motion predicts the pair again *)
+   IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
       INC (A^.stamp) ;
       EmitState (A)
    END ;
-   IF NOT B^.fixed THEN
+   IF (NOT B^.fixed) AND (NOT B^.asleep) THEN
       INC (B^.stamp) ;
       EmitState (B)
    END ;
-   IF NOT A^.fixed THEN
-      PredictBody (A, t, -1)
+   IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
+      IF B^.asleep THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END
    END ;
-   IF NOT B^.fixed THEN
-      IF NOT A^.fixed THEN
+   IF (NOT B^.fixed) AND (NOT B^.asleep) THEN
+      IF (NOT A^.fixed) OR A^.asleep THEN
          PredictBody (B, t, A^.idx)
       ELSE
          PredictBody (B, t, -1)
