@@ -293,6 +293,11 @@ class TraceConverter:
                                        _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
                     head = _support_end(t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
+                elif kind == "sleep":
+                    head = (f'{{"t":{t},"kind":"sleep","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
+                            f'"island":{int(w[7])}')
+                elif kind == "wake":
+                    head = f'{{"t":{t},"kind":"wake","bodies":[{self.names[int(w[3])]}],"island":{int(w[7])}'
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":

@@ -80,22 +80,43 @@ class Modula2(Target):
 
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the simulator's library modules (SIM_MODULES: trace
-        writer, scene, grid, event queue) and the simulator (SimMain, which
+        writer, scene, grid, event queue), the live world (SimWorld, which
         #includes the generated circle_circle.mxd and point_edge.mxd from
-        workdir) and link them with the Roots runtime into workdir/sim.
+        workdir) and the batch simulator (SimMain, its thin user), and link
+        them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
         directory and its linking step looks the program module's object up
         along the -I path, where workdir comes first, so it finds this one."""
+        return [*self.sim_world_build(workdir, variants),
+                self.sim_program_build(workdir, os.path.join(str(self._m2()), "SimMain.mod"),
+                                       os.path.join(workdir, "sim"))]
+
+    @staticmethod
+    def _m2():
         from max2code.harness import runtimes
-        m2 = runtimes.M2_RUNTIME
-        objs = runtimes.m2_objects()
+        return runtimes.M2_RUNTIME
+
+    def sim_world_build(self, workdir: str, variants: dict[str, int]) -> list[list[str]]:
+        """Commands (run in workdir) that compile SIM_MODULES and SimWorld
+        into workdir/NAME.o, with the generated .mxd files from workdir."""
+        m2 = self._m2()
         libs = [os.path.join(workdir, f"{m}.o") for m in SIM_MODULES]
         counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return [*[["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / f"{m}.mod"), "-o", o] for m, o in zip(SIM_MODULES, libs)],
-                ["gm2", *SIM_FLAGS, *counts, *incs, str(m2 / "SimMain.mod"), *libs, *map(str, objs),
-                 "-o", os.path.join(workdir, "sim"), "-lm"]]
+                ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / "SimWorld.mod"),
+                 "-o", os.path.join(workdir, "SimWorld.o")]]
+
+    def sim_program_build(self, workdir: str, program: str, exe: str) -> list[str]:
+        """The command (run in workdir) that compiles a program module using
+        SimWorld and links it with the objects sim_world_build made."""
+        from max2code.harness import runtimes
+        m2 = self._m2()
+        objs = runtimes.m2_objects()
+        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, "SimWorld")]
+        incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
+        return ["gm2", *SIM_FLAGS, *incs, program, *libs, *map(str, objs), "-o", exe, "-lm"]
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
         return [os.path.join(workdir, "sim")]

@@ -1,20 +1,32 @@
 IMPLEMENTATION MODULE SimGrid ;
 
-FROM SimC IMPORT floor ;
+FROM SimC IMPORT floor, free ;
 FROM SimScene IMPORT Bodies, NBodies, GridX0, GridY0, CellW, CellH, GridNX, GridNY, Grow ;
+
+
+VAR
+   NCells: INTEGER ;           (* the cells InitGrid made *)
+   CapLarge: INTEGER ;         (* Large's room *)
 
 
 PROCEDURE InitGrid ;
 VAR
    i, k: INTEGER ;
 BEGIN
-   Cells := Grow (NIL, GridNX * GridNY, SIZE (CellRec)) ;
+   IF Cells # NIL THEN
+      FOR k := 0 TO NCells - 1 DO free (Cells^[k].items) END ;
+      free (Cells) ;
+      free (Large)
+   END ;
+   NCells := GridNX * GridNY ;
+   Cells := Grow (NIL, NCells, SIZE (CellRec)) ;
    FOR k := 0 TO GridNX * GridNY - 1 DO
       Cells^[k].n := 0 ;
       Cells^[k].cap := 0 ;
       Cells^[k].items := NIL
    END ;
-   Large := Grow (NIL, NBodies, SIZE (INTEGER)) ;
+   CapLarge := NBodies + 1 ;
+   Large := Grow (NIL, CapLarge, SIZE (INTEGER)) ;
    NLarge := 0 ;
    FOR i := 0 TO NBodies - 1 DO
       IF Bodies^[i].large THEN
@@ -72,7 +84,35 @@ BEGIN
 END CellAdd ;
 
 
+PROCEDURE LargeAdd (i: INTEGER) ;
 BEGIN
+   IF NLarge = CapLarge THEN
+      CapLarge := 2 * CapLarge ;
+      Large := Grow (Large, CapLarge, SIZE (INTEGER))
+   END ;
+   Large^[NLarge] := i ;
+   INC (NLarge)
+END LargeAdd ;
+
+
+PROCEDURE LargeRemove (i: INTEGER) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   k := 0 ;
+   WHILE (k < NLarge) AND (Large^[k] # i) DO INC (k) END ;
+   IF k = NLarge THEN RETURN END ;
+   DEC (NLarge) ;
+   WHILE k < NLarge DO
+      Large^[k] := Large^[k + 1] ;
+      INC (k)
+   END
+END LargeRemove ;
+
+
+BEGIN
+   CapLarge := 0 ;
+   NCells := 0 ;
    Cells := NIL ;
    Large := NIL ;
    NLarge := 0

@@ -97,6 +97,20 @@ BEGIN
 END Pop ;
 
 
+PROCEDURE Top (VAR e: Event) : BOOLEAN ;
+BEGIN
+   IF n = 0 THEN RETURN FALSE END ;
+   e := heap^[0] ;
+   RETURN TRUE
+END Top ;
+
+
+PROCEDURE Clear ;
+BEGIN
+   n := 0
+END Clear ;
+
+
 BEGIN
    heap := NIL ;
    n := 0 ;

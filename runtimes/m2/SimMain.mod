@@ -1,1374 +1,369 @@
 MODULE SimMain ;
 
-(* The discrete-event simulator of docs/simulator.md in Modula-2: reads a
-   compiled scene on standard input and writes the flat trace on standard
-   output.  A transcription of the Python reference
-   (runtimes/python/max2code_rt/sim.py), procedure for procedure, with the
-   same IEEE double operations in the same order (no FMA: built with
-   -ffp-contract=off; sin and cos are libm's through RealMath, floor and
-   sqrt libm's through C), so that it writes the same bytes.
+(* The batch simulator (docs/simulator.md): reads a compiled scene on
+   standard input and writes the flat trace on standard output; a thin
+   user of the live world SimWorld.  On a stuck or bad scene it writes
+   "X message" and ends with status 1.
 
-   One module per concept, as the C runtime: SimScene (the scene, its bodies
-   and reading it), SimGrid (the broad phase's cells), SimHeap (the event
-   queue), SimOut (the trace writer; numbers as "%.17g" writes them).  This
-   module holds the motion, the predictions, one handler per event kind and
-   the loop (run) that dispatches to them, with the names docs/simulator.md
-   gives the reference's steps (handle_input, handle_collision, handle_cell,
-   handle_horizon, handle_frame, handle_support, handle_stop, handle_leave,
-   start, finish, is_stale, push, push_collision, push_horizon,
-   contact_frame, apply_impulse, normal_speed, can_support, flat,
-   enter_support, slide_accel, end_support, schedule_support,
-   first_crossing).
+   sim --step DT [--live] drives the world in steps instead
+   (docs/engine-api.md, "Checking a port"): Advance (k DT) for k = 1, 2, ...
+   while k DT < end, then Finish; after each advance it writes on standard
+   error "P T BODY PX PY VX VY ANGLE OMEGA" (State of every body at T) and
+   "C T COUNT" (the contacts that advance reported), numbers as "%.17g".
+   With --live, the scene's input lines are taken out (the world is made
+   from the text with "inputs 0") and each, in order, is made live: before
+   the step to k DT, every input at a time T <= k DT (after the last step:
+   every one left) is applied by Advance (T) and the operation of its MODE;
+   a refused teleport is an error. *)
 
-   Every prediction goes through the generated entries of
-   equations/circle-circle.mxm and equations/point-edge.mxm, included below
-   from the build directory, and through Roots.SmallestRoot.  The build
-   defines SIM_CC_VARIANTS and SIM_PE_VARIANTS, the number of variants each
-   NAME_variant counts (max2code/targets/m2.py reads them from the generated
-   files). *)
-
-FROM SYSTEM IMPORT ADR ;
-FROM RealMath IMPORT sin, cos ;
-FROM Roots IMPORT SmallestRoot ;
-FROM CMath IMPORT sqrt ;
-FROM SimHeap IMPORT Event, Push, Pop, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
-                    InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
-FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, Fail, FailMsg ;
-FROM SimScene IMPORT Vertex, BodyRef, Bodies, Verts, Inputs, NBodies, NInputs,
-                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
-                     ReadScene ;
-FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove ;
-
-#include "circle_circle.mxd"
-#include "point_edge.mxd"
+FROM SYSTEM IMPORT ADDRESS, ADR ;
+FROM UnixArgs IMPORT ArgC, ArgV ;
+FROM CMath IMPORT getchar ;
+FROM SimC IMPORT strtod, snprintf, write, exit, realloc ;
+FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, Finish, EndTime, BodyCount, Error,
+                     SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody ;
+FROM SimOut IMPORT SetOn, Str, Ln, Fail, FailMsg ;
 
 CONST
-   HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
-   (* contact features *)
-   FeatCC = 0 ;
-   FeatPE = 1 ;
-   CcVariants = SIM_CC_VARIANTS ;
-   PeVariants = SIM_PE_VARIANTS ;
-   CcMaxDegree = circle_circle_coefficients_max_degree ;
-   PeMaxDegree = point_edge_coefficients_max_degree ;
+   ProbeSize = 65536 ;
+   MaxText = 1073741824 ;       (* bound of the array type only: storage grows *)
 
 TYPE
-   (* the counters written as the trace's N lines, in this order *)
-   StatCounts = RECORD
-      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves: LONGINT ;
-   END ;
-
-VAR
-   Seq: LONGINT ;              (* the next scheduling counter *)
-   Stats: StatCounts ;
-   CcCounts: ARRAY [0..CcVariants - 1] OF LONGINT ;
-   PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
-   (* the point-edge check of the prediction under way (predict_pe's inside) *)
-   ChkX, ChkY: BodyRef ;
-   ChkV, ChkEdge: INTEGER ;
-   ChkNow: REAL ;
-   (* events at the current instant (the "stuck" check) *)
-   LastT: REAL ;
-   Same: LONGINT ;
-
-
-(* ---- motion ------------------------------------------------------------ *)
-
-PROCEDURE Advance (b: BodyRef; t: REAL) ;
-VAR
-   dt: REAL ;
-BEGIN
-   dt := t - b^.tb ;
-   b^.px := b^.px + (b^.vx + 0.5 * b^.ax * dt) * dt ;
-   b^.py := b^.py + (b^.vy + 0.5 * b^.ay * dt) * dt ;
-   b^.vx := b^.vx + b^.ax * dt ;
-   b^.vy := b^.vy + b^.ay * dt ;
-   b^.ang := b^.ang + b^.om * dt ;
-   b^.tb := t
-END Advance ;
-
-
-(* Centre, velocity and angle at time t (the body is not changed). *)
-PROCEDURE StateAt (b: BodyRef; t: REAL; VAR x, y, vx, vy, ang: REAL) ;
-VAR
-   dt: REAL ;
-BEGIN
-   dt := t - b^.tb ;
-   x := b^.px + (b^.vx + 0.5 * b^.ax * dt) * dt ;
-   y := b^.py + (b^.vy + 0.5 * b^.ay * dt) * dt ;
-   vx := b^.vx + b^.ax * dt ;
-   vy := b^.vy + b^.ay * dt ;
-   ang := b^.ang + b^.om * dt
-END StateAt ;
-
-
-PROCEDURE TurnRate (b: BodyRef) : REAL ;
-BEGIN
-   IF b^.polygon OR (b^.orbit > 0.0) THEN
-      RETURN ABS (b^.om)
-   END ;
-   RETURN 0.0
-END TurnRate ;
-
-
-(* ---- the event queue --------------------------------------------------- *)
-
-(* Queues ev (its t, kind and record set) as the next in scheduling order. *)
-PROCEDURE push (VAR ev: Event) ;
-BEGIN
-   ev.seq := Seq ;
-   IF NOT Push (ev) THEN FailMsg ("out of memory (event queue)") END ;
-   INC (Seq)
-END push ;
-
-
-PROCEDURE push_collision (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
-VAR
-   ev: Event ;
-BEGIN
-   ev.t := t ;
-   ev.kind := KCollision ;
-   ev.collision.a := A^.idx ;
-   ev.collision.b := B^.idx ;
-   ev.collision.feature := feature ;
-   ev.collision.i := i ;
-   ev.collision.j := j ;
-   ev.collision.stamp_a := A^.stamp ;
-   ev.collision.stamp_b := B^.stamp ;
-   push (ev)
-END push_collision ;
-
-
-PROCEDURE push_horizon (t: REAL; A, B: BodyRef) ;
-VAR
-   ev: Event ;
-BEGIN
-   ev.t := t ;
-   ev.kind := KHorizon ;
-   ev.horizon.a := A^.idx ;
-   ev.horizon.b := B^.idx ;
-   ev.horizon.stamp_a := A^.stamp ;
-   ev.horizon.stamp_b := B^.stamp ;
-   push (ev)
-END push_horizon ;
-
-
-PROCEDURE push_frame (t: REAL; k: INTEGER) ;
-VAR
-   ev: Event ;
-BEGIN
-   ev.t := t ;
-   ev.kind := KFrame ;
-   ev.frame.k := k ;
-   push (ev)
-END push_frame ;
-
-
-(* ---- helpers ---------------------------------------------------------- *)
-
-PROCEDURE Max (a, b: INTEGER) : INTEGER ;
-BEGIN
-   IF a > b THEN RETURN a END ;
-   RETURN b
-END Max ;
-
-
-PROCEDURE Min (a, b: INTEGER) : INTEGER ;
-BEGIN
-   IF a < b THEN RETURN a END ;
-   RETURN b
-END Min ;
-
-
-(* ---- first valid root of one feature ----------------------------------- *)
-
-(* The point-edge check of predict_pe: whether the contact at s lies on the
-   edge (within the tolerance); the prediction sets Chk*. *)
-PROCEDURE Inside (s: REAL) : BOOLEAN ;
-VAR
-   t, px, py, qx, qy, qvx, qvy, qa, th, along: REAL ;
-   ed: Vertex ;
-BEGIN
-   ed := Verts^[ChkEdge] ;
-   t := ChkNow + s ;
-   PointAt (ChkX, ChkV, t, px, py) ;
-   StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
-   th := qa + ed.psi ;
-   along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
-   RETURN (ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)
-END Inside ;
-
-
-PROCEDURE Check (edge: BOOLEAN; s: REAL) : BOOLEAN ;
-BEGIN
-   IF edge THEN RETURN Inside (s) END ;
-   RETURN TRUE
-END Check ;
-
-
-(* At a zero s of the gap c: approaching (first derivative d < 0), or
-   resting and pressed together (d = 0, second derivative < 0). *)
-PROCEDURE pressing (VAR c: ARRAY OF REAL; deg: INTEGER; d, s: REAL) : BOOLEAN ;
-VAR
-   dd: REAL ;
-   k: INTEGER ;
-BEGIN
-   IF d < 0.0 THEN RETURN TRUE END ;
-   IF (d # 0.0) OR (deg < 2) THEN RETURN FALSE END ;
-   dd := 0.0 ;
-   FOR k := deg TO 2 BY -1 DO
-      dd := dd * s + VAL (REAL, k * (k - 1)) * c[k]
-   END ;
-   RETURN dd < 0.0
-END pressing ;
-
-
-(* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
-   pressed together (c2 < 0) so that the gap closes again before it ever
-   exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
-   resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) *)
-PROCEDURE touching_now (VAR c: ARRAY OF REAL; deg: INTEGER; kappa: REAL) : BOOLEAN ;
-BEGIN
-   IF c[1] < 0.0 THEN RETURN TRUE END ;
-   IF (deg < 2) OR NOT (c[2] < 0.0) THEN RETURN FALSE END ;
-   RETURN c[0] + c[1] * c[1] / (4.0 * (-c[2])) <= kappa
-END touching_now ;
-
-
-(* The smallest s in [0, w] where the gap c(s) reaches zero while
-   decreasing, or touches zero with zero slope while pressed together
-   (resting contact), and the check holds (edge: Inside, else always).  At
-   s = 0 the gap counts as zero within kappa: approaching or pressed
-   (touching_now) means contact now, separating or merely touching never. *)
-PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
-                        VAR s: REAL) : BOOLEAN ;
-VAR
-   lo, d: REAL ;
-   it, k: INTEGER ;
-BEGIN
-   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
-      s := 0.0 ;
-      RETURN TRUE
-   END ;
-   lo := 0.0 ;
-   FOR it := 0 TO deg + 1 DO
-      IF NOT SmallestRoot (c, deg, lo, w, s) THEN RETURN FALSE END ;
-      d := 0.0 ;
-      FOR k := deg TO 1 BY -1 DO
-         d := d * s + VAL (REAL, k) * c[k]
-      END ;
-      IF pressing (c, deg, d, s) AND Check (edge, s) THEN RETURN TRUE END ;
-      lo := s
-   END ;
-   RETURN FALSE
-END FirstContact ;
-
-
-(* ---- features ------------------------------------------------------------ *)
-
-(* World position of a circle's centre (v < 0) or of vertex v, at t. *)
-PROCEDURE PointAt (b: BodyRef; v: INTEGER; t: REAL; VAR x, y: REAL) ;
-VAR
-   vx, vy, ang, d, beta: REAL ;
-BEGIN
-   StateAt (b, t, x, y, vx, vy, ang) ;
-   IF v < 0 THEN
-      d := b^.orbit ;
-      beta := b^.ophase
-   ELSE
-      d := Verts^[v].rho ;
-      beta := Verts^[v].beta
-   END ;
-   IF d = 0.0 THEN RETURN END ;
-   x := x + d * cos (ang + beta) ;
-   y := y + d * sin (ang + beta)
-END PointAt ;
-
-
-(* circle_circle parameters of a circle's centre (v < 0) or of a polygon's
-   vertex v, at time now: x, vx, ax, d, e (= om), f (= phase + pi/2);
-   y, vy, ay, p (= om), q (= phase). *)
-PROCEDURE CircleParams (b: BodyRef; now: REAL; v: INTEGER;
-                        VAR x, vx, ax, d, e, f, y, vy, ay, p, q: REAL) ;
-VAR
-   ang, phase, om: REAL ;
-BEGIN
-   StateAt (b, now, x, y, vx, vy, ang) ;
-   IF v < 0 THEN
-      d := b^.orbit ;
-      phase := ang + b^.ophase
-   ELSE
-      d := Verts^[v].rho ;
-      phase := ang + Verts^[v].beta
-   END ;
-   om := b^.om ;
-   IF (om = 0.0) AND (d # 0.0) THEN
-      (* an orbit that does not turn is a fixed offset: fold it in *)
-      x := x + d * cos (phase) ;
-      y := y + d * sin (phase) ;
-      d := 0.0
-   END ;
-   IF d = 0.0 THEN
-      om := 0.0 ;
-      phase := 0.0
-   END ;
-   ax := b^.ax ;
-   e := om ;
-   f := phase + HalfPi ;
-   ay := b^.ay ;
-   p := om ;
-   q := phase
-END CircleParams ;
-
-
-(* The generated circle_circle selection: counts the variant, fills coef and
-   returns its degree. *)
-PROCEDURE CcCoefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z: REAL;
-                          VAR coef: ARRAY OF REAL) : INTEGER ;
-VAR
-   idx: INTEGER ;
-BEGIN
-   idx := circle_circle_variant (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z) ;
-   IF (idx < 0) OR (idx >= CcVariants) THEN
-      FailMsg ("circle_circle: the scene uses an effect the generated code leaves out")
-   END ;
-   INC (CcCounts[idx]) ;
-   INC (Stats.features) ;
-   RETURN circle_circle_coefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z,
-                                      coef)
-END CcCoefficients ;
-
-
-(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
-   (radius 0). *)
-PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
-VAR
-   a, b, c, d, e, f, m, n, o, p, q: REAL ;
-   g, h, i, j, k, l, r, s, u, v, ww: REAL ;
-   kappa: REAL ;
-   coef: ARRAY [0..CcMaxDegree] OF REAL ;
-   deg: INTEGER ;
-BEGIN
-   CircleParams (A, now, -1, a, b, c, d, e, f, m, n, o, p, q) ;
-   CircleParams (B, now, vb, g, h, i, j, k, l, r, s, u, v, ww) ;
-   (* only differences of the centres' motions matter: circle 1 moves
-      relative to circle 2's centre of rotation *)
-   deg := CcCoefficients (a - g, b - h, c - i, d, e, f, m - r, n - s, o - u, p, q,
-                          0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A^.r, rb, coef) ;
-   kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
-   RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
-END PredictCC ;
-
-
-(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y. *)
-PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
-VAR
-   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
-   rho, beta, rad, phn, wr, phr, h: REAL ;
-   ed: INTEGER ;
-   idx, deg: INTEGER ;
-   a1, a2, a3, a4, a5, a6: REAL ;
-   coef: ARRAY [0..PeMaxDegree] OF REAL ;
-BEGIN
-   ed := Y^.v0 + j ;
-   StateAt (X, now, x1, y1, u1, v1, ang1) ;
-   StateAt (Y, now, x2, y2, u2, v2, ang2) ;
-   IF vx < 0 THEN
-      rho := X^.orbit ;
-      beta := X^.ophase ;
-      rad := X^.r
-   ELSE
-      rho := Verts^[vx].rho ;
-      beta := Verts^[vx].beta ;
-      rad := 0.0
-   END ;
-   phn := ang2 + Verts^[ed].psi ;
-   wr := X^.om - Y^.om ;
-   phr := (ang1 + beta) - phn ;
-   h := Verts^[ed].h + rad ;
-   IF (wr = 0.0) AND (rho # 0.0) THEN
-      (* the point does not turn relative to the edge: its offset along the
-         normal is a constant, folded into the line's offset *)
-      h := h - rho * cos (phr) ;
-      rho := 0.0
-   END ;
-   a1 := x1 - x2 ;
-   a2 := u1 - u2 ;
-   a3 := X^.ax - Y^.ax ;
-   a4 := y1 - y2 ;
-   a5 := v1 - v2 ;
-   a6 := X^.ay - Y^.ay ;
-   idx := point_edge_variant (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h) ;
-   IF (idx < 0) OR (idx >= PeVariants) THEN
-      FailMsg ("point_edge: the scene uses an effect the generated code leaves out")
-   END ;
-   INC (PeCounts[idx]) ;
-   INC (Stats.features) ;
-   deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
-   ChkX := X ;
-   ChkY := Y ;
-   ChkV := vx ;
-   ChkEdge := ed ;
-   ChkNow := now ;
-   RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
-END PredictPE ;
-
-
-(* ---- pairs ----------------------------------------------------------------- *)
-
-(* The best contact of a pair so far. *)
-TYPE
-   Best = RECORD
-      found: BOOLEAN ;
+   CharPtr = POINTER TO ARRAY [0..255] OF CHAR ;
+   ArgArray = POINTER TO ARRAY [0..255] OF CharPtr ;
+   Text = POINTER TO ARRAY [0..MaxText - 1] OF CHAR ;
+   LiveInput = RECORD
       t: REAL ;
-      feat, a, b, i, j: INTEGER ;
+      body, mode: INTEGER ;
+      x, y: REAL ;
    END ;
+   LiveInputs = POINTER TO ARRAY [0..16777215] OF LiveInput ;
 
-
-PROCEDURE Better (VAR best: Best; found: BOOLEAN; t: REAL; feat, a, b, i, j: INTEGER) ;
-BEGIN
-   IF found AND ((NOT best.found) OR (t < best.t)) THEN
-      best.found := TRUE ;
-      best.t := t ;
-      best.feat := feat ;
-      best.a := a ;
-      best.b := b ;
-      best.i := i ;
-      best.j := j
-   END
-END Better ;
-
-
-(* When the bounding circles first touch within (0, w]: TRUE and meet = 0.0
-   when they overlap or touch now (within the tolerance), TRUE and meet > 0
-   when they touch later, FALSE when they do not meet (exact: bounding
-   circles do not turn). *)
-PROCEDURE BoundsMeet (A, B: BodyRef; now, w: REAL; VAR meet: REAL) : BOOLEAN ;
 VAR
-   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
-   coef: ARRAY [0..CcMaxDegree] OF REAL ;
-   deg: INTEGER ;
-BEGIN
-   StateAt (A, now, x1, y1, u1, v1, ang1) ;
-   StateAt (B, now, x2, y2, u2, v2, ang2) ;
-   deg := CcCoefficients (x1 - x2, u1 - u2, A^.ax - B^.ax, 0.0, 0.0, HalfPi, y1 - y2, v1 - v2, A^.ay - B^.ay,
-                          0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, HalfPi, 0.0, 0.0, 0.0, 0.0, 0.0,
-                          A^.bound, B^.bound, coef) ;
-   IF coef[0] <= Tol * (2.0 * (A^.bound + B^.bound) + Tol) THEN
-      meet := 0.0 ;
-      RETURN TRUE
-   END ;
-   RETURN SmallestRoot (coef, deg, 0.0, w, meet)
-END BoundsMeet ;
+   probe: ARRAY [0..ProbeSize - 1] OF CHAR ;   (* standard error's buffer *)
+   ppos: INTEGER ;
+   counting: BOOLEAN ;          (* the contacts reported are the step's *)
+   count: INTEGER ;             (* contacts reported by the last step's advance *)
+   lastT, stepT: REAL ;         (* the last contact's time, the step's *)
+   text: Text ;                 (* the scene (--live) *)
+   live: LiveInputs ;           (* its inputs (--live) *)
+   nLive: INTEGER ;
 
 
-PROCEDURE CirclePolygon (C, P: BodyRef; now, w: REAL; VAR best: Best) ;
+(* Argument k (up to HIGH (s) characters). *)
+PROCEDURE Arg (k: CARDINAL; VAR s: ARRAY OF CHAR) ;
 VAR
-   j, k: INTEGER ;
-   t: REAL ;
-   found: BOOLEAN ;
+   a: ArgArray ;
+   n: CARDINAL ;
 BEGIN
-   FOR j := 0 TO P^.nv - 1 DO
-      found := PredictPE (C, P, -1, j, now, w, t) ;
-      Better (best, found, t, FeatPE, C^.idx, P^.idx, -1, j)
+   a := ArgV ;
+   n := 0 ;
+   WHILE (n < HIGH (s)) AND (n < 255) AND (a^[k]^[n] # 0C) DO
+      s[n] := a^[k]^[n] ;
+      INC (n)
    END ;
-   FOR k := 0 TO P^.nv - 1 DO
-      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, t) ;
-      Better (best, found, t, FeatCC, C^.idx, P^.idx, -1, k)
-   END
-END CirclePolygon ;
+   s[n] := 0C
+END Arg ;
 
 
-PROCEDURE VerticesEdges (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
+PROCEDURE Same (a, b: ARRAY OF CHAR) : BOOLEAN ;
 VAR
-   i, j: INTEGER ;
-   t: REAL ;
-   found: BOOLEAN ;
+   k: CARDINAL ;
 BEGIN
-   FOR i := 0 TO A^.nv - 1 DO
-      FOR j := 0 TO B^.nv - 1 DO
-         found := PredictPE (A, B, A^.v0 + i, j, now, w, t) ;
-         Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
-      END
-   END
-END VerticesEdges ;
+   k := 0 ;
+   WHILE (k <= HIGH (a)) AND (k <= HIGH (b)) AND (a[k] = b[k]) AND (a[k] # 0C) DO INC (k) END ;
+   RETURN ((k > HIGH (a)) OR (a[k] = 0C)) AND ((k > HIGH (b)) OR (b[k] = 0C))
+END Same ;
 
 
-(* Schedules the first contact of A and B after now, or a horizon event
-   where the Taylor polynomials of their turns stop being good. *)
-PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+PROCEDURE ProbeFlush ;
+BEGIN
+   IF (ppos > 0) AND (write (2, ADR (probe), VAL (LONGCARD, ppos)) # VAL (LONGINT, ppos)) THEN END ;
+   ppos := 0
+END ProbeFlush ;
+
+
+(* Appends " " and x as "%.17g" writes it (first: no space). *)
+PROCEDURE ProbeReal (x: REAL; first: BOOLEAN) ;
 VAR
-   w, turn, q, t, meet: REAL ;
-   best: Best ;
-   found: BOOLEAN ;
+   n: INTEGER ;
 BEGIN
-   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
-      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   IF ppos > ProbeSize - 64 THEN ProbeFlush END ;
+   IF NOT first THEN
+      probe[ppos] := ' ' ;
+      INC (ppos)
    END ;
-   INC (Stats.pairs) ;
-   w := EndT - now ;
-   IF NOT (w > 0.0) THEN RETURN END ;
-   IF A^.polygon OR B^.polygon THEN
-      (* the bounding circles do not turn: until they touch, nothing can *)
-      IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
-      IF meet > 0.0 THEN
-         push_horizon (now + meet, A, B) ;
-         RETURN
-      END
-   END ;
-   turn := TurnRate (A) + TurnRate (B) ;
-   IF turn > 0.0 THEN
-      q := Alpha / turn ;
-      IF q < w THEN w := q END       (* Python's min(w, q) *)
-   END ;
-   best.found := FALSE ;
-   best.t := 0.0 ;
-   IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
-      found := PredictCC (A, B, -1, B^.r, now, w, t) ;
-      Better (best, found, t, FeatCC, A^.idx, B^.idx, -1, -1)
-   ELSIF NOT A^.polygon THEN
-      CirclePolygon (A, B, now, w, best)
-   ELSIF NOT B^.polygon THEN
-      CirclePolygon (B, A, now, w, best)
+   n := snprintf (ADR (probe[ppos]), 40, "%.17g", x) ;
+   IF n > 0 THEN ppos := ppos + n END
+END ProbeReal ;
+
+
+PROCEDURE ProbeInt (v: INTEGER) ;
+VAR
+   n: INTEGER ;
+BEGIN
+   IF ppos > ProbeSize - 64 THEN ProbeFlush END ;
+   n := snprintf (ADR (probe[ppos]), 40, " %d", v) ;
+   IF n > 0 THEN ppos := ppos + n END
+END ProbeInt ;
+
+
+PROCEDURE ProbeLine (c: CHAR; t: REAL) ;
+BEGIN
+   IF ppos > ProbeSize - 64 THEN ProbeFlush END ;
+   probe[ppos] := c ;
+   probe[ppos + 1] := ' ' ;
+   ppos := ppos + 2 ;
+   ProbeReal (t, TRUE)
+END ProbeLine ;
+
+
+PROCEDURE ProbeLn ;
+BEGIN
+   IF ppos > ProbeSize - 64 THEN ProbeFlush END ;
+   probe[ppos] := 12C ;
+   INC (ppos)
+END ProbeLn ;
+
+
+(* Counts a reported contact of a step; one later than the step, or out of
+   time order, is a bug of the world (checked: the probe's count becomes -1). *)
+PROCEDURE Counted (c: Contact) ;
+BEGIN
+   IF NOT counting THEN RETURN END ;
+   IF (count >= 0) AND (c.t >= lastT) AND (c.t <= stepT) THEN
+      INC (count) ;
+      lastT := c.t
    ELSE
-      VerticesEdges (A, B, now, w, best) ;
-      VerticesEdges (B, A, now, w, best)
+      count := -1
+   END
+END Counted ;
+
+
+(* The live input k: Advance to its time, then its operation. *)
+PROCEDURE ApplyLive (k: INTEGER) : BOOLEAN ;
+VAR
+   ok, moved: BOOLEAN ;
+   m: ARRAY [0..127] OF CHAR ;
+BEGIN
+   counting := FALSE ;
+   IF NOT Advance (live^[k].t, Counted) THEN RETURN FALSE END ;
+   moved := TRUE ;
+   CASE live^[k].mode OF
+      0: ok := SetVelocity (live^[k].body, live^[k].x, live^[k].y)
+    | 1: ok := AddVelocity (live^[k].body, live^[k].x, live^[k].y)
+    | 2: ok := ApplyImpulse (live^[k].body, live^[k].x, live^[k].y)
+    | 3: ok := Teleport (live^[k].body, live^[k].x, live^[k].y, moved)
+    | 4: ok := RemoveBody (live^[k].body)
+   ELSE
+      FailMsg ("live input: unknown mode")
    END ;
-   IF best.found THEN
-      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
-   ELSIF now + w < EndT THEN
-      push_horizon (now + w, A, B)
-   END
-END PredictPair ;
-
-
-(* ---- per body -------------------------------------------------------------- *)
-
-(* Predicts b against every other body o in the cells [xlo..xhi] x [ylo..yhi]
-   (clipped to the grid) with o.idx > above and o.idx # skip, unless both
-   are fixed. *)
-PROCEDURE PredictCells (b: BodyRef; xlo, xhi, ylo, yhi, above, skip: INTEGER; now: REAL) ;
-VAR
-   jx, jy, c, k, oi: INTEGER ;
-   o: BodyRef ;
-BEGIN
-   FOR jy := Max (ylo, 0) TO Min (yhi, GridNY - 1) DO
-      FOR jx := Max (xlo, 0) TO Min (xhi, GridNX - 1) DO
-         c := jy * GridNX + jx ;
-         FOR k := 0 TO Cells^[c].n - 1 DO
-            oi := Cells^[c].items^[k] ;
-            IF (oi # b^.idx) AND (oi > above) AND (oi # skip) THEN
-               o := ADR (Bodies^[oi]) ;
-               IF NOT (b^.fixed AND o^.fixed) THEN
-                  PredictPair (b, o, now)
-               END
-            END
-         END
-      END
-   END
-END PredictCells ;
-
-
-(* Predicts b against the large bodies other than b and skip, unless both
-   are fixed. *)
-PROCEDURE PredictLarge (b: BodyRef; skip: INTEGER; now: REAL) ;
-VAR
-   k, oi: INTEGER ;
-   o: BodyRef ;
-BEGIN
-   FOR k := 0 TO NLarge - 1 DO
-      oi := Large^[k] ;
-      IF (oi # b^.idx) AND (oi # skip) THEN
-         o := ADR (Bodies^[oi]) ;
-         IF NOT (b^.fixed AND o^.fixed) THEN
-            PredictPair (b, o, now)
-         END
-      END
-   END
-END PredictLarge ;
-
-
-PROCEDURE PredictBody (b: BodyRef; now: REAL; skip: INTEGER) ;
-BEGIN
-   PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, -1, skip, now) ;
-   PredictLarge (b, skip, now) ;
-   ScheduleCell (b, now) ;
-   IF b^.sup >= 0 THEN schedule_support (b) END
-END PredictBody ;
-
-
-(* Schedules the first crossing of b's centre over a boundary of its cell. *)
-PROCEDURE ScheduleCell (b: BodyRef; now: REAL) ;
-VAR
-   ulo, uhi, p, v, a, origin, size, bound, lo, u, bu: REAL ;
-   c: ARRAY [0..2] OF REAL ;
-   axis, dk, direction, i, n, it, baxis, bdir: INTEGER ;
-   found, crossed: BOOLEAN ;
-   ev: Event ;
-BEGIN
-   IF b^.large OR ((b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
-      RETURN
+   IF ok AND NOT moved THEN
+      m[0] := 0C ;
+      IF snprintf (ADR (m), 128, "live input %d: teleport refused (the body would overlap another)", k) > 0 THEN END ;
+      FailMsg (m)
    END ;
-   ulo := now - b^.tb ;
-   uhi := EndT - b^.tb ;
-   found := FALSE ;
-   bu := 0.0 ;
-   baxis := 0 ;
-   bdir := 0 ;
-   FOR axis := 0 TO 1 DO
-      IF axis = 0 THEN
-         p := b^.px ; v := b^.vx ; a := b^.ax ; i := b^.cx ; n := GridNX ; origin := GridX0 ; size := CellW
-      ELSE
-         p := b^.py ; v := b^.vy ; a := b^.ay ; i := b^.cy ; n := GridNY ; origin := GridY0 ; size := CellH
+   RETURN ok
+END ApplyLive ;
+
+
+(* The world in steps of dt, probed after each (the ports' check), with the
+   live inputs (nLive of them) made at their times. *)
+PROCEDURE Stepped (dt: REAL) : BOOLEAN ;
+VAR
+   k: CARDINAL ;
+   b, nxt: INTEGER ;
+   t, px, py, vx, vy, ang, om: REAL ;
+BEGIN
+   lastT := 0.0 ;
+   nxt := 0 ;
+   k := 1 ;
+   LOOP
+      t := VAL (REAL, k) * dt ;
+      WHILE (nxt < nLive) AND ((NOT (t < EndTime ())) OR (live^[nxt].t <= t)) DO
+         IF NOT ApplyLive (nxt) THEN RETURN FALSE END ;
+         INC (nxt)
       END ;
-      FOR dk := 0 TO 1 DO
-         IF dk = 0 THEN direction := 1 ELSE direction := -1 END ;
-         crossed := FALSE ;
-         IF direction = 1 THEN
-            IF i < n - 1 THEN
-               bound := origin + VAL (REAL, i + 1) * size ;
-               crossed := TRUE
-            END
-         ELSIF i > 0 THEN
-            bound := origin + VAL (REAL, i) * size ;
-            crossed := TRUE
-         END ;
-         IF crossed THEN
-            c[0] := p - bound ;
-            c[1] := v ;
-            c[2] := 0.5 * a ;
-            lo := ulo ;
-            it := 0 ;
-            WHILE (it < 3) AND SmallestRoot (c, 2, lo, uhi, u) DO
-               IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN
-                  IF (NOT found) OR (u < bu) THEN
-                     found := TRUE ;
-                     bu := u ;
-                     baxis := axis ;
-                     bdir := direction
-                  END ;
-                  it := 3
-               ELSE
-                  lo := u ;
-                  INC (it)
-               END
-            END
-         END
-      END
-   END ;
-   IF found THEN
-      ev.t := b^.tb + bu ;
-      ev.kind := KCell ;
-      ev.cell.body := b^.idx ;
-      ev.cell.axis := baxis ;
-      ev.cell.direction := bdir ;
-      ev.cell.stamp := b^.stamp ;
-      push (ev)
-   END
-END ScheduleCell ;
-
-
-(* ---- handling events --------------------------------------------------------- *)
-
-PROCEDURE EmitState (b: BodyRef) ;
-BEGIN
-   Str ("S ") ;
-   Int (b^.idx) ;
-   SpReal (b^.tb) ;
-   SpReal (b^.px) ;
-   SpReal (b^.py) ;
-   SpReal (b^.vx) ;
-   SpReal (b^.vy) ;
-   SpReal (b^.ang) ;
-   SpReal (b^.om) ;
-   SpReal (b^.ax) ;
-   SpReal (b^.ay) ;
-   Ln
-END EmitState ;
-
-
-(* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
-   at t (both bodies advanced to t). *)
-PROCEDURE contact_frame (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER; VAR cx, cy, nx, ny: REAL) ;
-VAR
-   vA, vB: INTEGER ;
-   pax, pay, pbx, pby, dx, dy, dist, px, py, th, rad: REAL ;
-BEGIN
-   IF i >= 0 THEN vA := A^.v0 + i ELSE vA := -1 END ;
-   IF feature = FeatCC THEN
-      PointAt (A, -1, t, pax, pay) ;
-      IF j >= 0 THEN vB := B^.v0 + j ELSE vB := -1 END ;
-      PointAt (B, vB, t, pbx, pby) ;
-      dx := pbx - pax ;
-      dy := pby - pay ;
-      dist := sqrt (dx * dx + dy * dy) ;
-      IF dist > 0.0 THEN
-         nx := dx / dist ;
-         ny := dy / dist
-      ELSE
-         nx := 1.0 ;
-         ny := 0.0
+      IF NOT (t < EndTime ()) THEN EXIT END ;
+      count := 0 ;
+      stepT := t ;
+      counting := TRUE ;
+      IF NOT Advance (t, Counted) THEN RETURN FALSE END ;
+      FOR b := 0 TO BodyCount () - 1 DO
+         IF NOT State (b, t, px, py, vx, vy, ang, om) THEN RETURN FALSE END ;
+         ProbeLine ('P', t) ;
+         ProbeInt (b) ;
+         ProbeReal (px, FALSE) ;
+         ProbeReal (py, FALSE) ;
+         ProbeReal (vx, FALSE) ;
+         ProbeReal (vy, FALSE) ;
+         ProbeReal (ang, FALSE) ;
+         ProbeReal (om, FALSE) ;
+         ProbeLn
       END ;
-      cx := pax + A^.r * nx ;
-      cy := pay + A^.r * ny
-   ELSE
-      PointAt (A, vA, t, px, py) ;
-      th := B^.ang + Verts^[B^.v0 + j].psi ;
-      (* from A to B: against the edge's outward normal *)
-      nx := -cos (th) ;
-      ny := -sin (th) ;
-      IF vA < 0 THEN rad := A^.r ELSE rad := 0.0 END ;
-      cx := px + rad * nx ;
-      cy := py + rad * ny
-   END
-END contact_frame ;
-
-
-(* Normal relative velocity (B's against A's, along n from A to B) of the
-   material points at the contact: negative when approaching. *)
-PROCEDURE normal_speed (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
-VAR
-   uax, uay, ubx, uby: REAL ;
-BEGIN
-   uax := A^.vx - A^.om * (cy - A^.py) ;
-   uay := A^.vy + A^.om * (cx - A^.px) ;
-   ubx := B^.vx - B^.om * (cy - B^.py) ;
-   uby := B^.vy + B^.om * (cx - B^.px) ;
-   RETURN (ubx - uax) * nx + (uby - uay) * ny
-END normal_speed ;
-
-
-(* ---- support: resting and sliding on a fixed body -------------------------------- *)
-
-(* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
-   the world (B does not move). *)
-PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
-VAR
-   c, s, enx, eny: REAL ;
-BEGIN
-   enx := Verts^[B^.v0 + j].nx ;
-   eny := Verts^[B^.v0 + j].ny ;
-   c := cos (B^.ang) ;
-   s := sin (B^.ang) ;
-   ox := c * enx - s * eny ;
-   oy := s * enx + c * eny ;
-   tx := -oy ;
-   ty := ox
-END support_frame ;
-
-
-PROCEDURE static (B: BodyRef) : BOOLEAN ;
-BEGIN
-   RETURN (B^.vx = 0.0) AND (B^.vy = 0.0) AND (B^.ax = 0.0) AND (B^.ay = 0.0) AND (B^.om = 0.0)
-END static ;
-
-
-(* A neighbour of A's vertex i lies on edge j's line within the face
-   tolerance max(tol, rest_speed^2 / load): A rests on a face. *)
-PROCEDURE flat (A, B: BodyRef; i, j: INTEGER; ox, oy, load: REAL) : BOOLEAN ;
-VAR
-   ftol, q, h, px, py: REAL ;
-   n, m, k: INTEGER ;
-BEGIN
-   (* Python's max(tol, q): tol unless q is larger *)
-   ftol := Tol ;
-   q := RestSpeed * RestSpeed / load ;
-   IF q > ftol THEN ftol := q END ;
-   n := A^.nv ;
-   h := Verts^[B^.v0 + j].h ;
-   FOR m := 0 TO 1 DO
-      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
-      PointAt (A, A^.v0 + k, A^.tb, px, py) ;
-      IF (px - B^.px) * ox + (py - B^.py) * oy - h <= ftol THEN RETURN TRUE END
+      ProbeLine ('C', t) ;
+      ProbeInt (count) ;
+      ProbeLn ;
+      INC (k)
    END ;
-   RETURN FALSE
-END flat ;
+   counting := FALSE ;
+   RETURN Finish (Counted)
+END Stepped ;
 
 
-(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
-   B becomes support (docs/simulator.md, Contact model). *)
-PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+(* Standard input into text (0C-terminated). *)
+PROCEDURE ReadAll ;
 VAR
-   tx, ty, ox, oy, load, q: REAL ;
+   n, cap, ch: INTEGER ;
 BEGIN
-   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
-   support_frame (B, j, tx, ty, ox, oy) ;
-   load := -(A^.fax * ox + A^.fay * oy) ;
-   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
-   q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
-   IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
-   IF A^.polygon THEN
-      IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
-      RETURN flat (A, B, i, j, ox, oy, load)
-   END ;
-   RETURN TRUE
-END can_support ;
-
-
-(* Acceleration of supported A with tangential speed u: the free
-   acceleration along the edge less Coulomb friction mu |a_n| against the
-   motion; at rest, none while friction can hold it. *)
-PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
-VAR
-   f, a: REAL ;
-BEGIN
-   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
-   IF u > 0.0 THEN
-      a := A^.at - f
-   ELSIF u < 0.0 THEN
-      a := A^.at + f
-   ELSIF A^.at > f THEN
-      a := A^.at - f
-   ELSIF A^.at < -f THEN
-      a := A^.at + f
-   ELSE
-      a := 0.0
-   END ;
-   A^.ax := a * A^.tx ;
-   A^.ay := a * A^.ty
-END slide_accel ;
-
-
-(* A (advanced to now) keeps only its velocity along the edge, stops
-   turning, and from now on accelerates along the edge only. *)
-PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
-VAR
-   tx, ty, ox, oy, u: REAL ;
-BEGIN
-   support_frame (B, j, tx, ty, ox, oy) ;
-   u := A^.vx * tx + A^.vy * ty ;
-   A^.vx := u * tx ;
-   A^.vy := u * ty ;
-   IF A^.polygon THEN A^.om := 0.0 END ;
-   A^.sup := B^.idx ;
-   A^.sup_edge := j ;
-   A^.tx := tx ;
-   A^.ty := ty ;
-   A^.load := -(A^.fax * ox + A^.fay * oy) ;
-   A^.at := A^.fax * tx + A^.fay * ty ;
-   slide_accel (A, u)
-END enter_support ;
-
-
-PROCEDURE end_support (A: BodyRef) ;
-BEGIN
-   A^.ax := A^.fax ;
-   A^.ay := A^.fay ;
-   A^.sup := -1 ;
-   A^.sup_edge := -1
-END end_support ;
-
-
-(* The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving in
-   the direction (+1 up, -1 down); FALSE when none. *)
-PROCEDURE first_crossing (p, v, a: REAL; direction: INTEGER; lo, hi: REAL; VAR u: REAL) : BOOLEAN ;
-VAR
-   c: ARRAY [0..2] OF REAL ;
-   it: INTEGER ;
-BEGIN
-   c[0] := p ;
-   c[1] := v ;
-   c[2] := 0.5 * a ;
-   FOR it := 1 TO 3 DO
-      IF NOT SmallestRoot (c, 2, lo, hi, u) THEN RETURN FALSE END ;
-      IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN RETURN TRUE END ;
-      lo := u
-   END ;
-   RETURN FALSE
-END first_crossing ;
-
-
-(* A supported body's stop (its tangential speed reaches zero) and leave
-   (its centre, projected on the edge, reaches an end) events; b is at its
-   own time tb (the reference's now). *)
-PROCEDURE schedule_support (b: BodyRef) ;
-VAR
-   u, a, q, hi, s1, s2: REAL ;
-   B: BodyRef ;
-   ed: INTEGER ;
-   f1, f2: BOOLEAN ;
-   ev: Event ;
-BEGIN
-   u := b^.vx * b^.tx + b^.vy * b^.ty ;
-   a := b^.ax * b^.tx + b^.ay * b^.ty ;
-   IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
-      ev.t := b^.tb + (-u) / a ;
-      ev.kind := KStop ;
-      ev.stop.body := b^.idx ;
-      ev.stop.stamp := b^.stamp ;
-      push (ev)
-   END ;
-   B := ADR (Bodies^[b^.sup]) ;
-   ed := B^.v0 + b^.sup_edge ;
-   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
-   hi := EndT - b^.tb ;
-   f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
-   f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
-   IF f1 AND ((NOT f2) OR (s1 < s2)) THEN
-      f2 := TRUE ;
-      s2 := s1
-   END ;
-   IF f2 THEN
-      ev.t := b^.tb + s2 ;
-      ev.kind := KLeave ;
-      ev.leave.body := b^.idx ;
-      ev.leave.stamp := b^.stamp ;
-      push (ev)
-   END
-END schedule_support ;
-
-
-(* The bodies' accelerations push them together along the normal (n from
-   A to B): the relative normal acceleration of the centres is negative.
-   (Centripetal terms of turning bodies are left out.) *)
-PROCEDURE pressed (A, B: BodyRef; nx, ny: REAL) : BOOLEAN ;
-BEGIN
-   RETURN (B^.ax - A^.ax) * nx + (B^.ay - A^.ay) * ny < 0.0
-END pressed ;
-
-
-(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-   from A to B (both advanced to the contact time): 0.0 when the material
-   points do not approach and are not pressed together, else the impulse
-   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
-   at least, so time advances (docs/simulator.md). *)
-PROCEDURE apply_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
-VAR
-   vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
-   press: BOOLEAN ;
-BEGIN
-   vn := normal_speed (A, B, cx, cy, nx, ny) ;
-   imp := 0.0 ;
-   press := pressed (A, B, nx, ny) ;
-   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
-      ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
-      rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
-      k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
-      e := A^.e * B^.e ;
-      (* sep = max(e * -vn, rest_speed) when pressed, else
-         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
-      me := e * (-vn) ;
-      IF press THEN
-         mn := RestSpeed
-      ELSE
-         m1 := -vn ;
-         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
+   n := 0 ;
+   cap := 0 ;
+   text := NIL ;
+   REPEAT
+      IF n + 1 >= cap THEN
+         IF cap = 0 THEN cap := 65536 ELSE cap := 2 * cap END ;
+         IF cap > MaxText THEN FailMsg ("scene: too large") END ;
+         text := realloc (text, VAL (LONGCARD, cap)) ;
+         IF text = NIL THEN FailMsg ("out of memory") END
       END ;
-      IF mn > me THEN sep := mn ELSE sep := me END ;
-      imp := (sep - vn) / k ;
-      A^.vx := A^.vx - imp * A^.invM * nx ;
-      A^.vy := A^.vy - imp * A^.invM * ny ;
-      A^.om := A^.om - imp * A^.invI * ran ;
-      B^.vx := B^.vx + imp * B^.invM * nx ;
-      B^.vy := B^.vy + imp * B^.invM * ny ;
-      B^.om := B^.om + imp * B^.invI * rbn
-   END ;
-   RETURN imp
-END apply_impulse ;
+      ch := getchar () ;
+      IF ch >= 0 THEN
+         text^[n] := CHR (ch) ;
+         INC (n)
+      END
+   UNTIL ch < 0 ;
+   text^[n] := 0C
+END ReadAll ;
 
 
-PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
-BEGIN
-   Str ("N ") ;
-   Str (name) ;
-   Str (" ") ;
-   Int (count) ;
-   Ln
-END Stat ;
-
-
-(* ---- event handlers: one per kind --------------------------------------------- *)
-
-PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
+(* The next whitespace-delimited token of text from pos into tok. *)
+PROCEDURE Token (VAR pos: INTEGER; VAR tok: ARRAY OF CHAR) ;
 VAR
-   A, B: BodyRef ;
-   cx, cy, nx, ny, vn, imp: REAL ;
+   k: CARDINAL ;
 BEGIN
-   A := ADR (Bodies^[ev.a]) ;
-   B := ADR (Bodies^[ev.b]) ;
-   Advance (A, t) ;
-   Advance (B, t) ;
-   contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
-   vn := normal_speed (A, B, cx, cy, nx, ny) ;
-   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) THEN
-      handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
-      RETURN
+   WHILE (text^[pos] # 0C) AND (text^[pos] <= ' ') DO INC (pos) END ;
+   k := 0 ;
+   WHILE (text^[pos] > ' ') AND (k < HIGH (tok)) DO
+      tok[k] := text^[pos] ;
+      INC (k) ;
+      INC (pos)
    END ;
-   INC (Stats.collisions) ;
-   imp := apply_impulse (A, B, cx, cy, nx, ny) ;
-   IF imp # 0.0 THEN
-      IF A^.sup >= 0 THEN end_support (A) END ;
-      IF B^.sup >= 0 THEN end_support (B) END
+   tok[k] := 0C
+END Token ;
+
+
+PROCEDURE TokenReal (VAR pos: INTEGER) : REAL ;
+VAR
+   tok: ARRAY [0..255] OF CHAR ;
+   endp: ADDRESS ;
+BEGIN
+   Token (pos, tok) ;
+   endp := NIL ;
+   RETURN strtod (tok, endp)
+END TokenReal ;
+
+
+PROCEDURE TokenInt (VAR pos: INTEGER) : INTEGER ;
+BEGIN
+   RETURN VAL (INTEGER, TokenReal (pos))
+END TokenInt ;
+
+
+(* Takes the input lines out of text ("inputs 0" instead) into live. *)
+PROCEDURE SplitInputs ;
+VAR
+   pos, cut, k: INTEGER ;
+   tok: ARRAY [0..255] OF CHAR ;
+BEGIN
+   pos := 0 ;
+   LOOP
+      IF text^[pos] = 0C THEN FailMsg ("scene: expected 'inputs'") END ;
+      IF (text^[pos] = 12C) AND (text^[pos + 1] = 'i') AND (text^[pos + 2] = 'n') AND (text^[pos + 3] = 'p')
+         AND (text^[pos + 4] = 'u') AND (text^[pos + 5] = 't') AND (text^[pos + 6] = 's')
+         AND (text^[pos + 7] = ' ') THEN
+         EXIT
+      END ;
+      INC (pos)
    END ;
-   EmitContact ("collision", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
-   IF NOT A^.fixed THEN
-      INC (A^.stamp) ;
-      EmitState (A)
+   cut := pos + 1 ;
+   pos := pos + 8 ;
+   nLive := TokenInt (pos) ;
+   live := realloc (NIL, VAL (LONGCARD, nLive + 1) * VAL (LONGCARD, SIZE (LiveInput))) ;
+   IF live = NIL THEN FailMsg ("out of memory") END ;
+   FOR k := 0 TO nLive - 1 DO
+      Token (pos, tok) ;          (* "input" *)
+      live^[k].t := TokenReal (pos) ;
+      live^[k].body := TokenInt (pos) ;
+      live^[k].mode := TokenInt (pos) ;
+      live^[k].x := TokenReal (pos) ;
+      live^[k].y := TokenReal (pos)
    END ;
-   IF NOT B^.fixed THEN
-      INC (B^.stamp) ;
-      EmitState (B)
-   END ;
-   IF NOT A^.fixed THEN
-      PredictBody (A, t, -1)
-   END ;
-   IF NOT B^.fixed THEN
-      IF NOT A^.fixed THEN
-         PredictBody (B, t, A^.idx)
+   tok := "inputs 0" ;
+   FOR k := 0 TO 7 DO text^[cut + k] := tok[k] END ;
+   text^[cut + 8] := 12C ;
+   text^[cut + 9] := 'e' ;
+   text^[cut + 10] := 'n' ;
+   text^[cut + 11] := 'd' ;
+   text^[cut + 12] := 12C ;
+   text^[cut + 13] := 0C
+END SplitInputs ;
+
+
+VAR
+   msg: ARRAY [0..511] OF CHAR ;
+   a: ARRAY [0..255] OF CHAR ;
+   endp: ADDRESS ;
+   dt: REAL ;
+   ok, isLive, usage: BOOLEAN ;
+   k: CARDINAL ;
+   nargs: INTEGER ;
+BEGIN
+   ppos := 0 ;
+   nLive := 0 ;
+   counting := FALSE ;
+   dt := 0.0 ;
+   isLive := FALSE ;
+   usage := FALSE ;
+   nargs := 0 ;
+   k := 1 ;
+   WHILE k < ArgC DO
+      Arg (k, a) ;
+      IF Same (a, "--live") THEN
+         isLive := TRUE
+      ELSIF Same (a, "--step") AND (k + 1 < ArgC) AND (nargs = 0) THEN
+         INC (k) ;
+         Arg (k, a) ;
+         endp := NIL ;
+         dt := strtod (a, endp) ;
+         IF NOT (dt > 0.0) THEN usage := TRUE END ;
+         INC (nargs)
       ELSE
-         PredictBody (B, t, -1)
-      END
-   END
-END handle_collision ;
-
-
-(* The contact line of a collision, support or the like: "E KIND t a b
-   feature i j cx cy nx ny impulse". *)
-PROCEDURE EmitContact (kind: ARRAY OF CHAR; t: REAL; a, b, feature, i, j: INTEGER; cx, cy, nx, ny, imp: REAL) ;
-BEGIN
-   Str ("E ") ;
-   Str (kind) ;
-   Str (" ") ;
-   Real (t) ;
-   Str (" ") ; Int (a) ;
-   Str (" ") ; Int (b) ;
-   Str (" ") ; Int (feature) ;
-   Str (" ") ; Int (i) ;
-   Str (" ") ; Int (j) ;
-   SpReal (cx) ;
-   SpReal (cy) ;
-   SpReal (nx) ;
-   SpReal (ny) ;
-   SpReal (imp) ;
-   Ln
-END EmitContact ;
-
-
-(* A collision that ends in support (called by handle_collision). *)
-PROCEDURE handle_support (t: REAL; ev: CollisionEvent; A, B: BodyRef; cx, cy, nx, ny, vn: REAL) ;
-VAR
-   imp: REAL ;
-BEGIN
-   INC (Stats.supports) ;
-   imp := (-vn) / A^.invM ;
-   enter_support (A, B, ev.j) ;
-   EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
-   INC (A^.stamp) ;
-   EmitState (A) ;
-   PredictBody (A, t, -1)
-END handle_support ;
-
-
-(* The line of a stop or leave event: "E KIND t body sup -1 -1 edge 0 0 0 0 0". *)
-PROCEDURE EmitSupportEnd (kind: ARRAY OF CHAR; t: REAL; body, sup, edge: INTEGER) ;
-BEGIN
-   Str ("E ") ;
-   Str (kind) ;
-   Str (" ") ;
-   Real (t) ;
-   Str (" ") ; Int (body) ;
-   Str (" ") ; Int (sup) ;
-   Str (" -1 -1 ") ; Int (edge) ;
-   Str (" 0 0 0 0 0") ;
-   Ln
-END EmitSupportEnd ;
-
-
-(* Sliding stops: velocity exactly zero, then rest or slide back. *)
-PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
-VAR
-   A: BodyRef ;
-BEGIN
-   INC (Stats.stops) ;
-   A := ADR (Bodies^[ev.body]) ;
-   Advance (A, t) ;
-   A^.vx := 0.0 ;
-   A^.vy := 0.0 ;
-   slide_accel (A, 0.0) ;
-   INC (A^.stamp) ;
-   EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
-   EmitState (A) ;
-   PredictBody (A, t, -1)
-END handle_stop ;
-
-
-(* The support's edge ends under the body: free motion again. *)
-PROCEDURE handle_leave (t: REAL; ev: LeaveEvent) ;
-VAR
-   A: BodyRef ;
-   sup, edge: INTEGER ;
-BEGIN
-   INC (Stats.leaves) ;
-   A := ADR (Bodies^[ev.body]) ;
-   Advance (A, t) ;
-   sup := A^.sup ;
-   edge := A^.sup_edge ;
-   end_support (A) ;
-   INC (A^.stamp) ;
-   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
-   EmitState (A) ;
-   PredictBody (A, t, -1)
-END handle_leave ;
-
-
-PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
-VAR
-   b: BodyRef ;
-BEGIN
-   INC (Stats.inputs) ;
-   b := ADR (Bodies^[Inputs^[ev.k].body]) ;
-   Advance (b, t) ;
-   IF b^.sup >= 0 THEN end_support (b) END ;
-   IF Inputs^[ev.k].mode = 0 THEN
-      b^.vx := Inputs^[ev.k].vx ;
-      b^.vy := Inputs^[ev.k].vy
+         usage := TRUE
+      END ;
+      INC (k)
+   END ;
+   IF usage OR (isLive AND (nargs = 0)) THEN
+      msg := "usage: sim [--step DT [--live]] < scene (DT > 0)" ;
+      msg[48] := 12C ;
+      IF write (2, ADR (msg), 49) # 49 THEN END ;
+      exit (2)
+   END ;
+   IF isLive THEN
+      ReadAll ;
+      SplitInputs ;
+      ok := New (text^, TRUE) AND Stepped (dt)
+   ELSIF dt > 0.0 THEN
+      ok := FromStdin (TRUE) AND Stepped (dt)
    ELSE
-      b^.vx := b^.vx + Inputs^[ev.k].vx ;
-      b^.vy := b^.vy + Inputs^[ev.k].vy
+      ok := FromStdin (TRUE) AND Run ()
    END ;
-   INC (b^.stamp) ;
-   Str ("E input ") ;
-   Real (t) ;
-   Str (" ") ;
-   Int (b^.idx) ;
-   Str (" -1 -1 ") ;
-   Int (ev.k) ;
-   Str (" -1 0 0 0 0 0") ;
-   Ln ;
-   EmitState (b) ;
-   PredictBody (b, t, -1)
-END handle_input ;
-
-
-(* The body's centre crossed into the next cell along an axis: it moves
-   there and is predicted against the row or column it now neighbours. *)
-PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
-VAR
-   b: BodyRef ;
-   d, col, row: INTEGER ;
-BEGIN
-   INC (Stats.cells) ;
-   b := ADR (Bodies^[ev.body]) ;
-   d := ev.direction ;
-   CellRemove (b) ;
-   IF ev.axis = 0 THEN
-      b^.cx := b^.cx + d ;
-      col := b^.cx + d ;
-      CellAdd (b) ;
-      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, t)
-   ELSE
-      b^.cy := b^.cy + d ;
-      row := b^.cy + d ;
-      CellAdd (b) ;
-      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
-   END ;
-   ScheduleCell (b, t)
-END handle_cell ;
-
-
-(* The pair is predicted again from here (its bounding circles meet, or its
-   Taylor window ended). *)
-PROCEDURE handle_horizon (t: REAL; ev: HorizonEvent) ;
-BEGIN
-   INC (Stats.horizons) ;
-   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), t)
-END handle_horizon ;
-
-
-(* Frame k: written, and frame k + 1 scheduled. *)
-PROCEDURE handle_frame (t: REAL; ev: FrameEvent) ;
-VAR
-   nxt: REAL ;
-BEGIN
-   INC (Stats.frames) ;
-   Str ("E frame ") ;
-   Real (t) ;
-   Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
-   Ln ;
-   nxt := VAL (REAL, ev.k + 1) * FrameDt ;
-   IF nxt <= EndT THEN
-      push_frame (nxt, ev.k + 1)
+   ProbeFlush ;
+   IF NOT ok THEN
+      Error (msg) ;
+      SetOn (TRUE) ;
+      Str ("X ") ;
+      Str (msg) ;
+      Ln ;
+      Fail
    END
-END handle_frame ;
-
-
-(* ---- the run ------------------------------------------------------------------ *)
-
-(* An event whose bodies' motion changed since it was scheduled.  Inputs are
-   scripted, not predicted, and frames have no bodies: never. *)
-PROCEDURE is_stale (ev: Event) : BOOLEAN ;
-BEGIN
-   CASE ev.kind OF
-      KCollision:
-         RETURN (Bodies^[ev.collision.a].stamp # ev.collision.stamp_a)
-                OR (Bodies^[ev.collision.b].stamp # ev.collision.stamp_b)
-    | KHorizon:
-         RETURN (Bodies^[ev.horizon.a].stamp # ev.horizon.stamp_a)
-                OR (Bodies^[ev.horizon.b].stamp # ev.horizon.stamp_b)
-    | KCell:
-         RETURN Bodies^[ev.cell.body].stamp # ev.cell.stamp
-    | KStop:
-         RETURN Bodies^[ev.stop.body].stamp # ev.stop.stamp
-    | KLeave:
-         RETURN Bodies^[ev.leave.body].stamp # ev.leave.stamp
-   ELSE
-      RETURN FALSE
-   END
-END is_stale ;
-
-
-(* Counts the events at instant t: more than max_same_time is "stuck". *)
-PROCEDURE CountSameTime (t: REAL) ;
-BEGIN
-   IF t = LastT THEN
-      INC (Same) ;
-      IF Same > MaxSame THEN
-         Str ("X more than ") ;
-         Int (MaxSame) ;
-         Str (" events at t = ") ;
-         Real (t) ;
-         Str (": the scene is stuck") ;
-         Ln ;
-         Fail
-      END
-   ELSE
-      LastT := t ;
-      Same := 0
-   END
-END CountSameTime ;
-
-
-(* The grid, the inputs, the first frame and the first prediction of every
-   pair. *)
-PROCEDURE start ;
-VAR
-   i, k: INTEGER ;
-   b: BodyRef ;
-   ev: Event ;
-BEGIN
-   InitGrid ;
-   Seq := 0 ;
-   Stats.collisions := 0 ;
-   Stats.inputs := 0 ;
-   Stats.frames := 0 ;
-   Stats.cells := 0 ;
-   Stats.horizons := 0 ;
-   Stats.stale := 0 ;
-   Stats.pairs := 0 ;
-   Stats.features := 0 ;
-   Stats.supports := 0 ;
-   Stats.stops := 0 ;
-   Stats.leaves := 0 ;
-   FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
-   FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
-   FOR i := 0 TO NBodies - 1 DO
-      b := ADR (Bodies^[i]) ;
-      IF NOT b^.large THEN
-         CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
-         CellAdd (b)
-      END
-   END ;
-   FOR k := 0 TO NInputs - 1 DO
-      ev.t := Inputs^[k].t ;
-      ev.kind := KInput ;
-      ev.input.k := k ;
-      push (ev)
-   END ;
-   IF (FrameDt > 0.0) AND (FrameDt <= EndT) THEN
-      push_frame (FrameDt, 1)
-   END ;
-   FOR i := 0 TO NBodies - 1 DO
-      b := ADR (Bodies^[i]) ;
-      IF NOT b^.large THEN
-         PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, b^.idx, -1, 0.0) ;
-         PredictLarge (b, -1, 0.0) ;
-         ScheduleCell (b, 0.0)
-      END
-   END
-END start ;
-
-
-(* Every body at the end time, the statistics and the predictions served
-   per variant. *)
-PROCEDURE finish ;
-VAR
-   i, k: INTEGER ;
-   b: BodyRef ;
-BEGIN
-   FOR i := 0 TO NBodies - 1 DO
-      Advance (ADR (Bodies^[i]), EndT)
-   END ;
-   FOR i := 0 TO NBodies - 1 DO
-      b := ADR (Bodies^[i]) ;
-      Str ("F ") ;
-      Int (i) ;
-      SpReal (b^.px) ;
-      SpReal (b^.py) ;
-      SpReal (b^.vx) ;
-      SpReal (b^.vy) ;
-      SpReal (b^.ang) ;
-      SpReal (b^.om) ;
-      Ln
-   END ;
-   Stat ("collisions", Stats.collisions) ;
-   Stat ("inputs", Stats.inputs) ;
-   Stat ("frames", Stats.frames) ;
-   Stat ("cells", Stats.cells) ;
-   Stat ("horizons", Stats.horizons) ;
-   Stat ("stale", Stats.stale) ;
-   Stat ("pairs", Stats.pairs) ;
-   Stat ("features", Stats.features) ;
-   Stat ("supports", Stats.supports) ;
-   Stat ("stops", Stats.stops) ;
-   Stat ("leaves", Stats.leaves) ;
-   FOR k := 0 TO CcVariants - 1 DO
-      Str ("V circle_circle ") ;
-      Int (k) ;
-      Str (" ") ;
-      Int (CcCounts[k]) ;
-      Ln
-   END ;
-   FOR k := 0 TO PeVariants - 1 DO
-      Str ("V point_edge ") ;
-      Int (k) ;
-      Str (" ") ;
-      Int (PeCounts[k]) ;
-      Ln
-   END ;
-   Flush
-END finish ;
-
-
-(* The events in order up to the end time, each to its kind's handler. *)
-PROCEDURE run ;
-VAR
-   ev: Event ;
-BEGIN
-   start ;
-   LastT := -1.0 ;
-   Same := 0 ;
-   WHILE Pop (ev) AND (ev.t <= EndT) DO
-      IF is_stale (ev) THEN
-         INC (Stats.stale)
-      ELSE
-         CountSameTime (ev.t) ;
-         CASE ev.kind OF
-            KInput: handle_input (ev.t, ev.input)
-          | KCollision: handle_collision (ev.t, ev.collision)
-          | KStop: handle_stop (ev.t, ev.stop)
-          | KLeave: handle_leave (ev.t, ev.leave)
-          | KCell: handle_cell (ev.t, ev.cell)
-          | KHorizon: handle_horizon (ev.t, ev.horizon)
-          | KFrame: handle_frame (ev.t, ev.frame)
-         END
-      END
-   END ;
-   finish
-END run ;
-
-
-BEGIN
-   ReadScene ;
-   run
 END SimMain.

@@ -28,6 +28,13 @@ VAR
    pos: INTEGER ;
    pow: ARRAY [0..MaxP] OF LONGREAL ;
    lo, hi: LONGREAL ;     (* 10^16 + 2, 10^17 - 2 *)
+   on: BOOLEAN ;          (* SetOn *)
+
+
+PROCEDURE SetOn (o: BOOLEAN) ;
+BEGIN
+   on := o
+END SetOn ;
 
 
 PROCEDURE Flush ;
@@ -57,6 +64,7 @@ END Fail ;
 
 PROCEDURE FailMsg (msg: ARRAY OF CHAR) ;
 BEGIN
+   on := TRUE ;
    Str ("X ") ;
    Str (msg) ;
    Ln ;
@@ -74,6 +82,7 @@ PROCEDURE Str (s: ARRAY OF CHAR) ;
 VAR
    k: CARDINAL ;
 BEGIN
+   IF NOT on THEN RETURN END ;
    k := 0 ;
    WHILE (k <= HIGH (s)) AND (s[k] # 0C) DO
       IF pos >= BufSize THEN Flush END ;
@@ -90,6 +99,7 @@ VAR
    n: INTEGER ;
    u: LONGCARD ;
 BEGIN
+   IF NOT on THEN RETURN END ;
    Reserve ;
    IF v < 0 THEN
       buf[pos] := '-' ;
@@ -114,6 +124,7 @@ END Int ;
 
 PROCEDURE Ln ;
 BEGIN
+   IF NOT on THEN RETURN END ;
    Reserve ;
    buf[pos] := 12C ;
    INC (pos)
@@ -253,6 +264,7 @@ VAR
    d: LONGCARD ;
    x10, n: INTEGER ;
 BEGIN
+   IF NOT on THEN RETURN END ;
    Reserve ;
    IF x # x THEN
       Str ("nan")
@@ -267,6 +279,7 @@ END Real ;
 
 PROCEDURE SpReal (x: REAL) ;
 BEGIN
+   IF NOT on THEN RETURN END ;
    Reserve ;
    buf[pos] := ' ' ;
    INC (pos) ;
@@ -292,6 +305,7 @@ VAR
    i: INTEGER ;
 BEGIN
    pos := 0 ;
+   on := TRUE ;
    pow[0] := 1.0 ;
    FOR i := 1 TO MaxP DO pow[i] := pow[i - 1] * 10.0 END ;
    lo := pow[16] + 2.0 ;

@@ -1,23 +1,31 @@
 IMPLEMENTATION MODULE SimScene ;
 
-(* Reading the flat scene: whitespace-separated tokens from standard input,
-   numbers through the C library's strtod (the scene's shortest round-trip
+(* Reading the flat scene: whitespace-separated tokens from a text in
+   memory, a file or standard input, numbers through the C library's strtod (the scene's shortest round-trip
    decimals are read exactly), whole numbers digit by digit. *)
 
 FROM SYSTEM IMPORT ADDRESS, ADR ;
-FROM CMath IMPORT getchar ;
-FROM SimC IMPORT strtod, realloc ;
-FROM SimOut IMPORT Str, Ln, Fail, FailMsg ;
+FROM SimC IMPORT strtod, realloc, fopen, fdopen, fclose, fgetc ;
+FROM SimOut IMPORT FailMsg ;
 
 CONST
    TokLen = 255 ;
 
 TYPE
    Token = ARRAY [0..TokLen] OF CHAR ;
+   Chars = POINTER TO ARRAY [0..MAX (INTEGER)] OF CHAR ;
 
 VAR
    Pending: INTEGER ;          (* a character read ahead, or -2 *)
    Tok: Token ;                (* the last token read *)
+   Failed: BOOLEAN ;           (* the reading failed: Message says why *)
+   What: ARRAY [0..15] OF CHAR ;   (* what is read, for the messages: "scene" or "add_body" *)
+   Message: ARRAY [0..TokLen + 128] OF CHAR ;
+   FromFile: BOOLEAN ;         (* the source: Src, else SrcText^[SrcPos .. SrcLen - 1] *)
+   Src: ADDRESS ;              (* a C FILE * *)
+   SrcText: Chars ;
+   SrcLen, SrcPos: CARDINAL ;
+   CapBodies, CapVerts, CapInputs: INTEGER ;   (* the arrays' room *)
 
 
 PROCEDURE Grow (p: ADDRESS; count, size: INTEGER) : ADDRESS ;
@@ -34,6 +42,39 @@ BEGIN
 END Grow ;
 
 
+(* The first error of this reading: What, ": ", msg, then extra and "'"
+   when extra is not empty. *)
+PROCEDURE Error (msg, extra: ARRAY OF CHAR) ;
+BEGIN
+   IF Failed THEN RETURN END ;
+   Failed := TRUE ;
+   Message[0] := 0C ;
+   Append (Message, What) ;
+   Append (Message, ": ") ;
+   Append (Message, msg) ;
+   IF extra[0] # 0C THEN
+      Append (Message, extra) ;
+      Append (Message, "'")
+   END
+END Error ;
+
+
+PROCEDURE Append (VAR s: ARRAY OF CHAR; t: ARRAY OF CHAR) ;
+VAR
+   n, k: CARDINAL ;
+BEGIN
+   n := 0 ;
+   WHILE (n < HIGH (s)) AND (s[n] # 0C) DO INC (n) END ;
+   k := 0 ;
+   WHILE (n < HIGH (s)) AND (k <= HIGH (t)) AND (t[k] # 0C) DO
+      s[n] := t[k] ;
+      INC (n) ;
+      INC (k)
+   END ;
+   s[n] := 0C
+END Append ;
+
+
 PROCEDURE NextChar () : INTEGER ;
 VAR
    ch: INTEGER ;
@@ -43,22 +84,49 @@ BEGIN
       Pending := -2 ;
       RETURN ch
    END ;
-   RETURN getchar ()
+   IF FromFile THEN
+      RETURN fgetc (Src)
+   ELSIF SrcPos >= SrcLen THEN
+      RETURN -1
+   END ;
+   ch := ORD (SrcText^[SrcPos]) ;
+   INC (SrcPos) ;
+   IF ch = 0 THEN RETURN -1 END ;
+   RETURN ch
 END NextChar ;
 
 
-(* The next whitespace-delimited token into Tok; its length. *)
-PROCEDURE Word () : INTEGER ;
+(* The next whitespace-delimited token into Tok; its length (0 and an empty
+   Tok after an error).  expect: the token wanted, for the message when the
+   text ends early ("" for any). *)
+PROCEDURE Word (expect: ARRAY OF CHAR) : INTEGER ;
 VAR
    ch, k: INTEGER ;
+   msg: ARRAY [0..TokLen + 64] OF CHAR ;
 BEGIN
+   Tok[0] := 0C ;
+   IF Failed THEN RETURN 0 END ;
    REPEAT
       ch := NextChar ()
    UNTIL (ch < 0) OR (ch > 32) ;
-   IF ch < 0 THEN FailMsg ("scene: unexpected end of input") END ;
+   IF ch < 0 THEN
+      IF expect[0] = 0C THEN
+         Error ("ends early", "")
+      ELSE
+         msg := "ends early (expected '" ;
+         Append (msg, expect) ;
+         Append (msg, "')") ;
+         Error (msg, "")
+      END ;
+      RETURN 0
+   END ;
    k := 0 ;
    WHILE ch > 32 DO
-      IF k >= TokLen THEN FailMsg ("scene: token too long") END ;
+      IF k >= TokLen THEN
+         Tok[0] := 0C ;
+         Error ("token too long", "") ;
+         RETURN 0
+      END ;
       Tok[k] := CHR (ch) ;
       INC (k) ;
       ch := NextChar ()
@@ -74,8 +142,10 @@ PROCEDURE Expect (expect: ARRAY OF CHAR) ;
 VAR
    k, n: INTEGER ;
    same: BOOLEAN ;
+   msg: ARRAY [0..TokLen + 64] OF CHAR ;
 BEGIN
-   n := Word () ;
+   n := Word (expect) ;
+   IF Failed THEN RETURN END ;
    same := TRUE ;
    k := 0 ;
    WHILE same AND (k <= n) DO
@@ -89,13 +159,10 @@ BEGIN
       INC (k)
    END ;
    IF NOT same THEN
-      Str ("X scene: expected '") ;
-      Str (expect) ;
-      Str ("', found '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      msg := "expected '" ;
+      Append (msg, expect) ;
+      Append (msg, "', found '") ;
+      Error (msg, Tok)
    END
 END Expect ;
 
@@ -106,15 +173,13 @@ VAR
    x: REAL ;
    endp: ADDRESS ;
 BEGIN
-   n := Word () ;
+   n := Word ("") ;
+   IF Failed THEN RETURN 0.0 END ;
    endp := NIL ;
    x := strtod (Tok, endp) ;
    IF endp # ADR (Tok[n]) THEN
-      Str ("X scene: not a number: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("expected a number, found '", Tok) ;
+      RETURN 0.0
    END ;
    RETURN x
 END Num ;
@@ -127,7 +192,8 @@ VAR
    v: LONGINT ;
    neg, ok: BOOLEAN ;
 BEGIN
-   n := Word () ;
+   n := Word ("") ;
+   IF Failed THEN RETURN 0 END ;
    k := 0 ;
    neg := FALSE ;
    IF (Tok[0] = '-') OR (Tok[0] = '+') THEN
@@ -145,11 +211,8 @@ BEGIN
       INC (k)
    END ;
    IF NOT ok THEN
-      Str ("X scene: not an integer: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("expected an integer, found '", Tok) ;
+      RETURN 0
    END ;
    IF neg THEN RETURN -v END ;
    RETURN v
@@ -162,25 +225,83 @@ VAR
    v: LONGINT ;
 BEGIN
    v := ReadLongInt () ;
+   IF Failed THEN RETURN 0 END ;
    IF (v > VAL (LONGINT, MAX (INTEGER))) OR (v < VAL (LONGINT, MIN (INTEGER))) THEN
-      Str ("X scene: integer out of range: '") ;
-      Str (Tok) ;
-      Str ("'") ;
-      Ln ;
-      Fail
+      Error ("integer out of range: '", Tok) ;
+      RETURN 0
    END ;
    RETURN VAL (INTEGER, v)
 END ReadInt ;
 
 
-PROCEDURE ReadScene ;
+(* A count of items read from the scene: 0 .. MaxItems. *)
+PROCEDURE ReadCount () : INTEGER ;
 VAR
-   i, k, nv, capVerts: INTEGER ;
+   n: INTEGER ;
+BEGIN
+   n := ReadInt () ;
+   IF (n < 0) OR (n > MaxItems) THEN
+      Error ("bad count: '", Tok) ;
+      RETURN 0
+   END ;
+   RETURN n
+END ReadCount ;
+
+
+(* A "body ..." line and its "v" lines into Bodies^[i], its vertices from
+   Verts^[v0] on (room is made); the number of vertices. *)
+PROCEDURE ReadBody (i, v0: INTEGER) : INTEGER ;
+VAR
+   k, nv: INTEGER ;
    b: BodyRef ;
    v: Vertex ;
 BEGIN
+   Expect ("body") ;
+   IF Failed THEN RETURN 0 END ;
+   b := ADR (Bodies^[i]) ;
+   b^.idx := i ;
+   b^.polygon := ReadInt () = 1 ;
+   b^.fixed := ReadInt () = 1 ;
+   b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ; b^.mu := Num () ;
+   b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
+   b^.ax := Num () ; b^.ay := Num () ;
+   b^.fax := b^.ax ; b^.fay := b^.ay ;
+   b^.sup := -1 ; b^.sup_edge := -1 ;
+   b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
+   b^.ang := Num () ; b^.om := Num () ;
+   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
+   b^.large := ReadInt () = 1 ;
+   nv := ReadCount () ;
+   IF Failed THEN RETURN 0 END ;
+   b^.v0 := v0 ;
+   b^.nv := nv ;
+   ReserveVerts (v0 + nv) ;
+   FOR k := 0 TO nv - 1 DO
+      Expect ("v") ;
+      IF Failed THEN RETURN 0 END ;
+      v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
+      v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
+      v.nx := Num () ; v.ny := Num () ;
+      Verts^[v0 + k] := v
+   END ;
+   b^.tb := 0.0 ;
+   b^.stamp := 0 ;
+   b^.cx := 0 ;
+   b^.cy := 0 ;
+   b^.gone := FALSE ;
+   b^.asleep := FALSE ;
+   b^.island := -1 ;
+   RETURN nv
+END ReadBody ;
+
+
+(* Reads the scene from the current source (text or file). *)
+PROCEDURE Read ;
+VAR
+   i: INTEGER ;
+BEGIN
    Expect ("m2c-scene") ;
-   IF ReadInt () # 1 THEN FailMsg ("scene: unknown version") END ;
+   IF ReadInt () # 1 THEN Error ("unknown version", "") END ;
    Expect ("end") ; EndT := Num () ;
    Expect ("frame") ; FrameDt := Num () ;
    Expect ("tolerance") ; Tol := Num () ;
@@ -190,72 +311,202 @@ BEGIN
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
    GridNX := ReadInt () ; GridNY := ReadInt () ;
-   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN FailMsg ("scene: bad grid") END ;
+   IF Failed THEN RETURN END ;
+   IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN Error ("bad grid", "") ; RETURN END ;
    Expect ("bodies") ;
-   NBodies := ReadInt () ;
-   Bodies := Grow (NIL, NBodies, SIZE (Body)) ;
+   NBodies := ReadCount () ;
+   IF Failed THEN RETURN END ;
+   Reserve (NBodies) ;
    NVerts := 0 ;
-   capVerts := 16 ;
-   Verts := Grow (NIL, capVerts, SIZE (Vertex)) ;
    FOR i := 0 TO NBodies - 1 DO
-      Expect ("body") ;
-      b := ADR (Bodies^[i]) ;
-      b^.idx := i ;
-      b^.polygon := ReadInt () = 1 ;
-      b^.fixed := ReadInt () = 1 ;
-      b^.invM := Num () ; b^.invI := Num () ; b^.e := Num () ; b^.mu := Num () ;
-      b^.px := Num () ; b^.py := Num () ; b^.vx := Num () ; b^.vy := Num () ;
-      b^.ax := Num () ; b^.ay := Num () ;
-      b^.fax := b^.ax ; b^.fay := b^.ay ;
-      b^.sup := -1 ; b^.sup_edge := -1 ;
-      b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
-      b^.ang := Num () ; b^.om := Num () ;
-      b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
-      b^.large := ReadInt () = 1 ;
-      nv := ReadInt () ;
-      IF nv < 0 THEN FailMsg ("scene: negative vertex count") END ;
-      b^.v0 := NVerts ;
-      b^.nv := nv ;
-      IF NVerts + nv > capVerts THEN
-         WHILE NVerts + nv > capVerts DO capVerts := 2 * capVerts END ;
-         Verts := Grow (Verts, capVerts, SIZE (Vertex))
-      END ;
-      FOR k := 0 TO nv - 1 DO
-         Expect ("v") ;
-         v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
-         v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-         v.nx := Num () ; v.ny := Num () ;
-         Verts^[NVerts] := v ;
-         INC (NVerts)
-      END ;
-      b^.tb := 0.0 ;
-      b^.stamp := 0 ;
-      b^.cx := 0 ;
-      b^.cy := 0
+      NVerts := NVerts + ReadBody (i, NVerts) ;
+      IF Failed THEN RETURN END
    END ;
    Expect ("inputs") ;
-   NInputs := ReadInt () ;
-   Inputs := Grow (NIL, NInputs, SIZE (Input)) ;
+   NInputs := ReadCount () ;
+   IF Failed THEN RETURN END ;
+   ReserveInputs (NInputs) ;
    FOR i := 0 TO NInputs - 1 DO
       Expect ("input") ;
+      IF Failed THEN RETURN END ;
       Inputs^[i].t := Num () ;
       Inputs^[i].body := ReadInt () ;
       Inputs^[i].mode := ReadInt () ;
       Inputs^[i].vx := Num () ;
       Inputs^[i].vy := Num () ;
-      IF (Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies) THEN
-         FailMsg ("scene: input of an unknown body")
+      IF (NOT Failed) AND ((Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies)) THEN
+         Error ("input of an unknown body", "")
       END
    END ;
    Expect ("end")
-END ReadScene ;
+END Read ;
 
 
+(* Reads from the current source; afterwards, no source. *)
+PROCEDURE Load () : BOOLEAN ;
 BEGIN
+   What := "scene" ;
+   Failed := FALSE ;
+   Message[0] := 0C ;
    Pending := -2 ;
    NBodies := 0 ;
    NVerts := 0 ;
    NInputs := 0 ;
+   Read ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   SrcPos := 0 ;
+   RETURN NOT Failed
+END Load ;
+
+
+PROCEDURE ReadText (text: ADDRESS; len: CARDINAL) : BOOLEAN ;
+BEGIN
+   FromFile := FALSE ;
+   SrcText := text ;
+   SrcLen := len ;
+   SrcPos := 0 ;
+   RETURN Load ()
+END ReadText ;
+
+
+PROCEDURE ReadFile (path: ARRAY OF CHAR) : BOOLEAN ;
+VAR
+   ok: BOOLEAN ;
+BEGIN
+   Src := fopen (path, "r") ;
+   IF Src = NIL THEN
+      Failed := TRUE ;
+      Message := "cannot open the scene file '" ;
+      Append (Message, path) ;
+      Append (Message, "'") ;
+      RETURN FALSE
+   END ;
+   FromFile := TRUE ;
+   ok := Load () ;
+   IF fclose (Src) # 0 THEN END ;
+   FromFile := FALSE ;
+   RETURN ok
+END ReadFile ;
+
+
+PROCEDURE ReadStdin () : BOOLEAN ;
+BEGIN
+   Src := fdopen (0, "r") ;
+   IF Src = NIL THEN
+      Failed := TRUE ;
+      Message := "cannot read standard input" ;
+      RETURN FALSE
+   END ;
+   FromFile := TRUE ;
+   RETURN Load ()
+END ReadStdin ;
+
+
+PROCEDURE ReadBodyText (text: ADDRESS; len: CARDINAL; i, v0: INTEGER; VAR nv: INTEGER) : BOOLEAN ;
+VAR
+   n: INTEGER ;
+BEGIN
+   What := "add_body" ;
+   Failed := FALSE ;
+   Message[0] := 0C ;
+   Pending := -2 ;
+   FromFile := FALSE ;
+   SrcText := text ;
+   SrcLen := len ;
+   SrcPos := 0 ;
+   Reserve (i + 1) ;
+   nv := ReadBody (i, v0) ;
+   IF NOT Failed THEN
+      (* nothing may follow: a word there is an error, the end is not *)
+      REPEAT
+         n := NextChar ()
+      UNTIL (n < 0) OR (n > 32) ;
+      IF n >= 0 THEN
+         Pending := n ;
+         n := Word ("") ;
+         Error ("unexpected '", Tok) ;
+         Append (Message, " after the body")
+      END
+   END ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   RETURN NOT Failed
+END ReadBodyText ;
+
+
+PROCEDURE ReadError (VAR msg: ARRAY OF CHAR) ;
+VAR
+   k: CARDINAL ;
+BEGIN
+   k := 0 ;
+   WHILE (k < HIGH (msg)) AND (k <= HIGH (Message)) AND (Message[k] # 0C) DO
+      msg[k] := Message[k] ;
+      INC (k)
+   END ;
+   msg[k] := 0C
+END ReadError ;
+
+
+PROCEDURE AddInput (t: REAL; body, mode: INTEGER; x, y: REAL) : INTEGER ;
+BEGIN
+   ReserveInputs (NInputs + 1) ;
+   Inputs^[NInputs].t := t ;
+   Inputs^[NInputs].body := body ;
+   Inputs^[NInputs].mode := mode ;
+   Inputs^[NInputs].vx := x ;
+   Inputs^[NInputs].vy := y ;
+   INC (NInputs) ;
+   RETURN NInputs - 1
+END AddInput ;
+
+
+PROCEDURE Reserve (n: INTEGER) ;
+BEGIN
+   IF n > CapBodies THEN
+      IF CapBodies = 0 THEN CapBodies := 16 END ;
+      WHILE CapBodies < n DO CapBodies := 2 * CapBodies END ;
+      Bodies := Grow (Bodies, CapBodies, SIZE (Body))
+   END
+END Reserve ;
+
+
+PROCEDURE ReserveVerts (n: INTEGER) ;
+BEGIN
+   IF n > CapVerts THEN
+      IF CapVerts = 0 THEN CapVerts := 16 END ;
+      WHILE CapVerts < n DO CapVerts := 2 * CapVerts END ;
+      Verts := Grow (Verts, CapVerts, SIZE (Vertex))
+   END
+END ReserveVerts ;
+
+
+PROCEDURE ReserveInputs (n: INTEGER) ;
+BEGIN
+   IF n > CapInputs THEN
+      IF CapInputs = 0 THEN CapInputs := 16 END ;
+      WHILE CapInputs < n DO CapInputs := 2 * CapInputs END ;
+      Inputs := Grow (Inputs, CapInputs, SIZE (Input))
+   END
+END ReserveInputs ;
+
+
+BEGIN
+   Pending := -2 ;
+   What := "scene" ;
+   Failed := FALSE ;
+   Message[0] := 0C ;
+   FromFile := FALSE ;
+   Src := NIL ;
+   SrcText := NIL ;
+   SrcLen := 0 ;
+   SrcPos := 0 ;
+   NBodies := 0 ;
+   NVerts := 0 ;
+   NInputs := 0 ;
+   CapBodies := 0 ;
+   CapVerts := 0 ;
+   CapInputs := 0 ;
    Bodies := NIL ;
    Verts := NIL ;
    Inputs := NIL

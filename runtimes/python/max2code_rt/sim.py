@@ -27,7 +27,7 @@ CC, PE = 0, 1
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
-              "supports", "stops", "leaves")
+              "supports", "stops", "leaves", "sleeps", "wakes")
 
 
 class SimError(Exception):
@@ -55,7 +55,7 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -80,6 +80,8 @@ class Body:
     # load           m/s^2: free acceleration pressing onto the support, > 0
     # at             m/s^2: free acceleration along the tangent
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
+    # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
+    # island         the island's number (the index of its first sleeper), -1: awake
 
 
 class Stats:
@@ -237,6 +239,8 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.stamp = 0
     b.cx = b.cy = 0
     b.gone = False
+    b.asleep = False
+    b.island = -1
     return b
 
 
@@ -540,6 +544,8 @@ class World:
         s = self.s
         if A.sup == B.idx or B.sup == A.idx:
             return      # the support's edge line separates them (both convex): only leaving ends it
+        if (A.asleep and self.grounded(B)) or (B.asleep and self.grounded(A)):
+            return      # a sleeper against a sleeper or an unmoving fixed body: nothing moves
         self.stats.pairs += 1
         w = s.end - now
         if not (w > 0.0):
@@ -641,6 +647,12 @@ class World:
                         continue
                     bound = origin + i * size
                 c = [p - bound, v, 0.5 * a]
+                if c[0] == 0.0 and ulo == 0.0 and v * direction > 0.0:
+                    # exactly on the boundary now and moving across it: the
+                    # root finder reports no root at the interval's start
+                    if best is None or 0.0 < best[0]:
+                        best = (0.0, axis, direction)
+                    continue
                 lo = ulo
                 for _ in range(3):
                     u = smallest_root(c, lo, uhi)
@@ -727,6 +739,12 @@ class World:
         ed = B.verts[j]
         q = (A.px - B.px) * tx + (A.py - B.py) * ty
         if q < ed.s1 or q > ed.s2:
+            return False
+        # at an end of the edge (within the tolerance) and moving past it: it
+        # is leaving (a support would end at once, again and again)
+        u = A.vx * tx + A.vy * ty
+        tol = self.s.tol
+        if (u > 0.0 and q >= ed.s2 - tol) or (u < 0.0 and q <= ed.s1 + tol):
             return False
         if A.polygon:
             if math.fabs(A.om) * A.bound >= rest:
@@ -848,6 +866,130 @@ class World:
             B.om = B.om + imp * B.inv_i * rbn
         return imp
 
+    # ---- sleeping islands ---------------------------------------------------
+    def grounded(self, G: Body) -> bool:
+        """A body others can fall asleep on: asleep, or fixed and unmoving."""
+        return G.asleep or (G.fixed and self.static(G))
+
+    def at_rest(self, A: Body) -> bool:
+        """A supported body slower than rest_speed along its edge that static
+        friction would hold there (|at| <= mu load, as in slide_accel at
+        u = 0; on a level frictionless edge at = 0): it stays where it is."""
+        u = A.vx * A.tx + A.vy * A.ty
+        if not (u * u < self.s.rest_speed * self.s.rest_speed):
+            return False
+        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        return not (A.at > f) and not (A.at < -f)
+
+    def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
+        """Awake movable M, one body of the collision ev with grounded G (both
+        advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
+        normal speed), falls asleep on G: M's free acceleration presses it
+        onto G (load > 0), the contact is slow (vn < rest_speed and
+        eM eG (-vn) < rest_speed), M's speed across the normal is below
+        rest_speed, and a polygon M turns slower than rest_speed / bound and
+        lies on a face: a vertex-edge contact with a neighbour of the vertex
+        on the edge's line (`flat`, whichever body has the vertex)."""
+        if M.fixed or M.asleep or not self.grounded(G):
+            return False
+        if M.idx == ev.a:
+            mx, my = nx, ny
+        else:
+            mx, my = -nx, -ny
+        rest = self.s.rest_speed
+        load = M.fax * mx + M.fay * my
+        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
+            return False
+        ut = M.vy * mx - M.vx * my
+        if ut * ut >= rest * rest:
+            return False
+        if M.polygon:
+            if math.fabs(M.om) * M.bound >= rest or ev.feature != PE or ev.i < 0:
+                return False
+            bodies = self.s.bodies
+            return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
+        return True
+
+    def sleeper_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+        """The impulse of a contact of A and B, one of them (S) asleep: first
+        with S held as if fixed (its 1/m and 1/I zero); when that impulse
+        would change the normal speed of S's material point by less than
+        rest_speed, j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S
+        stays asleep, unchanged: a gentle touch); else the other body's
+        velocity is restored and the full impulse is applied (S moves:
+        `jolted`, its island wakes).  Returns the impulse applied."""
+        S = A if A.asleep else B
+        M = B if A.asleep else A
+        vx, vy, om = M.vx, M.vy, M.om
+        inv_m, inv_i = S.inv_m, S.inv_i
+        S.inv_m = 0.0
+        S.inv_i = 0.0
+        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+        S.inv_m = inv_m
+        S.inv_i = inv_i
+        rsn = (cx - S.px) * ny - (cy - S.py) * nx
+        if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed:
+            return imp
+        M.vx, M.vy, M.om = vx, vy, om
+        return self.contact_impulse(A, B, cx, cy, nx, ny)
+
+    @staticmethod
+    def jolted(S: Body) -> bool:
+        """A sleeper an impulse has set moving."""
+        return S.vx != 0.0 or S.vy != 0.0 or S.om != 0.0
+
+    def handle_sleep(self, A: Body, G: Body, t: float) -> None:
+        """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
+        in G's island, or in a new one numbered A's index when G is fixed.
+        Its awake neighbours are predicted against it again."""
+        self.stats.sleeps += 1
+        if A.sup >= 0:
+            self.end_support(A)
+        A.vx = 0.0
+        A.vy = 0.0
+        A.om = 0.0
+        A.ax = 0.0
+        A.ay = 0.0
+        A.asleep = True
+        A.island = G.island if G.asleep else A.idx
+        A.stamp += 1
+        self.out.write(f"E sleep {_fmt(t)} {A.idx} {G.idx} -1 -1 {A.island} 0 0 0 0 0\n")
+        self.emit_state(A)
+        self.predict_body(A, t, None)
+
+    def handle_wake(self, S: Body, t: float) -> None:
+        """S's island wakes at t: every member (by index) gets its free
+        acceleration back, then fresh predictions (a pair of members once)."""
+        self.stats.wakes += 1
+        island = S.island
+        self.out.write(f"E wake {_fmt(t)} {S.idx} -1 -1 -1 {island} 0 0 0 0 0\n")
+        bodies = self.s.bodies
+        for b in bodies:
+            if b.asleep and b.island == island:
+                self.rebase(b, t)
+                b.asleep = False
+                b.ax = b.fax
+                b.ay = b.fay
+                b.stamp += 1
+                self.emit_state(b)
+        for b in bodies:
+            if b.island == island:
+                self.predict_woken(b, t, island)
+        for b in bodies:
+            if b.island == island:
+                b.island = -1
+
+    def predict_woken(self, b: Body, now: float, island: int) -> None:
+        """predict_body for a member of a waking island: a pair of two
+        members is predicted by the one with the smaller index."""
+        for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
+            if not (o.island == island and o.idx < b.idx) and not (b.fixed and o.fixed):
+                self.predict_pair(b, o, now)
+        for o in self.large:
+            if o is not b and not (o.island == island and o.idx < b.idx):
+                self.predict_pair(b, o, now)
+        self.schedule_cell(b, now)
+
     # ---- event handlers: one per kind -------------------------------------
     def handle_collision(self, ev: CollisionEvent) -> None:
         t = ev.t
@@ -860,9 +1002,24 @@ class World:
         if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
+        if self.can_sleep(A, B, ev, nx, ny, vn):
+            self.handle_sleep(A, B, t)
+            return
+        if self.can_sleep(B, A, ev, nx, ny, vn):
+            self.handle_sleep(B, A, t)
+            return
         self.stats.collisions += 1
-        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+        # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+        # on it); a gentle touch leaves it asleep, a real impulse wakes its island
+        if A.asleep or B.asleep:
+            imp = self.sleeper_impulse(A, B, cx, cy, nx, ny)
+        else:
+            imp = self.contact_impulse(A, B, cx, cy, nx, ny)
         if imp != 0.0:
+            if A.asleep and self.jolted(A):
+                self.handle_wake(A, t)
+            if B.asleep and self.jolted(B):
+                self.handle_wake(B, t)
             if A.sup >= 0:
                 self.end_support(A)
             if B.sup >= 0:
@@ -870,14 +1027,18 @@ class World:
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, False))
+        # a sleeper still asleep (zero impulse: the bodies graze, the other
+        # not pressed onto it) is unchanged; the other is predicted again
+        # without it (so the graze is not found again at once): only a later
+        # change of the other's motion predicts the pair again
         for b in (A, B):
-            if not b.fixed:
+            if not b.fixed and not b.asleep:
                 b.stamp += 1
                 self.emit_state(b)
-        if not A.fixed:
-            self.predict_body(A, t, None)
-        if not B.fixed:
-            self.predict_body(B, t, A if not A.fixed else None)
+        if not A.fixed and not A.asleep:
+            self.predict_body(A, t, B if B.asleep else None)
+        if not B.fixed and not B.asleep:
+            self.predict_body(B, t, A if (not A.fixed or A.asleep) else None)
 
     def handle_support(self, ev: CollisionEvent, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
                        vn: float) -> None:
@@ -888,6 +1049,9 @@ class World:
         self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(ev.t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, True))
+        if self.at_rest(A):
+            self.handle_sleep(A, B, ev.t)
+            return
         A.stamp += 1
         self.emit_state(A)
         self.predict_body(A, ev.t, None)
@@ -900,8 +1064,11 @@ class World:
         A.vx = 0.0
         A.vy = 0.0
         self.slide_accel(A, 0.0)
-        A.stamp += 1
         self.out.write(f"E stop {_fmt(ev.t)} {A.idx} {A.sup} -1 -1 {A.sup_edge} 0 0 0 0 0\n")
+        if self.at_rest(A):
+            self.handle_sleep(A, self.s.bodies[A.sup], ev.t)
+            return
+        A.stamp += 1
         self.emit_state(A)
         self.predict_body(A, ev.t, None)
 
@@ -924,6 +1091,8 @@ class World:
         body = self.s.bodies[inp.body]
         if body.gone:
             raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
+        if body.asleep:
+            self.handle_wake(body, t)      # any input on a sleeper wakes its island first
         self.rebase(body, t)
         if inp.mode == REMOVE:
             self.remove(body, ev.k, t)
@@ -975,6 +1144,20 @@ class World:
                 self.out.write(f"E leave {_fmt(t)} {A.idx} {body.idx} -1 -1 {edge} 0 0 0 0 0\n")
                 self.emit_state(A)
                 self.predict_body(A, t, None)
+        self.wake_touching(body, t)
+
+    def wake_touching(self, body: Body, t: float) -> None:
+        """The islands of the sleepers whose bounding circles reach the
+        removed body's (within the tolerance) wake: it may have held them
+        (by index; a woken island's other members are awake already)."""
+        tol = self.s.tol
+        for o in self.s.bodies:
+            if o.asleep:
+                dx = o.px - body.px
+                dy = o.py - body.py
+                reach = o.bound + body.bound + tol
+                if dx * dx + dy * dy <= reach * reach:
+                    self.handle_wake(o, t)
 
     # ---- overlap (a teleport's check) ----------------------------------------
     def overlapping(self, A: Body, x: float, y: float, t: float) -> int:

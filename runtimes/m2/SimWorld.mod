@@ -1,0 +1,2391 @@
+IMPLEMENTATION MODULE SimWorld ;
+
+(* The discrete-event simulator of docs/simulator.md in Modula-2, as the
+   live world of docs/engine-api.md.  A transcription of the Python
+   reference (runtimes/python/max2code_rt/sim.py, class World), procedure
+   for procedure, with the same IEEE double operations in the same order
+   (no FMA: built with -ffp-contract=off; sin and cos are libm's through
+   RealMath, floor and sqrt libm's through C), so that it writes the same
+   bytes.
+
+   One module per concept, as the C runtime: SimScene (the scene, its bodies
+   and reading it), SimGrid (the broad phase's cells), SimHeap (the event
+   queue), SimOut (the trace writer; numbers as "%.17g" writes them).  This
+   module holds the motion, the predictions, one handler per event kind, the
+   dispatch that calls them and the live API, with the names
+   docs/simulator.md gives the reference's steps (handle_input,
+   handle_collision, handle_cell, handle_horizon, handle_frame,
+   handle_support, handle_stop, handle_leave, start, finish, dispatch,
+   process, is_stale, push, push_collision, push_horizon, contact_frame,
+   contact_impulse, normal_speed, can_support, flat, enter_support,
+   slide_accel, end_support, schedule_support, first_crossing, rebase,
+   overlapping, separation, edge_line, edges_separation, circle_separation,
+   live_input, inputs_now, remove, wake_touching, grounded, at_rest,
+   can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   predict_woken).
+
+   Every prediction goes through the generated entries of
+   equations/circle-circle.mxm and equations/point-edge.mxm, included below
+   from the build directory, and through Roots.SmallestRoot.  The build
+   defines SIM_CC_VARIANTS and SIM_PE_VARIANTS, the number of variants each
+   NAME_variant counts (max2code/targets/m2.py reads them from the generated
+   files). *)
+
+FROM SYSTEM IMPORT ADR, ADDRESS ;
+FROM RealMath IMPORT sin, cos ;
+FROM Roots IMPORT SmallestRoot ;
+FROM CMath IMPORT sqrt ;
+FROM SimC IMPORT snprintf, strtod, realloc ;
+FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLeave, KCell, KHorizon, KFrame,
+                    InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
+FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
+FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
+                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
+                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText ;
+FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove, LargeAdd, LargeRemove ;
+
+#include "circle_circle.mxd"
+#include "point_edge.mxd"
+
+CONST
+   MsgLen = 511 ;
+   (* input modes (the flat scene's MODE; docs/simulator.md) *)
+   SetVelocityMode = 0 ;
+   AddVelocityMode = 1 ;
+   ImpulseMode = 2 ;
+   TeleportMode = 3 ;
+   RemoveMode = 4 ;
+   MaxContacts = 16777216 ;    (* bound of the array type only: storage grows *)
+   HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
+   (* contact features *)
+   FeatCC = 0 ;
+   FeatPE = 1 ;
+   CcVariants = SIM_CC_VARIANTS ;
+   PeVariants = SIM_PE_VARIANTS ;
+   CcMaxDegree = circle_circle_coefficients_max_degree ;
+   PeMaxDegree = point_edge_coefficients_max_degree ;
+
+TYPE
+   ContactArray = POINTER TO ARRAY [0..MaxContacts - 1] OF Contact ;
+   (* the counters written as the trace's N lines, in this order *)
+   StatCounts = RECORD
+      collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves, sleeps,
+      wakes: LONGINT ;
+   END ;
+
+VAR
+   Seq: LONGINT ;              (* the next scheduling counter *)
+   Stats: StatCounts ;
+   CcCounts: ARRAY [0..CcVariants - 1] OF LONGINT ;
+   PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
+   (* the point-edge check of the prediction under way (predict_pe's inside) *)
+   ChkX, ChkY: BodyRef ;
+   ChkV, ChkEdge: INTEGER ;
+   ChkNow: REAL ;
+   (* events at the current instant (the "stuck" check) *)
+   LastT: REAL ;
+   Same: LONGINT ;
+   (* the world *)
+   Loaded: BOOLEAN ;           (* a scene was read and started *)
+   WorldT: REAL ;              (* s: the world's current time *)
+   Failed: BOOLEAN ;           (* the world failed: ErrMsg says why; every call now fails *)
+   ErrMsg: ARRAY [0..MsgLen] OF CHAR ;
+   Inf: REAL ;                 (* +infinity *)
+   (* the contacts handled since the last report (Advance, Finish) *)
+   Contacts: ContactArray ;
+   NContacts, CapContacts: INTEGER ;
+   Reporting: BOOLEAN ;        (* a ContactProc is being called *)
+   NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
+
+
+(* ---- errors ------------------------------------------------------------ *)
+
+(* Appends t to s (0C-terminated, cut at HIGH (s)). *)
+PROCEDURE Append (VAR s: ARRAY OF CHAR; t: ARRAY OF CHAR) ;
+VAR
+   n, k: CARDINAL ;
+BEGIN
+   n := 0 ;
+   WHILE (n < HIGH (s)) AND (s[n] # 0C) DO INC (n) END ;
+   k := 0 ;
+   WHILE (n < HIGH (s)) AND (k <= HIGH (t)) AND (t[k] # 0C) DO
+      s[n] := t[k] ;
+      INC (n) ;
+      INC (k)
+   END ;
+   s[n] := 0C
+END Append ;
+
+
+(* Appends x as "%.17g" writes it. *)
+PROCEDURE AppendReal (VAR s: ARRAY OF CHAR; x: REAL) ;
+VAR
+   d: ARRAY [0..39] OF CHAR ;
+BEGIN
+   d[0] := 0C ;
+   IF snprintf (ADR (d), 40, "%.17g", x) > 0 THEN Append (s, d) END
+END AppendReal ;
+
+
+PROCEDURE AppendInt (VAR s: ARRAY OF CHAR; v: LONGINT) ;
+VAR
+   d: ARRAY [0..39] OF CHAR ;
+BEGIN
+   d[0] := 0C ;
+   IF snprintf (ADR (d), 40, "%ld", v) > 0 THEN Append (s, d) END
+END AppendInt ;
+
+
+(* The world fails with this message (the reference's SimError): the trace
+   stops here, and every later call returns FALSE. *)
+PROCEDURE Fails (msg: ARRAY OF CHAR) ;
+BEGIN
+   IF Failed THEN RETURN END ;
+   Failed := TRUE ;
+   ErrMsg[0] := 0C ;
+   Append (ErrMsg, msg) ;
+   SetOn (FALSE)
+END Fails ;
+
+
+(* A call that is refused (the reference raises SimError): FALSE with msg
+   as the message; the world goes on. *)
+PROCEDURE Refuse (msg: ARRAY OF CHAR) : BOOLEAN ;
+BEGIN
+   ErrMsg[0] := 0C ;
+   Append (ErrMsg, msg) ;
+   RETURN FALSE
+END Refuse ;
+
+
+(* FALSE (with the message) when there is no world or it failed. *)
+PROCEDURE Usable () : BOOLEAN ;
+BEGIN
+   IF Failed THEN RETURN FALSE END ;   (* the failure's message stays *)
+   IF NOT Loaded THEN RETURN Refuse ("no world: call New, FromFile or FromStdin first") END ;
+   IF Reporting THEN RETURN Refuse ("the world cannot be driven from inside its ContactProc") END ;
+   RETURN TRUE
+END Usable ;
+
+
+PROCEDURE Error (VAR msg: ARRAY OF CHAR) ;
+BEGIN
+   msg[0] := 0C ;
+   Append (msg, ErrMsg)
+END Error ;
+
+
+(* ---- motion ------------------------------------------------------------ *)
+
+(* Carries b's state to time t (only events do this: re-basing rounds). *)
+PROCEDURE rebase (b: BodyRef; t: REAL) ;
+VAR
+   dt: REAL ;
+BEGIN
+   dt := t - b^.tb ;
+   b^.px := b^.px + (b^.vx + 0.5 * b^.ax * dt) * dt ;
+   b^.py := b^.py + (b^.vy + 0.5 * b^.ay * dt) * dt ;
+   b^.vx := b^.vx + b^.ax * dt ;
+   b^.vy := b^.vy + b^.ay * dt ;
+   b^.ang := b^.ang + b^.om * dt ;
+   b^.tb := t
+END rebase ;
+
+
+(* Centre, velocity and angle at time t (the body is not changed). *)
+PROCEDURE StateAt (b: BodyRef; t: REAL; VAR x, y, vx, vy, ang: REAL) ;
+VAR
+   dt: REAL ;
+BEGIN
+   dt := t - b^.tb ;
+   x := b^.px + (b^.vx + 0.5 * b^.ax * dt) * dt ;
+   y := b^.py + (b^.vy + 0.5 * b^.ay * dt) * dt ;
+   vx := b^.vx + b^.ax * dt ;
+   vy := b^.vy + b^.ay * dt ;
+   ang := b^.ang + b^.om * dt
+END StateAt ;
+
+
+PROCEDURE TurnRate (b: BodyRef) : REAL ;
+BEGIN
+   IF b^.polygon OR (b^.orbit > 0.0) THEN
+      RETURN ABS (b^.om)
+   END ;
+   RETURN 0.0
+END TurnRate ;
+
+
+(* ---- the event queue --------------------------------------------------- *)
+
+(* Queues ev (its t, kind and record set) as the next in scheduling order. *)
+PROCEDURE push (VAR ev: Event) ;
+BEGIN
+   ev.seq := Seq ;
+   IF NOT Push (ev) THEN Fails ("out of memory (event queue)") END ;
+   INC (Seq)
+END push ;
+
+
+PROCEDURE push_collision (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER) ;
+VAR
+   ev: Event ;
+BEGIN
+   ev.t := t ;
+   ev.kind := KCollision ;
+   ev.collision.a := A^.idx ;
+   ev.collision.b := B^.idx ;
+   ev.collision.feature := feature ;
+   ev.collision.i := i ;
+   ev.collision.j := j ;
+   ev.collision.stamp_a := A^.stamp ;
+   ev.collision.stamp_b := B^.stamp ;
+   push (ev)
+END push_collision ;
+
+
+PROCEDURE push_horizon (t: REAL; A, B: BodyRef) ;
+VAR
+   ev: Event ;
+BEGIN
+   ev.t := t ;
+   ev.kind := KHorizon ;
+   ev.horizon.a := A^.idx ;
+   ev.horizon.b := B^.idx ;
+   ev.horizon.stamp_a := A^.stamp ;
+   ev.horizon.stamp_b := B^.stamp ;
+   push (ev)
+END push_horizon ;
+
+
+PROCEDURE push_frame (t: REAL; k: INTEGER) ;
+VAR
+   ev: Event ;
+BEGIN
+   ev.t := t ;
+   ev.kind := KFrame ;
+   ev.frame.k := k ;
+   push (ev)
+END push_frame ;
+
+
+(* ---- helpers ---------------------------------------------------------- *)
+
+PROCEDURE Max (a, b: INTEGER) : INTEGER ;
+BEGIN
+   IF a > b THEN RETURN a END ;
+   RETURN b
+END Max ;
+
+
+PROCEDURE Min (a, b: INTEGER) : INTEGER ;
+BEGIN
+   IF a < b THEN RETURN a END ;
+   RETURN b
+END Min ;
+
+
+(* ---- first valid root of one feature ----------------------------------- *)
+
+(* The point-edge check of predict_pe: whether the contact at s lies on the
+   edge (within the tolerance); the prediction sets Chk*. *)
+PROCEDURE Inside (s: REAL) : BOOLEAN ;
+VAR
+   t, px, py, qx, qy, qvx, qvy, qa, th, along: REAL ;
+   ed: Vertex ;
+BEGIN
+   ed := Verts^[ChkEdge] ;
+   t := ChkNow + s ;
+   PointAt (ChkX, ChkV, t, px, py) ;
+   StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
+   th := qa + ed.psi ;
+   along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
+   RETURN (ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)
+END Inside ;
+
+
+PROCEDURE Check (edge: BOOLEAN; s: REAL) : BOOLEAN ;
+BEGIN
+   IF edge THEN RETURN Inside (s) END ;
+   RETURN TRUE
+END Check ;
+
+
+(* At a zero s of the gap c: approaching (first derivative d < 0), or
+   resting and pressed together (d = 0, second derivative < 0). *)
+PROCEDURE pressing (VAR c: ARRAY OF REAL; deg: INTEGER; d, s: REAL) : BOOLEAN ;
+VAR
+   dd: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF d < 0.0 THEN RETURN TRUE END ;
+   IF (d # 0.0) OR (deg < 2) THEN RETURN FALSE END ;
+   dd := 0.0 ;
+   FOR k := deg TO 2 BY -1 DO
+      dd := dd * s + VAL (REAL, k * (k - 1)) * c[k]
+   END ;
+   RETURN dd < 0.0
+END pressing ;
+
+
+(* At s = 0, with the gap zero within kappa: approaching (c1 < 0), or
+   pressed together (c2 < 0) so that the gap closes again before it ever
+   exceeds kappa: its largest value c0 + c1^2 / (4 |c2|) <= kappa.  (A
+   resting body's c1 is zero up to rounding: cos(pi/2) is 6e-17.) *)
+PROCEDURE touching_now (VAR c: ARRAY OF REAL; deg: INTEGER; kappa: REAL) : BOOLEAN ;
+BEGIN
+   IF c[1] < 0.0 THEN RETURN TRUE END ;
+   IF (deg < 2) OR NOT (c[2] < 0.0) THEN RETURN FALSE END ;
+   RETURN c[0] + c[1] * c[1] / (4.0 * (-c[2])) <= kappa
+END touching_now ;
+
+
+(* The smallest s in [0, w] where the gap c(s) reaches zero while
+   decreasing, or touches zero with zero slope while pressed together
+   (resting contact), and the check holds (edge: Inside, else always).  At
+   s = 0 the gap counts as zero within kappa: approaching or pressed
+   (touching_now) means contact now, separating or merely touching never. *)
+PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
+                        VAR s: REAL) : BOOLEAN ;
+VAR
+   lo, d: REAL ;
+   it, k: INTEGER ;
+BEGIN
+   IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
+      s := 0.0 ;
+      RETURN TRUE
+   END ;
+   lo := 0.0 ;
+   FOR it := 0 TO deg + 1 DO
+      IF NOT SmallestRoot (c, deg, lo, w, s) THEN RETURN FALSE END ;
+      d := 0.0 ;
+      FOR k := deg TO 1 BY -1 DO
+         d := d * s + VAL (REAL, k) * c[k]
+      END ;
+      IF pressing (c, deg, d, s) AND Check (edge, s) THEN RETURN TRUE END ;
+      lo := s
+   END ;
+   RETURN FALSE
+END FirstContact ;
+
+
+(* ---- features ------------------------------------------------------------ *)
+
+(* World position of a circle's centre (v < 0) or of vertex v, at t. *)
+PROCEDURE PointAt (b: BodyRef; v: INTEGER; t: REAL; VAR x, y: REAL) ;
+VAR
+   vx, vy, ang, d, beta: REAL ;
+BEGIN
+   StateAt (b, t, x, y, vx, vy, ang) ;
+   IF v < 0 THEN
+      d := b^.orbit ;
+      beta := b^.ophase
+   ELSE
+      d := Verts^[v].rho ;
+      beta := Verts^[v].beta
+   END ;
+   IF d = 0.0 THEN RETURN END ;
+   x := x + d * cos (ang + beta) ;
+   y := y + d * sin (ang + beta)
+END PointAt ;
+
+
+(* circle_circle parameters of a circle's centre (v < 0) or of a polygon's
+   vertex v, at time now: x, vx, ax, d, e (= om), f (= phase + pi/2);
+   y, vy, ay, p (= om), q (= phase). *)
+PROCEDURE CircleParams (b: BodyRef; now: REAL; v: INTEGER;
+                        VAR x, vx, ax, d, e, f, y, vy, ay, p, q: REAL) ;
+VAR
+   ang, phase, om: REAL ;
+BEGIN
+   StateAt (b, now, x, y, vx, vy, ang) ;
+   IF v < 0 THEN
+      d := b^.orbit ;
+      phase := ang + b^.ophase
+   ELSE
+      d := Verts^[v].rho ;
+      phase := ang + Verts^[v].beta
+   END ;
+   om := b^.om ;
+   IF (om = 0.0) AND (d # 0.0) THEN
+      (* an orbit that does not turn is a fixed offset: fold it in *)
+      x := x + d * cos (phase) ;
+      y := y + d * sin (phase) ;
+      d := 0.0
+   END ;
+   IF d = 0.0 THEN
+      om := 0.0 ;
+      phase := 0.0
+   END ;
+   ax := b^.ax ;
+   e := om ;
+   f := phase + HalfPi ;
+   ay := b^.ay ;
+   p := om ;
+   q := phase
+END CircleParams ;
+
+
+(* The generated circle_circle selection: counts the variant, fills coef and
+   returns its degree. *)
+PROCEDURE CcCoefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z: REAL;
+                          VAR coef: ARRAY OF REAL) : INTEGER ;
+VAR
+   idx: INTEGER ;
+BEGIN
+   idx := circle_circle_variant (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z) ;
+   IF (idx < 0) OR (idx >= CcVariants) THEN
+      Fails ("circle_circle: the scene uses an effect the generated code leaves out") ;
+      coef[0] := 1.0 ;
+      RETURN 0                 (* no contact: the world has failed, nothing more is handled *)
+   END ;
+   INC (CcCounts[idx]) ;
+   INC (Stats.features) ;
+   RETURN circle_circle_coefficients (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z,
+                                      coef)
+END CcCoefficients ;
+
+
+(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
+   (radius 0). *)
+PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   a, b, c, d, e, f, m, n, o, p, q: REAL ;
+   g, h, i, j, k, l, r, s, u, v, ww: REAL ;
+   kappa: REAL ;
+   coef: ARRAY [0..CcMaxDegree] OF REAL ;
+   deg: INTEGER ;
+BEGIN
+   CircleParams (A, now, -1, a, b, c, d, e, f, m, n, o, p, q) ;
+   CircleParams (B, now, vb, g, h, i, j, k, l, r, s, u, v, ww) ;
+   (* only differences of the centres' motions matter: circle 1 moves
+      relative to circle 2's centre of rotation *)
+   deg := CcCoefficients (a - g, b - h, c - i, d, e, f, m - r, n - s, o - u, p, q,
+                          0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A^.r, rb, coef) ;
+   kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
+   RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
+END PredictCC ;
+
+
+(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
+   line of edge j of Y. *)
+PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
+   rho, beta, rad, phn, wr, phr, h: REAL ;
+   ed: INTEGER ;
+   idx, deg: INTEGER ;
+   a1, a2, a3, a4, a5, a6: REAL ;
+   coef: ARRAY [0..PeMaxDegree] OF REAL ;
+BEGIN
+   ed := Y^.v0 + j ;
+   StateAt (X, now, x1, y1, u1, v1, ang1) ;
+   StateAt (Y, now, x2, y2, u2, v2, ang2) ;
+   IF vx < 0 THEN
+      rho := X^.orbit ;
+      beta := X^.ophase ;
+      rad := X^.r
+   ELSE
+      rho := Verts^[vx].rho ;
+      beta := Verts^[vx].beta ;
+      rad := 0.0
+   END ;
+   phn := ang2 + Verts^[ed].psi ;
+   wr := X^.om - Y^.om ;
+   phr := (ang1 + beta) - phn ;
+   h := Verts^[ed].h + rad ;
+   IF (wr = 0.0) AND (rho # 0.0) THEN
+      (* the point does not turn relative to the edge: its offset along the
+         normal is a constant, folded into the line's offset *)
+      h := h - rho * cos (phr) ;
+      rho := 0.0
+   END ;
+   a1 := x1 - x2 ;
+   a2 := u1 - u2 ;
+   a3 := X^.ax - Y^.ax ;
+   a4 := y1 - y2 ;
+   a5 := v1 - v2 ;
+   a6 := X^.ay - Y^.ay ;
+   idx := point_edge_variant (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h) ;
+   IF (idx < 0) OR (idx >= PeVariants) THEN
+      Fails ("point_edge: the scene uses an effect the generated code leaves out") ;
+      RETURN FALSE             (* the world has failed, nothing more is handled *)
+   END ;
+   INC (PeCounts[idx]) ;
+   INC (Stats.features) ;
+   deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
+   ChkX := X ;
+   ChkY := Y ;
+   ChkV := vx ;
+   ChkEdge := ed ;
+   ChkNow := now ;
+   RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
+END PredictPE ;
+
+
+(* ---- pairs ----------------------------------------------------------------- *)
+
+(* The best contact of a pair so far. *)
+TYPE
+   Best = RECORD
+      found: BOOLEAN ;
+      t: REAL ;
+      feat, a, b, i, j: INTEGER ;
+   END ;
+
+
+PROCEDURE Better (VAR best: Best; found: BOOLEAN; t: REAL; feat, a, b, i, j: INTEGER) ;
+BEGIN
+   IF found AND ((NOT best.found) OR (t < best.t)) THEN
+      best.found := TRUE ;
+      best.t := t ;
+      best.feat := feat ;
+      best.a := a ;
+      best.b := b ;
+      best.i := i ;
+      best.j := j
+   END
+END Better ;
+
+
+(* When the bounding circles first touch within (0, w]: TRUE and meet = 0.0
+   when they overlap or touch now (within the tolerance), TRUE and meet > 0
+   when they touch later, FALSE when they do not meet (exact: bounding
+   circles do not turn). *)
+PROCEDURE BoundsMeet (A, B: BodyRef; now, w: REAL; VAR meet: REAL) : BOOLEAN ;
+VAR
+   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
+   coef: ARRAY [0..CcMaxDegree] OF REAL ;
+   deg: INTEGER ;
+BEGIN
+   StateAt (A, now, x1, y1, u1, v1, ang1) ;
+   StateAt (B, now, x2, y2, u2, v2, ang2) ;
+   deg := CcCoefficients (x1 - x2, u1 - u2, A^.ax - B^.ax, 0.0, 0.0, HalfPi, y1 - y2, v1 - v2, A^.ay - B^.ay,
+                          0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, HalfPi, 0.0, 0.0, 0.0, 0.0, 0.0,
+                          A^.bound, B^.bound, coef) ;
+   IF coef[0] <= Tol * (2.0 * (A^.bound + B^.bound) + Tol) THEN
+      meet := 0.0 ;
+      RETURN TRUE
+   END ;
+   RETURN SmallestRoot (coef, deg, 0.0, w, meet)
+END BoundsMeet ;
+
+
+PROCEDURE CirclePolygon (C, P: BodyRef; now, w: REAL; VAR best: Best) ;
+VAR
+   j, k: INTEGER ;
+   t: REAL ;
+   found: BOOLEAN ;
+BEGIN
+   FOR j := 0 TO P^.nv - 1 DO
+      found := PredictPE (C, P, -1, j, now, w, t) ;
+      Better (best, found, t, FeatPE, C^.idx, P^.idx, -1, j)
+   END ;
+   FOR k := 0 TO P^.nv - 1 DO
+      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, t) ;
+      Better (best, found, t, FeatCC, C^.idx, P^.idx, -1, k)
+   END
+END CirclePolygon ;
+
+
+PROCEDURE VerticesEdges (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
+VAR
+   i, j: INTEGER ;
+   t: REAL ;
+   found: BOOLEAN ;
+BEGIN
+   FOR i := 0 TO A^.nv - 1 DO
+      FOR j := 0 TO B^.nv - 1 DO
+         found := PredictPE (A, B, A^.v0 + i, j, now, w, t) ;
+         Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
+      END
+   END
+END VerticesEdges ;
+
+
+(* Schedules the first contact of A and B after now, or a horizon event
+   where the Taylor polynomials of their turns stop being good. *)
+PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+VAR
+   w, turn, q, t, meet: REAL ;
+   best: Best ;
+   found: BOOLEAN ;
+BEGIN
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
+   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
+      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
+   END ;
+   INC (Stats.pairs) ;
+   w := EndT - now ;
+   IF NOT (w > 0.0) THEN RETURN END ;
+   IF A^.polygon OR B^.polygon THEN
+      (* the bounding circles do not turn: until they touch, nothing can *)
+      IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
+      IF meet > 0.0 THEN
+         push_horizon (now + meet, A, B) ;
+         RETURN
+      END
+   END ;
+   turn := TurnRate (A) + TurnRate (B) ;
+   IF turn > 0.0 THEN
+      q := Alpha / turn ;
+      IF q < w THEN w := q END       (* Python's min(w, q) *)
+   END ;
+   best.found := FALSE ;
+   best.t := 0.0 ;
+   IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
+      found := PredictCC (A, B, -1, B^.r, now, w, t) ;
+      Better (best, found, t, FeatCC, A^.idx, B^.idx, -1, -1)
+   ELSIF NOT A^.polygon THEN
+      CirclePolygon (A, B, now, w, best)
+   ELSIF NOT B^.polygon THEN
+      CirclePolygon (B, A, now, w, best)
+   ELSE
+      VerticesEdges (A, B, now, w, best) ;
+      VerticesEdges (B, A, now, w, best)
+   END ;
+   IF best.found THEN
+      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
+   ELSIF now + w < EndT THEN
+      push_horizon (now + w, A, B)
+   END
+END PredictPair ;
+
+
+(* ---- per body -------------------------------------------------------------- *)
+
+(* Predicts b against every other body o in the cells [xlo..xhi] x [ylo..yhi]
+   (clipped to the grid) with o.idx > above and o.idx # skip, unless both
+   are fixed. *)
+PROCEDURE PredictCells (b: BodyRef; xlo, xhi, ylo, yhi, above, skip: INTEGER; now: REAL) ;
+VAR
+   jx, jy, c, k, oi: INTEGER ;
+   o: BodyRef ;
+BEGIN
+   FOR jy := Max (ylo, 0) TO Min (yhi, GridNY - 1) DO
+      FOR jx := Max (xlo, 0) TO Min (xhi, GridNX - 1) DO
+         c := jy * GridNX + jx ;
+         FOR k := 0 TO Cells^[c].n - 1 DO
+            oi := Cells^[c].items^[k] ;
+            IF (oi # b^.idx) AND (oi > above) AND (oi # skip) THEN
+               o := ADR (Bodies^[oi]) ;
+               IF NOT (b^.fixed AND o^.fixed) THEN
+                  PredictPair (b, o, now)
+               END
+            END
+         END
+      END
+   END
+END PredictCells ;
+
+
+(* Predicts b against the large bodies other than b and skip, unless both
+   are fixed. *)
+PROCEDURE PredictLarge (b: BodyRef; skip: INTEGER; now: REAL) ;
+VAR
+   k, oi: INTEGER ;
+   o: BodyRef ;
+BEGIN
+   FOR k := 0 TO NLarge - 1 DO
+      oi := Large^[k] ;
+      IF (oi # b^.idx) AND (oi # skip) THEN
+         o := ADR (Bodies^[oi]) ;
+         IF NOT (b^.fixed AND o^.fixed) THEN
+            PredictPair (b, o, now)
+         END
+      END
+   END
+END PredictLarge ;
+
+
+PROCEDURE PredictBody (b: BodyRef; now: REAL; skip: INTEGER) ;
+BEGIN
+   PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, -1, skip, now) ;
+   PredictLarge (b, skip, now) ;
+   ScheduleCell (b, now) ;
+   IF b^.sup >= 0 THEN schedule_support (b) END
+END PredictBody ;
+
+
+(* Schedules the first crossing of b's centre over a boundary of its cell. *)
+PROCEDURE ScheduleCell (b: BodyRef; now: REAL) ;
+VAR
+   ulo, uhi, p, v, a, origin, size, bound, lo, u, bu: REAL ;
+   c: ARRAY [0..2] OF REAL ;
+   axis, dk, direction, i, n, it, baxis, bdir: INTEGER ;
+   found, crossed: BOOLEAN ;
+   ev: Event ;
+BEGIN
+   IF b^.large OR ((b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
+      RETURN
+   END ;
+   ulo := now - b^.tb ;
+   uhi := EndT - b^.tb ;
+   found := FALSE ;
+   bu := 0.0 ;
+   baxis := 0 ;
+   bdir := 0 ;
+   FOR axis := 0 TO 1 DO
+      IF axis = 0 THEN
+         p := b^.px ; v := b^.vx ; a := b^.ax ; i := b^.cx ; n := GridNX ; origin := GridX0 ; size := CellW
+      ELSE
+         p := b^.py ; v := b^.vy ; a := b^.ay ; i := b^.cy ; n := GridNY ; origin := GridY0 ; size := CellH
+      END ;
+      FOR dk := 0 TO 1 DO
+         IF dk = 0 THEN direction := 1 ELSE direction := -1 END ;
+         crossed := FALSE ;
+         IF direction = 1 THEN
+            IF i < n - 1 THEN
+               bound := origin + VAL (REAL, i + 1) * size ;
+               crossed := TRUE
+            END
+         ELSIF i > 0 THEN
+            bound := origin + VAL (REAL, i) * size ;
+            crossed := TRUE
+         END ;
+         IF crossed AND (p - bound = 0.0) AND (ulo = 0.0) AND (v * VAL (REAL, direction) > 0.0) THEN
+            (* exactly on the boundary now and moving across it: the root
+               finder reports no root at the interval's start *)
+            IF (NOT found) OR (0.0 < bu) THEN
+               found := TRUE ;
+               bu := 0.0 ;
+               baxis := axis ;
+               bdir := direction
+            END ;
+            crossed := FALSE
+         END ;
+         IF crossed THEN
+            c[0] := p - bound ;
+            c[1] := v ;
+            c[2] := 0.5 * a ;
+            lo := ulo ;
+            it := 0 ;
+            WHILE (it < 3) AND SmallestRoot (c, 2, lo, uhi, u) DO
+               IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN
+                  IF (NOT found) OR (u < bu) THEN
+                     found := TRUE ;
+                     bu := u ;
+                     baxis := axis ;
+                     bdir := direction
+                  END ;
+                  it := 3
+               ELSE
+                  lo := u ;
+                  INC (it)
+               END
+            END
+         END
+      END
+   END ;
+   IF found THEN
+      ev.t := b^.tb + bu ;
+      ev.kind := KCell ;
+      ev.cell.body := b^.idx ;
+      ev.cell.axis := baxis ;
+      ev.cell.direction := bdir ;
+      ev.cell.stamp := b^.stamp ;
+      push (ev)
+   END
+END ScheduleCell ;
+
+
+(* ---- handling events --------------------------------------------------------- *)
+
+PROCEDURE EmitState (b: BodyRef) ;
+BEGIN
+   Str ("S ") ;
+   Int (b^.idx) ;
+   SpReal (b^.tb) ;
+   SpReal (b^.px) ;
+   SpReal (b^.py) ;
+   SpReal (b^.vx) ;
+   SpReal (b^.vy) ;
+   SpReal (b^.ang) ;
+   SpReal (b^.om) ;
+   SpReal (b^.ax) ;
+   SpReal (b^.ay) ;
+   Ln
+END EmitState ;
+
+
+(* Contact point (cx, cy) and unit normal (nx, ny) from A to B of a feature
+   at t (both bodies advanced to t). *)
+PROCEDURE contact_frame (t: REAL; feature: INTEGER; A, B: BodyRef; i, j: INTEGER; VAR cx, cy, nx, ny: REAL) ;
+VAR
+   vA, vB: INTEGER ;
+   pax, pay, pbx, pby, dx, dy, dist, px, py, th, rad: REAL ;
+BEGIN
+   IF i >= 0 THEN vA := A^.v0 + i ELSE vA := -1 END ;
+   IF feature = FeatCC THEN
+      PointAt (A, -1, t, pax, pay) ;
+      IF j >= 0 THEN vB := B^.v0 + j ELSE vB := -1 END ;
+      PointAt (B, vB, t, pbx, pby) ;
+      dx := pbx - pax ;
+      dy := pby - pay ;
+      dist := sqrt (dx * dx + dy * dy) ;
+      IF dist > 0.0 THEN
+         nx := dx / dist ;
+         ny := dy / dist
+      ELSE
+         nx := 1.0 ;
+         ny := 0.0
+      END ;
+      cx := pax + A^.r * nx ;
+      cy := pay + A^.r * ny
+   ELSE
+      PointAt (A, vA, t, px, py) ;
+      th := B^.ang + Verts^[B^.v0 + j].psi ;
+      (* from A to B: against the edge's outward normal *)
+      nx := -cos (th) ;
+      ny := -sin (th) ;
+      IF vA < 0 THEN rad := A^.r ELSE rad := 0.0 END ;
+      cx := px + rad * nx ;
+      cy := py + rad * ny
+   END
+END contact_frame ;
+
+
+(* Normal relative velocity (B's against A's, along n from A to B) of the
+   material points at the contact: negative when approaching. *)
+PROCEDURE normal_speed (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   uax, uay, ubx, uby: REAL ;
+BEGIN
+   uax := A^.vx - A^.om * (cy - A^.py) ;
+   uay := A^.vy + A^.om * (cx - A^.px) ;
+   ubx := B^.vx - B^.om * (cy - B^.py) ;
+   uby := B^.vy + B^.om * (cx - B^.px) ;
+   RETURN (ubx - uax) * nx + (uby - uay) * ny
+END normal_speed ;
+
+
+(* ---- support: resting and sliding on a fixed body -------------------------------- *)
+
+(* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
+   the world (B does not move). *)
+PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
+VAR
+   c, s, enx, eny: REAL ;
+BEGIN
+   enx := Verts^[B^.v0 + j].nx ;
+   eny := Verts^[B^.v0 + j].ny ;
+   c := cos (B^.ang) ;
+   s := sin (B^.ang) ;
+   ox := c * enx - s * eny ;
+   oy := s * enx + c * eny ;
+   tx := -oy ;
+   ty := ox
+END support_frame ;
+
+
+PROCEDURE static (B: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN (B^.vx = 0.0) AND (B^.vy = 0.0) AND (B^.ax = 0.0) AND (B^.ay = 0.0) AND (B^.om = 0.0)
+END static ;
+
+
+(* A neighbour of A's vertex i lies on edge j's line within the face
+   tolerance max(tol, rest_speed^2 / load): A rests on a face. *)
+PROCEDURE flat (A, B: BodyRef; i, j: INTEGER; ox, oy, load: REAL) : BOOLEAN ;
+VAR
+   ftol, q, h, px, py: REAL ;
+   n, m, k: INTEGER ;
+BEGIN
+   (* Python's max(tol, q): tol unless q is larger *)
+   ftol := Tol ;
+   q := RestSpeed * RestSpeed / load ;
+   IF q > ftol THEN ftol := q END ;
+   n := A^.nv ;
+   h := Verts^[B^.v0 + j].h ;
+   FOR m := 0 TO 1 DO
+      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      PointAt (A, A^.v0 + k, A^.tb, px, py) ;
+      IF (px - B^.px) * ox + (py - B^.py) * oy - h <= ftol THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END flat ;
+
+
+(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
+   B becomes support (docs/simulator.md, Contact model). *)
+PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, load, q, u: REAL ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
+   support_frame (B, j, tx, ty, ox, oy) ;
+   load := -(A^.fax * ox + A^.fay * oy) ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
+   IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
+   (* at an end of the edge (within the tolerance) and moving past it: it is
+      leaving (a support would end at once, again and again) *)
+   u := A^.vx * tx + A^.vy * ty ;
+   IF ((u > 0.0) AND (q >= Verts^[B^.v0 + j].s2 - Tol)) OR ((u < 0.0) AND (q <= Verts^[B^.v0 + j].s1 + Tol)) THEN
+      RETURN FALSE
+   END ;
+   IF A^.polygon THEN
+      IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
+      RETURN flat (A, B, i, j, ox, oy, load)
+   END ;
+   RETURN TRUE
+END can_support ;
+
+
+(* Acceleration of supported A with tangential speed u: the free
+   acceleration along the edge less Coulomb friction mu |a_n| against the
+   motion; at rest, none while friction can hold it. *)
+PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
+VAR
+   f, a: REAL ;
+BEGIN
+   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   IF u > 0.0 THEN
+      a := A^.at - f
+   ELSIF u < 0.0 THEN
+      a := A^.at + f
+   ELSIF A^.at > f THEN
+      a := A^.at - f
+   ELSIF A^.at < -f THEN
+      a := A^.at + f
+   ELSE
+      a := 0.0
+   END ;
+   A^.ax := a * A^.tx ;
+   A^.ay := a * A^.ty
+END slide_accel ;
+
+
+(* A (advanced to now) keeps only its velocity along the edge, stops
+   turning, and from now on accelerates along the edge only. *)
+PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
+VAR
+   tx, ty, ox, oy, u: REAL ;
+BEGIN
+   support_frame (B, j, tx, ty, ox, oy) ;
+   u := A^.vx * tx + A^.vy * ty ;
+   A^.vx := u * tx ;
+   A^.vy := u * ty ;
+   IF A^.polygon THEN A^.om := 0.0 END ;
+   A^.sup := B^.idx ;
+   A^.sup_edge := j ;
+   A^.tx := tx ;
+   A^.ty := ty ;
+   A^.load := -(A^.fax * ox + A^.fay * oy) ;
+   A^.at := A^.fax * tx + A^.fay * ty ;
+   slide_accel (A, u)
+END enter_support ;
+
+
+PROCEDURE end_support (A: BodyRef) ;
+BEGIN
+   A^.ax := A^.fax ;
+   A^.ay := A^.fay ;
+   A^.sup := -1 ;
+   A^.sup_edge := -1
+END end_support ;
+
+
+(* The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving in
+   the direction (+1 up, -1 down); FALSE when none. *)
+PROCEDURE first_crossing (p, v, a: REAL; direction: INTEGER; lo, hi: REAL; VAR u: REAL) : BOOLEAN ;
+VAR
+   c: ARRAY [0..2] OF REAL ;
+   it: INTEGER ;
+BEGIN
+   c[0] := p ;
+   c[1] := v ;
+   c[2] := 0.5 * a ;
+   FOR it := 1 TO 3 DO
+      IF NOT SmallestRoot (c, 2, lo, hi, u) THEN RETURN FALSE END ;
+      IF (v + a * u) * VAL (REAL, direction) > 0.0 THEN RETURN TRUE END ;
+      lo := u
+   END ;
+   RETURN FALSE
+END first_crossing ;
+
+
+(* A supported body's stop (its tangential speed reaches zero) and leave
+   (its centre, projected on the edge, reaches an end) events; b is at its
+   own time tb (the reference's now). *)
+PROCEDURE schedule_support (b: BodyRef) ;
+VAR
+   u, a, q, hi, s1, s2: REAL ;
+   B: BodyRef ;
+   ed: INTEGER ;
+   f1, f2: BOOLEAN ;
+   ev: Event ;
+BEGIN
+   u := b^.vx * b^.tx + b^.vy * b^.ty ;
+   a := b^.ax * b^.tx + b^.ay * b^.ty ;
+   IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
+      ev.t := b^.tb + (-u) / a ;
+      ev.kind := KStop ;
+      ev.stop.body := b^.idx ;
+      ev.stop.stamp := b^.stamp ;
+      push (ev)
+   END ;
+   B := ADR (Bodies^[b^.sup]) ;
+   ed := B^.v0 + b^.sup_edge ;
+   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
+   hi := EndT - b^.tb ;
+   f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
+   f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
+   IF f1 AND ((NOT f2) OR (s1 < s2)) THEN
+      f2 := TRUE ;
+      s2 := s1
+   END ;
+   IF f2 THEN
+      ev.t := b^.tb + s2 ;
+      ev.kind := KLeave ;
+      ev.leave.body := b^.idx ;
+      ev.leave.stamp := b^.stamp ;
+      push (ev)
+   END
+END schedule_support ;
+
+
+(* The bodies' accelerations push them together along the normal (n from
+   A to B): the relative normal acceleration of the centres is negative.
+   (Centripetal terms of turning bodies are left out.) *)
+PROCEDURE pressed (A, B: BodyRef; nx, ny: REAL) : BOOLEAN ;
+BEGIN
+   RETURN (B^.ax - A^.ax) * nx + (B^.ay - A^.ay) * ny < 0.0
+END pressed ;
+
+
+(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
+   from A to B (both advanced to the contact time): 0.0 when the material
+   points do not approach and are not pressed together, else the impulse
+   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
+   at least, so time advances (docs/simulator.md). *)
+PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   press: BOOLEAN ;
+BEGIN
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   imp := 0.0 ;
+   press := pressed (A, B, nx, ny) ;
+   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
+      ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
+      rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
+      k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
+      e := A^.e * B^.e ;
+      (* sep = max(e * -vn, rest_speed) when pressed, else
+         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
+      me := e * (-vn) ;
+      IF press THEN
+         mn := RestSpeed
+      ELSE
+         m1 := -vn ;
+         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
+      END ;
+      IF mn > me THEN sep := mn ELSE sep := me END ;
+      imp := (sep - vn) / k ;
+      A^.vx := A^.vx - imp * A^.invM * nx ;
+      A^.vy := A^.vy - imp * A^.invM * ny ;
+      A^.om := A^.om - imp * A^.invI * ran ;
+      B^.vx := B^.vx + imp * B^.invM * nx ;
+      B^.vy := B^.vy + imp * B^.invM * ny ;
+      B^.om := B^.om + imp * B^.invI * rbn
+   END ;
+   RETURN imp
+END contact_impulse ;
+
+
+PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
+BEGIN
+   Str ("N ") ;
+   Str (name) ;
+   Str (" ") ;
+   Int (count) ;
+   Ln
+END Stat ;
+
+
+(* ---- sleeping islands ------------------------------------------------------------ *)
+
+(* A body others can fall asleep on: asleep, or fixed and unmoving. *)
+PROCEDURE grounded (G: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN G^.asleep OR (G^.fixed AND static (G))
+END grounded ;
+
+
+(* A supported body slower than rest_speed along its edge that static
+   friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
+   on a level frictionless edge at = 0): it stays where it is. *)
+PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
+VAR
+   u, f: REAL ;
+BEGIN
+   u := A^.vx * A^.tx + A^.vy * A^.ty ;
+   IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
+   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   RETURN (NOT (A^.at > f)) AND NOT (A^.at < -f)
+END at_rest ;
+
+
+(* The impulse of a contact of A and B, one of them (S) asleep: first with
+   S held as if fixed (its 1/m and 1/I zero); when that impulse would change
+   the normal speed of S's material point by less than rest_speed,
+   j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
+   unchanged: a gentle touch); else the other body's velocity is restored
+   and the full impulse is applied (S moves: jolted, its island wakes).
+   Returns the impulse applied. *)
+PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+VAR
+   S, M: BodyRef ;
+   vx, vy, om, invM, invI, imp, rsn: REAL ;
+BEGIN
+   IF A^.asleep THEN
+      S := A ;
+      M := B
+   ELSE
+      S := B ;
+      M := A
+   END ;
+   vx := M^.vx ;
+   vy := M^.vy ;
+   om := M^.om ;
+   invM := S^.invM ;
+   invI := S^.invI ;
+   S^.invM := 0.0 ;
+   S^.invI := 0.0 ;
+   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
+   S^.invM := invM ;
+   S^.invI := invI ;
+   rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
+   IF imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed THEN RETURN imp END ;
+   M^.vx := vx ;
+   M^.vy := vy ;
+   M^.om := om ;
+   RETURN contact_impulse (A, B, cx, cy, nx, ny)
+END sleeper_impulse ;
+
+
+(* A sleeper an impulse has set moving. *)
+PROCEDURE jolted (S: BodyRef) : BOOLEAN ;
+BEGIN
+   RETURN (S^.vx # 0.0) OR (S^.vy # 0.0) OR (S^.om # 0.0)
+END jolted ;
+
+
+(* Awake movable M, one body of the collision ev with grounded G (both
+   advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
+   normal speed), falls asleep on G: M's free acceleration presses it onto G
+   (load > 0), the contact is slow (vn < rest_speed and eM eG (-vn) <
+   rest_speed), M's speed across the normal is below rest_speed, and a
+   polygon M turns slower than rest_speed / bound and lies on a face: a
+   vertex-edge contact with a neighbour of the vertex on the edge's line
+   (flat, whichever body has the vertex). *)
+PROCEDURE can_sleep (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
+VAR
+   mx, my, load, ut: REAL ;
+BEGIN
+   IF M^.fixed OR M^.asleep OR NOT grounded (G) THEN RETURN FALSE END ;
+   IF M^.idx = ev.a THEN
+      mx := nx ;
+      my := ny
+   ELSE
+      mx := -nx ;
+      my := -ny
+   END ;
+   load := M^.fax * mx + M^.fay * my ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (M^.e * G^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   ut := M^.vy * mx - M^.vx * my ;
+   IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
+   IF M^.polygon THEN
+      IF (ABS (M^.om) * M^.bound >= RestSpeed) OR (ev.feature # FeatPE) OR (ev.i < 0) THEN RETURN FALSE END ;
+      RETURN flat (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j, -nx, -ny, load)
+   END ;
+   RETURN TRUE
+END can_sleep ;
+
+
+(* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
+   G's island, or in a new one numbered A's index when G is fixed.  Its
+   awake neighbours are predicted against it again. *)
+PROCEDURE handle_sleep (A, G: BodyRef; t: REAL) ;
+BEGIN
+   INC (Stats.sleeps) ;
+   IF A^.sup >= 0 THEN end_support (A) END ;
+   A^.vx := 0.0 ;
+   A^.vy := 0.0 ;
+   A^.om := 0.0 ;
+   A^.ax := 0.0 ;
+   A^.ay := 0.0 ;
+   A^.asleep := TRUE ;
+   IF G^.asleep THEN A^.island := G^.island ELSE A^.island := A^.idx END ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("sleep", t, A^.idx, G^.idx, A^.island) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_sleep ;
+
+
+(* S's island wakes at t: every member (by index) gets its free
+   acceleration back, then fresh predictions (a pair of members once). *)
+PROCEDURE handle_wake (S: BodyRef; t: REAL) ;
+VAR
+   island, i: INTEGER ;
+   b: BodyRef ;
+BEGIN
+   INC (Stats.wakes) ;
+   island := S^.island ;
+   Str ("E wake ") ;
+   Real (t) ;
+   Str (" ") ; Int (S^.idx) ;
+   Str (" -1 -1 -1 ") ; Int (island) ;
+   Str (" 0 0 0 0 0") ;
+   Ln ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.asleep AND (b^.island = island) THEN
+         rebase (b, t) ;
+         b^.asleep := FALSE ;
+         b^.ax := b^.fax ;
+         b^.ay := b^.fay ;
+         INC (b^.stamp) ;
+         EmitState (b)
+      END
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.island = island THEN predict_woken (b, t, island) END
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.island = island THEN b^.island := -1 END
+   END
+END handle_wake ;
+
+
+(* PredictBody for a member of a waking island: a pair of two members is
+   predicted by the one with the smaller index. *)
+PROCEDURE predict_woken (b: BodyRef; now: REAL; island: INTEGER) ;
+VAR
+   jx, jy, c, k, oi: INTEGER ;
+   o: BodyRef ;
+BEGIN
+   FOR jy := Max (b^.cy - 1, 0) TO Min (b^.cy + 1, GridNY - 1) DO
+      FOR jx := Max (b^.cx - 1, 0) TO Min (b^.cx + 1, GridNX - 1) DO
+         c := jy * GridNX + jx ;
+         FOR k := 0 TO Cells^[c].n - 1 DO
+            oi := Cells^[c].items^[k] ;
+            IF oi # b^.idx THEN
+               o := ADR (Bodies^[oi]) ;
+               IF (NOT ((o^.island = island) AND (o^.idx < b^.idx))) AND NOT (b^.fixed AND o^.fixed) THEN
+                  PredictPair (b, o, now)
+               END
+            END
+         END
+      END
+   END ;
+   FOR k := 0 TO NLarge - 1 DO
+      oi := Large^[k] ;
+      o := ADR (Bodies^[oi]) ;
+      IF (oi # b^.idx) AND NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
+         PredictPair (b, o, now)
+      END
+   END ;
+   ScheduleCell (b, now)
+END predict_woken ;
+
+
+(* ---- event handlers: one per kind --------------------------------------------- *)
+
+PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
+VAR
+   A, B: BodyRef ;
+   cx, cy, nx, ny, vn, imp: REAL ;
+BEGIN
+   A := ADR (Bodies^[ev.a]) ;
+   B := ADR (Bodies^[ev.b]) ;
+   rebase (A, t) ;
+   rebase (B, t) ;
+   contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
+   vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) THEN
+      handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
+      RETURN
+   END ;
+   IF can_sleep (A, B, ev, nx, ny, vn) THEN
+      handle_sleep (A, B, t) ;
+      RETURN
+   END ;
+   IF can_sleep (B, A, ev, nx, ny, vn) THEN
+      handle_sleep (B, A, t) ;
+      RETURN
+   END ;
+   INC (Stats.collisions) ;
+   (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+      on it); a gentle touch leaves it asleep, a real impulse wakes its island *)
+   IF A^.asleep OR B^.asleep THEN
+      imp := sleeper_impulse (A, B, cx, cy, nx, ny)
+   ELSE
+      imp := contact_impulse (A, B, cx, cy, nx, ny)
+   END ;
+   IF imp # 0.0 THEN
+      IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
+      IF B^.asleep AND jolted (B) THEN handle_wake (B, t) END ;
+      IF A^.sup >= 0 THEN end_support (A) END ;
+      IF B^.sup >= 0 THEN end_support (B) END
+   END ;
+   EmitContact ("collision", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
+   AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, FALSE) ;
+   (* a sleeper still asleep (zero impulse: the bodies graze, the other not
+      pressed onto it) is unchanged; the other is predicted again without it
+      (so the graze is not found again at once): only a later change of the
+      other's motion predicts the pair again *)
+   IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
+      INC (A^.stamp) ;
+      EmitState (A)
+   END ;
+   IF (NOT B^.fixed) AND (NOT B^.asleep) THEN
+      INC (B^.stamp) ;
+      EmitState (B)
+   END ;
+   IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
+      IF B^.asleep THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END
+   END ;
+   IF (NOT B^.fixed) AND (NOT B^.asleep) THEN
+      IF (NOT A^.fixed) OR A^.asleep THEN
+         PredictBody (B, t, A^.idx)
+      ELSE
+         PredictBody (B, t, -1)
+      END
+   END
+END handle_collision ;
+
+
+(* The contact line of a collision, support or the like: "E KIND t a b
+   feature i j cx cy nx ny impulse". *)
+PROCEDURE EmitContact (kind: ARRAY OF CHAR; t: REAL; a, b, feature, i, j: INTEGER; cx, cy, nx, ny, imp: REAL) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (a) ;
+   Str (" ") ; Int (b) ;
+   Str (" ") ; Int (feature) ;
+   Str (" ") ; Int (i) ;
+   Str (" ") ; Int (j) ;
+   SpReal (cx) ;
+   SpReal (cy) ;
+   SpReal (nx) ;
+   SpReal (ny) ;
+   SpReal (imp) ;
+   Ln
+END EmitContact ;
+
+
+(* Keeps a contact for the next report (Advance, Finish). *)
+PROCEDURE AddContact (t: REAL; a, b, feature, i, j: INTEGER; px, py, nx, ny, imp: REAL; support: BOOLEAN) ;
+VAR
+   c: Contact ;
+BEGIN
+   IF NContacts = CapContacts THEN
+      IF CapContacts = 0 THEN CapContacts := 64 ELSE CapContacts := 2 * CapContacts END ;
+      Contacts := realloc (Contacts, VAL (LONGCARD, CapContacts) * VAL (LONGCARD, SIZE (Contact))) ;
+      IF Contacts = NIL THEN
+         CapContacts := 0 ;
+         NContacts := 0 ;
+         Fails ("out of memory (contacts)") ;
+         RETURN
+      END
+   END ;
+   c.t := t ;
+   c.a := a ;
+   c.b := b ;
+   c.feature := feature ;
+   c.i := i ;
+   c.j := j ;
+   c.px := px ;
+   c.py := py ;
+   c.nx := nx ;
+   c.ny := ny ;
+   c.impulse := imp ;
+   c.support := support ;
+   Contacts^[NContacts] := c ;
+   INC (NContacts)
+END AddContact ;
+
+
+(* A collision that ends in support (called by handle_collision). *)
+PROCEDURE handle_support (t: REAL; ev: CollisionEvent; A, B: BodyRef; cx, cy, nx, ny, vn: REAL) ;
+VAR
+   imp: REAL ;
+BEGIN
+   INC (Stats.supports) ;
+   imp := (-vn) / A^.invM ;
+   enter_support (A, B, ev.j) ;
+   EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
+   AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, TRUE) ;
+   IF at_rest (A) THEN
+      handle_sleep (A, B, t) ;
+      RETURN
+   END ;
+   INC (A^.stamp) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_support ;
+
+
+(* The line of a stop or leave event: "E KIND t body sup -1 -1 edge 0 0 0 0 0". *)
+PROCEDURE EmitSupportEnd (kind: ARRAY OF CHAR; t: REAL; body, sup, edge: INTEGER) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (body) ;
+   Str (" ") ; Int (sup) ;
+   Str (" -1 -1 ") ; Int (edge) ;
+   Str (" 0 0 0 0 0") ;
+   Ln
+END EmitSupportEnd ;
+
+
+(* Sliding stops: velocity exactly zero, then rest or slide back. *)
+PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
+VAR
+   A: BodyRef ;
+BEGIN
+   INC (Stats.stops) ;
+   A := ADR (Bodies^[ev.body]) ;
+   rebase (A, t) ;
+   A^.vx := 0.0 ;
+   A^.vy := 0.0 ;
+   slide_accel (A, 0.0) ;
+   EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
+   IF at_rest (A) THEN
+      handle_sleep (A, ADR (Bodies^[A^.sup]), t) ;
+      RETURN
+   END ;
+   INC (A^.stamp) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_stop ;
+
+
+(* The support's edge ends under the body: free motion again. *)
+PROCEDURE handle_leave (t: REAL; ev: LeaveEvent) ;
+VAR
+   A: BodyRef ;
+   sup, edge: INTEGER ;
+BEGIN
+   INC (Stats.leaves) ;
+   A := ADR (Bodies^[ev.body]) ;
+   rebase (A, t) ;
+   sup := A^.sup ;
+   edge := A^.sup_edge ;
+   end_support (A) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
+   EmitState (A) ;
+   PredictBody (A, t, -1)
+END handle_leave ;
+
+
+PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
+VAR
+   b: BodyRef ;
+   inp: Input ;
+   o: INTEGER ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   INC (Stats.inputs) ;
+   inp := Inputs^[ev.k] ;
+   b := ADR (Bodies^[inp.body]) ;
+   IF b^.gone THEN
+      m := "input " ;
+      AppendInt (m, ev.k) ;
+      Append (m, ": body ") ;
+      AppendInt (m, b^.idx) ;
+      Append (m, " was removed before t = ") ;
+      AppendReal (m, t) ;
+      Fails (m) ;
+      RETURN
+   END ;
+   IF b^.asleep THEN handle_wake (b, t) END ;
+   rebase (b, t) ;
+   IF inp.mode = RemoveMode THEN
+      remove (b, ev.k, t) ;
+      RETURN
+   END ;
+   IF inp.mode = TeleportMode THEN
+      o := overlapping (b, inp.vx, inp.vy, t) ;
+      IF o >= 0 THEN
+         m := "input " ;
+         AppendInt (m, ev.k) ;
+         Append (m, ": body ") ;
+         AppendInt (m, b^.idx) ;
+         Append (m, " teleported to (") ;
+         AppendReal (m, inp.vx) ;
+         Append (m, ", ") ;
+         AppendReal (m, inp.vy) ;
+         Append (m, ") at t = ") ;
+         AppendReal (m, t) ;
+         Append (m, " would overlap body ") ;
+         AppendInt (m, o) ;
+         Fails (m) ;
+         RETURN
+      END
+   END ;
+   IF b^.sup >= 0 THEN end_support (b) END ;
+   IF inp.mode = SetVelocityMode THEN
+      b^.vx := inp.vx ;
+      b^.vy := inp.vy
+   ELSIF inp.mode = AddVelocityMode THEN
+      b^.vx := b^.vx + inp.vx ;
+      b^.vy := b^.vy + inp.vy
+   ELSIF inp.mode = ImpulseMode THEN
+      b^.vx := b^.vx + inp.vx * b^.invM ;
+      b^.vy := b^.vy + inp.vy * b^.invM
+   ELSE
+      b^.px := inp.vx ;
+      b^.py := inp.vy ;
+      CellRemove (b) ;
+      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+      CellAdd (b)
+   END ;
+   INC (b^.stamp) ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (ev.k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (b) ;
+   PredictBody (b, t, -1)
+END handle_input ;
+
+
+(* Input k removes the body (based at t): it stops where it is (v, a, w
+   zero), leaves the grid, its stamp changes (its queued events go stale)
+   and it is never predicted again; bodies it supported leave. *)
+PROCEDURE remove (b: BodyRef; k: INTEGER; t: REAL) ;
+VAR
+   i, edge: INTEGER ;
+   A: BodyRef ;
+BEGIN
+   b^.vx := 0.0 ; b^.vy := 0.0 ; b^.ax := 0.0 ; b^.ay := 0.0 ; b^.fax := 0.0 ; b^.fay := 0.0 ; b^.om := 0.0 ;
+   IF b^.sup >= 0 THEN end_support (b) END ;
+   b^.gone := TRUE ;
+   INC (b^.stamp) ;
+   IF b^.large THEN LargeRemove (b^.idx) ELSE CellRemove (b) END ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   FOR i := 0 TO NBodies - 1 DO
+      A := ADR (Bodies^[i]) ;
+      IF A^.sup = b^.idx THEN
+         INC (Stats.leaves) ;
+         rebase (A, t) ;
+         edge := A^.sup_edge ;
+         end_support (A) ;
+         INC (A^.stamp) ;
+         EmitSupportEnd ("leave", t, A^.idx, b^.idx, edge) ;
+         EmitState (A) ;
+         PredictBody (A, t, -1)
+      END
+   END ;
+   wake_touching (b, t)
+END remove ;
+
+
+(* The islands of the sleepers whose bounding circles reach the removed
+   body's (within the tolerance) wake: it may have held them (by index; a
+   woken island's other members are awake already). *)
+PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
+VAR
+   i: INTEGER ;
+   o: BodyRef ;
+   dx, dy, reach: REAL ;
+BEGIN
+   FOR i := 0 TO NBodies - 1 DO
+      o := ADR (Bodies^[i]) ;
+      IF o^.asleep THEN
+         dx := o^.px - b^.px ;
+         dy := o^.py - b^.py ;
+         reach := o^.bound + b^.bound + Tol ;
+         IF dx * dx + dy * dy <= reach * reach THEN handle_wake (o, t) END
+      END
+   END
+END wake_touching ;
+
+
+(* ---- overlap (a teleport's check) -------------------------------------------- *)
+
+(* The first body (by index) that A, with its centre moved to (x, y) at time
+   t, would overlap by more than the tolerance; -1 when none. *)
+PROCEDURE overlapping (A: BodyRef; x, y, t: REAL) : INTEGER ;
+VAR
+   spx, spy, svx, svy, sang, stb: REAL ;
+   ax, ay, vx, vy, ang, bx, by, bvx, bvy, bang, dx, dy, reach: REAL ;
+   k, found: INTEGER ;
+   B: BodyRef ;
+BEGIN
+   spx := A^.px ; spy := A^.py ; svx := A^.vx ; svy := A^.vy ; sang := A^.ang ; stb := A^.tb ;
+   StateAt (A, t, ax, ay, vx, vy, ang) ;
+   (* A at t, moved (restored below) *)
+   A^.px := x ; A^.py := y ; A^.vx := vx ; A^.vy := vy ; A^.ang := ang ; A^.tb := t ;
+   found := -1 ;
+   k := 0 ;
+   WHILE (found < 0) AND (k < NBodies) DO
+      B := ADR (Bodies^[k]) ;
+      IF (B # A) AND NOT B^.gone THEN
+         StateAt (B, t, bx, by, bvx, bvy, bang) ;
+         dx := bx - x ;
+         dy := by - y ;
+         reach := A^.bound + B^.bound + Tol ;
+         IF (NOT (dx * dx + dy * dy > reach * reach)) AND (separation (A, B, t) < -Tol) THEN
+            found := B^.idx
+         END
+      END ;
+      INC (k)
+   END ;
+   A^.px := spx ; A^.py := spy ; A^.vx := svx ; A^.vy := svy ; A^.ang := sang ; A^.tb := stb ;
+   RETURN found
+END overlapping ;
+
+
+(* The largest gap between A and B at t along a separating axis: negative
+   by the depth they overlap (edge normals of either polygon, and for a
+   circle the line from the nearest vertex; circles: the distance of the
+   centres less the radii). *)
+PROCEDURE separation (A, B: BodyRef; t: REAL) : REAL ;
+VAR
+   ax, ay, bx, by, s1, s2: REAL ;
+BEGIN
+   IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
+      PointAt (A, -1, t, ax, ay) ;
+      PointAt (B, -1, t, bx, by) ;
+      RETURN sqrt ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A^.r + B^.r)
+   END ;
+   IF NOT A^.polygon THEN RETURN circle_separation (A, B, t) END ;
+   IF NOT B^.polygon THEN RETURN circle_separation (B, A, t) END ;
+   s1 := edges_separation (A, B, t) ;
+   s2 := edges_separation (B, A, t) ;
+   IF s2 > s1 THEN RETURN s2 END ;     (* Python's max: the first unless the second is larger *)
+   RETURN s1
+END separation ;
+
+
+(* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
+   line, (ox, oy) . point = off. *)
+PROCEDURE edge_line (P: BodyRef; j: INTEGER; t: REAL; VAR ox, oy, off: REAL) ;
+VAR
+   px, py, vx, vy, ang, c, s, enx, eny: REAL ;
+BEGIN
+   enx := Verts^[P^.v0 + j].nx ;
+   eny := Verts^[P^.v0 + j].ny ;
+   StateAt (P, t, px, py, vx, vy, ang) ;
+   c := cos (ang) ;
+   s := sin (ang) ;
+   ox := c * enx - s * eny ;
+   oy := s * enx + c * eny ;
+   off := ox * px + oy * py + Verts^[P^.v0 + j].h
+END edge_line ;
+
+
+(* Along the edge normals of P: the largest over P's edges of the smallest
+   distance of Q's vertices beyond the edge's line. *)
+PROCEDURE edges_separation (P, Q: BodyRef; t: REAL) : REAL ;
+VAR
+   best, lo, d, ox, oy, off, qx, qy: REAL ;
+   j, v: INTEGER ;
+BEGIN
+   best := -Inf ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, t, ox, oy, off) ;
+      lo := Inf ;
+      FOR v := 0 TO Q^.nv - 1 DO
+         PointAt (Q, Q^.v0 + v, t, qx, qy) ;
+         d := ox * qx + oy * qy - off ;
+         IF d < lo THEN lo := d END
+      END ;
+      IF lo > best THEN best := lo END
+   END ;
+   RETURN best
+END edges_separation ;
+
+
+(* Circle C against polygon P: along P's edge normals and the line from
+   P's nearest vertex to C's centre. *)
+PROCEDURE circle_separation (C, P: BodyRef; t: REAL) : REAL ;
+VAR
+   cx, cy, best, ox, oy, off, g, qx, qy, e2, d2, d, ux, uy, hi, nqx, nqy: REAL ;
+   j, k: INTEGER ;
+BEGIN
+   PointAt (C, -1, t, cx, cy) ;
+   best := -Inf ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, t, ox, oy, off) ;
+      g := ox * cx + oy * cy - off - C^.r ;
+      IF g > best THEN best := g END
+   END ;
+   d2 := Inf ;
+   PointAt (P, P^.v0, t, nqx, nqy) ;    (* vertex 0 unless a nearer one is found *)
+   FOR k := 0 TO P^.nv - 1 DO
+      PointAt (P, P^.v0 + k, t, qx, qy) ;
+      e2 := (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy) ;
+      IF e2 < d2 THEN
+         d2 := e2 ;
+         nqx := qx ;
+         nqy := qy
+      END
+   END ;
+   IF d2 > 0.0 THEN
+      d := sqrt (d2) ;
+      ux := (cx - nqx) / d ;
+      uy := (cy - nqy) / d ;
+      hi := -Inf ;
+      FOR k := 0 TO P^.nv - 1 DO
+         PointAt (P, P^.v0 + k, t, qx, qy) ;
+         g := ux * qx + uy * qy ;
+         IF g > hi THEN hi := g END
+      END ;
+      g := ux * cx + uy * cy - C^.r - hi ;
+      IF g > best THEN best := g END
+   END ;
+   RETURN best
+END circle_separation ;
+
+
+(* The body's centre crossed into the next cell along an axis: it moves
+   there and is predicted against the row or column it now neighbours. *)
+PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
+VAR
+   b: BodyRef ;
+   d, col, row: INTEGER ;
+BEGIN
+   INC (Stats.cells) ;
+   b := ADR (Bodies^[ev.body]) ;
+   d := ev.direction ;
+   CellRemove (b) ;
+   IF ev.axis = 0 THEN
+      b^.cx := b^.cx + d ;
+      col := b^.cx + d ;
+      CellAdd (b) ;
+      PredictCells (b, col, col, b^.cy - 1, b^.cy + 1, -1, -1, t)
+   ELSE
+      b^.cy := b^.cy + d ;
+      row := b^.cy + d ;
+      CellAdd (b) ;
+      PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
+   END ;
+   ScheduleCell (b, t)
+END handle_cell ;
+
+
+(* The pair is predicted again from here (its bounding circles meet, or its
+   Taylor window ended). *)
+PROCEDURE handle_horizon (t: REAL; ev: HorizonEvent) ;
+BEGIN
+   INC (Stats.horizons) ;
+   PredictPair (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), t)
+END handle_horizon ;
+
+
+(* Frame k: written, and frame k + 1 scheduled. *)
+PROCEDURE handle_frame (t: REAL; ev: FrameEvent) ;
+VAR
+   nxt: REAL ;
+BEGIN
+   INC (Stats.frames) ;
+   Str ("E frame ") ;
+   Real (t) ;
+   Str (" -1 -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   nxt := VAL (REAL, ev.k + 1) * FrameDt ;
+   IF nxt <= EndT THEN
+      push_frame (nxt, ev.k + 1)
+   END
+END handle_frame ;
+
+
+(* ---- the run ------------------------------------------------------------------ *)
+
+(* An event whose bodies' motion changed since it was scheduled.  Inputs are
+   scripted, not predicted, and frames have no bodies: never. *)
+PROCEDURE is_stale (ev: Event) : BOOLEAN ;
+BEGIN
+   CASE ev.kind OF
+      KCollision:
+         RETURN (Bodies^[ev.collision.a].stamp # ev.collision.stamp_a)
+                OR (Bodies^[ev.collision.b].stamp # ev.collision.stamp_b)
+    | KHorizon:
+         RETURN (Bodies^[ev.horizon.a].stamp # ev.horizon.stamp_a)
+                OR (Bodies^[ev.horizon.b].stamp # ev.horizon.stamp_b)
+    | KCell:
+         RETURN Bodies^[ev.cell.body].stamp # ev.cell.stamp
+    | KStop:
+         RETURN Bodies^[ev.stop.body].stamp # ev.stop.stamp
+    | KLeave:
+         RETURN Bodies^[ev.leave.body].stamp # ev.leave.stamp
+   ELSE
+      RETURN FALSE
+   END
+END is_stale ;
+
+
+(* The grid, the inputs, the first frame and the first prediction of every
+   pair. *)
+PROCEDURE start ;
+VAR
+   i, k: INTEGER ;
+   b: BodyRef ;
+   ev: Event ;
+BEGIN
+   InitGrid ;
+   Clear ;
+   Seq := 0 ;
+   Stats.collisions := 0 ;
+   Stats.inputs := 0 ;
+   Stats.frames := 0 ;
+   Stats.cells := 0 ;
+   Stats.horizons := 0 ;
+   Stats.stale := 0 ;
+   Stats.pairs := 0 ;
+   Stats.features := 0 ;
+   Stats.supports := 0 ;
+   Stats.stops := 0 ;
+   Stats.leaves := 0 ;
+   Stats.sleeps := 0 ;
+   Stats.wakes := 0 ;
+   FOR k := 0 TO CcVariants - 1 DO CcCounts[k] := 0 END ;
+   FOR k := 0 TO PeVariants - 1 DO PeCounts[k] := 0 END ;
+   WorldT := 0.0 ;
+   LastT := -1.0 ;
+   Same := 0 ;
+   NContacts := 0 ;
+   NAdded := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF NOT b^.large THEN
+         CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+         CellAdd (b)
+      END
+   END ;
+   FOR k := 0 TO NInputs - 1 DO
+      ev.t := Inputs^[k].t ;
+      ev.kind := KInput ;
+      ev.input.k := k ;
+      push (ev)
+   END ;
+   IF (FrameDt > 0.0) AND (FrameDt <= EndT) THEN
+      push_frame (FrameDt, 1)
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF NOT b^.large THEN
+         PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, b^.idx, -1, 0.0) ;
+         PredictLarge (b, -1, 0.0) ;
+         ScheduleCell (b, 0.0)
+      END
+   END
+END start ;
+
+
+(* Handles one event taken from the queue: dropped when stale, counted at
+   its instant (max_same_time: more is "stuck"), then its kind's handler. *)
+PROCEDURE dispatch (ev: Event) ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF is_stale (ev) THEN
+      INC (Stats.stale) ;
+      RETURN
+   END ;
+   IF ev.t = LastT THEN
+      INC (Same) ;
+      IF Same > MaxSame THEN
+         m := "more than " ;
+         AppendInt (m, MaxSame) ;
+         Append (m, " events at t = ") ;
+         AppendReal (m, ev.t) ;
+         Append (m, ": the scene is stuck") ;
+         Fails (m) ;
+         RETURN
+      END
+   ELSE
+      LastT := ev.t ;
+      Same := 0
+   END ;
+   CASE ev.kind OF
+      KInput: handle_input (ev.t, ev.input)
+    | KCollision: handle_collision (ev.t, ev.collision)
+    | KStop: handle_stop (ev.t, ev.stop)
+    | KLeave: handle_leave (ev.t, ev.leave)
+    | KCell: handle_cell (ev.t, ev.cell)
+    | KHorizon: handle_horizon (ev.t, ev.horizon)
+    | KFrame: handle_frame (ev.t, ev.frame)
+   END
+END dispatch ;
+
+
+(* Handles every queued event before t (inclusive: at t too), in (t, kind,
+   seq) order, the events that handling schedules included; stops at a
+   failure. *)
+PROCEDURE process (t: REAL; inclusive: BOOLEAN) ;
+VAR
+   ev: Event ;
+BEGIN
+   WHILE (NOT Failed) AND Top (ev) AND ((ev.t < t) OR ((ev.t = t) AND inclusive)) DO
+      IF Pop (ev) THEN dispatch (ev) END
+   END
+END process ;
+
+
+(* Calls report with each contact kept since the last report, in order. *)
+PROCEDURE TakeContacts (report: ContactProc) ;
+VAR
+   k, n: INTEGER ;
+BEGIN
+   n := NContacts ;
+   NContacts := 0 ;
+   Reporting := TRUE ;
+   FOR k := 0 TO n - 1 DO report (Contacts^[k]) END ;
+   Reporting := FALSE
+END TakeContacts ;
+
+
+(* Every body at the end time, the statistics and the predictions served
+   per variant. *)
+PROCEDURE WriteFinal ;
+VAR
+   i, k: INTEGER ;
+   b: BodyRef ;
+BEGIN
+   FOR i := 0 TO NBodies - 1 DO
+      rebase (ADR (Bodies^[i]), EndT)
+   END ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      Str ("F ") ;
+      Int (i) ;
+      SpReal (b^.px) ;
+      SpReal (b^.py) ;
+      SpReal (b^.vx) ;
+      SpReal (b^.vy) ;
+      SpReal (b^.ang) ;
+      SpReal (b^.om) ;
+      Ln
+   END ;
+   Stat ("collisions", Stats.collisions) ;
+   Stat ("inputs", Stats.inputs) ;
+   Stat ("frames", Stats.frames) ;
+   Stat ("cells", Stats.cells) ;
+   Stat ("horizons", Stats.horizons) ;
+   Stat ("stale", Stats.stale) ;
+   Stat ("pairs", Stats.pairs) ;
+   Stat ("features", Stats.features) ;
+   Stat ("supports", Stats.supports) ;
+   Stat ("stops", Stats.stops) ;
+   Stat ("leaves", Stats.leaves) ;
+   Stat ("sleeps", Stats.sleeps) ;
+   Stat ("wakes", Stats.wakes) ;
+   FOR k := 0 TO CcVariants - 1 DO
+      Str ("V circle_circle ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (CcCounts[k]) ;
+      Ln
+   END ;
+   FOR k := 0 TO PeVariants - 1 DO
+      Str ("V point_edge ") ;
+      Int (k) ;
+      Str (" ") ;
+      Int (PeCounts[k]) ;
+      Ln
+   END
+END WriteFinal ;
+
+
+(* ---- the live API (docs/engine-api.md) ------------------------------------------ *)
+
+(* A world from the scene just read (ok), or the reading's failure. *)
+PROCEDURE Begin (ok, trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   Loaded := FALSE ;
+   Failed := FALSE ;
+   Reporting := FALSE ;
+   IF NOT ok THEN
+      ReadError (ErrMsg) ;
+      RETURN FALSE
+   END ;
+   ErrMsg[0] := 0C ;
+   SetOn (trace) ;
+   start ;
+   Loaded := NOT Failed ;
+   RETURN Loaded
+END Begin ;
+
+
+PROCEDURE New (VAR text: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadText (ADR (text), HIGH (text) + 1), trace)
+END New ;
+
+
+PROCEDURE FromFile (path: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadFile (path), trace)
+END FromFile ;
+
+
+PROCEDURE FromStdin (trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadStdin (), trace)
+END FromStdin ;
+
+
+PROCEDURE Time () : REAL ;
+BEGIN
+   RETURN WorldT
+END Time ;
+
+
+PROCEDURE EndTime () : REAL ;
+BEGIN
+   RETURN EndT
+END EndTime ;
+
+
+PROCEDURE BodyCount () : INTEGER ;
+BEGIN
+   RETURN NBodies
+END BodyCount ;
+
+
+PROCEDURE Advance (t: REAL; report: ContactProc) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT ((t >= WorldT) AND (t <= EndT)) THEN
+      m := "advance: t = " ;
+      AppendReal (m, t) ;
+      Append (m, " is outside [") ;
+      AppendReal (m, WorldT) ;
+      Append (m, ", ") ;
+      AppendReal (m, EndT) ;
+      Append (m, "] (the world's time .. the scene's end)") ;
+      RETURN Refuse (m)
+   END ;
+   process (t, FALSE) ;
+   IF Failed THEN RETURN FALSE END ;
+   WorldT := t ;
+   TakeContacts (report) ;
+   RETURN TRUE
+END Advance ;
+
+
+PROCEDURE NextEventTime () : REAL ;
+VAR
+   ev: Event ;
+BEGIN
+   IF NOT Usable () THEN RETURN Inf END ;
+   WHILE Top (ev) AND (ev.t <= EndT) DO
+      IF NOT is_stale (ev) THEN RETURN ev.t END ;
+      IF Pop (ev) THEN INC (Stats.stale) END
+   END ;
+   RETURN Inf
+END NextEventTime ;
+
+
+PROCEDURE State (body: INTEGER; t: REAL; VAR px, py, vx, vy, ang, om: REAL) : BOOLEAN ;
+VAR
+   nxt: REAL ;
+   b: BodyRef ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT BodyOk (body) THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   nxt := NextEventTime () ;
+   IF NOT ((t >= WorldT) AND (t <= nxt) AND (t <= EndT)) THEN
+      m := "state: t = " ;
+      AppendReal (m, t) ;
+      Append (m, " is outside [") ;
+      AppendReal (m, WorldT) ;
+      Append (m, ", ") ;
+      AppendReal (m, nxt) ;
+      Append (m, "] (the world's time .. the next event)") ;
+      RETURN Refuse (m)
+   END ;
+   StateAt (b, t, px, py, vx, vy, ang) ;
+   om := b^.om ;
+   RETURN TRUE
+END State ;
+
+
+(* FALSE (refused) when k is not a body of the world. *)
+PROCEDURE BodyOk (k: INTEGER) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF (k >= 0) AND (k < NBodies) THEN RETURN TRUE END ;
+   m := "no body " ;
+   AppendInt (m, k) ;
+   Append (m, " (the world has ") ;
+   AppendInt (m, NBodies) ;
+   Append (m, ")") ;
+   RETURN Refuse (m)
+END BodyOk ;
+
+
+(* ---- live inputs: at the world's time, recorded in the input list ---------------- *)
+
+(* Handles the input events queued at exactly the world's time. *)
+PROCEDURE inputs_now ;
+VAR
+   ev: Event ;
+BEGIN
+   WHILE (NOT Failed) AND Top (ev) AND (ev.t = WorldT) AND (ev.kind = KInput) DO
+      IF Pop (ev) THEN dispatch (ev) END
+   END
+END inputs_now ;
+
+
+(* An input at the world's time T, handled as the same input scripted at T
+   and listed after the scene's would be: the scene's inputs at T first,
+   then this one, before any other event at T (docs/engine-api.md, "Live
+   inputs").  It is appended to the input list, which is the recording.
+   done: FALSE when a teleport is refused (nothing changed). *)
+PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
+VAR
+   b: BodyRef ;
+   ev: Event ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   done := FALSE ;
+   IF (NOT Usable ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   IF b^.gone THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " was removed") ;
+      RETURN Refuse (m)
+   END ;
+   IF b^.fixed AND (mode # RemoveMode) THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " is fixed: inputs move movable bodies only") ;
+      RETURN Refuse (m)
+   END ;
+   IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
+      m := "input on body " ;
+      AppendInt (m, body) ;
+      Append (m, ": (") ;
+      AppendReal (m, x) ;
+      Append (m, ", ") ;
+      AppendReal (m, y) ;
+      Append (m, ") is not finite") ;
+      RETURN Refuse (m)
+   END ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   IF (mode = TeleportMode) AND (overlapping (b, x, y, WorldT) >= 0) THEN RETURN TRUE END ;
+   ev.t := WorldT ;
+   ev.kind := KInput ;
+   ev.input.k := AddInput (WorldT, body, mode, x, y) ;
+   push (ev) ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   done := TRUE ;
+   RETURN TRUE
+END live_input ;
+
+
+PROCEDURE SetVelocity (body: INTEGER; vx, vy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, SetVelocityMode, vx, vy, done)
+END SetVelocity ;
+
+
+PROCEDURE AddVelocity (body: INTEGER; dvx, dvy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, AddVelocityMode, dvx, dvy, done)
+END AddVelocity ;
+
+
+PROCEDURE ApplyImpulse (body: INTEGER; jx, jy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, ImpulseMode, jx, jy, done)
+END ApplyImpulse ;
+
+
+PROCEDURE Teleport (body: INTEGER; x, y: REAL; VAR moved: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN live_input (body, TeleportMode, x, y, moved)
+END Teleport ;
+
+
+PROCEDURE RemoveBody (body: INTEGER) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, RemoveMode, 0.0, 0.0, done)
+END RemoveBody ;
+
+
+PROCEDURE AddBody (VAR text: ARRAY OF CHAR; VAR index: INTEGER) : BOOLEAN ;
+VAR
+   b, o: BodyRef ;
+   nv, i: INTEGER ;
+   t, lim: REAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   index := -1 ;
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT ReadBodyText (ADR (text), HIGH (text) + 1, NBodies, NVerts, nv) THEN
+      ReadError (ErrMsg) ;
+      RETURN FALSE
+   END ;
+   b := ADR (Bodies^[NBodies]) ;      (* read, not yet in the world *)
+   b^.idx := NBodies ;
+   lim := CellW ;
+   IF CellH < lim THEN lim := CellH END ;     (* Python's min (cw, ch) *)
+   b^.large := 2.0 * b^.bound > lim ;
+   IF b^.large AND NOT b^.fixed THEN
+      m := "add_body: a movable body of bound " ;
+      AppendReal (m, b^.bound) ;
+      Append (m, " m does not fit the grid's cells (") ;
+      AppendReal (m, CellW) ;
+      Append (m, " x ") ;
+      AppendReal (m, CellH) ;
+      Append (m, " m): put such a body in the scene") ;
+      RETURN Refuse (m)
+   END ;
+   t := WorldT ;
+   b^.tb := t ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   b := ADR (Bodies^[NBodies]) ;
+   IF overlapping (b, b^.px, b^.py, t) >= 0 THEN RETURN TRUE END ;
+   INC (NBodies) ;
+   NVerts := NVerts + nv ;
+   INC (NAdded) ;
+   index := b^.idx ;
+   Str ("E add ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   IF b^.large THEN
+      LargeAdd (b^.idx) ;
+      FOR i := 0 TO NBodies - 1 DO
+         o := ADR (Bodies^[i]) ;
+         IF (NOT o^.large) AND (NOT o^.gone) AND NOT (o^.fixed AND b^.fixed) THEN
+            PredictPair (o, b, t)
+         END
+      END
+   ELSE
+      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+      CellAdd (b) ;
+      IF NOT b^.fixed THEN EmitState (b) END ;
+      PredictBody (b, t, -1)
+   END ;
+   IF Failed THEN RETURN FALSE END ;
+   RETURN TRUE
+END AddBody ;
+
+
+(* ---- the input log (recordings) ------------------------------------------------ *)
+
+PROCEDURE InputLogLength () : INTEGER ;
+BEGIN
+   RETURN NInputs
+END InputLogLength ;
+
+
+PROCEDURE InputLog (k: INTEGER; VAR t: REAL; VAR body, mode: INTEGER; VAR x, y: REAL) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF (k < 0) OR (k >= NInputs) THEN
+      m := "no input " ;
+      AppendInt (m, k) ;
+      Append (m, " (the log has ") ;
+      AppendInt (m, NInputs) ;
+      Append (m, ")") ;
+      RETURN Refuse (m)
+   END ;
+   t := Inputs^[k].t ;
+   body := Inputs^[k].body ;
+   mode := Inputs^[k].mode ;
+   x := Inputs^[k].vx ;
+   y := Inputs^[k].vy ;
+   RETURN TRUE
+END InputLog ;
+
+
+PROCEDURE Added () : INTEGER ;
+BEGIN
+   RETURN NAdded
+END Added ;
+
+
+PROCEDURE Finish (report: ContactProc) : BOOLEAN ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   process (EndT, TRUE) ;
+   IF Failed THEN RETURN FALSE END ;
+   WorldT := EndT ;
+   WriteFinal ;
+   Flush ;
+   TakeContacts (report) ;
+   RETURN TRUE
+END Finish ;
+
+
+PROCEDURE Run () : BOOLEAN ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   process (EndT, FALSE) ;     (* Advance (EndT) and Finish, without the reports *)
+   IF NOT Failed THEN
+      WorldT := EndT ;
+      process (EndT, TRUE)
+   END ;
+   IF Failed THEN RETURN FALSE END ;
+   WriteFinal ;
+   Flush ;
+   NContacts := 0 ;
+   RETURN TRUE
+END Run ;
+
+
+VAR
+   endp: ADDRESS ;
+BEGIN
+   Loaded := FALSE ;
+   Failed := FALSE ;
+   Reporting := FALSE ;
+   ErrMsg[0] := 0C ;
+   WorldT := 0.0 ;
+   Contacts := NIL ;
+   NContacts := 0 ;
+   CapContacts := 0 ;
+   endp := NIL ;
+   Inf := strtod ("inf", endp)
+END SimWorld.
