@@ -31,7 +31,8 @@ static const struct {
     { "horizons", offsetof(stats, horizons) },     { "stale", offsetof(stats, stale) },
     { "pairs", offsetof(stats, pairs) },           { "features", offsetof(stats, features) },
     { "supports", offsetof(stats, supports) },     { "stops", offsetof(stats, stops) },
-    { "leaves", offsetof(stats, leaves) },
+    { "leaves", offsetof(stats, leaves) },         { "sleeps", offsetof(stats, sleeps) },
+    { "wakes", offsetof(stats, wakes) },
 };
 
 /* The reference's SimError: the message, then back to the entry that
@@ -583,6 +584,8 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
     }
 }
 
+static inline int grounded(const m2c_sim_body *G);
+
 /* Schedules the first contact of A and B after now, or a horizon event
  * where the Taylor polynomials of their turns stop being good. */
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
@@ -590,6 +593,8 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     const m2c_sim_scene *s = m->s;
     if (A->sup == B->idx || B->sup == A->idx)
         return;     /* the support's edge line separates them (both convex): only leaving ends it */
+    if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
+        return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
     double w = s->end - now;
     if (!(w > 0.0))
@@ -1050,6 +1055,153 @@ static void emit_support_change(sim *m, const char *kind, double t, const m2c_si
     m->out.n += (size_t)(p - start);
 }
 
+/* ---- sleeping islands ------------------------------------------------------------------------ */
+
+/* A body others can fall asleep on: asleep, or fixed and unmoving. */
+static inline int grounded(const m2c_sim_body *G)
+{
+    return G->asleep || (G->fixed && is_static(G));
+}
+
+/* A supported body that stays where it is: no acceleration along its edge
+ * (level, or static friction holds) and slower than rest_speed. */
+static int at_rest(const sim *m, const m2c_sim_body *A)
+{
+    if (A->ax != 0.0 || A->ay != 0.0)
+        return 0;
+    double u = A->vx * A->tx + A->vy * A->ty;
+    double rest = m->s->rest_speed;
+    return u * u < rest * rest;
+}
+
+/* Awake movable M, one body of the collision ev with grounded G (both
+ * advanced; (nx, ny) the contact's unit normal from a to b, vn its normal
+ * speed), falls asleep on G: M's free acceleration presses it onto G, the
+ * contact is slow, M's speed across the normal is below rest_speed, and a
+ * polygon M turns slowly and lies on a face (docs/simulator.md). */
+static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
+                     double ny, double vn)
+{
+    if (M->fixed || M->asleep || !grounded(G))
+        return 0;
+    double mx, my;
+    if (M->idx == ev->u.collision.a) {
+        mx = nx;
+        my = ny;
+    } else {
+        mx = -nx;
+        my = -ny;
+    }
+    double rest = m->s->rest_speed;
+    double load = M->fax * mx + M->fay * my;
+    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
+        return 0;
+    double ut = M->vy * mx - M->vx * my;
+    if (ut * ut >= rest * rest)
+        return 0;
+    if (M->polygon) {
+        if (fabs(M->om) * M->bound >= rest || ev->u.collision.feature != PE || ev->u.collision.i < 0)
+            return 0;
+        return flat(m, &m->bodies[ev->u.collision.a], &m->bodies[ev->u.collision.b], ev->u.collision.i,
+                    ev->u.collision.j, -nx, -ny, load);
+    }
+    return 1;
+}
+
+/* An E line of a sleep or wake: body a, body b (-1 for a wake), island. */
+static void emit_island(sim *m, const char *kind, double t, int32_t a, int32_t b, int32_t island)
+{
+    if (m->out.f == NULL)
+        return;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, kind);
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, a);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, b);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, island);
+    p = m2c_sim_put_str(p, " 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+}
+
+/* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
+ * G's island, or in a new one numbered A's index when G is fixed.  Its
+ * awake neighbours are predicted against it again. */
+static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
+{
+    m->stats.sleeps++;
+    if (A->sup >= 0)
+        end_support(A);
+    A->vx = 0.0;
+    A->vy = 0.0;
+    A->om = 0.0;
+    A->ax = 0.0;
+    A->ay = 0.0;
+    A->asleep = 1;
+    A->island = G->asleep ? G->island : A->idx;
+    m->stamp[A->idx]++;
+    emit_island(m, "E sleep ", t, A->idx, G->idx, A->island);
+    emit_state(m, A);
+    predict_body(m, A, t, NULL);
+}
+
+/* predict_body for a member of a waking island: a pair of two members is
+ * predicted by the one with the smaller index. */
+static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t island)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
+    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            const int32_t *items = m2c_sim_cell_items(c);
+            for (int32_t k = 0; k < c->n; k++) {
+                const m2c_sim_body *o = &m->bodies[items[k]];
+                if (o == b)
+                    continue;
+                if (!(o->island == island && o->idx < b->idx) && !(b->fixed && o->fixed))
+                    predict_pair(m, b, o, now);
+            }
+        }
+    }
+    for (int32_t k = 0; k < m->nlarge; k++) {
+        const m2c_sim_body *o = &m->bodies[m->large[k]];
+        if (o != b && !(o->island == island && o->idx < b->idx))
+            predict_pair(m, b, o, now);
+    }
+    schedule_cell(m, b, now);
+}
+
+/* S's island wakes at t: every member (by index) gets its free
+ * acceleration back, then fresh predictions (a pair of members once). */
+static void handle_wake(sim *m, const m2c_sim_body *S, double t)
+{
+    m->stats.wakes++;
+    int32_t island = S->island;
+    emit_island(m, "E wake ", t, S->idx, -1, island);
+    int32_t n = m->s->nbodies;
+    for (int32_t k = 0; k < n; k++) {
+        m2c_sim_body *b = &m->bodies[k];
+        if (b->asleep && b->island == island) {
+            advance(b, t);
+            b->asleep = 0;
+            b->ax = b->fax;
+            b->ay = b->fay;
+            m->stamp[b->idx]++;
+            emit_state(m, b);
+        }
+    }
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            predict_woken(m, &m->bodies[k], t, island);
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            m->bodies[k].island = -1;
+}
+
 /* A collision that ends in support (called by handle_collision). */
 static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, const m2c_sim_body *B, double cx,
                            double cy, double nx, double ny, double vn)
@@ -1060,6 +1212,10 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
     report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
+    if (at_rest(m, A)) {
+        handle_sleep(m, A, B, ev->t);
+        return;
+    }
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1082,9 +1238,23 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
+    if (can_sleep(m, A, B, ev, nx, ny, vn)) {
+        handle_sleep(m, A, B, t);
+        return;
+    }
+    if (can_sleep(m, B, A, ev, nx, ny, vn)) {
+        handle_sleep(m, B, A, t);
+        return;
+    }
     m->stats.collisions++;
+    /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+     * on it); an impulse wakes its island, none leaves it asleep */
     double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
     if (imp != 0.0) {
+        if (A->asleep)
+            handle_wake(m, A, t);
+        if (B->asleep)
+            handle_wake(m, B, t);
         if (A->sup >= 0)
             end_support(A);
         if (B->sup >= 0)
@@ -1115,8 +1285,12 @@ static void handle_stop(sim *m, const m2c_sim_event *ev)
     A->vx = 0.0;
     A->vy = 0.0;
     slide_accel(m, A, 0.0);
-    m->stamp[A->idx]++;
     emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
+    if (at_rest(m, A)) {
+        handle_sleep(m, A, &m->bodies[A->sup], ev->t);
+        return;
+    }
+    m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
     predict_body(m, A, ev->t, NULL);
@@ -1292,6 +1466,24 @@ static void emit_input(sim *m, double t, const m2c_sim_body *body, int32_t k)
     m->out.n += (size_t)(p - start);
 }
 
+/* The islands of the sleepers whose bounding circles reach the removed
+ * body's (within the tolerance) wake: it may have held them (by index; a
+ * woken island's other members are awake already). */
+static void wake_touching(sim *m, const m2c_sim_body *body, double t)
+{
+    double tol = m->s->tol;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        const m2c_sim_body *o = &m->bodies[k];
+        if (o->asleep) {
+            double dx = o->px - body->px;
+            double dy = o->py - body->py;
+            double reach = o->bound + body->bound + tol;
+            if (dx * dx + dy * dy <= reach * reach)
+                handle_wake(m, o, t);
+        }
+    }
+}
+
 /* Input k removes the body (based at t): it stops where it is (v, a, w
  * zero), leaves the grid (or the large list), its stamp changes (its
  * queued events go stale) and it is never predicted again; bodies it
@@ -1327,6 +1519,7 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
         emit_state(m, A);
         predict_body(m, A, t, NULL);
     }
+    wake_touching(m, body, t);
 }
 
 /* Scripted or live input number k: its body's velocity set or added to,
@@ -1342,6 +1535,8 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
         char a[M2C_SIM_NUMBER_MAX + 1];
         die(m, "input %d: body %d was removed before t = %s", (int)k, (int)body->idx, fmt(a, t));
     }
+    if (body->asleep)
+        handle_wake(m, body, t);
     advance(body, t);
     if (in->mode == M2C_SIM_REMOVE) {
         remove_body(m, body, k, t);
