@@ -667,6 +667,17 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                 bound = origin + (double)i * size;
             }
             double c[3] = { p - bound, v, 0.5 * a };
+            if (c[0] == 0.0 && ulo == 0.0 && v * (double)dir > 0.0) {
+                /* exactly on the boundary now and moving across it: the
+                 * root finder reports no root at the interval's start */
+                if (!have || 0.0 < bu) {
+                    have = 1;
+                    bu = 0.0;
+                    baxis = axis;
+                    bdir = dir;
+                }
+                continue;
+            }
             double lo = ulo;
             for (int it = 0; it < 3; it++) {
                 double u;
@@ -908,6 +919,12 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
     if (q < ed->s1 || q > ed->s2)
         return 0;
+    /* at an end of the edge (within the tolerance) and moving past it: it
+     * is leaving (a support would end at once, again and again) */
+    double u = A->vx * tx + A->vy * ty;
+    double tol = m->s->tol;
+    if ((u > 0.0 && q >= ed->s2 - tol) || (u < 0.0 && q <= ed->s1 + tol))
+        return 0;
     if (A->polygon) {
         if (fabs(A->om) * A->bound >= rest)
             return 0;
@@ -1063,15 +1080,17 @@ static inline int grounded(const m2c_sim_body *G)
     return G->asleep || (G->fixed && is_static(G));
 }
 
-/* A supported body that stays where it is: no acceleration along its edge
- * (level, or static friction holds) and slower than rest_speed. */
+/* A supported body slower than rest_speed along its edge that static
+ * friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
+ * on a level frictionless edge at = 0): it stays where it is. */
 static int at_rest(const sim *m, const m2c_sim_body *A)
 {
-    if (A->ax != 0.0 || A->ay != 0.0)
-        return 0;
     double u = A->vx * A->tx + A->vy * A->ty;
     double rest = m->s->rest_speed;
-    return u * u < rest * rest;
+    if (!(u * u < rest * rest))
+        return 0;
+    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    return !(A->at > f) && !(A->at < -f);
 }
 
 /* Awake movable M, one body of the collision ev with grounded G (both
@@ -1106,6 +1125,39 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
                     ev->u.collision.j, -nx, -ny, load);
     }
     return 1;
+}
+
+/* The impulse of a contact of A and B, one of them (S) asleep: first with
+ * S held as if fixed (its 1/m and 1/I zero); when that impulse would change
+ * the normal speed of S's material point by less than rest_speed, it
+ * stands (S stays asleep, unchanged: a gentle touch); else the other
+ * body's velocity is restored and the full impulse is applied (S moves:
+ * jolted, its island wakes).  Returns the impulse applied. */
+static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                              double ny)
+{
+    m2c_sim_body *S = A->asleep ? A : B;
+    m2c_sim_body *M = A->asleep ? B : A;
+    double vx = M->vx, vy = M->vy, om = M->om;
+    double inv_m = S->inv_m, inv_i = S->inv_i;
+    S->inv_m = 0.0;
+    S->inv_i = 0.0;
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+    S->inv_m = inv_m;
+    S->inv_i = inv_i;
+    double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
+    if (imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed)
+        return imp;
+    M->vx = vx;
+    M->vy = vy;
+    M->om = om;
+    return contact_impulse(m, A, B, cx, cy, nx, ny);
+}
+
+/* A sleeper an impulse has set moving. */
+static inline int jolted(const m2c_sim_body *S)
+{
+    return S->vx != 0.0 || S->vy != 0.0 || S->om != 0.0;
 }
 
 /* An E line of a sleep or wake: body a, body b (-1 for a wake), island. */
@@ -1248,12 +1300,16 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     m->stats.collisions++;
     /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-     * on it); an impulse wakes its island, none leaves it asleep */
-    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+     * on it); a gentle touch leaves it asleep, a real impulse wakes its island */
+    double imp;
+    if (A->asleep || B->asleep)
+        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
+    else
+        imp = contact_impulse(m, A, B, cx, cy, nx, ny);
     if (imp != 0.0) {
-        if (A->asleep)
+        if (A->asleep && jolted(A))
             handle_wake(m, A, t);
-        if (B->asleep)
+        if (B->asleep && jolted(B))
             handle_wake(m, B, t);
         if (A->sup >= 0)
             end_support(A);
@@ -1262,18 +1318,22 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
+    /* a sleeper still asleep (zero impulse: the bodies graze, the other not
+     * pressed onto it) is unchanged; the other is predicted again without
+     * it (so the graze is not found again at once): only a later change of
+     * the other's motion predicts the pair again */
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
-        if (!both[k]->fixed) {
+        if (!both[k]->fixed && !both[k]->asleep) {
             m->stamp[both[k]->idx]++;
             emit_state(m, both[k]);
         }
     }
     fetch_next(m);
-    if (!A->fixed)
-        predict_body(m, A, t, NULL);
-    if (!B->fixed)
-        predict_body(m, B, t, !A->fixed ? A : NULL);
+    if (!A->fixed && !A->asleep)
+        predict_body(m, A, t, B->asleep ? B : NULL);
+    if (!B->fixed && !B->asleep)
+        predict_body(m, B, t, (!A->fixed || A->asleep) ? A : NULL);
 }
 
 /* Sliding stops: velocity exactly zero, then rest or slide back. */
