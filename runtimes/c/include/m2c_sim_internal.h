@@ -57,6 +57,8 @@ typedef struct m2c_sim_body {
     double load;            /* m/s^2: free acceleration pressing onto the support, > 0 */
     double at;              /* m/s^2: free acceleration along the tangent */
     unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
+    unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
+    int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -272,7 +274,8 @@ char *m2c_sim_put_int(char *p, long long v);
 
 /* The counters written as the trace's N lines (the reference's Stats). */
 typedef struct m2c_sim_stats {
-    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves;
+    long long collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves, sleeps,
+        wakes;
 } m2c_sim_stats;
 
 #define M2C_WORLD_ERROR_MAX 512

@@ -31,7 +31,8 @@ static const struct {
     { "horizons", offsetof(stats, horizons) },     { "stale", offsetof(stats, stale) },
     { "pairs", offsetof(stats, pairs) },           { "features", offsetof(stats, features) },
     { "supports", offsetof(stats, supports) },     { "stops", offsetof(stats, stops) },
-    { "leaves", offsetof(stats, leaves) },
+    { "leaves", offsetof(stats, leaves) },         { "sleeps", offsetof(stats, sleeps) },
+    { "wakes", offsetof(stats, wakes) },
 };
 
 /* The reference's SimError: the message, then back to the entry that
@@ -583,6 +584,8 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
     }
 }
 
+static inline int grounded(const m2c_sim_body *G);
+
 /* Schedules the first contact of A and B after now, or a horizon event
  * where the Taylor polynomials of their turns stop being good. */
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
@@ -590,6 +593,8 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     const m2c_sim_scene *s = m->s;
     if (A->sup == B->idx || B->sup == A->idx)
         return;     /* the support's edge line separates them (both convex): only leaving ends it */
+    if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
+        return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
     double w = s->end - now;
     if (!(w > 0.0))
@@ -662,6 +667,17 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                 bound = origin + (double)i * size;
             }
             double c[3] = { p - bound, v, 0.5 * a };
+            if (c[0] == 0.0 && ulo == 0.0 && v * (double)dir > 0.0) {
+                /* exactly on the boundary now and moving across it: the
+                 * root finder reports no root at the interval's start */
+                if (!have || 0.0 < bu) {
+                    have = 1;
+                    bu = 0.0;
+                    baxis = axis;
+                    bdir = dir;
+                }
+                continue;
+            }
             double lo = ulo;
             for (int it = 0; it < 3; it++) {
                 double u;
@@ -903,6 +919,12 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
     if (q < ed->s1 || q > ed->s2)
         return 0;
+    /* at an end of the edge (within the tolerance) and moving past it: it
+     * is leaving (a support would end at once, again and again) */
+    double u = A->vx * tx + A->vy * ty;
+    double tol = m->s->tol;
+    if ((u > 0.0 && q >= ed->s2 - tol) || (u < 0.0 && q <= ed->s1 + tol))
+        return 0;
     if (A->polygon) {
         if (fabs(A->om) * A->bound >= rest)
             return 0;
@@ -1050,6 +1072,188 @@ static void emit_support_change(sim *m, const char *kind, double t, const m2c_si
     m->out.n += (size_t)(p - start);
 }
 
+/* ---- sleeping islands ------------------------------------------------------------------------ */
+
+/* A body others can fall asleep on: asleep, or fixed and unmoving. */
+static inline int grounded(const m2c_sim_body *G)
+{
+    return G->asleep || (G->fixed && is_static(G));
+}
+
+/* A supported body slower than rest_speed along its edge that static
+ * friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
+ * on a level frictionless edge at = 0): it stays where it is. */
+static int at_rest(const sim *m, const m2c_sim_body *A)
+{
+    double u = A->vx * A->tx + A->vy * A->ty;
+    double rest = m->s->rest_speed;
+    if (!(u * u < rest * rest))
+        return 0;
+    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    return !(A->at > f) && !(A->at < -f);
+}
+
+/* Awake movable M, one body of the collision ev with grounded G (both
+ * advanced; (nx, ny) the contact's unit normal from a to b, vn its normal
+ * speed), falls asleep on G: M's free acceleration presses it onto G, the
+ * contact is slow, M's speed across the normal is below rest_speed, and a
+ * polygon M turns slowly and lies on a face (docs/simulator.md). */
+static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
+                     double ny, double vn)
+{
+    if (M->fixed || M->asleep || !grounded(G))
+        return 0;
+    double mx, my;
+    if (M->idx == ev->u.collision.a) {
+        mx = nx;
+        my = ny;
+    } else {
+        mx = -nx;
+        my = -ny;
+    }
+    double rest = m->s->rest_speed;
+    double load = M->fax * mx + M->fay * my;
+    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
+        return 0;
+    double ut = M->vy * mx - M->vx * my;
+    if (ut * ut >= rest * rest)
+        return 0;
+    if (M->polygon) {
+        if (fabs(M->om) * M->bound >= rest || ev->u.collision.feature != PE || ev->u.collision.i < 0)
+            return 0;
+        return flat(m, &m->bodies[ev->u.collision.a], &m->bodies[ev->u.collision.b], ev->u.collision.i,
+                    ev->u.collision.j, -nx, -ny, load);
+    }
+    return 1;
+}
+
+/* The impulse of a contact of A and B, one of them (S) asleep: first with
+ * S held as if fixed (its 1/m and 1/I zero); when that impulse would change
+ * the normal speed of S's material point by less than rest_speed, it
+ * stands (S stays asleep, unchanged: a gentle touch); else the other
+ * body's velocity is restored and the full impulse is applied (S moves:
+ * jolted, its island wakes).  Returns the impulse applied. */
+static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                              double ny)
+{
+    m2c_sim_body *S = A->asleep ? A : B;
+    m2c_sim_body *M = A->asleep ? B : A;
+    double vx = M->vx, vy = M->vy, om = M->om;
+    double inv_m = S->inv_m, inv_i = S->inv_i;
+    S->inv_m = 0.0;
+    S->inv_i = 0.0;
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+    S->inv_m = inv_m;
+    S->inv_i = inv_i;
+    double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
+    if (imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed)
+        return imp;
+    M->vx = vx;
+    M->vy = vy;
+    M->om = om;
+    return contact_impulse(m, A, B, cx, cy, nx, ny);
+}
+
+/* A sleeper an impulse has set moving. */
+static inline int jolted(const m2c_sim_body *S)
+{
+    return S->vx != 0.0 || S->vy != 0.0 || S->om != 0.0;
+}
+
+/* An E line of a sleep or wake: body a, body b (-1 for a wake), island. */
+static void emit_island(sim *m, const char *kind, double t, int32_t a, int32_t b, int32_t island)
+{
+    if (m->out.f == NULL)
+        return;
+    char *start = m2c_sim_out_reserve(&m->out), *p = start;
+    p = m2c_sim_put_str(p, kind);
+    p = m2c_sim_put_num(p, t);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, a);
+    *p++ = ' ';
+    p = m2c_sim_put_int(p, b);
+    p = m2c_sim_put_str(p, " -1 -1 ");
+    p = m2c_sim_put_int(p, island);
+    p = m2c_sim_put_str(p, " 0 0 0 0 0\n");
+    m->out.n += (size_t)(p - start);
+}
+
+/* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
+ * G's island, or in a new one numbered A's index when G is fixed.  Its
+ * awake neighbours are predicted against it again. */
+static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
+{
+    m->stats.sleeps++;
+    if (A->sup >= 0)
+        end_support(A);
+    A->vx = 0.0;
+    A->vy = 0.0;
+    A->om = 0.0;
+    A->ax = 0.0;
+    A->ay = 0.0;
+    A->asleep = 1;
+    A->island = G->asleep ? G->island : A->idx;
+    m->stamp[A->idx]++;
+    emit_island(m, "E sleep ", t, A->idx, G->idx, A->island);
+    emit_state(m, A);
+    predict_body(m, A, t, NULL);
+}
+
+/* predict_body for a member of a waking island: a pair of two members is
+ * predicted by the one with the smaller index. */
+static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t island)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
+    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            const int32_t *items = m2c_sim_cell_items(c);
+            for (int32_t k = 0; k < c->n; k++) {
+                const m2c_sim_body *o = &m->bodies[items[k]];
+                if (o == b)
+                    continue;
+                if (!(o->island == island && o->idx < b->idx) && !(b->fixed && o->fixed))
+                    predict_pair(m, b, o, now);
+            }
+        }
+    }
+    for (int32_t k = 0; k < m->nlarge; k++) {
+        const m2c_sim_body *o = &m->bodies[m->large[k]];
+        if (o != b && !(o->island == island && o->idx < b->idx))
+            predict_pair(m, b, o, now);
+    }
+    schedule_cell(m, b, now);
+}
+
+/* S's island wakes at t: every member (by index) gets its free
+ * acceleration back, then fresh predictions (a pair of members once). */
+static void handle_wake(sim *m, const m2c_sim_body *S, double t)
+{
+    m->stats.wakes++;
+    int32_t island = S->island;
+    emit_island(m, "E wake ", t, S->idx, -1, island);
+    int32_t n = m->s->nbodies;
+    for (int32_t k = 0; k < n; k++) {
+        m2c_sim_body *b = &m->bodies[k];
+        if (b->asleep && b->island == island) {
+            advance(b, t);
+            b->asleep = 0;
+            b->ax = b->fax;
+            b->ay = b->fay;
+            m->stamp[b->idx]++;
+            emit_state(m, b);
+        }
+    }
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            predict_woken(m, &m->bodies[k], t, island);
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            m->bodies[k].island = -1;
+}
+
 /* A collision that ends in support (called by handle_collision). */
 static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, const m2c_sim_body *B, double cx,
                            double cy, double nx, double ny, double vn)
@@ -1060,6 +1264,10 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
     report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
+    if (at_rest(m, A)) {
+        handle_sleep(m, A, B, ev->t);
+        return;
+    }
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
@@ -1082,9 +1290,27 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
+    if (can_sleep(m, A, B, ev, nx, ny, vn)) {
+        handle_sleep(m, A, B, t);
+        return;
+    }
+    if (can_sleep(m, B, A, ev, nx, ny, vn)) {
+        handle_sleep(m, B, A, t);
+        return;
+    }
     m->stats.collisions++;
-    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+    /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+     * on it); a gentle touch leaves it asleep, a real impulse wakes its island */
+    double imp;
+    if (A->asleep || B->asleep)
+        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
+    else
+        imp = contact_impulse(m, A, B, cx, cy, nx, ny);
     if (imp != 0.0) {
+        if (A->asleep && jolted(A))
+            handle_wake(m, A, t);
+        if (B->asleep && jolted(B))
+            handle_wake(m, B, t);
         if (A->sup >= 0)
             end_support(A);
         if (B->sup >= 0)
@@ -1092,18 +1318,22 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
+    /* a sleeper still asleep (zero impulse: the bodies graze, the other not
+     * pressed onto it) is unchanged; the other is predicted again without
+     * it (so the graze is not found again at once): only a later change of
+     * the other's motion predicts the pair again */
     m2c_sim_body *both[2] = { A, B };
     for (int k = 0; k < 2; k++) {
-        if (!both[k]->fixed) {
+        if (!both[k]->fixed && !both[k]->asleep) {
             m->stamp[both[k]->idx]++;
             emit_state(m, both[k]);
         }
     }
     fetch_next(m);
-    if (!A->fixed)
-        predict_body(m, A, t, NULL);
-    if (!B->fixed)
-        predict_body(m, B, t, !A->fixed ? A : NULL);
+    if (!A->fixed && !A->asleep)
+        predict_body(m, A, t, B->asleep ? B : NULL);
+    if (!B->fixed && !B->asleep)
+        predict_body(m, B, t, (!A->fixed || A->asleep) ? A : NULL);
 }
 
 /* Sliding stops: velocity exactly zero, then rest or slide back. */
@@ -1115,8 +1345,12 @@ static void handle_stop(sim *m, const m2c_sim_event *ev)
     A->vx = 0.0;
     A->vy = 0.0;
     slide_accel(m, A, 0.0);
-    m->stamp[A->idx]++;
     emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
+    if (at_rest(m, A)) {
+        handle_sleep(m, A, &m->bodies[A->sup], ev->t);
+        return;
+    }
+    m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
     predict_body(m, A, ev->t, NULL);
@@ -1292,6 +1526,24 @@ static void emit_input(sim *m, double t, const m2c_sim_body *body, int32_t k)
     m->out.n += (size_t)(p - start);
 }
 
+/* The islands of the sleepers whose bounding circles reach the removed
+ * body's (within the tolerance) wake: it may have held them (by index; a
+ * woken island's other members are awake already). */
+static void wake_touching(sim *m, const m2c_sim_body *body, double t)
+{
+    double tol = m->s->tol;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        const m2c_sim_body *o = &m->bodies[k];
+        if (o->asleep) {
+            double dx = o->px - body->px;
+            double dy = o->py - body->py;
+            double reach = o->bound + body->bound + tol;
+            if (dx * dx + dy * dy <= reach * reach)
+                handle_wake(m, o, t);
+        }
+    }
+}
+
 /* Input k removes the body (based at t): it stops where it is (v, a, w
  * zero), leaves the grid (or the large list), its stamp changes (its
  * queued events go stale) and it is never predicted again; bodies it
@@ -1327,6 +1579,7 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
         emit_state(m, A);
         predict_body(m, A, t, NULL);
     }
+    wake_touching(m, body, t);
 }
 
 /* Scripted or live input number k: its body's velocity set or added to,
@@ -1342,6 +1595,8 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
         char a[M2C_SIM_NUMBER_MAX + 1];
         die(m, "input %d: body %d was removed before t = %s", (int)k, (int)body->idx, fmt(a, t));
     }
+    if (body->asleep)
+        handle_wake(m, body, t);
     advance(body, t);
     if (in->mode == M2C_SIM_REMOVE) {
         remove_body(m, body, k, t);

@@ -163,6 +163,8 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **ve
     b->cx = b->cy = 0;
     b->slot = -1;
     b->gone = 0;
+    b->asleep = 0;
+    b->island = -1;
     b->verts = NULL;
     for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
         if (*n == *cap) {
