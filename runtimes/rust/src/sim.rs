@@ -9,12 +9,17 @@
 //! prediction goes through those entries and through the runtime's root
 //! solver [`smallest_root`](crate::roots::smallest_root).
 //!
+//! The simulator is a live [`World`] (docs/engine-api.md): made from a
+//! scene, driven by `advance(t)`, asked `next_event_time()` and
+//! `state(body, t)`; the batch simulator program is a thin user of it.
+//!
 //! One module per concept, as the C runtime's m2c_sim_*.c: `scene` (the
 //! flat scene), `queue` (event records and the priority queue), `grid`
 //! (broad phase), `motion`, `predict` (pairs, features, cell crossings),
 //! `contact` (contact frame and impulse), `world` (what a prediction reads
-//! and writes), `simulator` (one handler per event kind and the loop),
-//! `out` and `g17` (the trace and its numbers).
+//! and writes), `live` (the world's API), `simulator` (one handler per
+//! event kind and their dispatch), `out` and `g17` (the trace and its
+//! numbers).
 //!
 //! Operation order: each expression is written as Python evaluates it (left
 //! to right, the same parentheses); Python's `min(a, b)` is `b < a ? b : a`
@@ -34,6 +39,7 @@ use crate::roots::MAX_DEGREE;
 mod contact;
 mod g17;
 mod grid;
+mod live;
 mod motion;
 mod out;
 mod predict;
@@ -44,10 +50,9 @@ mod support;
 mod world;
 
 pub use g17::{g17, push_g17};
+pub use live::{BodyState, Contact, World};
+pub use out::SimError;
 pub use scene::{Body, CosSin, Input, Scene, Vertex};
-
-use out::{Out, Stop};
-use simulator::Simulator;
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
 pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
@@ -78,36 +83,99 @@ const PE: i32 = 1;
 /// Run a compiled scene (the flat text), writing the flat trace to `sink`.
 /// Returns the exit status: 0, or 1 after an `X message` line for a stuck
 /// or bad scene (the trace so far stays written, as the Python runtime's).
-pub fn simulate<E: Equations, W: Write>(scene_text: &str, sink: W) -> io::Result<i32> {
-    let mut out = Out::new(sink);
-    let res = match Scene::parse(scene_text) {
-        Ok(scene) => Simulator::<E, W>::new(scene, &mut out).run(),
-        Err(msg) => Err(Stop::Scene(msg)),
+pub fn simulate<E: Equations>(scene_text: &str, sink: Box<dyn Write>) -> io::Result<i32> {
+    let mut sink = Some(sink);
+    let res = match World::<E>::from_scene(scene_text, sink.take()) {
+        Ok(mut world) => world.run().map_err(|e| (Some(world), e)),
+        Err(e) => Err((None, e)),
     };
+    stop_status(res, sink)
+}
+
+/// 0 after a run, or 1 after the `X message` line of a stuck or bad scene
+/// (written to the world's trace, or to `sink` when no world was made).
+fn stop_status<E: Equations>(res: Result<(), (Option<World<E>>, SimError)>, sink: Option<Box<dyn Write>>) -> io::Result<i32> {
     match res {
-        Ok(()) => {
-            out.flush()?;
-            Ok(0)
-        }
-        Err(Stop::Scene(msg)) => {
-            out.message(&msg);
-            out.flush()?;
+        Ok(()) => Ok(0),
+        Err((_, SimError::Io(e))) => Err(e),
+        Err((Some(mut world), SimError::Msg(msg))) => match world.stop_trace(&msg) {
+            Err(SimError::Io(e)) => Err(e),
+            _ => Ok(1),
+        },
+        Err((None, SimError::Msg(msg))) => {
+            if let Some(mut sink) = sink {
+                writeln!(sink, "X {msg}")?;
+                sink.flush()?;
+            }
             Ok(1)
         }
-        Err(Stop::Io(e)) => Err(e),
     }
 }
 
+/// The scene through the live API in steps of dt: advance(k dt) for k = 1,
+/// 2, ... below the end, then finish(); after each advance, every body's
+/// `P T BODY PX PY VX VY ANGLE OMEGA` (state(body, T)) and `C T COUNT`
+/// (the contacts advance returned) on `probe` (the reference's `stepped`).
+pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut dyn Write, dt: f64) -> io::Result<i32> {
+    let mut sink = Some(sink);
+    let mut world = match World::<E>::from_scene(scene_text, sink.take()) {
+        Ok(world) => world,
+        Err(e) => return stop_status::<E>(Err((None, e)), sink),
+    };
+    let res = (|| -> Result<(), SimError> {
+        let end = world.end();
+        let mut k: i64 = 1;
+        while (k as f64) * dt < end {
+            let t = (k as f64) * dt;
+            let got = world.advance(t)?;
+            for b in 0..world.bodies() {
+                let s = world.state(b, t)?;
+                writeln!(
+                    probe,
+                    "P {} {b} {} {} {} {} {} {}",
+                    g17(t),
+                    g17(s.px),
+                    g17(s.py),
+                    g17(s.vx),
+                    g17(s.vy),
+                    g17(s.angle),
+                    g17(s.omega)
+                )?;
+            }
+            writeln!(probe, "C {} {}", g17(t), got.len())?;
+            k += 1;
+        }
+        world.finish()?;
+        Ok(())
+    })();
+    probe.flush()?;
+    stop_status(res.map_err(|e| (Some(world), e)), sink)
+}
+
 /// The simulator program: compiled scene on stdin, flat trace on stdout;
-/// returns the exit status.
+/// `--step DT` drives the live world in steps ([`stepped`], probe lines on
+/// stderr).  Returns the exit status.
 pub fn main<E: Equations>() -> i32 {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let step = match args.as_slice() {
+        [] => None,
+        [flag, dt] if flag == "--step" && dt.parse::<f64>().is_ok_and(|dt| dt > 0.0) => dt.parse::<f64>().ok(),
+        _ => {
+            eprintln!("usage: sim [--step DT] < scene");
+            return 2;
+        }
+    };
     let mut text = String::new();
     if let Err(e) = io::stdin().read_to_string(&mut text) {
         eprintln!("max2code simulator: cannot read the scene: {e}");
         return 2;
     }
-    let stdout = io::stdout();
-    match simulate::<E, _>(&text, stdout.lock()) {
+    let stdout = Box::new(io::stdout().lock());
+    let res = match step {
+        None => simulate::<E>(&text, stdout),
+        Some(dt) => stepped::<E>(&text, stdout, &mut io::stderr().lock(), dt),
+    };
+    match res {
         Ok(code) => code,
         Err(e) => {
             eprintln!("max2code simulator: cannot write the trace: {e}");

@@ -58,7 +58,7 @@ impl CosSin {
 /// A body's state at its own last update time `tb`, and its constants.
 /// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out so that a prediction
 /// reads the first two cache lines only.  (Its stamp, bumped when the
-/// motion changes, is in `World::stamps`.)
+/// motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {

@@ -1,44 +1,29 @@
-//! The simulator: the first predictions, one handler per event kind (the
-//! reference's `handle_input`, `handle_collision` (and `handle_support`),
+//! The handlers of the live world: one per event kind (the reference's
+//! `handle_input`, `handle_collision` (and `handle_support`),
 //! `handle_stop`, `handle_leave`, `handle_cell`, `handle_horizon`,
-//! `handle_frame`), the loop that dispatches over them, and the end of the
-//! trace.
-
-use std::io::Write;
-use std::marker::PhantomData;
+//! `handle_frame`), the dispatch over them, the first predictions and the
+//! end of the trace.
 
 use super::contact::{apply_impulse, contact_frame, normal_speed, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
-use super::motion::advance;
-use super::out::{Out, Res, Stop};
+use super::live::{Contact, World};
+use super::motion::rebase;
+use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
-use super::scene::Scene;
 use super::support::{can_support, end_support, enter_support, slide_accel};
-use super::world::{Queue, World};
 use super::Equations;
 
-pub struct Simulator<'o, E: Equations, W: Write> {
-    w: World,
-    q: Queue,
-    out: &'o mut Out<W>,
-    eq: PhantomData<E>,
-}
-
-impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
-    pub fn new(scene: Scene, out: &'o mut Out<W>) -> Self {
-        Simulator { w: World::new(scene), q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS), out, eq: PhantomData }
-    }
-
+impl<E: Equations> World<E> {
     // ---- event handlers: one per kind -------------------------------------
 
     fn handle_collision(&mut self, t: f64, a: u32, b: u32, feature: i32, i: i32, j: i32) -> Res<()> {
         let (ai, bi) = (a as usize, b as usize);
         {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
-            advance(a_, t);
-            advance(b_, t);
+            rebase(a_, t);
+            rebase(b_, t);
         }
         let (cx, cy, nx, ny, vn, support) = {
             let s = &self.w.s;
@@ -66,6 +51,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
                 }
             }
             self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
             a_fixed = a_.fixed;
             b_fixed = b_.fixed;
             for body in [a_, b_] {
@@ -96,6 +82,8 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
             let imp = -vn / a_.inv_m;
             enter_support(&w.s.verts, a_, b_, j);
             self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
+            let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
+            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
             w.stamps[ai] += 1;
             self.out.state(a_)?;
         }
@@ -109,7 +97,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         let bodies = &mut self.w.s.bodies;
         let mu_sup = bodies[bodies[ai].sup as usize].mu;
         let a_ = &mut bodies[ai];
-        advance(a_, t);
+        rebase(a_, t);
         a_.vx = 0.0;
         a_.vy = 0.0;
         slide_accel(a_, mu_sup, 0.0);
@@ -124,7 +112,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         self.q.stats.leaves += 1;
         let ai = body as usize;
         let a_ = &mut self.w.s.bodies[ai];
-        advance(a_, t);
+        rebase(a_, t);
         let (sup, edge) = (a_.sup, a_.sup_edge);
         end_support(a_);
         self.w.stamps[ai] += 1;
@@ -138,7 +126,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         let inp = self.w.s.inputs[k as usize];
         let a = inp.body as usize;
         let body = &mut self.w.s.bodies[a];
-        advance(body, t);
+        rebase(body, t);
         if body.sup >= 0 {
             end_support(body);
         }
@@ -202,7 +190,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
     // ---- the run ------------------------------------------------------------
 
     /// Cells, inputs, the first frame and every pair's first prediction.
-    fn start(&mut self) -> Res<()> {
+    pub(super) fn start(&mut self) -> Res<()> {
         let (w, q) = (&mut self.w, &mut self.q);
         let n = w.s.bodies.len();
         for b in 0..n {
@@ -238,11 +226,13 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         Ok(())
     }
 
-    /// Every body at the end time, the counters and the variants served.
-    fn finish(&mut self) -> Res<()> {
+    /// Every body at the end time, the counters and the variants served
+    /// (the trace's F, N and V lines; the reference's `finish` after its
+    /// last events).
+    pub(super) fn write_final(&mut self) -> Res<()> {
         let end = self.w.s.end;
         for b in self.w.s.bodies.iter_mut() {
-            advance(b, end);
+            rebase(b, end);
         }
         for b in &self.w.s.bodies {
             self.out.final_state(b)?;
@@ -259,39 +249,44 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         Ok(())
     }
 
-    pub fn run(&mut self) -> Res<()> {
-        self.start()?;
-        let mut last_t = -1.0;
-        let mut same: i64 = 0;
-        while let Some(e) = self.q.heap.pop() {
-            let t = e.t;
-            if t > self.w.s.end {
-                break;
-            }
-            if self.w.is_stale(&e.ev) {
-                self.q.stats.stale += 1;
-                continue;
-            }
-            if t == last_t {
-                same += 1;
-                if same > self.w.s.max_same {
-                    let msg = format!("more than {} events at t = {}: the scene is stuck", self.w.s.max_same, g17(t));
-                    return Err(Stop::Scene(msg));
-                }
-            } else {
-                last_t = t;
-                same = 0;
-            }
-            match e.ev {
-                Event::Input { k } => self.handle_input(t, k)?,
-                Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j)?,
-                Event::Stop { body, .. } => self.handle_stop(t, body)?,
-                Event::Leave { body, .. } => self.handle_leave(t, body)?,
-                Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction)?,
-                Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b)?,
-                Event::Frame { k } => self.handle_frame(t, k)?,
-            }
+    /// Handle one event taken from the queue: drop it when stale, count the
+    /// events at one instant (max_same_time), call its kind's handler.
+    fn dispatch(&mut self, t: f64, ev: Event) -> Res<()> {
+        if self.w.is_stale(&ev) {
+            self.q.stats.stale += 1;
+            return Ok(());
         }
-        self.finish()
+        if t == self.last_t {
+            self.same += 1;
+            if self.same > self.w.s.max_same {
+                let msg = format!("more than {} events at t = {}: the scene is stuck", self.w.s.max_same, g17(t));
+                return Err(SimError::Msg(msg));
+            }
+        } else {
+            self.last_t = t;
+            self.same = 0;
+        }
+        match ev {
+            Event::Input { k } => self.handle_input(t, k),
+            Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j),
+            Event::Stop { body, .. } => self.handle_stop(t, body),
+            Event::Leave { body, .. } => self.handle_leave(t, body),
+            Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction),
+            Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b),
+            Event::Frame { k } => self.handle_frame(t, k),
+        }
+    }
+
+    /// Handle every queued event before t (inclusive: at t too), in
+    /// (t, kind, seq) order, events that handling schedules included.
+    pub(super) fn process(&mut self, t: f64, inclusive: bool) -> Res<()> {
+        while let Some(top) = self.q.heap.peek() {
+            if top.t > t || (top.t == t && !inclusive) {
+                return Ok(());
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            self.dispatch(e.t, e.ev)?;
+        }
+        Ok(())
     }
 }

@@ -45,18 +45,18 @@ impl Stats {
 }
 
 /// The scene, the bodies' states, the grid.
-pub struct World {
+pub struct Space {
     pub s: Scene,
     /// per body, bumped whenever its motion changes (lazy invalidation)
     pub stamps: Vec<u64>,
     pub grid: Grid,
 }
 
-impl World {
-    pub fn new(s: Scene) -> World {
+impl Space {
+    pub fn new(s: Scene) -> Space {
         let stamps = vec![0; s.bodies.len()];
         let grid = Grid::new(&s);
-        World { s, stamps, grid }
+        Space { s, stamps, grid }
     }
 
     /// An event whose bodies' motion changed since it was scheduled.
@@ -91,19 +91,19 @@ impl Queue {
 
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn push_collision(&mut self, w: &World, t: f64, feature: i32, a: &Body, b: &Body, i: i32, j: i32) {
+    pub fn push_collision(&mut self, w: &Space, t: f64, feature: i32, a: &Body, b: &Body, i: i32, j: i32) {
         let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
         self.heap.push(t, Event::Collision { a: a.idx, b: b.idx, feature, i, j, stamp_a, stamp_b });
     }
 
     #[inline]
-    pub fn push_horizon(&mut self, w: &World, t: f64, a: &Body, b: &Body) {
+    pub fn push_horizon(&mut self, w: &Space, t: f64, a: &Body, b: &Body) {
         let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
         self.heap.push(t, Event::Horizon { a: a.idx, b: b.idx, stamp_a, stamp_b });
     }
 
     #[inline]
-    pub fn push_cell(&mut self, w: &World, t: f64, b: &Body, axis: i32, direction: i32) {
+    pub fn push_cell(&mut self, w: &Space, t: f64, b: &Body, axis: i32, direction: i32) {
         self.heap.push(t, Event::Cell { body: b.idx, axis, direction, stamp: w.stamps[b.index()] });
     }
 }

@@ -1,0 +1,207 @@
+//! The live world (docs/engine-api.md): a scene made into a world that a
+//! caller drives with `advance(t)`, asks `next_event_time()` and
+//! `state(body, t)`; the batch simulator is `advance(end)` + `finish()`.
+//! The reference is `World` in runtimes/python/max2code_rt/sim.py.
+
+use std::io::Write;
+use std::marker::PhantomData;
+
+use super::g17::g17;
+use super::motion::state_at;
+use super::out::{Out, SimError};
+use super::scene::{Body, Scene};
+use super::world::{Queue, Space};
+use super::Equations;
+
+/// A collision or support as `advance` reports it: the fields of the
+/// trace's `E collision` / `E support` line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// s
+    pub t: f64,
+    /// the bodies (scene indices)
+    pub a: usize,
+    pub b: usize,
+    /// 0: circle-circle (or circle-vertex), 1: point-edge
+    pub feature: i32,
+    /// a's vertex (-1: its circle), b's vertex or edge (-1: its circle)
+    pub i: i32,
+    pub j: i32,
+    /// m: the contact point
+    pub px: f64,
+    pub py: f64,
+    /// the unit normal from a to b
+    pub nx: f64,
+    pub ny: f64,
+    /// kg m/s, >= 0
+    pub impulse: f64,
+    /// true: the contact ended in support (`E support`), else a collision
+    pub support: bool,
+}
+
+/// A body's exact state at one time (`World::state`).  Units: m, m/s, rad, rad/s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState {
+    pub px: f64,
+    pub py: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub angle: f64,
+    pub omega: f64,
+}
+
+/// A live world over the generated equations `E` (see [`sim_main!`](crate::sim_main)).
+pub struct World<E: Equations> {
+    /// the scene, the bodies' states and stamps, the grid
+    pub(super) w: Space,
+    /// the events and the counters
+    pub(super) q: Queue,
+    pub(super) out: Out,
+    /// s: the world's current time
+    time: f64,
+    /// the instant of the last event handled, and how many came at it
+    pub(super) last_t: f64,
+    pub(super) same: i64,
+    /// the contacts the next `advance` reports
+    pub(super) contacts: Vec<Contact>,
+    eq: PhantomData<E>,
+}
+
+impl<E: Equations> World<E> {
+    /// A world from a compiled scene (the flat text of docs/simulator.md),
+    /// writing its flat trace to `trace` (None: no trace); every pair's
+    /// first prediction is made.
+    pub fn from_scene(text: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
+        let scene = Scene::parse(text).map_err(SimError::Msg)?;
+        let mut world = World {
+            w: Space::new(scene),
+            q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS),
+            out: Out::new(trace),
+            time: 0.0,
+            last_t: -1.0,
+            same: 0,
+            contacts: Vec::new(),
+            eq: PhantomData,
+        };
+        world.start()?;
+        Ok(world)
+    }
+
+    /// A world from a compiled scene file.
+    pub fn from_file(path: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::Msg(format!("{path}: {e}")))?;
+        World::from_scene(&text, trace)
+    }
+
+    /// s: the world's current time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// s: the scene's end time.
+    pub fn end(&self) -> f64 {
+        self.w.s.end
+    }
+
+    /// Number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.w.s.bodies.len()
+    }
+
+    /// Handle every event at a time before t, move the world's time to t
+    /// and return the contacts handled since the last call.  Events at
+    /// exactly t stay queued: an input made at t comes before them, as a
+    /// scripted input at t does.  No body is re-based but by its events.
+    pub fn advance(&mut self, t: f64) -> Result<Vec<Contact>, SimError> {
+        if !(t >= self.time && t <= self.w.s.end) {
+            return Err(SimError::Msg(format!(
+                "advance: t = {} is outside [{}, {}] (the world's time .. the scene's end)",
+                g17(t),
+                g17(self.time),
+                g17(self.w.s.end)
+            )));
+        }
+        self.process(t, false)?;
+        self.time = t;
+        Ok(self.take_contacts())
+    }
+
+    fn take_contacts(&mut self) -> Vec<Contact> {
+        std::mem::take(&mut self.contacts)
+    }
+
+    /// The time of the next event that is not stale (stale ones at the top
+    /// of the queue are dropped and counted as the run would); infinity
+    /// when none comes before the end.
+    pub fn next_event_time(&mut self) -> f64 {
+        let end = self.w.s.end;
+        while let Some(top) = self.q.heap.peek() {
+            if top.t > end {
+                break;
+            }
+            if !self.w.is_stale(&top.ev) {
+                return top.t;
+            }
+            self.q.heap.pop();
+            self.q.stats.stale += 1;
+        }
+        f64::INFINITY
+    }
+
+    /// The exact state of a body at t, for t from the world's time to the
+    /// next event's.
+    pub fn state(&mut self, body: usize, t: f64) -> Result<BodyState, SimError> {
+        self.body(body)?;
+        let nxt = self.next_event_time();
+        if !(t >= self.time && t <= nxt && t <= self.w.s.end) {
+            return Err(SimError::Msg(format!(
+                "state: t = {} is outside [{}, {}] (the world's time .. the next event)",
+                g17(t),
+                g17(self.time),
+                g17(nxt)
+            )));
+        }
+        let b = &self.w.s.bodies[body];
+        let (px, py, vx, vy, angle) = state_at(b, t);
+        Ok(BodyState { px, py, vx, vy, angle, omega: b.om })
+    }
+
+    fn body(&self, k: usize) -> Result<&Body, SimError> {
+        let n = self.w.s.bodies.len();
+        if k >= n {
+            return Err(SimError::Msg(format!("no body {k} (the world has {n})")));
+        }
+        Ok(&self.w.s.bodies[k])
+    }
+
+    /// Handle the events at the end time, then write every body at the end,
+    /// the counters and the variants served; returns the contacts handled
+    /// since the last advance.  The trace is flushed.
+    pub fn finish(&mut self) -> Result<Vec<Contact>, SimError> {
+        let end = self.w.s.end;
+        self.process(end, true)?;
+        self.time = end;
+        self.write_final()?;
+        self.out.flush()?;
+        Ok(self.take_contacts())
+    }
+
+    /// The batch simulator: every event to the end, then the final lines.
+    pub fn run(&mut self) -> Result<(), SimError> {
+        self.advance(self.w.s.end)?;
+        self.finish()?;
+        Ok(())
+    }
+
+    /// Write what the trace holds so far to its sink.
+    pub fn flush(&mut self) -> Result<(), SimError> {
+        Ok(self.out.flush()?)
+    }
+
+    /// End the trace with `X message` (a run stopped on a stuck or bad
+    /// scene) and flush it.
+    pub fn stop_trace(&mut self, msg: &str) -> Result<(), SimError> {
+        self.out.message(msg);
+        self.flush()
+    }
+}
