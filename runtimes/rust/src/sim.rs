@@ -184,13 +184,14 @@ pub fn main<E: Equations>() -> i32 {
     }
 }
 
-/// The `main` of a simulator binary: `sim_main!(circle_circle, point_edge)`
-/// with the two generated modules (equations/circle-circle.mxm and
-/// equations/point-edge.mxm) in scope implements [`Equations`] with their
-/// entries and runs [`main`].
+/// `sim_equations!(circle_circle, point_edge)`, with the two generated
+/// modules (equations/circle-circle.mxm and equations/point-edge.mxm) in
+/// scope, defines `struct GeneratedEquations` implementing [`Equations`]
+/// with their entries: the type parameter of a [`World`].
 #[macro_export]
-macro_rules! sim_main {
+macro_rules! sim_equations {
     ($cc:ident, $pe:ident) => {
+        /// The generated entries of this program's contact equations.
         struct GeneratedEquations;
 
         impl $crate::sim::Equations for GeneratedEquations {
@@ -228,6 +229,16 @@ macro_rules! sim_main {
                 Some(degree)
             }
         }
+    };
+}
+
+/// The `main` of a simulator binary: `sim_main!(circle_circle, point_edge)`
+/// with the two generated modules in scope defines their
+/// [`sim_equations!`](crate::sim_equations) and runs [`main`].
+#[macro_export]
+macro_rules! sim_main {
+    ($cc:ident, $pe:ident) => {
+        $crate::sim_equations!($cc, $pe);
 
         fn main() {
             ::std::process::exit($crate::sim::main::<GeneratedEquations>());
