@@ -34,6 +34,7 @@ class SimBuild:
     workdir: str
     run_cmd: list[str]
     variant_names: dict[str, list[str]]     # equation -> variant names in the index order of NAME_variant
+    generated: dict[str, str] = field(default_factory=dict)     # equation -> the generated source file
 
 
 @dataclass
@@ -80,7 +81,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         if inputs_stamp.read_text() == key.hexdigest() and stamp.exists():
             saved = json.loads(names_file.read_text(encoding="utf-8"))
             if all(os.path.exists(g) for g in saved["generated"].values()):
-                return SimBuild(lang, str(workdir), saved["run"], saved["names"])
+                return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
     except (OSError, ValueError, KeyError, TypeError):
         pass
     # the generator is imported only when something must be generated (it is most of the start-up)
@@ -118,7 +119,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     run = tgt.sim_run(str(workdir), generated)
     names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
     inputs_stamp.write_text(key.hexdigest())
-    return SimBuild(lang, str(workdir), run, names)
+    return SimBuild(lang, str(workdir), run, names, generated)
 
 
 def _num(w: str) -> str:

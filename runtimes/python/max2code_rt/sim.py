@@ -237,8 +237,36 @@ class Scene:
         word("end")
 
 
-class Simulator:
-    def __init__(self, scene: Scene, cc, pe, out):
+class Contact:
+    """A collision or support as advance() reports it: the fields of the
+    trace's E collision / E support line (docs/engine-api.md)."""
+    __slots__ = ("t", "a", "b", "feature", "i", "j", "px", "py", "nx", "ny", "impulse", "support")
+    # support: True when the contact ended in support (E support), else a collision
+
+    def __init__(self, t, a, b, feature, i, j, px, py, nx, ny, impulse, support):
+        self.t, self.a, self.b, self.feature, self.i, self.j = t, a, b, feature, i, j
+        self.px, self.py, self.nx, self.ny, self.impulse, self.support = px, py, nx, ny, impulse, support
+
+    def __repr__(self):
+        return (f"Contact(t={self.t!r}, a={self.a}, b={self.b}, feature={self.feature}, i={self.i}, j={self.j}, "
+                f"p=({self.px!r}, {self.py!r}), n=({self.nx!r}, {self.ny!r}), impulse={self.impulse!r}, "
+                f"support={self.support})")
+
+
+class NoTrace:
+    """The trace sink of a world without a trace."""
+
+    @staticmethod
+    def write(text: str) -> None:
+        pass
+
+
+class World:
+    """A live world (docs/engine-api.md): made from a flat scene, driven by
+    advance(t); the batch simulator is run() = advance(end) + finish()."""
+
+    def __init__(self, scene_text: str, cc, pe, out=None):
+        scene = Scene(scene_text)
         self.s = scene
         self.cc_coef = cc.circle_circle_coefficients
         self.cc_var = cc.circle_circle_variant
@@ -246,16 +274,29 @@ class Simulator:
         self.pe_var = pe.point_edge_variant
         self.cc_counts = [0] * len(cc.CIRCLE_CIRCLE_VARIANT_NAMES)
         self.pe_counts = [0] * len(pe.POINT_EDGE_VARIANT_NAMES)
-        self.out = out
+        self.out = NoTrace if out is None else out
         self.heap: list = []
         self.seq = 0
         self.stats = Stats()
         self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
         self.large: list[Body] = [b for b in scene.bodies if b.large]
+        self.time = 0.0             # s: the world's current time
+        self.last_t = -1.0          # the instant of the last event handled, and how many came at it
+        self.same = 0
+        self.contacts: list[Contact] = []    # reported by the next advance()
+        self.handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
+                         self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
+        self.start()
+
+    @classmethod
+    def from_file(cls, path: str, cc, pe, out=None) -> "World":
+        with open(path, encoding="ascii") as fh:
+            return cls(fh.read(), cc, pe, out)
 
     # ---- motion -----------------------------------------------------------
     @staticmethod
-    def advance(b: Body, t: float) -> None:
+    def rebase(b: Body, t: float) -> None:
+        """Carry b's state to time t (only events do this: re-basing rounds)."""
         dt = t - b.tb
         b.px = b.px + (b.vx + 0.5 * b.ax * dt) * dt
         b.py = b.py + (b.vy + 0.5 * b.ay * dt) * dt
@@ -781,8 +822,8 @@ class Simulator:
         t = ev.t
         A = self.s.bodies[ev.a]
         B = self.s.bodies[ev.b]
-        self.advance(A, t)
-        self.advance(B, t)
+        self.rebase(A, t)
+        self.rebase(B, t)
         cx, cy, nx, ny = self.contact_frame(t, ev.feature, A, B, ev.i, ev.j)
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
         if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
@@ -797,6 +838,7 @@ class Simulator:
                 self.end_support(B)
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        self.contacts.append(Contact(t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, False))
         for b in (A, B):
             if not b.fixed:
                 b.stamp += 1
@@ -814,6 +856,7 @@ class Simulator:
         self.enter_support(A, B, ev.j)
         self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
+        self.contacts.append(Contact(ev.t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, True))
         A.stamp += 1
         self.emit_state(A)
         self.predict_body(A, ev.t, None)
@@ -822,7 +865,7 @@ class Simulator:
         """Sliding stops: velocity exactly zero, then rest or slide back."""
         self.stats.stops += 1
         A = self.s.bodies[ev.body]
-        self.advance(A, ev.t)
+        self.rebase(A, ev.t)
         A.vx = 0.0
         A.vy = 0.0
         self.slide_accel(A, 0.0)
@@ -835,7 +878,7 @@ class Simulator:
         """The support's edge ends under the body: free motion again."""
         self.stats.leaves += 1
         A = self.s.bodies[ev.body]
-        self.advance(A, ev.t)
+        self.rebase(A, ev.t)
         sup, edge = A.sup, A.sup_edge
         self.end_support(A)
         A.stamp += 1
@@ -848,7 +891,7 @@ class Simulator:
         t = ev.t
         inp = self.s.inputs[ev.k]
         body = self.s.bodies[inp.body]
-        self.advance(body, t)
+        self.rebase(body, t)
         if body.sup >= 0:
             self.end_support(body)
         if inp.mode == 0:
@@ -916,11 +959,88 @@ class Simulator:
                     self.predict_pair(b, o, 0.0)
             self.schedule_cell(b, 0.0)
 
-    def finish(self) -> None:
-        """Every body at the end time, the counters and the variants served."""
+    def dispatch(self, ev) -> None:
+        """Handle one event popped from the queue: drop it when stale, count
+        the events at one instant (max_same_time), call its kind's handler."""
+        if self.is_stale(ev):
+            self.stats.stale += 1
+            return
+        if ev.t == self.last_t:
+            self.same += 1
+            if self.same > self.s.max_same:
+                raise SimError(f"more than {self.s.max_same} events at t = {_fmt(ev.t)}: the scene is stuck")
+        else:
+            self.last_t, self.same = ev.t, 0
+        self.handlers[ev.kind](ev)
+
+    def process(self, t: float, inclusive: bool) -> None:
+        """Handle every queued event before t (inclusive: at t too), in
+        (t, kind, seq) order, events that handling schedules included."""
+        heap = self.heap
+        while heap:
+            top = heap[0][0]
+            if top > t or (top == t and not inclusive):
+                return
+            self.dispatch(heapq.heappop(heap)[3])
+
+    # ---- the live API (docs/engine-api.md) ------------------------------------
+    def advance(self, t: float) -> list[Contact]:
+        """Handle every event at a time before t, move the world's time to t
+        and return the contacts handled since the last call.  Events at
+        exactly t stay queued: an input made at t comes before them, as a
+        scripted input at t does.  No body is re-based but by its events."""
+        if not (t >= self.time and t <= self.s.end):
+            raise SimError(f"advance: t = {_fmt(t)} is outside [{_fmt(self.time)}, {_fmt(self.s.end)}] "
+                           f"(the world's time .. the scene's end)")
+        self.process(t, False)
+        self.time = t
+        return self.take_contacts()
+
+    def take_contacts(self) -> list[Contact]:
+        got = self.contacts
+        self.contacts = []
+        return got
+
+    def next_event_time(self) -> float:
+        """The time of the next event that is not stale (stale ones at the
+        top of the queue are dropped and counted as the run would); inf when
+        none comes before the end."""
+        heap = self.heap
+        while heap:
+            top = heap[0]
+            if top[0] > self.s.end:
+                break
+            if not self.is_stale(top[3]):
+                return top[0]
+            heapq.heappop(heap)
+            self.stats.stale += 1
+        return math.inf
+
+    def state(self, body: int, t: float) -> tuple[float, float, float, float, float, float]:
+        """(px, py, vx, vy, angle, omega) of a body at t, exact, for t from
+        the world's time to the next event's."""
+        b = self.body(body)
+        nxt = self.next_event_time()
+        if not (t >= self.time and t <= nxt and t <= self.s.end):
+            raise SimError(f"state: t = {_fmt(t)} is outside [{_fmt(self.time)}, {_fmt(nxt)}] "
+                           f"(the world's time .. the next event)")
+        px, py, vx, vy, ang = self.state_at(b, t)
+        return px, py, vx, vy, ang, b.om
+
+    def body(self, k: int) -> Body:
+        if not (0 <= k < len(self.s.bodies)):
+            raise SimError(f"no body {k} (the world has {len(self.s.bodies)})")
+        return self.s.bodies[k]
+
+    def finish(self) -> list[Contact]:
+        """Handle the events at the end time, then write every body at the
+        end, the counters and the variants served; returns the contacts
+        handled since the last advance."""
         s = self.s
+        self.process(s.end, True)
+        self.time = s.end
         for b in s.bodies:
-            self.advance(b, s.end)
+            self.rebase(b, s.end)
         for b in s.bodies:
             self.out.write(f"F {b.idx} {_fmt(b.px)} {_fmt(b.py)} {_fmt(b.vx)} {_fmt(b.vy)} "
                            f"{_fmt(b.ang)} {_fmt(b.om)}\n")
@@ -930,32 +1050,14 @@ class Simulator:
             self.out.write(f"V circle_circle {k} {c}\n")
         for k, c in enumerate(self.pe_counts):
             self.out.write(f"V point_edge {k} {c}\n")
+        return self.take_contacts()
 
     def run(self) -> None:
-        s = self.s
-        self.start()
-        handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
-                    self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
-        last_t = -1.0
-        same = 0
-        heap = self.heap
-        while heap:
-            ev = heapq.heappop(heap)[3]
-            if ev.t > s.end:
-                break
-            if self.is_stale(ev):
-                self.stats.stale += 1
-                continue
-            if ev.t == last_t:
-                same += 1
-                if same > s.max_same:
-                    raise SimError(f"more than {s.max_same} events at t = {_fmt(ev.t)}: the scene is stuck")
-            else:
-                last_t, same = ev.t, 0
-            handlers[ev.kind](ev)
+        """The batch simulator: every event to the end, then the final lines."""
+        self.advance(self.s.end)
         self.finish()
 
 
 def simulate(scene_text: str, cc, pe, out) -> None:
     """Run a compiled scene; raises SimError with a message on a stuck or bad scene."""
-    Simulator(Scene(scene_text), cc, pe, out).run()
+    World(scene_text, cc, pe, out).run()

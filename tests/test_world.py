@@ -1,0 +1,141 @@
+"""The live world API (docs/engine-api.md, issue 14): driven in small steps
+it handles the same events as one advance to the end and writes the batch
+simulator's bytes; state(body, t) is the replayed exact motion.
+
+Tests that run a runtime's simulator are parametrised by runtime: each
+runtime's `sim --step DT` drives its own world (docs/engine-api.md,
+"Checking a port").  Runtimes whose port of a REF: step has not been merged
+yet are marked xfail(strict): they show as xfailed until the port lands, and
+then fail as XPASS until the mark is removed."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+
+import pytest
+
+from max2code.sim.live import python_world
+from max2code.sim.replay import read_trace
+from max2code.sim.scene import compile_scene, load_scene, parse_scene
+from max2code.sim.simulate import LANGS, build_simulator, run_scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EX = os.path.join(ROOT, "examples")
+
+# REF: step -> the runtimes that have ported it (python is the reference)
+PORTED = {"world": {"python"}}
+
+
+def runtimes(step: str):
+    return [lang if lang in PORTED[step] else
+            pytest.param(lang, marks=pytest.mark.xfail(strict=True, reason=f"{lang} port of REF step "
+                                                                            f"'{step}' not merged yet"))
+            for lang in LANGS]
+
+
+def stepped(scene, lang: str, dt: float):
+    """(trace, probe lines) of the runtime's world driven in steps of dt."""
+    build = build_simulator(lang, scene.effects, scene.taylor_order)
+    proc = subprocess.run(build.run_cmd + ["--step", repr(dt)], input=compile_scene(scene), capture_output=True,
+                          text=True, cwd=build.workdir, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-500:] + proc.stderr[-2000:]
+    return proc.stdout, proc.stderr.splitlines()
+
+
+STEP_SCENES = ["newtons-cradle.json", "platformer.json", "resting-ball.json", "spinning-polygons.json"]
+
+
+@pytest.mark.parametrize("name", STEP_SCENES, ids=lambda n: n[:-5])
+@pytest.mark.parametrize("lang", runtimes("world"))
+def test_small_steps_write_the_batch_bytes_and_states_are_the_replay(lang, name):
+    """Steps of 0.0123 s (not a multiple of the frame time): the trace is the
+    batch run's byte for byte, and every state(body, t) at a step equals the
+    replay of the batch trace bit for bit (max2code/sim/replay.py)."""
+    scene = load_scene(os.path.join(EX, name))
+    batch = run_scene(scene, lang)
+    trace, probe = stepped(scene, lang, 0.0123)
+    assert trace == batch.raw
+    rp = read_trace("\n".join(batch.lines()), scene)
+    steps = [line for line in probe if line.startswith("P ")]
+    counts = [int(line.split()[2]) for line in probe if line.startswith("C ")]
+    n = len(scene.bodies)
+    assert len(counts) == math.ceil(scene.end_time / 0.0123) - 1 and len(steps) == n * len(counts)
+    # the contacts advance reported: every collision and support before the last step
+    last = float(probe[-1].split()[1])
+    assert sum(counts) == sum(1 for e in batch.events if e["kind"] in ("collision", "support") and e["t"] < last)
+    for line in steps:
+        w = line.split()
+        t, k = float(w[1]), int(w[2])
+        got = tuple(float(x) for x in w[3:9])
+        s = rp.state_at(k, t)
+        assert got == (s.px, s.py, s.vx, s.vy, s.angle, s.omega), (line, s)
+
+
+# ---- the Python API itself -------------------------------------------------
+
+@pytest.fixture(scope="module")
+def cradle():
+    return load_scene(os.path.join(EX, "newtons-cradle.json"))
+
+
+def _trace(scene, steps):
+    """(flat trace, contacts as tuples) of the Python world advanced to each time in steps, then finished."""
+    import io
+    out = io.StringIO()
+    w = python_world(scene, out)
+    got = []
+    for t in steps:
+        got += w.advance(t)
+    got += w.finish()
+    return out.getvalue(), [(c.t, c.a, c.b, c.feature, c.i, c.j, c.px, c.py, c.nx, c.ny, c.impulse, c.support)
+                            for c in got]
+
+
+def test_many_small_advances_equal_one(cradle):
+    """Irregular steps (some repeated, some landing exactly on event times)
+    give the same contacts and bytes as one advance to the end."""
+    one, c1 = _trace(cradle, [cradle.end_time])
+    times = sorted({c[0] for c in c1})
+    steps = sorted(set([k * 0.037 for k in range(1, 80) if k * 0.037 < cradle.end_time] + times[::3]))
+    many, c2 = _trace(cradle, [t for t in steps for _ in (0, 1)])
+    assert c1 and c2 == c1 and many == one
+    assert one.count("\nE collision") + one.startswith("E collision") == len(c1)
+
+
+def test_next_event_time_and_state_bounds(cradle):
+    t0 = _trace(cradle, [cradle.end_time])[1][0][0]     # the first contact
+    w = python_world(cradle)
+    assert 0.0 <= w.next_event_time() <= t0
+    assert w.advance(t0) == []          # events at exactly t0 stay queued
+    assert w.time == t0 and w.next_event_time() == t0
+    with pytest.raises(Exception, match="outside"):
+        w.state(0, t0 + 1e-9)
+    with pytest.raises(Exception, match="outside"):
+        w.advance(t0 / 2)               # time never goes back
+    with pytest.raises(Exception, match="outside"):
+        w.advance(cradle.end_time * 2)
+    got = w.advance(math.nextafter(t0, math.inf))
+    assert got and all(c.t == t0 for c in got)
+    assert w.next_event_time() > t0
+    with pytest.raises(Exception, match="no body"):
+        w.state(len(cradle.bodies), w.time)
+
+
+def _ball(velocity, acceleration):
+    return parse_scene(json.dumps({"end_time": 10, "bodies": [
+        {"shape": "circle", "radius": 0.5, "mass": 1, "position": [0, 0], "velocity": velocity,
+         "acceleration": acceleration}]}))
+
+
+def test_a_world_without_events_idles():
+    """A ball at rest in empty space: no event ever (next_event_time is inf);
+    a moving one: state(t) up to its first event (a cell crossing) is the
+    exact free motion, computed as the runtime computes it."""
+    w = python_world(_ball([0, 0], [0, 0]))
+    assert w.next_event_time() == math.inf and w.advance(7.5) == [] and w.state(0, 10.0)[:4] == (0.0,) * 4
+    w = python_world(_ball([1, 2], [0, -1]))
+    t = w.next_event_time()
+    assert 0.0 < t < 10.0
+    assert w.state(0, t)[:4] == ((1.0 + 0.5 * 0.0 * t) * t, (2.0 + 0.5 * -1.0 * t) * t, 1.0, 2.0 + -1.0 * t)
