@@ -124,3 +124,25 @@ def write_resting_scenes(folder, seeds) -> list[str]:
             f.write(json.dumps(resting_scene(seed), indent=1) + "\n")
         paths.append(path)
     return paths
+
+
+def inputs_scene(end_time: float = 2.0) -> dict:
+    """Three bodies in a box under gravity with every kind of input: at
+    t = 0, at frame times, two at one instant, teleports into free space."""
+    bodies = box(2.0, 2.0, restitution=0.9) + [
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.5, 0.5],
+         "velocity": [1.0, 0.0], "restitution": 0.9},
+        {"name": "crate", "shape": "polygon", "mass": 2.0, "position": [1.4, 0.3], "friction": 0.3,
+         "vertices": [[-0.15, -0.1], [0.15, -0.1], [0.15, 0.1], [-0.15, 0.1]], "angle": 0.2},
+        {"name": "pebble", "shape": "circle", "radius": 0.05, "mass": 0.2, "position": [1.0, 1.5],
+         "velocity": [-0.5, 0.3]}]
+    inputs = [{"time": 0.0, "body": "ball", "impulse": [0.0, 3.0]},
+              {"time": 0.5, "body": "crate", "set_velocity": [-1.0, 2.0]},
+              {"time": 0.5, "body": "pebble", "teleport": [1.7, 1.7]},
+              {"time": 0.8, "body": "ball", "add_velocity": [0.5, 1.5]},
+              {"time": 1.0, "body": "pebble", "impulse": [0.1, -0.2]},
+              {"time": 1.0, "body": "pebble", "teleport": [0.3, 1.6]},
+              {"time": 1.25, "body": "crate", "teleport": [1.0, 1.0]},
+              {"time": 1.5, "body": "ball", "set_velocity": [0.0, 0.0]}]
+    return {"name": "inputs of every kind", "end_time": end_time, "frame_rate": 4, "gravity": [0.0, -9.81],
+            "bodies": bodies, "inputs": inputs}

@@ -19,13 +19,14 @@ import pytest
 from max2code.sim.live import python_world
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import compile_scene, load_scene, parse_scene
-from max2code.sim.simulate import LANGS, build_simulator, run_scene
+from max2code.sim.simulate import LANGS, SimulateError, build_simulator, run_scene
+from sim_scenes import inputs_scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python", "rust"}}
+PORTED = {"world": {"python", "rust"}, "inputs": {"python"}}
 
 
 def runtimes(step: str):
@@ -35,11 +36,12 @@ def runtimes(step: str):
             for lang in LANGS]
 
 
-def stepped(scene, lang: str, dt: float):
-    """(trace, probe lines) of the runtime's world driven in steps of dt."""
+def stepped(scene, lang: str, dt: float, live: bool = False):
+    """(trace, probe lines) of the runtime's world driven in steps of dt
+    (live: the scene's inputs made live at their times)."""
     build = build_simulator(lang, scene.effects, scene.taylor_order)
-    proc = subprocess.run(build.run_cmd + ["--step", repr(dt)], input=compile_scene(scene), capture_output=True,
-                          text=True, cwd=build.workdir, timeout=600)
+    proc = subprocess.run(build.run_cmd + ["--step", repr(dt)] + ["--live"] * live, input=compile_scene(scene),
+                          capture_output=True, text=True, cwd=build.workdir, timeout=600)
     assert proc.returncode == 0, proc.stdout[-500:] + proc.stderr[-2000:]
     return proc.stdout, proc.stderr.splitlines()
 
@@ -71,6 +73,24 @@ def test_small_steps_write_the_batch_bytes_and_states_are_the_replay(lang, name)
         got = tuple(float(x) for x in w[3:9])
         s = rp.state_at(k, t)
         assert got == (s.px, s.py, s.vx, s.vy, s.angle, s.omega), (line, s)
+
+
+@pytest.mark.parametrize("lang", runtimes("inputs"))
+def test_live_inputs_write_the_bytes_of_the_same_inputs_scripted(lang):
+    """Every input kind (set and add velocity, impulse, teleport; at t = 0,
+    at frame times, two at one instant) made live at its time through the
+    world's operations gives the scripted scene's trace byte for byte, and
+    the replay of that trace (teleports move bodies) matches the states."""
+    scene = parse_scene(json.dumps(inputs_scene()))
+    batch = run_scene(scene, lang)
+    assert batch.stats["events"]["inputs"] == len(scene.inputs)
+    trace, probe = stepped(scene, lang, 0.05, live=True)
+    assert trace == batch.raw
+    rp = read_trace("\n".join(batch.lines()), scene)
+    for line in (x for x in probe if x.startswith("P ")):
+        w = line.split()
+        s = rp.state_at(int(w[2]), float(w[1]))
+        assert tuple(float(x) for x in w[3:9]) == (s.px, s.py, s.vx, s.vy, s.angle, s.omega), line
 
 
 # ---- the Python API itself -------------------------------------------------
@@ -139,3 +159,77 @@ def test_a_world_without_events_idles():
     t = w.next_event_time()
     assert 0.0 < t < 10.0
     assert w.state(0, t)[:4] == ((1.0 + 0.5 * 0.0 * t) * t, (2.0 + 0.5 * -1.0 * t) * t, 1.0, 2.0 + -1.0 * t)
+
+
+def test_a_live_input_at_an_event_time_goes_before_the_events_at_that_time():
+    """advance(T) to the time of a collision, then an input: the same trace
+    as the input scripted at T (inputs first at equal times), which is not
+    the trace of the input made after that collision."""
+    import io
+    raw = inputs_scene(1.0)
+    raw["inputs"] = []
+    base = parse_scene(json.dumps(raw))
+    _, contacts = _trace(base, [base.end_time])
+    T = contacts[len(contacts) // 2][0]
+    body = next(k for k, b in enumerate(base.bodies) if not b.fixed and k not in contacts[len(contacts) // 2][1:3])
+    raw["inputs"] = [{"time": T, "body": base.bodies[body].name, "add_velocity": [0.25, 0.5]}]
+    scripted = run_scene(parse_scene(json.dumps(raw)), "python").raw
+    out = io.StringIO()
+    w = python_world(base, out)
+    before = [(c.t, c.a, c.b) for c in w.advance(T)]
+    assert before == [c[:3] for c in contacts if c[0] < T]
+    assert w.next_event_time() == T         # the collision at T is still queued
+    w.add_velocity(body, 0.25, 0.5)
+    w.advance(base.end_time)
+    w.finish()
+    assert out.getvalue() == scripted
+    tt = "%.17g" % T
+    assert scripted.index(f"E input {tt} ") < scripted.index(f"E collision {tt} ")
+
+
+def test_teleport_into_overlap_is_refused_and_the_world_is_unchanged():
+    import io
+    scene = parse_scene(json.dumps(inputs_scene(1.0) | {"inputs": []}))
+    ball = next(k for k, b in enumerate(scene.bodies) if b.name == "ball")
+    crate = next(k for k, b in enumerate(scene.bodies) if b.name == "crate")
+
+    def run(teleports):
+        out = io.StringIO()
+        w = python_world(scene, out)
+        w.advance(0.3)
+        before = [w.state(k, 0.3) for k in range(len(scene.bodies))]
+        results = [w.teleport(ball, x, y) for x, y in teleports]
+        w.advance(1.0)
+        w.finish()
+        return out.getvalue(), results, before, len(w.s.inputs)
+
+    plain, _, _, _ = run([])
+    cx, cy = scene.bodies[crate].position
+    refused, res, _, n = run([(cx, cy), (1.0, -0.05), (-0.05, 1.0)])   # into the crate, the floor, the left wall
+    assert res == [False, False, False] and n == 0 and refused == plain
+    moved, res, _, n = run([(1.0, 1.5)])
+    assert res == [True] and n == 1 and moved != plain
+    _, res, _, _ = run([(1.0, 0.1)])            # touching the floor (radius 0.1) is not overlapping
+    assert res == [True]
+
+
+def test_a_scripted_teleport_into_overlap_is_an_error():
+    raw = inputs_scene(1.0)
+    raw["inputs"] = [{"time": 0.25, "body": "ball", "teleport": [1.0, 0.0]}]
+    with pytest.raises(SimulateError, match="input 0: body .* would overlap body 0"):
+        run_scene(parse_scene(json.dumps(raw)), "python")
+
+
+@pytest.mark.parametrize("bad, msg", [
+    ({"time": 0.1, "body": "ball", "impulse": [1, 2], "teleport": [1, 1]}, "give exactly one of set_velocity, "
+                                                                           "add_velocity, impulse, teleport"),
+    ({"time": 0.1, "body": "floor", "impulse": [1, 2]}, "is fixed"),
+    ({"time": 0.1, "body": "ball", "teleport": [1e200, 0]}, "position"),
+    ({"time": 0.1, "body": "ball", "impulse": [1, "x"]}, "impulse"),
+])
+def test_bad_inputs_are_refused_with_the_field(bad, msg):
+    from max2code.sim.scene import SceneError
+    raw = inputs_scene(1.0)
+    raw["inputs"] = [bad]
+    with pytest.raises(SceneError, match=msg):
+        parse_scene(json.dumps(raw), "s.json")

@@ -28,13 +28,15 @@ SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": 
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
               "tolerance": "distance tolerance (m)", "rest_speed": "smallest separation speed of a contact (m/s)",
               "taylor_order": "Taylor order of the turns' sin and cos", "bodies": "the bodies",
-              "inputs": "scripted velocity changes", "max_events_at_one_time": "guard against a stuck scene",
+              "inputs": "scripted inputs (velocity, impulse, teleport)", "max_events_at_one_time": "guard against a stuck scene",
               "max_events": "events (collisions, inputs, frames) a run may write",
               "max_frame_rate": "largest frame_rate accepted", "comment": "free text"}
 BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
              "angle", "angular_velocity", "orbit", "restitution", "friction", "comment"}
 ORBIT_KEYS = {"radius", "angle"}
-INPUT_KEYS = {"time", "body", "set_velocity", "add_velocity"}
+INPUT_KINDS = ("set_velocity", "add_velocity", "impulse", "teleport")     # the flat MODE is the index
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT = range(4)
+INPUT_KEYS = {"time", "body", *INPUT_KINDS}
 
 
 class SceneError(Max2CodeError):
@@ -82,8 +84,8 @@ class Body:
 class Input:
     time: float
     body: int
-    mode: int          # 0: set velocity, 1: add velocity
-    velocity: tuple[float, float]
+    mode: int          # index in INPUT_KINDS: set/add velocity (m/s), impulse (N s), teleport (the new centre, m)
+    velocity: tuple[float, float]     # the mode's vector (named for the first two)
 
 
 @dataclass
@@ -333,10 +335,10 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         bi = names[e["body"]]
         if bodies[bi].fixed:
             rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only")
-        modes = [m for m in ("set_velocity", "add_velocity") if m in e]
+        modes = [m for m in INPUT_KINDS if m in e]
         if len(modes) != 1:
-            rd.fail(where, "give exactly one of set_velocity, add_velocity")
-        inputs.append(Input(t, bi, 0 if modes[0] == "set_velocity" else 1, rd.vec(e, modes[0], where, None)))
+            rd.fail(where, f"give exactly one of {', '.join(INPUT_KINDS)}")
+        inputs.append(Input(t, bi, INPUT_KINDS.index(modes[0]), rd.vec(e, modes[0], where, None)))
 
     scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
                   int(max_events))
@@ -353,11 +355,17 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
     inverse overflows.  Everything else is simulated."""
     T = scene.end_time
     kick = [0.0] * len(scene.bodies)
+    jump = [0.0] * len(scene.bodies)
     for e in scene.inputs:
-        kick[e.body] = max(kick[e.body], math.hypot(*e.velocity) if e.mode == 0 else 0.0)
-    for e in scene.inputs:        # added velocities add up
-        if e.mode == 1:
+        if e.mode == SET_VELOCITY:
+            kick[e.body] = max(kick[e.body], math.hypot(*e.velocity))
+        elif e.mode == TELEPORT:
+            jump[e.body] = max(jump[e.body], math.hypot(*e.velocity))
+    for e in scene.inputs:        # added velocities and impulses add up
+        if e.mode == ADD_VELOCITY:
             kick[e.body] += math.hypot(*e.velocity)
+        elif e.mode == IMPULSE:
+            kick[e.body] += math.hypot(*e.velocity) / scene.bodies[e.body].mass
     for k, b in enumerate(scene.bodies):
         where = f"bodies[{k}] ({b.name})"
         sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
@@ -370,13 +378,14 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
                 rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
         speed = math.hypot(*b.velocity) + kick[k]
         accel = math.hypot(*b.acceleration)
-        for field_name, v, limit in (("position", math.hypot(*b.position), LENGTH_MAX),
+        far = max(math.hypot(*b.position), jump[k])       # teleports included
+        for field_name, v, limit in (("position", far, LENGTH_MAX),
                                      ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
                                      ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
             if v > limit:
                 rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
                                                  f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
-        reach = math.hypot(*b.position) + speed * T + accel * T * T / 2.0 + b.bound
+        reach = far + speed * T + accel * T * T / 2.0 + b.bound
         if not reach <= LENGTH_MAX:
             rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
                            "where squares overflow; scale the scene")

@@ -164,10 +164,16 @@ def _fmt(x: float) -> str:
     return "%.17g" % x
 
 
+# input modes (the flat scene's MODE; docs/simulator.md)
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT = 0, 1, 2, 3
+
+
 class Input:
-    """A scripted velocity change."""
+    """A scripted or live input."""
     __slots__ = ("t", "body", "mode", "vx", "vy")
-    # t s; body index; mode 0: set velocity, 1: add velocity; vx, vy m/s
+    # t s; body index; mode SET_VELOCITY, ADD_VELOCITY (vx, vy m/s), IMPULSE
+    # (vx, vy: the impulse, N s, through the centre), TELEPORT (vx, vy: the
+    # new centre, m)
 
     def __init__(self, t: float, body: int, mode: int, vx: float, vy: float):
         self.t, self.body, self.mode, self.vx, self.vy = t, body, mode, vx, vy
@@ -789,7 +795,7 @@ class World:
             lo = u
         return None
 
-    def apply_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+    def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
         """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
         from A to B (both advanced to the contact time): 0.0 when the material
         points do not approach and are not pressed together, else the
@@ -830,7 +836,7 @@ class World:
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
         self.stats.collisions += 1
-        imp = self.apply_impulse(A, B, cx, cy, nx, ny)
+        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
         if imp != 0.0:
             if A.sup >= 0:
                 self.end_support(A)
@@ -892,16 +898,111 @@ class World:
         inp = self.s.inputs[ev.k]
         body = self.s.bodies[inp.body]
         self.rebase(body, t)
+        if inp.mode == TELEPORT:
+            o = self.overlapping(body, inp.vx, inp.vy, t)
+            if o >= 0:
+                raise SimError(f"input {ev.k}: body {body.idx} teleported to ({_fmt(inp.vx)}, {_fmt(inp.vy)}) at "
+                               f"t = {_fmt(t)} would overlap body {o}")
         if body.sup >= 0:
             self.end_support(body)
-        if inp.mode == 0:
+        if inp.mode == SET_VELOCITY:
             body.vx, body.vy = inp.vx, inp.vy
-        else:
+        elif inp.mode == ADD_VELOCITY:
             body.vx, body.vy = body.vx + inp.vx, body.vy + inp.vy
+        elif inp.mode == IMPULSE:
+            body.vx, body.vy = body.vx + inp.vx * body.inv_m, body.vy + inp.vy * body.inv_m
+        else:
+            body.px, body.py = inp.vx, inp.vy
+            self.cell_remove(body)
+            body.cx, body.cy = self.cell_of(body.px, body.py)
+            self.cell_add(body)
         body.stamp += 1
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {ev.k} -1 0 0 0 0 0\n")
         self.emit_state(body)
         self.predict_body(body, t, None)
+
+    # ---- overlap (a teleport's check) ----------------------------------------
+    def overlapping(self, A: Body, x: float, y: float, t: float) -> int:
+        """The first body (by index) that A, with its centre moved to (x, y)
+        at time t, would overlap by more than the tolerance; -1 when none."""
+        tol = self.s.tol
+        saved = (A.px, A.py, A.vx, A.vy, A.ang, A.tb)
+        _, _, vx, vy, ang = self.state_at(A, t)
+        A.px, A.py, A.vx, A.vy, A.ang, A.tb = x, y, vx, vy, ang, t     # A at t, moved (restored below)
+        found = -1
+        for B in self.s.bodies:
+            if B is A:
+                continue
+            bx, by, _, _, _ = self.state_at(B, t)
+            dx, dy = bx - x, by - y
+            reach = A.bound + B.bound + tol
+            if dx * dx + dy * dy > reach * reach:
+                continue
+            if self.separation(A, B, t) < -tol:
+                found = B.idx
+                break
+        A.px, A.py, A.vx, A.vy, A.ang, A.tb = saved
+        return found
+
+    def separation(self, A: Body, B: Body, t: float) -> float:
+        """The largest gap between A and B at t along a separating axis:
+        negative by the depth they overlap (edge normals of either polygon,
+        and for a circle the line from the nearest vertex; circles: the
+        distance of the centres less the radii)."""
+        if not A.polygon and not B.polygon:
+            ax, ay = self.point_at(A, None, t)
+            bx, by = self.point_at(B, None, t)
+            return math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay)) - (A.r + B.r)
+        if not A.polygon:
+            return self.circle_separation(A, B, t)
+        if not B.polygon:
+            return self.circle_separation(B, A, t)
+        return max(self.edges_separation(A, B, t), self.edges_separation(B, A, t))
+
+    def edge_line(self, P: Body, j: int, t: float):
+        """Outward unit normal (ox, oy) of edge j of P at t and the offset
+        of its line, (ox, oy) . point = off."""
+        ed = P.verts[j]
+        px, py, _, _, ang = self.state_at(P, t)
+        c = math.cos(ang)
+        s = math.sin(ang)
+        ox = c * ed.nx - s * ed.ny
+        oy = s * ed.nx + c * ed.ny
+        return ox, oy, ox * px + oy * py + ed.h
+
+    def edges_separation(self, P: Body, Q: Body, t: float) -> float:
+        """Along the edge normals of P: the largest over P's edges of the
+        smallest distance of Q's vertices beyond the edge's line."""
+        best = -math.inf
+        pts = [self.point_at(Q, v, t) for v in Q.verts]
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, t)
+            lo = math.inf
+            for qx, qy in pts:
+                lo = min(lo, ox * qx + oy * qy - off)
+            best = max(best, lo)
+        return best
+
+    def circle_separation(self, C: Body, P: Body, t: float) -> float:
+        cx, cy = self.point_at(C, None, t)
+        best = -math.inf
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, t)
+            best = max(best, ox * cx + oy * cy - off - C.r)
+        pts = [self.point_at(P, v, t) for v in P.verts]
+        near, d2 = 0, math.inf
+        for k, (qx, qy) in enumerate(pts):
+            e2 = (cx - qx) * (cx - qx) + (cy - qy) * (cy - qy)
+            if e2 < d2:
+                near, d2 = k, e2
+        if d2 > 0.0:
+            d = math.sqrt(d2)
+            ux, uy = (cx - pts[near][0]) / d, (cy - pts[near][1]) / d
+            hi = -math.inf
+            for qx, qy in pts:
+                hi = max(hi, ux * qx + uy * qy)
+            best = max(best, ux * cx + uy * cy - C.r - hi)
+        return best
 
     def handle_cell(self, ev: CellEvent) -> None:
         """The body's centre crossed into the next cell along an axis: move
@@ -1031,6 +1132,50 @@ class World:
         if not (0 <= k < len(self.s.bodies)):
             raise SimError(f"no body {k} (the world has {len(self.s.bodies)})")
         return self.s.bodies[k]
+
+    # ---- live inputs: at the world's time, recorded in the input list --------
+    def set_velocity(self, body: int, vx: float, vy: float) -> None:
+        self.live_input(body, SET_VELOCITY, vx, vy)
+
+    def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
+        self.live_input(body, ADD_VELOCITY, dvx, dvy)
+
+    def apply_impulse(self, body: int, jx: float, jy: float) -> None:
+        """An impulse (N s) through the centre: dv = J inv_mass."""
+        self.live_input(body, IMPULSE, jx, jy)
+
+    def teleport(self, body: int, x: float, y: float) -> bool:
+        """Move the body's centre to (x, y) now, keeping its velocity; False
+        (the world unchanged) when it would overlap another body by more
+        than the tolerance there."""
+        return self.live_input(body, TELEPORT, x, y)
+
+    def live_input(self, body: int, mode: int, x: float, y: float) -> bool:
+        """An input at the world's time T, handled as the same input scripted
+        at T and listed after the scene's would be: the scene's inputs at T
+        are handled first, then this one, before any other event at T
+        (docs/engine-api.md, "Live inputs").  It is appended to the input
+        list (s.inputs), which is the recording."""
+        b = self.body(body)
+        if b.fixed:
+            raise SimError(f"body {body} is fixed: inputs move movable bodies only")
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")
+        t = self.time
+        self.inputs_now()
+        if mode == TELEPORT:
+            if self.overlapping(b, x, y, t) >= 0:
+                return False
+        self.s.inputs.append(Input(t, body, mode, x, y))
+        self.push(InputEvent(t, len(self.s.inputs) - 1))
+        self.inputs_now()
+        return True
+
+    def inputs_now(self) -> None:
+        """Handle the input events queued at exactly the world's time."""
+        heap = self.heap
+        while heap and heap[0][0] == self.time and heap[0][1] == INPUT:
+            self.dispatch(heapq.heappop(heap)[3])
 
     def finish(self) -> list[Contact]:
         """Handle the events at the end time, then write every body at the

@@ -1,5 +1,5 @@
 """Run the Python simulator: `python -m max2code_rt.sim_main CC.py PE.py
-[--step DT]` reads a compiled scene on stdin and writes the flat trace on
+[--step DT [--live]]` reads a compiled scene on stdin and writes the flat trace on
 stdout (docs/simulator.md); on a stuck or bad scene it writes `X message`
 and exits 1.
 
@@ -7,7 +7,9 @@ With `--step DT` the run drives the live world (docs/engine-api.md) in steps
 instead: advance(k DT) for k = 1, 2, ... below the end, then finish(); after
 each advance it writes, on stderr, `P T BODY PX PY VX VY ANGLE OMEGA` (every
 body's state(body, T), %.17g) and `C T COUNT` (the contacts advance
-returned).  The trace must be the batch run's, byte for byte."""
+returned).  The trace must be the batch run's, byte for byte.  With
+`--live` too, the scene's inputs (in time order) are taken out of the scene
+and made as live inputs at their times instead: the same bytes again."""
 from __future__ import annotations
 
 import importlib.util
@@ -23,13 +25,39 @@ def _load(path: str, name: str):
     return mod
 
 
-def stepped(text: str, cc, pe, out, probe, dt: float) -> None:
-    """The scene through the live API in steps of dt (the ports' `--step`)."""
+def split_inputs(text: str) -> tuple[str, list[list[str]]]:
+    """The flat scene with its input lines taken out (`inputs 0`), and
+    those lines' fields (T BODY MODE X Y) in order."""
+    head, sep, tail = text.partition("\ninputs ")
+    if not sep:
+        raise SimError("scene: expected 'inputs'")
+    lines = tail.split("\n")
+    k = int(lines[0])
+    return head + "\ninputs 0\nend\n", [lines[1 + i].split()[1:] for i in range(k)]
+
+
+def stepped(text: str, cc, pe, out, probe, dt: float, live: bool) -> None:
+    """The scene through the live API in steps of dt (the ports' `--step`);
+    with live, its inputs are made live: advance to each input's time, then
+    the live operation of its mode (docs/engine-api.md, "Checking a port")."""
+    inputs: list[list[str]] = []
+    if live:
+        text, inputs = split_inputs(text)
     w = World(text, cc, pe, out)
+    ops = (w.set_velocity, w.add_velocity, w.apply_impulse, w.teleport)      # by MODE
     end = w.s.end
+    nxt = 0             # the next live input
     k = 1
-    while k * dt < end:
+    while True:
         t = k * dt
+        while nxt < len(inputs) and (not (t < end) or float(inputs[nxt][0]) <= t):
+            f = inputs[nxt]
+            w.advance(float(f[0]))
+            if ops[int(f[2])](int(f[1]), float(f[3]), float(f[4])) is False:
+                raise SimError(f"live input {nxt}: teleport refused (the body would overlap another)")
+            nxt += 1
+        if not (t < end):
+            break
         got = w.advance(t)
         for b in range(len(w.s.bodies)):
             px, py, vx, vy, ang, om = w.state(b, t)
@@ -40,16 +68,18 @@ def stepped(text: str, cc, pe, out, probe, dt: float) -> None:
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) not in (2, 4) or (len(argv) == 4 and argv[2] != "--step"):
-        print("usage: python -m max2code_rt.sim_main CIRCLE_CIRCLE.py POINT_EDGE.py [--step DT] < scene",
+    live = "--live" in argv
+    args = [a for a in argv if a != "--live"]
+    if len(args) not in (2, 4) or (len(args) == 4 and args[2] != "--step") or (live and len(args) != 4):
+        print("usage: python -m max2code_rt.sim_main CIRCLE_CIRCLE.py POINT_EDGE.py [--step DT [--live]] < scene",
               file=sys.stderr)
         return 2
-    cc = _load(argv[0], "m2c_gen_circle_circle")
-    pe = _load(argv[1], "m2c_gen_point_edge")
+    cc = _load(args[0], "m2c_gen_circle_circle")
+    pe = _load(args[1], "m2c_gen_point_edge")
     out = sys.stdout
     try:
-        if len(argv) == 4:
-            stepped(sys.stdin.read(), cc, pe, out, sys.stderr, float(argv[3]))
+        if len(args) == 4:
+            stepped(sys.stdin.read(), cc, pe, out, sys.stderr, float(args[3]), live)
         else:
             simulate(sys.stdin.read(), cc, pe, out)
     except SimError as exc:
