@@ -41,6 +41,7 @@ mod g17;
 mod grid;
 mod live;
 mod motion;
+mod overlap;
 mod out;
 mod predict;
 mod queue;
@@ -52,7 +53,7 @@ mod world;
 pub use g17::{g17, push_g17};
 pub use live::{BodyState, Contact, World};
 pub use out::SimError;
-pub use scene::{Body, CosSin, Input, Scene, Vertex};
+pub use scene::{Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
 pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
@@ -112,21 +113,73 @@ fn stop_status<E: Equations>(res: Result<(), (Option<World<E>>, SimError)>, sink
     }
 }
 
+/// The flat scene with its input lines taken out (`inputs 0`), and those
+/// lines' fields (T BODY MODE X Y) in order (the reference's `split_inputs`).
+fn split_inputs(text: &str) -> Result<(String, Vec<Input>), SimError> {
+    let bad = || SimError::Msg("scene: expected 'inputs'".to_string());
+    let at = text.find("\ninputs ").ok_or_else(bad)?;
+    let (head, tail) = (&text[..at], &text[at + "\ninputs ".len()..]);
+    let lines: Vec<&str> = tail.split('\n').collect();
+    let k: usize = lines[0].trim().parse().map_err(|_| bad())?;
+    let mut inputs = Vec::with_capacity(k);
+    for i in 0..k {
+        let f: Vec<&str> = lines.get(1 + i).ok_or_else(bad)?.split_ascii_whitespace().skip(1).collect();
+        let num = |n: usize| f.get(n).and_then(|w| w.parse::<f64>().ok()).ok_or_else(bad);
+        let int = |n: usize| f.get(n).and_then(|w| w.parse::<i64>().ok()).ok_or_else(bad);
+        inputs.push(Input { t: num(0)?, body: int(1)?, mode: int(2)?, vx: num(3)?, vy: num(4)? });
+    }
+    Ok((format!("{head}\ninputs 0\nend\n"), inputs))
+}
+
+/// The live operation of an input's mode (set or add velocity, impulse,
+/// teleport) on the world at its time; false: a teleport refused.
+fn live_op<E: Equations>(world: &mut World<E>, inp: &Input) -> Result<bool, SimError> {
+    let body = usize::try_from(inp.body).map_err(|_| SimError::Msg(format!("no body {}", inp.body)))?;
+    match inp.mode {
+        scene::SET_VELOCITY => world.set_velocity(body, inp.vx, inp.vy).map(|_| true),
+        scene::ADD_VELOCITY => world.add_velocity(body, inp.vx, inp.vy).map(|_| true),
+        scene::IMPULSE => world.apply_impulse(body, inp.vx, inp.vy).map(|_| true),
+        scene::TELEPORT => world.teleport(body, inp.vx, inp.vy),
+        m => Err(SimError::Msg(format!("scene: unknown input mode {m}"))),
+    }
+}
+
 /// The scene through the live API in steps of dt: advance(k dt) for k = 1,
 /// 2, ... below the end, then finish(); after each advance, every body's
 /// `P T BODY PX PY VX VY ANGLE OMEGA` (state(body, T)) and `C T COUNT`
 /// (the contacts advance returned) on `probe` (the reference's `stepped`).
-pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut dyn Write, dt: f64) -> io::Result<i32> {
+/// With `live`, the scene's inputs are taken out of it and made as live
+/// inputs instead: advance to each input's time, then its operation.
+pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut dyn Write, dt: f64, live: bool) -> io::Result<i32> {
     let mut sink = Some(sink);
-    let mut world = match World::<E>::from_scene(scene_text, sink.take()) {
+    let (text, inputs) = if live {
+        match split_inputs(scene_text) {
+            Ok(split) => split,
+            Err(e) => return stop_status::<E>(Err((None, e)), sink),
+        }
+    } else {
+        (scene_text.to_string(), Vec::new())
+    };
+    let mut world = match World::<E>::from_scene(&text, sink.take()) {
         Ok(world) => world,
         Err(e) => return stop_status::<E>(Err((None, e)), sink),
     };
     let res = (|| -> Result<(), SimError> {
         let end = world.end();
+        let mut nxt = 0; // the next live input
         let mut k: i64 = 1;
-        while (k as f64) * dt < end {
+        loop {
             let t = (k as f64) * dt;
+            while nxt < inputs.len() && (!(t < end) || inputs[nxt].t <= t) {
+                world.advance(inputs[nxt].t)?;
+                if !live_op(&mut world, &inputs[nxt])? {
+                    return Err(SimError::Msg(format!("live input {nxt}: teleport refused (the body would overlap another)")));
+                }
+                nxt += 1;
+            }
+            if !(t < end) {
+                break;
+            }
             let got = world.advance(t)?;
             for b in 0..world.bodies() {
                 let s = world.state(b, t)?;
@@ -154,14 +207,16 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
 
 /// The simulator program: compiled scene on stdin, flat trace on stdout;
 /// `--step DT` drives the live world in steps ([`stepped`], probe lines on
-/// stderr).  Returns the exit status.
+/// stderr), `--step DT --live` with the scene's inputs made live.  Returns the exit status.
 pub fn main<E: Equations>() -> i32 {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let live = args.iter().any(|a| a == "--live");
+    args.retain(|a| a != "--live");
     let step = match args.as_slice() {
-        [] => None,
+        [] if !live => None,
         [flag, dt] if flag == "--step" && dt.parse::<f64>().is_ok_and(|dt| dt > 0.0) => dt.parse::<f64>().ok(),
         _ => {
-            eprintln!("usage: sim [--step DT] < scene");
+            eprintln!("usage: sim [--step DT [--live]] < scene");
             return 2;
         }
     };
@@ -173,7 +228,7 @@ pub fn main<E: Equations>() -> i32 {
     let stdout = Box::new(io::stdout().lock());
     let res = match step {
         None => simulate::<E>(&text, stdout),
-        Some(dt) => stepped::<E>(&text, stdout, &mut io::stderr().lock(), dt),
+        Some(dt) => stepped::<E>(&text, stdout, &mut io::stderr().lock(), dt, live),
     };
     match res {
         Ok(code) => code,

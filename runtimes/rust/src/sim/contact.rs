@@ -65,7 +65,7 @@ pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) ->
 /// points do not approach and are not pressed together, else the impulse
 /// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
 /// at least, so time advances (docs/simulator.md).
-pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     let vn = normal_speed(a_, b_, cx, cy, nx, ny);
     let mut imp = 0.0;
     let rest = rest_speed;

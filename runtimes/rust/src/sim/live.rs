@@ -9,7 +9,9 @@ use std::marker::PhantomData;
 use super::g17::g17;
 use super::motion::state_at;
 use super::out::{Out, SimError};
-use super::scene::{Body, Scene};
+use super::overlap::overlapping;
+use super::queue::{Event, INPUT};
+use super::scene::{Body, Input, Scene, ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
 use super::world::{Queue, Space};
 use super::Equations;
 
@@ -172,6 +174,69 @@ impl<E: Equations> World<E> {
             return Err(SimError::Msg(format!("no body {k} (the world has {n})")));
         }
         Ok(&self.w.s.bodies[k])
+    }
+
+    // ---- live inputs: at the world's time, recorded in the input list --------
+
+    /// Set the body's velocity (m/s) now.
+    pub fn set_velocity(&mut self, body: usize, vx: f64, vy: f64) -> Result<(), SimError> {
+        self.live_input(body, SET_VELOCITY, vx, vy).map(|_| ())
+    }
+
+    /// Add (dvx, dvy) m/s to the body's velocity now.
+    pub fn add_velocity(&mut self, body: usize, dvx: f64, dvy: f64) -> Result<(), SimError> {
+        self.live_input(body, ADD_VELOCITY, dvx, dvy).map(|_| ())
+    }
+
+    /// An impulse (N s) through the centre now: dv = J inv_mass.
+    pub fn apply_impulse(&mut self, body: usize, jx: f64, jy: f64) -> Result<(), SimError> {
+        self.live_input(body, IMPULSE, jx, jy).map(|_| ())
+    }
+
+    /// Move the body's centre to (x, y) now, keeping its velocity; false
+    /// (the world unchanged) when it would overlap another body by more
+    /// than the tolerance there.
+    pub fn teleport(&mut self, body: usize, x: f64, y: f64) -> Result<bool, SimError> {
+        self.live_input(body, TELEPORT, x, y)
+    }
+
+    /// An input at the world's time T, handled as the same input scripted
+    /// at T and listed after the scene's would be: the scene's inputs at T
+    /// are handled first, then this one, before any other event at T
+    /// (docs/engine-api.md, "Live inputs").  It is appended to the input
+    /// list, which is the recording.
+    fn live_input(&mut self, body: usize, mode: i64, x: f64, y: f64) -> Result<bool, SimError> {
+        if self.body(body)?.fixed {
+            return Err(SimError::Msg(format!("body {body} is fixed: inputs move movable bodies only")));
+        }
+        if !(x.is_finite() && y.is_finite()) {
+            return Err(SimError::Msg(format!("input on body {body}: ({}, {}) is not finite", g17(x), g17(y))));
+        }
+        let t = self.time;
+        self.inputs_now()?;
+        if mode == TELEPORT {
+            let s = &self.w.s;
+            if overlapping(&s.bodies, &s.verts, s.tol, body, x, y, t).is_some() {
+                return Ok(false);
+            }
+        }
+        self.w.s.inputs.push(Input { t, body: body as i64, mode, vx: x, vy: y });
+        let k = (self.w.s.inputs.len() - 1) as u32;
+        self.q.heap.push(t, Event::Input { k });
+        self.inputs_now()?;
+        Ok(true)
+    }
+
+    /// Handle the input events queued at exactly the world's time.
+    fn inputs_now(&mut self) -> Result<(), SimError> {
+        while let Some(top) = self.q.heap.peek() {
+            if !(top.t == self.time && top.ev.kind() == INPUT) {
+                break;
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            self.dispatch(e.t, e.ev)?;
+        }
+        Ok(())
     }
 
     /// Handle the events at the end time, then write every body at the end,

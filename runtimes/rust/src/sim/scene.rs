@@ -144,16 +144,22 @@ impl Body {
     }
 }
 
-/// A scripted velocity change.
+/// Input modes (the flat scene's MODE).
+pub const SET_VELOCITY: i64 = 0;
+pub const ADD_VELOCITY: i64 = 1;
+pub const IMPULSE: i64 = 2;
+pub const TELEPORT: i64 = 3;
+
+/// A scripted or live input.
 #[derive(Clone, Copy, Debug)]
 pub struct Input {
     /// s
     pub t: f64,
     /// index in the scene
     pub body: i64,
-    /// 0: set velocity, 1: add velocity
+    /// SET_VELOCITY, ADD_VELOCITY (vx, vy in m/s), IMPULSE (vx, vy: the
+    /// impulse, N s, through the centre), TELEPORT (vx, vy: the new centre, m)
     pub mode: i64,
-    /// m/s
     pub vx: f64,
     pub vy: f64,
 }

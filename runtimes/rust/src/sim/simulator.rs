@@ -4,14 +4,16 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{apply_impulse, contact_frame, normal_speed, two_mut};
+use super::contact::{contact_impulse, contact_frame, normal_speed, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
 use super::motion::rebase;
+use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
+use super::scene::{ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
 use super::support::{can_support, end_support, enter_support, slide_accel};
 use super::Equations;
 
@@ -41,7 +43,7 @@ impl<E: Equations> World<E> {
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            let imp = apply_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+            let imp = contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
             if imp != 0.0 {
                 if a_.sup >= 0 {
                     end_support(a_);
@@ -121,23 +123,51 @@ impl<E: Equations> World<E> {
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
+    /// A scripted or live input (scene input k): a velocity set or added,
+    /// an impulse through the centre, or a teleport (refused with an error
+    /// when the body would overlap another there).
     fn handle_input(&mut self, t: f64, k: u32) -> Res<()> {
         self.q.stats.inputs += 1;
         let inp = self.w.s.inputs[k as usize];
         let a = inp.body as usize;
+        rebase(&mut self.w.s.bodies[a], t);
+        if inp.mode == TELEPORT {
+            let s = &self.w.s;
+            if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, a, inp.vx, inp.vy, t) {
+                return Err(SimError::Msg(format!(
+                    "input {k}: body {a} teleported to ({}, {}) at t = {} would overlap body {o}",
+                    g17(inp.vx),
+                    g17(inp.vy),
+                    g17(t)
+                )));
+            }
+        }
         let body = &mut self.w.s.bodies[a];
-        rebase(body, t);
         if body.sup >= 0 {
             end_support(body);
         }
-        if inp.mode == 0 {
+        if inp.mode == SET_VELOCITY {
             body.vx = inp.vx;
             body.vy = inp.vy;
-        } else {
+        } else if inp.mode == ADD_VELOCITY {
             body.vx = body.vx + inp.vx;
             body.vy = body.vy + inp.vy;
+        } else if inp.mode == IMPULSE {
+            body.vx = body.vx + inp.vx * body.inv_m;
+            body.vy = body.vy + inp.vy * body.inv_m;
+        } else {
+            body.px = inp.vx;
+            body.py = inp.vy;
+            let (cx0, cy0) = (body.cx, body.cy);
+            let (cx, cy) = cell_of(&self.w.s, inp.vx, inp.vy);
+            self.w.grid.remove(a as u32, cx0, cy0);
+            let body = &mut self.w.s.bodies[a];
+            body.cx = cx;
+            body.cy = cy;
+            self.w.grid.add(a as u32, cx, cy);
         }
         self.w.stamps[a] += 1;
+        let body = &self.w.s.bodies[a];
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
         predict_body::<E>(&self.w, &mut self.q, a, t, None)
@@ -251,7 +281,7 @@ impl<E: Equations> World<E> {
 
     /// Handle one event taken from the queue: drop it when stale, count the
     /// events at one instant (max_same_time), call its kind's handler.
-    fn dispatch(&mut self, t: f64, ev: Event) -> Res<()> {
+    pub(super) fn dispatch(&mut self, t: f64, ev: Event) -> Res<()> {
         if self.w.is_stale(&ev) {
             self.q.stats.stale += 1;
             return Ok(());
