@@ -126,9 +126,11 @@ def write_resting_scenes(folder, seeds) -> list[str]:
     return paths
 
 
-def inputs_scene(end_time: float = 2.0) -> dict:
+def inputs_scene(end_time: float = 2.0, remove: bool = False) -> dict:
     """Three bodies in a box under gravity with every kind of input: at
-    t = 0, at frame times, two at one instant, teleports into free space."""
+    t = 0, at frame times, two at one instant, teleports into free space;
+    with remove, a ledge the crate rests on and then the ledge and the
+    pebble are removed."""
     bodies = box(2.0, 2.0, restitution=0.9) + [
         {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.5, 0.5],
          "velocity": [1.0, 0.0], "restitution": 0.9},
@@ -144,5 +146,14 @@ def inputs_scene(end_time: float = 2.0) -> dict:
               {"time": 1.0, "body": "pebble", "teleport": [0.3, 1.6]},
               {"time": 1.25, "body": "crate", "teleport": [1.0, 1.0]},
               {"time": 1.5, "body": "ball", "set_velocity": [0.0, 0.0]}]
+    if remove:
+        bodies.append({"name": "ledge", "shape": "polygon", "fixed": True, "position": [1.0, 0.6], "restitution": 0.0,
+                       "vertices": [[-0.3, -0.05], [0.3, -0.05], [0.3, 0.05], [-0.3, 0.05]]})
+        inputs[6]["teleport"] = [1.6, 1.0]
+        inputs += [{"time": 1.1, "body": "pebble", "teleport": [1.0, 0.7]},     # onto the ledge, touching
+                   {"time": 1.1, "body": "pebble", "set_velocity": [0.0, 0.0]},  # at rest: it rests there
+                   {"time": 1.4, "body": "ledge", "remove": True},               # the pebble leaves, falls
+                   {"time": 1.75, "body": "pebble", "remove": True}]
+        inputs.sort(key=lambda e: e["time"])         # in time order (stable), as a recording lists them
     return {"name": "inputs of every kind", "end_time": end_time, "frame_rate": 4, "gravity": [0.0, -9.81],
             "bodies": bodies, "inputs": inputs}

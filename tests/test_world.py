@@ -16,7 +16,7 @@ import subprocess
 
 import pytest
 
-from max2code.sim.live import python_world
+from max2code.sim.live import flat_body, python_world
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import compile_scene, load_scene, parse_scene
 from max2code.sim.simulate import LANGS, SimulateError, build_simulator, run_scene
@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python", "rust"}, "inputs": {"python", "rust"}}
+PORTED = {"world": {"python", "rust"}, "inputs": {"python", "rust"}, "bodies": {"python"}}
 
 
 def runtimes(step: str):
@@ -84,6 +84,25 @@ def test_live_inputs_write_the_bytes_of_the_same_inputs_scripted(lang):
     scene = parse_scene(json.dumps(inputs_scene()))
     batch = run_scene(scene, lang)
     assert batch.stats["events"]["inputs"] == len(scene.inputs)
+    trace, probe = stepped(scene, lang, 0.05, live=True)
+    assert trace == batch.raw
+    rp = read_trace("\n".join(batch.lines()), scene)
+    for line in (x for x in probe if x.startswith("P ")):
+        w = line.split()
+        s = rp.state_at(int(w[2]), float(w[1]))
+        assert tuple(float(x) for x in w[3:9]) == (s.px, s.py, s.vx, s.vy, s.angle, s.omega), line
+
+
+@pytest.mark.parametrize("lang", runtimes("bodies"))
+def test_live_removals_write_the_bytes_of_the_same_removals_scripted(lang):
+    """Removing a fixed ledge under a resting pebble (it leaves and falls)
+    and then the pebble, live at their times: the scripted scene's bytes,
+    and states equal to the replay (a removed body stays where it was
+    removed, at rest)."""
+    scene = parse_scene(json.dumps(inputs_scene(remove=True)))
+    batch = run_scene(scene, lang)
+    kinds = [(e["kind"], e["bodies"]) for e in batch.events if e["kind"] in ("support", "leave")]
+    assert ("support", ["pebble", "ledge"]) in kinds and ("leave", ["pebble", "ledge"]) in kinds
     trace, probe = stepped(scene, lang, 0.05, live=True)
     assert trace == batch.raw
     rp = read_trace("\n".join(batch.lines()), scene)
@@ -233,3 +252,84 @@ def test_bad_inputs_are_refused_with_the_field(bad, msg):
     raw["inputs"] = [bad]
     with pytest.raises(SceneError, match=msg):
         parse_scene(json.dumps(raw), "s.json")
+
+
+def _pending(w, k):
+    """The queued events that are not stale and name body k."""
+    out = []
+    for _, _, _, ev in w.heap:
+        names = (ev.a, ev.b) if hasattr(ev, "a") else (ev.body,) if hasattr(ev, "body") else ()
+        if k in names and not w.is_stale(ev):
+            out.append(ev)
+    return out
+
+
+def test_removing_a_body_drops_its_pending_events():
+    import io
+    raw = inputs_scene(2.0)
+    raw["inputs"] = []
+    scene = parse_scene(json.dumps(raw))
+    ball = next(k for k, b in enumerate(scene.bodies) if b.name == "ball")
+    out = io.StringIO()
+    w = python_world(scene, out)
+    w.advance(0.7)
+    assert _pending(w, ball)                     # its next contact and cell crossing at least
+    at = w.state(ball, 0.7)
+    w.remove_body(ball)
+    assert _pending(w, ball) == [] and w.state(ball, 0.7) == at[:2] + (0.0, 0.0) + at[4:5] + (0.0,)
+    with pytest.raises(Exception, match="was removed"):
+        w.set_velocity(ball, 1.0, 0.0)
+    while w.next_event_time() < scene.end_time:     # nothing ever meets it again
+        w.advance(min(w.next_event_time() + 0.01, scene.end_time))
+    w.finish()
+    trace = out.getvalue().splitlines()
+    later = [x for x in trace if x.startswith("E ") and float(x.split()[2]) > 0.7]
+    assert later and not any(x.split()[3] == str(ball) or x.split()[4] == str(ball) for x in later)
+    final = next(x for x in trace if x.startswith(f"F {ball} ")).split()
+    assert tuple(float(v) for v in final[2:]) == (at[0], at[1], 0.0, 0.0, at[4], 0.0)
+
+
+def test_add_body_joins_the_world_and_is_refused_where_it_overlaps():
+    import io
+    raw = inputs_scene(1.5)
+    raw["inputs"] = []
+    scene = parse_scene(json.dumps(raw))
+    out = io.StringIO()
+    w = python_world(scene, out)
+    w.advance(0.5)
+    n = len(scene.bodies)
+    drop = {"name": "drop", "shape": "circle", "radius": 0.08, "mass": 0.5, "position": [0.3, 1.5],
+            "velocity": [0.0, -1.0]}
+    assert w.add_body(flat_body(scene, drop | {"position": [1.0, 0.0]})) == -1      # in the floor
+    assert len(w.s.bodies) == n
+    k = w.add_body(flat_body(scene, drop))
+    assert k == n and w.state(k, 0.5)[:4] == (0.3, 1.5, 0.0, -1.0)
+    with pytest.raises(Exception, match="does not fit the grid"):
+        w.add_body(flat_body(scene, drop | {"radius": 5.0, "position": [30.0, 30.0]}))
+    got = w.advance(1.5)
+    w.finish()
+    assert any(c.a == k or c.b == k for c in got)             # it lands on the floor
+    assert f"E add 0.5 {k} " in out.getvalue()
+
+
+@pytest.mark.parametrize("bad, msg", [
+    ([{"time": 0.1, "body": "ball", "remove": 1}], "inputs\\[0\\].remove: expected true"),
+    ([{"time": 0.1, "body": "ball", "remove": True}, {"time": 0.2, "body": "ball", "impulse": [1, 0]}],
+     "inputs\\[1\\].body: 'ball' was removed by inputs\\[0\\]"),
+    ([{"time": 0.3, "body": "ball", "impulse": [1, 0]}, {"time": 0.2, "body": "ball", "remove": True}],
+     "input listed before this one at a later time"),
+])
+def test_bad_removals_are_refused(bad, msg):
+    from max2code.sim.scene import SceneError
+    raw = inputs_scene(1.0)
+    raw["inputs"] = bad
+    with pytest.raises(SceneError, match=msg):
+        parse_scene(json.dumps(raw), "s.json")
+
+
+def test_a_fixed_body_may_be_removed():
+    raw = inputs_scene(1.0)
+    raw["inputs"] = [{"time": 0.2, "body": "floor", "remove": True}]
+    tr = run_scene(parse_scene(json.dumps(raw)), "python")
+    assert tr.final["bodies"][4]["position"][1] < -0.5          # the ball fell through where the floor was
+

@@ -5,6 +5,7 @@ JSON scene: the contact equations generated for the scene's effects (as
 from __future__ import annotations
 
 import importlib.util
+import json
 
 from max2code.paths import RUNTIMES
 from max2code.sim.scene import Scene, compile_scene
@@ -42,3 +43,12 @@ def python_world(scene: Scene, out=None):
     (anything with write(str)), None for no trace."""
     cc, pe = equations(scene)
     return _runtime().World(compile_scene(scene), cc, pe, out)
+
+
+def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:
+    """The flat lines add_body takes for a body given as in a JSON scene
+    (checked as in one: the scene's gravity applies; position and velocity
+    are the state at the world's time of the add)."""
+    from max2code.sim.scene import body_lines, parse_scene
+    one = parse_scene(json.dumps({"end_time": scene.end_time, "gravity": list(scene.gravity), "bodies": [raw]}), path)
+    return "\n".join(body_lines(one.bodies[0], False)) + "\n"

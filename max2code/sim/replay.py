@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 from max2code.errors import Max2CodeError
 from max2code.textio import InputError, read_text
-from max2code.sim.scene import TELEPORT, Body, Scene
+from max2code.sim.scene import REMOVE, TELEPORT, Body, Scene
 
 EVENT_KINDS = ("collision", "support", "stop", "leave", "input", "frame")
 
@@ -292,9 +292,14 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
             rd.fail(f"input: expected 1 body, got {len(ev.bodies)}")
         teleport = None         # an input that moves the body (the only event that does)
         k_in = obj.get("input")
-        if kind == "input" and isinstance(k_in, int) and 0 <= k_in < len(scene.inputs) \
-                and scene.inputs[k_in].mode == TELEPORT:
-            teleport = scene.inputs[k_in]
+        if kind == "input" and isinstance(k_in, int) and 0 <= k_in < len(scene.inputs):
+            if scene.inputs[k_in].mode == TELEPORT:
+                teleport = scene.inputs[k_in]
+            elif scene.inputs[k_in].mode == REMOVE and ev.bodies:
+                # a removed body stops where it is, for good (the trace has no state for it)
+                k = ev.bodies[0]
+                p = advance(rp.states[k][-1], scene.bodies[k], t)
+                rp.add_state(k, State(t, p.px, p.py, 0.0, 0.0, p.angle, 0.0, 0.0, 0.0), rd.line)
         states = obj.get("states", [])
         if not isinstance(states, list):
             rd.fail(f"{kind}: expected a list of 'states'")

@@ -34,8 +34,8 @@ SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": 
 BODY_KEYS = {"name", "shape", "radius", "vertices", "mass", "fixed", "position", "velocity", "acceleration",
              "angle", "angular_velocity", "orbit", "restitution", "friction", "comment"}
 ORBIT_KEYS = {"radius", "angle"}
-INPUT_KINDS = ("set_velocity", "add_velocity", "impulse", "teleport")     # the flat MODE is the index
-SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT = range(4)
+INPUT_KINDS = ("set_velocity", "add_velocity", "impulse", "teleport", "remove")     # the flat MODE is the index
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT, REMOVE = range(5)
 INPUT_KEYS = {"time", "body", *INPUT_KINDS}
 
 
@@ -321,6 +321,7 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         bodies.append(body)
 
     inputs: list[Input] = []
+    removed: dict[int, int] = {}        # body -> the input that removes it
     raw_inputs = raw.get("inputs", [])
     if not isinstance(raw_inputs, list):
         rd.fail("inputs", "expected a list")
@@ -333,11 +334,21 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
         if e["body"] not in names:
             rd.fail(f"{where}.body", f"no body is named {json.dumps(e['body'])}")
         bi = names[e["body"]]
-        if bodies[bi].fixed:
-            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only")
         modes = [m for m in INPUT_KINDS if m in e]
         if len(modes) != 1:
             rd.fail(where, f"give exactly one of {', '.join(INPUT_KINDS)}")
+        if bodies[bi].fixed and modes[0] != "remove":
+            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only (or remove them)")
+        if bi in removed:
+            rd.fail(f"{where}.body", f"'{e['body']}' was removed by inputs[{removed[bi]}]")
+        if modes[0] == "remove":
+            if e["remove"] is not True:
+                rd.fail(f"{where}.remove", "expected true")
+            if any(x.body == bi and x.time > t for x in inputs):
+                rd.fail(f"{where}.time", f"'{e['body']}' has an input listed before this one at a later time")
+            removed[bi] = k
+            inputs.append(Input(t, bi, REMOVE, (0.0, 0.0)))
+            continue
         inputs.append(Input(t, bi, INPUT_KINDS.index(modes[0]), rd.vec(e, modes[0], where, None)))
 
     scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
@@ -566,6 +577,30 @@ def _r(x: float) -> str:
     return repr(float(x))
 
 
+def body_lines(b: Body, large: bool) -> list[str]:
+    """A body's `body` line and its `v` lines in the flat format."""
+    out = []
+    inv_m = 0.0 if b.fixed else 1.0 / b.mass
+    inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
+    out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
+                         _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
+                         _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
+                         _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
+                         _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
+                         "1" if large else "0", str(len(b.vertices))]))
+    n = len(b.vertices)
+    for k in range(n):
+        (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
+        ex, ey = x1 - x0, y1 - y0
+        ln = math.hypot(ex, ey)
+        nx, ny = ey / ln, -ex / ln                  # outward: the polygon is counter-clockwise
+        tx, ty = ex / ln, ey / ln
+        out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
+                             _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
+                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+    return out
+
+
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
     g = make_grid(scene)
@@ -579,24 +614,7 @@ def compile_scene(scene: Scene) -> str:
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
     for b, large in zip(scene.bodies, g.large):
-        inv_m = 0.0 if b.fixed else 1.0 / b.mass
-        inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
-        out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
-                             _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
-                             _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
-                             _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
-                             _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
-                             "1" if large else "0", str(len(b.vertices))]))
-        n = len(b.vertices)
-        for k in range(n):
-            (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
-            ex, ey = x1 - x0, y1 - y0
-            ln = math.hypot(ex, ey)
-            nx, ny = ey / ln, -ex / ln                  # outward: the polygon is counter-clockwise
-            tx, ty = ex / ln, ey / ln
-            out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
-                                 _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
-                                 _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+        out += body_lines(b, large)
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

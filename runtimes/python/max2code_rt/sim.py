@@ -55,7 +55,7 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -79,6 +79,7 @@ class Body:
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
     # load           m/s^2: free acceleration pressing onto the support, > 0
     # at             m/s^2: free acceleration along the tangent
+    # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
 
 
 class Stats:
@@ -165,7 +166,7 @@ def _fmt(x: float) -> str:
 
 
 # input modes (the flat scene's MODE; docs/simulator.md)
-SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT = 0, 1, 2, 3
+SET_VELOCITY, ADD_VELOCITY, IMPULSE, TELEPORT, REMOVE = 0, 1, 2, 3, 4
 
 
 class Input:
@@ -173,32 +174,78 @@ class Input:
     __slots__ = ("t", "body", "mode", "vx", "vy")
     # t s; body index; mode SET_VELOCITY, ADD_VELOCITY (vx, vy m/s), IMPULSE
     # (vx, vy: the impulse, N s, through the centre), TELEPORT (vx, vy: the
-    # new centre, m)
+    # new centre, m), REMOVE (vx, vy unused, 0)
 
     def __init__(self, t: float, body: int, mode: int, vx: float, vy: float):
         self.t, self.body, self.mode, self.vx, self.vy = t, body, mode, vx, vy
+
+
+class Tokens:
+    """The whitespace-separated words of a flat text, read in order."""
+
+    def __init__(self, text: str, what: str):
+        self.tok = text.split()
+        self.pos = 0
+        self.what = what
+
+    def word(self, expect=None) -> str:
+        if self.pos >= len(self.tok):
+            raise SimError(f"{self.what}: ends early" + (f" (expected '{expect}')" if expect else ""))
+        w = self.tok[self.pos]
+        self.pos += 1
+        if expect is not None and w != expect:
+            raise SimError(f"{self.what}: expected '{expect}', found '{w}'")
+        return w
+
+    def num(self) -> float:
+        w = self.word()
+        try:
+            return float(w)
+        except ValueError:
+            raise SimError(f"{self.what}: expected a number, found '{w}'") from None
+
+    def integer(self) -> int:
+        w = self.word()
+        try:
+            return int(w)
+        except ValueError:
+            raise SimError(f"{self.what}: expected an integer, found '{w}'") from None
+
+
+def read_body(tk: Tokens, i: int) -> Body:
+    """A `body ...` line and its `v` lines (docs/simulator.md, Flat scene)."""
+    num, integer = tk.num, tk.integer
+    tk.word("body")
+    b = Body()
+    b.idx = i
+    b.polygon = integer() == 1
+    b.fixed = integer() == 1
+    b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
+    b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
+    b.fax, b.fay = b.ax, b.ay
+    b.sup, b.sup_edge = -1, -1
+    b.tx = b.ty = b.load = b.at = 0.0
+    b.ang, b.om = num(), num()
+    b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
+    b.large = integer() == 1
+    nv = integer()
+    b.verts = []
+    for _ in range(nv):
+        tk.word("v")
+        b.verts.append(Vertex([num() for _ in range(10)]))
+    b.tb = 0.0
+    b.stamp = 0
+    b.cx = b.cy = 0
+    b.gone = False
+    return b
 
 
 class Scene:
     """A compiled scene, read from the flat format."""
 
     def __init__(self, text: str):
-        tok = text.split()
-        pos = [0]
-
-        def word(expect=None):
-            w = tok[pos[0]]
-            pos[0] += 1
-            if expect is not None and w != expect:
-                raise SimError(f"scene: expected '{expect}', found '{w}'")
-            return w
-
-        def num():
-            return float(word())
-
-        def integer():
-            return int(word())
-
+        tk = Tokens(text, "scene")
+        word, num, integer = tk.word, tk.num, tk.integer
         word("m2c-scene")
         if integer() != 1:
             raise SimError("scene: unknown version")
@@ -211,30 +258,7 @@ class Scene:
         word("grid"); self.x0 = num(); self.y0 = num(); self.cw = num(); self.ch = num()
         self.nx = integer(); self.ny = integer()
         word("bodies"); n = integer()
-        self.bodies: list[Body] = []
-        for i in range(n):
-            word("body")
-            b = Body()
-            b.idx = i
-            b.polygon = integer() == 1
-            b.fixed = integer() == 1
-            b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
-            b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
-            b.fax, b.fay = b.ax, b.ay
-            b.sup, b.sup_edge = -1, -1
-            b.tx = b.ty = b.load = b.at = 0.0
-            b.ang, b.om = num(), num()
-            b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
-            b.large = integer() == 1
-            nv = integer()
-            b.verts = []
-            for _ in range(nv):
-                word("v")
-                b.verts.append(Vertex([num() for _ in range(10)]))
-            b.tb = 0.0
-            b.stamp = 0
-            b.cx = b.cy = 0
-            self.bodies.append(b)
+        self.bodies: list[Body] = [read_body(tk, i) for i in range(n)]
         word("inputs"); k = integer()
         self.inputs = []
         for _ in range(k):
@@ -290,6 +314,7 @@ class World:
         self.last_t = -1.0          # the instant of the last event handled, and how many came at it
         self.same = 0
         self.contacts: list[Contact] = []    # reported by the next advance()
+        self.added = 0              # bodies added by add_body (a recording refuses them)
         self.handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
                          self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
         self.start()
@@ -897,7 +922,12 @@ class World:
         t = ev.t
         inp = self.s.inputs[ev.k]
         body = self.s.bodies[inp.body]
+        if body.gone:
+            raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
         self.rebase(body, t)
+        if inp.mode == REMOVE:
+            self.remove(body, ev.k, t)
+            return
         if inp.mode == TELEPORT:
             o = self.overlapping(body, inp.vx, inp.vy, t)
             if o >= 0:
@@ -921,6 +951,31 @@ class World:
         self.emit_state(body)
         self.predict_body(body, t, None)
 
+    def remove(self, body: Body, k: int, t: float) -> None:
+        """Input k removes the body (based at t): it stops where it is (v, a,
+        w zero), leaves the grid, its stamp changes (its queued events go
+        stale) and it is never predicted again; bodies it supported leave."""
+        body.vx = body.vy = body.ax = body.ay = body.fax = body.fay = body.om = 0.0
+        if body.sup >= 0:
+            self.end_support(body)
+        body.gone = True
+        body.stamp += 1
+        if body.large:
+            self.large.remove(body)
+        else:
+            self.cell_remove(body)
+        self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {k} -1 0 0 0 0 0\n")
+        for A in self.s.bodies:
+            if A.sup == body.idx:
+                self.stats.leaves += 1
+                self.rebase(A, t)
+                edge = A.sup_edge
+                self.end_support(A)
+                A.stamp += 1
+                self.out.write(f"E leave {_fmt(t)} {A.idx} {body.idx} -1 -1 {edge} 0 0 0 0 0\n")
+                self.emit_state(A)
+                self.predict_body(A, t, None)
+
     # ---- overlap (a teleport's check) ----------------------------------------
     def overlapping(self, A: Body, x: float, y: float, t: float) -> int:
         """The first body (by index) that A, with its centre moved to (x, y)
@@ -931,7 +986,7 @@ class World:
         A.px, A.py, A.vx, A.vy, A.ang, A.tb = x, y, vx, vy, ang, t     # A at t, moved (restored below)
         found = -1
         for B in self.s.bodies:
-            if B is A:
+            if B is A or B.gone:
                 continue
             bx, by, _, _, _ = self.state_at(B, t)
             dx, dy = bx - x, by - y
@@ -1119,7 +1174,8 @@ class World:
 
     def state(self, body: int, t: float) -> tuple[float, float, float, float, float, float]:
         """(px, py, vx, vy, angle, omega) of a body at t, exact, for t from
-        the world's time to the next event's."""
+        the world's time to the next event's (a removed body: where it was
+        removed, at rest)."""
         b = self.body(body)
         nxt = self.next_event_time()
         if not (t >= self.time and t <= nxt and t <= self.s.end):
@@ -1132,6 +1188,46 @@ class World:
         if not (0 <= k < len(self.s.bodies)):
             raise SimError(f"no body {k} (the world has {len(self.s.bodies)})")
         return self.s.bodies[k]
+
+    def remove_body(self, body: int) -> None:
+        """Take a body (movable or fixed) out of the world now: input MODE 4
+        (docs/engine-api.md)."""
+        self.live_input(body, REMOVE, 0.0, 0.0)
+
+    def add_body(self, text: str) -> int:
+        """A body from its flat lines (`body ...` and its `v` lines, the
+        state at the world's time) added now; its index, or -1 (the world
+        unchanged) when it would overlap a body by more than the tolerance.
+        Not an input: a recording refuses a session that added bodies."""
+        tk = Tokens(text, "add_body")
+        s = self.s
+        b = read_body(tk, len(s.bodies))
+        if tk.pos != len(tk.tok):
+            raise SimError(f"add_body: unexpected '{tk.tok[tk.pos]}' after the body")
+        b.large = 2.0 * b.bound > min(s.cw, s.ch)
+        if b.large and not b.fixed:
+            raise SimError(f"add_body: a movable body of bound {_fmt(b.bound)} m does not fit the grid's cells "
+                           f"({_fmt(s.cw)} x {_fmt(s.ch)} m): put such a body in the scene")
+        t = self.time
+        b.tb = t
+        self.inputs_now()
+        if self.overlapping(b, b.px, b.py, t) >= 0:
+            return -1
+        s.bodies.append(b)
+        self.added += 1
+        self.out.write(f"E add {_fmt(t)} {b.idx} -1 -1 -1 -1 0 0 0 0 0\n")
+        if b.large:
+            self.large.append(b)
+            for o in s.bodies:
+                if not o.large and not o.gone and not (o.fixed and b.fixed):
+                    self.predict_pair(o, b, t)
+        else:
+            b.cx, b.cy = self.cell_of(b.px, b.py)
+            self.cell_add(b)
+            if not b.fixed:
+                self.emit_state(b)
+            self.predict_body(b, t, None)
+        return b.idx
 
     # ---- live inputs: at the world's time, recorded in the input list --------
     def set_velocity(self, body: int, vx: float, vy: float) -> None:
@@ -1157,7 +1253,9 @@ class World:
         (docs/engine-api.md, "Live inputs").  It is appended to the input
         list (s.inputs), which is the recording."""
         b = self.body(body)
-        if b.fixed:
+        if b.gone:
+            raise SimError(f"body {body} was removed")
+        if b.fixed and mode != REMOVE:
             raise SimError(f"body {body} is fixed: inputs move movable bodies only")
         if not (math.isfinite(x) and math.isfinite(y)):
             raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")

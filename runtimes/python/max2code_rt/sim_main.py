@@ -44,7 +44,8 @@ def stepped(text: str, cc, pe, out, probe, dt: float, live: bool) -> None:
     if live:
         text, inputs = split_inputs(text)
     w = World(text, cc, pe, out)
-    ops = (w.set_velocity, w.add_velocity, w.apply_impulse, w.teleport)      # by MODE
+    ops = (w.set_velocity, w.add_velocity, w.apply_impulse, w.teleport,
+           lambda body, x, y: w.remove_body(body))                           # by MODE
     end = w.s.end
     nxt = 0             # the next live input
     k = 1
