@@ -61,3 +61,79 @@ def test_the_rust_example_program_runs_as_the_python_world(tmp_path):
     got = r.stdout.splitlines()
     assert any(line.startswith("contact ") for line in got) and any(line.startswith("striker ") for line in got)
     assert got == python_lines(scene)
+
+
+ADD_PROGRAM = r"""
+#[path = "circle_circle.rs"]
+#[allow(dead_code)]
+mod circle_circle;
+#[path = "point_edge.rs"]
+#[allow(dead_code)]
+mod point_edge;
+
+use max2code_rt::sim::{g17, SimError, World};
+
+max2code_rt::sim_equations!(circle_circle, point_edge);
+
+fn main() -> Result<(), SimError> {
+    let text = std::fs::read_to_string("scene.flat").map_err(SimError::Io)?;
+    let mut world = World::<GeneratedEquations>::from_scene(&text, Some(Box::new(std::io::stdout())))?;
+    world.advance(0.5)?;
+    let inside = std::fs::read_to_string("inside.flat").map_err(SimError::Io)?;
+    let free = std::fs::read_to_string("free.flat").map_err(SimError::Io)?;
+    let n = world.bodies();
+    eprintln!("refused {:?}", world.add_body(&inside)?);
+    let k = world.add_body(&free)?.expect("room for it");
+    let s = world.state(k, 0.5)?;
+    eprintln!("added {k} of {n} at {} {} {} {}", g17(s.px), g17(s.py), g17(s.vx), g17(s.vy));
+    world.advance(1.0)?;
+    world.remove_body(k)?;
+    world.advance(1.5)?;
+    world.finish()?;
+    Ok(())
+}
+"""
+
+
+def test_add_and_remove_body_in_rust_write_the_python_world_bytes(tmp_path):
+    """add_body (refused where it overlaps, then accepted) and remove_body
+    through Rust's World: the trace of the Python world driven the same way."""
+    import io
+    import json
+    from max2code.sim.live import flat_body
+    from max2code.sim.scene import parse_scene
+    import sys
+    sys.path.insert(0, str(paths.ROOT / "tests"))
+    from sim_scenes import inputs_scene
+    raw = inputs_scene(1.5)
+    raw["inputs"] = []
+    scene = parse_scene(json.dumps(raw))
+    drop = {"name": "drop", "shape": "circle", "radius": 0.08, "mass": 0.5, "position": [0.3, 1.5],
+            "velocity": [0.0, -1.0]}
+    inside, free = flat_body(scene, drop | {"position": [1.0, 0.0]}), flat_body(scene, drop)
+    out = io.StringIO()
+    w = python_world(scene, out)
+    w.advance(0.5)
+    assert w.add_body(inside) == -1
+    k = w.add_body(free)
+    w.advance(1.0)
+    w.remove_body(k)
+    w.advance(1.5)
+    w.finish()
+    assert f"E add 0.5 {k} " in out.getvalue() and f"E input 1 {k} " in out.getvalue()
+
+    build = build_simulator("rust", scene.effects, scene.taylor_order)
+    shutil.copy(build.generated["circle_circle"], tmp_path / "circle_circle.rs")
+    shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
+    (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
+    (tmp_path / "inside.flat").write_text(inside, encoding="ascii")
+    (tmp_path / "free.flat").write_text(free, encoding="ascii")
+    (tmp_path / "main.rs").write_text(ADD_PROGRAM, encoding="utf-8")
+    rust = target("rust")
+    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", "add"],
+                   cwd=tmp_path, check=True, capture_output=True, timeout=600)
+    r = subprocess.run([str(tmp_path / "add")], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    n = len(scene.bodies)
+    assert r.stderr.splitlines() == ["refused None", f"added {k} of {n} at 0.29999999999999999 1.5 0 -1"]
+    assert r.stdout == out.getvalue()

@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python", "rust"}, "inputs": {"python", "rust"}, "bodies": {"python"}}
+PORTED = {"world": {"python", "rust"}, "inputs": {"python", "rust"}, "bodies": {"python", "rust"}}
 
 
 def runtimes(step: str):

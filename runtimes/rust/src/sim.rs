@@ -53,7 +53,7 @@ mod world;
 pub use g17::{g17, push_g17};
 pub use live::{BodyState, Contact, World};
 pub use out::SimError;
-pub use scene::{Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
+pub use scene::{Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
 pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
@@ -140,6 +140,7 @@ fn live_op<E: Equations>(world: &mut World<E>, inp: &Input) -> Result<bool, SimE
         scene::ADD_VELOCITY => world.add_velocity(body, inp.vx, inp.vy).map(|_| true),
         scene::IMPULSE => world.apply_impulse(body, inp.vx, inp.vy).map(|_| true),
         scene::TELEPORT => world.teleport(body, inp.vx, inp.vy),
+        scene::REMOVE => world.remove_body(body).map(|_| true),
         m => Err(SimError::Msg(format!("scene: unknown input mode {m}"))),
     }
 }

@@ -11,7 +11,9 @@ use super::motion::state_at;
 use super::out::{Out, SimError};
 use super::overlap::overlapping;
 use super::queue::{Event, INPUT};
-use super::scene::{Body, Input, Scene, ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
+use super::grid::cell_of;
+use super::predict::{predict_body, predict_pair};
+use super::scene::{read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::world::{Queue, Space};
 use super::Equations;
 
@@ -66,6 +68,8 @@ pub struct World<E: Equations> {
     pub(super) same: i64,
     /// the contacts the next `advance` reports
     pub(super) contacts: Vec<Contact>,
+    /// bodies added by add_body (a recording refuses them)
+    added: usize,
     eq: PhantomData<E>,
 }
 
@@ -83,6 +87,7 @@ impl<E: Equations> World<E> {
             last_t: -1.0,
             same: 0,
             contacts: Vec::new(),
+            added: 0,
             eq: PhantomData,
         };
         world.start()?;
@@ -206,7 +211,10 @@ impl<E: Equations> World<E> {
     /// (docs/engine-api.md, "Live inputs").  It is appended to the input
     /// list, which is the recording.
     fn live_input(&mut self, body: usize, mode: i64, x: f64, y: f64) -> Result<bool, SimError> {
-        if self.body(body)?.fixed {
+        if self.body(body)?.gone {
+            return Err(SimError::Msg(format!("body {body} was removed")));
+        }
+        if self.body(body)?.fixed && mode != REMOVE {
             return Err(SimError::Msg(format!("body {body} is fixed: inputs move movable bodies only")));
         }
         if !(x.is_finite() && y.is_finite()) {
@@ -216,7 +224,7 @@ impl<E: Equations> World<E> {
         self.inputs_now()?;
         if mode == TELEPORT {
             let s = &self.w.s;
-            if overlapping(&s.bodies, &s.verts, s.tol, body, x, y, t).is_some() {
+            if overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[body], Some(body), x, y, t).is_some() {
                 return Ok(false);
             }
         }
@@ -225,6 +233,91 @@ impl<E: Equations> World<E> {
         self.q.heap.push(t, Event::Input { k });
         self.inputs_now()?;
         Ok(true)
+    }
+
+    /// Every input: the scene's, then the live ones in the order they were
+    /// made (what a recording writes).
+    pub fn input_log(&self) -> &[Input] {
+        &self.w.s.inputs
+    }
+
+    /// How many bodies add_body added.
+    pub fn added(&self) -> usize {
+        self.added
+    }
+
+    /// Take a body (movable or fixed) out of the world now: input MODE 4.
+    pub fn remove_body(&mut self, body: usize) -> Result<(), SimError> {
+        self.live_input(body, REMOVE, 0.0, 0.0).map(|_| ())
+    }
+
+    /// A body from its flat lines (`body ...` and its `v` lines, the state
+    /// at the world's time) added now; its index, or None (the world
+    /// unchanged) when it would overlap a body by more than the tolerance.
+    /// Not an input: a recording refuses a session that added bodies.
+    pub fn add_body(&mut self, text: &str) -> Result<Option<usize>, SimError> {
+        let v0 = self.w.s.verts.len();
+        let res = self.add_body_at(text, v0);
+        if !matches!(res, Ok(Some(_))) {
+            // not added: its vertices go too
+            self.w.s.verts.truncate(v0);
+        }
+        res
+    }
+
+    fn add_body_at(&mut self, text: &str, v0: usize) -> Result<Option<usize>, SimError> {
+        let mut tk = Tokens::new(text, "add_body");
+        let idx = self.w.s.bodies.len();
+        let mut b = read_body(&mut tk, idx as u32, &mut self.w.s.verts).map_err(SimError::Msg)?;
+        debug_assert_eq!(b.v0 as usize, v0);
+        if let Some(w) = tk.rest() {
+            return Err(SimError::Msg(format!("add_body: unexpected '{w}' after the body")));
+        }
+        let s = &self.w.s;
+        // Python's min(cw, ch)
+        let cell = if s.ch < s.cw { s.ch } else { s.cw };
+        b.large = 2.0 * b.bound > cell;
+        if b.large && !b.fixed {
+            return Err(SimError::Msg(format!(
+                "add_body: a movable body of bound {} m does not fit the grid's cells ({} x {} m): put such a body in the scene",
+                g17(b.bound),
+                g17(s.cw),
+                g17(s.ch)
+            )));
+        }
+        let t = self.time;
+        b.tb = t;
+        self.inputs_now()?;
+        let s = &self.w.s;
+        if overlapping(&s.bodies, &s.verts, s.tol, &b, None, b.px, b.py, t).is_some() {
+            return Ok(None);
+        }
+        let (large, fixed) = (b.large, b.fixed);
+        self.w.s.bodies.push(b);
+        self.w.stamps.push(0);
+        self.added += 1;
+        self.out.add(t, idx as u32)?;
+        if large {
+            self.w.grid.large.push(idx as u32);
+            for o in 0..self.w.s.bodies.len() {
+                let ob = &self.w.s.bodies[o];
+                if !(ob.large || ob.gone || (ob.fixed && fixed)) {
+                    predict_pair::<E>(&self.w, &mut self.q, o, idx, t)?;
+                }
+            }
+        } else {
+            let (px, py) = (self.w.s.bodies[idx].px, self.w.s.bodies[idx].py);
+            let (cx, cy) = cell_of(&self.w.s, px, py);
+            let body = &mut self.w.s.bodies[idx];
+            body.cx = cx;
+            body.cy = cy;
+            self.w.grid.add(idx as u32, cx, cy);
+            if !fixed {
+                self.out.state(&self.w.s.bodies[idx])?;
+            }
+            predict_body::<E>(&self.w, &mut self.q, idx, t, None)?;
+        }
+        Ok(Some(idx))
     }
 
     /// Handle the input events queued at exactly the world's time.

@@ -169,6 +169,18 @@ impl Out {
         self.end_line()
     }
 
+    /// `E add T BODY -1 -1 -1 -1 0 0 0 0 0`: a body added to the world.
+    pub fn add(&mut self, t: f64, body: u32) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E add");
+        self.num(t);
+        self.int(i64::from(body));
+        self.s(" -1 -1 -1 -1 0 0 0 0 0");
+        self.end_line()
+    }
+
     /// `E frame T -1 -1 -1 -1 -1 0 0 0 0 0`
     pub fn frame(&mut self, t: f64) -> io::Result<()> {
         if self.off() {

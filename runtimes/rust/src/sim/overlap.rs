@@ -26,11 +26,14 @@ fn min(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The first body (by index) that body `ai`, with its centre moved to
-/// (x, y) at time t, would overlap by more than the tolerance; None when none.
-pub fn overlapping(bodies: &[Body], verts: &[Vertex], tol: f64, ai: usize, x: f64, y: f64, t: f64) -> Option<usize> {
+/// The first body (by index) that A (body `skip` of the world, or a body
+/// not yet in it: None), with its centre moved to (x, y) at time t, would
+/// overlap by more than the tolerance; None when none.  Removed bodies
+/// are not there.
+#[allow(clippy::too_many_arguments)]
+pub fn overlapping(bodies: &[Body], verts: &[Vertex], tol: f64, a: &Body, skip: Option<usize>, x: f64, y: f64, t: f64) -> Option<usize> {
     // A at t, moved (a copy: the world is not changed)
-    let mut a_ = bodies[ai].clone();
+    let mut a_ = a.clone();
     let (_, _, vx, vy, ang) = state_at(&a_, t);
     a_.px = x;
     a_.py = y;
@@ -39,7 +42,7 @@ pub fn overlapping(bodies: &[Body], verts: &[Vertex], tol: f64, ai: usize, x: f6
     a_.ang = ang;
     a_.tb = t;
     for (k, b_) in bodies.iter().enumerate() {
-        if k == ai {
+        if Some(k) == skip || b_.gone {
             continue;
         }
         let (bx, by, _, _, _) = state_at(b_, t);

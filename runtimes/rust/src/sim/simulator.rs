@@ -13,7 +13,7 @@ use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
-use super::scene::{ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT};
+use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::support::{can_support, end_support, enter_support, slide_accel};
 use super::Equations;
 
@@ -130,10 +130,16 @@ impl<E: Equations> World<E> {
         self.q.stats.inputs += 1;
         let inp = self.w.s.inputs[k as usize];
         let a = inp.body as usize;
+        if self.w.s.bodies[a].gone {
+            return Err(SimError::Msg(format!("input {k}: body {a} was removed before t = {}", g17(t))));
+        }
         rebase(&mut self.w.s.bodies[a], t);
+        if inp.mode == REMOVE {
+            return self.remove(a, k, t);
+        }
         if inp.mode == TELEPORT {
             let s = &self.w.s;
-            if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, a, inp.vx, inp.vy, t) {
+            if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[a], Some(a), inp.vx, inp.vy, t) {
                 return Err(SimError::Msg(format!(
                     "input {k}: body {a} teleported to ({}, {}) at t = {} would overlap body {o}",
                     g17(inp.vx),
@@ -171,6 +177,48 @@ impl<E: Equations> World<E> {
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
         predict_body::<E>(&self.w, &mut self.q, a, t, None)
+    }
+
+    /// Input k removes body a (based at t): it stops where it is (v, a, w
+    /// zero), leaves the grid, its stamp changes (its queued events go
+    /// stale) and it is never predicted again; bodies it supported leave.
+    fn remove(&mut self, a: usize, k: u32, t: f64) -> Res<()> {
+        let body = &mut self.w.s.bodies[a];
+        body.vx = 0.0;
+        body.vy = 0.0;
+        body.ax = 0.0;
+        body.ay = 0.0;
+        body.fax = 0.0;
+        body.fay = 0.0;
+        body.om = 0.0;
+        if body.sup >= 0 {
+            end_support(body);
+        }
+        body.gone = true;
+        let (large, cx, cy) = (body.large, body.cx, body.cy);
+        self.w.stamps[a] += 1;
+        if large {
+            let at = self.w.grid.large.iter().position(|&o| o as usize == a).expect("a large body is listed");
+            self.w.grid.large.remove(at);
+        } else {
+            self.w.grid.remove(a as u32, cx, cy);
+        }
+        self.out.input(t, a as u32, k)?;
+        for o in 0..self.w.s.bodies.len() {
+            if self.w.s.bodies[o].sup != a as i32 {
+                continue;
+            }
+            self.q.stats.leaves += 1;
+            let a_ = &mut self.w.s.bodies[o];
+            rebase(a_, t);
+            let edge = a_.sup_edge;
+            end_support(a_);
+            self.w.stamps[o] += 1;
+            self.out.support_end("leave", t, a_.idx, a as i32, edge)?;
+            self.out.state(a_)?;
+            predict_body::<E>(&self.w, &mut self.q, o, t, None)?;
+        }
+        Ok(())
     }
 
     /// The body's centre crossed into the next cell along an axis: move it
