@@ -1269,6 +1269,11 @@ class World:
         self.inputs_now()
         return True
 
+    def input_log(self) -> list[tuple[float, int, int, float, float]]:
+        """Every input, (t, body, mode, x, y): the scene's, then the live ones
+        in the order they were made (what a recording writes)."""
+        return [(e.t, e.body, e.mode, e.vx, e.vy) for e in self.s.inputs]
+
     def inputs_now(self) -> None:
         """Handle the input events queued at exactly the world's time."""
         heap = self.heap
