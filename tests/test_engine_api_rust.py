@@ -137,3 +137,74 @@ def test_add_and_remove_body_in_rust_write_the_python_world_bytes(tmp_path):
     n = len(scene.bodies)
     assert r.stderr.splitlines() == ["refused None", f"added {k} of {n} at 0.29999999999999999 1.5 0 -1"]
     assert r.stdout == out.getvalue()
+
+
+SESSION_PROGRAM = r"""
+#[path = "circle_circle.rs"]
+#[allow(dead_code)]
+mod circle_circle;
+#[path = "point_edge.rs"]
+#[allow(dead_code)]
+mod point_edge;
+
+use max2code_rt::sim::{g17, SimError, World};
+
+max2code_rt::sim_equations!(circle_circle, point_edge);
+
+fn main() -> Result<(), SimError> {
+    let text = std::fs::read_to_string("scene.flat").map_err(SimError::Io)?;
+    let mut world = World::<GeneratedEquations>::from_scene(&text, Some(Box::new(std::io::stdout())))?;
+    let (ball, crate_, pebble) = (4, 5, 6);
+    world.advance(0.3)?;
+    world.apply_impulse(ball, 0.5, 2.0)?;
+    world.set_velocity(crate_, 0.0, 1.0)?;
+    let hit = world.next_event_time();
+    world.advance(hit)?; // at an event's exact time: the input comes first
+    world.add_velocity(pebble, 0.1, 0.1)?;
+    world.advance(0.5)?;
+    assert!(world.teleport(ball, 1.0, 1.2)?);
+    assert!(!world.teleport(crate_, 1.0, -0.05)?); // into the floor: refused, not recorded
+    world.advance(1.4)?;
+    world.remove_body(pebble)?;
+    world.finish()?;
+    for inp in world.input_log() {
+        eprintln!("{} {} {} {} {}", g17(inp.t), inp.body, inp.mode, g17(inp.vx), g17(inp.vy));
+    }
+    Ok(())
+}
+"""
+
+
+def test_a_rust_session_recorded_gives_its_trace_in_rust_and_python(tmp_path):
+    """A live session in Rust (inputs of every kind, one at an event's exact
+    time, a refused teleport, a removal): its input log made into a
+    recording (max2code.sim.recording) and run by the batch simulators of
+    Rust and Python writes the session's trace byte for byte."""
+    import json
+    import sys
+    from max2code.sim.recording import recording
+    from max2code.sim.simulate import run_scene
+    sys.path.insert(0, str(paths.ROOT / "tests"))
+    from sim_scenes import inputs_scene
+    raw = inputs_scene(2.0)
+    raw["inputs"] = []
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(raw), encoding="utf-8")
+    scene = load_scene(str(path))
+    assert [b.name for b in scene.bodies[4:7]] == ["ball", "crate", "pebble"]
+    build = build_simulator("rust", scene.effects, scene.taylor_order)
+    shutil.copy(build.generated["circle_circle"], tmp_path / "circle_circle.rs")
+    shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
+    (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
+    (tmp_path / "main.rs").write_text(SESSION_PROGRAM, encoding="utf-8")
+    rust = target("rust")
+    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", "session"],
+                   cwd=tmp_path, check=True, capture_output=True, timeout=600)
+    r = subprocess.run([str(tmp_path / "session")], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    log = [(float(t), int(b), int(m), float(x), float(y)) for t, b, m, x, y in (ln.split() for ln in r.stderr.splitlines())]
+    assert [m for _, _, m, _, _ in log] == [2, 0, 1, 3, 4]
+    rec = tmp_path / "recording.json"
+    rec.write_text(json.dumps(recording(str(path), log)), encoding="utf-8")
+    for lang in ("rust", "python"):
+        assert run_scene(load_scene(str(rec)), lang).raw == r.stdout, lang

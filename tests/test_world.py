@@ -27,7 +27,7 @@ EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
 PORTED = {"world": {"python", "rust"}, "inputs": {"python", "rust"}, "bodies": {"python", "rust"},
-          "recordings": {"python"}}
+          "recordings": {"python", "rust"}}
 
 
 def runtimes(step: str):
