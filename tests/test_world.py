@@ -15,6 +15,7 @@ import os
 import subprocess
 
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from max2code.sim.live import flat_body, python_world
 from max2code.sim.replay import read_trace
@@ -421,3 +422,46 @@ def test_a_session_that_added_bodies_is_not_recorded(tmp_path):
     from max2code.sim.recording import recording
     with pytest.raises(RecordingError, match="recorded on another scene"):
         recording(os.path.join(EX, "platformer.json"), w.input_log())      # the platformer has inputs of its own
+
+
+ACTIONS = st.lists(st.tuples(st.sampled_from(["event", "step", "set_velocity", "add_velocity", "apply_impulse"]),
+                             st.floats(0.0, 0.2), st.integers(0, 99), st.floats(-1, 1), st.floats(-1, 1)),
+                   min_size=1, max_size=40)
+
+
+@settings(max_examples=4, deadline=None, derandomize=True)
+@given(st.integers(min_value=0, max_value=10**6), ACTIONS)
+def test_random_sessions_replay_from_their_recordings(tmp_path_factory, seed, actions):
+    """Random scenes, random advances (to the next event's exact time, or by
+    a step) and random live inputs between them: the session's trace equals
+    its recording's, and with no inputs the batch run's."""
+    import io
+    from max2code.sim.recording import write_recording
+    from sim_scenes import random_scene
+    folder = tmp_path_factory.mktemp("random")
+    path = str(folder / "scene.json")
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(random_scene(seed, end_time=1.0), fh)
+    try:
+        scene = load_scene(path)
+    except Exception:
+        return                              # an overlapping draw (write_random_scenes draws again; here: skip)
+    movable = [k for k, b in enumerate(scene.bodies) if not b.fixed]
+    out = io.StringIO()
+    w = python_world(scene, out)
+    made = 0
+    for what, dt, pick, x, y in actions:
+        if what == "event":
+            w.advance(min(w.next_event_time(), scene.end_time))
+        elif what == "step":
+            w.advance(min(scene.end_time, w.time + dt))
+        else:
+            getattr(w, what)(movable[pick % len(movable)], x, y)
+            made += 1
+    w.advance(scene.end_time)
+    w.finish()
+    rec = str(folder / "recording.json")
+    write_recording(path, w, rec)
+    assert run_scene(load_scene(rec), "python").raw == out.getvalue()
+    if made == 0:
+        assert run_scene(scene, "python").raw == out.getvalue()
