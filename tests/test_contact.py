@@ -50,7 +50,7 @@ def final(tr, name):
 
 
 def no_overlap(scene, rp):
-    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "input", "frame"))
+    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "input", "frame"))
     assert rep.max_overlap <= scene.tolerance, rep
     return rep
 
@@ -87,7 +87,7 @@ def kinds(tr):
 
 def test_ball_resting_on_a_floor_stays_at_exactly_its_height():
     scene, tr, rp = run([floor(), ball()], end=5.0)
-    assert kinds(tr) == ["support"]
+    assert kinds(tr) == ["support", "sleep"]
     f = final(tr, "ball")
     assert f["position"] == [0.0, 0.1] and f["velocity"] == [0.0, 0.0]
     for t in rp.frame_times:
@@ -103,7 +103,7 @@ def box_body(name="box", x=0.0, y=0.1, half=0.1, **kw):
 
 def test_box_resting_on_a_floor_stays():
     scene, tr, rp = run([floor(), box_body()], end=5.0)
-    assert kinds(tr) == ["support"]
+    assert kinds(tr) == ["support", "sleep"]
     f = final(tr, "box")
     assert f["position"] == [0.0, 0.1] and f["velocity"] == [0.0, 0.0] and f["angle"] == 0.0
     no_overlap(scene, rp)
@@ -150,7 +150,7 @@ def test_ball_at_rest_on_a_frictionless_slope_slides_and_leaves_at_the_edge():
 def test_friction_stops_a_sliding_ball_at_the_analytic_time_and_place():
     v0, mu = 2.0, 0.3
     scene, tr, rp = run([floor(half=3.0, friction=1.0), ball(friction=mu, velocity=[v0, 0.0])], end=2.0)
-    assert kinds(tr) == ["support", "stop"]
+    assert kinds(tr) == ["support", "stop", "sleep"]
     stop = tr.events[[e["kind"] for e in tr.events].index("stop")]
     assert stop["t"] == pytest.approx(v0 / (mu * G), rel=1e-12)
     f = final(tr, "ball")
@@ -162,7 +162,7 @@ def test_friction_on_a_slope_stops_then_holds():
     th, mu, v0 = 0.2, 0.5, 1.0
     bodies, (tx, ty) = slope_scene(th, mu=mu, v0=v0, half=2.0)
     scene, tr, rp = run(bodies, end=2.0)
-    assert kinds(tr) == ["support", "stop"]
+    assert kinds(tr) == ["support", "stop", "sleep"]
     decel = G * (mu * math.cos(th) - math.sin(th))
     stop = next(e for e in tr.events if e["kind"] == "stop")
     assert stop["t"] == pytest.approx(v0 / decel, rel=1e-12)
@@ -176,9 +176,10 @@ def test_friction_on_a_slope_stops_then_holds():
 def test_a_dropped_ball_comes_to_rest_on_the_floor_in_a_few_collisions():
     scene, tr, rp = run([floor(restitution=1.0), ball(y=0.6, restitution=0.5)], end=3.0)
     k = kinds(tr)
-    assert k[-1] == "support" and set(k[:-1]) == {"collision"} and len(k) <= 10
-    support = tr.events[[e["kind"] for e in tr.events].index("support")]
-    y = support["states"][0]["position"][1]
+    assert k[-2:] == ["support", "sleep"] and set(k[:-2]) == {"collision"} and len(k) <= 11
+    # at rest on the floor at once: the support's state is the sleep's
+    sleep = tr.events[[e["kind"] for e in tr.events].index("sleep")]
+    y = sleep["states"][0]["position"][1]
     assert abs(y - 0.1) <= scene.tolerance
     f = final(tr, "ball")
     # exactly on the floor from then on; sideways only the rounding of the
@@ -194,7 +195,7 @@ def test_a_box_pushed_along_a_floor_slides_on_it_and_stops():
     v0 = 1.5
     scene, tr, rp = run([floor(half=3.0, friction=1.0), box_body(friction=0.5)], end=1.5,
                         inputs=[{"time": 0.5, "body": "box", "set_velocity": [v0, 0.0]}])
-    assert kinds(tr) == ["support", "input", "support", "stop"]
+    assert kinds(tr) == ["support", "sleep", "wake", "input", "support", "stop", "sleep"]
     stop = next(e for e in tr.events if e["kind"] == "stop")
     assert stop["t"] == pytest.approx(0.5 + v0 / (0.5 * G), rel=1e-12)
     f = final(tr, "box")
@@ -239,7 +240,69 @@ def test_elastic_frictionless_sliding_conserves_energy():
     for k in range(6):
         bodies.append(ball(f"b{k}", x=-0.75 + 0.3 * k, y=0.1, velocity=[[1.3, -0.7, 0.4, -1.9, 0.8, -0.2][k], 0.0]))
     scene, tr, rp = run(bodies, end=16.0, frame_rate=60)
-    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "input", "frame"))
+    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "input", "frame"))
     assert rep.events > 1000, rep
     assert rep.max_overlap <= scene.tolerance, rep
     assert rep.max_energy_drift <= 1e-12, rep
+
+
+# ---- sleeping islands (docs/simulator.md "Contact model: sleeping islands") ----
+def stack_scene():
+    """Three balls stacked on a floor at t = 0 (one island once asleep)."""
+    return [floor(half=3.0), ball("low", restitution=0.5), ball("mid", y=0.3, restitution=0.5),
+            ball("top", y=0.5, restitution=0.5)]
+
+
+def test_a_stack_falls_asleep_as_one_island_and_then_costs_nothing():
+    scene, tr, rp = run(stack_scene(), end=3.0)
+    sleeps = [e for e in tr.events if e["kind"] == "sleep"]
+    assert sorted(e["bodies"][0] for e in sleeps[-3:]) == ["low", "mid", "top"]
+    assert len({e["island"] for e in sleeps[-3:]}) == 1             # one island, grounded on the floor
+    last = max(e["t"] for e in tr.events if e["kind"] != "frame")
+    assert last < 0.5                                                 # then nothing but frames
+    assert tr.stats["events"]["sleeps"] == len(sleeps) and tr.stats["events"]["wakes"] == 0
+    for name in ("low", "mid", "top"):
+        f = final(tr, name)
+        assert f["velocity"] == [0.0, 0.0]
+    no_overlap(scene, rp)
+
+
+def test_a_sleeping_island_wakes_when_hit_and_moves_as_exact_free_motion():
+    """A ball flying in level hits the top of a sleeping stack: the whole
+    island wakes at that instant; from there each body's state is the exact
+    free motion p + v dt + g dt^2/2 of the state it woke with (the replay of
+    max2code/sim/replay.py, whose operations are the simulator's) until its
+    next event, and nothing overlaps."""
+    T = 1.0
+    bodies = [floor(half=3.0), ball("low", restitution=0.5), ball("mid", y=0.3, restitution=0.5),
+              ball("top", y=0.5, restitution=0.5)]
+    # 'hit' falls from rest and is carried sideways at constant speed: at T
+    # its centre is level with top's, 0.2 m to its left
+    vx = 1.0
+    bodies.append(ball("hit", x=-0.2 - vx * T, y=0.5 + 0.5 * G * T * T, velocity=[vx, 0.0], restitution=0.5))
+    scene, tr, rp = run(bodies, end=T + 0.5, frame_rate=1000)
+    wake = next(e for e in tr.events if e["kind"] == "wake")
+    assert wake["t"] == pytest.approx(T, rel=1e-6) and wake["bodies"] == ["top"]
+    woken = {s["body"]: s for s in wake["states"]}
+    assert sorted(woken) == ["low", "mid", "top"]
+    for name, s in woken.items():
+        assert s["acceleration"] == [0.0, -G]          # free again
+        before = rp.state_at(name, wake["t"] - 1e-3)
+        assert [before.px, before.py] == s["position"]  # it woke where it slept
+    # the top ball after the collision: free flight until its next event
+    t0 = wake["t"]
+    after = [e for e in tr.events if e["t"] > t0 and e["kind"] != "frame" and "top" in e.get("bodies", [])]
+    t1 = after[0]["t"] if after else scene.end_time
+    s0 = rp.state_at("top", t0)                          # the last of its states at t0
+    px, py, vx0, vy0 = s0.px, s0.py, s0.vx, s0.vy
+    assert vx0 > 0.1 and (s0.ax, s0.ay) == (0.0, -G)     # knocked away, falling freely
+    n = 0
+    for t in rp.frame_times:
+        if t0 < t < t1:
+            dt = t - t0
+            s = rp.state_at("top", t)
+            assert s.px == px + (vx0 + 0.5 * 0.0 * dt) * dt
+            assert s.py == py + (vy0 + 0.5 * -G * dt) * dt
+            n += 1
+    assert n >= 5
+    no_overlap(scene, rp)

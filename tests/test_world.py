@@ -97,14 +97,15 @@ def test_live_inputs_write_the_bytes_of_the_same_inputs_scripted(lang):
 
 @pytest.mark.parametrize("lang", runtimes("bodies"))
 def test_live_removals_write_the_bytes_of_the_same_removals_scripted(lang):
-    """Removing a fixed ledge under a resting pebble (it leaves and falls)
-    and then the pebble, live at their times: the scripted scene's bytes,
-    and states equal to the replay (a removed body stays where it was
-    removed, at rest)."""
+    """Removing a fixed ledge under a resting pebble (asleep on it: the
+    removal wakes it and it falls) and then the pebble, live at their
+    times: the scripted scene's bytes, and states equal to the replay (a
+    removed body stays where it was removed, at rest)."""
     scene = parse_scene(json.dumps(inputs_scene(remove=True)))
     batch = run_scene(scene, lang)
-    kinds = [(e["kind"], e["bodies"]) for e in batch.events if e["kind"] in ("support", "leave")]
-    assert ("support", ["pebble", "ledge"]) in kinds and ("leave", ["pebble", "ledge"]) in kinds
+    kinds = [(e["kind"], e["bodies"]) for e in batch.events if e["kind"] in ("support", "sleep", "wake")]
+    assert ("support", ["pebble", "ledge"]) in kinds and ("sleep", ["pebble", "ledge"]) in kinds
+    assert ("wake", ["pebble"]) in kinds
     trace, probe = stepped(scene, lang, 0.05, live=True)
     assert trace == batch.raw
     rp = read_trace("\n".join(batch.lines()), scene)

@@ -111,7 +111,7 @@ def our_collisions(scene: Scene, events: list[dict]) -> list[Collision]:
     out: list[Collision] = []
     for ev in events:
         kind = ev["kind"]
-        if kind not in ("collision", "support", "stop", "leave", "input"):
+        if kind not in ("collision", "support", "stop", "leave", "sleep", "wake", "input"):
             continue
         t = ev["t"]
         if kind == "collision":

@@ -40,7 +40,7 @@ def _at(b: Body, s) -> Body:
                 b.acceleration, s.angle, s.omega, b.radius, b.orbit_radius, b.orbit_angle, b.vertices, b.friction)
 
 
-def check(scene: Scene, rp: Replay, kinds=("collision", "support", "stop", "leave", "input")) -> InvariantReport:
+def check(scene: Scene, rp: Replay, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "input")) -> InvariantReport:
     """Check at the time of every event of these kinds (add "frame" to
     sample between collisions too, where a missed contact would show)."""
     bodies = scene.bodies

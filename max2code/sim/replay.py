@@ -27,7 +27,7 @@ from max2code.errors import Max2CodeError
 from max2code.textio import InputError, read_text
 from max2code.sim.scene import REMOVE, TELEPORT, Body, Scene
 
-EVENT_KINDS = ("collision", "support", "stop", "leave", "input", "frame")
+EVENT_KINDS = ("collision", "support", "stop", "leave", "sleep", "wake", "input", "frame")
 
 
 class TraceError(Max2CodeError):
@@ -308,7 +308,7 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
             if scene.bodies[k].fixed:
                 rd.fail(f"{kind}: the trace changes the motion of {scene.bodies[k].name}, which is fixed in "
                         f"{scene.path}: the trace belongs to another scene")
-            if k not in ev.bodies:
+            if k not in ev.bodies and kind != "wake":       # a wake changes every body of its island
                 rd.fail(f"{kind}: a state of {scene.bodies[k].name}, which is not in this {kind}")
             if tolerance is not None:
                 p = advance(rp.states[k][-1], scene.bodies[k], t)

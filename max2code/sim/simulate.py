@@ -194,6 +194,11 @@ class TraceConverter:
                 elif kind in ("stop", "leave"):
                     head = (f'{{"t":{t},"kind":"{kind}","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
                             f'"edge":{int(w[7])}')
+                elif kind == "sleep":
+                    head = (f'{{"t":{t},"kind":"sleep","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
+                            f'"island":{int(w[7])}')
+                elif kind == "wake":
+                    head = f'{{"t":{t},"kind":"wake","bodies":[{self.names[int(w[3])]}],"island":{int(w[7])}'
                 elif kind == "input":
                     head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
                 elif kind == "frame":

@@ -27,7 +27,7 @@ CC, PE = 0, 1
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
-              "supports", "stops", "leaves")
+              "supports", "stops", "leaves", "sleeps", "wakes")
 
 
 class SimError(Exception):
@@ -55,7 +55,7 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -80,6 +80,8 @@ class Body:
     # load           m/s^2: free acceleration pressing onto the support, > 0
     # at             m/s^2: free acceleration along the tangent
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
+    # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
+    # island         the island's number (the index of its first sleeper), -1: awake
 
 
 class Stats:
@@ -237,6 +239,8 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.stamp = 0
     b.cx = b.cy = 0
     b.gone = False
+    b.asleep = False
+    b.island = -1
     return b
 
 
@@ -540,6 +544,8 @@ class World:
         s = self.s
         if A.sup == B.idx or B.sup == A.idx:
             return      # the support's edge line separates them (both convex): only leaving ends it
+        if (A.asleep and self.grounded(B)) or (B.asleep and self.grounded(A)):
+            return      # a sleeper against a sleeper or an unmoving fixed body: nothing moves
         self.stats.pairs += 1
         w = s.end - now
         if not (w > 0.0):
@@ -848,6 +854,100 @@ class World:
             B.om = B.om + imp * B.inv_i * rbn
         return imp
 
+    # ---- sleeping islands ---------------------------------------------------
+    def grounded(self, G: Body) -> bool:
+        """A body others can fall asleep on: asleep, or fixed and unmoving."""
+        return G.asleep or (G.fixed and self.static(G))
+
+    def at_rest(self, A: Body) -> bool:
+        """A supported body that stays where it is: no acceleration along its
+        edge (level, or static friction holds) and slower than rest_speed."""
+        if A.ax != 0.0 or A.ay != 0.0:
+            return False
+        u = A.vx * A.tx + A.vy * A.ty
+        return u * u < self.s.rest_speed * self.s.rest_speed
+
+    def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
+        """Awake movable M, one body of the collision ev with grounded G (both
+        advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
+        normal speed), falls asleep on G: M's free acceleration presses it
+        onto G (load > 0), the contact is slow (vn < rest_speed and
+        eM eG (-vn) < rest_speed), M's speed across the normal is below
+        rest_speed, and a polygon M turns slower than rest_speed / bound and
+        lies on a face: a vertex-edge contact with a neighbour of the vertex
+        on the edge's line (`flat`, whichever body has the vertex)."""
+        if M.fixed or M.asleep or not self.grounded(G):
+            return False
+        if M.idx == ev.a:
+            mx, my = nx, ny
+        else:
+            mx, my = -nx, -ny
+        rest = self.s.rest_speed
+        load = M.fax * mx + M.fay * my
+        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
+            return False
+        ut = M.vy * mx - M.vx * my
+        if ut * ut >= rest * rest:
+            return False
+        if M.polygon:
+            if math.fabs(M.om) * M.bound >= rest or ev.feature != PE or ev.i < 0:
+                return False
+            bodies = self.s.bodies
+            return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
+        return True
+
+    def handle_sleep(self, A: Body, G: Body, t: float) -> None:
+        """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
+        in G's island, or in a new one numbered A's index when G is fixed.
+        Its awake neighbours are predicted against it again."""
+        self.stats.sleeps += 1
+        if A.sup >= 0:
+            self.end_support(A)
+        A.vx = 0.0
+        A.vy = 0.0
+        A.om = 0.0
+        A.ax = 0.0
+        A.ay = 0.0
+        A.asleep = True
+        A.island = G.island if G.asleep else A.idx
+        A.stamp += 1
+        self.out.write(f"E sleep {_fmt(t)} {A.idx} {G.idx} -1 -1 {A.island} 0 0 0 0 0\n")
+        self.emit_state(A)
+        self.predict_body(A, t, None)
+
+    def handle_wake(self, S: Body, t: float) -> None:
+        """S's island wakes at t: every member (by index) gets its free
+        acceleration back, then fresh predictions (a pair of members once)."""
+        self.stats.wakes += 1
+        island = S.island
+        self.out.write(f"E wake {_fmt(t)} {S.idx} -1 -1 -1 {island} 0 0 0 0 0\n")
+        bodies = self.s.bodies
+        for b in bodies:
+            if b.asleep and b.island == island:
+                self.rebase(b, t)
+                b.asleep = False
+                b.ax = b.fax
+                b.ay = b.fay
+                b.stamp += 1
+                self.emit_state(b)
+        for b in bodies:
+            if b.island == island:
+                self.predict_woken(b, t, island)
+        for b in bodies:
+            if b.island == island:
+                b.island = -1
+
+    def predict_woken(self, b: Body, now: float, island: int) -> None:
+        """predict_body for a member of a waking island: a pair of two
+        members is predicted by the one with the smaller index."""
+        for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
+            if not (o.island == island and o.idx < b.idx) and not (b.fixed and o.fixed):
+                self.predict_pair(b, o, now)
+        for o in self.large:
+            if o is not b and not (o.island == island and o.idx < b.idx):
+                self.predict_pair(b, o, now)
+        self.schedule_cell(b, now)
+
     # ---- event handlers: one per kind -------------------------------------
     def handle_collision(self, ev: CollisionEvent) -> None:
         t = ev.t
@@ -860,9 +960,21 @@ class World:
         if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
+        if self.can_sleep(A, B, ev, nx, ny, vn):
+            self.handle_sleep(A, B, t)
+            return
+        if self.can_sleep(B, A, ev, nx, ny, vn):
+            self.handle_sleep(B, A, t)
+            return
         self.stats.collisions += 1
+        # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+        # on it); an impulse wakes its island, none leaves it asleep
         imp = self.contact_impulse(A, B, cx, cy, nx, ny)
         if imp != 0.0:
+            if A.asleep:
+                self.handle_wake(A, t)
+            if B.asleep:
+                self.handle_wake(B, t)
             if A.sup >= 0:
                 self.end_support(A)
             if B.sup >= 0:
@@ -888,6 +1000,9 @@ class World:
         self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(ev.t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, True))
+        if self.at_rest(A):
+            self.handle_sleep(A, B, ev.t)
+            return
         A.stamp += 1
         self.emit_state(A)
         self.predict_body(A, ev.t, None)
@@ -900,8 +1015,11 @@ class World:
         A.vx = 0.0
         A.vy = 0.0
         self.slide_accel(A, 0.0)
-        A.stamp += 1
         self.out.write(f"E stop {_fmt(ev.t)} {A.idx} {A.sup} -1 -1 {A.sup_edge} 0 0 0 0 0\n")
+        if self.at_rest(A):
+            self.handle_sleep(A, self.s.bodies[A.sup], ev.t)
+            return
+        A.stamp += 1
         self.emit_state(A)
         self.predict_body(A, ev.t, None)
 
@@ -924,6 +1042,8 @@ class World:
         body = self.s.bodies[inp.body]
         if body.gone:
             raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
+        if body.asleep:
+            self.handle_wake(body, t)      # any input on a sleeper wakes its island first
         self.rebase(body, t)
         if inp.mode == REMOVE:
             self.remove(body, ev.k, t)
@@ -975,6 +1095,20 @@ class World:
                 self.out.write(f"E leave {_fmt(t)} {A.idx} {body.idx} -1 -1 {edge} 0 0 0 0 0\n")
                 self.emit_state(A)
                 self.predict_body(A, t, None)
+        self.wake_touching(body, t)
+
+    def wake_touching(self, body: Body, t: float) -> None:
+        """The islands of the sleepers whose bounding circles reach the
+        removed body's (within the tolerance) wake: it may have held them
+        (by index; a woken island's other members are awake already)."""
+        tol = self.s.tol
+        for o in self.s.bodies:
+            if o.asleep:
+                dx = o.px - body.px
+                dy = o.py - body.py
+                reach = o.bound + body.bound + tol
+                if dx * dx + dy * dy <= reach * reach:
+                    self.handle_wake(o, t)
 
     # ---- overlap (a teleport's check) ----------------------------------------
     def overlapping(self, A: Body, x: float, y: float, t: float) -> int:
