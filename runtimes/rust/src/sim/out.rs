@@ -169,6 +169,35 @@ impl Out {
         self.end_line()
     }
 
+    /// `E sleep T A G -1 -1 ISLAND 0 0 0 0 0`: body a falls asleep on g.
+    pub fn sleep(&mut self, t: f64, a: u32, g: u32, island: i64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E sleep");
+        self.num(t);
+        self.int(i64::from(a));
+        self.int(i64::from(g));
+        self.s(" -1 -1");
+        self.int(island);
+        self.s(" 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `E wake T S -1 -1 -1 ISLAND 0 0 0 0 0`: the island of sleeper s wakes.
+    pub fn wake(&mut self, t: f64, s: u32, island: i64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E wake");
+        self.num(t);
+        self.int(i64::from(s));
+        self.s(" -1 -1 -1");
+        self.int(island);
+        self.s(" 0 0 0 0 0");
+        self.end_line()
+    }
+
     /// `E add T BODY -1 -1 -1 -1 0 0 0 0 0`: a body added to the world.
     pub fn add(&mut self, t: f64, body: u32) -> io::Result<()> {
         if self.off() {

@@ -6,6 +6,7 @@
 use super::motion::{point_at, state_at, turn_rate};
 use super::out::{Res, SimError};
 use super::scene::{Body, Vertex};
+use super::sleep::grounded;
 use super::support::schedule_support;
 use super::world::{Queue, Space};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
@@ -324,6 +325,10 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
     let b_ = &s.bodies[bi];
     if a_.sup == b_.idx as i32 || b_.sup == a_.idx as i32 {
         // the support's edge line separates them (both convex): only leaving ends it
+        return Ok(());
+    }
+    if (a_.asleep && grounded(b_)) || (b_.asleep && grounded(a_)) {
+        // a sleeper against a sleeper or an unmoving fixed body: nothing moves
         return Ok(());
     }
     q.stats.pairs += 1;

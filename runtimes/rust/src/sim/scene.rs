@@ -124,6 +124,10 @@ pub struct Body {
     pub at: f64,
     /// removed from the world (remove_body, input MODE 4): frozen, out of the grid
     pub gone: bool,
+    /// frozen in a sleeping island (v = a = w = 0, no events of its own)
+    pub asleep: bool,
+    /// the island's number (the index of its first sleeper), -1: awake
+    pub island: i64,
 }
 
 impl Body {
@@ -300,6 +304,8 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         cx: 0,
         cy: 0,
         gone: false,
+        asleep: false,
+        island: -1,
     })
 }
 

@@ -13,6 +13,7 @@ use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
+use super::sleep::{at_rest, can_sleep, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::support::{can_support, end_support, enter_support, slide_accel};
 use super::Equations;
@@ -37,13 +38,33 @@ impl<E: Equations> World<E> {
         if support {
             return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
         }
+        let touch = Touch { a: ai, b: bi, feature, i, j };
+        if can_sleep(&self.w, ai, bi, touch, nx, ny, vn) {
+            return self.handle_sleep(ai, bi, t);
+        }
+        if can_sleep(&self.w, bi, ai, touch, nx, ny, vn) {
+            return self.handle_sleep(bi, ai, t);
+        }
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
+        // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+        // on it); an impulse wakes its island, none leaves it asleep
+        let imp = {
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+        };
+        if imp != 0.0 {
+            if self.w.s.bodies[ai].asleep {
+                self.handle_wake(ai, t)?;
+            }
+            if self.w.s.bodies[bi].asleep {
+                self.handle_wake(bi, t)?;
+            }
+        }
         let (a_fixed, b_fixed);
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            let imp = contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
             if imp != 0.0 {
                 if a_.sup >= 0 {
                     end_support(a_);
@@ -73,26 +94,31 @@ impl<E: Equations> World<E> {
     }
 
     /// A collision that ends in support (called by handle_collision):
-    /// `contact` is (a, b, feature, i, j) of the collision record.
+    /// `contact` is (a, b, feature, i, j) of the collision record.  When
+    /// the support leaves the body at rest, it falls asleep.
     fn handle_support(&mut self, t: f64, contact: (u32, u32, i32, i32, i32), c: (f64, f64), n: (f64, f64), vn: f64) -> Res<()> {
         self.q.stats.supports += 1;
         let (a, b, feature, i, j) = contact;
-        let ai = a as usize;
+        let (ai, bi) = (a as usize, b as usize);
         {
             let w = &mut self.w;
-            let (a_, b_) = two_mut(&mut w.s.bodies, ai, b as usize);
+            let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
             let imp = -vn / a_.inv_m;
             enter_support(&w.s.verts, a_, b_, j);
             self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
-            w.stamps[ai] += 1;
-            self.out.state(a_)?;
         }
+        if at_rest(&self.w.s.bodies[ai], self.w.s.rest_speed) {
+            return self.handle_sleep(ai, bi, t);
+        }
+        self.w.stamps[ai] += 1;
+        self.out.state(&self.w.s.bodies[ai])?;
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
-    /// Sliding stops: velocity exactly zero, then rest or slide back.
+    /// Sliding stops: velocity exactly zero, then rest (asleep when at
+    /// rest) or slide back.
     fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
         self.q.stats.stops += 1;
         let ai = body as usize;
@@ -103,10 +129,103 @@ impl<E: Equations> World<E> {
         a_.vx = 0.0;
         a_.vy = 0.0;
         slide_accel(a_, mu_sup, 0.0);
-        self.w.stamps[ai] += 1;
         self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
-        self.out.state(a_)?;
+        if at_rest(a_, self.w.s.rest_speed) {
+            let sup = a_.sup as usize;
+            return self.handle_sleep(ai, sup, t);
+        }
+        self.w.stamps[ai] += 1;
+        self.out.state(&self.w.s.bodies[ai])?;
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    // ---- sleeping islands -------------------------------------------------
+
+    /// Body a (advanced to t) falls asleep resting on g: frozen (v = a = w
+    /// = 0) in g's island, or in a new one numbered a's index when g is
+    /// fixed.  Its awake neighbours are predicted against it again.
+    fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
+        self.q.stats.sleeps += 1;
+        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
+        let a_ = &mut self.w.s.bodies[a];
+        if a_.sup >= 0 {
+            end_support(a_);
+        }
+        a_.vx = 0.0;
+        a_.vy = 0.0;
+        a_.om = 0.0;
+        a_.ax = 0.0;
+        a_.ay = 0.0;
+        a_.asleep = true;
+        a_.island = g_island;
+        self.w.stamps[a] += 1;
+        self.out.sleep(t, a as u32, g as u32, g_island)?;
+        self.out.state(&self.w.s.bodies[a])?;
+        predict_body::<E>(&self.w, &mut self.q, a, t, None)
+    }
+
+    /// The island of sleeper s wakes at t: every member (by index) gets its
+    /// free acceleration back, then fresh predictions (a pair of members
+    /// once).
+    fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
+        self.q.stats.wakes += 1;
+        let island = self.w.s.bodies[s].island;
+        self.out.wake(t, s as u32, island)?;
+        let n = self.w.s.bodies.len();
+        for k in 0..n {
+            let b_ = &mut self.w.s.bodies[k];
+            if b_.asleep && b_.island == island {
+                rebase(b_, t);
+                b_.asleep = false;
+                b_.ax = b_.fax;
+                b_.ay = b_.fay;
+                self.w.stamps[k] += 1;
+                self.out.state(&self.w.s.bodies[k])?;
+            }
+        }
+        for k in 0..n {
+            if self.w.s.bodies[k].island == island {
+                self.predict_woken(k, t, island)?;
+            }
+        }
+        for b_ in self.w.s.bodies.iter_mut() {
+            if b_.island == island {
+                b_.island = -1;
+            }
+        }
+        Ok(())
+    }
+
+    /// predict_body for a member of a waking island: a pair of two members
+    /// is predicted by the one with the smaller index.
+    fn predict_woken(&mut self, b: usize, now: f64, island: i64) -> Res<()> {
+        let (w, q) = (&self.w, &mut self.q);
+        let s = &w.s;
+        let body = &s.bodies[b];
+        let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
+        for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
+            for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
+                let cell = w.grid.cell(jx, jy);
+                for k in 0..cell.len() {
+                    let o = cell.get(k) as usize;
+                    if o == b {
+                        continue;
+                    }
+                    let ob = &s.bodies[o];
+                    if !((ob.island == island && o < b) || (fixed && ob.fixed)) {
+                        predict_pair::<E>(w, q, b, o, now)?;
+                    }
+                }
+            }
+        }
+        for &o in &w.grid.large {
+            let o = o as usize;
+            if o != b && !(s.bodies[o].island == island && o < b) {
+                predict_pair::<E>(w, q, b, o, now)?;
+            }
+        }
+        schedule_cell(w, q, b, now);
+        Ok(())
     }
 
     /// The support's edge ends under the body: free motion again.
@@ -132,6 +251,9 @@ impl<E: Equations> World<E> {
         let a = inp.body as usize;
         if self.w.s.bodies[a].gone {
             return Err(SimError::Msg(format!("input {k}: body {a} was removed before t = {}", g17(t))));
+        }
+        if self.w.s.bodies[a].asleep {
+            self.handle_wake(a, t)?;
         }
         rebase(&mut self.w.s.bodies[a], t);
         if inp.mode == REMOVE {
@@ -217,6 +339,29 @@ impl<E: Equations> World<E> {
             self.out.support_end("leave", t, a_.idx, a as i32, edge)?;
             self.out.state(a_)?;
             predict_body::<E>(&self.w, &mut self.q, o, t, None)?;
+        }
+        self.wake_touching(a, t)
+    }
+
+    /// The islands of the sleepers whose bounding circles reach the removed
+    /// body's (within the tolerance) wake: it may have held them (by index;
+    /// a woken island's other members are awake already).
+    fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
+        let tol = self.w.s.tol;
+        let (bx, by, bound) = {
+            let b_ = &self.w.s.bodies[body];
+            (b_.px, b_.py, b_.bound)
+        };
+        for o in 0..self.w.s.bodies.len() {
+            let o_ = &self.w.s.bodies[o];
+            if o_.asleep {
+                let dx = o_.px - bx;
+                let dy = o_.py - by;
+                let reach = o_.bound + bound + tol;
+                if dx * dx + dy * dy <= reach * reach {
+                    self.handle_wake(o, t)?;
+                }
+            }
         }
         Ok(())
     }

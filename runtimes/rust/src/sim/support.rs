@@ -59,7 +59,7 @@ pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
 /// A neighbour of A's vertex i lies on edge j's line within the face
 /// tolerance max(tol, rest_speed^2 / load): A rests on a face.
 #[allow(clippy::too_many_arguments)]
-fn flat(w: &Space, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy: f64, load: f64) -> bool {
+pub(super) fn flat(w: &Space, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy: f64, load: f64) -> bool {
     let s = &w.s;
     let (tol, r2) = (s.tol, s.rest_speed * s.rest_speed / load);
     // Python's max(tol, r2)

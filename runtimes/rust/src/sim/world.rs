@@ -23,11 +23,13 @@ pub struct Stats {
     pub supports: u64,
     pub stops: u64,
     pub leaves: u64,
+    pub sleeps: u64,
+    pub wakes: u64,
 }
 
 impl Stats {
     /// (name, count) in the order of the trace's N lines (STAT_NAMES).
-    pub fn lines(&self) -> [(&'static str, u64); 11] {
+    pub fn lines(&self) -> [(&'static str, u64); 13] {
         [
             ("collisions", self.collisions),
             ("inputs", self.inputs),
@@ -40,6 +42,8 @@ impl Stats {
             ("supports", self.supports),
             ("stops", self.stops),
             ("leaves", self.leaves),
+            ("sleeps", self.sleeps),
+            ("wakes", self.wakes),
         ]
     }
 }
