@@ -128,3 +128,24 @@ write("pinball.json", {
                 "friction": 0.1, "position": [0.2, 1.3], "velocity": [1.5, 1.0]},
                {"name": "ball3", "shape": "circle", "radius": 0.03, "mass": 0.08, "restitution": 0.8,
                 "friction": 0.1, "position": [1.0, 1.25], "velocity": [-1.0, 2.0]}]})
+
+# a ball pit (issue 10): 42 balls (restitution 0.8, a little friction) rain
+# into a bin and settle as sleeping islands; one more ball rests asleep on a
+# shelf beside the bin until a scripted push at t = 5 s rolls it off: it
+# drops into the settled pile and wakes the islands it hits
+balls = []
+for i in range(42):
+    row, col = divmod(i, 7)
+    balls.append({"name": f"ball{i}", "shape": "circle", "radius": 0.05, "mass": 0.1, "restitution": 0.8,
+                  "friction": 0.3, "position": [round(0.12 + col * 0.12 + 0.008 * math.sin(i * 2.3), 6),
+                                                round(0.35 + row * 0.16, 6)],
+                  "velocity": [round(0.4 * math.cos(i * 1.7), 6), 0.0]})
+write("ball-pit.json", {
+    "name": "ball pit: 42 balls settle in a bin and fall asleep; a 43rd is pushed in at t = 5 s",
+    "end_time": 8.0, "frame_rate": 60, "gravity": [0.0, -9.81],
+    "bodies": [plank("floor", 0.5, -0.05, 0.6, 0.05, friction=0.5),
+               plank("left", -0.05, 0.7, 0.05, 0.75), plank("right", 1.01, 0.7, 0.05, 0.75),
+               plank("shelf", -0.35, 1.5, 0.25, 0.03, friction=0.5)] + balls
+              + [{"name": "dropper", "shape": "circle", "radius": 0.05, "mass": 0.1, "restitution": 0.8,
+                  "friction": 0.3, "position": [-0.45, 1.58]}],
+    "inputs": [{"time": 5.0, "body": "dropper", "set_velocity": [1.2, 0.0]}]})

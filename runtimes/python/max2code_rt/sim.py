@@ -647,6 +647,12 @@ class World:
                         continue
                     bound = origin + i * size
                 c = [p - bound, v, 0.5 * a]
+                if c[0] == 0.0 and ulo == 0.0 and v * direction > 0.0:
+                    # exactly on the boundary now and moving across it: the
+                    # root finder reports no root at the interval's start
+                    if best is None or 0.0 < best[0]:
+                        best = (0.0, axis, direction)
+                    continue
                 lo = ulo
                 for _ in range(3):
                     u = smallest_root(c, lo, uhi)
@@ -733,6 +739,12 @@ class World:
         ed = B.verts[j]
         q = (A.px - B.px) * tx + (A.py - B.py) * ty
         if q < ed.s1 or q > ed.s2:
+            return False
+        # at an end of the edge (within the tolerance) and moving past it: it
+        # is leaving (a support would end at once, again and again)
+        u = A.vx * tx + A.vy * ty
+        tol = self.s.tol
+        if (u > 0.0 and q >= ed.s2 - tol) or (u < 0.0 and q <= ed.s1 + tol):
             return False
         if A.polygon:
             if math.fabs(A.om) * A.bound >= rest:
@@ -860,12 +872,14 @@ class World:
         return G.asleep or (G.fixed and self.static(G))
 
     def at_rest(self, A: Body) -> bool:
-        """A supported body that stays where it is: no acceleration along its
-        edge (level, or static friction holds) and slower than rest_speed."""
-        if A.ax != 0.0 or A.ay != 0.0:
-            return False
+        """A supported body slower than rest_speed along its edge that static
+        friction would hold there (|at| <= mu load, as in slide_accel at
+        u = 0; on a level frictionless edge at = 0): it stays where it is."""
         u = A.vx * A.tx + A.vy * A.ty
-        return u * u < self.s.rest_speed * self.s.rest_speed
+        if not (u * u < self.s.rest_speed * self.s.rest_speed):
+            return False
+        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        return not (A.at > f) and not (A.at < -f)
 
     def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
         """Awake movable M, one body of the collision ev with grounded G (both
@@ -895,6 +909,34 @@ class World:
             bodies = self.s.bodies
             return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
         return True
+
+    def sleeper_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+        """The impulse of a contact of A and B, one of them (S) asleep: first
+        with S held as if fixed (its 1/m and 1/I zero); when that impulse
+        would change the normal speed of S's material point by less than
+        rest_speed, j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S
+        stays asleep, unchanged: a gentle touch); else the other body's
+        velocity is restored and the full impulse is applied (S moves:
+        `jolted`, its island wakes).  Returns the impulse applied."""
+        S = A if A.asleep else B
+        M = B if A.asleep else A
+        vx, vy, om = M.vx, M.vy, M.om
+        inv_m, inv_i = S.inv_m, S.inv_i
+        S.inv_m = 0.0
+        S.inv_i = 0.0
+        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+        S.inv_m = inv_m
+        S.inv_i = inv_i
+        rsn = (cx - S.px) * ny - (cy - S.py) * nx
+        if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed:
+            return imp
+        M.vx, M.vy, M.om = vx, vy, om
+        return self.contact_impulse(A, B, cx, cy, nx, ny)
+
+    @staticmethod
+    def jolted(S: Body) -> bool:
+        """A sleeper an impulse has set moving."""
+        return S.vx != 0.0 or S.vy != 0.0 or S.om != 0.0
 
     def handle_sleep(self, A: Body, G: Body, t: float) -> None:
         """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
@@ -968,12 +1010,15 @@ class World:
             return
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        # on it); an impulse wakes its island, none leaves it asleep
-        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+        # on it); a gentle touch leaves it asleep, a real impulse wakes its island
+        if A.asleep or B.asleep:
+            imp = self.sleeper_impulse(A, B, cx, cy, nx, ny)
+        else:
+            imp = self.contact_impulse(A, B, cx, cy, nx, ny)
         if imp != 0.0:
-            if A.asleep:
+            if A.asleep and self.jolted(A):
                 self.handle_wake(A, t)
-            if B.asleep:
+            if B.asleep and self.jolted(B):
                 self.handle_wake(B, t)
             if A.sup >= 0:
                 self.end_support(A)
@@ -982,14 +1027,18 @@ class World:
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, False))
+        # a sleeper still asleep (zero impulse: the bodies graze, the other
+        # not pressed onto it) is unchanged; the other is predicted again
+        # without it (so the graze is not found again at once): only a later
+        # change of the other's motion predicts the pair again
         for b in (A, B):
-            if not b.fixed:
+            if not b.fixed and not b.asleep:
                 b.stamp += 1
                 self.emit_state(b)
-        if not A.fixed:
-            self.predict_body(A, t, None)
-        if not B.fixed:
-            self.predict_body(B, t, A if not A.fixed else None)
+        if not A.fixed and not A.asleep:
+            self.predict_body(A, t, B if B.asleep else None)
+        if not B.fixed and not B.asleep:
+            self.predict_body(B, t, A if (not A.fixed or A.asleep) else None)
 
     def handle_support(self, ev: CollisionEvent, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
                        vn: float) -> None:
