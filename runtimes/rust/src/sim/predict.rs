@@ -454,6 +454,14 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 origin + i as f64 * size
             };
             let c = [p - bound, v, 0.5 * a];
+            if c[0] == 0.0 && ulo == 0.0 && v * f64::from(direction) > 0.0 {
+                // exactly on the boundary now and moving across it: the root
+                // finder reports no root at the interval's start
+                if best.is_none_or(|bb| 0.0 < bb.0) {
+                    best = Some((0.0, axis, direction));
+                }
+                continue;
+            }
             let mut lo = ulo;
             for _ in 0..3 {
                 let Some(u) = smallest_root(&c, lo, uhi) else {

@@ -4,7 +4,7 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_impulse, contact_frame, normal_speed, two_mut};
+use super::contact::{contact_frame, contact_impulse, normal_speed, sleeper_impulse, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
@@ -13,7 +13,7 @@ use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
-use super::sleep::{at_rest, can_sleep, Touch};
+use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::support::{can_support, end_support, enter_support, slide_accel};
 use super::Equations;
@@ -48,20 +48,24 @@ impl<E: Equations> World<E> {
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        // on it); an impulse wakes its island, none leaves it asleep
+        // on it); a gentle touch leaves it asleep, a real impulse wakes its island
         let imp = {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
-            contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+            if a_.asleep || b_.asleep {
+                sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+            } else {
+                contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+            }
         };
         if imp != 0.0 {
-            if self.w.s.bodies[ai].asleep {
+            if self.w.s.bodies[ai].asleep && jolted(&self.w.s.bodies[ai]) {
                 self.handle_wake(ai, t)?;
             }
-            if self.w.s.bodies[bi].asleep {
+            if self.w.s.bodies[bi].asleep && jolted(&self.w.s.bodies[bi]) {
                 self.handle_wake(bi, t)?;
             }
         }
-        let (a_fixed, b_fixed);
+        let (a_fixed, b_fixed, a_asleep, b_asleep);
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
@@ -75,20 +79,26 @@ impl<E: Equations> World<E> {
             }
             self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
+            // a sleeper still asleep (zero impulse: the bodies graze, the other
+            // not pressed onto it) is unchanged; the other is predicted again
+            // without it (so the graze is not found again at once): only a
+            // later change of the other's motion predicts the pair again
             a_fixed = a_.fixed;
             b_fixed = b_.fixed;
+            a_asleep = a_.asleep;
+            b_asleep = b_.asleep;
             for body in [a_, b_] {
-                if !body.fixed {
+                if !body.fixed && !body.asleep {
                     w.stamps[body.index()] += 1;
                     self.out.state(body)?;
                 }
             }
         }
-        if !a_fixed {
-            predict_body::<E>(&self.w, &mut self.q, ai, t, None)?;
+        if !a_fixed && !a_asleep {
+            predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep { Some(bi) } else { None })?;
         }
-        if !b_fixed {
-            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed { Some(ai) } else { None })?;
+        if !b_fixed && !b_asleep {
+            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed || a_asleep { Some(ai) } else { None })?;
         }
         Ok(())
     }
@@ -109,7 +119,7 @@ impl<E: Equations> World<E> {
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
         }
-        if at_rest(&self.w.s.bodies[ai], self.w.s.rest_speed) {
+        if at_rest(&self.w.s.bodies[ai], self.w.s.bodies[bi].mu, self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
         self.w.stamps[ai] += 1;
@@ -130,7 +140,7 @@ impl<E: Equations> World<E> {
         a_.vy = 0.0;
         slide_accel(a_, mu_sup, 0.0);
         self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
-        if at_rest(a_, self.w.s.rest_speed) {
+        if at_rest(a_, mu_sup, self.w.s.rest_speed) {
             let sup = a_.sup as usize;
             return self.handle_sleep(ai, sup, t);
         }

@@ -14,14 +14,23 @@ pub fn grounded(g_: &Body) -> bool {
     g_.asleep || (g_.fixed && is_static(g_))
 }
 
-/// A supported body that stays where it is: no acceleration along its edge
-/// (level, or static friction holds) and slower than rest_speed.
-pub fn at_rest(a_: &Body, rest_speed: f64) -> bool {
-    if a_.ax != 0.0 || a_.ay != 0.0 {
+/// A supported body slower than rest_speed along its edge that static
+/// friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
+/// on a level frictionless edge at = 0): it stays where it is.  `mu_sup`:
+/// the support's friction coefficient.
+pub fn at_rest(a_: &Body, mu_sup: f64, rest_speed: f64) -> bool {
+    let u = a_.vx * a_.tx + a_.vy * a_.ty;
+    if !(u * u < rest_speed * rest_speed) {
         return false;
     }
-    let u = a_.vx * a_.tx + a_.vy * a_.ty;
-    u * u < rest_speed * rest_speed
+    let f = a_.mu * mu_sup * a_.load;
+    !(a_.at > f) && !(a_.at < -f)
+}
+
+/// A sleeper an impulse has set moving.
+#[inline(always)]
+pub fn jolted(s_: &Body) -> bool {
+    s_.vx != 0.0 || s_.vy != 0.0 || s_.om != 0.0
 }
 
 /// The collision a sleep is judged on: bodies a, b, feature, vertex i, edge j.

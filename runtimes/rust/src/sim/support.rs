@@ -47,6 +47,13 @@ pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
     if q < ed.s1 || q > ed.s2 {
         return false;
     }
+    // at an end of the edge (within the tolerance) and moving past it: it
+    // is leaving (a support would end at once, again and again)
+    let u = a_.vx * tx + a_.vy * ty;
+    let tol = s.tol;
+    if (u > 0.0 && q >= ed.s2 - tol) || (u < 0.0 && q <= ed.s1 + tol) {
+        return false;
+    }
     if a_.polygon {
         if a_.om.abs() * a_.bound >= rest {
             return false;
