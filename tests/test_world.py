@@ -27,7 +27,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
-PORTED = {"world": {"python", "c", "m2"}, "inputs": {"python", "c", "m2"}, "bodies": {"python", "c", "m2"}, "recordings": {"python", "c", "m2"}}
+PORTED = {step: {"python", "c", "rust", "m2"} for step in ("world", "inputs", "bodies", "recordings")}
 
 
 def runtimes(step: str):

@@ -9,12 +9,18 @@
 //! prediction goes through those entries and through the runtime's root
 //! solver [`smallest_root`](crate::roots::smallest_root).
 //!
+//! The simulator is a live [`World`] (docs/engine-api.md): made from a
+//! scene, driven by `advance(t)`, asked `next_event_time()` and
+//! `state(body, t)`; the batch simulator program is a thin user of it.
+//!
 //! One module per concept, as the C runtime's m2c_sim_*.c: `scene` (the
 //! flat scene), `queue` (event records and the priority queue), `grid`
 //! (broad phase), `motion`, `predict` (pairs, features, cell crossings),
-//! `contact` (contact frame and impulse), `world` (what a prediction reads
-//! and writes), `simulator` (one handler per event kind and the loop),
-//! `out` and `g17` (the trace and its numbers).
+//! `contact` (contact frame and impulse), `support` (resting and sliding),
+//! `sleep` (when a body falls asleep), `overlap` (a teleport's or an added
+//! body's check), `world` (what a prediction reads and writes), `live` (the
+//! world's API), `simulator` (one handler per event kind and their
+//! dispatch), `out` and `g17` (the trace and its numbers).
 //!
 //! Operation order: each expression is written as Python evaluates it (left
 //! to right, the same parentheses); Python's `min(a, b)` is `b < a ? b : a`
@@ -34,20 +40,22 @@ use crate::roots::MAX_DEGREE;
 mod contact;
 mod g17;
 mod grid;
+mod live;
 mod motion;
+mod overlap;
 mod out;
 mod predict;
 mod queue;
 mod scene;
 mod simulator;
+mod sleep;
 mod support;
 mod world;
 
 pub use g17::{g17, push_g17};
-pub use scene::{Body, CosSin, Input, Scene, Vertex};
-
-use out::{Out, Stop};
-use simulator::Simulator;
+pub use live::{BodyState, Contact, World};
+pub use out::SimError;
+pub use scene::{Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
 pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
@@ -78,36 +86,154 @@ const PE: i32 = 1;
 /// Run a compiled scene (the flat text), writing the flat trace to `sink`.
 /// Returns the exit status: 0, or 1 after an `X message` line for a stuck
 /// or bad scene (the trace so far stays written, as the Python runtime's).
-pub fn simulate<E: Equations, W: Write>(scene_text: &str, sink: W) -> io::Result<i32> {
-    let mut out = Out::new(sink);
-    let res = match Scene::parse(scene_text) {
-        Ok(scene) => Simulator::<E, W>::new(scene, &mut out).run(),
-        Err(msg) => Err(Stop::Scene(msg)),
+pub fn simulate<E: Equations>(scene_text: &str, sink: Box<dyn Write>) -> io::Result<i32> {
+    let mut sink = Some(sink);
+    let res = match World::<E>::from_scene(scene_text, sink.take()) {
+        Ok(mut world) => world.run().map_err(|e| (Some(world), e)),
+        Err(e) => Err((None, e)),
     };
+    stop_status(res, sink)
+}
+
+/// 0 after a run, or 1 after the `X message` line of a stuck or bad scene
+/// (written to the world's trace, or to `sink` when no world was made).
+fn stop_status<E: Equations>(res: Result<(), (Option<World<E>>, SimError)>, sink: Option<Box<dyn Write>>) -> io::Result<i32> {
     match res {
-        Ok(()) => {
-            out.flush()?;
-            Ok(0)
-        }
-        Err(Stop::Scene(msg)) => {
-            out.message(&msg);
-            out.flush()?;
+        Ok(()) => Ok(0),
+        Err((_, SimError::Io(e))) => Err(e),
+        Err((Some(mut world), SimError::Msg(msg))) => match world.stop_trace(&msg) {
+            Err(SimError::Io(e)) => Err(e),
+            _ => Ok(1),
+        },
+        Err((None, SimError::Msg(msg))) => {
+            if let Some(mut sink) = sink {
+                writeln!(sink, "X {msg}")?;
+                sink.flush()?;
+            }
             Ok(1)
         }
-        Err(Stop::Io(e)) => Err(e),
     }
 }
 
+/// The flat scene with its input lines taken out (`inputs 0`), and those
+/// lines' fields (T BODY MODE X Y) in order (the reference's `split_inputs`).
+fn split_inputs(text: &str) -> Result<(String, Vec<Input>), SimError> {
+    let bad = || SimError::Msg("scene: expected 'inputs'".to_string());
+    let at = text.find("\ninputs ").ok_or_else(bad)?;
+    let (head, tail) = (&text[..at], &text[at + "\ninputs ".len()..]);
+    let lines: Vec<&str> = tail.split('\n').collect();
+    let k: usize = lines[0].trim().parse().map_err(|_| bad())?;
+    let mut inputs = Vec::with_capacity(k);
+    for i in 0..k {
+        let f: Vec<&str> = lines.get(1 + i).ok_or_else(bad)?.split_ascii_whitespace().skip(1).collect();
+        let num = |n: usize| f.get(n).and_then(|w| w.parse::<f64>().ok()).ok_or_else(bad);
+        let int = |n: usize| f.get(n).and_then(|w| w.parse::<i64>().ok()).ok_or_else(bad);
+        inputs.push(Input { t: num(0)?, body: int(1)?, mode: int(2)?, vx: num(3)?, vy: num(4)? });
+    }
+    Ok((format!("{head}\ninputs 0\nend\n"), inputs))
+}
+
+/// The live operation of an input's mode (set or add velocity, impulse,
+/// teleport) on the world at its time; false: a teleport refused.
+fn live_op<E: Equations>(world: &mut World<E>, inp: &Input) -> Result<bool, SimError> {
+    let body = usize::try_from(inp.body).map_err(|_| SimError::Msg(format!("no body {}", inp.body)))?;
+    match inp.mode {
+        scene::SET_VELOCITY => world.set_velocity(body, inp.vx, inp.vy).map(|_| true),
+        scene::ADD_VELOCITY => world.add_velocity(body, inp.vx, inp.vy).map(|_| true),
+        scene::IMPULSE => world.apply_impulse(body, inp.vx, inp.vy).map(|_| true),
+        scene::TELEPORT => world.teleport(body, inp.vx, inp.vy),
+        scene::REMOVE => world.remove_body(body).map(|_| true),
+        m => Err(SimError::Msg(format!("scene: unknown input mode {m}"))),
+    }
+}
+
+/// The scene through the live API in steps of dt: advance(k dt) for k = 1,
+/// 2, ... below the end, then finish(); after each advance, every body's
+/// `P T BODY PX PY VX VY ANGLE OMEGA` (state(body, T)) and `C T COUNT`
+/// (the contacts advance returned) on `probe` (the reference's `stepped`).
+/// With `live`, the scene's inputs are taken out of it and made as live
+/// inputs instead: advance to each input's time, then its operation.
+pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut dyn Write, dt: f64, live: bool) -> io::Result<i32> {
+    let mut sink = Some(sink);
+    let (text, inputs) = if live {
+        match split_inputs(scene_text) {
+            Ok(split) => split,
+            Err(e) => return stop_status::<E>(Err((None, e)), sink),
+        }
+    } else {
+        (scene_text.to_string(), Vec::new())
+    };
+    let mut world = match World::<E>::from_scene(&text, sink.take()) {
+        Ok(world) => world,
+        Err(e) => return stop_status::<E>(Err((None, e)), sink),
+    };
+    let res = (|| -> Result<(), SimError> {
+        let end = world.end();
+        let mut nxt = 0; // the next live input
+        let mut k: i64 = 1;
+        loop {
+            let t = (k as f64) * dt;
+            while nxt < inputs.len() && (!(t < end) || inputs[nxt].t <= t) {
+                world.advance(inputs[nxt].t)?;
+                if !live_op(&mut world, &inputs[nxt])? {
+                    return Err(SimError::Msg(format!("live input {nxt}: teleport refused (the body would overlap another)")));
+                }
+                nxt += 1;
+            }
+            if !(t < end) {
+                break;
+            }
+            let got = world.advance(t)?;
+            for b in 0..world.bodies() {
+                let s = world.state(b, t)?;
+                writeln!(
+                    probe,
+                    "P {} {b} {} {} {} {} {} {}",
+                    g17(t),
+                    g17(s.px),
+                    g17(s.py),
+                    g17(s.vx),
+                    g17(s.vy),
+                    g17(s.angle),
+                    g17(s.omega)
+                )?;
+            }
+            writeln!(probe, "C {} {}", g17(t), got.len())?;
+            k += 1;
+        }
+        world.finish()?;
+        Ok(())
+    })();
+    probe.flush()?;
+    stop_status(res.map_err(|e| (Some(world), e)), sink)
+}
+
 /// The simulator program: compiled scene on stdin, flat trace on stdout;
-/// returns the exit status.
+/// `--step DT` drives the live world in steps ([`stepped`], probe lines on
+/// stderr), `--step DT --live` with the scene's inputs made live.  Returns the exit status.
 pub fn main<E: Equations>() -> i32 {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let live = args.iter().any(|a| a == "--live");
+    args.retain(|a| a != "--live");
+    let step = match args.as_slice() {
+        [] if !live => None,
+        [flag, dt] if flag == "--step" && dt.parse::<f64>().is_ok_and(|dt| dt > 0.0) => dt.parse::<f64>().ok(),
+        _ => {
+            eprintln!("usage: sim [--step DT [--live]] < scene");
+            return 2;
+        }
+    };
     let mut text = String::new();
     if let Err(e) = io::stdin().read_to_string(&mut text) {
         eprintln!("max2code simulator: cannot read the scene: {e}");
         return 2;
     }
-    let stdout = io::stdout();
-    match simulate::<E, _>(&text, stdout.lock()) {
+    let stdout = Box::new(io::stdout().lock());
+    let res = match step {
+        None => simulate::<E>(&text, stdout),
+        Some(dt) => stepped::<E>(&text, stdout, &mut io::stderr().lock(), dt, live),
+    };
+    match res {
         Ok(code) => code,
         Err(e) => {
             eprintln!("max2code simulator: cannot write the trace: {e}");
@@ -116,13 +242,14 @@ pub fn main<E: Equations>() -> i32 {
     }
 }
 
-/// The `main` of a simulator binary: `sim_main!(circle_circle, point_edge)`
-/// with the two generated modules (equations/circle-circle.mxm and
-/// equations/point-edge.mxm) in scope implements [`Equations`] with their
-/// entries and runs [`main`].
+/// `sim_equations!(circle_circle, point_edge)`, with the two generated
+/// modules (equations/circle-circle.mxm and equations/point-edge.mxm) in
+/// scope, defines `struct GeneratedEquations` implementing [`Equations`]
+/// with their entries: the type parameter of a [`World`].
 #[macro_export]
-macro_rules! sim_main {
+macro_rules! sim_equations {
     ($cc:ident, $pe:ident) => {
+        /// The generated entries of this program's contact equations.
         struct GeneratedEquations;
 
         impl $crate::sim::Equations for GeneratedEquations {
@@ -160,6 +287,16 @@ macro_rules! sim_main {
                 Some(degree)
             }
         }
+    };
+}
+
+/// The `main` of a simulator binary: `sim_main!(circle_circle, point_edge)`
+/// with the two generated modules in scope defines their
+/// [`sim_equations!`](crate::sim_equations) and runs [`main`].
+#[macro_export]
+macro_rules! sim_main {
+    ($cc:ident, $pe:ident) => {
+        $crate::sim_equations!($cc, $pe);
 
         fn main() {
             ::std::process::exit($crate::sim::main::<GeneratedEquations>());

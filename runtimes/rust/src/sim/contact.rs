@@ -65,7 +65,7 @@ pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) ->
 /// points do not approach and are not pressed together, else the impulse
 /// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
 /// at least, so time advances (docs/simulator.md).
-pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     let vn = normal_speed(a_, b_, cx, cy, nx, ny);
     let mut imp = 0.0;
     let rest = rest_speed;
@@ -88,6 +88,41 @@ pub fn apply_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny
         b_.om = b_.om + imp * b_.inv_i * rbn;
     }
     imp
+}
+
+/// The impulse of a contact of A and B, one of them (S) asleep: first with
+/// S held as if fixed (its 1/m and 1/I zero); when that impulse would
+/// change the normal speed of S's material point by less than rest_speed,
+/// j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
+/// unchanged: a gentle touch); else the other body's velocity is restored
+/// and the full impulse is applied (S moves: `jolted`, its island wakes).
+/// Returns the impulse applied.
+#[allow(clippy::too_many_arguments)]
+pub fn sleeper_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+    let a_sleeps = a_.asleep;
+    let (vx, vy, om) = if a_sleeps { (b_.vx, b_.vy, b_.om) } else { (a_.vx, a_.vy, a_.om) };
+    let (inv_m, inv_i) = {
+        let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };
+        let held = (s_.inv_m, s_.inv_i);
+        s_.inv_m = 0.0;
+        s_.inv_i = 0.0;
+        held
+    };
+    let imp = contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+    {
+        let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };
+        s_.inv_m = inv_m;
+        s_.inv_i = inv_i;
+        let rsn = (cx - s_.px) * ny - (cy - s_.py) * nx;
+        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < rest_speed {
+            return imp;
+        }
+    }
+    let m_ = if a_sleeps { &mut *b_ } else { &mut *a_ };
+    m_.vx = vx;
+    m_.vy = vy;
+    m_.om = om;
+    contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
 }
 
 /// Two distinct bodies of the slice, mutably.

@@ -3,9 +3,9 @@
 
 use super::scene::{Body, Vertex};
 
-/// Move the body's state to time t.
+/// Carry the body's state to time t (only events do this: re-basing rounds).
 #[inline(always)]
-pub fn advance(b: &mut Body, t: f64) {
+pub fn rebase(b: &mut Body, t: f64) {
     let dt = t - b.tb;
     b.px = b.px + (b.vx + 0.5 * b.ax * dt) * dt;
     b.py = b.py + (b.vy + 0.5 * b.ay * dt) * dt;

@@ -1,35 +1,57 @@
 //! The flat trace (docs/simulator.md, "Flat trace"), buffered: one method
-//! per kind of line, numbers written as `%.17g` ([`push_g17`]).
+//! per kind of line, numbers written as `%.17g` ([`push_g17`]).  A world
+//! without a trace has no sink: every method does nothing.
 
+use std::fmt;
 use std::io::{self, Write};
 
 use super::g17::push_g17;
 use super::scene::Body;
 
-/// Why a run stopped early: a stuck or bad scene (an `X` line), or output
-/// that could not be written.
-pub enum Stop {
-    Scene(String),
+/// Why the simulator stopped or refused a call: a stuck or bad scene, or a
+/// call outside what the world allows (the message of an `X` line), or a
+/// trace that could not be written.
+#[derive(Debug)]
+pub enum SimError {
+    Msg(String),
     Io(io::Error),
 }
 
-impl From<io::Error> for Stop {
-    fn from(e: io::Error) -> Stop {
-        Stop::Io(e)
+impl From<io::Error> for SimError {
+    fn from(e: io::Error) -> SimError {
+        SimError::Io(e)
     }
 }
 
-pub type Res<T> = Result<T, Stop>;
-
-/// Buffered trace output.
-pub struct Out<W: Write> {
-    buf: Vec<u8>,
-    sink: W,
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimError::Msg(msg) => f.write_str(msg),
+            SimError::Io(e) => write!(f, "cannot write the trace: {e}"),
+        }
+    }
 }
 
-impl<W: Write> Out<W> {
-    pub fn new(sink: W) -> Out<W> {
-        Out { buf: Vec::with_capacity(1 << 17), sink }
+impl std::error::Error for SimError {}
+
+pub type Res<T> = Result<T, SimError>;
+
+/// Buffered trace output (none without a sink).
+pub struct Out {
+    buf: Vec<u8>,
+    sink: Option<Box<dyn Write>>,
+}
+
+impl Out {
+    pub fn new(sink: Option<Box<dyn Write>>) -> Out {
+        let cap = if sink.is_some() { 1 << 17 } else { 0 };
+        Out { buf: Vec::with_capacity(cap), sink }
+    }
+
+    /// No sink: nothing is written.
+    #[inline(always)]
+    fn off(&self) -> bool {
+        self.sink.is_none()
     }
 
     #[inline]
@@ -73,9 +95,12 @@ impl<W: Write> Out<W> {
     }
 
     pub fn flush(&mut self) -> io::Result<()> {
-        self.sink.write_all(&self.buf)?;
-        self.buf.clear();
-        self.sink.flush()
+        if let Some(sink) = self.sink.as_mut() {
+            sink.write_all(&self.buf)?;
+            self.buf.clear();
+            sink.flush()?;
+        }
+        Ok(())
     }
 
     /// `E collision T A B FEATURE I J CX CY NX NY IMPULSE`, or `E support ...`
@@ -94,6 +119,9 @@ impl<W: Write> Out<W> {
         n: (f64, f64),
         impulse: f64,
     ) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("E ");
         self.s(word);
         self.num(t);
@@ -113,6 +141,9 @@ impl<W: Write> Out<W> {
     /// `E stop T A B -1 -1 J 0 0 0 0 0` or `E leave ...` (`word`): body a,
     /// supported by edge j of body b, stops sliding or leaves the edge.
     pub fn support_end(&mut self, word: &str, t: f64, a: u32, b: i32, j: i32) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("E ");
         self.s(word);
         self.num(t);
@@ -126,6 +157,9 @@ impl<W: Write> Out<W> {
 
     /// `E input T BODY -1 -1 K -1 0 0 0 0 0`
     pub fn input(&mut self, t: f64, body: u32, k: u32) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("E input");
         self.num(t);
         self.int(i64::from(body));
@@ -135,8 +169,52 @@ impl<W: Write> Out<W> {
         self.end_line()
     }
 
+    /// `E sleep T A G -1 -1 ISLAND 0 0 0 0 0`: body a falls asleep on g.
+    pub fn sleep(&mut self, t: f64, a: u32, g: u32, island: i64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E sleep");
+        self.num(t);
+        self.int(i64::from(a));
+        self.int(i64::from(g));
+        self.s(" -1 -1");
+        self.int(island);
+        self.s(" 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `E wake T S -1 -1 -1 ISLAND 0 0 0 0 0`: the island of sleeper s wakes.
+    pub fn wake(&mut self, t: f64, s: u32, island: i64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E wake");
+        self.num(t);
+        self.int(i64::from(s));
+        self.s(" -1 -1 -1");
+        self.int(island);
+        self.s(" 0 0 0 0 0");
+        self.end_line()
+    }
+
+    /// `E add T BODY -1 -1 -1 -1 0 0 0 0 0`: a body added to the world.
+    pub fn add(&mut self, t: f64, body: u32) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
+        self.s("E add");
+        self.num(t);
+        self.int(i64::from(body));
+        self.s(" -1 -1 -1 -1 0 0 0 0 0");
+        self.end_line()
+    }
+
     /// `E frame T -1 -1 -1 -1 -1 0 0 0 0 0`
     pub fn frame(&mut self, t: f64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("E frame");
         self.num(t);
         self.s(" -1 -1 -1 -1 -1 0 0 0 0 0");
@@ -146,6 +224,9 @@ impl<W: Write> Out<W> {
     /// `S BODY TB PX PY VX VY ANGLE OMEGA AX AY`: a body's new state, with
     /// the acceleration from then on (the reference's emit_state).
     pub fn state(&mut self, b: &Body) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("S");
         self.int(i64::from(b.idx));
         self.num(b.tb);
@@ -162,6 +243,9 @@ impl<W: Write> Out<W> {
 
     /// `F BODY PX PY VX VY ANGLE OMEGA`: a body at the end time.
     pub fn final_state(&mut self, b: &Body) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("F");
         self.int(i64::from(b.idx));
         self.num(b.px);
@@ -175,6 +259,9 @@ impl<W: Write> Out<W> {
 
     /// `N NAME COUNT`
     pub fn stat(&mut self, name: &str, count: u64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("N ");
         self.s(name);
         self.int(count as i64);
@@ -183,6 +270,9 @@ impl<W: Write> Out<W> {
 
     /// `V EQUATION INDEX COUNT`
     pub fn variant(&mut self, equation: &str, index: usize, count: u64) -> io::Result<()> {
+        if self.off() {
+            return Ok(());
+        }
         self.s("V ");
         self.s(equation);
         self.int(index as i64);
@@ -192,8 +282,18 @@ impl<W: Write> Out<W> {
 
     /// `X MESSAGE`: the run stopped on a stuck or bad scene.
     pub fn message(&mut self, msg: &str) {
+        if self.off() {
+            return;
+        }
         self.s("X ");
         self.s(msg);
         self.buf.push(b'\n');
+    }
+}
+
+impl Drop for Out {
+    /// What is buffered reaches the sink (a live world's trace need not end).
+    fn drop(&mut self) {
+        let _ = self.flush();
     }
 }

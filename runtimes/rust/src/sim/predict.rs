@@ -4,10 +4,11 @@
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
 use super::motion::{point_at, state_at, turn_rate};
-use super::out::{Res, Stop};
+use super::out::{Res, SimError};
 use super::scene::{Body, Vertex};
+use super::sleep::grounded;
 use super::support::schedule_support;
-use super::world::{Queue, World};
+use super::world::{Queue, Space};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
 
@@ -102,18 +103,18 @@ fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11] {
 fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
     let idx = E::cc_variant(args);
     if idx < 0 {
-        return Err(Stop::Scene("circle_circle: the scene uses an effect the generated code leaves out".into()));
+        return Err(SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()));
     }
     q.cc_counts[idx as usize] += 1;
     q.stats.features += 1;
     E::cc_coefficients(args, coef)
-        .ok_or_else(|| Stop::Scene("circle_circle: the scene uses an effect the generated code leaves out".into()))
+        .ok_or_else(|| SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()))
 }
 
 /// Circle of A against circle of B (vb None) or vertex vb of B (radius 0).
 #[allow(clippy::too_many_arguments)]
 fn predict_cc<E: Equations>(
-    w: &World,
+    w: &Space,
     q: &mut Queue,
     a_: &Body,
     b_: &Body,
@@ -162,7 +163,7 @@ fn predict_cc<E: Equations>(
 /// Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y.
 #[allow(clippy::too_many_arguments)]
 fn predict_pe<E: Equations>(
-    w: &World,
+    w: &Space,
     q: &mut Queue,
     x_: &Body,
     y_: &Body,
@@ -192,13 +193,13 @@ fn predict_pe<E: Equations>(
     let args = [x1 - x2, u1 - u2, x_.ax - y_.ax, y1 - y2, v1 - v2, x_.ay - y_.ay, rho, wr, phr, y_.om, phn, h];
     let idx = E::pe_variant(&args);
     if idx < 0 {
-        return Err(Stop::Scene("point_edge: the scene uses an effect the generated code leaves out".into()));
+        return Err(SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()));
     }
     q.pe_counts[idx as usize] += 1;
     q.stats.features += 1;
     let mut coef = [0.0; MAX_COEF];
     let deg = E::pe_coefficients(&args, &mut coef)
-        .ok_or_else(|| Stop::Scene("point_edge: the scene uses an effect the generated code leaves out".into()))?;
+        .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))?;
     let tol = w.s.tol;
     let inside = |s: f64| -> bool {
         let t = now + s;
@@ -236,7 +237,7 @@ fn better(best: Option<Best>, t: Option<f64>, feat: i32, a: usize, b: usize, i: 
 /// When the bounding circles first touch within (0, w]: 0.0 when they
 /// overlap or touch now (within the tolerance), None when they do not meet
 /// (exact: bounding circles do not turn).
-fn bounds_meet<E: Equations>(w: &World, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
     let (x1, y1, u1, v1, _) = state_at(a_, now);
     let (x2, y2, u2, v2, _) = state_at(b_, now);
     let args = [
@@ -275,7 +276,7 @@ fn bounds_meet<E: Equations>(w: &World, q: &mut Queue, a_: &Body, b_: &Body, now
 }
 
 fn circle_polygon<E: Equations>(
-    w: &World,
+    w: &Space,
     q: &mut Queue,
     c_: &Body,
     p_: &Body,
@@ -296,7 +297,7 @@ fn circle_polygon<E: Equations>(
 }
 
 fn vertices_edges<E: Equations>(
-    w: &World,
+    w: &Space,
     q: &mut Queue,
     a_: &Body,
     b_: &Body,
@@ -318,12 +319,16 @@ fn vertices_edges<E: Equations>(
 
 /// Schedule the first contact of A and B after now, or a horizon event
 /// where the Taylor polynomials of their turns stop being good.
-pub fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
+pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
     let s = &w.s;
     let a_ = &s.bodies[ai];
     let b_ = &s.bodies[bi];
     if a_.sup == b_.idx as i32 || b_.sup == a_.idx as i32 {
         // the support's edge line separates them (both convex): only leaving ends it
+        return Ok(());
+    }
+    if (a_.asleep && grounded(b_)) || (b_.asleep && grounded(a_)) {
+        // a sleeper against a sleeper or an unmoving fixed body: nothing moves
         return Ok(());
     }
     q.stats.pairs += 1;
@@ -377,7 +382,7 @@ pub fn predict_pair<E: Equations>(w: &World, q: &mut Queue, ai: usize, bi: usize
 /// (b itself, `skip` and fixed pairs left out).
 #[allow(clippy::too_many_arguments)]
 pub fn predict_cells<E: Equations>(
-    w: &World,
+    w: &Space,
     q: &mut Queue,
     b: usize,
     x_lo: i64,
@@ -407,7 +412,7 @@ pub fn predict_cells<E: Equations>(
     Ok(())
 }
 
-pub fn predict_body<E: Equations>(w: &World, q: &mut Queue, b: usize, now: f64, skip: Option<usize>) -> Res<()> {
+pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, skip: Option<usize>) -> Res<()> {
     let body = &w.s.bodies[b];
     let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
     predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, now, skip, false)?;
@@ -424,7 +429,7 @@ pub fn predict_body<E: Equations>(w: &World, q: &mut Queue, b: usize, now: f64, 
     Ok(())
 }
 
-pub fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
+pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     let s = &w.s;
     let b = &s.bodies[bi];
     if b.large || (b.vx == 0.0 && b.vy == 0.0 && b.ax == 0.0 && b.ay == 0.0) {
@@ -449,6 +454,14 @@ pub fn schedule_cell(w: &World, q: &mut Queue, bi: usize, now: f64) {
                 origin + i as f64 * size
             };
             let c = [p - bound, v, 0.5 * a];
+            if c[0] == 0.0 && ulo == 0.0 && v * f64::from(direction) > 0.0 {
+                // exactly on the boundary now and moving across it: the root
+                // finder reports no root at the interval's start
+                if best.is_none_or(|bb| 0.0 < bb.0) {
+                    best = Some((0.0, axis, direction));
+                }
+                continue;
+            }
             let mut lo = ulo;
             for _ in 0..3 {
                 let Some(u) = smallest_root(&c, lo, uhi) else {

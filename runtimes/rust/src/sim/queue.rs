@@ -196,9 +196,24 @@ impl Heap {
     /// The earliest event: smallest t, then kind, then scheduling order.
     #[inline]
     pub fn pop(&mut self) -> Option<Entry> {
+        self.refill();
+        self.near.pop()
+    }
+
+    /// The earliest event, left queued.
+    #[inline]
+    pub fn peek(&mut self) -> Option<&Entry> {
+        self.refill();
+        self.near.v.first()
+    }
+
+    /// When the small heap is empty, move the lowest bucket's events there
+    /// (its earliest time) or to lower buckets.
+    #[inline]
+    fn refill(&mut self) {
         if self.near.v.is_empty() {
             if self.mask == 0 {
-                return None;
+                return;
             }
             let k = self.mask.trailing_zeros() as usize;
             self.mask &= !(1u64 << k);
@@ -211,7 +226,6 @@ impl Heap {
             items.clear();
             self.buckets[k] = items;
         }
-        self.near.pop()
     }
 }
 
@@ -289,7 +303,10 @@ mod tests {
             all.push((t, kind, seq));
             pending.push((t, kind, seq));
             if rng.next() % 3 != 0 {
+                // peek leaves the earliest queued: the pop that follows takes it
+                let (pt, pkey) = heap.peek().map(|e| (e.t, e.key)).expect("not empty");
                 let e = heap.pop().expect("not empty");
+                assert_eq!((pt.to_bits(), pkey), (e.t.to_bits(), e.key));
                 let m = first(&pending);
                 assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
                 assert_eq!(e.key, (pending[m].1 << SEQ_BITS) | pending[m].2);

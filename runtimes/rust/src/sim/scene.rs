@@ -58,7 +58,7 @@ impl CosSin {
 /// A body's state at its own last update time `tb`, and its constants.
 /// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out so that a prediction
 /// reads the first two cache lines only.  (Its stamp, bumped when the
-/// motion changes, is in `World::stamps`.)
+/// motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
@@ -122,6 +122,12 @@ pub struct Body {
     pub load: f64,
     /// m/s^2: free acceleration along the tangent
     pub at: f64,
+    /// removed from the world (remove_body, input MODE 4): frozen, out of the grid
+    pub gone: bool,
+    /// frozen in a sleeping island (v = a = w = 0, no events of its own)
+    pub asleep: bool,
+    /// the island's number (the index of its first sleeper), -1: awake
+    pub island: i64,
 }
 
 impl Body {
@@ -144,16 +150,24 @@ impl Body {
     }
 }
 
-/// A scripted velocity change.
+/// Input modes (the flat scene's MODE).
+pub const SET_VELOCITY: i64 = 0;
+pub const ADD_VELOCITY: i64 = 1;
+pub const IMPULSE: i64 = 2;
+pub const TELEPORT: i64 = 3;
+pub const REMOVE: i64 = 4;
+
+/// A scripted or live input.
 #[derive(Clone, Copy, Debug)]
 pub struct Input {
     /// s
     pub t: f64,
     /// index in the scene
     pub body: i64,
-    /// 0: set velocity, 1: add velocity
+    /// SET_VELOCITY, ADD_VELOCITY (vx, vy in m/s), IMPULSE (vx, vy: the
+    /// impulse, N s, through the centre), TELEPORT (vx, vy: the new centre,
+    /// m), REMOVE (vx, vy unused, 0)
     pub mode: i64,
-    /// m/s
     pub vx: f64,
     pub vy: f64,
 }
@@ -178,38 +192,127 @@ pub struct Scene {
     pub inputs: Vec<Input>,
 }
 
-struct Tokens<'a> {
+/// The whitespace-separated words of a flat text, read in order; `what`
+/// names the text in messages ("scene", "add_body").
+pub struct Tokens<'a> {
     it: std::str::SplitAsciiWhitespace<'a>,
+    what: &'static str,
 }
 
 impl<'a> Tokens<'a> {
-    fn word(&mut self) -> Result<&'a str, String> {
-        self.it.next().ok_or_else(|| "scene: unexpected end of the scene".to_string())
+    pub fn new(text: &'a str, what: &'static str) -> Tokens<'a> {
+        Tokens { it: text.split_ascii_whitespace(), what }
+    }
+
+    fn next_word(&mut self, expect: Option<&str>) -> Result<&'a str, String> {
+        self.it.next().ok_or_else(|| match expect {
+            Some(w) => format!("{}: ends early (expected '{w}')", self.what),
+            None => format!("{}: ends early", self.what),
+        })
     }
 
     fn expect(&mut self, w: &str) -> Result<(), String> {
-        let got = self.word()?;
+        let got = self.next_word(Some(w))?;
         if got != w {
-            return Err(format!("scene: expected '{w}', found '{got}'"));
+            return Err(format!("{}: expected '{w}', found '{got}'", self.what));
         }
         Ok(())
     }
 
     fn num(&mut self) -> Result<f64, String> {
-        let w = self.word()?;
-        w.parse::<f64>().map_err(|_| format!("scene: expected a number, found '{w}'"))
+        let w = self.next_word(None)?;
+        w.parse::<f64>().map_err(|_| format!("{}: expected a number, found '{w}'", self.what))
     }
 
     fn int(&mut self) -> Result<i64, String> {
-        let w = self.word()?;
-        w.parse::<i64>().map_err(|_| format!("scene: expected an integer, found '{w}'"))
+        let w = self.next_word(None)?;
+        w.parse::<i64>().map_err(|_| format!("{}: expected an integer, found '{w}'", self.what))
     }
+
+    /// The next word, if any (a text that should have ended).
+    pub fn rest(&mut self) -> Option<&'a str> {
+        self.it.next()
+    }
+}
+
+/// A `body ...` line and its `v` lines (docs/simulator.md, Flat scene):
+/// body number `idx`, its vertices appended to `verts`.
+pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<Body, String> {
+    tk.expect("body")?;
+    let polygon = tk.int()? == 1;
+    let fixed = tk.int()? == 1;
+    let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+    let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+    let (ang, om) = (tk.num()?, tk.num()?);
+    let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+    let large = tk.int()? == 1;
+    let nv = tk.int()?.max(0) as u32;
+    let v0 = verts.len() as u32;
+    for _ in 0..nv {
+        tk.expect("v")?;
+        let mut v = [0.0f64; 10];
+        for x in v.iter_mut() {
+            *x = tk.num()?;
+        }
+        verts.push(Vertex {
+            lx: v[0],
+            ly: v[1],
+            rho: v[2],
+            beta: v[3],
+            psi: v[4],
+            h: v[5],
+            s1: v[6],
+            s2: v[7],
+            nx: v[8],
+            ny: v[9],
+            at: CosSin::new(),
+            normal: CosSin::new(),
+        });
+    }
+    Ok(Body {
+        idx,
+        polygon,
+        fixed,
+        large,
+        inv_m,
+        inv_i,
+        e,
+        mu,
+        fax: ax,
+        fay: ay,
+        sup: -1,
+        sup_edge: -1,
+        tx: 0.0,
+        ty: 0.0,
+        load: 0.0,
+        at: 0.0,
+        px,
+        py,
+        vx,
+        vy,
+        ax,
+        ay,
+        ang,
+        om,
+        tb: 0.0,
+        r,
+        orbit,
+        ophase,
+        bound,
+        v0,
+        nv,
+        cx: 0,
+        cy: 0,
+        gone: false,
+        asleep: false,
+        island: -1,
+    })
 }
 
 impl Scene {
     /// Read a compiled scene; the error is the message of an `X` line.
     pub fn parse(text: &str) -> Result<Scene, String> {
-        let mut tk = Tokens { it: text.split_ascii_whitespace() };
+        let mut tk = Tokens::new(text, "scene");
         tk.expect("m2c-scene")?;
         if tk.int()? != 1 {
             return Err("scene: unknown version".to_string());
@@ -240,72 +343,7 @@ impl Scene {
         let mut bodies = Vec::with_capacity(n as usize);
         let mut verts = Vec::new();
         for idx in 0..n as u32 {
-            tk.expect("body")?;
-            let polygon = tk.int()? == 1;
-            let fixed = tk.int()? == 1;
-            let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
-            let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
-            let (ang, om) = (tk.num()?, tk.num()?);
-            let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
-            let large = tk.int()? == 1;
-            let nv = tk.int()?.max(0) as u32;
-            let v0 = verts.len() as u32;
-            for _ in 0..nv {
-                tk.expect("v")?;
-                let mut v = [0.0f64; 10];
-                for x in v.iter_mut() {
-                    *x = tk.num()?;
-                }
-                verts.push(Vertex {
-                    lx: v[0],
-                    ly: v[1],
-                    rho: v[2],
-                    beta: v[3],
-                    psi: v[4],
-                    h: v[5],
-                    s1: v[6],
-                    s2: v[7],
-                    nx: v[8],
-                    ny: v[9],
-                    at: CosSin::new(),
-                    normal: CosSin::new(),
-                });
-            }
-            bodies.push(Body {
-                idx,
-                polygon,
-                fixed,
-                large,
-                inv_m,
-                inv_i,
-                e,
-                mu,
-                fax: ax,
-                fay: ay,
-                sup: -1,
-                sup_edge: -1,
-                tx: 0.0,
-                ty: 0.0,
-                load: 0.0,
-                at: 0.0,
-                px,
-                py,
-                vx,
-                vy,
-                ax,
-                ay,
-                ang,
-                om,
-                tb: 0.0,
-                r,
-                orbit,
-                ophase,
-                bound,
-                v0,
-                nv,
-                cx: 0,
-                cy: 0,
-            });
+            bodies.push(read_body(&mut tk, idx, &mut verts)?);
         }
         tk.expect("inputs")?;
         let k = tk.int()?;

@@ -1,44 +1,32 @@
-//! The simulator: the first predictions, one handler per event kind (the
-//! reference's `handle_input`, `handle_collision` (and `handle_support`),
+//! The handlers of the live world: one per event kind (the reference's
+//! `handle_input`, `handle_collision` (and `handle_support`),
 //! `handle_stop`, `handle_leave`, `handle_cell`, `handle_horizon`,
-//! `handle_frame`), the loop that dispatches over them, and the end of the
-//! trace.
+//! `handle_frame`), the dispatch over them, the first predictions and the
+//! end of the trace.
 
-use std::io::Write;
-use std::marker::PhantomData;
-
-use super::contact::{apply_impulse, contact_frame, normal_speed, two_mut};
+use super::contact::{contact_frame, contact_impulse, normal_speed, sleeper_impulse, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
-use super::motion::advance;
-use super::out::{Out, Res, Stop};
+use super::live::{Contact, World};
+use super::motion::rebase;
+use super::overlap::overlapping;
+use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
-use super::scene::Scene;
+use super::sleep::{at_rest, can_sleep, jolted, Touch};
+use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::support::{can_support, end_support, enter_support, slide_accel};
-use super::world::{Queue, World};
 use super::Equations;
 
-pub struct Simulator<'o, E: Equations, W: Write> {
-    w: World,
-    q: Queue,
-    out: &'o mut Out<W>,
-    eq: PhantomData<E>,
-}
-
-impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
-    pub fn new(scene: Scene, out: &'o mut Out<W>) -> Self {
-        Simulator { w: World::new(scene), q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS), out, eq: PhantomData }
-    }
-
+impl<E: Equations> World<E> {
     // ---- event handlers: one per kind -------------------------------------
 
     fn handle_collision(&mut self, t: f64, a: u32, b: u32, feature: i32, i: i32, j: i32) -> Res<()> {
         let (ai, bi) = (a as usize, b as usize);
         {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
-            advance(a_, t);
-            advance(b_, t);
+            rebase(a_, t);
+            rebase(b_, t);
         }
         let (cx, cy, nx, ny, vn, support) = {
             let s = &self.w.s;
@@ -50,13 +38,37 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         if support {
             return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
         }
+        let touch = Touch { a: ai, b: bi, feature, i, j };
+        if can_sleep(&self.w, ai, bi, touch, nx, ny, vn) {
+            return self.handle_sleep(ai, bi, t);
+        }
+        if can_sleep(&self.w, bi, ai, touch, nx, ny, vn) {
+            return self.handle_sleep(bi, ai, t);
+        }
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
-        let (a_fixed, b_fixed);
+        // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
+        // on it); a gentle touch leaves it asleep, a real impulse wakes its island
+        let imp = {
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            if a_.asleep || b_.asleep {
+                sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+            } else {
+                contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+            }
+        };
+        if imp != 0.0 {
+            if self.w.s.bodies[ai].asleep && jolted(&self.w.s.bodies[ai]) {
+                self.handle_wake(ai, t)?;
+            }
+            if self.w.s.bodies[bi].asleep && jolted(&self.w.s.bodies[bi]) {
+                self.handle_wake(bi, t)?;
+            }
+        }
+        let (a_fixed, b_fixed, a_asleep, b_asleep);
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            let imp = apply_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
             if imp != 0.0 {
                 if a_.sup >= 0 {
                     end_support(a_);
@@ -66,57 +78,164 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
                 }
             }
             self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
+            // a sleeper still asleep (zero impulse: the bodies graze, the other
+            // not pressed onto it) is unchanged; the other is predicted again
+            // without it (so the graze is not found again at once): only a
+            // later change of the other's motion predicts the pair again
             a_fixed = a_.fixed;
             b_fixed = b_.fixed;
+            a_asleep = a_.asleep;
+            b_asleep = b_.asleep;
             for body in [a_, b_] {
-                if !body.fixed {
+                if !body.fixed && !body.asleep {
                     w.stamps[body.index()] += 1;
                     self.out.state(body)?;
                 }
             }
         }
-        if !a_fixed {
-            predict_body::<E>(&self.w, &mut self.q, ai, t, None)?;
+        if !a_fixed && !a_asleep {
+            predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep { Some(bi) } else { None })?;
         }
-        if !b_fixed {
-            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed { Some(ai) } else { None })?;
+        if !b_fixed && !b_asleep {
+            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed || a_asleep { Some(ai) } else { None })?;
         }
         Ok(())
     }
 
     /// A collision that ends in support (called by handle_collision):
-    /// `contact` is (a, b, feature, i, j) of the collision record.
+    /// `contact` is (a, b, feature, i, j) of the collision record.  When
+    /// the support leaves the body at rest, it falls asleep.
     fn handle_support(&mut self, t: f64, contact: (u32, u32, i32, i32, i32), c: (f64, f64), n: (f64, f64), vn: f64) -> Res<()> {
         self.q.stats.supports += 1;
         let (a, b, feature, i, j) = contact;
-        let ai = a as usize;
+        let (ai, bi) = (a as usize, b as usize);
         {
             let w = &mut self.w;
-            let (a_, b_) = two_mut(&mut w.s.bodies, ai, b as usize);
+            let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
             let imp = -vn / a_.inv_m;
             enter_support(&w.s.verts, a_, b_, j);
             self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
-            w.stamps[ai] += 1;
-            self.out.state(a_)?;
+            let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
+            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
         }
+        if at_rest(&self.w.s.bodies[ai], self.w.s.bodies[bi].mu, self.w.s.rest_speed) {
+            return self.handle_sleep(ai, bi, t);
+        }
+        self.w.stamps[ai] += 1;
+        self.out.state(&self.w.s.bodies[ai])?;
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
-    /// Sliding stops: velocity exactly zero, then rest or slide back.
+    /// Sliding stops: velocity exactly zero, then rest (asleep when at
+    /// rest) or slide back.
     fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
         self.q.stats.stops += 1;
         let ai = body as usize;
         let bodies = &mut self.w.s.bodies;
         let mu_sup = bodies[bodies[ai].sup as usize].mu;
         let a_ = &mut bodies[ai];
-        advance(a_, t);
+        rebase(a_, t);
         a_.vx = 0.0;
         a_.vy = 0.0;
         slide_accel(a_, mu_sup, 0.0);
-        self.w.stamps[ai] += 1;
         self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
-        self.out.state(a_)?;
+        if at_rest(a_, mu_sup, self.w.s.rest_speed) {
+            let sup = a_.sup as usize;
+            return self.handle_sleep(ai, sup, t);
+        }
+        self.w.stamps[ai] += 1;
+        self.out.state(&self.w.s.bodies[ai])?;
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+    }
+
+    // ---- sleeping islands -------------------------------------------------
+
+    /// Body a (advanced to t) falls asleep resting on g: frozen (v = a = w
+    /// = 0) in g's island, or in a new one numbered a's index when g is
+    /// fixed.  Its awake neighbours are predicted against it again.
+    fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
+        self.q.stats.sleeps += 1;
+        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
+        let a_ = &mut self.w.s.bodies[a];
+        if a_.sup >= 0 {
+            end_support(a_);
+        }
+        a_.vx = 0.0;
+        a_.vy = 0.0;
+        a_.om = 0.0;
+        a_.ax = 0.0;
+        a_.ay = 0.0;
+        a_.asleep = true;
+        a_.island = g_island;
+        self.w.stamps[a] += 1;
+        self.out.sleep(t, a as u32, g as u32, g_island)?;
+        self.out.state(&self.w.s.bodies[a])?;
+        predict_body::<E>(&self.w, &mut self.q, a, t, None)
+    }
+
+    /// The island of sleeper s wakes at t: every member (by index) gets its
+    /// free acceleration back, then fresh predictions (a pair of members
+    /// once).
+    fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
+        self.q.stats.wakes += 1;
+        let island = self.w.s.bodies[s].island;
+        self.out.wake(t, s as u32, island)?;
+        let n = self.w.s.bodies.len();
+        for k in 0..n {
+            let b_ = &mut self.w.s.bodies[k];
+            if b_.asleep && b_.island == island {
+                rebase(b_, t);
+                b_.asleep = false;
+                b_.ax = b_.fax;
+                b_.ay = b_.fay;
+                self.w.stamps[k] += 1;
+                self.out.state(&self.w.s.bodies[k])?;
+            }
+        }
+        for k in 0..n {
+            if self.w.s.bodies[k].island == island {
+                self.predict_woken(k, t, island)?;
+            }
+        }
+        for b_ in self.w.s.bodies.iter_mut() {
+            if b_.island == island {
+                b_.island = -1;
+            }
+        }
+        Ok(())
+    }
+
+    /// predict_body for a member of a waking island: a pair of two members
+    /// is predicted by the one with the smaller index.
+    fn predict_woken(&mut self, b: usize, now: f64, island: i64) -> Res<()> {
+        let (w, q) = (&self.w, &mut self.q);
+        let s = &w.s;
+        let body = &s.bodies[b];
+        let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
+        for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
+            for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
+                let cell = w.grid.cell(jx, jy);
+                for k in 0..cell.len() {
+                    let o = cell.get(k) as usize;
+                    if o == b {
+                        continue;
+                    }
+                    let ob = &s.bodies[o];
+                    if !((ob.island == island && o < b) || (fixed && ob.fixed)) {
+                        predict_pair::<E>(w, q, b, o, now)?;
+                    }
+                }
+            }
+        }
+        for &o in &w.grid.large {
+            let o = o as usize;
+            if o != b && !(s.bodies[o].island == island && o < b) {
+                predict_pair::<E>(w, q, b, o, now)?;
+            }
+        }
+        schedule_cell(w, q, b, now);
+        Ok(())
     }
 
     /// The support's edge ends under the body: free motion again.
@@ -124,7 +243,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         self.q.stats.leaves += 1;
         let ai = body as usize;
         let a_ = &mut self.w.s.bodies[ai];
-        advance(a_, t);
+        rebase(a_, t);
         let (sup, edge) = (a_.sup, a_.sup_edge);
         end_support(a_);
         self.w.stamps[ai] += 1;
@@ -133,26 +252,128 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
+    /// A scripted or live input (scene input k): a velocity set or added,
+    /// an impulse through the centre, or a teleport (refused with an error
+    /// when the body would overlap another there).
     fn handle_input(&mut self, t: f64, k: u32) -> Res<()> {
         self.q.stats.inputs += 1;
         let inp = self.w.s.inputs[k as usize];
         let a = inp.body as usize;
+        if self.w.s.bodies[a].gone {
+            return Err(SimError::Msg(format!("input {k}: body {a} was removed before t = {}", g17(t))));
+        }
+        if self.w.s.bodies[a].asleep {
+            self.handle_wake(a, t)?;
+        }
+        rebase(&mut self.w.s.bodies[a], t);
+        if inp.mode == REMOVE {
+            return self.remove(a, k, t);
+        }
+        if inp.mode == TELEPORT {
+            let s = &self.w.s;
+            if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[a], Some(a), inp.vx, inp.vy, t) {
+                return Err(SimError::Msg(format!(
+                    "input {k}: body {a} teleported to ({}, {}) at t = {} would overlap body {o}",
+                    g17(inp.vx),
+                    g17(inp.vy),
+                    g17(t)
+                )));
+            }
+        }
         let body = &mut self.w.s.bodies[a];
-        advance(body, t);
         if body.sup >= 0 {
             end_support(body);
         }
-        if inp.mode == 0 {
+        if inp.mode == SET_VELOCITY {
             body.vx = inp.vx;
             body.vy = inp.vy;
-        } else {
+        } else if inp.mode == ADD_VELOCITY {
             body.vx = body.vx + inp.vx;
             body.vy = body.vy + inp.vy;
+        } else if inp.mode == IMPULSE {
+            body.vx = body.vx + inp.vx * body.inv_m;
+            body.vy = body.vy + inp.vy * body.inv_m;
+        } else {
+            body.px = inp.vx;
+            body.py = inp.vy;
+            let (cx0, cy0) = (body.cx, body.cy);
+            let (cx, cy) = cell_of(&self.w.s, inp.vx, inp.vy);
+            self.w.grid.remove(a as u32, cx0, cy0);
+            let body = &mut self.w.s.bodies[a];
+            body.cx = cx;
+            body.cy = cy;
+            self.w.grid.add(a as u32, cx, cy);
         }
         self.w.stamps[a] += 1;
+        let body = &self.w.s.bodies[a];
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
         predict_body::<E>(&self.w, &mut self.q, a, t, None)
+    }
+
+    /// Input k removes body a (based at t): it stops where it is (v, a, w
+    /// zero), leaves the grid, its stamp changes (its queued events go
+    /// stale) and it is never predicted again; bodies it supported leave.
+    fn remove(&mut self, a: usize, k: u32, t: f64) -> Res<()> {
+        let body = &mut self.w.s.bodies[a];
+        body.vx = 0.0;
+        body.vy = 0.0;
+        body.ax = 0.0;
+        body.ay = 0.0;
+        body.fax = 0.0;
+        body.fay = 0.0;
+        body.om = 0.0;
+        if body.sup >= 0 {
+            end_support(body);
+        }
+        body.gone = true;
+        let (large, cx, cy) = (body.large, body.cx, body.cy);
+        self.w.stamps[a] += 1;
+        if large {
+            let at = self.w.grid.large.iter().position(|&o| o as usize == a).expect("a large body is listed");
+            self.w.grid.large.remove(at);
+        } else {
+            self.w.grid.remove(a as u32, cx, cy);
+        }
+        self.out.input(t, a as u32, k)?;
+        for o in 0..self.w.s.bodies.len() {
+            if self.w.s.bodies[o].sup != a as i32 {
+                continue;
+            }
+            self.q.stats.leaves += 1;
+            let a_ = &mut self.w.s.bodies[o];
+            rebase(a_, t);
+            let edge = a_.sup_edge;
+            end_support(a_);
+            self.w.stamps[o] += 1;
+            self.out.support_end("leave", t, a_.idx, a as i32, edge)?;
+            self.out.state(a_)?;
+            predict_body::<E>(&self.w, &mut self.q, o, t, None)?;
+        }
+        self.wake_touching(a, t)
+    }
+
+    /// The islands of the sleepers whose bounding circles reach the removed
+    /// body's (within the tolerance) wake: it may have held them (by index;
+    /// a woken island's other members are awake already).
+    fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
+        let tol = self.w.s.tol;
+        let (bx, by, bound) = {
+            let b_ = &self.w.s.bodies[body];
+            (b_.px, b_.py, b_.bound)
+        };
+        for o in 0..self.w.s.bodies.len() {
+            let o_ = &self.w.s.bodies[o];
+            if o_.asleep {
+                let dx = o_.px - bx;
+                let dy = o_.py - by;
+                let reach = o_.bound + bound + tol;
+                if dx * dx + dy * dy <= reach * reach {
+                    self.handle_wake(o, t)?;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The body's centre crossed into the next cell along an axis: move it
@@ -202,7 +423,7 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
     // ---- the run ------------------------------------------------------------
 
     /// Cells, inputs, the first frame and every pair's first prediction.
-    fn start(&mut self) -> Res<()> {
+    pub(super) fn start(&mut self) -> Res<()> {
         let (w, q) = (&mut self.w, &mut self.q);
         let n = w.s.bodies.len();
         for b in 0..n {
@@ -238,11 +459,13 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         Ok(())
     }
 
-    /// Every body at the end time, the counters and the variants served.
-    fn finish(&mut self) -> Res<()> {
+    /// Every body at the end time, the counters and the variants served
+    /// (the trace's F, N and V lines; the reference's `finish` after its
+    /// last events).
+    pub(super) fn write_final(&mut self) -> Res<()> {
         let end = self.w.s.end;
         for b in self.w.s.bodies.iter_mut() {
-            advance(b, end);
+            rebase(b, end);
         }
         for b in &self.w.s.bodies {
             self.out.final_state(b)?;
@@ -259,39 +482,44 @@ impl<'o, E: Equations, W: Write> Simulator<'o, E, W> {
         Ok(())
     }
 
-    pub fn run(&mut self) -> Res<()> {
-        self.start()?;
-        let mut last_t = -1.0;
-        let mut same: i64 = 0;
-        while let Some(e) = self.q.heap.pop() {
-            let t = e.t;
-            if t > self.w.s.end {
-                break;
-            }
-            if self.w.is_stale(&e.ev) {
-                self.q.stats.stale += 1;
-                continue;
-            }
-            if t == last_t {
-                same += 1;
-                if same > self.w.s.max_same {
-                    let msg = format!("more than {} events at t = {}: the scene is stuck", self.w.s.max_same, g17(t));
-                    return Err(Stop::Scene(msg));
-                }
-            } else {
-                last_t = t;
-                same = 0;
-            }
-            match e.ev {
-                Event::Input { k } => self.handle_input(t, k)?,
-                Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j)?,
-                Event::Stop { body, .. } => self.handle_stop(t, body)?,
-                Event::Leave { body, .. } => self.handle_leave(t, body)?,
-                Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction)?,
-                Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b)?,
-                Event::Frame { k } => self.handle_frame(t, k)?,
-            }
+    /// Handle one event taken from the queue: drop it when stale, count the
+    /// events at one instant (max_same_time), call its kind's handler.
+    pub(super) fn dispatch(&mut self, t: f64, ev: Event) -> Res<()> {
+        if self.w.is_stale(&ev) {
+            self.q.stats.stale += 1;
+            return Ok(());
         }
-        self.finish()
+        if t == self.last_t {
+            self.same += 1;
+            if self.same > self.w.s.max_same {
+                let msg = format!("more than {} events at t = {}: the scene is stuck", self.w.s.max_same, g17(t));
+                return Err(SimError::Msg(msg));
+            }
+        } else {
+            self.last_t = t;
+            self.same = 0;
+        }
+        match ev {
+            Event::Input { k } => self.handle_input(t, k),
+            Event::Collision { a, b, feature, i, j, .. } => self.handle_collision(t, a, b, feature, i, j),
+            Event::Stop { body, .. } => self.handle_stop(t, body),
+            Event::Leave { body, .. } => self.handle_leave(t, body),
+            Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction),
+            Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b),
+            Event::Frame { k } => self.handle_frame(t, k),
+        }
+    }
+
+    /// Handle every queued event before t (inclusive: at t too), in
+    /// (t, kind, seq) order, events that handling schedules included.
+    pub(super) fn process(&mut self, t: f64, inclusive: bool) -> Res<()> {
+        while let Some(top) = self.q.heap.peek() {
+            if top.t > t || (top.t == t && !inclusive) {
+                return Ok(());
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            self.dispatch(e.t, e.ev)?;
+        }
+        Ok(())
     }
 }

@@ -6,7 +6,7 @@
 use super::motion::point_at;
 use super::queue::Event;
 use super::scene::{Body, Vertex};
-use super::world::{Queue, World};
+use super::world::{Queue, Space};
 use super::PE;
 use crate::roots::smallest_root;
 
@@ -31,7 +31,7 @@ pub fn is_static(b_: &Body) -> bool {
 /// A point-edge contact of movable A on edge j of a fixed, unmoving polygon
 /// B becomes support (both advanced to now; vn from `normal_speed`).
 #[allow(clippy::too_many_arguments)]
-pub fn can_support(w: &World, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
+pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
     if feature != PE || a_.fixed || !b_.fixed || !is_static(b_) {
         return false;
     }
@@ -47,6 +47,13 @@ pub fn can_support(w: &World, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
     if q < ed.s1 || q > ed.s2 {
         return false;
     }
+    // at an end of the edge (within the tolerance) and moving past it: it
+    // is leaving (a support would end at once, again and again)
+    let u = a_.vx * tx + a_.vy * ty;
+    let tol = s.tol;
+    if (u > 0.0 && q >= ed.s2 - tol) || (u < 0.0 && q <= ed.s1 + tol) {
+        return false;
+    }
     if a_.polygon {
         if a_.om.abs() * a_.bound >= rest {
             return false;
@@ -59,7 +66,7 @@ pub fn can_support(w: &World, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
 /// A neighbour of A's vertex i lies on edge j's line within the face
 /// tolerance max(tol, rest_speed^2 / load): A rests on a face.
 #[allow(clippy::too_many_arguments)]
-fn flat(w: &World, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy: f64, load: f64) -> bool {
+pub(super) fn flat(w: &Space, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy: f64, load: f64) -> bool {
     let s = &w.s;
     let (tol, r2) = (s.tol, s.rest_speed * s.rest_speed / load);
     // Python's max(tol, r2)
@@ -126,7 +133,7 @@ pub fn end_support(a_: &mut Body) {
 
 /// A supported body's stop (its tangential speed reaches zero) and leave
 /// (its centre, projected on the edge, reaches an end) events.
-pub fn schedule_support(w: &World, q: &mut Queue, bi: usize) {
+pub fn schedule_support(w: &Space, q: &mut Queue, bi: usize) {
     let s = &w.s;
     let b = &s.bodies[bi];
     let stamp = w.stamps[bi];

@@ -23,11 +23,13 @@ pub struct Stats {
     pub supports: u64,
     pub stops: u64,
     pub leaves: u64,
+    pub sleeps: u64,
+    pub wakes: u64,
 }
 
 impl Stats {
     /// (name, count) in the order of the trace's N lines (STAT_NAMES).
-    pub fn lines(&self) -> [(&'static str, u64); 11] {
+    pub fn lines(&self) -> [(&'static str, u64); 13] {
         [
             ("collisions", self.collisions),
             ("inputs", self.inputs),
@@ -40,23 +42,25 @@ impl Stats {
             ("supports", self.supports),
             ("stops", self.stops),
             ("leaves", self.leaves),
+            ("sleeps", self.sleeps),
+            ("wakes", self.wakes),
         ]
     }
 }
 
 /// The scene, the bodies' states, the grid.
-pub struct World {
+pub struct Space {
     pub s: Scene,
     /// per body, bumped whenever its motion changes (lazy invalidation)
     pub stamps: Vec<u64>,
     pub grid: Grid,
 }
 
-impl World {
-    pub fn new(s: Scene) -> World {
+impl Space {
+    pub fn new(s: Scene) -> Space {
         let stamps = vec![0; s.bodies.len()];
         let grid = Grid::new(&s);
-        World { s, stamps, grid }
+        Space { s, stamps, grid }
     }
 
     /// An event whose bodies' motion changed since it was scheduled.
@@ -91,19 +95,19 @@ impl Queue {
 
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn push_collision(&mut self, w: &World, t: f64, feature: i32, a: &Body, b: &Body, i: i32, j: i32) {
+    pub fn push_collision(&mut self, w: &Space, t: f64, feature: i32, a: &Body, b: &Body, i: i32, j: i32) {
         let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
         self.heap.push(t, Event::Collision { a: a.idx, b: b.idx, feature, i, j, stamp_a, stamp_b });
     }
 
     #[inline]
-    pub fn push_horizon(&mut self, w: &World, t: f64, a: &Body, b: &Body) {
+    pub fn push_horizon(&mut self, w: &Space, t: f64, a: &Body, b: &Body) {
         let (stamp_a, stamp_b) = (w.stamps[a.index()], w.stamps[b.index()]);
         self.heap.push(t, Event::Horizon { a: a.idx, b: b.idx, stamp_a, stamp_b });
     }
 
     #[inline]
-    pub fn push_cell(&mut self, w: &World, t: f64, b: &Body, axis: i32, direction: i32) {
+    pub fn push_cell(&mut self, w: &Space, t: f64, b: &Body, axis: i32, direction: i32) {
         self.heap.push(t, Event::Cell { body: b.idx, axis, direction, stamp: w.stamps[b.index()] });
     }
 }

@@ -1,0 +1,365 @@
+//! The live world (docs/engine-api.md): a scene made into a world that a
+//! caller drives with `advance(t)`, asks `next_event_time()` and
+//! `state(body, t)`; the batch simulator is `advance(end)` + `finish()`.
+//! The reference is `World` in runtimes/python/max2code_rt/sim.py.
+
+use std::io::Write;
+use std::marker::PhantomData;
+
+use super::g17::g17;
+use super::motion::state_at;
+use super::out::{Out, SimError};
+use super::overlap::overlapping;
+use super::queue::{Event, INPUT};
+use super::grid::cell_of;
+use super::predict::{predict_body, predict_pair};
+use super::scene::{read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+use super::world::{Queue, Space};
+use super::Equations;
+
+/// A collision or support as `advance` reports it: the fields of the
+/// trace's `E collision` / `E support` line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// s
+    pub t: f64,
+    /// the bodies (scene indices)
+    pub a: usize,
+    pub b: usize,
+    /// 0: circle-circle (or circle-vertex), 1: point-edge
+    pub feature: i32,
+    /// a's vertex (-1: its circle), b's vertex or edge (-1: its circle)
+    pub i: i32,
+    pub j: i32,
+    /// m: the contact point
+    pub px: f64,
+    pub py: f64,
+    /// the unit normal from a to b
+    pub nx: f64,
+    pub ny: f64,
+    /// kg m/s, >= 0
+    pub impulse: f64,
+    /// true: the contact ended in support (`E support`), else a collision
+    pub support: bool,
+}
+
+/// A body's exact state at one time (`World::state`).  Units: m, m/s, rad, rad/s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState {
+    pub px: f64,
+    pub py: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub angle: f64,
+    pub omega: f64,
+}
+
+/// A live world over the generated equations `E` (see [`sim_main!`](crate::sim_main)).
+pub struct World<E: Equations> {
+    /// the scene, the bodies' states and stamps, the grid
+    pub(super) w: Space,
+    /// the events and the counters
+    pub(super) q: Queue,
+    pub(super) out: Out,
+    /// s: the world's current time
+    time: f64,
+    /// the instant of the last event handled, and how many came at it
+    pub(super) last_t: f64,
+    pub(super) same: i64,
+    /// the contacts the next `advance` reports
+    pub(super) contacts: Vec<Contact>,
+    /// bodies added by add_body (a recording refuses them)
+    added: usize,
+    eq: PhantomData<E>,
+}
+
+impl<E: Equations> World<E> {
+    /// A world from a compiled scene (the flat text of docs/simulator.md),
+    /// writing its flat trace to `trace` (None: no trace); every pair's
+    /// first prediction is made.
+    pub fn from_scene(text: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
+        let scene = Scene::parse(text).map_err(SimError::Msg)?;
+        let mut world = World {
+            w: Space::new(scene),
+            q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS),
+            out: Out::new(trace),
+            time: 0.0,
+            last_t: -1.0,
+            same: 0,
+            contacts: Vec::new(),
+            added: 0,
+            eq: PhantomData,
+        };
+        world.start()?;
+        Ok(world)
+    }
+
+    /// A world from a compiled scene file.
+    pub fn from_file(path: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::Msg(format!("{path}: {e}")))?;
+        World::from_scene(&text, trace)
+    }
+
+    /// s: the world's current time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// s: the scene's end time.
+    pub fn end(&self) -> f64 {
+        self.w.s.end
+    }
+
+    /// Number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.w.s.bodies.len()
+    }
+
+    /// Handle every event at a time before t, move the world's time to t
+    /// and return the contacts handled since the last call.  Events at
+    /// exactly t stay queued: an input made at t comes before them, as a
+    /// scripted input at t does.  No body is re-based but by its events.
+    pub fn advance(&mut self, t: f64) -> Result<Vec<Contact>, SimError> {
+        if !(t >= self.time && t <= self.w.s.end) {
+            return Err(SimError::Msg(format!(
+                "advance: t = {} is outside [{}, {}] (the world's time .. the scene's end)",
+                g17(t),
+                g17(self.time),
+                g17(self.w.s.end)
+            )));
+        }
+        self.process(t, false)?;
+        self.time = t;
+        Ok(self.take_contacts())
+    }
+
+    fn take_contacts(&mut self) -> Vec<Contact> {
+        std::mem::take(&mut self.contacts)
+    }
+
+    /// The time of the next event that is not stale (stale ones at the top
+    /// of the queue are dropped and counted as the run would); infinity
+    /// when none comes before the end.
+    pub fn next_event_time(&mut self) -> f64 {
+        let end = self.w.s.end;
+        while let Some(top) = self.q.heap.peek() {
+            if top.t > end {
+                break;
+            }
+            if !self.w.is_stale(&top.ev) {
+                return top.t;
+            }
+            self.q.heap.pop();
+            self.q.stats.stale += 1;
+        }
+        f64::INFINITY
+    }
+
+    /// The exact state of a body at t, for t from the world's time to the
+    /// next event's.
+    pub fn state(&mut self, body: usize, t: f64) -> Result<BodyState, SimError> {
+        self.body(body)?;
+        let nxt = self.next_event_time();
+        if !(t >= self.time && t <= nxt && t <= self.w.s.end) {
+            return Err(SimError::Msg(format!(
+                "state: t = {} is outside [{}, {}] (the world's time .. the next event)",
+                g17(t),
+                g17(self.time),
+                g17(nxt)
+            )));
+        }
+        let b = &self.w.s.bodies[body];
+        let (px, py, vx, vy, angle) = state_at(b, t);
+        Ok(BodyState { px, py, vx, vy, angle, omega: b.om })
+    }
+
+    fn body(&self, k: usize) -> Result<&Body, SimError> {
+        let n = self.w.s.bodies.len();
+        if k >= n {
+            return Err(SimError::Msg(format!("no body {k} (the world has {n})")));
+        }
+        Ok(&self.w.s.bodies[k])
+    }
+
+    // ---- live inputs: at the world's time, recorded in the input list --------
+
+    /// Set the body's velocity (m/s) now.
+    pub fn set_velocity(&mut self, body: usize, vx: f64, vy: f64) -> Result<(), SimError> {
+        self.live_input(body, SET_VELOCITY, vx, vy).map(|_| ())
+    }
+
+    /// Add (dvx, dvy) m/s to the body's velocity now.
+    pub fn add_velocity(&mut self, body: usize, dvx: f64, dvy: f64) -> Result<(), SimError> {
+        self.live_input(body, ADD_VELOCITY, dvx, dvy).map(|_| ())
+    }
+
+    /// An impulse (N s) through the centre now: dv = J inv_mass.
+    pub fn apply_impulse(&mut self, body: usize, jx: f64, jy: f64) -> Result<(), SimError> {
+        self.live_input(body, IMPULSE, jx, jy).map(|_| ())
+    }
+
+    /// Move the body's centre to (x, y) now, keeping its velocity; false
+    /// (the world unchanged) when it would overlap another body by more
+    /// than the tolerance there.
+    pub fn teleport(&mut self, body: usize, x: f64, y: f64) -> Result<bool, SimError> {
+        self.live_input(body, TELEPORT, x, y)
+    }
+
+    /// An input at the world's time T, handled as the same input scripted
+    /// at T and listed after the scene's would be: the scene's inputs at T
+    /// are handled first, then this one, before any other event at T
+    /// (docs/engine-api.md, "Live inputs").  It is appended to the input
+    /// list, which is the recording.
+    fn live_input(&mut self, body: usize, mode: i64, x: f64, y: f64) -> Result<bool, SimError> {
+        if self.body(body)?.gone {
+            return Err(SimError::Msg(format!("body {body} was removed")));
+        }
+        if self.body(body)?.fixed && mode != REMOVE {
+            return Err(SimError::Msg(format!("body {body} is fixed: inputs move movable bodies only")));
+        }
+        if !(x.is_finite() && y.is_finite()) {
+            return Err(SimError::Msg(format!("input on body {body}: ({}, {}) is not finite", g17(x), g17(y))));
+        }
+        let t = self.time;
+        self.inputs_now()?;
+        if mode == TELEPORT {
+            let s = &self.w.s;
+            if overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[body], Some(body), x, y, t).is_some() {
+                return Ok(false);
+            }
+        }
+        self.w.s.inputs.push(Input { t, body: body as i64, mode, vx: x, vy: y });
+        let k = (self.w.s.inputs.len() - 1) as u32;
+        self.q.heap.push(t, Event::Input { k });
+        self.inputs_now()?;
+        Ok(true)
+    }
+
+    /// Every input: the scene's, then the live ones in the order they were
+    /// made (what a recording writes).
+    pub fn input_log(&self) -> &[Input] {
+        &self.w.s.inputs
+    }
+
+    /// How many bodies add_body added.
+    pub fn added(&self) -> usize {
+        self.added
+    }
+
+    /// Take a body (movable or fixed) out of the world now: input MODE 4.
+    pub fn remove_body(&mut self, body: usize) -> Result<(), SimError> {
+        self.live_input(body, REMOVE, 0.0, 0.0).map(|_| ())
+    }
+
+    /// A body from its flat lines (`body ...` and its `v` lines, the state
+    /// at the world's time) added now; its index, or None (the world
+    /// unchanged) when it would overlap a body by more than the tolerance.
+    /// Not an input: a recording refuses a session that added bodies.
+    pub fn add_body(&mut self, text: &str) -> Result<Option<usize>, SimError> {
+        let v0 = self.w.s.verts.len();
+        let res = self.add_body_at(text, v0);
+        if !matches!(res, Ok(Some(_))) {
+            // not added: its vertices go too
+            self.w.s.verts.truncate(v0);
+        }
+        res
+    }
+
+    fn add_body_at(&mut self, text: &str, v0: usize) -> Result<Option<usize>, SimError> {
+        let mut tk = Tokens::new(text, "add_body");
+        let idx = self.w.s.bodies.len();
+        let mut b = read_body(&mut tk, idx as u32, &mut self.w.s.verts).map_err(SimError::Msg)?;
+        debug_assert_eq!(b.v0 as usize, v0);
+        if let Some(w) = tk.rest() {
+            return Err(SimError::Msg(format!("add_body: unexpected '{w}' after the body")));
+        }
+        let s = &self.w.s;
+        // Python's min(cw, ch)
+        let cell = if s.ch < s.cw { s.ch } else { s.cw };
+        b.large = 2.0 * b.bound > cell;
+        if b.large && !b.fixed {
+            return Err(SimError::Msg(format!(
+                "add_body: a movable body of bound {} m does not fit the grid's cells ({} x {} m): put such a body in the scene",
+                g17(b.bound),
+                g17(s.cw),
+                g17(s.ch)
+            )));
+        }
+        let t = self.time;
+        b.tb = t;
+        self.inputs_now()?;
+        let s = &self.w.s;
+        if overlapping(&s.bodies, &s.verts, s.tol, &b, None, b.px, b.py, t).is_some() {
+            return Ok(None);
+        }
+        let (large, fixed) = (b.large, b.fixed);
+        self.w.s.bodies.push(b);
+        self.w.stamps.push(0);
+        self.added += 1;
+        self.out.add(t, idx as u32)?;
+        if large {
+            self.w.grid.large.push(idx as u32);
+            for o in 0..self.w.s.bodies.len() {
+                let ob = &self.w.s.bodies[o];
+                if !(ob.large || ob.gone || (ob.fixed && fixed)) {
+                    predict_pair::<E>(&self.w, &mut self.q, o, idx, t)?;
+                }
+            }
+        } else {
+            let (px, py) = (self.w.s.bodies[idx].px, self.w.s.bodies[idx].py);
+            let (cx, cy) = cell_of(&self.w.s, px, py);
+            let body = &mut self.w.s.bodies[idx];
+            body.cx = cx;
+            body.cy = cy;
+            self.w.grid.add(idx as u32, cx, cy);
+            if !fixed {
+                self.out.state(&self.w.s.bodies[idx])?;
+            }
+            predict_body::<E>(&self.w, &mut self.q, idx, t, None)?;
+        }
+        Ok(Some(idx))
+    }
+
+    /// Handle the input events queued at exactly the world's time.
+    fn inputs_now(&mut self) -> Result<(), SimError> {
+        while let Some(top) = self.q.heap.peek() {
+            if !(top.t == self.time && top.ev.kind() == INPUT) {
+                break;
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            self.dispatch(e.t, e.ev)?;
+        }
+        Ok(())
+    }
+
+    /// Handle the events at the end time, then write every body at the end,
+    /// the counters and the variants served; returns the contacts handled
+    /// since the last advance.  The trace is flushed.
+    pub fn finish(&mut self) -> Result<Vec<Contact>, SimError> {
+        let end = self.w.s.end;
+        self.process(end, true)?;
+        self.time = end;
+        self.write_final()?;
+        self.out.flush()?;
+        Ok(self.take_contacts())
+    }
+
+    /// The batch simulator: every event to the end, then the final lines.
+    pub fn run(&mut self) -> Result<(), SimError> {
+        self.advance(self.w.s.end)?;
+        self.finish()?;
+        Ok(())
+    }
+
+    /// Write what the trace holds so far to its sink.
+    pub fn flush(&mut self) -> Result<(), SimError> {
+        Ok(self.out.flush()?)
+    }
+
+    /// End the trace with `X message` (a run stopped on a stuck or bad
+    /// scene) and flush it.
+    pub fn stop_trace(&mut self, msg: &str) -> Result<(), SimError> {
+        self.out.message(msg);
+        self.flush()
+    }
+}
