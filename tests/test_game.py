@@ -78,9 +78,7 @@ def test_the_recording_replays_the_session_in_python_and_c(sessions):
     assert traces["python"].raw == traces["c"].raw == trace
 
 
-@pytest.mark.parametrize("lang", [pytest.param(x, marks=pytest.mark.xfail(
-    reason=f"the {x} port may lag the live inputs (input MODE 3, teleport): visible here until it lands"))
-    for x in ("rust", "m2")])
+@pytest.mark.parametrize("lang", ["rust", "m2"])
 def test_the_recording_crosschecks_in_the_other_runtimes(sessions, lang):
     from max2code.sim.commands import crosscheck
     from max2code.sim.scene import load_scene
