@@ -465,3 +465,28 @@ def test_random_sessions_replay_from_their_recordings(tmp_path_factory, seed, ac
     assert run_scene(load_scene(rec), "python").raw == out.getvalue()
     if made == 0:
         assert run_scene(scene, "python").raw == out.getvalue()
+
+
+@pytest.mark.parametrize("lang", runtimes("inputs"))
+def test_a_teleported_large_movable_body_stays_out_of_the_grid(lang):
+    """A movable body marked large (kept out of the grid, checked by every
+    body; a flat scene or add_body can say so) is teleported like any other
+    instead of crashing in the grid's removal: the same bytes as Python."""
+    scene = parse_scene(json.dumps(inputs_scene()))
+    target = next(i.body for i in scene.inputs if i.mode == 3)
+    lines = compile_scene(scene).split("\n")
+    bodies = [k for k, line in enumerate(lines) if line.startswith("body ")]
+    w = lines[bodies[target]].split()
+    assert w[2] == "0" and w[19] == "0"          # movable, not large
+    w[19] = "1"
+    lines[bodies[target]] = " ".join(w)
+    flat = "\n".join(lines)
+    out = {}
+    for x in ("python", lang):
+        build = build_simulator(x, scene.effects, scene.taylor_order)
+        proc = subprocess.run(build.run_cmd, input=flat, capture_output=True, text=True, cwd=build.workdir,
+                              timeout=600)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        out[x] = proc.stdout
+    assert out["python"] == out[lang]
+    assert sum(1 for line in out[lang].splitlines() if line.startswith("E input")) == len(scene.inputs)

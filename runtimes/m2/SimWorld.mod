@@ -1549,9 +1549,11 @@ BEGIN
    ELSE
       b^.px := inp.vx ;
       b^.py := inp.vy ;
-      CellRemove (b) ;
-      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
-      CellAdd (b)
+      IF NOT b^.large THEN   (* a large body is in no cell: every body checks it *)
+         CellRemove (b) ;
+         CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+         CellAdd (b)
+      END
    END ;
    INC (b^.stamp) ;
    Str ("E input ") ;

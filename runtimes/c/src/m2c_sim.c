@@ -1624,9 +1624,11 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     } else {
         body->px = in->vx;
         body->py = in->vy;
-        m2c_sim_grid_remove(&m->grid, m->bodies, body);
-        cell_of(m, body->px, body->py, &body->cx, &body->cy);
-        cell_add(m, body);
+        if (!body->large) {     /* a large body is in no cell: every body checks it */
+            m2c_sim_grid_remove(&m->grid, m->bodies, body);
+            cell_of(m, body->px, body->py, &body->cx, &body->cy);
+            cell_add(m, body);
+        }
     }
     m->stamp[body->idx]++;
     emit_input(m, t, body, k);

@@ -1112,9 +1112,10 @@ class World:
             body.vx, body.vy = body.vx + inp.vx * body.inv_m, body.vy + inp.vy * body.inv_m
         else:
             body.px, body.py = inp.vx, inp.vy
-            self.cell_remove(body)
-            body.cx, body.cy = self.cell_of(body.px, body.py)
-            self.cell_add(body)
+            if not body.large:          # a large body is in no cell: every body checks it
+                self.cell_remove(body)
+                body.cx, body.cy = self.cell_of(body.px, body.py)
+                self.cell_add(body)
         body.stamp += 1
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {ev.k} -1 0 0 0 0 0\n")
         self.emit_state(body)

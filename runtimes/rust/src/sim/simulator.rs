@@ -296,13 +296,16 @@ impl<E: Equations> World<E> {
         } else {
             body.px = inp.vx;
             body.py = inp.vy;
-            let (cx0, cy0) = (body.cx, body.cy);
-            let (cx, cy) = cell_of(&self.w.s, inp.vx, inp.vy);
-            self.w.grid.remove(a as u32, cx0, cy0);
-            let body = &mut self.w.s.bodies[a];
-            body.cx = cx;
-            body.cy = cy;
-            self.w.grid.add(a as u32, cx, cy);
+            if !body.large {
+                // a large body is in no cell: every body checks it
+                let (cx0, cy0) = (body.cx, body.cy);
+                let (cx, cy) = cell_of(&self.w.s, inp.vx, inp.vy);
+                self.w.grid.remove(a as u32, cx0, cy0);
+                let body = &mut self.w.s.bodies[a];
+                body.cx = cx;
+                body.cy = cy;
+                self.w.grid.add(a as u32, cx, cy);
+            }
         }
         self.w.stamps[a] += 1;
         let body = &self.w.s.bodies[a];
