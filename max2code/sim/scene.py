@@ -615,11 +615,25 @@ def _check_overlaps(scene: Scene) -> None:
     boxes = [(b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius, b.position[1] + b.radius)
              if not b.polygon and b.orbit_radius == 0.0 else _box(b) for b in bodies] if big else []   # _box, inlined
     big_set = set(big)
+    everyone = range(len(bodies))
     for i in big:
         ax0, ay0, ax1, ay1 = boxes[i]
-        for j, (bx0, by0, bx1, by1) in enumerate(boxes):
+        near = everyone
+        if max(-ax0, ax1, -ay0, ay1) + tol < cell * 2.0 ** 40:
+            # A small body reaches at most half a cell from its position, so one
+            # whose box comes within tol of this box sits in a cell this box
+            # (widened by tol) covers or in one next to it: those cells, and the
+            # big bodies, when that is fewer than all bodies (the same pairs
+            # then pass the box test below).
+            gx0, gx1 = math.floor((ax0 - tol) / cell) - 1, math.floor((ax1 + tol) / cell) + 1
+            gy0, gy1 = math.floor((ay0 - tol) / cell) - 1, math.floor((ay1 + tol) / cell) + 1
+            if (gx1 - gx0 + 1) * (gy1 - gy0 + 1) < len(bodies):
+                near = [j for gx in range(gx0, gx1 + 1) for gy in range(gy0, gy1 + 1)
+                        for j in grid.get((gx, gy), ())] + big
+        for j in near:
             if j == i or (j < i and j in big_set):
                 continue
+            bx0, by0, bx1, by1 = boxes[j]
             if ax0 > bx1 + tol or bx0 > ax1 + tol or ay0 > by1 + tol or by0 > ay1 + tol:
                 continue            # the boxes hold the bodies: apart by more than the tolerance
             test(i, j)
