@@ -8,7 +8,9 @@ over as exact doubles.
 """
 from __future__ import annotations
 
+import contextlib
 import functools
+import gc
 import json
 import math
 from dataclasses import dataclass, field
@@ -357,7 +359,25 @@ def load_scene(path: str) -> Scene:
     return parse_scene(text, path)
 
 
+@contextlib.contextmanager
+def _no_gc():
+    """Reading a big scene makes many small objects that all stay alive: the
+    cyclic collector, left on, would walk them again and again for nothing."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def parse_scene(text: str, path: str = "<scene>") -> Scene:
+    with _no_gc():
+        return _parse_scene(text, path)
+
+
+def _parse_scene(text: str, path: str) -> Scene:
     rd = _Reader(path)
     try:
         raw = json.loads(text)
@@ -701,9 +721,9 @@ def body_lines(b: Body, large: bool) -> list[str]:
     inv_m = 0.0 if b.fixed else 1.0 / b.mass
     inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
     (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
-    reals = " ".join([repr(float(x)) for x in (inv_m, inv_i, b.restitution, b.friction, px, py, vx, vy, ax, ay,
-                                               b.angle, b.angular_velocity, b.radius, b.orbit_radius,
-                                               b.orbit_angle, b.bound)])
+    reals = " ".join(map(repr, map(float, (inv_m, inv_i, b.restitution, b.friction, px, py, vx, vy, ax, ay,
+                                            b.angle, b.angular_velocity, b.radius, b.orbit_radius,
+                                            b.orbit_angle, b.bound))))
     out.append(f"body {'1' if b.polygon else '0'} {'1' if b.fixed else '0'} {reals} "
                f"{'1' if large else '0'} {len(b.vertices)}")
     n = len(b.vertices)
@@ -721,6 +741,11 @@ def body_lines(b: Body, large: bool) -> list[str]:
 
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
+    with _no_gc():
+        return _compile_scene(scene)
+
+
+def _compile_scene(scene: Scene) -> str:
     g = make_grid(scene)
     out = ["m2c-scene 1",
            f"end {_r(scene.end_time)}",
