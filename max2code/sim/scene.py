@@ -8,7 +8,9 @@ over as exact doubles.
 """
 from __future__ import annotations
 
+import contextlib
 import functools
+import gc
 import json
 import math
 from dataclasses import dataclass, field
@@ -209,6 +211,146 @@ def _polygon(rd: _Reader, raw, where: str):
     return local, (cx, cy), area2 / 2.0, second
 
 
+def _body(rd: _Reader, b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> Body:
+    """bodies[k], checked field by field: the first fault is reported."""
+    where = f"bodies[{k}]"
+    rd.keys(b, BODY_KEYS, where, required=("shape", "position"))
+    name = b.get("name", f"body{k}")
+    if not isinstance(name, str) or not name:
+        rd.fail(f"{where}.name", "expected a non-empty string")
+    if name in names:
+        rd.fail(f"{where}.name", f"'{name}' is already the name of bodies[{names[name]}]")
+    names[name] = k
+    where = f"bodies[{k}] ({name})"
+    shape = b["shape"]
+    if shape not in SHAPES:
+        rd.fail(f"{where}.shape", f"expected one of {', '.join(SHAPES)}, got {json.dumps(shape)}")
+    fixed = b.get("fixed", False)
+    if not isinstance(fixed, bool):
+        rd.fail(f"{where}.fixed", "expected true or false")
+    if fixed:
+        if "mass" in b:
+            rd.fail(f"{where}.mass", "a fixed body has no mass (it is not moved by contacts)")
+        mass = math.inf
+    else:
+        mass = rd.number(b, "mass", where, positive=True)
+    restitution = rd.number(b, "restitution", where, 1.0, nonneg=True)
+    if restitution > 1.0:
+        rd.fail(f"{where}.restitution", f"must be at most 1, got {restitution}")
+    friction = rd.number(b, "friction", where, 0.0, nonneg=True)
+    pos = rd.vec(b, "position", where, None)
+    vel = rd.vec(b, "velocity", where)
+    acc = rd.vec(b, "acceleration", where)
+    if not fixed:
+        acc = (acc[0] + gravity[0], acc[1] + gravity[1])
+    angle = rd.number(b, "angle", where, 0.0)
+    omega = rd.number(b, "angular_velocity", where, 0.0)
+    body = Body(name, shape == "polygon", fixed, mass, math.inf if fixed else 0.0, restitution,
+                pos, vel, acc, angle, omega)
+    body.friction = friction
+    if shape == "circle":
+        if "vertices" in b:
+            rd.fail(f"{where}.vertices", "a circle has no vertices")
+        body.radius = rd.number(b, "radius", where, positive=True)
+        if "orbit" in b:
+            rd.keys(b["orbit"], ORBIT_KEYS, f"{where}.orbit", required=("radius",))
+            body.orbit_radius = rd.number(b["orbit"], "radius", f"{where}.orbit", positive=True)
+            body.orbit_angle = rd.number(b["orbit"], "angle", f"{where}.orbit", 0.0)
+            if not fixed:
+                rd.fail(f"{where}.orbit", "an orbiting circle must be fixed (its orbit is prescribed motion)")
+        elif omega != 0.0:
+            rd.fail(f"{where}.angular_velocity", "a circle turns only about an orbit's centre: give 'orbit' or leave it out")
+    else:
+        if "radius" in b or "orbit" in b:
+            rd.fail(f"{where}.{'radius' if 'radius' in b else 'orbit'}", "a polygon has vertices, not a radius or orbit")
+        if "vertices" not in b:
+            rd.fail(where, "missing required key 'vertices'")
+        local, (cx, cy), area, second = _polygon(rd, b["vertices"], where)
+        # the centre of mass becomes the body's position
+        ca, sa = math.cos(angle), math.sin(angle)
+        body.position = (pos[0] + ca * cx - sa * cy, pos[1] + sa * cx + ca * cy)
+        body.vertices = local
+        if not fixed:
+            body.inertia = mass * second / area
+    return body
+
+
+_CIRCLE_KEYS = frozenset(BODY_KEYS - {"vertices", "orbit"})
+_BIG_INT = 2 ** 62
+_ABSENT = object()          # a key left out (JSON null is a value, and a wrong one)
+
+
+def _real(v, default):
+    """A finite JSON number as a float (the default when absent), or None
+    when the careful path must look at it."""
+    if v is _ABSENT:
+        return default
+    t = type(v)
+    if t is float:
+        return v if math.isfinite(v) else None
+    if t is int and -_BIG_INT < v < _BIG_INT:
+        return float(v)
+    return None
+
+
+def _pair(v, default):
+    """A JSON [x, y] of finite numbers as floats (the default when absent),
+    or None when the careful path must look at it."""
+    if v is _ABSENT:
+        return default
+    if type(v) is not list or len(v) != 2:
+        return None
+    x, y = _real(v[0], None), _real(v[1], None)
+    if x is None or y is None:
+        return None
+    return (x, y)
+
+
+def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> Body | None:
+    """bodies[k] when it is a plain circle every field of which is well formed
+    (the common case: one pass, no error bookkeeping); None for anything else
+    (polygons, orbits, any doubtful field), which _body then reads field by
+    field and reports.  What this accepts, _body accepts with the same values."""
+    if type(b) is not dict or b.get("shape") != "circle" or not b.keys() <= _CIRCLE_KEYS:
+        return None
+    name = b.get("name", _ABSENT)
+    if name is _ABSENT:
+        name = f"body{k}"
+    elif type(name) is not str or not name:
+        return None
+    if name in names:
+        return None
+    fixed = b.get("fixed", False)
+    if fixed is True:
+        if "mass" in b:
+            return None
+        mass = math.inf
+    elif fixed is False:
+        mass = _real(b.get("mass", _ABSENT), None)
+        if mass is None or not mass > 0.0:
+            return None
+    else:
+        return None
+    g = b.get
+    restitution = _real(g("restitution", _ABSENT), 1.0)
+    friction = _real(g("friction", _ABSENT), 0.0)
+    radius = _real(g("radius", _ABSENT), None)
+    angle = _real(g("angle", _ABSENT), 0.0)
+    omega = _real(g("angular_velocity", _ABSENT), 0.0)
+    pos = _pair(g("position", _ABSENT), None)
+    vel = _pair(g("velocity", _ABSENT), (0.0, 0.0))
+    acc = _pair(g("acceleration", _ABSENT), (0.0, 0.0))
+    if (restitution is None or not 0.0 <= restitution <= 1.0 or friction is None or not friction >= 0.0
+            or radius is None or not radius > 0.0 or angle is None or omega is None or omega != 0.0
+            or pos is None or vel is None or acc is None):
+        return None
+    if not fixed:
+        acc = (acc[0] + gravity[0], acc[1] + gravity[1])
+    names[name] = k
+    return Body(name, False, fixed, mass, math.inf if fixed else 0.0, restitution, pos, vel, acc, angle, omega,
+                radius=radius, friction=friction)
+
+
 def load_scene(path: str) -> Scene:
     try:
         text = read_text(path)
@@ -217,7 +359,25 @@ def load_scene(path: str) -> Scene:
     return parse_scene(text, path)
 
 
+@contextlib.contextmanager
+def _no_gc():
+    """Reading a big scene makes many small objects that all stay alive: the
+    cyclic collector, left on, would walk them again and again for nothing."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def parse_scene(text: str, path: str = "<scene>") -> Scene:
+    with _no_gc():
+        return _parse_scene(text, path)
+
+
+def _parse_scene(text: str, path: str) -> Scene:
     rd = _Reader(path)
     try:
         raw = json.loads(text)
@@ -259,65 +419,9 @@ def parse_scene(text: str, path: str = "<scene>") -> Scene:
     bodies: list[Body] = []
     names: dict[str, int] = {}
     for k, b in enumerate(raw["bodies"]):
-        where = f"bodies[{k}]"
-        rd.keys(b, BODY_KEYS, where, required=("shape", "position"))
-        name = b.get("name", f"body{k}")
-        if not isinstance(name, str) or not name:
-            rd.fail(f"{where}.name", "expected a non-empty string")
-        if name in names:
-            rd.fail(f"{where}.name", f"'{name}' is already the name of bodies[{names[name]}]")
-        names[name] = k
-        where = f"bodies[{k}] ({name})"
-        shape = b["shape"]
-        if shape not in SHAPES:
-            rd.fail(f"{where}.shape", f"expected one of {', '.join(SHAPES)}, got {json.dumps(shape)}")
-        fixed = b.get("fixed", False)
-        if not isinstance(fixed, bool):
-            rd.fail(f"{where}.fixed", "expected true or false")
-        if fixed:
-            if "mass" in b:
-                rd.fail(f"{where}.mass", "a fixed body has no mass (it is not moved by contacts)")
-            mass = math.inf
-        else:
-            mass = rd.number(b, "mass", where, positive=True)
-        restitution = rd.number(b, "restitution", where, 1.0, nonneg=True)
-        if restitution > 1.0:
-            rd.fail(f"{where}.restitution", f"must be at most 1, got {restitution}")
-        friction = rd.number(b, "friction", where, 0.0, nonneg=True)
-        pos = rd.vec(b, "position", where, None)
-        vel = rd.vec(b, "velocity", where)
-        acc = rd.vec(b, "acceleration", where)
-        if not fixed:
-            acc = (acc[0] + gravity[0], acc[1] + gravity[1])
-        angle = rd.number(b, "angle", where, 0.0)
-        omega = rd.number(b, "angular_velocity", where, 0.0)
-        body = Body(name, shape == "polygon", fixed, mass, math.inf if fixed else 0.0, restitution,
-                    pos, vel, acc, angle, omega)
-        body.friction = friction
-        if shape == "circle":
-            if "vertices" in b:
-                rd.fail(f"{where}.vertices", "a circle has no vertices")
-            body.radius = rd.number(b, "radius", where, positive=True)
-            if "orbit" in b:
-                rd.keys(b["orbit"], ORBIT_KEYS, f"{where}.orbit", required=("radius",))
-                body.orbit_radius = rd.number(b["orbit"], "radius", f"{where}.orbit", positive=True)
-                body.orbit_angle = rd.number(b["orbit"], "angle", f"{where}.orbit", 0.0)
-                if not fixed:
-                    rd.fail(f"{where}.orbit", "an orbiting circle must be fixed (its orbit is prescribed motion)")
-            elif omega != 0.0:
-                rd.fail(f"{where}.angular_velocity", "a circle turns only about an orbit's centre: give 'orbit' or leave it out")
-        else:
-            if "radius" in b or "orbit" in b:
-                rd.fail(f"{where}.{'radius' if 'radius' in b else 'orbit'}", "a polygon has vertices, not a radius or orbit")
-            if "vertices" not in b:
-                rd.fail(where, "missing required key 'vertices'")
-            local, (cx, cy), area, second = _polygon(rd, b["vertices"], where)
-            # the centre of mass becomes the body's position
-            ca, sa = math.cos(angle), math.sin(angle)
-            body.position = (pos[0] + ca * cx - sa * cy, pos[1] + sa * cx + ca * cy)
-            body.vertices = local
-            if not fixed:
-                body.inertia = mass * second / area
+        body = _circle(b, k, gravity, names)
+        if body is None:
+            body = _body(rd, b, k, gravity, names)
         bodies.append(body)
 
     inputs: list[Input] = []
@@ -377,35 +481,53 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
             kick[e.body] += math.hypot(*e.velocity)
         elif e.mode == IMPULSE:
             kick[e.body] += math.hypot(*e.velocity) / scene.bodies[e.body].mass
+    lim_v, lim_a = LENGTH_MAX / T, LENGTH_MAX / T / T
+    hypot = math.hypot
     for k, b in enumerate(scene.bodies):
-        where = f"bodies[{k}] ({b.name})"
-        sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
-        if b.orbit_radius:
-            sizes.append(("orbit.radius", b.orbit_radius))
-        for field_name, v in sizes:
-            if v > LENGTH_MAX:
-                rd.fail(f"{where}.{field_name}", f"{v:g} m is more than {LENGTH_MAX:g} m (its square overflows)")
-            if 0.0 < v < LENGTH_MIN:
-                rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
-        speed = math.hypot(*b.velocity) + kick[k]
-        accel = math.hypot(*b.acceleration)
-        far = max(math.hypot(*b.position), jump[k])       # teleports included
-        for field_name, v, limit in (("position", far, LENGTH_MAX),
-                                     ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
-                                     ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
-            if v > limit:
-                rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
-                                                 f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
-        reach = far + speed * T + accel * T * T / 2.0 + b.bound
-        if not reach <= LENGTH_MAX:
-            rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
-                           "where squares overflow; scale the scene")
-        if not b.fixed:
-            if not math.isfinite(1.0 / b.mass):
-                rd.fail(f"{where}.mass", f"{b.mass:g} kg is too small: 1/mass overflows")
-            if b.polygon and not (b.inertia > 0.0 and math.isfinite(1.0 / b.inertia)):
-                rd.fail(f"{where}.mass", f"the moment of inertia ({b.inertia:g}) of this mass and shape cannot be "
-                                         "inverted in doubles; scale the scene")
+        if not b.polygon:       # the common case, the same tests without the messages
+            r, o = b.radius, b.orbit_radius
+            speed = hypot(*b.velocity) + kick[k]
+            accel = hypot(*b.acceleration)
+            far = max(hypot(*b.position), jump[k])
+            if (not r > LENGTH_MAX and not 0.0 < r < LENGTH_MIN and not o > LENGTH_MAX and not 0.0 < o < LENGTH_MIN
+                    and not far > LENGTH_MAX and not speed > lim_v and not accel > lim_a
+                    and not abs(b.angular_velocity) > lim_v
+                    and far + speed * T + accel * T * T / 2.0 + b.bound <= LENGTH_MAX
+                    and (b.fixed or math.isfinite(1.0 / b.mass))):
+                continue
+        _check_body_magnitudes(rd, T, k, b, kick[k], jump[k])
+
+
+def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, jump: float) -> None:
+    """_check_magnitudes for one body, reporting its first fault."""
+    where = f"bodies[{k}] ({b.name})"
+    sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
+    if b.orbit_radius:
+        sizes.append(("orbit.radius", b.orbit_radius))
+    for field_name, v in sizes:
+        if v > LENGTH_MAX:
+            rd.fail(f"{where}.{field_name}", f"{v:g} m is more than {LENGTH_MAX:g} m (its square overflows)")
+        if 0.0 < v < LENGTH_MIN:
+            rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
+    speed = math.hypot(*b.velocity) + kick
+    accel = math.hypot(*b.acceleration)
+    far = max(math.hypot(*b.position), jump)       # teleports included
+    for field_name, v, limit in (("position", far, LENGTH_MAX),
+                                 ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
+                                 ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
+        if v > limit:
+            rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
+                                             f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
+    reach = far + speed * T + accel * T * T / 2.0 + b.bound
+    if not reach <= LENGTH_MAX:
+        rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
+                       "where squares overflow; scale the scene")
+    if not b.fixed:
+        if not math.isfinite(1.0 / b.mass):
+            rd.fail(f"{where}.mass", f"{b.mass:g} kg is too small: 1/mass overflows")
+        if b.polygon and not (b.inertia > 0.0 and math.isfinite(1.0 / b.inertia)):
+            rd.fail(f"{where}.mass", f"the moment of inertia ({b.inertia:g}) of this mass and shape cannot be "
+                                     "inverted in doubles; scale the scene")
 
 
 # ---------------------------------------------------------------- geometry
@@ -488,15 +610,16 @@ def _check_overlaps(scene: Scene) -> None:
             continue
         grid.setdefault((math.floor(b.position[0] / cell), math.floor(b.position[1] / cell)), []).append(i)
     found: list[tuple[int, int, float]] = []
+    xs, ys = [b.position[0] for b in bodies], [b.position[1] for b in bodies]
+    bound, fixed = [b.bound for b in bodies], [b.fixed for b in bodies]
 
     def test(i: int, j: int) -> None:
-        a, b = bodies[i], bodies[j]
-        if a.fixed and b.fixed:
+        if fixed[i] and fixed[j]:
             return
-        reach = a.bound + b.bound + tol
-        if (a.position[0] - b.position[0]) ** 2 + (a.position[1] - b.position[1]) ** 2 > reach * reach:
+        reach = bound[i] + bound[j] + tol
+        if (xs[i] - xs[j]) ** 2 + (ys[i] - ys[j]) ** 2 > reach * reach:
             return
-        d = penetration(a, b)
+        d = penetration(bodies[i], bodies[j])
         if d > tol:
             found.append((min(i, j), max(i, j), d))
 
@@ -509,13 +632,28 @@ def _check_overlaps(scene: Scene) -> None:
             for j in grid.get((cx + dx, cy + dy), ()):
                 for i in members:
                     test(i, j)
-    boxes = [_box(b) for b in bodies] if big else []
+    boxes = [(b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius, b.position[1] + b.radius)
+             if not b.polygon and b.orbit_radius == 0.0 else _box(b) for b in bodies] if big else []   # _box, inlined
     big_set = set(big)
+    everyone = range(len(bodies))
     for i in big:
         ax0, ay0, ax1, ay1 = boxes[i]
-        for j, (bx0, by0, bx1, by1) in enumerate(boxes):
+        near = everyone
+        if max(-ax0, ax1, -ay0, ay1) + tol < cell * 2.0 ** 40:
+            # A small body reaches at most half a cell from its position, so one
+            # whose box comes within tol of this box sits in a cell this box
+            # (widened by tol) covers or in one next to it: those cells, and the
+            # big bodies, when that is fewer than all bodies (the same pairs
+            # then pass the box test below).
+            gx0, gx1 = math.floor((ax0 - tol) / cell) - 1, math.floor((ax1 + tol) / cell) + 1
+            gy0, gy1 = math.floor((ay0 - tol) / cell) - 1, math.floor((ay1 + tol) / cell) + 1
+            if (gx1 - gx0 + 1) * (gy1 - gy0 + 1) < len(bodies):
+                near = [j for gx in range(gx0, gx1 + 1) for gy in range(gy0, gy1 + 1)
+                        for j in grid.get((gx, gy), ())] + big
+        for j in near:
             if j == i or (j < i and j in big_set):
                 continue
+            bx0, by0, bx1, by1 = boxes[j]
             if ax0 > bx1 + tol or bx0 > ax1 + tol or ay0 > by1 + tol or by0 > ay1 + tol:
                 continue            # the boxes hold the bodies: apart by more than the tolerance
             test(i, j)
@@ -582,12 +720,12 @@ def body_lines(b: Body, large: bool) -> list[str]:
     out = []
     inv_m = 0.0 if b.fixed else 1.0 / b.mass
     inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
-    out.append(" ".join(["body", "1" if b.polygon else "0", "1" if b.fixed else "0",
-                         _r(inv_m), _r(inv_i), _r(b.restitution), _r(b.friction),
-                         _r(b.position[0]), _r(b.position[1]), _r(b.velocity[0]), _r(b.velocity[1]),
-                         _r(b.acceleration[0]), _r(b.acceleration[1]), _r(b.angle), _r(b.angular_velocity),
-                         _r(b.radius), _r(b.orbit_radius), _r(b.orbit_angle), _r(b.bound),
-                         "1" if large else "0", str(len(b.vertices))]))
+    (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
+    reals = " ".join(map(repr, map(float, (inv_m, inv_i, b.restitution, b.friction, px, py, vx, vy, ax, ay,
+                                            b.angle, b.angular_velocity, b.radius, b.orbit_radius,
+                                            b.orbit_angle, b.bound))))
+    out.append(f"body {'1' if b.polygon else '0'} {'1' if b.fixed else '0'} {reals} "
+               f"{'1' if large else '0'} {len(b.vertices)}")
     n = len(b.vertices)
     for k in range(n):
         (x0, y0), (x1, y1) = b.vertices[k], b.vertices[(k + 1) % n]
@@ -603,6 +741,11 @@ def body_lines(b: Body, large: bool) -> list[str]:
 
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
+    with _no_gc():
+        return _compile_scene(scene)
+
+
+def _compile_scene(scene: Scene) -> str:
     g = make_grid(scene)
     out = ["m2c-scene 1",
            f"end {_r(scene.end_time)}",
