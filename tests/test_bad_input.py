@@ -103,6 +103,31 @@ def test_magnitudes_that_cannot_be_represented_name_the_field(tmp_path, capsys, 
     one_error_line(err, f"{p}: error: bodies[0] (ball).{field}")
 
 
+@pytest.mark.parametrize("where,text", [
+    ("end_time", '{"end_time": 1' + "0" * 400 + ', "bodies": []}'),
+    ("bodies[0] (ball).position[0]", json.dumps(scene()).replace('"position": [0, 1]',
+                                                               '"position": [-' + "9" * 330 + ', 1]')),
+    ("bodies[0] (ball).radius", json.dumps(scene()).replace('"radius": 0.1', '"radius": 1' + "0" * 320)),
+])
+def test_integers_beyond_a_double_name_the_field(tmp_path, capsys, where, text):
+    """JSON lets an integer be written out with any number of digits: one
+    beyond the doubles' range is refused at its field, not an OverflowError."""
+    p = write(tmp_path, "huge.json", text)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p)
+    assert code == 1 and out == ""
+    assert "beyond a double's range" in one_error_line(err, f"{p}: error: {where}")
+
+
+@pytest.mark.parametrize("body", [["ball"], {"name": "ball"}, 3, None])
+def test_an_input_naming_its_body_by_a_non_string_is_refused(tmp_path, capsys, body):
+    s = scene(inputs=[{"time": 0.5, "body": body, "set_velocity": [1, 0]}])
+    p = write(tmp_path, "in.json", s)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p)
+    assert code == 1 and out == ""
+    assert one_error_line(err, f"{p}: error: inputs[0].body") == (
+        f"inputs[0].body: expected a body's name (a string), got {json.dumps(body)}")
+
+
 def test_large_but_finite_magnitudes_are_solved(tmp_path, capsys):
     s = scene(gravity=[0, 0])
     s["bodies"][0]["velocity"] = [0, -1e100]

@@ -144,7 +144,7 @@ class _Reader:
         v = obj[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             self.fail(name, f"expected a number, got {json.dumps(v)}")
-        v = float(v)
+        v = self.real(v, name)
         if not math.isfinite(v):
             self.fail(name, f"must be finite, got {v}")
         if positive and not v > 0.0:
@@ -166,10 +166,19 @@ class _Reader:
         for i, x in enumerate(v):
             if isinstance(x, bool) or not isinstance(x, (int, float)):
                 self.fail(f"{name}[{i}]", f"expected a number, got {json.dumps(x)}")
-            if not math.isfinite(float(x)):
+            x = self.real(x, f"{name}[{i}]")
+            if not math.isfinite(x):
                 self.fail(f"{name}[{i}]", f"must be finite, got {x}")
-            out.append(float(x))
+            out.append(x)
         return (out[0], out[1])
+
+    def real(self, v, name: str) -> float:
+        """A JSON number as a double; an integer beyond the doubles' range
+        (JSON allows 10^400 written out) is refused, naming the field."""
+        try:
+            return float(v)
+        except OverflowError:
+            self.fail(name, f"must be finite, got an integer of {len(str(abs(v)))} digits (beyond a double's range)")
 
 
 def _polygon(rd: _Reader, raw, where: str):
@@ -435,6 +444,8 @@ def _parse_scene(text: str, path: str) -> Scene:
         t = rd.number(e, "time", where, nonneg=True)
         if t > end:
             rd.fail(f"{where}.time", f"is after end_time ({t} > {end})")
+        if not isinstance(e["body"], str):
+            rd.fail(f"{where}.body", f"expected a body's name (a string), got {json.dumps(e['body'])}")
         if e["body"] not in names:
             rd.fail(f"{where}.body", f"no body is named {json.dumps(e['body'])}")
         bi = names[e["body"]]
