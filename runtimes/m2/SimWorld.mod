@@ -1349,10 +1349,10 @@ BEGIN
       EmitState (B)
    END ;
    IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
-      IF B^.asleep THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END
+      IF B^.asleep AND (imp = 0.0) THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END
    END ;
    IF (NOT B^.fixed) AND (NOT B^.asleep) THEN
-      IF (NOT A^.fixed) OR A^.asleep THEN
+      IF ((NOT A^.fixed) AND (NOT A^.asleep)) OR (A^.asleep AND (imp = 0.0)) THEN
          PredictBody (B, t, A^.idx)
       ELSE
          PredictBody (B, t, -1)

@@ -1331,9 +1331,9 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     fetch_next(m);
     if (!A->fixed && !A->asleep)
-        predict_body(m, A, t, B->asleep ? B : NULL);
+        predict_body(m, A, t, (B->asleep && imp == 0.0) ? B : NULL);
     if (!B->fixed && !B->asleep)
-        predict_body(m, B, t, (!A->fixed || A->asleep) ? A : NULL);
+        predict_body(m, B, t, ((!A->fixed && !A->asleep) || (A->asleep && imp == 0.0)) ? A : NULL);
 }
 
 /* Sliding stops: velocity exactly zero, then rest or slide back. */

@@ -1027,18 +1027,20 @@ class World:
         self.out.write(f"E collision {_fmt(t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, False))
-        # a sleeper still asleep (zero impulse: the bodies graze, the other
-        # not pressed onto it) is unchanged; the other is predicted again
-        # without it (so the graze is not found again at once): only a later
-        # change of the other's motion predicts the pair again
+        # a sleeper still asleep is unchanged; the other is predicted again,
+        # against it too unless they only grazed (zero impulse: the graze
+        # would be found again at once; a later change of the other's motion
+        # predicts the pair again).  After a gentle touch (an impulse that
+        # left the sleeper asleep) the other leaves and may fall back onto
+        # it: that pair must stay predicted, or it passes through the sleeper
         for b in (A, B):
             if not b.fixed and not b.asleep:
                 b.stamp += 1
                 self.emit_state(b)
         if not A.fixed and not A.asleep:
-            self.predict_body(A, t, B if B.asleep else None)
+            self.predict_body(A, t, B if (B.asleep and imp == 0.0) else None)
         if not B.fixed and not B.asleep:
-            self.predict_body(B, t, A if (not A.fixed or A.asleep) else None)
+            self.predict_body(B, t, A if ((not A.fixed and not A.asleep) or (A.asleep and imp == 0.0)) else None)
 
     def handle_support(self, ev: CollisionEvent, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
                        vn: float) -> None:

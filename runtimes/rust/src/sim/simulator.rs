@@ -95,10 +95,11 @@ impl<E: Equations> World<E> {
             }
         }
         if !a_fixed && !a_asleep {
-            predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep { Some(bi) } else { None })?;
+            predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep && imp == 0.0 { Some(bi) } else { None })?;
         }
         if !b_fixed && !b_asleep {
-            predict_body::<E>(&self.w, &mut self.q, bi, t, if !a_fixed || a_asleep { Some(ai) } else { None })?;
+            let skip_a = (!a_fixed && !a_asleep) || (a_asleep && imp == 0.0);
+            predict_body::<E>(&self.w, &mut self.q, bi, t, if skip_a { Some(ai) } else { None })?;
         }
         Ok(())
     }
