@@ -127,9 +127,13 @@ def test_rest_speed_contacts():
 def test_ours_timed_less_start_up_and_events_by_name():
     scene = load_scene(str(ROOT / "examples" / "newtons-cradle.json"))
     ours = time_ours(scene, "c")
-    assert 0.0 < ours.start < ours.cpu
+    # both runs were timed; which is larger is the machine's noise on a scene
+    # this small (CI once measured the start-up above the whole run), so only
+    # the arithmetic is asserted, on fixed figures
+    assert ours.start > 0.0 and ours.cpu > 0.0
     assert ours.counts["collisions"] > 0 and ours.counts["frames"] == 180
-    assert ours.cpu_per_s(scene.end_time) == (ours.cpu - ours.start) / scene.end_time
+    assert OurResult("c", 0.5, 0.25, {}).cpu_per_s(2.0) == 0.125
+    assert math.isnan(OurResult("c", 0.001117, 0.001202, {}).cpu_per_s(2.0))
     # every N counter is a column by name, a new kind too; work counters last
     extra = dict(ours.counts, sleeps=3)
     rows = kinds_table([SceneResult("cradle", "", scene, [OurResult("c", 1.0, 0.5, extra)], 0, 0, 0, [])])
