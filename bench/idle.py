@@ -7,7 +7,7 @@ scene at 1/60 and 1/240 s, for the game's scene and every example scene.
 
 Ours: the world opened through max2code.sim.live (the build is done before
 the clock starts), then per frame k: advance(k / fps) (every event up to
-the frame) and state(body, t) of every body (what drawing needs); no
+the frame) and states(t), every body's state in one call (what drawing needs); no
 rendering.  pymunk: the scene translated by max2code/reports/event_vs_frame.py
 (build_space: the same bodies, masses, restitution, gravity; friction 0),
 per frame 1 or 4 steps and every body's position and angle read.  A scene's
@@ -53,7 +53,6 @@ def ours(scene, engine: str, fps: float):
     """(CPU s of the whole loop, per-frame CPU s list, CPU s in the state reads) for one run."""
     world = open_world(scene, engine)
     n = math.floor(scene.end_time * fps + 1e-9)
-    bodies = range(len(scene.bodies))
     per = []
     reads = 0.0
     clock = time.process_time
@@ -63,8 +62,7 @@ def ours(scene, engine: str, fps: float):
         t = k / fps
         world.advance(t)
         c1 = clock()
-        for b in bodies:
-            world.state(b, t)
+        world.states(t)
         c2 = clock()
         reads += c2 - c1
         per.append(c2 - c0)
@@ -183,7 +181,7 @@ def plot(rows, stem: str) -> None:
     ax.axhline(1e3, color="grey", linestyle=":", linewidth=1)
     ax.text(len(rows) - 0.5, 1e3, "all the CPU (1000 ms per s)", ha="right", va="bottom", fontsize=8)
     ax.set_ylabel("CPU ms per second of play (log)")
-    ax.set_title("A 60 fps game loop: our event engine (advance + state per frame) vs pymunk stepping")
+    ax.set_title("A 60 fps game loop: our event engine (advance + states per frame) vs pymunk stepping")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(stem + ".png", dpi=110)

@@ -29,7 +29,9 @@ def _play(world, scene, fps=60.0):
         t = k / fps
         for c in world.advance(t):
             got.append(("contact", c.t, c.a, c.b, c.feature, c.i, c.j, c.px, c.py, c.nx, c.ny, c.impulse))
-        got.append(("states", t, tuple(world.state(b, t) for b in range(len(scene.bodies)))))
+        one_by_one = tuple(world.state(b, t) for b in range(len(scene.bodies)))
+        assert tuple(world.states(t)) == one_by_one
+        got.append(("states", t, one_by_one))
     return got
 
 
@@ -73,6 +75,9 @@ def test_errors_are_the_references(engine):
         w.state(0, nxt + 1.0)
     with pytest.raises(SimError, match="no body"):
         w.state(len(scene.bodies), 0.5)
+    with pytest.raises(SimError, match="outside"):
+        w.states(nxt + 1.0)
+    assert len(w.states(0.5)) == len(scene.bodies)
     with pytest.raises(SimError):
         w.advance(0.25)
 

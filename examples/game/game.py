@@ -179,9 +179,7 @@ class View:
         pg, w = self.pg, game.w
         self.screen.fill((24, 26, 34))
         pg.draw.line(self.screen, (70, 70, 90), self.px(0.0, 9.2), self.px(16.0, 9.2))
-        for k in range(len(self.scene.bodies)):
-            b = self.scene.bodies[k]
-            x, y, _, _, ang, _ = w.state(k, t)
+        for b, (x, y, _, _, ang, _) in zip(self.scene.bodies, w.states(t)):
             col = self.colour(b.name, b.fixed)
             if b.polygon:
                 c, s = math.cos(ang), math.sin(ang)

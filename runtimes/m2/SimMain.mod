@@ -8,7 +8,8 @@ MODULE SimMain ;
    sim --step DT [--live] drives the world in steps instead
    (docs/engine-api.md, "Checking a port"): Advance (k DT) for k = 1, 2, ...
    while k DT < end, then Finish; after each advance it writes on standard
-   error "P T BODY PX PY VX VY ANGLE OMEGA" (State of every body at T) and
+   error "P T BODY PX PY VX VY ANGLE OMEGA" (States of every body at T,
+   each checked against State) and
    "C T COUNT" (the contacts that advance reported), numbers as "%.17g".
    With --live, the scene's input lines are taken out (the world is made
    from the text with "inputs 0") and each, in order, is made live: before
@@ -20,12 +21,13 @@ FROM SYSTEM IMPORT ADDRESS, ADR ;
 FROM UnixArgs IMPORT ArgC, ArgV ;
 FROM CMath IMPORT getchar ;
 FROM SimC IMPORT strtod, snprintf, write, exit, realloc ;
-FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, Finish, EndTime, BodyCount, Error,
+FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, States, Finish, EndTime, BodyCount, Error,
                      SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody ;
 FROM SimOut IMPORT SetOn, Str, Ln, Fail, FailMsg ;
 
 CONST
    ProbeSize = 65536 ;
+   MaxProbed = 4096 ;           (* bodies whose States a --step run checks *)
    MaxText = 1073741824 ;       (* bound of the array type only: storage grows *)
 
 TYPE
@@ -48,6 +50,7 @@ VAR
    text: Text ;                 (* the scene (--live) *)
    live: LiveInputs ;           (* its inputs (--live) *)
    nLive: INTEGER ;
+   sx, sy, svx, svy, sang, som: ARRAY [0..MaxProbed - 1] OF REAL ;   (* States of a step *)
 
 
 (* Argument k (up to HIGH (s) characters). *)
@@ -189,8 +192,13 @@ BEGIN
       stepT := t ;
       counting := TRUE ;
       IF NOT Advance (t, Counted) THEN RETURN FALSE END ;
+      IF BodyCount () > MaxProbed THEN FailMsg ("--step: more bodies than the probe's States arrays hold") END ;
+      IF NOT States (t, sx, sy, svx, svy, sang, som) THEN RETURN FALSE END ;
       FOR b := 0 TO BodyCount () - 1 DO
          IF NOT State (b, t, px, py, vx, vy, ang, om) THEN RETURN FALSE END ;
+         IF (px # sx[b]) OR (py # sy[b]) OR (vx # svx[b]) OR (vy # svy[b]) OR (ang # sang[b]) OR (om # som[b]) THEN
+            FailMsg ("--step: States gives a body another state than State")
+         END ;
          ProbeLine ('P', t) ;
          ProbeInt (b) ;
          ProbeReal (px, FALSE) ;

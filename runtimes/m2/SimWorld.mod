@@ -2134,6 +2134,37 @@ BEGIN
 END State ;
 
 
+PROCEDURE States (t: REAL; VAR px, py, vx, vy, ang, om: ARRAY OF REAL) : BOOLEAN ;
+VAR
+   k: INTEGER ;
+   room: CARDINAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   room := HIGH (px) ;
+   IF HIGH (py) < room THEN room := HIGH (py) END ;
+   IF HIGH (vx) < room THEN room := HIGH (vx) END ;
+   IF HIGH (vy) < room THEN room := HIGH (vy) END ;
+   IF HIGH (ang) < room THEN room := HIGH (ang) END ;
+   IF HIGH (om) < room THEN room := HIGH (om) END ;
+   IF VAL (INTEGER, room) + 1 < NBodies THEN
+      m := "states: room for " ;
+      AppendInt (m, VAL (INTEGER, room) + 1) ;
+      Append (m, " bodies, the world has ") ;
+      AppendInt (m, NBodies) ;
+      RETURN Refuse (m)
+   END ;
+   IF NBodies = 0 THEN RETURN TRUE END ;
+   (* body 0 through State: its checks of t and its message *)
+   IF NOT State (0, t, px[0], py[0], vx[0], vy[0], ang[0], om[0]) THEN RETURN FALSE END ;
+   FOR k := 1 TO NBodies - 1 DO
+      StateAt (ADR (Bodies^[k]), t, px[k], py[k], vx[k], vy[k], ang[k]) ;
+      om[k] := Bodies^[k].om
+   END ;
+   RETURN TRUE
+END States ;
+
+
 (* FALSE (refused) when k is not a body of the world. *)
 PROCEDURE BodyOk (k: INTEGER) : BOOLEAN ;
 VAR

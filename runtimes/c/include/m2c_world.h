@@ -75,6 +75,11 @@ double m2c_world_next_event_time(m2c_world *w);
 /* The exact state of body at time t, for t from the world's time to the
  * next event's: 0, or -1 with m2c_world_error(w) (no such body, t outside). */
 int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s);
+/* Every body's state at time t at once (what a frame draws; one call
+ * instead of one per body): s[k] for body k, k < m2c_world_body_count(w);
+ * room: the entries s has.  0, or -1 with m2c_world_error(w) (room too
+ * small, t outside as above). */
+int m2c_world_states(m2c_world *w, double t, m2c_body_state *s, int room);
 
 /* Handles the events at the end time (fn told of their contacts, as
  * m2c_world_advance), then writes the end of the trace: every body at the

@@ -172,6 +172,24 @@ int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s)
     return 0;
 }
 
+int m2c_world_states(m2c_world *w, double t, m2c_body_state *s, int room)
+{
+    if (w->broken)
+        return -1;
+    int n = (int)w->s->nbodies;
+    if (room < n) {
+        snprintf(w->err, sizeof w->err, "states: room for %d bodies, the world has %d", room, n);
+        return -1;
+    }
+    if (n == 0)
+        return 0;
+    if (m2c_world_state(w, 0, t, &s[0]) != 0)
+        return -1;          /* t outside: the message is state's */
+    for (int k = 1; k < n; k++)
+        m2c_sim_body_state(&w->bodies[k], t, &s[k]);
+    return 0;
+}
+
 int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user)
 {
     if (w->broken)

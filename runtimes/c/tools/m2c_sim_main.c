@@ -202,6 +202,12 @@ static int stepped(m2c_world *w, double end, double dt, FILE *probe, const live_
 {
     int n = m2c_world_body_count(w);
     long nxt = 0;
+    /* every body at once (m2c_world_states), checked against one by one */
+    m2c_body_state *all = malloc(sizeof *all * (size_t)(n > 0 ? n : 1));
+    if (all == NULL) {
+        snprintf(err, errlen, "out of memory (states)");
+        return -1;
+    }
     for (long long k = 1;; k++) {
         double t = (double)k * dt;
         while (nxt < ninputs && (!(t < end) || inputs[nxt].t <= t)) {
@@ -212,6 +218,7 @@ static int stepped(m2c_world *w, double end, double dt, FILE *probe, const live_
                 goto failed;
             if (r > 0) {
                 snprintf(err, errlen, "live input %ld: teleport refused (the body would overlap another)", nxt);
+                free(all);
                 return -1;
             }
             nxt++;
@@ -221,10 +228,17 @@ static int stepped(m2c_world *w, double end, double dt, FILE *probe, const live_
         long long got = 0;
         if (m2c_world_advance(w, t, count_contact, &got) != 0)
             goto failed;
+        if (m2c_world_states(w, t, all, n) != 0)
+            goto failed;
         for (int b = 0; b < n; b++) {
             m2c_body_state st;
             if (m2c_world_state(w, b, t, &st) != 0)
                 goto failed;
+            if (memcmp(&st, &all[b], sizeof st) != 0) {
+                snprintf(err, errlen, "states(t) gives body %d another state than state(%d, t)", b, b);
+                free(all);
+                return -1;
+            }
             fputs("P ", probe);
             put_number(probe, t);
             fprintf(probe, " %d", b);
@@ -239,9 +253,12 @@ static int stepped(m2c_world *w, double end, double dt, FILE *probe, const live_
         put_number(probe, t);
         fprintf(probe, " %lld\n", got);
     }
-    if (m2c_world_finish(w, NULL, NULL) == 0)
+    if (m2c_world_finish(w, NULL, NULL) == 0) {
+        free(all);
         return 0;
+    }
 failed:
+    free(all);
     snprintf(err, errlen, "%s", m2c_world_error(w));
     return -1;
 }

@@ -1370,6 +1370,18 @@ class World:
         px, py, vx, vy, ang = self.state_at(b, t)
         return px, py, vx, vy, ang, b.om
 
+    def states(self, t: float) -> list[tuple[float, float, float, float, float, float]]:
+        """Every body's state at t at once (what a frame draws): entry k is
+        body k's, as state() gives it; the same error when t is outside."""
+        bodies = self.s.bodies
+        if not bodies:
+            return []
+        out = [self.state(0, t)]
+        for b in bodies[1:]:
+            px, py, vx, vy, ang = self.state_at(b, t)
+            out.append((px, py, vx, vy, ang, b.om))
+        return out
+
     def body(self, k: int) -> Body:
         if not (0 <= k < len(self.s.bodies)):
             raise SimError(f"no body {k} (the world has {len(self.s.bodies)})")

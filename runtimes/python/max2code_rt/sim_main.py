@@ -60,8 +60,11 @@ def stepped(text: str, cc, pe, out, probe, dt: float, live: bool) -> None:
         if not (t < end):
             break
         got = w.advance(t)
+        every = w.states(t)         # every body at once, checked against one by one
         for b in range(len(w.s.bodies)):
-            px, py, vx, vy, ang, om = w.state(b, t)
+            if w.state(b, t) != every[b]:
+                raise SimError(f"states(t) gives body {b} another state than state({b}, t)")
+            px, py, vx, vy, ang, om = every[b]
             probe.write(f"P {t:.17g} {b} {px:.17g} {py:.17g} {vx:.17g} {vy:.17g} {ang:.17g} {om:.17g}\n")
         probe.write(f"C {t:.17g} {len(got)}\n")
         k += 1

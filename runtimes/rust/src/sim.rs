@@ -184,8 +184,12 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
                 break;
             }
             let got = world.advance(t)?;
+            let every = world.states(t)?; // every body at once, checked against one by one
             for b in 0..world.bodies() {
                 let s = world.state(b, t)?;
+                if s != every[b] {
+                    return Err(SimError::Msg(format!("states(t) gives body {b} another state than state({b}, t)")));
+                }
                 writeln!(
                     probe,
                     "P {} {b} {} {} {} {} {} {}",

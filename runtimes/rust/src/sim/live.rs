@@ -173,6 +173,22 @@ impl<E: Equations> World<E> {
         Ok(BodyState { px, py, vx, vy, angle, omega: b.om })
     }
 
+    /// Every body's state at `t` at once (what a frame draws): entry k is
+    /// body k's, as `state` gives it; an error as `state`'s when `t` is outside.
+    pub fn states(&mut self, t: f64) -> Result<Vec<BodyState>, SimError> {
+        if self.w.s.bodies.is_empty() {
+            return Ok(Vec::new());
+        }
+        let first = self.state(0, t)?;
+        let mut out = Vec::with_capacity(self.w.s.bodies.len());
+        out.push(first);
+        for b in &self.w.s.bodies[1..] {
+            let (px, py, vx, vy, angle) = state_at(b, t);
+            out.push(BodyState { px, py, vx, vy, angle, omega: b.om });
+        }
+        Ok(out)
+    }
+
     fn body(&self, k: usize) -> Result<&Body, SimError> {
         let n = self.w.s.bodies.len();
         if k >= n {
