@@ -311,3 +311,28 @@ def test_huge_powers_are_refused_not_expanded(tmp_path, capsys):
     p = write(tmp_path, "deg2.mxm", "begin\na + t^100;\nend\n")
     code, _, err = run(capsys, "--lang=c", p, "-q")
     assert code == 1 and "degree 100" in one_error_line(err, f"{p}:2:1: error: ")
+
+
+@pytest.mark.parametrize("line, message", [
+    ("input 0.5 7 0 1.0 0.0", "scene: input on body 7, which does not exist"),
+    ("input 0.5 -1 0 1.0 0.0", "scene: input on body -1, which does not exist"),
+    ("input 0.5 0 9 1.0 0.0", "scene: unknown input mode 9"),
+])
+def test_a_hand_made_flat_scene_with_a_bad_input_is_refused_alike_by_every_runtime(line, message):
+    """A flat scene (docs/simulator.md; the C API and add_body take them from
+    users) whose input names no body or an unknown mode: every runtime
+    writes the same X line and exits 1 (Python indexed the last body for
+    -1 and crashed for 7; Rust wrote nothing; every runtime took mode 9)."""
+    from max2code.sim.scene import compile_scene, parse_scene
+    from max2code.sim.simulate import LANGS, build_simulator
+    sc = parse_scene(json.dumps({"end_time": 1.0, "bodies": [
+        {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]}],
+        "inputs": [{"time": 0.5, "body": "a", "set_velocity": [1.0, 0.0]}]}), "in-memory")
+    flat = compile_scene(sc)
+    assert "\ninput 0.5 0 0 1.0 0.0\n" in flat
+    bad = flat.replace("\ninput 0.5 0 0 1.0 0.0\n", f"\n{line}\n")
+    for lang in LANGS:
+        build = build_simulator(lang, sc.effects, sc.taylor_order)
+        proc = subprocess.run(build.run_cmd, input=bad, capture_output=True, text=True, cwd=build.workdir,
+                              timeout=120)
+        assert (lang, proc.returncode, proc.stdout) == (lang, 1, f"X {message}\n"), proc.stderr[-500:]

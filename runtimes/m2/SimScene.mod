@@ -59,6 +59,36 @@ BEGIN
 END Error ;
 
 
+(* s with the decimal digits of v (and its sign) appended. *)
+PROCEDURE AppendWhole (VAR s: ARRAY OF CHAR; v: INTEGER) ;
+VAR
+   d: ARRAY [0..23] OF CHAR ;
+   r: ARRAY [0..23] OF CHAR ;
+   n, k: CARDINAL ;
+   neg: BOOLEAN ;
+   u: LONGINT ;
+BEGIN
+   u := VAL (LONGINT, v) ;
+   neg := u < 0 ;
+   IF neg THEN u := -u END ;
+   n := 0 ;
+   REPEAT
+      d[n] := CHR (ORD ('0') + VAL (CARDINAL, u MOD 10)) ;
+      u := u DIV 10 ;
+      INC (n)
+   UNTIL u = 0 ;
+   k := 0 ;
+   IF neg THEN r[0] := '-' ; k := 1 END ;
+   WHILE n > 0 DO
+      DEC (n) ;
+      r[k] := d[n] ;
+      INC (k)
+   END ;
+   r[k] := 0C ;
+   Append (s, r)
+END AppendWhole ;
+
+
 PROCEDURE Append (VAR s: ARRAY OF CHAR; t: ARRAY OF CHAR) ;
 VAR
    n, k: CARDINAL ;
@@ -299,6 +329,7 @@ END ReadBody ;
 PROCEDURE Read ;
 VAR
    i: INTEGER ;
+   m: ARRAY [0..127] OF CHAR ;
 BEGIN
    Expect ("m2c-scene") ;
    IF ReadInt () # 1 THEN Error ("unknown version", "") END ;
@@ -335,7 +366,14 @@ BEGIN
       Inputs^[i].vx := Num () ;
       Inputs^[i].vy := Num () ;
       IF (NOT Failed) AND ((Inputs^[i].body < 0) OR (Inputs^[i].body >= NBodies)) THEN
-         Error ("input of an unknown body", "")
+         m := "input on body " ;
+         AppendWhole (m, Inputs^[i].body) ;
+         Append (m, ", which does not exist") ;
+         Error (m, "")
+      ELSIF (NOT Failed) AND ((Inputs^[i].mode < 0) OR (Inputs^[i].mode > 4)) THEN
+         m := "unknown input mode " ;
+         AppendWhole (m, Inputs^[i].mode) ;
+         Error (m, "")
       END
    END ;
    Expect ("end")

@@ -286,7 +286,9 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         in->vx = num(r);
         in->vy = num(r);
         if (!r->failed && (body < 0 || body >= s->nbodies))
-            fail(r, "an input names no body");
+            fail(r, "input on body %lld, which does not exist", body);
+        else if (!r->failed && (in->mode < 0 || in->mode > 4))
+            fail(r, "unknown input mode %d", (int)in->mode);
         in->body = (int32_t)body;
     }
     word(r, "end");

@@ -267,7 +267,12 @@ class Scene:
         self.inputs = []
         for _ in range(k):
             word("input")
-            self.inputs.append(Input(num(), integer(), integer(), num(), num()))
+            inp = Input(num(), integer(), integer(), num(), num())
+            if not 0 <= inp.body < n:
+                raise SimError(f"scene: input on body {inp.body}, which does not exist")
+            if not 0 <= inp.mode <= 4:
+                raise SimError(f"scene: unknown input mode {inp.mode}")
+            self.inputs.append(inp)
         word("end")
 
 

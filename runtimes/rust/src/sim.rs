@@ -87,12 +87,16 @@ const PE: i32 = 1;
 /// Returns the exit status: 0, or 1 after an `X message` line for a stuck
 /// or bad scene (the trace so far stays written, as the Python runtime's).
 pub fn simulate<E: Equations>(scene_text: &str, sink: Box<dyn Write>) -> io::Result<i32> {
-    let mut sink = Some(sink);
-    let res = match World::<E>::from_scene(scene_text, sink.take()) {
-        Ok(mut world) => world.run().map_err(|e| (Some(world), e)),
-        Err(e) => Err((None, e)),
-    };
-    stop_status(res, sink)
+    // read first: a bad scene's X line goes to the sink, which the world
+    // would otherwise own (and drop unwritten) when its making fails
+    match Scene::parse(scene_text) {
+        Err(msg) => stop_status::<E>(Err((None, SimError::Msg(msg))), Some(sink)),
+        Ok(scene) => {
+            let mut world = World::<E>::unstarted(scene, Some(sink));
+            let res = world.start().and_then(|()| world.run());
+            stop_status(res.map_err(|e| (Some(world), e)), None)
+        }
+    }
 }
 
 /// 0 after a run, or 1 after the `X message` line of a stuck or bad scene
@@ -163,10 +167,13 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
     } else {
         (scene_text.to_string(), Vec::new())
     };
-    let mut world = match World::<E>::from_scene(&text, sink.take()) {
-        Ok(world) => world,
-        Err(e) => return stop_status::<E>(Err((None, e)), sink),
+    let mut world = match Scene::parse(&text) {
+        Err(msg) => return stop_status::<E>(Err((None, SimError::Msg(msg))), sink),
+        Ok(scene) => World::<E>::unstarted(scene, sink.take()),
     };
+    if let Err(e) = world.start() {
+        return stop_status(Err((Some(world), e)), None);
+    }
     let res = (|| -> Result<(), SimError> {
         let end = world.end();
         let mut nxt = 0; // the next live input

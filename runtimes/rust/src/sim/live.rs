@@ -79,7 +79,16 @@ impl<E: Equations> World<E> {
     /// first prediction is made.
     pub fn from_scene(text: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
         let scene = Scene::parse(text).map_err(SimError::Msg)?;
-        let mut world = World {
+        let mut world = World::unstarted(scene, trace);
+        world.start()?;
+        Ok(world)
+    }
+
+    /// A world from a scene already read, before its first predictions
+    /// (`start`): the batch programs make it so that a failing start still
+    /// writes its `X` line to the world's trace.
+    pub(crate) fn unstarted(scene: Scene, trace: Option<Box<dyn Write>>) -> World<E> {
+        World {
             w: Space::new(scene),
             q: Queue::new(E::CC_VARIANTS, E::PE_VARIANTS),
             out: Out::new(trace),
@@ -89,9 +98,7 @@ impl<E: Equations> World<E> {
             contacts: Vec::new(),
             added: 0,
             eq: PhantomData,
-        };
-        world.start()?;
-        Ok(world)
+        }
     }
 
     /// A world from a compiled scene file.

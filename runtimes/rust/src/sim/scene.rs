@@ -357,6 +357,9 @@ impl Scene {
             if body < 0 || body >= n {
                 return Err(format!("scene: input on body {body}, which does not exist"));
             }
+            if !(0..=4).contains(&mode) {
+                return Err(format!("scene: unknown input mode {mode}"));
+            }
             inputs.push(Input { t, body, mode, vx, vy });
         }
         tk.expect("end")?;
