@@ -626,37 +626,61 @@ BEGIN
 END Scale ;
 
 
-(* The first root of a x^2 + b x + c (a # 0) in (lo, hi]. *)
+(* The first root of a x^2 + b x + c (a # 0) in (lo, hi]: the operations of
+   Quadratic, without its array of roots. *)
 PROCEDURE QuadraticIn (a, b, c, lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
-   r: ARRAY [0..1] OF REAL ;
-   nr: INTEGER ;
+   p, pe, q, qe, a4, disc, bound, s, qq, r1, r2, x: REAL ;
+   two: BOOLEAN ;
 BEGIN
-   nr := Quadratic (a, b, c, r) ;
-   IF (nr > 0) AND (lo < r[0]) AND (r[0] <= hi)
+   p := b * b ;
+   q := (4.0 * a) * c ;
+   disc := p - q ;
+   two := TRUE ;
+   IF q <= 0.5 * p
    THEN
-      t := r[0] ;
-      RETURN TRUE
+      IF disc = 0.0 THEN two := FALSE END
+   ELSIF disc < -Eps * (p + q)
+   THEN
+      RETURN FALSE
+   ELSE
+      TwoProd (b, b, p, pe) ;
+      a4 := 4.0 * a ;
+      TwoProd (a4, c, q, qe) ;
+      disc := (p - q) + (pe - qe) ;
+      bound := Eps * Eps * (p + ABS (q)) ;
+      IF disc < -bound THEN RETURN FALSE END ;
+      IF disc <= bound THEN two := FALSE END
    END ;
-   IF (nr > 1) AND (lo < r[1]) AND (r[1] <= hi)
+   IF two
    THEN
-      t := r[1] ;
+      s := sqrt (disc) ;
+      IF b < 0.0 THEN s := -s END ;
+      qq := -0.5 * (b + s) ;
+      r1 := qq / a ;
+      r2 := c / qq ;
+      IF r2 < r1
+      THEN
+         x := r1 ;
+         r1 := r2 ;
+         r2 := x
+      END ;
+      IF (lo < r1) AND (r1 <= hi)
+      THEN
+         t := r1 ;
+         RETURN TRUE
+      END ;
+      x := r2
+   ELSE
+      x := -b / (2.0 * a)
+   END ;
+   IF (lo < x) AND (x <= hi)
+   THEN
+      t := x ;
       RETURN TRUE
    END ;
    RETURN FALSE
 END QuadraticIn ;
-
-
-(* v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
-   fast path needs no scaling for such coefficients. *)
-PROCEDURE Moderate (v: REAL) : BOOLEAN ;
-BEGIN
-   v := ABS (v) ;
-   IF v = 0.0 THEN RETURN TRUE END ;
-   (* NaN first: gm2 may rewrite v >= lo as NOT (v < lo) *)
-   IF NOT IsFinite (v) THEN RETURN FALSE END ;
-   RETURN (v >= ModerateLo) AND (v < ModerateHi)
-END Moderate ;
 
 
 (* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1. *)
@@ -859,7 +883,16 @@ BEGIN
       RETURN FALSE
    END ;
    IF (NOT (IsFinite (lo) AND IsFinite (hi))) OR (NOT (lo < hi)) THEN RETURN FALSE END ;
-   IF (degree = 2) AND (c[2] # 0.0) AND Moderate (c[0]) AND Moderate (c[1]) AND Moderate (c[2])
+   (* Degree-2 fast path: every coefficient zero or 2^-200 <= |c_i| < 2^200.
+      Written out here (gm2 does not inline a procedure for it).  The sum is
+      finite when all three are (NaN and infinity propagate; a finite sum that
+      overflows only sends the call to the general path, which gives the same
+      answer), and NaN must be excluded before the comparisons: gm2 may
+      rewrite v >= lo as NOT (v < lo). *)
+   IF (degree = 2) AND (c[2] # 0.0) AND IsFinite (c[0] + c[1] + c[2])
+      AND ((c[0] = 0.0) OR (ABS (c[0]) >= ModerateLo) AND (ABS (c[0]) < ModerateHi))
+      AND ((c[1] = 0.0) OR (ABS (c[1]) >= ModerateLo) AND (ABS (c[1]) < ModerateHi))
+      AND (ABS (c[2]) >= ModerateLo) AND (ABS (c[2]) < ModerateHi)
    THEN
       (* fast path: moderate coefficients give the same bits unscaled *)
       IF NOT QuadraticIn (c[2], c[1], c[0], lo, hi, x) THEN RETURN FALSE END ;
