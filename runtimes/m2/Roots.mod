@@ -872,7 +872,7 @@ BEGIN
 END Solve ;
 
 
-PROCEDURE SmallestRoot (c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
+PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
    n, i: INTEGER ;
