@@ -5,6 +5,7 @@ IMPLEMENTATION MODULE Roots ;
    x, t in the caller's time unit. *)
 
 FROM CMath IMPORT sqrt, frexp, ldexp ;
+FROM SYSTEM IMPORT CAST ;
 
 CONST
    N1 = MaxDegree + 1 ;
@@ -27,6 +28,7 @@ VAR
    HalleyTol,                 (* 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root) *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
+   Unit52: LONGCARD ;         (* 2^52: the exponent field's unit in a REAL's bits *)
    Init: INTEGER ;
 
 
@@ -34,6 +36,36 @@ PROCEDURE IsFinite (x: REAL) : BOOLEAN ;
 BEGIN
    RETURN (x - x) = 0.0
 END IsFinite ;
+
+
+(* 2^k for -1022 <= k <= 1023 (exact), from its bits: a call of ldexp or
+   frexp costs more than the rest of a degree-3 solve's scaling. *)
+PROCEDURE Pow2 (k: INTEGER) : REAL ;
+VAR
+   u: LONGCARD ;
+BEGIN
+   u := VAL (LONGCARD, k + 1023) * Unit52 ;
+   RETURN CAST (REAL, u)
+END Pow2 ;
+
+
+(* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp's;
+   read from the exponent field, frexp itself for a subnormal x). *)
+PROCEDURE Exponent (x: REAL) : INTEGER ;
+VAR
+   e, field: INTEGER ;
+   f: REAL ;
+   u: LONGCARD ;
+BEGIN
+   u := CAST (LONGCARD, x) ;
+   field := VAL (INTEGER, (u DIV Unit52) MOD 2048) ;
+   IF field = 0
+   THEN
+      f := frexp (x, e) ;
+      RETURN e
+   END ;
+   RETURN field - 1022
+END Exponent ;
 
 
 (* Error-free product a*b = p + e (Dekker, no FMA). *)
@@ -483,7 +515,7 @@ BEGIN
       END ;
       mx := mx / ABS (a[n]) ;   (* = max |a_i|/|a_n| (rounding is monotone) *)
       r := 2.0 * (1.0 + mx) ;
-      cap := ldexp (1.0, 900 DIV n) ;
+      cap := Pow2 (900 DIV n) ;
       IF r > cap THEN r := cap END ;
       IF lo < -r THEN lo := -r END ;
       IF hi > r THEN hi := r END ;
@@ -593,28 +625,42 @@ END General ;
 
 PROCEDURE Scale (VAR c: ARRAY OF REAL; n: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
 VAR
-   m, v, f: REAL ;
-   e, k, i: INTEGER ;
+   m, v: REAL ;
+   i: INTEGER ;
 BEGIN
    m := 0.0 ;
    FOR i := 0 TO n DO
       v := ABS (c[i]) ;
       IF v > m THEN m := v END
    END ;
-   f := frexp (m, e) ;
+   RETURN ScaleBy (c, n, Exponent (m), a)
+END Scale ;
+
+
+(* Scale with e = Exponent (max |c_i|) known. *)
+PROCEDURE ScaleBy (VAR c: ARRAY OF REAL; n, e: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
+VAR
+   f: REAL ;
+   k, i: INTEGER ;
+BEGIN
    k := 1 - e ;
    FOR i := 0 TO n DO
       a[i] := c[i]
    END ;
    IF k > 1000
    THEN
-      f := ldexp (1.0, 600) ;
+      f := Pow2 (600) ;
       FOR i := 0 TO n DO
          a[i] := a[i] * f
       END ;
       k := k - 600
    END ;
-   f := ldexp (1.0, k) ;
+   IF k >= -1022
+   THEN
+      f := Pow2 (k)
+   ELSE
+      f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
+   END ;
    FOR i := 0 TO n DO
       a[i] := a[i] * f
    END ;
@@ -623,7 +669,7 @@ BEGIN
       DEC (n)
    END ;
    RETURN n
-END Scale ;
+END ScaleBy ;
 
 
 (* The first root of a x^2 + b x + c (a # 0) in (lo, hi]: the operations of
@@ -681,17 +727,6 @@ BEGIN
    END ;
    RETURN FALSE
 END QuadraticIn ;
-
-
-(* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1. *)
-PROCEDURE Exponent (x: REAL) : INTEGER ;
-VAR
-   e: INTEGER ;
-   f: REAL ;
-BEGIN
-   f := frexp (x, e) ;
-   RETURN e
-END Exponent ;
 
 
 (* ceil(a / k) for k > 0, with nonnegative operands only. *)
@@ -835,7 +870,7 @@ PROCEDURE Solve (VAR c: ARRAY OF REAL; n: INTEGER; lo, hi: REAL; VAR t: REAL) : 
 VAR
    a: Coeffs ;
    mx, mn, v: REAL ;
-   i, j, spread, ue, le, lim, n2: INTEGER ;
+   i, j, spread, ue, le, lim, n2, emx: INTEGER ;
    many: BOOLEAN ;
 BEGIN
    mx := 0.0 ;
@@ -850,7 +885,8 @@ BEGIN
          IF v < mn THEN mn := v END
       END
    END ;
-   spread := Exponent (mx) - Exponent (mn) ;
+   emx := Exponent (mx) ;
+   spread := emx - Exponent (mn) ;
    lim := OneScaleSpan DIV n ;
    IF n = 2
    THEN
@@ -866,7 +902,7 @@ BEGIN
          RETURN Banded (c, n, j, ue, le, lo, hi, t)
       END
    END ;
-   n2 := Scale (c, n, a) ;
+   n2 := ScaleBy (c, n, emx, a) ;
    IF n2 <= 0 THEN RETURN FALSE END ;
    RETURN ScaledAny (a, n2, lo, hi, t)
 END Solve ;
@@ -933,6 +969,7 @@ BEGIN
    HalleyTol := ldexp (1.0, -14) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
+   Unit52 := 4503599627370496 ;
    Inf := ldexp (1.0, 1023) ;
    Inf := Inf * 2.0
 END Roots.
