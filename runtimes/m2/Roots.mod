@@ -4,7 +4,8 @@ IMPLEMENTATION MODULE Roots ;
    the C runtime (runtimes/c/src); values are in the coefficients' units and
    x, t in the caller's time unit. *)
 
-FROM CMath IMPORT sqrt, frexp, ldexp ;
+FROM CMath IMPORT frexp, ldexp ;
+FROM RealMath IMPORT sqrt ;   (* a gm2 builtin: the sqrtsd instruction, no call *)
 FROM SYSTEM IMPORT CAST ;
 
 CONST
