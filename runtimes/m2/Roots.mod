@@ -4,7 +4,9 @@ IMPLEMENTATION MODULE Roots ;
    the C runtime (runtimes/c/src); values are in the coefficients' units and
    x, t in the caller's time unit. *)
 
-FROM CMath IMPORT sqrt, frexp, ldexp ;
+FROM CMath IMPORT frexp, ldexp ;
+FROM RealMath IMPORT sqrt ;   (* a gm2 builtin: the sqrtsd instruction, no call *)
+FROM SYSTEM IMPORT CAST ;
 
 CONST
    N1 = MaxDegree + 1 ;
@@ -27,6 +29,7 @@ VAR
    HalleyTol,                 (* 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root) *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
+   Unit52: LONGCARD ;         (* 2^52: the exponent field's unit in a REAL's bits *)
    Init: INTEGER ;
 
 
@@ -34,6 +37,36 @@ PROCEDURE IsFinite (x: REAL) : BOOLEAN ;
 BEGIN
    RETURN (x - x) = 0.0
 END IsFinite ;
+
+
+(* 2^k for -1022 <= k <= 1023 (exact), from its bits: a call of ldexp or
+   frexp costs more than the rest of a degree-3 solve's scaling. *)
+PROCEDURE Pow2 (k: INTEGER) : REAL ;
+VAR
+   u: LONGCARD ;
+BEGIN
+   u := VAL (LONGCARD, k + 1023) * Unit52 ;
+   RETURN CAST (REAL, u)
+END Pow2 ;
+
+
+(* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp's;
+   read from the exponent field, frexp itself for a subnormal x). *)
+PROCEDURE Exponent (x: REAL) : INTEGER ;
+VAR
+   e, field: INTEGER ;
+   f: REAL ;
+   u: LONGCARD ;
+BEGIN
+   u := CAST (LONGCARD, x) ;
+   field := VAL (INTEGER, (u DIV Unit52) MOD 2048) ;
+   IF field = 0
+   THEN
+      f := frexp (x, e) ;
+      RETURN e
+   END ;
+   RETURN field - 1022
+END Exponent ;
 
 
 (* Error-free product a*b = p + e (Dekker, no FMA). *)
@@ -483,7 +516,7 @@ BEGIN
       END ;
       mx := mx / ABS (a[n]) ;   (* = max |a_i|/|a_n| (rounding is monotone) *)
       r := 2.0 * (1.0 + mx) ;
-      cap := ldexp (1.0, 900 DIV n) ;
+      cap := Pow2 (900 DIV n) ;
       IF r > cap THEN r := cap END ;
       IF lo < -r THEN lo := -r END ;
       IF hi > r THEN hi := r END ;
@@ -593,28 +626,42 @@ END General ;
 
 PROCEDURE Scale (VAR c: ARRAY OF REAL; n: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
 VAR
-   m, v, f: REAL ;
-   e, k, i: INTEGER ;
+   m, v: REAL ;
+   i: INTEGER ;
 BEGIN
    m := 0.0 ;
    FOR i := 0 TO n DO
       v := ABS (c[i]) ;
       IF v > m THEN m := v END
    END ;
-   f := frexp (m, e) ;
+   RETURN ScaleBy (c, n, Exponent (m), a)
+END Scale ;
+
+
+(* Scale with e = Exponent (max |c_i|) known. *)
+PROCEDURE ScaleBy (VAR c: ARRAY OF REAL; n, e: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
+VAR
+   f: REAL ;
+   k, i: INTEGER ;
+BEGIN
    k := 1 - e ;
    FOR i := 0 TO n DO
       a[i] := c[i]
    END ;
    IF k > 1000
    THEN
-      f := ldexp (1.0, 600) ;
+      f := Pow2 (600) ;
       FOR i := 0 TO n DO
          a[i] := a[i] * f
       END ;
       k := k - 600
    END ;
-   f := ldexp (1.0, k) ;
+   IF k >= -1022
+   THEN
+      f := Pow2 (k)
+   ELSE
+      f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
+   END ;
    FOR i := 0 TO n DO
       a[i] := a[i] * f
    END ;
@@ -623,51 +670,64 @@ BEGIN
       DEC (n)
    END ;
    RETURN n
-END Scale ;
+END ScaleBy ;
 
 
-(* The first root of a x^2 + b x + c (a # 0) in (lo, hi]. *)
+(* The first root of a x^2 + b x + c (a # 0) in (lo, hi]: the operations of
+   Quadratic, without its array of roots. *)
 PROCEDURE QuadraticIn (a, b, c, lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
-   r: ARRAY [0..1] OF REAL ;
-   nr: INTEGER ;
+   p, pe, q, qe, a4, disc, bound, s, qq, r1, r2, x: REAL ;
+   two: BOOLEAN ;
 BEGIN
-   nr := Quadratic (a, b, c, r) ;
-   IF (nr > 0) AND (lo < r[0]) AND (r[0] <= hi)
+   p := b * b ;
+   q := (4.0 * a) * c ;
+   disc := p - q ;
+   two := TRUE ;
+   IF q <= 0.5 * p
    THEN
-      t := r[0] ;
-      RETURN TRUE
+      IF disc = 0.0 THEN two := FALSE END
+   ELSIF disc < -Eps * (p + q)
+   THEN
+      RETURN FALSE
+   ELSE
+      TwoProd (b, b, p, pe) ;
+      a4 := 4.0 * a ;
+      TwoProd (a4, c, q, qe) ;
+      disc := (p - q) + (pe - qe) ;
+      bound := Eps * Eps * (p + ABS (q)) ;
+      IF disc < -bound THEN RETURN FALSE END ;
+      IF disc <= bound THEN two := FALSE END
    END ;
-   IF (nr > 1) AND (lo < r[1]) AND (r[1] <= hi)
+   IF two
    THEN
-      t := r[1] ;
+      s := sqrt (disc) ;
+      IF b < 0.0 THEN s := -s END ;
+      qq := -0.5 * (b + s) ;
+      r1 := qq / a ;
+      r2 := c / qq ;
+      IF r2 < r1
+      THEN
+         x := r1 ;
+         r1 := r2 ;
+         r2 := x
+      END ;
+      IF (lo < r1) AND (r1 <= hi)
+      THEN
+         t := r1 ;
+         RETURN TRUE
+      END ;
+      x := r2
+   ELSE
+      x := -b / (2.0 * a)
+   END ;
+   IF (lo < x) AND (x <= hi)
+   THEN
+      t := x ;
       RETURN TRUE
    END ;
    RETURN FALSE
 END QuadraticIn ;
-
-
-(* v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
-   fast path needs no scaling for such coefficients. *)
-PROCEDURE Moderate (v: REAL) : BOOLEAN ;
-BEGIN
-   v := ABS (v) ;
-   IF v = 0.0 THEN RETURN TRUE END ;
-   (* NaN first: gm2 may rewrite v >= lo as NOT (v < lo) *)
-   IF NOT IsFinite (v) THEN RETURN FALSE END ;
-   RETURN (v >= ModerateLo) AND (v < ModerateHi)
-END Moderate ;
-
-
-(* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1. *)
-PROCEDURE Exponent (x: REAL) : INTEGER ;
-VAR
-   e: INTEGER ;
-   f: REAL ;
-BEGIN
-   f := frexp (x, e) ;
-   RETURN e
-END Exponent ;
 
 
 (* ceil(a / k) for k > 0, with nonnegative operands only. *)
@@ -811,7 +871,7 @@ PROCEDURE Solve (VAR c: ARRAY OF REAL; n: INTEGER; lo, hi: REAL; VAR t: REAL) : 
 VAR
    a: Coeffs ;
    mx, mn, v: REAL ;
-   i, j, spread, ue, le, lim, n2: INTEGER ;
+   i, j, spread, ue, le, lim, n2, emx: INTEGER ;
    many: BOOLEAN ;
 BEGIN
    mx := 0.0 ;
@@ -826,7 +886,8 @@ BEGIN
          IF v < mn THEN mn := v END
       END
    END ;
-   spread := Exponent (mx) - Exponent (mn) ;
+   emx := Exponent (mx) ;
+   spread := emx - Exponent (mn) ;
    lim := OneScaleSpan DIV n ;
    IF n = 2
    THEN
@@ -842,13 +903,13 @@ BEGIN
          RETURN Banded (c, n, j, ue, le, lo, hi, t)
       END
    END ;
-   n2 := Scale (c, n, a) ;
+   n2 := ScaleBy (c, n, emx, a) ;
    IF n2 <= 0 THEN RETURN FALSE END ;
    RETURN ScaledAny (a, n2, lo, hi, t)
 END Solve ;
 
 
-PROCEDURE SmallestRoot (c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
+PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
    n, i: INTEGER ;
@@ -859,7 +920,16 @@ BEGIN
       RETURN FALSE
    END ;
    IF (NOT (IsFinite (lo) AND IsFinite (hi))) OR (NOT (lo < hi)) THEN RETURN FALSE END ;
-   IF (degree = 2) AND (c[2] # 0.0) AND Moderate (c[0]) AND Moderate (c[1]) AND Moderate (c[2])
+   (* Degree-2 fast path: every coefficient zero or 2^-200 <= |c_i| < 2^200.
+      Written out here (gm2 does not inline a procedure for it).  The sum is
+      finite when all three are (NaN and infinity propagate; a finite sum that
+      overflows only sends the call to the general path, which gives the same
+      answer), and NaN must be excluded before the comparisons: gm2 may
+      rewrite v >= lo as NOT (v < lo). *)
+   IF (degree = 2) AND (c[2] # 0.0) AND IsFinite (c[0] + c[1] + c[2])
+      AND ((c[0] = 0.0) OR (ABS (c[0]) >= ModerateLo) AND (ABS (c[0]) < ModerateHi))
+      AND ((c[1] = 0.0) OR (ABS (c[1]) >= ModerateLo) AND (ABS (c[1]) < ModerateHi))
+      AND (ABS (c[2]) >= ModerateLo) AND (ABS (c[2]) < ModerateHi)
    THEN
       (* fast path: moderate coefficients give the same bits unscaled *)
       IF NOT QuadraticIn (c[2], c[1], c[0], lo, hi, x) THEN RETURN FALSE END ;
@@ -900,6 +970,7 @@ BEGIN
    HalleyTol := ldexp (1.0, -14) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
+   Unit52 := 4503599627370496 ;
    Inf := ldexp (1.0, 1023) ;
    Inf := Inf * 2.0
 END Roots.

@@ -11,7 +11,7 @@ VAR
    old: ADDRESS ;
 
 
-PROCEDURE SmallestRoot (c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
+PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
    a: ARRAY [0..MaxDegree] OF REAL ;

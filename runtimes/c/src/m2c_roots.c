@@ -45,8 +45,10 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
     if (degree == 2 && c != 0 && t != 0) {
         /* fast path: moderate coefficients give the same bits unscaled */
         double c0 = c[0], c1 = c[1], c2 = c[2];
-        if ((c2 != 0.0) & m2c_moderate(c0) & m2c_moderate(c1) & m2c_moderate(c2) &
-            (fabs(lo) <= DBL_MAX) & (fabs(hi) <= DBL_MAX) & (lo < hi)) {
+        /* lo < hi, both finite: hi - lo is positive and finite (an overflow
+         * only sends the call to the general path) */
+        double w = hi - lo;
+        if ((c2 != 0.0) & m2c_moderate3(c0, c1, c2) & (w > 0.0) & (w <= DBL_MAX)) {
             double x;
             if (!m2c_quadratic_in(c2, c1, c0, lo, hi, &x))
                 return 0;

@@ -350,13 +350,17 @@ fn quadratic_in(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
     None
 }
 
-/// v is zero or 2^-200 <= |v| < 2^200 (not NaN, not infinite): the degree-2
-/// fast path needs no scaling for such coefficients.
+/// The degree-2 fast path's coefficients (docs/roots.md step 1): each zero or
+/// |c_i| >= 2^-200, and |c0| + |c1| + |c2| < 2^200 (false for NaN and
+/// infinities).  Such coefficients need no scaling.  The lower bound reads the
+/// exponent field: (u << 1) - 1 wraps a zero (either sign) to the top, so one
+/// unsigned comparison per coefficient accepts zero and |v| >= 2^-200.
 #[inline(always)]
-fn moderate(v: f64) -> bool {
-    let u = v.to_bits();
-    let e = (u >> 52) & 0x7ff;
-    (e.wrapping_sub(823) < 400) | ((u << 1) == 0)
+fn moderate3(c0: f64, c1: f64, c2: f64) -> bool {
+    const K: u64 = (823u64 << 53) - 1; // exponent field 823: 2^-200
+    const TWO_200: f64 = 1.6069380442589903e60; // 2^200 exactly
+    let small = |v: f64| (v.to_bits() << 1).wrapping_sub(1) >= K;
+    small(c0) & small(c1) & small(c2) & (c0.abs() + c1.abs() + c2.abs() < TWO_200)
 }
 
 /// x 2^k rounded once (C's ldexp; x finite): exact unless the result is
@@ -872,7 +876,7 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
         return None;
     }
-    if c.len() == 3 && (c[2] != 0.0) & moderate(c[0]) & moderate(c[1]) & moderate(c[2]) {
+    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) {
         // fast path: moderate coefficients give the same bits unscaled
         let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
         return Some(x + 0.0);
