@@ -683,12 +683,19 @@ def _check_overlaps(scene: Scene) -> None:
                         reach = bound[i] + bj + tol
                         if (xs[i] - xj) ** 2 + (ys[i] - yj) ** 2 <= reach * reach:
                             test(i, j)
-    boxes = [(b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius, b.position[1] + b.radius)
-             if not b.polygon and b.orbit_radius == 0.0 else _box(b) for b in bodies] if big else []   # _box, inlined
+    boxes: dict[int, tuple[float, float, float, float]] = {}     # _box of the bodies near a big one, made once
+
+    def box(j: int) -> tuple[float, float, float, float]:
+        if j not in boxes:
+            b = bodies[j]
+            boxes[j] = ((b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius,
+                         b.position[1] + b.radius) if not b.polygon and b.orbit_radius == 0.0 else _box(b))
+        return boxes[j]
+
     big_set = set(big)
     everyone = range(len(bodies))
     for i in big:
-        ax0, ay0, ax1, ay1 = boxes[i]
+        ax0, ay0, ax1, ay1 = box(i)
         near = everyone
         if max(-ax0, ax1, -ay0, ay1) + tol < cell * 2.0 ** 40:
             # A small body reaches at most half a cell from its position, so one
@@ -706,7 +713,7 @@ def _check_overlaps(scene: Scene) -> None:
         for j in near:
             if j == i or (j < i and j in big_set):
                 continue
-            bx0, by0, bx1, by1 = boxes[j]
+            bx0, by0, bx1, by1 = box(j)
             if ax0 > bx1 + tol or bx0 > ax1 + tol or ay0 > by1 + tol or by0 > ay1 + tol:
                 continue            # the boxes hold the bodies: apart by more than the tolerance
             test(i, j)
