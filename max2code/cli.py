@@ -13,7 +13,6 @@ import importlib
 import sys
 
 from max2code.errors import ArgumentParser, Max2CodeError
-from max2code.generate.maxima import DEFAULT_TIMEOUT
 from max2code.textio import check_output, write_output
 
 # name -> "module:function(argv) -> int"
@@ -33,6 +32,8 @@ SUBCOMMANDS: dict[str, str] = {
 
 
 def _generate_parser() -> argparse.ArgumentParser:
+    # imported here: a subcommand (simulate, above all) starts without the generator's modules
+    from max2code.generate.maxima import DEFAULT_TIMEOUT
     from max2code.targets import LANGUAGES
 
     p = ArgumentParser(

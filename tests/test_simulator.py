@@ -158,6 +158,57 @@ def test_fast_circle_reading_agrees_with_the_careful_one(base, changes, k, gravi
     _fast_agrees(raw, k, gravity)
 
 
+def _crowd(seed: int) -> dict:
+    """Circles of mixed sizes (some fixed) crowded into a small box with a
+    wall or two: overlapping pairs, touching pairs, big bodies, empty rows."""
+    import random
+    rng = random.Random(seed)
+    side = rng.choice([0.5, 2.0, 8.0])
+    bodies = []
+    for k in range(rng.randint(2, 60)):
+        b = {"name": f"c{k}", "shape": "circle", "radius": rng.choice([0.02, 0.05, 0.1, 0.3]),
+             "position": [rng.uniform(-side, side), rng.uniform(-side, side) * rng.choice([1.0, 0.01])]}
+        if rng.random() < 0.2:
+            b["fixed"] = True
+        else:
+            b["mass"] = 1.0
+        bodies.append(b)
+    for k in range(rng.randint(0, 2)):
+        w, h = rng.uniform(0.01, side), rng.uniform(0.01, 0.1)
+        bodies.append({"name": f"w{k}", "shape": "polygon", "fixed": True,
+                       "position": [rng.uniform(-side, side), rng.uniform(-side, side)],
+                       "vertices": [[-w, -h], [w, -h], [w, h], [-w, h]]})
+    rng.shuffle(bodies)
+    return {"end_time": 1.0, "tolerance": rng.choice([1e-9, 1e-3]), "bodies": bodies}
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_overlap_check_finds_the_first_pair_of_all(seed):
+    """The grid's overlap check reports the first pair (in index order) that
+    a test of every pair finds, or none when every pair finds none."""
+    import max2code.sim.scene as sc
+    check = sc._check_overlaps
+    sc._check_overlaps = lambda scene: None
+    try:
+        scene = parse_scene(json.dumps(_crowd(seed)), "crowd.json")
+    finally:
+        sc._check_overlaps = check
+    tol, bodies = scene.tolerance, scene.bodies
+    pairs = [(i, j) for i in range(len(bodies)) for j in range(i + 1, len(bodies))
+             if not (bodies[i].fixed and bodies[j].fixed) and sc.penetration(bodies[i], bodies[j]) > tol]
+    try:
+        check(scene)
+        got = None
+    except SceneError as exc:
+        got = str(exc)
+    if not pairs:
+        assert got is None
+    else:
+        i, j = min(pairs)
+        assert got is not None and f"bodies[{i}] ({bodies[i].name}) and bodies[{j}] ({bodies[j].name}) overlap" in got
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.integers(0, 10 ** 6))
 def test_random_scenes_compile(seed):

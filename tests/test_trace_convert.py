@@ -1,9 +1,11 @@
-"""The flat trace's two converters (max2code/sim/simulate.py) write the same
-bytes: `feed` (one checked line at a time) and `feed_chunk` (the fast path
-of `max2code simulate`, many lines at once), on every example's trace cut
-into chunks anywhere between lines, and on lines made to hit each special
-case (whole numbers, minus zero, exponents, states of still circles); a
-non-finite number or a bad line is the same error from both."""
+"""The flat trace's converters (max2code/sim/simulate.py) write the same
+bytes: `feed` (one checked line at a time), `feed_chunk` (many lines at
+once) and `feed_events` with the C converter (the path of `max2code
+simulate`: whole events, runtimes/c/tools/m2c_trace_json.c, Python for the
+chunks it does not take), on every example's trace cut into chunks anywhere
+between lines (between events for the C path), and on lines made to hit
+each special case (whole numbers, minus zero, exponents, states of still
+circles); a non-finite number or a bad line is the same error from all."""
 import json
 import random
 
@@ -21,7 +23,8 @@ def slow(scene, build, text, **kw):
     conv = TraceConverter(scene, build, out.append, **kw)
     for line in text.splitlines():
         conv.feed(line)
-    return "".join(out), conv.finish()
+    ends = conv.finish()      # writes the last event, the final states and the statistics
+    return "".join(out), ends
 
 
 def fast(scene, build, text, cuts, **kw):
@@ -31,7 +34,23 @@ def fast(scene, build, text, cuts, **kw):
     bounds = [0, *sorted(cuts), len(lines)]
     for a, b in zip(bounds, bounds[1:]):
         conv.feed_chunk("".join(lines[a:b]))
-    return "".join(out), conv.finish()
+    ends = conv.finish()      # writes the last event, the final states and the statistics
+    return "".join(out), ends
+
+
+def in_c(scene, build, text, cuts, **kw):
+    """feed_events with the C converter, the trace cut before the lines
+    `cuts` (moved back to where an event begins)."""
+    out = []
+    conv = TraceConverter(scene, build, out.append, accelerate=True, **kw)
+    assert conv._c is not None, "the C converter did not build"
+    lines = text.splitlines(keepends=True)
+    starts = sorted({k for k in cuts if not lines[k].startswith("S")})
+    bounds = [0, *starts, len(lines)]
+    for a, b in zip(bounds, bounds[1:]):
+        conv.feed_events("".join(lines[a:b]).encode())
+    ends = conv.finish()      # writes the last event, the final states and the statistics
+    return "".join(out), ends
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
@@ -42,11 +61,29 @@ def test_fast_path_writes_the_same_bytes_on_every_example(path):
     n = len(trace.raw.splitlines())
     rng = random.Random(path.stem)
     want = slow(scene, build, trace.raw)
-    assert want[0].count("\n") == len(trace.events)
+    assert want[0].count("\n") == len(trace.events) + 2
     for k in (0, 1, 7):
         cuts = rng.sample(range(1, n), min(k, n - 1))
         assert fast(scene, build, trace.raw, cuts) == want
     assert fast(scene, build, trace.raw, [], frames=False) == slow(scene, build, trace.raw, frames=False)
+    for k in (0, 1, 7, n // 3):
+        cuts = rng.sample(range(1, n), min(k, n - 1))
+        assert in_c(scene, build, trace.raw, cuts) == want
+    assert in_c(scene, build, trace.raw, [n // 2], frames=False) == slow(scene, build, trace.raw, frames=False)
+
+
+def test_the_c_converter_takes_collisions_and_states(monkeypatch):
+    """On a trace of collisions and states the C code converts every chunk
+    (Python is not asked), and the bytes are Python's."""
+    scene = load_scene(str(ROOT / "examples" / "billiard-break.json"))
+    trace = run_scene(scene, "c")
+    build = build_simulator("c", scene.effects, scene.taylor_order)
+    events = "".join(x for x in trace.raw.splitlines(keepends=True) if x[0] in "ES" and " frame " not in x)
+    want = slow(scene, build, events)
+    assert events.count("E collision") > 10
+    monkeypatch.setattr(TraceConverter, "feed_chunk", lambda self, text: pytest.fail("Python converted " + text[:80]))
+    n = len(events.splitlines())
+    assert in_c(scene, build, events, [n // 4, n // 2]) == want
 
 
 SCENE = parse_scene(json.dumps({"end_time": 2.0, "bodies": [
@@ -89,7 +126,9 @@ def test_special_lines_convert_alike():
     assert want[1][1]["predictions"] == {"cc1": 12, "pe2": 7}
     for cuts in ([], [1], [2, 5], list(range(1, n))):
         assert fast(SCENE, BUILD, LINES, cuts) == want
+        assert in_c(SCENE, BUILD, LINES, cuts) == want
     assert fast(SCENE, BUILD, LINES, [3], frames=False) == slow(SCENE, BUILD, LINES, frames=False)
+    assert in_c(SCENE, BUILD, LINES, [3, 4], frames=False) == slow(SCENE, BUILD, LINES, frames=False)
 
 
 @pytest.mark.parametrize("bad", ["S 0 0 nan 0 0 0 0 0 0 0", "S 0 0 1 inf 0 0 0 0 0 0", "S 0 0 1 0 -NaN 0 0 0 0 0",
@@ -102,4 +141,13 @@ def test_bad_lines_are_the_same_error(bad):
         slow(SCENE, BUILD, text)
     with pytest.raises(SimulateError) as b:
         fast(SCENE, BUILD, text, [4])
-    assert str(a.value) == str(b.value) and "bad trace line 2" in str(a.value)
+    with pytest.raises(SimulateError) as c:
+        in_c(SCENE, BUILD, text, [3, 4])
+    assert str(a.value) == str(b.value) == str(c.value) and "bad trace line 2" in str(a.value)
+
+
+@pytest.mark.parametrize("names", [["a", "b c", "x~!{}"], ['quote"d'], ["back\\slash"], ["del\x7f"], ["é"],
+                                   ["tab\t"], ["plain", "line\nbreak"], ["\u2603", "ok"]])
+def test_names_are_their_json(names):
+    from max2code.sim.simulate import _json_names
+    assert _json_names(names) == [json.dumps(n) for n in names]

@@ -287,6 +287,7 @@ def _body(rd: _Reader, b, k: int, gravity: tuple[float, float], names: dict[str,
 _CIRCLE_KEYS = frozenset(BODY_KEYS - {"vertices", "orbit"})
 _BIG_INT = 2 ** 62
 _ABSENT = object()          # a key left out (JSON null is a value, and a wrong one)
+_ORIGIN = [0.0, 0.0]        # a pair left out
 
 
 def _real(v, default):
@@ -341,6 +342,26 @@ def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> B
     else:
         return None
     g = b.get
+    # all numbers floats (JSON with a '.' or an exponent): one type chain and one sum tell
+    restitution, friction, radius = g("restitution", 1.0), g("friction", 0.0), g("radius")
+    angle, omega, pos, vel = g("angle", 0.0), g("angular_velocity", 0.0), g("position"), g("velocity", _ORIGIN)
+    acc = g("acceleration", _ORIGIN)
+    if type(pos) is type(vel) is type(acc) is list and len(pos) == len(vel) == len(acc) == 2:
+        (px, py), (vx, vy), (ax, ay) = pos, vel, acc
+        m = 1.0 if fixed else mass
+        if (type(restitution) is type(friction) is type(radius) is type(angle) is type(omega) is type(px) is type(py)
+                is type(vx) is type(vy) is type(ax) is type(ay) is float
+                # a sum of finite numbers may still overflow: then the slower checks below decide
+                and math.isfinite(m + restitution + friction + radius + angle + omega + px + py + vx + vy + ax + ay)):
+            if not (0.0 <= restitution <= 1.0 and friction >= 0.0 and radius > 0.0 and omega == 0.0):
+                return None
+            if not fixed:
+                ax, ay = ax + gravity[0], ay + gravity[1]
+            names[name] = k
+            body = Body(name, False, fixed, mass, math.inf if fixed else 0.0, restitution, (px, py), (vx, vy),
+                        (ax, ay), angle, omega, radius=radius, friction=friction)
+            body.__dict__["bound"] = 0.0 + radius      # Body.bound of a circle without orbit, cached
+            return body
     restitution = _real(g("restitution", _ABSENT), 1.0)
     friction = _real(g("friction", _ABSENT), 0.0)
     radius = _real(g("radius", _ABSENT), None)
@@ -613,13 +634,10 @@ def _check_overlaps(scene: Scene) -> None:
         return
     tol = scene.tolerance
     cell = 2.0 * max(b.bound for b in bodies if not b.fixed) if any(not b.fixed for b in bodies) else 1.0
-    grid: dict[tuple[int, int], list[int]] = {}
     big = []
+    small = []
     for i, b in enumerate(bodies):
-        if b.bound > cell / 2.0:
-            big.append(i)
-            continue
-        grid.setdefault((math.floor(b.position[0] / cell), math.floor(b.position[1] / cell)), []).append(i)
+        (big if b.bound > cell / 2.0 else small).append(i)
     found: list[tuple[int, int, float]] = []
     xs, ys = [b.position[0] for b in bodies], [b.position[1] for b in bodies]
     bound, fixed = [b.bound for b in bodies], [b.fixed for b in bodies]
@@ -634,21 +652,50 @@ def _check_overlaps(scene: Scene) -> None:
         if d > tol:
             found.append((min(i, j), max(i, j), d))
 
-    # each pair of neighbouring cells once: the cell itself and four of its eight neighbours
-    for (cx, cy), members in grid.items():
-        for k, i in enumerate(members):
-            for j in members[k + 1:]:
-                test(i, j)
-        for dx, dy in ((1, -1), (1, 0), (1, 1), (0, 1)):
-            for j in grid.get((cx + dx, cy + dy), ()):
-                for i in members:
-                    test(i, j)
-    boxes = [(b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius, b.position[1] + b.radius)
-             if not b.polygon and b.orbit_radius == 0.0 else _box(b) for b in bodies] if big else []   # _box, inlined
+    # the grid of the small bodies; cell (gx, gy) is the whole number gx * rows + gy - low, with a free
+    # row either side, so that its neighbours are the key plus a constant
+    floor = math.floor
+    gx = [floor(xs[i] / cell) for i in small]
+    gy = [floor(ys[i] / cell) for i in small]
+    grid: dict[int, list[int]] = {}
+    if small:
+        low = min(gy) - 1
+        rows = max(gy) - low + 2
+        for i, x, y in zip(small, gx, gy):
+            key = x * rows + y - low
+            if key in grid:
+                grid[key].append(i)
+            else:
+                grid[key] = [i]
+        # each pair of neighbouring cells once: the cell itself and four of its eight neighbours,
+        # (1, -1), (1, 0), (1, 1) and (0, 1); the distance test of `test` first, inlined
+        get = grid.get
+        steps = (rows - 1, rows, rows + 1, 1)
+        for key, members in grid.items():
+            if len(members) > 1:
+                for k, i in enumerate(members):
+                    for j in members[k + 1:]:
+                        test(i, j)
+            for step in steps:
+                for j in get(key + step, ()):
+                    xj, yj, bj = xs[j], ys[j], bound[j]
+                    for i in members:
+                        reach = bound[i] + bj + tol
+                        if (xs[i] - xj) ** 2 + (ys[i] - yj) ** 2 <= reach * reach:
+                            test(i, j)
+    boxes: dict[int, tuple[float, float, float, float]] = {}     # _box of the bodies near a big one, made once
+
+    def box(j: int) -> tuple[float, float, float, float]:
+        if j not in boxes:
+            b = bodies[j]
+            boxes[j] = ((b.position[0] - b.radius, b.position[1] - b.radius, b.position[0] + b.radius,
+                         b.position[1] + b.radius) if not b.polygon and b.orbit_radius == 0.0 else _box(b))
+        return boxes[j]
+
     big_set = set(big)
     everyone = range(len(bodies))
     for i in big:
-        ax0, ay0, ax1, ay1 = boxes[i]
+        ax0, ay0, ax1, ay1 = box(i)
         near = everyone
         if max(-ax0, ax1, -ay0, ay1) + tol < cell * 2.0 ** 40:
             # A small body reaches at most half a cell from its position, so one
@@ -659,12 +706,14 @@ def _check_overlaps(scene: Scene) -> None:
             gx0, gx1 = math.floor((ax0 - tol) / cell) - 1, math.floor((ax1 + tol) / cell) + 1
             gy0, gy1 = math.floor((ay0 - tol) / cell) - 1, math.floor((ay1 + tol) / cell) + 1
             if (gx1 - gx0 + 1) * (gy1 - gy0 + 1) < len(bodies):
+                # the rows that hold small bodies only (a key outside them would be another column's)
+                gy0, gy1 = (max(gy0, low + 1), min(gy1, low + rows - 2)) if small else (0, -1)
                 near = [j for gx in range(gx0, gx1 + 1) for gy in range(gy0, gy1 + 1)
-                        for j in grid.get((gx, gy), ())] + big
+                        for j in grid.get(gx * rows + gy - low, ())] + big
         for j in near:
             if j == i or (j < i and j in big_set):
                 continue
-            bx0, by0, bx1, by1 = boxes[j]
+            bx0, by0, bx1, by1 = box(j)
             if ax0 > bx1 + tol or bx0 > ax1 + tol or ay0 > by1 + tol or by0 > ay1 + tol:
                 continue            # the boxes hold the bodies: apart by more than the tolerance
             test(i, j)
@@ -750,6 +799,17 @@ def body_lines(b: Body, large: bool) -> list[str]:
     return out
 
 
+def _circle_line(b: Body, large: bool) -> str:
+    """body_lines of a circle (it has no `v` lines), in one f-string: the
+    same text, a third of the time for 10^5 disks (`!r` of a float is
+    repr(float(x)); every field of a read Body is a float)."""
+    inv_m = 0.0 if b.fixed else 1.0 / b.mass
+    (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
+    return (f"body 0 {'1' if b.fixed else '0'} {inv_m!r} 0.0 {b.restitution!r} {b.friction!r} {px!r} {py!r} "
+            f"{vx!r} {vy!r} {ax!r} {ay!r} {b.angle!r} {b.angular_velocity!r} {b.radius!r} {b.orbit_radius!r} "
+            f"{b.orbit_angle!r} {b.bound!r} {'1' if large else '0'} 0")
+
+
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
     with _no_gc():
@@ -768,7 +828,10 @@ def _compile_scene(scene: Scene) -> str:
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
     for b, large in zip(scene.bodies, g.large):
-        out += body_lines(b, large)
+        if b.polygon:
+            out += body_lines(b, large)
+        else:
+            out.append(_circle_line(b, large))
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

@@ -13,6 +13,7 @@ import subprocess
 import threading
 import time
 from dataclasses import dataclass, field
+from itertools import compress, repeat
 from pathlib import Path
 
 from max2code import __version__
@@ -176,6 +177,8 @@ _ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
 _FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
 _FEATURE_OF.update({("1", i, j): FEATURES[(1, not i)] for i in (False, True) for j in (False, True)})
 _first = operator.itemgetter(0)
+_S_END = ("]}\n", ",")                # after a state: the next line is not, or is, a state
+_E_END = ("}\n", ',"states":[')       # after an event's head: likewise
 
 
 def _columns(lines: list[str], width: int, tag: str, numbers) -> list[list[str]]:
@@ -208,14 +211,46 @@ def _final(body, px, py, vx, vy, angle, omega) -> str:
             f'"angular_velocity":{omega}}}')
 
 
-def _contact(t, kind, a, b, feature, i, j, cx, cy, nx, ny, impulse) -> str:
-    """A collision's or support's JSON, without its states and closing brace."""
-    return (f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"feature":"{feature}","features":[{i},{j}],'
+def _features(feature, i, j) -> str:
+    return f'"feature":"{feature}","features":[{i},{j}]'
+
+
+def _contact(t, kind, a, b, features, cx, cy, nx, ny, impulse) -> str:
+    """A collision's or support's JSON, without its states and closing brace
+    (`features`: the text of _features)."""
+    return (f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],{features},'
             f'"point":[{cx},{cy}],"normal":[{nx},{ny}],"impulse":{impulse}')
+
+
+class _FeatureText(dict):
+    """_features by the trace's FEATURE, I and J fields as text, made on first
+    use; KeyError for a FEATURE other than 0 or 1, or an I or J that is not
+    a whole number from -1 to the most vertices or bodies (the precise path
+    then reads the line)."""
+
+    def __init__(self, ints: dict[str, str]):
+        super().__init__()
+        self.ints = ints
+
+    def __missing__(self, key: tuple[str, str, str]) -> str:
+        feat, i, j = key
+        i, j = self.ints[i], self.ints[j]
+        text = self[key] = _features(_FEATURE_OF[(feat, i[0] == "-", j[0] == "-")], i, j)
+        return text
 
 
 def _support_end(t, kind, a, b, edge) -> str:
     return f'{{"t":{t},"kind":"{kind}","bodies":[{a},{b}],"edge":{edge}'
+
+
+def _json_names(names: list[str]) -> list[str]:
+    """json.dumps of each name: names of printable ASCII without '"' or '\\'
+    (all of them, as a rule) are only quoted (json.dumps escapes nothing else:
+    control characters, DEL and non-ASCII), without a call per name."""
+    joined = "".join(names)
+    if joined.isascii() and joined.isprintable() and '"' not in joined and "\\" not in joined:
+        return [f'"{n}"' for n in names]
+    return list(map(json.dumps, names))
 
 
 class _Slow(Exception):
@@ -238,9 +273,9 @@ class TraceConverter:
     malformed number, the event limit), does the chunk again with `feed`."""
 
     def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
-                 max_events: int | None = None):
+                 max_events: int | None = None, accelerate: bool = False):
         self.scene, self.build, self.write = scene, build, write
-        self.names = [json.dumps(b.name) for b in scene.bodies]
+        self.names = _json_names([b.name for b in scene.bodies])
         self.frames = frames
         self.max_events = max_events
         self.events = 0            # E records seen
@@ -254,6 +289,13 @@ class TraceConverter:
         self._body = {str(i): n for i, n in enumerate(self.names)}
         most = max([len(scene.bodies), len(scene.inputs)] + [len(b.vertices) for b in scene.bodies])
         self._int = {str(i): str(i) for i in range(-1, most + 1)}
+        self._features = _FeatureText(self._int)
+        self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
+        if accelerate:
+            from max2code.sim import trace_json
+            lib = trace_json.library()
+            if lib is not None:
+                self._c = trace_json.CTrace(lib, self.names, most)
 
     def _event(self) -> str:
         if self.states:
@@ -289,8 +331,8 @@ class TraceConverter:
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = _contact(t, kind, self.names[a], self.names[b], feature, i, j, _num(w[8]),
-                                       _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
+                    head = _contact(t, kind, self.names[a], self.names[b], _features(feature, i, j), _num(w[8]),
+                                    _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
                     head = _support_end(t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
                 elif kind == "sleep":
@@ -324,6 +366,21 @@ class TraceConverter:
             raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
                                 f"({exc})") from None
 
+    def feed_events(self, data: bytes) -> None:
+        """Whole events of the flat trace: `data` ends with a newline where a
+        line other than a state begins, or at the trace's end.  Converted in
+        C when the converter was made with `accelerate` and the C code takes
+        the chunk; else as feed_chunk.  The same bytes either way."""
+        if self._c is not None and data:
+            got = self._c.convert(data, self.frames)
+            if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
+                self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
+                self.events += got[1]
+                self.line += data.count(b"\n")
+                self.write(got[0])
+                return
+        self.feed_chunk(data.decode("ascii", "replace"))
+
     def feed_chunk(self, text: str) -> None:
         """Complete lines of the flat trace (text ends with a newline, or is empty)."""
         if not text:
@@ -342,38 +399,88 @@ class TraceConverter:
 
     def _fast(self, text: str) -> list[str]:
         """The chunk's output; the converter's state changes only when all of
-        it converted.  The S lines (most of a trace) are converted together
-        by `_states`; the loop only notes how many belong to each event."""
-        body, ints, frames, limit = self._body, self._int, self.frames, self.max_events
-        head, events = self.head, self.events
-        final, counts, predictions = [], {}, {}
-        heads: list[tuple[str, int]] = []   # the chunk's finished events: head and number of new states
-        s_lines: list[str] = []
-        c_lines: list[str] = []             # collision and support lines
-        n = 0                               # states of the current event in this chunk
+        it converted.  No Python code runs per S line (most of a trace) nor
+        per collision: the lines are sorted into S lines and the others by
+        one flag per line, each kind is formatted column by column
+        (`_states`, `_contacts`), each piece gets the text that closes it
+        from whether the next line is a state (`_S_END`, `_E_END`), and the
+        pieces are put back in line order by those flags.  The last event
+        of the chunk may get more states in the next one: it is kept
+        (self.head, self.states) as `feed` keeps it."""
         lines = text.split("\n")
         lines.pop()                     # after the last newline
-        for line in lines:
-            tag = line[:1]
-            if tag == "S":
-                if head is None:
-                    raise _Slow
-                s_lines.append(line)
-                n += 1
+        m = len(lines)
+        is_s = list(map("S".__eq__, map(_first, lines)))     # IndexError on a blank line: the precise path
+        is_o = list(map(operator.not_, is_s))
+        nxt = is_s[1:]
+        nxt.append(False)
+        others = list(compress(lines, is_o))
+        contact = list(map(str.startswith, others, repeat(("E collision ", "E support "))))
+        final, counts, predictions = [], {}, {}
+        if all(contact):
+            heads: list = self._contacts(others)
+            n_events = len(others)
+            e_pieces = list(map(operator.add, heads, map(_E_END.__getitem__, compress(nxt, is_o))))
+        else:
+            heads, n_events = self._others(others, contact, final, counts, predictions)
+            e_pieces = []
+            for h, n in zip(heads, compress(nxt, is_o)):
+                if h is None:
+                    if n:
+                        raise _Slow     # a state after a line that is no event (or a frame left out)
+                    e_pieces.append("")
+                else:
+                    e_pieces.append(h + _E_END[n])
+        if self.max_events is not None and self.events + n_events > self.max_events:
+            raise _Slow                 # the precise path stops at the event over the limit
+        if is_s[0] and self.head is None:
+            raise _Slow                 # a state without its event
+        states = self._states(list(compress(lines, is_s)))
+        if not others:                  # only states, all of the event carried over
+            self.states = self.states + states
+            self.line += m
+            return []
+        if is_s[0]:
+            prefix = self.head + ',"states":[' + "".join(s + "," for s in self.states)
+        else:
+            prefix = self._event() if self.head is not None else ""
+        s_pieces = list(map(operator.add, states, map(_S_END.__getitem__, compress(nxt, is_s))))
+        last = m - 1 - is_s[::-1].index(False)      # the last line that is not a state: its event is kept
+        pieces = (iter(e_pieces), iter(s_pieces))
+        body = "".join(map(next, map(pieces.__getitem__, is_s[:last])))
+        tail = m - 1 - last             # states of the kept event
+        self.head, self.states = heads[-1], (states[len(states) - tail:] if tail else [])
+        self.events += n_events
+        self.line += m
+        self.final += final
+        self.counts.update(counts)
+        self.predictions.update(predictions)
+        return [prefix, body]
+
+    def _others(self, others: list[str], contact: list[bool], final: list[str], counts: dict[str, int],
+                predictions: dict[str, int]) -> tuple[list, int]:
+        """The heads of the lines that are not states (None for a line that
+        is no event, or a frame left out) and the number of events among
+        them; F, N and V lines go to final, counts and predictions."""
+        body, ints, frames = self._body, self._int, self.frames
+        contacts = iter(self._contacts(list(compress(others, contact))))
+        heads: list[str | None] = []
+        f_lines: list[str] = []
+        n_events = 0
+        for line, c in zip(others, contact):
+            if c:
+                heads.append(next(contacts))
+                n_events += 1
                 continue
-            if head is not None:
-                heads.append((head, n))
-                head, n = None, 0
-            if tag == "E":
-                events += 1
-                if limit is not None and events > limit:
-                    raise _Slow
-                if line.startswith("E collision ") or line.startswith("E support "):
-                    head = len(c_lines)         # its head is made by _contacts, with the others
-                    c_lines.append(line)
-                    continue
+            tag = line[:1]
+            if tag == "F":
+                f_lines.append(line)    # formatted together below
+                heads.append(None)
+                continue
             w = line.split()
+            head = None
             if tag == "E":
+                n_events += 1
                 kind = w[1]
                 t = w[2] if "." in w[2] else _num(w[2])
                 if kind == "frame":
@@ -385,13 +492,6 @@ class TraceConverter:
                     head = f'{{"t":{t},"kind":"input","bodies":[{body[w[3]]}],"input":{ints[w[6]]}'
                 else:
                     raise _Slow
-            elif tag == "F":
-                if len(w) != 8:
-                    raise _Slow
-                x = w[2:]
-                if "".join(x).count(".") != 6:
-                    x = [v if "." in v else v + ".0" if v.isdigit() else _num(v) for v in x]
-                final.append(_final(body[w[1]], *x))
             elif tag == "N" and len(w) == 3:
                 counts[w[1]] = int(w[2])
             elif tag == "V" and len(w) == 4:
@@ -400,27 +500,11 @@ class TraceConverter:
                     predictions[self.build.variant_names[w[1]][int(w[2])]] = served
             else:
                 raise _Slow             # blank, unknown or malformed lines: the precise path
-        states = self._states(s_lines)
-        contacts = self._contacts(c_lines)
-        if type(head) is int:
-            head = contacts[head]
-        out: list[str] = []
-        pos = 0
-        carried = self.states            # the states of an event begun in an earlier chunk
-        for h, k in heads:
-            if type(h) is int:
-                h = contacts[h]
-            st = states[pos:pos + k]
-            pos += k
-            if carried:
-                st, carried = carried + st, []
-            out.append(f'{h},"states":[{",".join(st)}]}}\n' if st else h + "}\n")
-        self.head, self.states, self.events = head, carried + states[pos:], events
-        self.line += len(lines)
-        self.final += final
-        self.counts.update(counts)
-        self.predictions.update(predictions)
-        return out
+            heads.append(head)
+        cols = _columns(f_lines, 8, "F", range(2, 8))
+        if cols:
+            final += map(_final, map(body.__getitem__, cols[1]), *cols[2:])
+        return heads, n_events
 
     def _states(self, s_lines: list[str]) -> list[str]:
         """The JSON of many S lines at once, column by column (no Python
@@ -440,14 +524,9 @@ class TraceConverter:
         cols = _columns(c_lines, 13, "E", (2, 8, 9, 10, 11, 12))
         if not cols:
             return []
-        ints = self._int.__getitem__
-        i, j = list(map(ints, cols[6])), list(map(ints, cols[7]))
-        minus = "-".__eq__
-        features = list(map(_FEATURE_OF.__getitem__, zip(cols[5], map(minus, map(_first, i)),
-                                                          map(minus, map(_first, j)))))
         names = self._body.__getitem__
-        return list(map(_contact, cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features,
-                        i, j, *cols[8:]))
+        features = map(self._features.__getitem__, zip(cols[5], cols[6], cols[7]))
+        return list(map(_contact, cols[2], cols[1], map(names, cols[3]), map(names, cols[4]), features, *cols[8:]))
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
@@ -486,6 +565,18 @@ def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
 CHUNK = 1 << 16      # bytes of trace converted at a time (a pipe's worth; 1 MB chunks measured slower)
 
 
+def _events_end(data: bytes) -> int:
+    """The length of the longest start of `data` that is whole events of the
+    flat trace: it ends with a newline followed by the first byte of a line
+    other than a state (0: none yet)."""
+    p = data.rfind(b"\n")
+    while p >= 0:
+        if p + 1 < len(data) and data[p + 1] != 83:      # 83: "S"
+            return p + 1
+        p = data.rfind(b"\n", 0, p)
+    return 0
+
+
 def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
                  progress: bool = False, timeout: float = 3600) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
@@ -494,7 +585,7 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
     and raises SimulateError."""
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     flat = compile_scene(scene)
-    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events)
+    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, accelerate=True)
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             cwd=build.workdir)
     err: list[bytes] = []
@@ -514,22 +605,22 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         th.start()
     timer = threading.Timer(timeout, proc.kill)
     timer.start()
-    last, rest = "", ""
+    last, rest = "", b""
     try:
-        # chunks of complete lines: the converter's fast path
+        # chunks of whole events: the converters' fast paths
         while True:
             data = proc.stdout.read1(CHUNK)
             if not data:
                 break
-            text = rest + data.decode("ascii", "replace")
-            cut = text.rfind("\n") + 1
+            data = rest + data
+            cut = _events_end(data)
             if cut:
-                last = text[text.rfind("\n", 0, cut - 1) + 1:cut]
-                conv.feed_chunk(text[:cut])
-            rest = text[cut:]
+                last = data[data.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
+                conv.feed_events(data[:cut])
+            rest = data[cut:]
         if rest:
-            last = rest
-            conv.feed_chunk(rest + "\n")
+            last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
+            conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "

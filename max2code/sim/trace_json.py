@@ -1,0 +1,99 @@
+"""The flat trace's common lines (states, collisions, supports, frames) in C:
+runtimes/c/tools/m2c_trace_json.c, built once into a shared library under
+BUILD/trace-json/ and called through ctypes, one chunk of whole events at a
+time.  Python converts at about the rate the engine writes, so the command
+took twice the engine's time even with the two on two cores; in C the
+conversion is a small part of it (docs/simulator.md).
+
+The C code is only an accelerator: a chunk it does not take (any line but
+those four kinds, any number or index not in its plain form) goes to
+TraceConverter.feed_chunk, which writes the same bytes or the precise
+error; and without a C compiler the command converts in Python."""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import subprocess
+import tempfile
+
+from max2code.paths import BUILD, RUNTIMES
+
+SOURCE = RUNTIMES / "c" / "tools" / "m2c_trace_json.c"
+FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-shared", "-fPIC"]
+_lib: ctypes.CDLL | None = None
+_tried = False
+
+
+def build() -> str:
+    """The shared library's path, compiled when its source or flags changed;
+    OSError or CalledProcessError when it cannot be."""
+    src = SOURCE.read_bytes()
+    digest = hashlib.sha256(src + "\0".join(FLAGS).encode()).hexdigest()[:16]
+    folder = BUILD / "trace-json" / digest
+    lib = folder / "libm2c_trace_json.so"
+    if not lib.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(suffix=".so", dir=folder)
+        os.close(fd)
+        try:
+            subprocess.run(["gcc", *FLAGS, str(SOURCE), "-o", tmp], check=True, capture_output=True, timeout=300)
+            os.replace(tmp, lib)         # whole or not at all, with other runs building at once
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return str(lib)
+
+
+def library() -> ctypes.CDLL | None:
+    """The loaded library, or None when it cannot be built or loaded."""
+    global _lib, _tried
+    if not _tried:
+        _tried = True
+        try:
+            lib = ctypes.CDLL(build())
+        except (OSError, subprocess.SubprocessError):
+            return None
+        lib.tj_new.restype = ctypes.c_void_p
+        lib.tj_new.argtypes = [ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long]
+        lib.tj_free.restype = None
+        lib.tj_free.argtypes = [ctypes.c_void_p]
+        lib.tj_convert.restype = ctypes.c_long
+        lib.tj_convert.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long,
+                                   ctypes.c_int, ctypes.POINTER(ctypes.c_long)]
+        _lib = lib
+    return _lib
+
+
+class CTrace:
+    """One run's converter: the bodies' names as JSON text, the largest
+    vertex or body index a feature may name."""
+
+    def __init__(self, lib: ctypes.CDLL, names: list[str], most: int):
+        text = "".join(n + "\n" for n in names).encode("ascii")
+        self.lib = lib
+        self.handle = lib.tj_new(text, len(text), len(names), most)
+        if not self.handle:
+            raise MemoryError("m2c_trace_json: tj_new")
+        self.cap = 1 << 18
+        self.buf = ctypes.create_string_buffer(self.cap)
+        self.events = ctypes.c_long(0)
+
+    def convert(self, data: bytes, frames: bool) -> tuple[str, int] | None:
+        """The JSON lines of `data` (whole events) and its number of events,
+        or None when Python must convert it."""
+        while True:
+            n = self.lib.tj_convert(self.handle, data, len(data), self.buf, self.cap, int(frames),
+                                    ctypes.byref(self.events))
+            if n == -2:                  # room for a line's worth more than the trace's bytes, grown as needed
+                self.cap = max(2 * self.cap, 4 * len(data))
+                self.buf = ctypes.create_string_buffer(self.cap)
+                continue
+            if n < 0:
+                return None
+            return ctypes.string_at(self.buf, n).decode("ascii"), self.events.value
+
+    def __del__(self):
+        if getattr(self, "handle", None):
+            self.lib.tj_free(self.handle)
+            self.handle = None
