@@ -753,7 +753,9 @@ class Grid:
 def make_grid(scene: Scene) -> Grid:
     """A uniform grid whose cells are at least as wide as the largest movable
     body: bodies in cells that are not neighbours cannot touch.  Bodies larger
-    than half a cell (fixed walls) are kept in a separate list instead."""
+    than half a cell (fixed walls) are kept in a separate list instead.
+    Wider cells (by density or free path) were measured and cost more than
+    the cell crossings they save (docs/simulator.md, "Cell size, measured")."""
     movable = [b for b in scene.bodies if not b.fixed]
     size = 2.0 * max((b.bound for b in movable), default=1.0) * (1.0 + 1e-6)
     large = tuple(b.bound * 2.0 > size for b in scene.bodies)

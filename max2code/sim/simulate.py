@@ -125,9 +125,11 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         generated[eq] = str(target_file)
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
+    cmds = tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
+    h.update(json.dumps(cmds).encode())     # new flags rebuild too
     digest = h.hexdigest()
     if not stamp.exists() or stamp.read_text() != digest:
-        for cmd in tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()}):
+        for cmd in cmds:
             proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=1800)
             if proc.returncode != 0:
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"

@@ -8,6 +8,12 @@ from max2code.targets.base import Target
 # the shared library of the world API that the sim build makes beside the program
 WORLD_LIBRARY = "libm2c_world.so"
 FLAGS = ["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off"]
+# the simulator's builds: link-time optimisation inlines the generated
+# NAME_variant / NAME_coefficients (24 double arguments, most on the stack)
+# into the simulator's predictions (9 % fewer instructions per event), -O3
+# 6 % fewer again (4 % less CPU time, alternating runs); the same operations
+# in the same order (no FMA, no reassociation either way)
+SIM_FLAGS = [*("-O3" if f == "-O2" else f for f in FLAGS), "-flto=auto"]
 
 
 class C(Target):
@@ -82,22 +88,22 @@ class C(Target):
             obj = os.path.join(workdir, eq + ".o")
             # the generated coef[N] has this build's largest degree as its
             # bound, which the header cannot know (the bound is no part of the type)
-            cmds.append([*FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(inc / "m2c_sim_equations.h"),
+            cmds.append([*SIM_FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(inc / "m2c_sim_equations.h"),
                          "-c", generated[eq], "-o", obj])
             objs.append(obj)
         counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
         sources = sorted(str(p) for p in (c / "src").glob("m2c_sim*.c"))
-        cmds.append([*FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
+        cmds.append([*SIM_FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
                      "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
         # the same world as a shared library, for ctypes and other programs (m2c_world.h)
         pic_objs = []
         for eq in ("circle_circle", "point_edge"):
             obj = os.path.join(workdir, eq + ".pic.o")
-            cmds.append([*FLAGS, "-fPIC", "-Wno-array-parameter", f"-I{inc}", "-include",
+            cmds.append([*SIM_FLAGS, "-fPIC", "-Wno-array-parameter", f"-I{inc}", "-include",
                          str(inc / "m2c_sim_equations.h"), "-c", generated[eq], "-o", obj])
             pic_objs.append(obj)
-        cmds.append([*FLAGS, "-fPIC", "-shared", f"-I{inc}", *counts, *sources, *pic_objs, "-o",
+        cmds.append([*SIM_FLAGS, "-fPIC", "-shared", f"-I{inc}", *counts, *sources, *pic_objs, "-o",
                      os.path.join(workdir, WORLD_LIBRARY), str(runtimes.c_pic_library()), "-lm"])
         return cmds
 

@@ -656,6 +656,8 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
             p = b->py; v = b->vy; a = b->ay; i = b->cy; n = s->ny; origin = s->y0; size = s->ch;
         }
         for (int dir = 1; dir >= -1; dir -= 2) {
+            if (a == 0.0 && !(v * (double)dir > 0.0))
+                continue;   /* no acceleration: every crossing found below moves the other way (v + a u = v) */
             double bound;
             if (dir == 1) {
                 if (i >= n - 1)

@@ -43,6 +43,27 @@ const POW10: [u128; 39] = pow10_table();
 const D16: u64 = 10_000_000_000_000_000; // 10^16
 const D17: u64 = 100_000_000_000_000_000; // 10^17
 
+/// 10^k for -60 <= k <= 60, correctly rounded (for a first guess of the
+/// decimal exponent only).
+const POW10F_MIN: i32 = 60;
+#[rustfmt::skip]
+const POW10F: [f64; 121] = [1e-60, 1e-59, 1e-58, 1e-57, 1e-56, 1e-55, 1e-54, 1e-53, 1e-52, 1e-51, 1e-50, 1e-49, 1e-48, 1e-47, 1e-46, 1e-45, 1e-44, 1e-43, 1e-42, 1e-41, 1e-40, 1e-39, 1e-38, 1e-37, 1e-36, 1e-35, 1e-34, 1e-33, 1e-32, 1e-31, 1e-30, 1e-29, 1e-28, 1e-27, 1e-26, 1e-25, 1e-24, 1e-23, 1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22, 1e23, 1e24, 1e25, 1e26, 1e27, 1e28, 1e29, 1e30, 1e31, 1e32, 1e33, 1e34, 1e35, 1e36, 1e37, 1e38, 1e39, 1e40, 1e41, 1e42, 1e43, 1e44, 1e45, 1e46, 1e47, 1e48, 1e49, 1e50, 1e51, 1e52, 1e53, 1e54, 1e55, 1e56, 1e57, 1e58, 1e59, 1e60];
+
+/// Two decimal digits per entry: 00 01 .. 99.
+const TWO_DIGITS: &[u8; 200] = b"\
+00010203040506070809101112131415161718192021222324252627282930313233343536373839\
+40414243444546474849505152535455565758596061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
+/// x < 10^8 as eight digits.
+#[inline]
+fn eight_digits(out: &mut [u8], x: u32) {
+    let (a, b) = (x / 10000, x % 10000);
+    for (k, two) in [a / 100, a % 100, b / 100, b % 100].into_iter().enumerate() {
+        out[2 * k..2 * k + 2].copy_from_slice(&TWO_DIGITS[2 * two as usize..2 * two as usize + 2]);
+    }
+}
+
 /// floor(m 2^e 10^p) and whether rounding to nearest (ties to even) goes
 /// up, exactly; None when the intermediate values would not fit 128 bits.
 #[inline]
@@ -96,6 +117,10 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
     let l2 = 63 - m.leading_zeros() as i32 + e;
     let mut xe = (((i64::from(l2) + 1) * 78913) >> 18) as i32; // floor((l2 + 1) log10 2)
+    // which of the two: a guess from the powers of ten (scaled() decides exactly)
+    if (-POW10F_MIN + 1..=POW10F_MIN).contains(&xe) && x.abs() < POW10F[(xe + POW10F_MIN) as usize] {
+        xe -= 1;
+    }
     for _ in 0..3 {
         let (q, up) = scaled(m, e, 16 - xe)?;
         if q >= u128::from(D17) {
@@ -157,11 +182,11 @@ fn push_g17_with(out: &mut Vec<u8>, x: f64, fast: bool) {
     }
     let mut digits = [b'0'; 17];
     let exp = match if fast { digits_fast(x) } else { None } {
-        Some((mut d, xe)) => {
-            for k in (0..17).rev() {
-                digits[k] = b'0' + (d % 10) as u8;
-                d /= 10;
-            }
+        Some((d, xe)) => {
+            let (hi, lo) = ((d / 100_000_000) as u32, (d % 100_000_000) as u32); // 9 and 8 digits
+            digits[0] = b'0' + (hi / 100_000_000) as u8;
+            eight_digits(&mut digits[1..9], hi % 100_000_000);
+            eight_digits(&mut digits[9..17], lo);
             xe
         }
         None => digits_fmt(x, &mut digits),
@@ -170,37 +195,41 @@ fn push_g17_with(out: &mut Vec<u8>, x: f64, fast: bool) {
     while nd > 1 && digits[nd - 1] == b'0' {
         nd -= 1;
     }
+    // at most 24 bytes: sign, "0.000" and 17 digits, or d.16 digits e-XXX
+    let mut line = [0u8; 32];
+    let mut n = 0;
+    let mut put = |bytes: &[u8]| {
+        line[n..n + bytes.len()].copy_from_slice(bytes);
+        n += bytes.len();
+    };
     if neg {
-        out.push(b'-');
+        put(b"-");
     }
     if !(-4..17).contains(&exp) {
-        out.push(digits[0]);
+        put(&digits[..1]);
         if nd > 1 {
-            out.push(b'.');
-            out.extend_from_slice(&digits[1..nd]);
+            put(b".");
+            put(&digits[1..nd]);
         }
-        out.push(b'e');
-        out.push(if exp < 0 { b'-' } else { b'+' });
+        put(if exp < 0 { b"e-" } else { b"e+" });
         let a = exp.unsigned_abs();
         if a >= 100 {
-            out.push(b'0' + (a / 100) as u8);
+            put(&[b'0' + (a / 100) as u8]);
         }
-        out.push(b'0' + (a / 10 % 10) as u8);
-        out.push(b'0' + (a % 10) as u8);
+        put(&[b'0' + (a / 10 % 10) as u8, b'0' + (a % 10) as u8]);
     } else if exp >= 0 {
         let ip = exp as usize + 1;
-        out.extend_from_slice(&digits[..ip]);
+        put(&digits[..ip]);
         if nd > ip {
-            out.push(b'.');
-            out.extend_from_slice(&digits[ip..nd]);
+            put(b".");
+            put(&digits[ip..nd]);
         }
     } else {
-        out.extend_from_slice(b"0.");
-        for _ in 0..(-exp - 1) {
-            out.push(b'0');
-        }
-        out.extend_from_slice(&digits[..nd]);
+        put(b"0.");
+        put(&b"000"[..(-exp - 1) as usize]);
+        put(&digits[..nd]);
     }
+    out.extend_from_slice(&line[..n]);
 }
 
 /// `x` formatted as `%.17g`.

@@ -442,6 +442,9 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
         let (p, v, a, i, n, origin, size) =
             if axis == 0 { (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch) };
         for direction in [1i32, -1] {
+            if a == 0.0 && !(v * f64::from(direction) > 0.0) {
+                continue; // no acceleration: every crossing found below moves the other way (v + a u = v)
+            }
             let bound = if direction == 1 {
                 if i >= n - 1 {
                     continue;
