@@ -469,18 +469,30 @@ class World:
             phase = 0.0
         return x, vx, b.ax, d, om, phase + HALF_PI, y, vy, b.ay, om, phase
 
+    @staticmethod
+    def centre_params(b: Body, now: float):
+        """circle_circle parameters of b's centre of rotation at time now, no
+        orbit: the centre of a bounding circle (circle_params of a polygon)."""
+        x, y, vx, vy, _ = World.state_at(b, now)
+        return x, vx, b.ax, 0.0, 0.0, HALF_PI, y, vy, b.ay, 0.0, 0.0
+
     def predict_cc(self, A: Body, B: Body, vb: Vertex | None, rb: float, now: float, w: float):
         """Circle of A against circle of B (vb None) or vertex vb of B (radius 0)."""
-        a, b_, c, d, e, f, m, n, o, p, q = self.circle_params(A, now, None)
-        g, h, i, j, k, l, r, s_, u, v, ww = self.circle_params(B, now, vb)
+        return self.circles_first(self.circle_params(A, now, None), A.r, self.circle_params(B, now, vb), rb, w)
+
+    def circles_first(self, pa, ra: float, pb, rb: float, w: float):
+        """The first contact within [0, w] of a circle of radius ra moving as
+        pa (circle_params) and one of radius rb moving as pb."""
+        a, b_, c, d, e, f, m, n, o, p, q = pa
+        g, h, i, j, k, l, r, s_, u, v, ww = pb
         # only differences of the centres' motions matter: circle 1 moves
         # relative to circle 2's centre of rotation, so that a common gravity
         # cancels (no_accel variants) and far from the origin nothing is lost
         args = (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
-                0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A.r, rb)
+                0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, ra, rb)
         coef = self.cc_coefficients(args)
         tol = self.s.tol
-        kappa = tol * (2.0 * (A.r + rb) + tol)
+        kappa = tol * (2.0 * (ra + rb) + tol)
         return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
 
     def cc_coefficients(self, args) -> list[float]:
@@ -493,13 +505,21 @@ class World:
 
     def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
         """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y."""
-        ed = Y.verts[j]
-        x1, y1, u1, v1, ang1 = self.state_at(X, now)
-        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
         if vx_ is None:
             rho, beta, rad = X.orbit, X.ophase, X.r
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
+        coef = self.pe_coefficients(X, Y, rho, beta, rad, j, now)
+        return self.pe_first(coef, X, Y, rho, beta, j, now, w)
+
+    def pe_coefficients(self, X: Body, Y: Body, rho: float, beta: float, rad: float, j: int,
+                        now: float) -> list[float]:
+        """The point_edge polynomial of a circle of radius rad whose centre
+        orbits X's centre at rho (phase beta in X's frame) against the line
+        of edge j of Y, in s = t - now (its c[0]: the gap now)."""
+        ed = Y.verts[j]
+        x1, y1, u1, v1, ang1 = self.state_at(X, now)
+        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
         phn = ang2 + ed.psi
         wr = X.om - Y.om
         phr = (ang1 + beta) - phn
@@ -516,12 +536,20 @@ class World:
             raise SimError("point_edge: the scene uses an effect the generated code leaves out")
         self.pe_counts[idx] += 1
         self.stats.features += 1
-        coef = self.pe_coef(*args)
+        return self.pe_coef(*args)
+
+    def pe_first(self, coef: list[float], X: Body, Y: Body, rho: float, beta: float, j: int, now: float,
+                 w: float):
+        """The first contact within [0, w] of pe_coefficients' polygon whose
+        point (X's centre, or rho, beta about it) lies on edge j's segment."""
+        ed = Y.verts[j]
         tol = self.s.tol
 
         def inside(s: float) -> bool:
             t = now + s
-            px, py = self.point_at(X, vx_, t)
+            px, py, _, _, pa = self.state_at(X, t)
+            if rho != 0.0:
+                px, py = px + rho * math.cos(pa + beta), py + rho * math.sin(pa + beta)
             qx, qy, _, _, qa = self.state_at(Y, t)
             th = qa + ed.psi
             along = (px - qx) * -math.sin(th) + (py - qy) * math.cos(th)
@@ -552,7 +580,12 @@ class World:
             return
         if A.polygon or B.polygon:
             # the bounding circles do not turn: until they touch, nothing can
-            meet = self.bounds_meet(A, B, now, w)
+            if B.polygon and self.turn_rate(A) > 0.0 and B.om == 0.0:
+                meet = self.bound_polygon(A, B, now, w)
+            elif A.polygon and self.turn_rate(B) > 0.0 and A.om == 0.0:
+                meet = self.bound_polygon(B, A, now, w)
+            else:
+                meet = self.bounds_meet(A, B, now, w)
             if meet is None:
                 return
             if meet > 0.0:
@@ -593,6 +626,35 @@ class World:
         if coef[0] <= tol * (2.0 * (A.bound + B.bound) + tol):
             return 0.0
         return smallest_root(coef, 0.0, w)
+
+    def bound_polygon(self, T: Body, P: Body, now: float, w: float) -> float | None:
+        """T turns, polygon P does not: when T's bounding circle (radius
+        T.bound about T's centre of rotation, which does not turn) first
+        touches P itself (its edges, then its vertices) within (0, w]; 0.0 when
+        no edge line of P has the circle beyond it by more than the tolerance
+        now (overlapping, or near a corner); None when they do not meet.
+        Exact: neither the circle nor P turns."""
+        tol = self.s.tol
+        coefs = []
+        apart = False
+        for j in range(len(P.verts)):
+            c = self.pe_coefficients(T, P, 0.0, 0.0, T.bound, j, now)
+            if c[0] > tol:
+                apart = True
+            coefs.append(c)
+        if not apart:
+            return 0.0
+        meet = None
+        for j in range(len(P.verts)):
+            t = self.pe_first(coefs[j], T, P, 0.0, 0.0, j, now, w)
+            if t is not None and (meet is None or t < meet):
+                meet = t
+        pt = self.centre_params(T, now)
+        for v in P.verts:
+            t = self.circles_first(pt, T.bound, self.circle_params(P, now, v), 0.0, w)
+            if t is not None and (meet is None or t < meet):
+                meet = t
+        return meet
 
     @staticmethod
     def _better(best, t, feat, a, b, i, j):
