@@ -157,3 +157,51 @@ def inputs_scene(end_time: float = 2.0, remove: bool = False) -> dict:
         inputs.sort(key=lambda e: e["time"])         # in time order (stable), as a recording lists them
     return {"name": "inputs of every kind", "end_time": end_time, "frame_rate": 4, "gravity": [0.0, -9.81],
             "bodies": bodies, "inputs": inputs}
+
+
+def spinning_scene(seed: int, *, end_time: float = 1.5) -> dict:
+    """Spinning convex polygons in a box (a grid of slots, some placed
+    against a wall so that their bounding circles overlap it from t = 0),
+    fast spins of both signs, restitution 1 or below, gravity or not; one
+    polygon may start without spin (it turns after its first contact).  No
+    inputs: the system is closed."""
+    rng = random.Random(seed)
+    n = rng.randint(2, 7)
+    cols = max(2, math.ceil(math.sqrt(n)))
+    slot = 0.5
+    w = h = cols * slot
+    elastic = rng.random() < 0.5
+    out = box(w, h, restitution=1.0 if elastic else 0.9)
+    slots = list(range(cols * cols))
+    rng.shuffle(slots)
+    for k in range(n):
+        sx, sy = slots[k] % cols, slots[k] // cols
+        size = rng.uniform(0.06, 0.2)
+        m = rng.randint(3, 7)
+        start = rng.uniform(0, 2 * math.pi)
+        verts = [[round(size * math.cos(start + 2 * math.pi * i / m), 9),
+                  round(size * math.sin(start + 2 * math.pi * i / m), 9)] for i in range(m)]
+        cx, cy = (sx + 0.5) * slot, (sy + 0.5) * slot
+        if rng.random() < 0.4:
+            # just clear of the nearest wall, its bounding circle across it: a graze
+            near = rng.uniform(0.0005, 0.02)
+            if sx == 0:
+                cx = max(-x for x, _ in verts) + near
+            elif sx == cols - 1:
+                cx = w - max(x for x, _ in verts) - near
+            if sy == 0:
+                cy = max(-y for _, y in verts) + near
+            elif sy == cols - 1:
+                cy = h - max(y for _, y in verts) - near
+        body = {"name": f"p{k}", "shape": "polygon", "mass": round(rng.uniform(0.5, 3.0), 3),
+                "position": [round(cx, 6), round(cy, 6)],
+                "velocity": [round(rng.uniform(-1.5, 1.5), 6), round(rng.uniform(-1.5, 1.5), 6)],
+                "vertices": verts,
+                "restitution": 1.0 if elastic else round(rng.choice([0.6, 0.8, 0.95]), 2)}
+        if k > 0 or rng.random() < 0.7:
+            body["angular_velocity"] = round(rng.choice([-1, 1]) * rng.uniform(1.0, 12.0), 4)
+        out.append(body)
+    scene = {"name": f"spinning {seed}", "end_time": end_time, "frame_rate": 30, "bodies": out}
+    if rng.random() < 0.5:
+        scene["gravity"] = [0.0, -9.81]
+    return scene

@@ -735,8 +735,32 @@ def window_angle(scene: Scene) -> float:
         return 0.5
     # near a contact the lever is at most the two bodies' bounding radii
     lever = 2.0 * max(turning) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
-    n = scene.taylor_order
-    return min(0.5, (math.factorial(n + 1) * scene.tolerance / lever) ** (1.0 / (n + 1)))
+    return _angle_for(lever, scene.taylor_order, scene.tolerance)
+
+
+def _angle_for(lever: float, n: int, tol: float) -> float:
+    """The largest angle (at most 0.5 rad) whose order-n Taylor remainder of
+    sin and cos, a^(n+1)/(n+1)!, times the lever stays below the tolerance."""
+    return min(0.5, (math.factorial(n + 1) * tol / lever) ** (1.0 / (n + 1)))
+
+
+def circle_lever(scene: Scene) -> float:
+    """The largest radius of a circle that does not turn (no orbit, or no
+    spin): the partner that adds most to the lever of a turning body whose
+    partner does not turn (0 when the scene has none)."""
+    return max((b.radius for b in scene.bodies if not b.polygon and not b.turns), default=0.0)
+
+
+def body_window(b: Body, scene: Scene, circles: float) -> float:
+    """A body's own window angle, used when it turns and its partner does
+    not: the Taylor remainder of the pair's gap is then at most its own
+    bounding radius (a vertex's orbit against the partner's edge line; the
+    partner's vertex against its own turning edge, near contact) plus a
+    circle partner's radius, times a^(n+1)/(n+1)!.  0 for a body that can
+    never turn (the runtime never uses it)."""
+    if not b.may_turn:
+        return 0.0
+    return _angle_for(b.bound + circles, scene.taylor_order, scene.tolerance)
 
 
 @dataclass(frozen=True)
@@ -777,15 +801,16 @@ def _r(x: float) -> str:
     return repr(float(x))
 
 
-def body_lines(b: Body, large: bool) -> list[str]:
-    """A body's `body` line and its `v` lines in the flat format."""
+def body_lines(b: Body, large: bool, window: float, covers: list[int] | None = None) -> list[str]:
+    """A body's `body` line and its `v` lines in the flat format (covers:
+    per edge, the fixed body covering it, -1 none: covered_edges)."""
     out = []
     inv_m = 0.0 if b.fixed else 1.0 / b.mass
     inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
     (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
     reals = " ".join(map(repr, map(float, (inv_m, inv_i, b.restitution, b.friction, px, py, vx, vy, ax, ay,
                                             b.angle, b.angular_velocity, b.radius, b.orbit_radius,
-                                            b.orbit_angle, b.bound))))
+                                            b.orbit_angle, b.bound, window))))
     out.append(f"body {'1' if b.polygon else '0'} {'1' if b.fixed else '0'} {reals} "
                f"{'1' if large else '0'} {len(b.vertices)}")
     n = len(b.vertices)
@@ -797,11 +822,82 @@ def body_lines(b: Body, large: bool) -> list[str]:
         tx, ty = ex / ln, ey / ln
         out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
                              _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
-                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny),
+                             str(covers[k] if covers else -1)]))
     return out
 
 
-def _circle_line(b: Body, large: bool) -> str:
+def _static(b: Body) -> bool:
+    return b.fixed and b.velocity == (0.0, 0.0) and b.acceleration == (0.0, 0.0) and b.angular_velocity == 0.0
+
+
+def _world_vertices(b: Body) -> list[tuple[float, float]]:
+    c, s = math.cos(b.angle), math.sin(b.angle)
+    px, py = b.position
+    return [(px + c * x - s * y, py + s * x + c * y) for x, y in b.vertices]
+
+
+def _edges(pts: list[tuple[float, float]]) -> list[tuple[float, float, float]]:
+    """(nx, ny, h) per edge of a counter-clockwise polygon: the outward unit
+    normal and the line's offset, n . p <= h inside."""
+    out = []
+    n = len(pts)
+    for k in range(n):
+        (x0, y0), (x1, y1) = pts[k], pts[(k + 1) % n]
+        ln = math.hypot(x1 - x0, y1 - y0)
+        nx, ny = (y1 - y0) / ln, -(x1 - x0) / ln
+        out.append((nx, ny, nx * x0 + ny * y0))
+    return out
+
+
+def covered_edges(scene: Scene) -> dict[int, list[int]]:
+    """The faces of fixed polygons that no body can touch: edge k of a fixed,
+    unmoving polygon P is covered by another fixed, unmoving polygon Q (the
+    first by index) when both its ends lie in Q (within the tolerance) and Q
+    goes on past the edge on its outside: at each end, every edge of Q whose
+    line it lies on (within the tolerance) faces away from the edge's
+    outward normal (dot product <= 1e-9).  Q convex: the edge and the space
+    just outside it are inside Q, so a body touching it would overlap Q.  (A
+    wall's bottom face lying flush on a floor: a corner pinched between it
+    and the floor's top would meet both faces at one instant, forever.)
+    Returns {body index: per edge, Q's index or -1} for the bodies that have
+    a covered edge."""
+    tol = scene.tolerance
+    static = [(k, b) for k, b in enumerate(scene.bodies) if b.polygon and _static(b)]
+    if len(static) < 2:
+        return {}
+    shapes = {k: (_world_vertices(b), b) for k, b in static}
+    lines = {k: _edges(pts) for k, (pts, _) in shapes.items()}
+    out: dict[int, list[int]] = {}
+    for k, (pts, b) in shapes.items():
+        covers = [-1] * len(pts)
+        for e, (nx, ny, _) in enumerate(lines[k]):
+            ends = (pts[e], pts[(e + 1) % len(pts)])
+            for q, (_, bq) in shapes.items():
+                if q == k:
+                    continue
+                dx, dy = bq.position[0] - b.position[0], bq.position[1] - b.position[1]
+                reach = b.bound + bq.bound + tol
+                if dx * dx + dy * dy > reach * reach:
+                    continue
+                ok = True
+                for x, y in ends:
+                    for qx, qy, qh in lines[q]:
+                        d = qx * x + qy * y - qh
+                        if d > tol or (d >= -tol and qx * nx + qy * ny > 1e-9):
+                            ok = False
+                            break
+                    if not ok:
+                        break
+                if ok:
+                    covers[e] = q
+                    break
+        if any(c >= 0 for c in covers):
+            out[k] = covers
+    return out
+
+
+def _circle_line(b: Body, large: bool, window: float) -> str:
     """body_lines of a circle (it has no `v` lines), in one f-string: the
     same text, a third of the time for 10^5 disks (`!r` of a float is
     repr(float(x)); every field of a read Body is a float)."""
@@ -809,7 +905,7 @@ def _circle_line(b: Body, large: bool) -> str:
     (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
     return (f"body 0 {'1' if b.fixed else '0'} {inv_m!r} 0.0 {b.restitution!r} {b.friction!r} {px!r} {py!r} "
             f"{vx!r} {vy!r} {ax!r} {ay!r} {b.angle!r} {b.angular_velocity!r} {b.radius!r} {b.orbit_radius!r} "
-            f"{b.orbit_angle!r} {b.bound!r} {'1' if large else '0'} 0")
+            f"{b.orbit_angle!r} {b.bound!r} {float(window)!r} {'1' if large else '0'} 0")
 
 
 def compile_scene(scene: Scene) -> str:
@@ -829,11 +925,14 @@ def _compile_scene(scene: Scene) -> str:
            f"max_same_time {scene.max_same}",
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
-    for b, large in zip(scene.bodies, g.large):
+    circles = circle_lever(scene)
+    covered = covered_edges(scene)
+    for k, (b, large) in enumerate(zip(scene.bodies, g.large)):
+        window = body_window(b, scene, circles)
         if b.polygon:
-            out += body_lines(b, large)
+            out += body_lines(b, large, window, covered.get(k))
         else:
-            out.append(_circle_line(b, large))
+            out.append(_circle_line(b, large, window))
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

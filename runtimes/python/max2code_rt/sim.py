@@ -24,6 +24,9 @@ INPUT, COLLISION, STOP, LEAVE, CELL, HORIZON, FRAME = 0, 1, 2, 3, 4, 5, 6
 KIND_NAMES = ("input", "collision", "stop", "leave", "cell", "horizon", "frame")
 # contact features: circle-circle (also circle-vertex) and point-edge
 CC, PE = 0, 1
+# the most stages (a meeting of the bounds, a clear stretch, a Taylor window)
+# one prediction of a pair goes through before it leaves the rest to a horizon
+CHAIN = 8
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
@@ -37,7 +40,7 @@ class SimError(Exception):
 class Vertex:
     """One vertex of a polygon and the edge that starts at it (to the next
     vertex), in the body's frame: all precomputed by the scene compiler."""
-    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2", "nx", "ny")
+    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2", "nx", "ny", "cover")
     # lx, ly   m: the vertex about the centre of mass
     # rho, beta  m, rad: its polar form
     # psi      rad: angle of the edge's outward normal
@@ -45,17 +48,20 @@ class Vertex:
     # s1, s2   m: the edge's extent along its tangent (-ny, nx)
     # nx, ny   the edge's outward unit normal (cos psi, sin psi, but exact
     #          where the compiler's quotient is: (0, 1) for a level top face)
+    # cover    the fixed body that covers the edge (no body can touch it while
+    #          that one is there), -1: none
 
-    def __init__(self, vals):
+    def __init__(self, vals, cover: int):
         self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2, self.nx, self.ny = vals
+        self.cover = cover
 
 
 class Body:
     """A body's constants and its motion, stored as the state at its own
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
-                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
+                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -71,6 +77,7 @@ class Body:
     # r              m: circle radius (0 for polygons)
     # orbit, ophase  m, rad: orbit radius and phase (circles)
     # bound          m: radius of the bounding circle about the centre
+    # window         rad: its window angle when it turns and its partner does not (0: it never turns)
     # verts          list of Vertex (polygons), else empty
     # stamp          bumped when the motion changes (lazy invalidation)
     # cx, cy         grid cell (small bodies)
@@ -82,6 +89,8 @@ class Body:
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
     # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
     # island         the island's number (the index of its first sleeper), -1: awake
+    # wcells         a large body placed in the grid: the cells its box covers (x_lo, x_hi, y_lo, y_hi), else None
+    # seen           the mark of the last large_near that listed it
 
 
 class Stats:
@@ -228,19 +237,21 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.sup, b.sup_edge = -1, -1
     b.tx = b.ty = b.load = b.at = 0.0
     b.ang, b.om = num(), num()
-    b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
+    b.r, b.orbit, b.ophase, b.bound, b.window = num(), num(), num(), num(), num()
     b.large = integer() == 1
     nv = integer()
     b.verts = []
     for _ in range(nv):
         tk.word("v")
-        b.verts.append(Vertex([num() for _ in range(10)]))
+        b.verts.append(Vertex([num() for _ in range(10)], integer()))
     b.tb = 0.0
     b.stamp = 0
     b.cx = b.cy = 0
     b.gone = False
     b.asleep = False
     b.island = -1
+    b.wcells = None
+    b.seen = 0
     return b
 
 
@@ -318,7 +329,14 @@ class World:
         self.seq = 0
         self.stats = Stats()
         self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
-        self.large: list[Body] = [b for b in scene.bodies if b.large]
+        # large bodies: a fixed one that does not move is listed in every cell
+        # its box covers (walls); the others (moving, or movable) in `large`
+        self.walls: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
+        self.large: list[Body] = []
+        self.mark = 0
+        for b in scene.bodies:
+            if b.large:
+                self.place_large(b)
         self.time = 0.0             # s: the world's current time
         self.last_t = -1.0          # the instant of the last event handled, and how many came at it
         self.same = 0
@@ -407,6 +425,66 @@ class World:
                     if o is not b:
                         yield o
 
+    def place_large(self, b: Body) -> None:
+        """A large body into the grid's walls when it is fixed and does not
+        move (v = a = 0): its box (a polygon that does not turn: its
+        vertices at its time; else its centre +- bound) in cells, every cell
+        from cell_of(box's low corner) to cell_of(its high corner), each
+        cell's list in the order bodies are placed; else into `large`."""
+        if not (b.fixed and b.vx == 0.0 and b.vy == 0.0 and b.ax == 0.0 and b.ay == 0.0):
+            self.large.append(b)
+            return
+        if b.polygon and b.om == 0.0:
+            x0, y0 = self.point_at(b, b.verts[0], b.tb)
+            x1, y1 = x0, y0
+            for v in b.verts:
+                x, y = self.point_at(b, v, b.tb)
+                x0, x1, y0, y1 = min(x0, x), max(x1, x), min(y0, y), max(y1, y)
+        else:
+            x0, x1, y0, y1 = b.px - b.bound, b.px + b.bound, b.py - b.bound, b.py + b.bound
+        i0, j0 = self.cell_of(x0, y0)
+        i1, j1 = self.cell_of(x1, y1)
+        b.wcells = (i0, i1, j0, j1)
+        nx = self.s.nx
+        for jy in range(j0, j1 + 1):
+            for jx in range(i0, i1 + 1):
+                self.walls[jy * nx + jx].append(b)
+
+    def unplace_large(self, b: Body) -> None:
+        if b.wcells is None:
+            self.large.remove(b)
+            return
+        i0, i1, j0, j1 = b.wcells
+        nx = self.s.nx
+        for jy in range(j0, j1 + 1):
+            for jx in range(i0, i1 + 1):
+                self.walls[jy * nx + jx].remove(b)
+
+    def walls_in(self, b: Body, x_lo: int, x_hi: int, y_lo: int, y_hi: int, out: list) -> None:
+        """Append to out the placed large bodies listed in the cells x_lo..x_hi,
+        y_lo..y_hi (clamped to the grid, rows then columns), but b and those
+        already carrying the current mark, and mark them."""
+        s = self.s
+        mark = self.mark
+        for jy in range(max(y_lo, 0), min(y_hi, s.ny - 1) + 1):
+            for jx in range(max(x_lo, 0), min(x_hi, s.nx - 1) + 1):
+                for o in self.walls[jy * s.nx + jx]:
+                    if o.seen != mark and o is not b:
+                        o.seen = mark
+                        out.append(o)
+
+    def large_near(self, b: Body) -> list[Body]:
+        """The large bodies b predicts against: those placed in its 3x3 cells
+        and every one in `large`, each once, but b, in index order."""
+        self.mark += 1
+        out: list[Body] = []
+        self.walls_in(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1, out)
+        for o in self.large:
+            if o is not b:
+                out.append(o)
+        out.sort(key=lambda o: o.idx)
+        return out
+
     # ---- first valid root of one feature ----------------------------------
     @staticmethod
     def pressing(c: list[float], deg: int, d: float, s: float) -> bool:
@@ -474,18 +552,30 @@ class World:
             phase = 0.0
         return x, vx, b.ax, d, om, phase + HALF_PI, y, vy, b.ay, om, phase
 
+    @staticmethod
+    def centre_params(b: Body, now: float):
+        """circle_circle parameters of b's centre of rotation at time now, no
+        orbit: the centre of a bounding circle (circle_params of a polygon)."""
+        x, y, vx, vy, _ = World.state_at(b, now)
+        return x, vx, b.ax, 0.0, 0.0, HALF_PI, y, vy, b.ay, 0.0, 0.0
+
     def predict_cc(self, A: Body, B: Body, vb: Vertex | None, rb: float, now: float, w: float):
         """Circle of A against circle of B (vb None) or vertex vb of B (radius 0)."""
-        a, b_, c, d, e, f, m, n, o, p, q = self.circle_params(A, now, None)
-        g, h, i, j, k, l, r, s_, u, v, ww = self.circle_params(B, now, vb)
+        return self.circles_first(self.circle_params(A, now, None), A.r, self.circle_params(B, now, vb), rb, w)
+
+    def circles_first(self, pa, ra: float, pb, rb: float, w: float):
+        """The first contact within [0, w] of a circle of radius ra moving as
+        pa (circle_params) and one of radius rb moving as pb."""
+        a, b_, c, d, e, f, m, n, o, p, q = pa
+        g, h, i, j, k, l, r, s_, u, v, ww = pb
         # only differences of the centres' motions matter: circle 1 moves
         # relative to circle 2's centre of rotation, so that a common gravity
         # cancels (no_accel variants) and far from the origin nothing is lost
         args = (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
-                0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A.r, rb)
+                0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, ra, rb)
         coef = self.cc_coefficients(args)
         tol = self.s.tol
-        kappa = tol * (2.0 * (A.r + rb) + tol)
+        kappa = tol * (2.0 * (ra + rb) + tol)
         return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
 
     def cc_coefficients(self, args) -> list[float]:
@@ -497,14 +587,26 @@ class World:
         return self.cc_coef(*args)
 
     def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
-        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y."""
-        ed = Y.verts[j]
-        x1, y1, u1, v1, ang1 = self.state_at(X, now)
-        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
+        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y
+        (none while a fixed body covers the edge: its cover is not gone)."""
+        cover = Y.verts[j].cover
+        if cover >= 0 and not self.s.bodies[cover].gone:
+            return None
         if vx_ is None:
             rho, beta, rad = X.orbit, X.ophase, X.r
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
+        coef = self.pe_coefficients(X, Y, rho, beta, rad, j, now)
+        return self.pe_first(coef, X, Y, rho, beta, j, now, w)
+
+    def pe_coefficients(self, X: Body, Y: Body, rho: float, beta: float, rad: float, j: int,
+                        now: float) -> list[float]:
+        """The point_edge polynomial of a circle of radius rad whose centre
+        orbits X's centre at rho (phase beta in X's frame) against the line
+        of edge j of Y, in s = t - now (its c[0]: the gap now)."""
+        ed = Y.verts[j]
+        x1, y1, u1, v1, ang1 = self.state_at(X, now)
+        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
         phn = ang2 + ed.psi
         wr = X.om - Y.om
         phr = (ang1 + beta) - phn
@@ -521,12 +623,20 @@ class World:
             raise SimError("point_edge: the scene uses an effect the generated code leaves out")
         self.pe_counts[idx] += 1
         self.stats.features += 1
-        coef = self.pe_coef(*args)
+        return self.pe_coef(*args)
+
+    def pe_first(self, coef: list[float], X: Body, Y: Body, rho: float, beta: float, j: int, now: float,
+                 w: float):
+        """The first contact within [0, w] of pe_coefficients' polygon whose
+        point (X's centre, or rho, beta about it) lies on edge j's segment."""
+        ed = Y.verts[j]
         tol = self.s.tol
 
         def inside(s: float) -> bool:
             t = now + s
-            px, py = self.point_at(X, vx_, t)
+            px, py, _, _, pa = self.state_at(X, t)
+            if rho != 0.0:
+                px, py = px + rho * math.cos(pa + beta), py + rho * math.sin(pa + beta)
             qx, qy, _, _, qa = self.state_at(Y, t)
             th = qa + ed.psi
             along = (px - qx) * -math.sin(th) + (py - qy) * math.cos(th)
@@ -545,45 +655,77 @@ class World:
     # ---- pairs ------------------------------------------------------------
     def predict_pair(self, A: Body, B: Body, now: float) -> None:
         """Schedule the first contact of A and B after now, or a horizon
-        event where the Taylor polynomials of their turns stop being good."""
+        event where the Taylor polynomials of their turns stop being good.
+        Cheap steps chain: a later meeting of the bounds or a clear stretch
+        moves `now` on (up to CHAIN stages, at most one Taylor window)."""
         s = self.s
         if A.sup == B.idx or B.sup == A.idx:
             return      # the support's edge line separates them (both convex): only leaving ends it
         if (A.asleep and self.grounded(B)) or (B.asleep and self.grounded(A)):
             return      # a sleeper against a sleeper or an unmoving fixed body: nothing moves
         self.stats.pairs += 1
-        w = s.end - now
-        if not (w > 0.0):
-            return
-        if A.polygon or B.polygon:
-            # the bounding circles do not turn: until they touch, nothing can
-            meet = self.bounds_meet(A, B, now, w)
-            if meet is None:
+        ta, tb = self.turn_rate(A), self.turn_rate(B)
+        windowed = False
+        for _ in range(CHAIN):
+            w = s.end - now
+            if not (w > 0.0):
                 return
-            if meet > 0.0:
-                self.push_horizon(now + meet, A, B)
+            if A.polygon or B.polygon:
+                # bounds that do not turn: until they touch, nothing can
+                if B.polygon and ta > 0.0 and B.om == 0.0:
+                    meet = self.bound_polygon(A, B, now, w)
+                elif A.polygon and tb > 0.0 and A.om == 0.0:
+                    meet = self.bound_polygon(B, A, now, w)
+                else:
+                    meet = self.bounds_meet(A, B, now, w)
+                if meet is None:
+                    return
+                if meet > 0.0:
+                    now = now + meet
+                    continue
+            if ta > 0.0 and tb > 0.0:
+                w = min(w, s.alpha / (ta + tb))
+            elif ta > 0.0:
+                w = min(w, A.window / ta)
+            elif tb > 0.0:
+                w = min(w, B.window / tb)
+            if ta > 0.0 or tb > 0.0:
+                clear = self.clear_time(A, B, now)
+                if clear >= w:
+                    # apart all through the window, whatever the turns do: no
+                    # roots to solve until they may come within the tolerance
+                    now = now + clear
+                    continue
+            if windowed:
+                break       # one Taylor window per prediction: the next at a horizon
+            best = self.features(A, B, now, w)
+            if best is not None:
+                bodies = s.bodies
+                self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
                 return
-        turn = self.turn_rate(A) + self.turn_rate(B)
-        if turn > 0.0:
-            w = min(w, s.alpha / turn)
-        best = None   # (s, feature, a, b, i, j): the earliest contact so far
+            if ta == 0.0 and tb == 0.0:
+                return      # nothing turns: the window was the whole run
+            now = now + w
+            windowed = True
+        if now < s.end:
+            self.push_horizon(now, A, B)
+
+    def features(self, A: Body, B: Body, now: float, w: float):
+        """The earliest contact of A's and B's features within [0, w] after now:
+        (s, feature, a, b, i, j), or None."""
+        best = None
         if not A.polygon and not B.polygon:
             t = self.predict_cc(A, B, None, B.r, now, w)
             if t is not None:
                 best = (t, CC, A.idx, B.idx, -1, -1)
+        elif not A.polygon:
+            best = self.circle_polygon(A, B, now, w, None)
+        elif not B.polygon:
+            best = self.circle_polygon(B, A, now, w, None)
         else:
-            if not A.polygon:
-                best = self.circle_polygon(A, B, now, w, None)
-            elif not B.polygon:
-                best = self.circle_polygon(B, A, now, w, None)
-            else:
-                best = self.vertices_edges(A, B, now, w, None)
-                best = self.vertices_edges(B, A, now, w, best)
-        bodies = s.bodies
-        if best is not None:
-            self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
-        elif now + w < s.end:
-            self.push_horizon(now + w, A, B)
+            best = self.vertices_edges(A, B, now, w, None)
+            best = self.vertices_edges(B, A, now, w, best)
+        return best
 
     def bounds_meet(self, A: Body, B: Body, now: float, w: float) -> float | None:
         """When the bounding circles first touch within (0, w]: 0.0 when they
@@ -598,6 +740,110 @@ class World:
         if coef[0] <= tol * (2.0 * (A.bound + B.bound) + tol):
             return 0.0
         return smallest_root(coef, 0.0, w)
+
+    def bound_polygon(self, T: Body, P: Body, now: float, w: float) -> float | None:
+        """T turns, polygon P does not: when T's bounding circle (radius
+        T.bound about T's centre of rotation, which does not turn) first
+        touches P itself (its edges, then its vertices) within (0, w]; 0.0 when
+        no edge line of P has the circle beyond it by more than the tolerance
+        now (overlapping, or near a corner); None when they do not meet.
+        Exact: neither the circle nor P turns."""
+        tol = self.s.tol
+        coefs = []
+        apart = False
+        for j in range(len(P.verts)):
+            c = self.pe_coefficients(T, P, 0.0, 0.0, T.bound, j, now)
+            if c[0] > tol:
+                apart = True
+            coefs.append(c)
+        if not apart:
+            return 0.0
+        meet = None
+        for j in range(len(P.verts)):
+            t = self.pe_first(coefs[j], T, P, 0.0, 0.0, j, now, w)
+            if t is not None and (meet is None or t < meet):
+                meet = t
+        pt = self.centre_params(T, now)
+        for v in P.verts:
+            t = self.circles_first(pt, T.bound, self.circle_params(P, now, v), 0.0, w)
+            if t is not None and (meet is None or t < meet):
+                meet = t
+        return meet
+
+    def clear_time(self, A: Body, B: Body, now: float) -> float:
+        """How long A and B surely stay more than the tolerance apart, from
+        their gap g along a fixed unit axis n now (0 when not apart now).
+        Along n the gap changes by (dv . n) s + (da . n) s^2/2 from the
+        centres' relative motion (dv, da: the far body's velocity and
+        acceleration less the near one's, so that dv . n > 0 opens the gap)
+        and closes by at most spin s from the turns (spin: each turning
+        body's bound times its turn rate): it stays above the tolerance for
+        s below the positive root of |da . n|/2 s^2 + r s - (g - tol),
+        r = spin - dv . n (clear_root).  The axis: when one of them is a
+        polygon P that does not turn and the other, T, turns, each of P's
+        edge normals (fixed: P does not turn; g the gap of T's vertices, or
+        of its circle, beyond the edge's line), the largest of the times;
+        otherwise the line of the centres (g: the smallest projection of B
+        on it less the largest of A's, circles by their radius)."""
+        if B.polygon and B.om == 0.0 and self.turn_rate(A) > 0.0:
+            return self.clear_axes(A, B, now)
+        if A.polygon and A.om == 0.0 and self.turn_rate(B) > 0.0:
+            return self.clear_axes(B, A, now)
+        x1, y1, u1, v1, _ = self.state_at(A, now)
+        x2, y2, u2, v2, _ = self.state_at(B, now)
+        dx, dy = x2 - x1, y2 - y1
+        d = math.sqrt(dx * dx + dy * dy)
+        if not (d > 0.0):
+            return 0.0
+        nx, ny = dx / d, dy / d
+        hi = self.reach(A, nx, ny, now)
+        lo = -self.reach(B, -nx, -ny, now)
+        spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
+        tol = self.s.tol
+        along = self.clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
+                                math.fabs(nx * (B.ax - A.ax) + ny * (B.ay - A.ay)))
+        # and along the best separating axis, which may turn: the norms, |x| + |y|
+        anyway = self.clear_root(self.separation(A, B, now) - tol,
+                                 spin + math.fabs(u2 - u1) + math.fabs(v2 - v1),
+                                 math.fabs(B.ax - A.ax) + math.fabs(B.ay - A.ay))
+        return max(along, anyway)
+
+    def reach(self, b: Body, nx: float, ny: float, now: float) -> float:
+        """The largest projection of b on the unit axis (nx, ny) at now."""
+        if not b.polygon:
+            px, py = self.point_at(b, None, now)
+            return nx * px + ny * py + b.r
+        best = -math.inf
+        for v in b.verts:
+            px, py = self.point_at(b, v, now)
+            best = max(best, nx * px + ny * py)
+        return best
+
+    def clear_axes(self, T: Body, P: Body, now: float) -> float:
+        """clear_time along each edge normal of P (P does not turn, T does)."""
+        _, _, u1, v1, _ = self.state_at(T, now)
+        _, _, u2, v2, _ = self.state_at(P, now)
+        du, dv, dax, day = u1 - u2, v1 - v2, T.ax - P.ax, T.ay - P.ay
+        spin = T.bound * self.turn_rate(T)
+        best = 0.0
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, now)
+            c = self.clear_root(-self.reach(T, -ox, -oy, now) - off - self.s.tol, spin - (ox * du + oy * dv),
+                                math.fabs(ox * dax + oy * day))
+            best = max(best, c)
+        return best
+
+    @staticmethod
+    def clear_root(g: float, r: float, q: float) -> float:
+        """The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+        inf when it has none (r <= 0 and q = 0)."""
+        if not (g > 0.0):
+            return 0.0
+        if r > 0.0:
+            return 2.0 * g / (r + math.sqrt(r * r + 2.0 * q * g))
+        if q > 0.0:
+            return (math.sqrt(r * r + 2.0 * q * g) - r) / q
+        return math.inf
 
     @staticmethod
     def _better(best, t, feat, a, b, i, j):
@@ -623,8 +869,8 @@ class World:
         for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
             if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
-        for o in self.large:
-            if o is not b and o is not skip and not (b.fixed and o.fixed):
+        for o in self.large_near(b):
+            if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
         if b.sup >= 0:
@@ -844,24 +1090,24 @@ class World:
         return None
 
     def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
-        """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-        from A to B (both advanced to the contact time): 0.0 when the material
-        points do not approach and are not pressed together, else the
-        impulse j >= 0 (velocities changed).  Pressed together, they leave at
-        rest_speed at least, so time advances (docs/simulator.md)."""
+        """The impulse of a contact at (cx, cy) with normal (nx, ny) from A to
+        B (both advanced to the contact time): 0.0 when the material points
+        do not approach and are not pressed together, else the normal
+        impulse j (velocities changed).  A fast contact is frictionless and
+        leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one
+        hops (`hop`).  Never adds energy (docs/simulator.md, Impulse)."""
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
-        imp = 0.0
         rest = self.s.rest_speed
         press = self.pressed(A, B, nx, ny)
-        if vn < 0.0 or (press and vn < rest):
+        if press and -vn < rest:
+            return self.hop(A, B, cx, cy, nx, ny, vn)
+        imp = 0.0
+        if vn < 0.0:
             ran = (cx - A.px) * ny - (cy - A.py) * nx
             rbn = (cx - B.px) * ny - (cy - B.py) * nx
             k = A.inv_m + B.inv_m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
             e = A.e * B.e
-            if press:
-                sep = max(e * -vn, rest)
-            else:
-                sep = max(e * -vn, min(-vn, rest))
+            sep = max(e * -vn, min(-vn, rest))
             imp = (sep - vn) / k
             A.vx = A.vx - imp * A.inv_m * nx
             A.vy = A.vy - imp * A.inv_m * ny
@@ -870,6 +1116,64 @@ class World:
             B.vy = B.vy + imp * B.inv_m * ny
             B.om = B.om + imp * B.inv_i * rbn
         return imp
+
+    def hop(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float, vn: float) -> float:
+        """A slow pressed contact (pressed, -vn < rest_speed): the bodies
+        separate at hop along n, paid from their relative motion at the
+        contact, so the pair's energy stays what it was: hop = rest_speed
+        when kn Q pays it, else sqrt(kn Q), but at least rest_speed / 32 (the
+        one case that adds energy: a pair nearly at rest on each other).  With u = (vn, vt) the relative velocity of the material points
+        in the frame (n, t), t = (-ny, nx), and K the contact's 2x2 inverse
+        mass matrix (kn, knt; knt, kt), the pair's energy relative to its
+        centre is Q / 2, Q = u . K^-1 u; the new relative velocity is
+        (hop, x) with the same Q (x on vt's side of knt hop / kn), through
+        the impulse P = K^-1 (u' - u) (normal part jn, tangential jt).
+        Returns jn."""
+        tx, ty = -ny, nx
+        uax = A.vx - A.om * (cy - A.py)
+        uay = A.vy + A.om * (cx - A.px)
+        ubx = B.vx - B.om * (cy - B.py)
+        uby = B.vy + B.om * (cx - B.px)
+        vt = (ubx - uax) * tx + (uby - uay) * ty
+        ran = (cx - A.px) * ny - (cy - A.py) * nx
+        rbn = (cx - B.px) * ny - (cy - B.py) * nx
+        rat = (cx - A.px) * ty - (cy - A.py) * tx
+        rbt = (cx - B.px) * ty - (cy - B.py) * tx
+        m = A.inv_m + B.inv_m
+        kn = m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
+        kt = m + A.inv_i * rat * rat + B.inv_i * rbt * rbt
+        knt = A.inv_i * ran * rat + B.inv_i * rbn * rbt
+        det = kn * kt - knt * knt
+        q = (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det
+        cap = kn * q
+        rest = self.s.rest_speed
+        floor = 0.03125 * rest
+        if cap >= rest * rest:
+            hop = rest
+        elif cap >= floor * floor:
+            hop = math.sqrt(cap)
+        else:
+            hop = floor
+        d = det * (cap - hop * hop)
+        root = math.sqrt(d) if d > 0.0 else 0.0
+        mid = knt * hop
+        if vt * kn >= mid:
+            x = (mid + root) / kn
+        else:
+            x = (mid - root) / kn
+        dn = hop - vn
+        dt = x - vt
+        jn = (kt * dn - knt * dt) / det
+        jt = (kn * dt - knt * dn) / det
+        px = jn * nx + jt * tx
+        py = jn * ny + jt * ty
+        A.vx = A.vx - px * A.inv_m
+        A.vy = A.vy - py * A.inv_m
+        A.om = A.om - (jn * ran + jt * rat) * A.inv_i
+        B.vx = B.vx + px * B.inv_m
+        B.vy = B.vy + py * B.inv_m
+        B.om = B.om + (jn * rbn + jt * rbt) * B.inv_i
+        return jn
 
     # ---- sleeping islands ---------------------------------------------------
     def grounded(self, G: Body) -> bool:
@@ -990,8 +1294,8 @@ class World:
         for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
             if not (o.island == island and o.idx < b.idx) and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
-        for o in self.large:
-            if o is not b and not (o.island == island and o.idx < b.idx):
+        for o in self.large_near(b):
+            if not (o.island == island and o.idx < b.idx):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
 
@@ -1138,7 +1442,7 @@ class World:
         body.gone = True
         body.stamp += 1
         if body.large:
-            self.large.remove(body)
+            self.unplace_large(body)
         else:
             self.cell_remove(body)
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {k} -1 0 0 0 0 0\n")
@@ -1269,6 +1573,21 @@ class World:
         for o in self.candidates(body, x_lo, x_hi, y_lo, y_hi):
             if not (body.fixed and o.fixed):
                 self.predict_pair(body, o, ev.t)
+        # the walls of the new row or column but those also listed in the
+        # two it shares with the old neighbourhood (predicted at its last change)
+        self.mark += 1
+        news: list[Body] = []
+        if ev.axis == 0:
+            lo = body.cx - 1 if d > 0 else body.cx
+            self.walls_in(body, lo, lo + 1, body.cy - 1, body.cy + 1, [])
+        else:
+            lo = body.cy - 1 if d > 0 else body.cy
+            self.walls_in(body, body.cx - 1, body.cx + 1, lo, lo + 1, [])
+        self.walls_in(body, x_lo, x_hi, y_lo, y_hi, news)
+        news.sort(key=lambda o: o.idx)
+        if not body.fixed:
+            for o in news:
+                self.predict_pair(body, o, ev.t)
         self.schedule_cell(body, ev.t)
 
     def handle_horizon(self, ev: HorizonEvent) -> None:
@@ -1301,7 +1620,7 @@ class World:
             for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
                 if o.idx > b.idx and not (b.fixed and o.fixed):
                     self.predict_pair(b, o, 0.0)
-            for o in self.large:
+            for o in self.large_near(b):
                 if not (b.fixed and o.fixed):
                     self.predict_pair(b, o, 0.0)
             self.schedule_cell(b, 0.0)
@@ -1420,7 +1739,7 @@ class World:
         self.added += 1
         self.out.write(f"E add {_fmt(t)} {b.idx} -1 -1 -1 -1 0 0 0 0 0\n")
         if b.large:
-            self.large.append(b)
+            self.place_large(b)
             for o in s.bodies:
                 if not o.large and not o.gone and not (o.fixed and b.fixed):
                     self.predict_pair(o, b, t)
