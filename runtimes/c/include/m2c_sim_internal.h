@@ -302,6 +302,9 @@ struct m2c_world {
     void *user;
     size_t trig_cap;                    /* entries of vtrig and etrig */
     long long added;                    /* bodies added by add_body (a recording refuses them) */
+    double *scratch;                    /* bound_polygon: scratch_cap polynomials of M2C_MAX_DEGREE + 1 */
+    int *scratch_deg;                   /* and their degrees */
+    size_t scratch_cap;
     int broken;                         /* an error stopped the world */
     jmp_buf fail;                       /* where the current API call catches an error */
     char err[M2C_WORLD_ERROR_MAX];

@@ -318,7 +318,8 @@ static void cell_add(sim *m, m2c_sim_body *b)
 typedef struct pe_check {
     sim *m;
     const m2c_sim_body *X, *Y;
-    const m2c_sim_vertex *vx;           /* X's vertex, NULL for X's circle */
+    const m2c_sim_vertex *vx;           /* X's vertex (its cos, sin cache), else NULL */
+    double rho, beta;                   /* m, rad: the point about X's centre (0: the centre) */
     const m2c_sim_vertex *ed;           /* the edge of Y */
     double now, tol;                    /* s, m */
 } pe_check;
@@ -328,8 +329,19 @@ static int inside(const pe_check *k, double s)
     if (k == NULL)
         return 1;
     double t = k->now + s;
-    double px, py;
-    point_at(k->m, k->X, k->vx, t, &px, &py);
+    motion p = state_at(k->X, t);
+    double px = p.x, py = p.y;
+    if (k->rho != 0.0) {
+        double pc, ps;
+        if (k->vx != NULL) {
+            trig(VTRIG(k->m, k->vx), p.ang + k->beta, &pc, &ps);
+        } else {
+            pc = cos(p.ang + k->beta);
+            ps = sin(p.ang + k->beta);
+        }
+        px = px + k->rho * pc;
+        py = py + k->rho * ps;
+    }
     motion q = state_at(k->Y, t);
     double c, sn;
     trig(ETRIG(k->m, k->ed), q.ang + k->ed->psi, &c, &sn);
@@ -455,6 +467,40 @@ static void circle_params(sim *m, const m2c_sim_body *b, double now, const m2c_s
     o[10] = phase;
 }
 
+/* circle_circle parameters of b's centre of rotation at time now, no
+ * orbit: the centre of a bounding circle (circle_params of a polygon). */
+static void centre_params(const m2c_sim_body *b, double now, double *o)
+{
+    motion q = state_at(b, now);
+    o[0] = q.x;
+    o[1] = q.vx;
+    o[2] = b->ax;
+    o[3] = 0.0;
+    o[4] = 0.0;
+    o[5] = HALF_PI;
+    o[6] = q.y;
+    o[7] = q.vy;
+    o[8] = b->ay;
+    o[9] = 0.0;
+    o[10] = 0.0;
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+ * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
+    /* only differences of the centres' motions matter: circle 1 moves
+     * relative to circle 2's centre of rotation */
+    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
+                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
+                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], ra, rb };
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = cc_coefficients(m, g, coef);
+    double tol = m->s->tol;
+    double kappa = tol * (2.0 * (ra + rb) + tol);
+    return first_contact(coef, deg, w, kappa, NULL, out);
+}
+
 /* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
 static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, const m2c_sim_vertex *vb, double rb,
                       double now, double w, double *out)
@@ -462,36 +508,18 @@ static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, cons
     double p1[11], p2[11];
     circle_params(m, A, now, NULL, p1);
     circle_params(m, B, now, vb, p2);
-    /* only differences of the centres' motions matter: circle 1 moves
-     * relative to circle 2's centre of rotation */
-    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
-                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
-                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], A->r, rb };
-    double coef[M2C_MAX_DEGREE + 1];
-    int deg = cc_coefficients(m, g, coef);
-    double tol = m->s->tol;
-    double kappa = tol * (2.0 * (A->r + rb) + tol);
-    return first_contact(coef, deg, w, kappa, NULL, out);
+    return circles_first(m, p1, A->r, p2, rb, w, out);
 }
 
-/* Point of X (circle centre with its radius, or vertex vx) against the line
- * of edge j of Y. */
-static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
-                      double now, double w, double *out)
+/* The point_edge polynomial (its degree; coef[0]: the gap now) of a circle
+ * of radius rad whose centre orbits X's centre at rho (phase beta in X's
+ * frame) against the line of edge j of Y, in s = t - now. */
+static int pe_coefficients(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, double rho, double beta,
+                           double rad, int32_t j, double now, double *coef)
 {
     const m2c_sim_vertex *ed = &Y->verts[j];
     motion q1 = state_at(X, now);
     motion q2 = state_at(Y, now);
-    double rho, beta, rad;
-    if (vx == NULL) {
-        rho = X->orbit;
-        beta = X->ophase;
-        rad = X->r;
-    } else {
-        rho = vx->rho;
-        beta = vx->beta;
-        rad = 0.0;
-    }
     double phn = q2.ang + ed->psi;
     double wr = X->om - Y->om;
     double phr = (q1.ang + beta) - phn;
@@ -511,10 +539,37 @@ static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, cons
         die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
     m->pe_counts[idx]++;
     m->stats.features++;
-    double coef[M2C_MAX_DEGREE + 1];
-    int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
-    pe_check chk = { m, X, Y, vx, ed, now, m->s->tol };
+    return point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of pe_coefficients'
+ * polynomial whose point (X's centre, or rho, beta about it; vx: X's vertex
+ * for its cos, sin cache, else NULL) lies on edge j's segment. */
+static int pe_first(sim *m, const double *coef, int deg, const m2c_sim_body *X, const m2c_sim_body *Y,
+                    const m2c_sim_vertex *vx, double rho, double beta, int32_t j, double now, double w, double *out)
+{
+    pe_check chk = { m, X, Y, vx, rho, beta, &Y->verts[j], now, m->s->tol };
     return first_contact(coef, deg, w, m->s->tol, &chk, out);
+}
+
+/* Point of X (circle centre with its radius, or vertex vx) against the line
+ * of edge j of Y. */
+static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
+                      double now, double w, double *out)
+{
+    double rho, beta, rad;
+    if (vx == NULL) {
+        rho = X->orbit;
+        beta = X->ophase;
+        rad = X->r;
+    } else {
+        rho = vx->rho;
+        beta = vx->beta;
+        rad = 0.0;
+    }
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = pe_coefficients(m, X, Y, rho, beta, rad, j, now, coef);
+    return pe_first(m, coef, deg, X, Y, vx, rho, beta, j, now, w, out);
 }
 
 /* ---- pairs -------------------------------------------------------------------------- */
@@ -560,6 +615,63 @@ static int bounds_meet(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, dou
     return m2c_smallest_root(coef, deg, 0.0, w, meet) == 1;
 }
 
+/* T turns, polygon P does not: when T's bounding circle (radius T->bound
+ * about T's centre of rotation, which does not turn) first touches P itself
+ * (its edges, then its vertices) within (0, w]: 1 with *meet = 0 when no
+ * edge line of P has the circle beyond it by more than the tolerance now
+ * (overlapping, or near a corner), 1 with the time when it touches later,
+ * 0 when they do not meet.  Exact: neither the circle nor P turns. */
+static int bound_polygon(sim *m, const m2c_sim_body *T, const m2c_sim_body *P, double now, double w, double *meet)
+{
+    enum { ROW = M2C_MAX_DEGREE + 1 };
+    double tol = m->s->tol;
+    int32_t n = P->nverts;
+    if ((size_t)n > m->scratch_cap) {
+        /* every edge's polynomial is kept until the overlap test has seen them all */
+        double *more = realloc(m->scratch, (size_t)n * ROW * sizeof *more);
+        if (more != NULL)
+            m->scratch = more;
+        int *degs = realloc(m->scratch_deg, (size_t)n * sizeof *degs);
+        if (degs != NULL)
+            m->scratch_deg = degs;
+        if (more == NULL || degs == NULL)
+            die(m, "out of memory (bound_polygon)");
+        m->scratch_cap = (size_t)n;
+    }
+    double *coefs = m->scratch;
+    int *deg = m->scratch_deg;
+    int apart = 0;
+    for (int32_t j = 0; j < n; j++) {
+        deg[j] = pe_coefficients(m, T, P, 0.0, 0.0, T->bound, j, now, &coefs[(size_t)j * ROW]);
+        if (coefs[(size_t)j * ROW] > tol)
+            apart = 1;
+    }
+    if (!apart) {
+        *meet = 0.0;
+        return 1;
+    }
+    int have = 0;
+    double best = 0.0, t = 0.0;
+    for (int32_t j = 0; j < n; j++) {
+        if (pe_first(m, &coefs[(size_t)j * ROW], deg[j], T, P, NULL, 0.0, 0.0, j, now, w, &t)
+            && (!have || t < best)) {
+            have = 1;
+            best = t;
+        }
+    }
+    double pt[11], pv[11];
+    centre_params(T, now, pt);
+    for (int32_t k = 0; k < n; k++) {
+        circle_params(m, P, now, &P->verts[k], pv);
+        if (circles_first(m, pt, T->bound, pv, 0.0, w, &t) && (!have || t < best)) {
+            have = 1;
+            best = t;
+        }
+    }
+    *meet = best;
+    return have;
+}
+
 static void circle_polygon(sim *m, const m2c_sim_body *C, const m2c_sim_body *P, double now, double w, best *bs)
 {
     double t = 0.0;
@@ -600,9 +712,16 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     if (!(w > 0.0))
         return;
     if (A->polygon || B->polygon) {
-        /* the bounding circles do not turn: until they touch, nothing can */
+        /* a bound that does not turn: until it touches, nothing can */
         double meet = 0.0;
-        if (!bounds_meet(m, A, B, now, w, &meet))
+        int met;
+        if (B->polygon && turn_rate(A) > 0.0 && B->om == 0.0)
+            met = bound_polygon(m, A, B, now, w, &meet);
+        else if (A->polygon && turn_rate(B) > 0.0 && A->om == 0.0)
+            met = bound_polygon(m, B, A, now, w, &meet);
+        else
+            met = bounds_meet(m, A, B, now, w, &meet);
+        if (!met)
             return;
         if (meet > 0.0) {
             push_horizon(m, now + meet, A, B);
@@ -2119,6 +2238,8 @@ void m2c_sim_close(sim *m)
     free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
+    free(m->scratch);
+    free(m->scratch_deg);
     m2c_sim_scene_free(m->s);
     m->s = NULL;
 }
