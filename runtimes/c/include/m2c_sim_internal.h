@@ -41,6 +41,7 @@ typedef struct m2c_sim_body {
     double r;               /* m: circle radius (0 for polygons) */
     double orbit, ophase;   /* m, rad: orbit radius and phase (circles) */
     double bound;           /* m: radius of the bounding circle about the centre */
+    double window;          /* rad: its window angle when it turns and its partner does not (0: it never turns) */
     double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
     unsigned char polygon, fixed, large;
     double e;               /* restitution, 0..1 */

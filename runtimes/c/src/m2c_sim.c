@@ -728,9 +728,15 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
             return;
         }
     }
-    double turn = turn_rate(A) + turn_rate(B);
-    if (turn > 0.0) {
-        double x = s->alpha / turn;
+    double ta = turn_rate(A), tb = turn_rate(B);
+    if (ta > 0.0 || tb > 0.0) {
+        double x;
+        if (ta > 0.0 && tb > 0.0)
+            x = s->alpha / (ta + tb);
+        else if (ta > 0.0)
+            x = A->window / ta;         /* only A turns: its own lever */
+        else
+            x = B->window / tb;
         if (x < w)                      /* Python's min(w, x) */
             w = x;
     }

@@ -157,6 +157,7 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **ve
     b->orbit = num(r);
     b->ophase = num(r);
     b->bound = num(r);
+    b->window = num(r);
     b->large = integer(r) == 1;
     b->nverts = count(r, 1 << 20);
     b->tb = 0.0;
