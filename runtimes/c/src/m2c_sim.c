@@ -17,6 +17,9 @@
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
+/* the most stages (a meeting of the bounds, a clear stretch, a Taylor window)
+ * one prediction of a pair goes through before it leaves the rest to a horizon */
+enum { CHAIN = 8 };
 
 typedef m2c_sim_stats stats;
 typedef struct m2c_world sim;
@@ -73,6 +76,18 @@ static inline void trig(m2c_sim_trig *k, double a, double *c, double *s)
     k->c = *c;
     k->s = *s;
     k->valid = 1;
+}
+
+/* Python's max(a, b) and min(a, b): the first unless the second is larger
+ * (smaller). */
+static inline double py_max(double a, double b)
+{
+    return b > a ? b : a;
+}
+
+static inline double py_min(double a, double b)
+{
+    return b < a ? b : a;
 }
 
 #define VTRIG(m, v) (&(m)->vtrig[(v) - (m)->s->verts])
@@ -698,8 +713,107 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
 
 static inline int grounded(const m2c_sim_body *G);
 
+static void edge_line(const m2c_sim_body *P, int32_t j, double t, double *ox, double *oy, double *off);
+static double separation(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double t);
+
+/* The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+ * +inf when it has none (r <= 0 and q = 0). */
+static double clear_root(double g, double r, double q)
+{
+    if (!(g > 0.0))
+        return 0.0;
+    if (r > 0.0)
+        return 2.0 * g / (r + sqrt(r * r + 2.0 * q * g));
+    if (q > 0.0)
+        return (sqrt(r * r + 2.0 * q * g) - r) / q;
+    return INFINITY;
+}
+
+/* The largest projection of b on the unit axis (nx, ny) at now (m). */
+static double reach(sim *m, const m2c_sim_body *b, double nx, double ny, double now)
+{
+    double px, py;
+    if (!b->polygon) {
+        point_at(m, b, NULL, now, &px, &py);
+        return nx * px + ny * py + b->r;
+    }
+    double best = -INFINITY;
+    for (int32_t k = 0; k < b->nverts; k++) {
+        point_at(m, b, &b->verts[k], now, &px, &py);
+        best = py_max(best, nx * px + ny * py);
+    }
+    return best;
+}
+
+/* clear_time along each edge normal of P (P does not turn, T does). */
+static double clear_axes(sim *m, const m2c_sim_body *T, const m2c_sim_body *P, double now)
+{
+    motion q1 = state_at(T, now);
+    motion q2 = state_at(P, now);
+    double du = q1.vx - q2.vx, dv = q1.vy - q2.vy, dax = T->ax - P->ax, day = T->ay - P->ay;
+    double spin = T->bound * turn_rate(T);
+    double best = 0.0;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, now, &ox, &oy, &off);
+        double c = clear_root(-reach(m, T, -ox, -oy, now) - off - m->s->tol, spin - (ox * du + oy * dv),
+                              fabs(ox * dax + oy * day));
+        best = py_max(best, c);
+    }
+    return best;
+}
+
+/* How long (s) A and B surely stay more than the tolerance apart, from
+ * their gap along a fixed unit axis now (0 when not apart now): each edge
+ * normal of a polygon that does not turn against a body that does
+ * (clear_axes), else the line of the centres and, with the norms |x| + |y|,
+ * the best separating axis (docs/simulator.md, "Clear stretches"). */
+static double clear_time(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
+{
+    if (B->polygon && B->om == 0.0 && turn_rate(A) > 0.0)
+        return clear_axes(m, A, B, now);
+    if (A->polygon && A->om == 0.0 && turn_rate(B) > 0.0)
+        return clear_axes(m, B, A, now);
+    motion q1 = state_at(A, now);
+    motion q2 = state_at(B, now);
+    double dx = q2.x - q1.x, dy = q2.y - q1.y;
+    double d = sqrt(dx * dx + dy * dy);
+    if (!(d > 0.0))
+        return 0.0;
+    double nx = dx / d, ny = dy / d;
+    double hi = reach(m, A, nx, ny, now);
+    double lo = -reach(m, B, -nx, -ny, now);
+    double spin = A->bound * turn_rate(A) + B->bound * turn_rate(B);
+    double tol = m->s->tol;
+    double along = clear_root(lo - hi - tol, spin - (nx * (q2.vx - q1.vx) + ny * (q2.vy - q1.vy)),
+                              fabs(nx * (B->ax - A->ax) + ny * (B->ay - A->ay)));
+    /* and along the best separating axis, which may turn: the norms, |x| + |y| */
+    double anyway = clear_root(separation(m, A, B, now) - tol, spin + fabs(q2.vx - q1.vx) + fabs(q2.vy - q1.vy),
+                               fabs(B->ax - A->ax) + fabs(B->ay - A->ay));
+    return py_max(along, anyway);
+}
+
+/* The earliest contact of A's and B's features within [0, w] after now, into bs. */
+static void features(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, best *bs)
+{
+    if (!A->polygon && !B->polygon) {
+        double t = 0.0;
+        int found = predict_cc(m, A, B, NULL, B->r, now, w, &t);
+        better(bs, found, t, CC, A->idx, B->idx, -1, -1);
+    } else if (!A->polygon) {
+        circle_polygon(m, A, B, now, w, bs);
+    } else if (!B->polygon) {
+        circle_polygon(m, B, A, now, w, bs);
+    } else {
+        vertices_edges(m, A, B, now, w, bs);
+        vertices_edges(m, B, A, now, w, bs);
+    }
+}
+
 /* Schedules the first contact of A and B after now, or a horizon event
- * where the Taylor polynomials of their turns stop being good. */
+ * where the Taylor polynomials of their turns stop being good.  Cheap
+ * steps chain: a later meeting of the bounds or a clear stretch moves now
+ * on (up to CHAIN stages, at most one Taylor window). */
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     const m2c_sim_scene *s = m->s;
@@ -708,55 +822,62 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
         return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
-    double w = s->end - now;
-    if (!(w > 0.0))
-        return;
-    if (A->polygon || B->polygon) {
-        /* a bound that does not turn: until it touches, nothing can */
-        double meet = 0.0;
-        int met;
-        if (B->polygon && turn_rate(A) > 0.0 && B->om == 0.0)
-            met = bound_polygon(m, A, B, now, w, &meet);
-        else if (A->polygon && turn_rate(B) > 0.0 && A->om == 0.0)
-            met = bound_polygon(m, B, A, now, w, &meet);
-        else
-            met = bounds_meet(m, A, B, now, w, &meet);
-        if (!met)
+    double ta = turn_rate(A), tb = turn_rate(B);
+    int windowed = 0;
+    for (int stage = 0; stage < CHAIN; stage++) {
+        double w = s->end - now;
+        if (!(w > 0.0))
             return;
-        if (meet > 0.0) {
-            push_horizon(m, now + meet, A, B);
+        if (A->polygon || B->polygon) {
+            /* bounds that do not turn: until they touch, nothing can */
+            double meet = 0.0;
+            int met;
+            if (B->polygon && ta > 0.0 && B->om == 0.0)
+                met = bound_polygon(m, A, B, now, w, &meet);
+            else if (A->polygon && tb > 0.0 && A->om == 0.0)
+                met = bound_polygon(m, B, A, now, w, &meet);
+            else
+                met = bounds_meet(m, A, B, now, w, &meet);
+            if (!met)
+                return;
+            if (meet > 0.0) {
+                now = now + meet;
+                continue;
+            }
+        }
+        if (ta > 0.0 || tb > 0.0) {
+            double x;
+            if (ta > 0.0 && tb > 0.0)
+                x = s->alpha / (ta + tb);
+            else if (ta > 0.0)
+                x = A->window / ta;         /* only A turns: its own lever */
+            else
+                x = B->window / tb;
+            if (x < w)                      /* Python's min(w, x) */
+                w = x;
+            double clear = clear_time(m, A, B, now);
+            if (clear >= w) {
+                /* apart all through the window, whatever the turns do: no
+                 * roots to solve until they may come within the tolerance */
+                now = now + clear;
+                continue;
+            }
+        }
+        if (windowed)
+            break;          /* one Taylor window per prediction: the next at a horizon */
+        best bs = { 0, 0.0, 0, 0, 0, 0, 0 };
+        features(m, A, B, now, w, &bs);
+        if (bs.have) {
+            push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
             return;
         }
+        if (ta == 0.0 && tb == 0.0)
+            return;         /* nothing turns: the window was the whole run */
+        now = now + w;
+        windowed = 1;
     }
-    double ta = turn_rate(A), tb = turn_rate(B);
-    if (ta > 0.0 || tb > 0.0) {
-        double x;
-        if (ta > 0.0 && tb > 0.0)
-            x = s->alpha / (ta + tb);
-        else if (ta > 0.0)
-            x = A->window / ta;         /* only A turns: its own lever */
-        else
-            x = B->window / tb;
-        if (x < w)                      /* Python's min(w, x) */
-            w = x;
-    }
-    best bs = { 0, 0.0, 0, 0, 0, 0, 0 };
-    if (!A->polygon && !B->polygon) {
-        double t = 0.0;
-        int found = predict_cc(m, A, B, NULL, B->r, now, w, &t);
-        better(&bs, found, t, CC, A->idx, B->idx, -1, -1);
-    } else if (!A->polygon) {
-        circle_polygon(m, A, B, now, w, &bs);
-    } else if (!B->polygon) {
-        circle_polygon(m, B, A, now, w, &bs);
-    } else {
-        vertices_edges(m, A, B, now, w, &bs);
-        vertices_edges(m, B, A, now, w, &bs);
-    }
-    if (bs.have)
-        push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
-    else if (now + w < s->end)
-        push_horizon(m, now + w, A, B);
+    if (now < s->end)
+        push_horizon(m, now, A, B);
 }
 
 /* ---- per body ------------------------------------------------------------------------ */
@@ -1497,18 +1618,6 @@ static void handle_leave(sim *m, const m2c_sim_event *ev)
 }
 
 /* ---- overlap (a teleport's check) ------------------------------------------------------------ */
-
-/* Python's max(a, b) and min(a, b): the first unless the second is larger
- * (smaller). */
-static inline double py_max(double a, double b)
-{
-    return b > a ? b : a;
-}
-
-static inline double py_min(double a, double b)
-{
-    return b < a ? b : a;
-}
 
 /* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
  * line, (ox, oy) . point = off. */
