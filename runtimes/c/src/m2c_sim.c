@@ -1236,32 +1236,90 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
     return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
 }
 
-/* The frictionless impulse (kg m/s) of a contact at (cx, cy) with normal
- * (nx, ny) from A to B (both advanced to the contact time): 0 when the
- * material points do not approach and are not pressed together, else the
- * impulse j >= 0 (velocities changed).  Pressed together, they leave at
- * rest_speed at least, so time advances (docs/simulator.md). */
+/* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
+ * at hop along n, paid from their relative motion at the contact, so the
+ * pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
+ * sqrt(kn Q), but at least rest_speed / 32.  u = (vn, vt) the relative
+ * velocity of the material points in the frame (n, t), t = (-ny, nx), K the
+ * contact's 2x2 inverse mass matrix (kn, knt; knt, kt), Q = u . K^-1 u; the
+ * new relative velocity is (hop, x) with the same Q, through the impulse
+ * P = K^-1 (u' - u).  Returns its normal part jn (kg m/s). */
+static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
+                  double vn)
+{
+    double tx = -ny, ty = nx;
+    double uax = A->vx - A->om * (cy - A->py);
+    double uay = A->vy + A->om * (cx - A->px);
+    double ubx = B->vx - B->om * (cy - B->py);
+    double uby = B->vy + B->om * (cx - B->px);
+    double vt = (ubx - uax) * tx + (uby - uay) * ty;
+    double ran = (cx - A->px) * ny - (cy - A->py) * nx;
+    double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
+    double rat = (cx - A->px) * ty - (cy - A->py) * tx;
+    double rbt = (cx - B->px) * ty - (cy - B->py) * tx;
+    double im = A->inv_m + B->inv_m;
+    double kn = im + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
+    double kt = im + A->inv_i * rat * rat + B->inv_i * rbt * rbt;
+    double knt = A->inv_i * ran * rat + B->inv_i * rbn * rbt;
+    double det = kn * kt - knt * knt;
+    double q = (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det;
+    double cap = kn * q;
+    double rest = m->s->rest_speed;
+    double floor_ = 0.03125 * rest;
+    double h;
+    if (cap >= rest * rest)
+        h = rest;
+    else if (cap >= floor_ * floor_)
+        h = sqrt(cap);
+    else
+        h = floor_;
+    double d = det * (cap - h * h);
+    double root = d > 0.0 ? sqrt(d) : 0.0;
+    double mid = knt * h;
+    double x;
+    if (vt * kn >= mid)
+        x = (mid + root) / kn;
+    else
+        x = (mid - root) / kn;
+    double dn = h - vn;
+    double dt = x - vt;
+    double jn = (kt * dn - knt * dt) / det;
+    double jt = (kn * dt - knt * dn) / det;
+    double px = jn * nx + jt * tx;
+    double py = jn * ny + jt * ty;
+    A->vx = A->vx - px * A->inv_m;
+    A->vy = A->vy - py * A->inv_m;
+    A->om = A->om - (jn * ran + jt * rat) * A->inv_i;
+    B->vx = B->vx + px * B->inv_m;
+    B->vy = B->vy + py * B->inv_m;
+    B->om = B->om + (jn * rbn + jt * rbt) * B->inv_i;
+    return jn;
+}
+
+/* The impulse (kg m/s) of a contact at (cx, cy) with normal (nx, ny) from A
+ * to B (both advanced to the contact time): 0 when the material points do
+ * not approach and are not pressed together, else the normal impulse j
+ * (velocities changed).  A fast contact is frictionless and leaves at
+ * sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
+ * Never adds energy (docs/simulator.md, Impulse). */
 static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                            double ny)
+                              double ny)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
-    double imp = 0.0;
     double rest = m->s->rest_speed;
     int press = pressed(A, B, nx, ny);
-    if (vn < 0.0 || (press && vn < rest)) {
+    if (press && -vn < rest)
+        return hop(m, A, B, cx, cy, nx, ny, vn);
+    double imp = 0.0;
+    if (vn < 0.0) {
         double ran = (cx - A->px) * ny - (cy - A->py) * nx;
         double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
         double k = A->inv_m + B->inv_m + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
         double e = A->e * B->e;
         double evn = e * -vn;
-        double sep;
-        if (press) {
-            sep = rest > evn ? rest : evn;                                  /* Python's max(e * -vn, rest) */
-        } else {
-            double nvn = -vn;
-            double lim = rest < nvn ? rest : nvn;                           /* Python's min(-vn, rest) */
-            sep = lim > evn ? lim : evn;                                    /* Python's max(e * -vn, lim) */
-        }
+        double nvn = -vn;
+        double lim = rest < nvn ? rest : nvn;                               /* Python's min(-vn, rest) */
+        double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
         imp = (sep - vn) / k;
         A->vx = A->vx - imp * A->inv_m * nx;
         A->vy = A->vy - imp * A->inv_m * ny;
