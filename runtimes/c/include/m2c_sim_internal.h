@@ -25,6 +25,8 @@ typedef struct m2c_sim_vertex {
     double s1, s2;          /* m: the edge's extent along its tangent (-ny, nx) */
     double nx, ny;          /* the edge's outward unit normal (cos psi, sin psi, but exact where the
                                compiler's quotient is: (0, 1) for a level top face) */
+    int32_t cover;          /* the fixed body that covers the edge (no body can touch it while that one
+                               is there), -1: none */
 } m2c_sim_vertex;
 
 /* A body, laid out for the predictions: the first 64 bytes hold its motion,

@@ -568,10 +568,14 @@ static int pe_first(sim *m, const double *coef, int deg, const m2c_sim_body *X, 
 }
 
 /* Point of X (circle centre with its radius, or vertex vx) against the line
- * of edge j of Y. */
+ * of edge j of Y (none while a fixed body covers the edge: its cover is not
+ * gone). */
 static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
                       double now, double w, double *out)
 {
+    int32_t cover = Y->verts[j].cover;
+    if (cover >= 0 && !m->bodies[cover].gone)
+        return 0;
     double rho, beta, rad;
     if (vx == NULL) {
         rho = X->orbit;
