@@ -62,6 +62,9 @@ typedef struct m2c_sim_body {
     unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
     unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    unsigned char placed;   /* a large body listed in the grid's walls (cells wcells), not in the large list */
+    int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
+    unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -225,6 +228,12 @@ static inline const int32_t *m2c_sim_cell_items(const m2c_sim_cell *c)
     return c->cap != 0 ? c->u.items : c->u.in;
 }
 
+/* The large bodies listed in one cell (the walls), by index. */
+typedef struct m2c_sim_wall {
+    int32_t n, cap;
+    int32_t *items;
+} m2c_sim_wall;
+
 typedef struct m2c_sim_grid {
     m2c_sim_cell *cells;    /* nx * ny, row-major (cy * nx + cx) */
     int32_t nx, ny;
@@ -292,8 +301,13 @@ struct m2c_world {
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
     int n_cc, n_pe;
     m2c_sim_grid grid;
-    int32_t *large;                     /* the bodies outside the grid, by index */
+    int32_t *large;                     /* the large bodies not placed in the walls' cells, by index */
     int32_t nlarge;
+    m2c_sim_wall *walls;                /* nx * ny: the large fixed unmoving bodies listed per cell it covers */
+    unsigned long long mark;            /* the current large_near / walls_in mark */
+    int32_t *near;                      /* large_near's answer: nnear body indices (room for near_cap) */
+    int32_t nnear;
+    size_t near_cap;
     size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
     m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
     m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */

@@ -327,6 +327,153 @@ static void cell_add(sim *m, m2c_sim_body *b)
         die(m, "out of memory (grid cell)");
 }
 
+/* Appends idx to a wall list (cell); dies when out of memory. */
+static void wall_push(sim *m, m2c_sim_wall *c, int32_t idx)
+{
+    if (c->n == c->cap) {
+        int32_t cap = c->cap ? 2 * c->cap : 4;
+        int32_t *more = realloc(c->items, (size_t)cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (grid walls)");
+        c->items = more;
+        c->cap = cap;
+    }
+    c->items[c->n++] = idx;
+}
+
+static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x, double *y);
+
+/* A large body into the grid's walls when it is fixed and does not move
+ * (v = a = 0): its box (a polygon that does not turn: its vertices at its
+ * time; else its centre +- bound) in cells, every cell from cell_of(the
+ * box's low corner) to cell_of(its high corner); else into the large list. */
+static void place_large(sim *m, m2c_sim_body *b)
+{
+    if (!(b->fixed && b->vx == 0.0 && b->vy == 0.0 && b->ax == 0.0 && b->ay == 0.0)) {
+        m->large[m->nlarge++] = b->idx;
+        b->placed = 0;
+        return;
+    }
+    double x0, y0, x1, y1;
+    if (b->polygon && b->om == 0.0) {
+        point_at(m, b, &b->verts[0], b->tb, &x0, &y0);
+        x1 = x0;
+        y1 = y0;
+        for (int32_t k = 0; k < b->nverts; k++) {
+            double x, y;
+            point_at(m, b, &b->verts[k], b->tb, &x, &y);
+            x0 = py_min(x0, x);
+            x1 = py_max(x1, x);
+            y0 = py_min(y0, y);
+            y1 = py_max(y1, y);
+        }
+    } else {
+        x0 = b->px - b->bound;
+        x1 = b->px + b->bound;
+        y0 = b->py - b->bound;
+        y1 = b->py + b->bound;
+    }
+    int32_t i0, j0, i1, j1;
+    cell_of(m, x0, y0, &i0, &j0);
+    cell_of(m, x1, y1, &i1, &j1);
+    b->placed = 1;
+    b->wcells[0] = i0;
+    b->wcells[1] = i1;
+    b->wcells[2] = j0;
+    b->wcells[3] = j1;
+    int32_t nx = m->s->nx;
+    for (int32_t jy = j0; jy <= j1; jy++)
+        for (int32_t jx = i0; jx <= i1; jx++)
+            wall_push(m, &m->walls[(size_t)jy * (size_t)nx + (size_t)jx], b->idx);
+}
+
+/* A large body out of the walls' cells or the large list (the others keep their order). */
+static void unplace_large(sim *m, m2c_sim_body *b)
+{
+    if (!b->placed) {
+        int32_t q = 0;
+        while (m->large[q] != b->idx)
+            q++;
+        for (; q + 1 < m->nlarge; q++)
+            m->large[q] = m->large[q + 1];
+        m->nlarge--;
+        return;
+    }
+    int32_t nx = m->s->nx;
+    for (int32_t jy = b->wcells[2]; jy <= b->wcells[3]; jy++) {
+        for (int32_t jx = b->wcells[0]; jx <= b->wcells[1]; jx++) {
+            m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)nx + (size_t)jx];
+            int32_t q = 0;
+            while (c->items[q] != b->idx)
+                q++;
+            for (; q + 1 < c->n; q++)
+                c->items[q] = c->items[q + 1];
+            c->n--;
+        }
+    }
+    b->placed = 0;
+}
+
+/* Room for n more indices in m->near. */
+static void near_room(sim *m, int32_t n)
+{
+    if ((size_t)m->nnear + (size_t)n > m->near_cap) {
+        size_t cap = 2 * ((size_t)m->nnear + (size_t)n) + 16;
+        int32_t *more = realloc(m->near, cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (large bodies near)");
+        m->near = more;
+        m->near_cap = cap;
+    }
+}
+
+/* Appends to m->near (when keep) the placed large bodies listed in the cells
+ * x_lo..x_hi, y_lo..y_hi (clamped to the grid, rows then columns), but b and
+ * those already carrying the current mark, and marks them. */
+static void walls_in(sim *m, const m2c_sim_body *b, int32_t x_lo, int32_t x_hi, int32_t y_lo, int32_t y_hi,
+                     int keep)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
+    int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            for (int32_t k = 0; k < c->n; k++) {
+                m2c_sim_body *o = &m->bodies[c->items[k]];
+                if (o->seen != m->mark && o != b) {
+                    o->seen = m->mark;
+                    if (keep) {
+                        near_room(m, 1);
+                        m->near[m->nnear++] = o->idx;
+                    }
+                }
+            }
+        }
+    }
+}
+
+static int by_index(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The large bodies b predicts against, into m->near (m->nnear of them):
+ * those placed in its 3x3 cells and every one in the large list, each
+ * once, but b, in index order. */
+static void large_near(sim *m, const m2c_sim_body *b)
+{
+    m->mark++;
+    m->nnear = 0;
+    walls_in(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 1);
+    near_room(m, m->nlarge);
+    for (int32_t k = 0; k < m->nlarge; k++)
+        if (m->large[k] != b->idx)
+            m->near[m->nnear++] = m->large[k];
+    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+}
+
 /* ---- first valid root of one feature ----------------------------------------- */
 
 /* What point_edge's contact must satisfy: the point lies on the segment. */
@@ -1038,9 +1185,10 @@ static void schedule_support(sim *m, const m2c_sim_body *b)
 static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
 {
     predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
-    for (int32_t k = 0; k < m->nlarge; k++) {
-        const m2c_sim_body *o = &m->bodies[m->large[k]];
-        if (o != b && o != skip && !(b->fixed && o->fixed))
+    large_near(m, b);
+    for (int32_t k = 0; k < m->nnear; k++) {
+        const m2c_sim_body *o = &m->bodies[m->near[k]];
+        if (o != skip && !(b->fixed && o->fixed))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
@@ -1527,9 +1675,10 @@ static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t isl
             }
         }
     }
-    for (int32_t k = 0; k < m->nlarge; k++) {
-        const m2c_sim_body *o = &m->bodies[m->large[k]];
-        if (o != b && !(o->island == island && o->idx < b->idx))
+    large_near(m, b);
+    for (int32_t k = 0; k < m->nnear; k++) {
+        const m2c_sim_body *o = &m->bodies[m->near[k]];
+        if (!(o->island == island && o->idx < b->idx))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
@@ -1852,12 +2001,7 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
     body->gone = 1;
     m->stamp[body->idx]++;
     if (body->large) {
-        int32_t q = 0;
-        while (m->large[q] != body->idx)
-            q++;
-        for (; q + 1 < m->nlarge; q++)          /* the others keep their order */
-            m->large[q] = m->large[q + 1];
-        m->nlarge--;
+        unplace_large(m, body);
     } else {
         m2c_sim_grid_remove(&m->grid, m->bodies, body);
     }
@@ -1957,6 +2101,22 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
     cell_add(m, body);
     fetch_next(m);
     predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    /* the walls of the new row or column but those also listed in the two
+     * it shares with the old neighbourhood (predicted at its last change) */
+    m->mark++;
+    m->nnear = 0;
+    if (ev->u.cell.axis == 0) {
+        int32_t lo = d > 0 ? body->cx - 1 : body->cx;
+        walls_in(m, body, lo, lo + 1, body->cy - 1, body->cy + 1, 0);
+    } else {
+        int32_t lo = d > 0 ? body->cy - 1 : body->cy;
+        walls_in(m, body, body->cx - 1, body->cx + 1, lo, lo + 1, 0);
+    }
+    walls_in(m, body, x_lo, x_hi, y_lo, y_hi, 1);
+    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+    if (!body->fixed)
+        for (int32_t k = 0; k < m->nnear; k++)
+            predict_pair(m, body, &m->bodies[m->near[k]], ev->t);
     schedule_cell(m, body, ev->t);
 }
 
@@ -2014,8 +2174,9 @@ static void start(sim *m)
         if (b->large)
             continue;
         predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
-        for (int32_t l = 0; l < m->nlarge; l++) {
-            const m2c_sim_body *o = &bodies[m->large[l]];
+        large_near(m, b);
+        for (int32_t l = 0; l < m->nnear; l++) {
+            const m2c_sim_body *o = &bodies[m->near[l]];
             if (!(b->fixed && o->fixed))
                 predict_pair(m, b, o, 0.0);
         }
@@ -2172,9 +2333,12 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         die(m, "out of memory");
+    m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
+    if (m->walls == NULL)
+        die(m, "out of memory");
     for (int32_t k = 0; k < scene->nbodies; k++)
         if (scene->bodies[k].large)
-            m->large[m->nlarge++] = k;
+            place_large(m, &scene->bodies[k]);
     start(m);
     return 0;
 }
@@ -2373,7 +2537,7 @@ int m2c_sim_add_body(sim *m, const char *text, int *idx)
     p = m2c_sim_put_str(p, " -1 -1 -1 -1 0 0 0 0 0\n");
     m->out.n += (size_t)(p - start);
     if (b->large) {
-        m->large[m->nlarge++] = b->idx;
+        place_large(m, b);
         for (int32_t k = 0; k < s->nbodies; k++) {
             const m2c_sim_body *o = &m->bodies[k];
             if (!o->large && !o->gone && !(o->fixed && b->fixed))
@@ -2412,6 +2576,11 @@ void m2c_sim_close(sim *m)
     free(m->cc_counts);
     free(m->pe_counts);
     free(m->large);
+    if (m->walls != NULL && m->s != NULL)
+        for (size_t k = 0; k < (size_t)m->s->nx * (size_t)m->s->ny; k++)
+            free(m->walls[k].items);
+    free(m->walls);
+    free(m->near);
     free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
