@@ -185,8 +185,8 @@ def test_add_body_made_or_refused_as_the_reference(tmp_path):
     import sys
     sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
-    from max2code.sim.live import python_world
-    from max2code.sim.scene import body_lines, parse_scene
+    from max2code.sim.live import flat_body, python_world
+    from max2code.sim.scene import parse_scene
     raw = inputs_scene(2.0) | {"inputs": []}
     scene = parse_scene(json.dumps(raw))
     new = [{"name": "new1", "shape": "circle", "radius": 0.07, "mass": 0.5, "position": [1.0, 1.2],
@@ -196,7 +196,7 @@ def test_add_body_made_or_refused_as_the_reference(tmp_path):
            {"name": "bad", "shape": "circle", "radius": 0.2, "mass": 0.5, "position": [0.05, 1.0]},
            {"name": "ledge", "shape": "polygon", "fixed": True, "position": [1.5, 1.0],
             "vertices": [[-0.3, -0.02], [0.3, -0.02], [0.3, 0.02], [-0.3, 0.02]]}]
-    texts = ["\n".join(body_lines(parse_scene(json.dumps(raw | {"bodies": [b]})).bodies[0], False)) for b in new]
+    texts = [flat_body(scene, b).rstrip("\n") for b in new]     # as the live API makes them (the scene's window)
     ops = [(0.2, texts[0]), (0.7, texts[1]), (0.9, texts[2]), (1.0, texts[3]), (1.3, texts[0])]
     out = io.StringIO()
     w = python_world(scene, out)

@@ -25,6 +25,8 @@ typedef struct m2c_sim_vertex {
     double s1, s2;          /* m: the edge's extent along its tangent (-ny, nx) */
     double nx, ny;          /* the edge's outward unit normal (cos psi, sin psi, but exact where the
                                compiler's quotient is: (0, 1) for a level top face) */
+    int32_t cover;          /* the fixed body that covers the edge (no body can touch it while that one
+                               is there), -1: none */
 } m2c_sim_vertex;
 
 /* A body, laid out for the predictions: the first 64 bytes hold its motion,
@@ -41,6 +43,7 @@ typedef struct m2c_sim_body {
     double r;               /* m: circle radius (0 for polygons) */
     double orbit, ophase;   /* m, rad: orbit radius and phase (circles) */
     double bound;           /* m: radius of the bounding circle about the centre */
+    double window;          /* rad: its window angle when it turns and its partner does not (0: it never turns) */
     double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
     unsigned char polygon, fixed, large;
     double e;               /* restitution, 0..1 */
@@ -59,6 +62,9 @@ typedef struct m2c_sim_body {
     unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
     unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    unsigned char placed;   /* a large body listed in the grid's walls (cells wcells), not in the large list */
+    int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
+    unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
 } m2c_sim_body;
 
 /* A cache of cos and sin of one angle (rad). */
@@ -222,6 +228,12 @@ static inline const int32_t *m2c_sim_cell_items(const m2c_sim_cell *c)
     return c->cap != 0 ? c->u.items : c->u.in;
 }
 
+/* The large bodies listed in one cell (the walls), by index. */
+typedef struct m2c_sim_wall {
+    int32_t n, cap;
+    int32_t *items;
+} m2c_sim_wall;
+
 typedef struct m2c_sim_grid {
     m2c_sim_cell *cells;    /* nx * ny, row-major (cy * nx + cx) */
     int32_t nx, ny;
@@ -289,8 +301,13 @@ struct m2c_world {
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
     int n_cc, n_pe;
     m2c_sim_grid grid;
-    int32_t *large;                     /* the bodies outside the grid, by index */
+    int32_t *large;                     /* the large bodies not placed in the walls' cells, by index */
     int32_t nlarge;
+    m2c_sim_wall *walls;                /* nx * ny: the large fixed unmoving bodies listed per cell it covers */
+    unsigned long long mark;            /* the current large_near / walls_in mark */
+    int32_t *near;                      /* large_near's answer: nnear body indices (room for near_cap) */
+    int32_t nnear;
+    size_t near_cap;
     size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
     m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
     m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
@@ -302,6 +319,9 @@ struct m2c_world {
     void *user;
     size_t trig_cap;                    /* entries of vtrig and etrig */
     long long added;                    /* bodies added by add_body (a recording refuses them) */
+    double *scratch;                    /* bound_polygon: scratch_cap polynomials of M2C_MAX_DEGREE + 1 */
+    int *scratch_deg;                   /* and their degrees */
+    size_t scratch_cap;
     int broken;                         /* an error stopped the world */
     jmp_buf fail;                       /* where the current API call catches an error */
     char err[M2C_WORLD_ERROR_MAX];

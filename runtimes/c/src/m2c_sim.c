@@ -17,6 +17,9 @@
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
 enum { CC = 0, PE = 1 };                /* contact features: circle-circle (or -vertex), point-edge */
+/* the most stages (a meeting of the bounds, a clear stretch, a Taylor window)
+ * one prediction of a pair goes through before it leaves the rest to a horizon */
+enum { CHAIN = 8 };
 
 typedef m2c_sim_stats stats;
 typedef struct m2c_world sim;
@@ -73,6 +76,18 @@ static inline void trig(m2c_sim_trig *k, double a, double *c, double *s)
     k->c = *c;
     k->s = *s;
     k->valid = 1;
+}
+
+/* Python's max(a, b) and min(a, b): the first unless the second is larger
+ * (smaller). */
+static inline double py_max(double a, double b)
+{
+    return b > a ? b : a;
+}
+
+static inline double py_min(double a, double b)
+{
+    return b < a ? b : a;
 }
 
 #define VTRIG(m, v) (&(m)->vtrig[(v) - (m)->s->verts])
@@ -312,13 +327,161 @@ static void cell_add(sim *m, m2c_sim_body *b)
         die(m, "out of memory (grid cell)");
 }
 
+/* Appends idx to a wall list (cell); dies when out of memory. */
+static void wall_push(sim *m, m2c_sim_wall *c, int32_t idx)
+{
+    if (c->n == c->cap) {
+        int32_t cap = c->cap ? 2 * c->cap : 4;
+        int32_t *more = realloc(c->items, (size_t)cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (grid walls)");
+        c->items = more;
+        c->cap = cap;
+    }
+    c->items[c->n++] = idx;
+}
+
+static inline void point_at(sim *m, const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x, double *y);
+
+/* A large body into the grid's walls when it is fixed and does not move
+ * (v = a = 0): its box (a polygon that does not turn: its vertices at its
+ * time; else its centre +- bound) in cells, every cell from cell_of(the
+ * box's low corner) to cell_of(its high corner); else into the large list. */
+static void place_large(sim *m, m2c_sim_body *b)
+{
+    if (!(b->fixed && b->vx == 0.0 && b->vy == 0.0 && b->ax == 0.0 && b->ay == 0.0)) {
+        m->large[m->nlarge++] = b->idx;
+        b->placed = 0;
+        return;
+    }
+    double x0, y0, x1, y1;
+    if (b->polygon && b->om == 0.0) {
+        point_at(m, b, &b->verts[0], b->tb, &x0, &y0);
+        x1 = x0;
+        y1 = y0;
+        for (int32_t k = 0; k < b->nverts; k++) {
+            double x, y;
+            point_at(m, b, &b->verts[k], b->tb, &x, &y);
+            x0 = py_min(x0, x);
+            x1 = py_max(x1, x);
+            y0 = py_min(y0, y);
+            y1 = py_max(y1, y);
+        }
+    } else {
+        x0 = b->px - b->bound;
+        x1 = b->px + b->bound;
+        y0 = b->py - b->bound;
+        y1 = b->py + b->bound;
+    }
+    int32_t i0, j0, i1, j1;
+    cell_of(m, x0, y0, &i0, &j0);
+    cell_of(m, x1, y1, &i1, &j1);
+    b->placed = 1;
+    b->wcells[0] = i0;
+    b->wcells[1] = i1;
+    b->wcells[2] = j0;
+    b->wcells[3] = j1;
+    int32_t nx = m->s->nx;
+    for (int32_t jy = j0; jy <= j1; jy++)
+        for (int32_t jx = i0; jx <= i1; jx++)
+            wall_push(m, &m->walls[(size_t)jy * (size_t)nx + (size_t)jx], b->idx);
+}
+
+/* A large body out of the walls' cells or the large list (the others keep their order). */
+static void unplace_large(sim *m, m2c_sim_body *b)
+{
+    if (!b->placed) {
+        int32_t q = 0;
+        while (m->large[q] != b->idx)
+            q++;
+        for (; q + 1 < m->nlarge; q++)
+            m->large[q] = m->large[q + 1];
+        m->nlarge--;
+        return;
+    }
+    int32_t nx = m->s->nx;
+    for (int32_t jy = b->wcells[2]; jy <= b->wcells[3]; jy++) {
+        for (int32_t jx = b->wcells[0]; jx <= b->wcells[1]; jx++) {
+            m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)nx + (size_t)jx];
+            int32_t q = 0;
+            while (c->items[q] != b->idx)
+                q++;
+            for (; q + 1 < c->n; q++)
+                c->items[q] = c->items[q + 1];
+            c->n--;
+        }
+    }
+    b->placed = 0;
+}
+
+/* Room for n more indices in m->near. */
+static void near_room(sim *m, int32_t n)
+{
+    if ((size_t)m->nnear + (size_t)n > m->near_cap) {
+        size_t cap = 2 * ((size_t)m->nnear + (size_t)n) + 16;
+        int32_t *more = realloc(m->near, cap * sizeof *more);
+        if (more == NULL)
+            die(m, "out of memory (large bodies near)");
+        m->near = more;
+        m->near_cap = cap;
+    }
+}
+
+/* Appends to m->near (when keep) the placed large bodies listed in the cells
+ * x_lo..x_hi, y_lo..y_hi (clamped to the grid, rows then columns), but b and
+ * those already carrying the current mark, and marks them. */
+static void walls_in(sim *m, const m2c_sim_body *b, int32_t x_lo, int32_t x_hi, int32_t y_lo, int32_t y_hi,
+                     int keep)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
+    int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            for (int32_t k = 0; k < c->n; k++) {
+                m2c_sim_body *o = &m->bodies[c->items[k]];
+                if (o->seen != m->mark && o != b) {
+                    o->seen = m->mark;
+                    if (keep) {
+                        near_room(m, 1);
+                        m->near[m->nnear++] = o->idx;
+                    }
+                }
+            }
+        }
+    }
+}
+
+static int by_index(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The large bodies b predicts against, into m->near (m->nnear of them):
+ * those placed in its 3x3 cells and every one in the large list, each
+ * once, but b, in index order. */
+static void large_near(sim *m, const m2c_sim_body *b)
+{
+    m->mark++;
+    m->nnear = 0;
+    walls_in(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 1);
+    near_room(m, m->nlarge);
+    for (int32_t k = 0; k < m->nlarge; k++)
+        if (m->large[k] != b->idx)
+            m->near[m->nnear++] = m->large[k];
+    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+}
+
 /* ---- first valid root of one feature ----------------------------------------- */
 
 /* What point_edge's contact must satisfy: the point lies on the segment. */
 typedef struct pe_check {
     sim *m;
     const m2c_sim_body *X, *Y;
-    const m2c_sim_vertex *vx;           /* X's vertex, NULL for X's circle */
+    const m2c_sim_vertex *vx;           /* X's vertex (its cos, sin cache), else NULL */
+    double rho, beta;                   /* m, rad: the point about X's centre (0: the centre) */
     const m2c_sim_vertex *ed;           /* the edge of Y */
     double now, tol;                    /* s, m */
 } pe_check;
@@ -328,8 +491,19 @@ static int inside(const pe_check *k, double s)
     if (k == NULL)
         return 1;
     double t = k->now + s;
-    double px, py;
-    point_at(k->m, k->X, k->vx, t, &px, &py);
+    motion p = state_at(k->X, t);
+    double px = p.x, py = p.y;
+    if (k->rho != 0.0) {
+        double pc, ps;
+        if (k->vx != NULL) {
+            trig(VTRIG(k->m, k->vx), p.ang + k->beta, &pc, &ps);
+        } else {
+            pc = cos(p.ang + k->beta);
+            ps = sin(p.ang + k->beta);
+        }
+        px = px + k->rho * pc;
+        py = py + k->rho * ps;
+    }
     motion q = state_at(k->Y, t);
     double c, sn;
     trig(ETRIG(k->m, k->ed), q.ang + k->ed->psi, &c, &sn);
@@ -455,6 +629,40 @@ static void circle_params(sim *m, const m2c_sim_body *b, double now, const m2c_s
     o[10] = phase;
 }
 
+/* circle_circle parameters of b's centre of rotation at time now, no
+ * orbit: the centre of a bounding circle (circle_params of a polygon). */
+static void centre_params(const m2c_sim_body *b, double now, double *o)
+{
+    motion q = state_at(b, now);
+    o[0] = q.x;
+    o[1] = q.vx;
+    o[2] = b->ax;
+    o[3] = 0.0;
+    o[4] = 0.0;
+    o[5] = HALF_PI;
+    o[6] = q.y;
+    o[7] = q.vy;
+    o[8] = b->ay;
+    o[9] = 0.0;
+    o[10] = 0.0;
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+ * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
+    /* only differences of the centres' motions matter: circle 1 moves
+     * relative to circle 2's centre of rotation */
+    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
+                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
+                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], ra, rb };
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = cc_coefficients(m, g, coef);
+    double tol = m->s->tol;
+    double kappa = tol * (2.0 * (ra + rb) + tol);
+    return first_contact(coef, deg, w, kappa, NULL, out);
+}
+
 /* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
 static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, const m2c_sim_vertex *vb, double rb,
                       double now, double w, double *out)
@@ -462,36 +670,18 @@ static int predict_cc(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, cons
     double p1[11], p2[11];
     circle_params(m, A, now, NULL, p1);
     circle_params(m, B, now, vb, p2);
-    /* only differences of the centres' motions matter: circle 1 moves
-     * relative to circle 2's centre of rotation */
-    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
-                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
-                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], A->r, rb };
-    double coef[M2C_MAX_DEGREE + 1];
-    int deg = cc_coefficients(m, g, coef);
-    double tol = m->s->tol;
-    double kappa = tol * (2.0 * (A->r + rb) + tol);
-    return first_contact(coef, deg, w, kappa, NULL, out);
+    return circles_first(m, p1, A->r, p2, rb, w, out);
 }
 
-/* Point of X (circle centre with its radius, or vertex vx) against the line
- * of edge j of Y. */
-static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
-                      double now, double w, double *out)
+/* The point_edge polynomial (its degree; coef[0]: the gap now) of a circle
+ * of radius rad whose centre orbits X's centre at rho (phase beta in X's
+ * frame) against the line of edge j of Y, in s = t - now. */
+static int pe_coefficients(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, double rho, double beta,
+                           double rad, int32_t j, double now, double *coef)
 {
     const m2c_sim_vertex *ed = &Y->verts[j];
     motion q1 = state_at(X, now);
     motion q2 = state_at(Y, now);
-    double rho, beta, rad;
-    if (vx == NULL) {
-        rho = X->orbit;
-        beta = X->ophase;
-        rad = X->r;
-    } else {
-        rho = vx->rho;
-        beta = vx->beta;
-        rad = 0.0;
-    }
     double phn = q2.ang + ed->psi;
     double wr = X->om - Y->om;
     double phr = (q1.ang + beta) - phn;
@@ -511,10 +701,41 @@ static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, cons
         die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
     m->pe_counts[idx]++;
     m->stats.features++;
-    double coef[M2C_MAX_DEGREE + 1];
-    int deg = point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
-    pe_check chk = { m, X, Y, vx, ed, now, m->s->tol };
+    return point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of pe_coefficients'
+ * polynomial whose point (X's centre, or rho, beta about it; vx: X's vertex
+ * for its cos, sin cache, else NULL) lies on edge j's segment. */
+static int pe_first(sim *m, const double *coef, int deg, const m2c_sim_body *X, const m2c_sim_body *Y,
+                    const m2c_sim_vertex *vx, double rho, double beta, int32_t j, double now, double w, double *out)
+{
+    pe_check chk = { m, X, Y, vx, rho, beta, &Y->verts[j], now, m->s->tol };
     return first_contact(coef, deg, w, m->s->tol, &chk, out);
+}
+
+/* Point of X (circle centre with its radius, or vertex vx) against the line
+ * of edge j of Y (none while a fixed body covers the edge: its cover is not
+ * gone). */
+static int predict_pe(sim *m, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
+                      double now, double w, double *out)
+{
+    int32_t cover = Y->verts[j].cover;
+    if (cover >= 0 && !m->bodies[cover].gone)
+        return 0;
+    double rho, beta, rad;
+    if (vx == NULL) {
+        rho = X->orbit;
+        beta = X->ophase;
+        rad = X->r;
+    } else {
+        rho = vx->rho;
+        beta = vx->beta;
+        rad = 0.0;
+    }
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = pe_coefficients(m, X, Y, rho, beta, rad, j, now, coef);
+    return pe_first(m, coef, deg, X, Y, vx, rho, beta, j, now, w, out);
 }
 
 /* ---- pairs -------------------------------------------------------------------------- */
@@ -560,6 +781,63 @@ static int bounds_meet(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, dou
     return m2c_smallest_root(coef, deg, 0.0, w, meet) == 1;
 }
 
+/* T turns, polygon P does not: when T's bounding circle (radius T->bound
+ * about T's centre of rotation, which does not turn) first touches P itself
+ * (its edges, then its vertices) within (0, w]: 1 with *meet = 0 when no
+ * edge line of P has the circle beyond it by more than the tolerance now
+ * (overlapping, or near a corner), 1 with the time when it touches later,
+ * 0 when they do not meet.  Exact: neither the circle nor P turns. */
+static int bound_polygon(sim *m, const m2c_sim_body *T, const m2c_sim_body *P, double now, double w, double *meet)
+{
+    enum { ROW = M2C_MAX_DEGREE + 1 };
+    double tol = m->s->tol;
+    int32_t n = P->nverts;
+    if ((size_t)n > m->scratch_cap) {
+        /* every edge's polynomial is kept until the overlap test has seen them all */
+        double *more = realloc(m->scratch, (size_t)n * ROW * sizeof *more);
+        if (more != NULL)
+            m->scratch = more;
+        int *degs = realloc(m->scratch_deg, (size_t)n * sizeof *degs);
+        if (degs != NULL)
+            m->scratch_deg = degs;
+        if (more == NULL || degs == NULL)
+            die(m, "out of memory (bound_polygon)");
+        m->scratch_cap = (size_t)n;
+    }
+    double *coefs = m->scratch;
+    int *deg = m->scratch_deg;
+    int apart = 0;
+    for (int32_t j = 0; j < n; j++) {
+        deg[j] = pe_coefficients(m, T, P, 0.0, 0.0, T->bound, j, now, &coefs[(size_t)j * ROW]);
+        if (coefs[(size_t)j * ROW] > tol)
+            apart = 1;
+    }
+    if (!apart) {
+        *meet = 0.0;
+        return 1;
+    }
+    int have = 0;
+    double best = 0.0, t = 0.0;
+    for (int32_t j = 0; j < n; j++) {
+        if (pe_first(m, &coefs[(size_t)j * ROW], deg[j], T, P, NULL, 0.0, 0.0, j, now, w, &t)
+            && (!have || t < best)) {
+            have = 1;
+            best = t;
+        }
+    }
+    double pt[11], pv[11];
+    centre_params(T, now, pt);
+    for (int32_t k = 0; k < n; k++) {
+        circle_params(m, P, now, &P->verts[k], pv);
+        if (circles_first(m, pt, T->bound, pv, 0.0, w, &t) && (!have || t < best)) {
+            have = 1;
+            best = t;
+        }
+    }
+    *meet = best;
+    return have;
+}
+
 static void circle_polygon(sim *m, const m2c_sim_body *C, const m2c_sim_body *P, double now, double w, best *bs)
 {
     double t = 0.0;
@@ -586,8 +864,107 @@ static void vertices_edges(sim *m, const m2c_sim_body *A, const m2c_sim_body *B,
 
 static inline int grounded(const m2c_sim_body *G);
 
+static void edge_line(const m2c_sim_body *P, int32_t j, double t, double *ox, double *oy, double *off);
+static double separation(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double t);
+
+/* The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+ * +inf when it has none (r <= 0 and q = 0). */
+static double clear_root(double g, double r, double q)
+{
+    if (!(g > 0.0))
+        return 0.0;
+    if (r > 0.0)
+        return 2.0 * g / (r + sqrt(r * r + 2.0 * q * g));
+    if (q > 0.0)
+        return (sqrt(r * r + 2.0 * q * g) - r) / q;
+    return INFINITY;
+}
+
+/* The largest projection of b on the unit axis (nx, ny) at now (m). */
+static double reach(sim *m, const m2c_sim_body *b, double nx, double ny, double now)
+{
+    double px, py;
+    if (!b->polygon) {
+        point_at(m, b, NULL, now, &px, &py);
+        return nx * px + ny * py + b->r;
+    }
+    double best = -INFINITY;
+    for (int32_t k = 0; k < b->nverts; k++) {
+        point_at(m, b, &b->verts[k], now, &px, &py);
+        best = py_max(best, nx * px + ny * py);
+    }
+    return best;
+}
+
+/* clear_time along each edge normal of P (P does not turn, T does). */
+static double clear_axes(sim *m, const m2c_sim_body *T, const m2c_sim_body *P, double now)
+{
+    motion q1 = state_at(T, now);
+    motion q2 = state_at(P, now);
+    double du = q1.vx - q2.vx, dv = q1.vy - q2.vy, dax = T->ax - P->ax, day = T->ay - P->ay;
+    double spin = T->bound * turn_rate(T);
+    double best = 0.0;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        double ox, oy, off;
+        edge_line(P, j, now, &ox, &oy, &off);
+        double c = clear_root(-reach(m, T, -ox, -oy, now) - off - m->s->tol, spin - (ox * du + oy * dv),
+                              fabs(ox * dax + oy * day));
+        best = py_max(best, c);
+    }
+    return best;
+}
+
+/* How long (s) A and B surely stay more than the tolerance apart, from
+ * their gap along a fixed unit axis now (0 when not apart now): each edge
+ * normal of a polygon that does not turn against a body that does
+ * (clear_axes), else the line of the centres and, with the norms |x| + |y|,
+ * the best separating axis (docs/simulator.md, "Clear stretches"). */
+static double clear_time(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
+{
+    if (B->polygon && B->om == 0.0 && turn_rate(A) > 0.0)
+        return clear_axes(m, A, B, now);
+    if (A->polygon && A->om == 0.0 && turn_rate(B) > 0.0)
+        return clear_axes(m, B, A, now);
+    motion q1 = state_at(A, now);
+    motion q2 = state_at(B, now);
+    double dx = q2.x - q1.x, dy = q2.y - q1.y;
+    double d = sqrt(dx * dx + dy * dy);
+    if (!(d > 0.0))
+        return 0.0;
+    double nx = dx / d, ny = dy / d;
+    double hi = reach(m, A, nx, ny, now);
+    double lo = -reach(m, B, -nx, -ny, now);
+    double spin = A->bound * turn_rate(A) + B->bound * turn_rate(B);
+    double tol = m->s->tol;
+    double along = clear_root(lo - hi - tol, spin - (nx * (q2.vx - q1.vx) + ny * (q2.vy - q1.vy)),
+                              fabs(nx * (B->ax - A->ax) + ny * (B->ay - A->ay)));
+    /* and along the best separating axis, which may turn: the norms, |x| + |y| */
+    double anyway = clear_root(separation(m, A, B, now) - tol, spin + fabs(q2.vx - q1.vx) + fabs(q2.vy - q1.vy),
+                               fabs(B->ax - A->ax) + fabs(B->ay - A->ay));
+    return py_max(along, anyway);
+}
+
+/* The earliest contact of A's and B's features within [0, w] after now, into bs. */
+static void features(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, best *bs)
+{
+    if (!A->polygon && !B->polygon) {
+        double t = 0.0;
+        int found = predict_cc(m, A, B, NULL, B->r, now, w, &t);
+        better(bs, found, t, CC, A->idx, B->idx, -1, -1);
+    } else if (!A->polygon) {
+        circle_polygon(m, A, B, now, w, bs);
+    } else if (!B->polygon) {
+        circle_polygon(m, B, A, now, w, bs);
+    } else {
+        vertices_edges(m, A, B, now, w, bs);
+        vertices_edges(m, B, A, now, w, bs);
+    }
+}
+
 /* Schedules the first contact of A and B after now, or a horizon event
- * where the Taylor polynomials of their turns stop being good. */
+ * where the Taylor polynomials of their turns stop being good.  Cheap
+ * steps chain: a later meeting of the bounds or a clear stretch moves now
+ * on (up to CHAIN stages, at most one Taylor window). */
 static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     const m2c_sim_scene *s = m->s;
@@ -596,42 +973,62 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
         return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
-    double w = s->end - now;
-    if (!(w > 0.0))
-        return;
-    if (A->polygon || B->polygon) {
-        /* the bounding circles do not turn: until they touch, nothing can */
-        double meet = 0.0;
-        if (!bounds_meet(m, A, B, now, w, &meet))
+    double ta = turn_rate(A), tb = turn_rate(B);
+    int windowed = 0;
+    for (int stage = 0; stage < CHAIN; stage++) {
+        double w = s->end - now;
+        if (!(w > 0.0))
             return;
-        if (meet > 0.0) {
-            push_horizon(m, now + meet, A, B);
+        if (A->polygon || B->polygon) {
+            /* bounds that do not turn: until they touch, nothing can */
+            double meet = 0.0;
+            int met;
+            if (B->polygon && ta > 0.0 && B->om == 0.0)
+                met = bound_polygon(m, A, B, now, w, &meet);
+            else if (A->polygon && tb > 0.0 && A->om == 0.0)
+                met = bound_polygon(m, B, A, now, w, &meet);
+            else
+                met = bounds_meet(m, A, B, now, w, &meet);
+            if (!met)
+                return;
+            if (meet > 0.0) {
+                now = now + meet;
+                continue;
+            }
+        }
+        if (ta > 0.0 || tb > 0.0) {
+            double x;
+            if (ta > 0.0 && tb > 0.0)
+                x = s->alpha / (ta + tb);
+            else if (ta > 0.0)
+                x = A->window / ta;         /* only A turns: its own lever */
+            else
+                x = B->window / tb;
+            if (x < w)                      /* Python's min(w, x) */
+                w = x;
+            double clear = clear_time(m, A, B, now);
+            if (clear >= w) {
+                /* apart all through the window, whatever the turns do: no
+                 * roots to solve until they may come within the tolerance */
+                now = now + clear;
+                continue;
+            }
+        }
+        if (windowed)
+            break;          /* one Taylor window per prediction: the next at a horizon */
+        best bs = { 0, 0.0, 0, 0, 0, 0, 0 };
+        features(m, A, B, now, w, &bs);
+        if (bs.have) {
+            push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
             return;
         }
+        if (ta == 0.0 && tb == 0.0)
+            return;         /* nothing turns: the window was the whole run */
+        now = now + w;
+        windowed = 1;
     }
-    double turn = turn_rate(A) + turn_rate(B);
-    if (turn > 0.0) {
-        double x = s->alpha / turn;
-        if (x < w)                      /* Python's min(w, x) */
-            w = x;
-    }
-    best bs = { 0, 0.0, 0, 0, 0, 0, 0 };
-    if (!A->polygon && !B->polygon) {
-        double t = 0.0;
-        int found = predict_cc(m, A, B, NULL, B->r, now, w, &t);
-        better(&bs, found, t, CC, A->idx, B->idx, -1, -1);
-    } else if (!A->polygon) {
-        circle_polygon(m, A, B, now, w, &bs);
-    } else if (!B->polygon) {
-        circle_polygon(m, B, A, now, w, &bs);
-    } else {
-        vertices_edges(m, A, B, now, w, &bs);
-        vertices_edges(m, B, A, now, w, &bs);
-    }
-    if (bs.have)
-        push_collision(m, now + bs.s, bs.feat, &m->bodies[bs.a], &m->bodies[bs.b], bs.i, bs.j);
-    else if (now + w < s->end)
-        push_horizon(m, now + w, A, B);
+    if (now < s->end)
+        push_horizon(m, now, A, B);
 }
 
 /* ---- per body ------------------------------------------------------------------------ */
@@ -790,9 +1187,10 @@ static void schedule_support(sim *m, const m2c_sim_body *b)
 static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
 {
     predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
-    for (int32_t k = 0; k < m->nlarge; k++) {
-        const m2c_sim_body *o = &m->bodies[m->large[k]];
-        if (o != b && o != skip && !(b->fixed && o->fixed))
+    large_near(m, b);
+    for (int32_t k = 0; k < m->nnear; k++) {
+        const m2c_sim_body *o = &m->bodies[m->near[k]];
+        if (o != skip && !(b->fixed && o->fixed))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
@@ -992,32 +1390,90 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
     return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
 }
 
-/* The frictionless impulse (kg m/s) of a contact at (cx, cy) with normal
- * (nx, ny) from A to B (both advanced to the contact time): 0 when the
- * material points do not approach and are not pressed together, else the
- * impulse j >= 0 (velocities changed).  Pressed together, they leave at
- * rest_speed at least, so time advances (docs/simulator.md). */
+/* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
+ * at hop along n, paid from their relative motion at the contact, so the
+ * pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
+ * sqrt(kn Q), but at least rest_speed / 32.  u = (vn, vt) the relative
+ * velocity of the material points in the frame (n, t), t = (-ny, nx), K the
+ * contact's 2x2 inverse mass matrix (kn, knt; knt, kt), Q = u . K^-1 u; the
+ * new relative velocity is (hop, x) with the same Q, through the impulse
+ * P = K^-1 (u' - u).  Returns its normal part jn (kg m/s). */
+static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
+                  double vn)
+{
+    double tx = -ny, ty = nx;
+    double uax = A->vx - A->om * (cy - A->py);
+    double uay = A->vy + A->om * (cx - A->px);
+    double ubx = B->vx - B->om * (cy - B->py);
+    double uby = B->vy + B->om * (cx - B->px);
+    double vt = (ubx - uax) * tx + (uby - uay) * ty;
+    double ran = (cx - A->px) * ny - (cy - A->py) * nx;
+    double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
+    double rat = (cx - A->px) * ty - (cy - A->py) * tx;
+    double rbt = (cx - B->px) * ty - (cy - B->py) * tx;
+    double im = A->inv_m + B->inv_m;
+    double kn = im + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
+    double kt = im + A->inv_i * rat * rat + B->inv_i * rbt * rbt;
+    double knt = A->inv_i * ran * rat + B->inv_i * rbn * rbt;
+    double det = kn * kt - knt * knt;
+    double q = (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det;
+    double cap = kn * q;
+    double rest = m->s->rest_speed;
+    double floor_ = 0.03125 * rest;
+    double h;
+    if (cap >= rest * rest)
+        h = rest;
+    else if (cap >= floor_ * floor_)
+        h = sqrt(cap);
+    else
+        h = floor_;
+    double d = det * (cap - h * h);
+    double root = d > 0.0 ? sqrt(d) : 0.0;
+    double mid = knt * h;
+    double x;
+    if (vt * kn >= mid)
+        x = (mid + root) / kn;
+    else
+        x = (mid - root) / kn;
+    double dn = h - vn;
+    double dt = x - vt;
+    double jn = (kt * dn - knt * dt) / det;
+    double jt = (kn * dt - knt * dn) / det;
+    double px = jn * nx + jt * tx;
+    double py = jn * ny + jt * ty;
+    A->vx = A->vx - px * A->inv_m;
+    A->vy = A->vy - py * A->inv_m;
+    A->om = A->om - (jn * ran + jt * rat) * A->inv_i;
+    B->vx = B->vx + px * B->inv_m;
+    B->vy = B->vy + py * B->inv_m;
+    B->om = B->om + (jn * rbn + jt * rbt) * B->inv_i;
+    return jn;
+}
+
+/* The impulse (kg m/s) of a contact at (cx, cy) with normal (nx, ny) from A
+ * to B (both advanced to the contact time): 0 when the material points do
+ * not approach and are not pressed together, else the normal impulse j
+ * (velocities changed).  A fast contact is frictionless and leaves at
+ * sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
+ * Never adds energy (docs/simulator.md, Impulse). */
 static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                            double ny)
+                              double ny)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
-    double imp = 0.0;
     double rest = m->s->rest_speed;
     int press = pressed(A, B, nx, ny);
-    if (vn < 0.0 || (press && vn < rest)) {
+    if (press && -vn < rest)
+        return hop(m, A, B, cx, cy, nx, ny, vn);
+    double imp = 0.0;
+    if (vn < 0.0) {
         double ran = (cx - A->px) * ny - (cy - A->py) * nx;
         double rbn = (cx - B->px) * ny - (cy - B->py) * nx;
         double k = A->inv_m + B->inv_m + A->inv_i * ran * ran + B->inv_i * rbn * rbn;
         double e = A->e * B->e;
         double evn = e * -vn;
-        double sep;
-        if (press) {
-            sep = rest > evn ? rest : evn;                                  /* Python's max(e * -vn, rest) */
-        } else {
-            double nvn = -vn;
-            double lim = rest < nvn ? rest : nvn;                           /* Python's min(-vn, rest) */
-            sep = lim > evn ? lim : evn;                                    /* Python's max(e * -vn, lim) */
-        }
+        double nvn = -vn;
+        double lim = rest < nvn ? rest : nvn;                               /* Python's min(-vn, rest) */
+        double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
         imp = (sep - vn) / k;
         A->vx = A->vx - imp * A->inv_m * nx;
         A->vy = A->vy - imp * A->inv_m * ny;
@@ -1221,9 +1677,10 @@ static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t isl
             }
         }
     }
-    for (int32_t k = 0; k < m->nlarge; k++) {
-        const m2c_sim_body *o = &m->bodies[m->large[k]];
-        if (o != b && !(o->island == island && o->idx < b->idx))
+    large_near(m, b);
+    for (int32_t k = 0; k < m->nnear; k++) {
+        const m2c_sim_body *o = &m->bodies[m->near[k]];
+        if (!(o->island == island && o->idx < b->idx))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
@@ -1374,18 +1831,6 @@ static void handle_leave(sim *m, const m2c_sim_event *ev)
 }
 
 /* ---- overlap (a teleport's check) ------------------------------------------------------------ */
-
-/* Python's max(a, b) and min(a, b): the first unless the second is larger
- * (smaller). */
-static inline double py_max(double a, double b)
-{
-    return b > a ? b : a;
-}
-
-static inline double py_min(double a, double b)
-{
-    return b < a ? b : a;
-}
 
 /* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
  * line, (ox, oy) . point = off. */
@@ -1558,12 +2003,7 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
     body->gone = 1;
     m->stamp[body->idx]++;
     if (body->large) {
-        int32_t q = 0;
-        while (m->large[q] != body->idx)
-            q++;
-        for (; q + 1 < m->nlarge; q++)          /* the others keep their order */
-            m->large[q] = m->large[q + 1];
-        m->nlarge--;
+        unplace_large(m, body);
     } else {
         m2c_sim_grid_remove(&m->grid, m->bodies, body);
     }
@@ -1663,6 +2103,22 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
     cell_add(m, body);
     fetch_next(m);
     predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    /* the walls of the new row or column but those also listed in the two
+     * it shares with the old neighbourhood (predicted at its last change) */
+    m->mark++;
+    m->nnear = 0;
+    if (ev->u.cell.axis == 0) {
+        int32_t lo = d > 0 ? body->cx - 1 : body->cx;
+        walls_in(m, body, lo, lo + 1, body->cy - 1, body->cy + 1, 0);
+    } else {
+        int32_t lo = d > 0 ? body->cy - 1 : body->cy;
+        walls_in(m, body, body->cx - 1, body->cx + 1, lo, lo + 1, 0);
+    }
+    walls_in(m, body, x_lo, x_hi, y_lo, y_hi, 1);
+    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+    if (!body->fixed)
+        for (int32_t k = 0; k < m->nnear; k++)
+            predict_pair(m, body, &m->bodies[m->near[k]], ev->t);
     schedule_cell(m, body, ev->t);
 }
 
@@ -1720,8 +2176,9 @@ static void start(sim *m)
         if (b->large)
             continue;
         predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
-        for (int32_t l = 0; l < m->nlarge; l++) {
-            const m2c_sim_body *o = &bodies[m->large[l]];
+        large_near(m, b);
+        for (int32_t l = 0; l < m->nnear; l++) {
+            const m2c_sim_body *o = &bodies[m->near[l]];
             if (!(b->fixed && o->fixed))
                 predict_pair(m, b, o, 0.0);
         }
@@ -1878,9 +2335,12 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         die(m, "out of memory");
+    m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
+    if (m->walls == NULL)
+        die(m, "out of memory");
     for (int32_t k = 0; k < scene->nbodies; k++)
         if (scene->bodies[k].large)
-            m->large[m->nlarge++] = k;
+            place_large(m, &scene->bodies[k]);
     start(m);
     return 0;
 }
@@ -2079,7 +2539,7 @@ int m2c_sim_add_body(sim *m, const char *text, int *idx)
     p = m2c_sim_put_str(p, " -1 -1 -1 -1 0 0 0 0 0\n");
     m->out.n += (size_t)(p - start);
     if (b->large) {
-        m->large[m->nlarge++] = b->idx;
+        place_large(m, b);
         for (int32_t k = 0; k < s->nbodies; k++) {
             const m2c_sim_body *o = &m->bodies[k];
             if (!o->large && !o->gone && !(o->fixed && b->fixed))
@@ -2118,9 +2578,16 @@ void m2c_sim_close(sim *m)
     free(m->cc_counts);
     free(m->pe_counts);
     free(m->large);
+    if (m->walls != NULL && m->s != NULL)
+        for (size_t k = 0; k < (size_t)m->s->nx * (size_t)m->s->ny; k++)
+            free(m->walls[k].items);
+    free(m->walls);
+    free(m->near);
     free(m->stamp);
     free(m->vtrig);
     free(m->etrig);
+    free(m->scratch);
+    free(m->scratch_deg);
     m2c_sim_scene_free(m->s);
     m->s = NULL;
 }

@@ -130,8 +130,10 @@ void m2c_sim_scene_free(m2c_sim_scene *s)
 }
 
 /* A `body ...` line and its `v` lines into b (index i; b->verts is left
- * NULL), the vertices appended to *verts (*n of them, room for *cap). */
-static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **verts, size_t *n, size_t *cap)
+ * NULL), the vertices appended to *verts (*n of them, room for *cap); an
+ * edge's COVER is -1 or a body index below nbodies. */
+static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2c_sim_vertex **verts, size_t *n,
+                      size_t *cap)
 {
     word(r, "body");
     b->idx = i;
@@ -157,6 +159,7 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **ve
     b->orbit = num(r);
     b->ophase = num(r);
     b->bound = num(r);
+    b->window = num(r);
     b->large = integer(r) == 1;
     b->nverts = count(r, 1 << 20);
     b->tb = 0.0;
@@ -189,6 +192,10 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, m2c_sim_vertex **ve
         v->s2 = num(r);
         v->nx = num(r);
         v->ny = num(r);
+        long long cover = integer(r);
+        if (!r->failed && (cover < -1 || cover >= nbodies))
+            fail(r, "an edge's cover names no body");
+        v->cover = (int32_t)cover;
     }
 }
 
@@ -198,7 +205,7 @@ int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_ve
     reader rd = { text, "add_body", err, errlen, 0 };
     size_t n = 0, cap = 0;
     *verts = NULL;
-    read_body(&rd, b, idx, verts, &n, &cap);
+    read_body(&rd, b, idx, idx, verts, &n, &cap);
     if (!rd.failed) {
         const char *p = rd.p;
         while (*p && is_space(*p))
@@ -267,7 +274,7 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     }
     for (int32_t i = 0; i < s->nbodies && !r->failed; i++) {
         first[i] = nverts;
-        read_body(r, &s->bodies[i], i, &s->verts, &nverts, &capverts);
+        read_body(r, &s->bodies[i], i, s->nbodies, &s->verts, &nverts, &capverts);
     }
     word(r, "inputs");
     s->ninputs = count(r, 1 << 28);
