@@ -3,7 +3,7 @@
 //! body's next cell crossing.  Every prediction goes through the generated
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
-use super::motion::{point_at, state_at, turn_rate};
+use super::motion::{state_at, turn_rate};
 use super::out::{Res, SimError};
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
@@ -111,6 +111,14 @@ fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f6
         .ok_or_else(|| SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()))
 }
 
+/// circle_circle parameters of b's centre of rotation at time now, no
+/// orbit: the centre of a bounding circle (circle_params of a polygon).
+#[inline(always)]
+fn centre_params(b: &Body, now: f64) -> [f64; 11] {
+    let (x, y, vx, vy, _) = state_at(b, now);
+    [x, vx, b.ax, 0.0, 0.0, HALF_PI, y, vy, b.ay, 0.0, 0.0]
+}
+
 /// Circle of A against circle of B (vb None) or vertex vb of B (radius 0).
 #[allow(clippy::too_many_arguments)]
 fn predict_cc<E: Equations>(
@@ -123,8 +131,14 @@ fn predict_cc<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    let [a, b, c, d, e, f, m, n, o, p, qq] = circle_params(a_, now, None);
-    let [g, h, i, j, k, l, r, s, u, v, ww] = circle_params(b_, now, vb);
+    circles_first::<E>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
+}
+
+/// The first contact within [0, win] of a circle of radius ra moving as pa
+/// (circle_params) and one of radius rb moving as pb.
+fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
+    let [a, b, c, d, e, f, m, n, o, p, qq] = *pa;
+    let [g, h, i, j, k, l, r, s, u, v, ww] = *pb;
     // only differences of the centres' motions matter: circle 1 moves
     // relative to circle 2's centre of rotation
     let args = [
@@ -150,13 +164,13 @@ fn predict_cc<E: Equations>(
         0.0,
         v,
         ww,
-        a_.r,
+        ra,
         rb,
     ];
     let mut coef = [0.0; MAX_COEF];
     let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
     let tol = w.s.tol;
-    let kappa = tol * (2.0 * (a_.r + rb) + tol);
+    let kappa = tol * (2.0 * (ra + rb) + tol);
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
@@ -172,13 +186,34 @@ fn predict_pe<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    let ed = &w.s.verts[y_.vert(j)];
-    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
-    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
     let (rho, beta, rad) = match vx_ {
         None => (x_.orbit, x_.ophase, x_.r),
         Some(v) => (v.rho, v.beta, 0.0),
     };
+    let mut coef = [0.0; MAX_COEF];
+    let deg = pe_coefficients::<E>(w, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
+    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win))
+}
+
+/// The point_edge polynomial of a circle of radius rad whose centre orbits
+/// X's centre at rho (phase beta in X's frame) against the line of edge j
+/// of Y, in s = t - now (its c[0]: the gap now); returns its degree.
+#[allow(clippy::too_many_arguments)]
+fn pe_coefficients<E: Equations>(
+    w: &Space,
+    q: &mut Queue,
+    x_: &Body,
+    y_: &Body,
+    rho: f64,
+    beta: f64,
+    rad: f64,
+    j: usize,
+    now: f64,
+    coef: &mut [f64; MAX_COEF],
+) -> Res<usize> {
+    let ed = &w.s.verts[y_.vert(j)];
+    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
+    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
     let phn = ang2 + ed.psi;
     let wr = x_.om - y_.om;
     let phr = (ang1 + beta) - phn;
@@ -197,20 +232,46 @@ fn predict_pe<E: Equations>(
     }
     q.pe_counts[idx as usize] += 1;
     q.stats.features += 1;
-    let mut coef = [0.0; MAX_COEF];
-    let deg = E::pe_coefficients(&args, &mut coef)
-        .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))?;
+    E::pe_coefficients(&args, coef)
+        .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))
+}
+
+/// The first contact within [0, win] of pe_coefficients' polynomial whose
+/// point (X's centre, or rho, beta about it; `pt.2` the vertex, whose cos
+/// and sin are cached) lies on edge j's segment.
+#[allow(clippy::too_many_arguments)]
+fn pe_first(
+    w: &Space,
+    coef: &[f64; MAX_COEF],
+    deg: usize,
+    x_: &Body,
+    y_: &Body,
+    pt: (f64, f64, Option<&Vertex>),
+    j: usize,
+    now: f64,
+    win: f64,
+) -> Option<f64> {
+    let ed = &w.s.verts[y_.vert(j)];
     let tol = w.s.tol;
+    let (rho, beta, vx_) = pt;
     let inside = |s: f64| -> bool {
         let t = now + s;
-        let (px, py) = point_at(x_, vx_, t);
+        let (mut px, mut py, _, _, pa) = state_at(x_, t);
+        if rho != 0.0 {
+            let (c, s) = match vx_ {
+                Some(v) => v.at.of(pa + beta),
+                None => ((pa + beta).cos(), (pa + beta).sin()),
+            };
+            px = px + rho * c;
+            py = py + rho * s;
+        }
         let (qx, qy, _, _, qa) = state_at(y_, t);
         let th = qa + ed.psi;
         let (c, s) = ed.normal.of(th);
         let along = (px - qx) * -s + (py - qy) * c;
         ed.s1 - tol <= along && along <= ed.s2 + tol
     };
-    Ok(first_contact(&coef, deg, win, tol, inside))
+    first_contact(coef, deg, win, tol, inside)
 }
 
 /// A candidate contact: (s, feature, a, b, i, j).
@@ -273,6 +334,49 @@ fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now
         return Ok(Some(0.0));
     }
     Ok(smallest_root(&coef[..deg + 1], 0.0, win))
+}
+
+/// T turns, polygon P does not: when T's bounding circle (radius T.bound
+/// about T's centre of rotation, which does not turn) first touches P
+/// itself (its edges, then its vertices) within (0, win]; 0.0 when no edge
+/// line of P has the circle beyond it by more than the tolerance now
+/// (overlapping, or near a corner); None when they do not meet.  Exact:
+/// neither the circle nor P turns.
+fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+    let tol = w.s.tol;
+    let n = p_.nverts();
+    let mut coefs: Vec<([f64; MAX_COEF], usize)> = Vec::with_capacity(n);
+    let mut apart = false;
+    for j in 0..n {
+        let mut c = [0.0; MAX_COEF];
+        let deg = pe_coefficients::<E>(w, q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
+        if c[0] > tol {
+            apart = true;
+        }
+        coefs.push((c, deg));
+    }
+    if !apart {
+        return Ok(Some(0.0));
+    }
+    let mut meet: Option<f64> = None;
+    for (j, (c, deg)) in coefs.iter().enumerate() {
+        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win) {
+            if meet.is_none_or(|m| t < m) {
+                meet = Some(t);
+            }
+        }
+    }
+    let pt = centre_params(t_, now);
+    for k in 0..n {
+        let v = &w.s.verts[p_.vert(k)];
+        let t = circles_first::<E>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win)?;
+        if let Some(t) = t {
+            if meet.is_none_or(|m| t < m) {
+                meet = Some(t);
+            }
+        }
+    }
+    Ok(meet)
 }
 
 fn circle_polygon<E: Equations>(
@@ -338,7 +442,14 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
     }
     if a_.polygon || b_.polygon {
         // the bounding circles do not turn: until they touch, nothing can
-        match bounds_meet::<E>(w, q, a_, b_, now, win)? {
+        let meet = if b_.polygon && turn_rate(a_) > 0.0 && b_.om == 0.0 {
+            bound_polygon::<E>(w, q, a_, b_, now, win)?
+        } else if a_.polygon && turn_rate(b_) > 0.0 && a_.om == 0.0 {
+            bound_polygon::<E>(w, q, b_, a_, now, win)?
+        } else {
+            bounds_meet::<E>(w, q, a_, b_, now, win)?
+        };
+        match meet {
             None => return Ok(()),
             Some(meet) if meet > 0.0 => {
                 q.push_horizon(w, now + meet, a_, b_);
