@@ -458,12 +458,19 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
             Some(_) => {}
         }
     }
-    let turn = turn_rate(a_) + turn_rate(b_);
-    if turn > 0.0 {
-        let x = s.alpha / turn;
-        if x < win {
-            win = x;
-        }
+    let (ta, tb) = (turn_rate(a_), turn_rate(b_));
+    let x = if ta > 0.0 && tb > 0.0 {
+        s.alpha / (ta + tb)
+    } else if ta > 0.0 {
+        a_.window / ta
+    } else if tb > 0.0 {
+        b_.window / tb
+    } else {
+        win
+    };
+    // Python's min(w, x)
+    if x < win {
+        win = x;
     }
     let mut best = None;
     if !a_.polygon && !b_.polygon {

@@ -87,6 +87,8 @@ pub struct Body {
     pub ophase: f64,
     /// m: radius of the bounding circle about the centre
     pub bound: f64,
+    /// rad: its window angle when it turns and its partner does not (0: it never turns)
+    pub window: f64,
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: u32,
     pub nv: u32,
@@ -244,7 +246,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
     let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (ang, om) = (tk.num()?, tk.num()?);
-    let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+    let (r, orbit, ophase, bound, window) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let large = tk.int()? == 1;
     let nv = tk.int()?.max(0) as u32;
     let v0 = verts.len() as u32;
@@ -299,6 +301,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         orbit,
         ophase,
         bound,
+        window,
         v0,
         nv,
         cx: 0,
