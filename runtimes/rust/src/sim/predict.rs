@@ -3,7 +3,8 @@
 //! body's next cell crossing.  Every prediction goes through the generated
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
-use super::motion::{state_at, turn_rate};
+use super::motion::{point_at, state_at, turn_rate};
+use super::overlap::{edge_line, separation};
 use super::out::{Res, SimError};
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
@@ -11,6 +12,11 @@ use super::support::schedule_support;
 use super::world::{Queue, Space};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
+
+/// The most stages (a meeting of the bounds, a clear stretch, a Taylor
+/// window) one prediction of a pair goes through before it leaves the rest
+/// to a horizon.
+const CHAIN: usize = 8;
 
 
 /// At a zero of the gap c: approaching (first derivative d < 0), or
@@ -422,7 +428,9 @@ fn vertices_edges<E: Equations>(
 // ---- pairs --------------------------------------------------------------------
 
 /// Schedule the first contact of A and B after now, or a horizon event
-/// where the Taylor polynomials of their turns stop being good.
+/// where the Taylor polynomials of their turns stop being good.  Cheap
+/// steps chain: a later meeting of the bounds or a clear stretch moves
+/// `now` on (up to CHAIN stages, at most one Taylor window).
 pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
     let s = &w.s;
     let a_ = &s.bodies[ai];
@@ -436,42 +444,77 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         return Ok(());
     }
     q.stats.pairs += 1;
-    let mut win = s.end - now;
-    if !(win > 0.0) {
-        return Ok(());
-    }
-    if a_.polygon || b_.polygon {
-        // the bounding circles do not turn: until they touch, nothing can
-        let meet = if b_.polygon && turn_rate(a_) > 0.0 && b_.om == 0.0 {
-            bound_polygon::<E>(w, q, a_, b_, now, win)?
-        } else if a_.polygon && turn_rate(b_) > 0.0 && a_.om == 0.0 {
-            bound_polygon::<E>(w, q, b_, a_, now, win)?
-        } else {
-            bounds_meet::<E>(w, q, a_, b_, now, win)?
-        };
-        match meet {
-            None => return Ok(()),
-            Some(meet) if meet > 0.0 => {
-                q.push_horizon(w, now + meet, a_, b_);
-                return Ok(());
-            }
-            Some(_) => {}
-        }
-    }
     let (ta, tb) = (turn_rate(a_), turn_rate(b_));
-    let x = if ta > 0.0 && tb > 0.0 {
-        s.alpha / (ta + tb)
-    } else if ta > 0.0 {
-        a_.window / ta
-    } else if tb > 0.0 {
-        b_.window / tb
-    } else {
-        win
-    };
-    // Python's min(w, x)
-    if x < win {
-        win = x;
+    let mut now = now;
+    let mut windowed = false;
+    for _ in 0..CHAIN {
+        let mut win = s.end - now;
+        if !(win > 0.0) {
+            return Ok(());
+        }
+        if a_.polygon || b_.polygon {
+            // bounds that do not turn: until they touch, nothing can
+            let meet = if b_.polygon && ta > 0.0 && b_.om == 0.0 {
+                bound_polygon::<E>(w, q, a_, b_, now, win)?
+            } else if a_.polygon && tb > 0.0 && a_.om == 0.0 {
+                bound_polygon::<E>(w, q, b_, a_, now, win)?
+            } else {
+                bounds_meet::<E>(w, q, a_, b_, now, win)?
+            };
+            match meet {
+                None => return Ok(()),
+                Some(meet) if meet > 0.0 => {
+                    now = now + meet;
+                    continue;
+                }
+                Some(_) => {}
+            }
+        }
+        let x = if ta > 0.0 && tb > 0.0 {
+            s.alpha / (ta + tb)
+        } else if ta > 0.0 {
+            a_.window / ta
+        } else if tb > 0.0 {
+            b_.window / tb
+        } else {
+            win
+        };
+        // Python's min(w, x)
+        if x < win {
+            win = x;
+        }
+        if ta > 0.0 || tb > 0.0 {
+            let clear = clear_time(w, a_, b_, now);
+            if clear >= win {
+                // apart all through the window, whatever the turns do: no
+                // roots to solve until they may come within the tolerance
+                now = now + clear;
+                continue;
+            }
+        }
+        if windowed {
+            // one Taylor window per prediction: the next at a horizon
+            break;
+        }
+        if let Some(bb) = features::<E>(w, q, a_, b_, now, win)? {
+            q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
+            return Ok(());
+        }
+        if ta == 0.0 && tb == 0.0 {
+            // nothing turns: the window was the whole run
+            return Ok(());
+        }
+        now = now + win;
+        windowed = true;
     }
+    if now < s.end {
+        q.push_horizon(w, now, a_, b_);
+    }
+    Ok(())
+}
+
+/// The earliest contact of A's and B's features within [0, win] after now.
+fn features<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<Best>> {
     let mut best = None;
     if !a_.polygon && !b_.polygon {
         let t = predict_cc::<E>(w, q, a_, b_, None, b_.r, now, win)?;
@@ -486,12 +529,103 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         best = vertices_edges::<E>(w, q, a_, b_, now, win, None)?;
         best = vertices_edges::<E>(w, q, b_, a_, now, win, best)?;
     }
-    if let Some(bb) = best {
-        q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
-    } else if now + win < s.end {
-        q.push_horizon(w, now + win, a_, b_);
+    Ok(best)
+}
+
+// ---- clear stretches: how long a pair surely stays apart ---------------------------
+
+/// Python's max(a, b): the first unless the second is larger.
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
-    Ok(())
+}
+
+/// How long A and B surely stay more than the tolerance apart, from their
+/// gap g along a fixed unit axis n now (0 when not apart now): along n the
+/// gap changes by (dv . n) s + (da . n) s^2/2 from the centres' relative
+/// motion and closes by at most spin s from the turns (spin: each turning
+/// body's bound times its turn rate), so it stays above the tolerance for s
+/// below the positive root of |da . n|/2 s^2 + r s - (g - tol), r = spin -
+/// dv . n (clear_root).  The axis: when one of them is a polygon P that
+/// does not turn and the other, T, turns, each of P's edge normals (the
+/// largest of the times); otherwise the line of the centres, and the best
+/// separating axis bounded by the norms |x| + |y|.
+fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
+    if b_.polygon && b_.om == 0.0 && turn_rate(a_) > 0.0 {
+        return clear_axes(w, a_, b_, now);
+    }
+    if a_.polygon && a_.om == 0.0 && turn_rate(b_) > 0.0 {
+        return clear_axes(w, b_, a_, now);
+    }
+    let (x1, y1, u1, v1, _) = state_at(a_, now);
+    let (x2, y2, u2, v2, _) = state_at(b_, now);
+    let (dx, dy) = (x2 - x1, y2 - y1);
+    let d = (dx * dx + dy * dy).sqrt();
+    if !(d > 0.0) {
+        return 0.0;
+    }
+    let (nx, ny) = (dx / d, dy / d);
+    let hi = reach(w, a_, nx, ny, now);
+    let lo = -reach(w, b_, -nx, -ny, now);
+    let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
+    let tol = w.s.tol;
+    let along = clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)), (nx * (b_.ax - a_.ax) + ny * (b_.ay - a_.ay)).abs());
+    // and along the best separating axis, which may turn: the norms, |x| + |y|
+    let anyway = clear_root(
+        separation(&w.s.verts, a_, b_, now) - tol,
+        spin + (u2 - u1).abs() + (v2 - v1).abs(),
+        (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs(),
+    );
+    max(along, anyway)
+}
+
+/// The largest projection of b on the unit axis (nx, ny) at now.
+fn reach(w: &Space, b: &Body, nx: f64, ny: f64, now: f64) -> f64 {
+    if !b.polygon {
+        let (px, py) = point_at(b, None, now);
+        return nx * px + ny * py + b.r;
+    }
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..b.nverts() {
+        let (px, py) = point_at(b, Some(&w.s.verts[b.vert(k)]), now);
+        best = max(best, nx * px + ny * py);
+    }
+    best
+}
+
+/// clear_time along each edge normal of P (P does not turn, T does).
+fn clear_axes(w: &Space, t_: &Body, p_: &Body, now: f64) -> f64 {
+    let (_, _, u1, v1, _) = state_at(t_, now);
+    let (_, _, u2, v2, _) = state_at(p_, now);
+    let (du, dv, dax, day) = (u1 - u2, v1 - v2, t_.ax - p_.ax, t_.ay - p_.ay);
+    let spin = t_.bound * turn_rate(t_);
+    let mut best = 0.0;
+    for j in 0..p_.nverts() {
+        let (ox, oy, off) = edge_line(&w.s.verts, p_, j, now);
+        let c = clear_root(-reach(w, t_, -ox, -oy, now) - off - w.s.tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs());
+        best = max(best, c);
+    }
+    best
+}
+
+/// The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+/// infinity when it has none (r <= 0 and q = 0).
+#[inline]
+fn clear_root(g: f64, r: f64, q: f64) -> f64 {
+    if !(g > 0.0) {
+        return 0.0;
+    }
+    if r > 0.0 {
+        return 2.0 * g / (r + (r * r + 2.0 * q * g).sqrt());
+    }
+    if q > 0.0 {
+        return ((r * r + 2.0 * q * g).sqrt() - r) / q;
+    }
+    f64::INFINITY
 }
 
 // ---- per body -------------------------------------------------------------------
