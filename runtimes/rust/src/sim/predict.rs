@@ -668,9 +668,9 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
     let body = &w.s.bodies[b];
     let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
     predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, now, skip, false)?;
-    for &o in &w.grid.large {
+    for o in w.grid.large_near(b, body.cx, body.cy) {
         let o = o as usize;
-        if o != b && Some(o) != skip && !(body.fixed && w.s.bodies[o].fixed) {
+        if Some(o) != skip && !(body.fixed && w.s.bodies[o].fixed) {
             predict_pair::<E>(w, q, b, o, now)?;
         }
     }

@@ -130,6 +130,9 @@ pub struct Body {
     pub asleep: bool,
     /// the island's number (the index of its first sleeper), -1: awake
     pub island: i64,
+    /// a large body placed in the grid: the cells its box covers (x_lo,
+    /// x_hi, y_lo, y_hi), else None (in the grid's `large` list)
+    pub wcells: Option<[i32; 4]>,
 }
 
 impl Body {
@@ -309,6 +312,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         gone: false,
         asleep: false,
         island: -1,
+        wcells: None,
     })
 }
 
