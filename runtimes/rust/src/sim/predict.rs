@@ -180,7 +180,9 @@ fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
-/// Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y.
+/// Point of X (circle centre with radius, or vertex vx_) against the line
+/// of edge j of Y (none while a fixed body covers the edge: its cover is
+/// not gone).
 #[allow(clippy::too_many_arguments)]
 fn predict_pe<E: Equations>(
     w: &Space,
@@ -192,6 +194,10 @@ fn predict_pe<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
+    let cover = w.s.verts[y_.vert(j)].cover;
+    if cover >= 0 && !w.s.bodies[cover as usize].gone {
+        return Ok(None);
+    }
     let (rho, beta, rad) = match vx_ {
         None => (x_.orbit, x_.ophase, x_.r),
         Some(v) => (v.rho, v.beta, 0.0),

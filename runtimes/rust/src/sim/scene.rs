@@ -25,6 +25,9 @@ pub struct Vertex {
     /// the compiler's quotient is: (0, 1) for a level top face)
     pub nx: f64,
     pub ny: f64,
+    /// the fixed body that covers the edge (no body can touch it while that
+    /// one is there), -1: none
+    pub cover: i64,
     /// cos and sin of the vertex's angle (body angle + beta) and of its
     /// edge's normal (body angle + psi), for the last argument asked
     pub at: CosSin,
@@ -259,6 +262,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         for x in v.iter_mut() {
             *x = tk.num()?;
         }
+        let cover = tk.int()?;
         verts.push(Vertex {
             lx: v[0],
             ly: v[1],
@@ -270,6 +274,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
             s2: v[7],
             nx: v[8],
             ny: v[9],
+            cover,
             at: CosSin::new(),
             normal: CosSin::new(),
         });
