@@ -395,4 +395,4 @@ def test_energy_never_grows_in_the_gravity_box_and_the_game(name):
     tr = run_scene(scene, "python")
     rp = read_trace("\n".join(tr.lines()), scene, path)
     er = never_gains_energy(scene, rp, path)
-    assert er.instants >= 150, er
+    assert er.instants >= 100, er
