@@ -60,24 +60,28 @@ pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) ->
     (ubx - uax) * nx + (uby - uay) * ny
 }
 
-/// The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-/// from A to B (both advanced to the contact time): 0.0 when the material
-/// points do not approach and are not pressed together, else the impulse
-/// j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
-/// at least, so time advances (docs/simulator.md).
+/// The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
+/// (both advanced to the contact time): 0.0 when the material points do not
+/// approach and are not pressed together, else the normal impulse j
+/// (velocities changed).  A fast contact is frictionless and leaves at
+/// sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops
+/// (`hop`).  Never adds energy (docs/simulator.md, Impulse).
 pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     let vn = normal_speed(a_, b_, cx, cy, nx, ny);
-    let mut imp = 0.0;
     let rest = rest_speed;
     let press = pressed(a_, b_, nx, ny);
-    if vn < 0.0 || (press && vn < rest) {
+    if press && -vn < rest {
+        return hop(a_, b_, cx, cy, nx, ny, vn, rest);
+    }
+    let mut imp = 0.0;
+    if vn < 0.0 {
         let ran = (cx - a_.px) * ny - (cy - a_.py) * nx;
         let rbn = (cx - b_.px) * ny - (cy - b_.py) * nx;
         let k = a_.inv_m + b_.inv_m + a_.inv_i * ran * ran + b_.inv_i * rbn * rbn;
         let e = a_.e * b_.e;
         let first = e * -vn;
-        // Python's max(e * -vn, rest) when pressed, else max(e * -vn, min(-vn, rest))
-        let lo = if press || rest < -vn { rest } else { -vn };
+        // Python's max(e * -vn, min(-vn, rest))
+        let lo = if rest < -vn { rest } else { -vn };
         let sep = if lo > first { lo } else { first };
         imp = (sep - vn) / k;
         a_.vx = a_.vx - imp * a_.inv_m * nx;
@@ -88,6 +92,64 @@ pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, 
         b_.om = b_.om + imp * b_.inv_i * rbn;
     }
     imp
+}
+
+/// A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
+/// at hop along n, paid from their relative motion at the contact, so the
+/// pair's energy stays what it was: hop = rest_speed when kn Q pays it,
+/// else sqrt(kn Q), but at least rest_speed / 32 (the one case that adds
+/// energy: a pair nearly at rest on each other).  With
+/// u = (vn, vt) the relative velocity of the material points in the frame
+/// (n, t), t = (-ny, nx), and K the contact's 2x2 inverse mass matrix (kn,
+/// knt; knt, kt), the pair's energy relative to its centre is Q / 2,
+/// Q = u . K^-1 u; the new relative velocity is (hop, x) with the same Q (x
+/// on vt's side of knt hop / kn), through the impulse P = K^-1 (u' - u)
+/// (normal part jn, tangential jt).  Returns jn.
+#[allow(clippy::too_many_arguments)]
+pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> f64 {
+    let (tx, ty) = (-ny, nx);
+    let uax = a_.vx - a_.om * (cy - a_.py);
+    let uay = a_.vy + a_.om * (cx - a_.px);
+    let ubx = b_.vx - b_.om * (cy - b_.py);
+    let uby = b_.vy + b_.om * (cx - b_.px);
+    let vt = (ubx - uax) * tx + (uby - uay) * ty;
+    let ran = (cx - a_.px) * ny - (cy - a_.py) * nx;
+    let rbn = (cx - b_.px) * ny - (cy - b_.py) * nx;
+    let rat = (cx - a_.px) * ty - (cy - a_.py) * tx;
+    let rbt = (cx - b_.px) * ty - (cy - b_.py) * tx;
+    let m = a_.inv_m + b_.inv_m;
+    let kn = m + a_.inv_i * ran * ran + b_.inv_i * rbn * rbn;
+    let kt = m + a_.inv_i * rat * rat + b_.inv_i * rbt * rbt;
+    let knt = a_.inv_i * ran * rat + b_.inv_i * rbn * rbt;
+    let det = kn * kt - knt * knt;
+    let q = (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det;
+    let cap = kn * q;
+    let rest = rest_speed;
+    let floor = 0.03125 * rest;
+    let hop = if cap >= rest * rest {
+        rest
+    } else if cap >= floor * floor {
+        cap.sqrt()
+    } else {
+        floor
+    };
+    let d = det * (cap - hop * hop);
+    let root = if d > 0.0 { d.sqrt() } else { 0.0 };
+    let mid = knt * hop;
+    let x = if vt * kn >= mid { (mid + root) / kn } else { (mid - root) / kn };
+    let dn = hop - vn;
+    let dt = x - vt;
+    let jn = (kt * dn - knt * dt) / det;
+    let jt = (kn * dt - knt * dn) / det;
+    let px = jn * nx + jt * tx;
+    let py = jn * ny + jt * ty;
+    a_.vx = a_.vx - px * a_.inv_m;
+    a_.vy = a_.vy - py * a_.inv_m;
+    a_.om = a_.om - (jn * ran + jt * rat) * a_.inv_i;
+    b_.vx = b_.vx + px * b_.inv_m;
+    b_.vy = b_.vy + py * b_.inv_m;
+    b_.om = b_.om + (jn * rbn + jt * rbt) * b_.inv_i;
+    jn
 }
 
 /// The impulse of a contact of A and B, one of them (S) asleep: first with

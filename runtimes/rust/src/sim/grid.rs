@@ -1,7 +1,10 @@
-//! The broad phase: a uniform grid of cells holding the small bodies, and
-//! the list of large bodies that every body checks (docs/simulator.md,
-//! "Broad phase").  The reference's cell_of, cell_add and cell_remove.
+//! The broad phase: a uniform grid of cells holding the small bodies, the
+//! large fixed bodies that do not move listed in the cells their boxes
+//! cover (walls), and the list of the other large bodies that every body
+//! checks (docs/simulator.md, "Broad phase").  The reference's cell_of,
+//! cell_add, cell_remove, place_large, unplace_large, walls_in, large_near.
 
+use super::motion::point_at;
 use super::scene::Scene;
 
 const CELL_INLINE: usize = 4;
@@ -61,19 +64,23 @@ impl CellList {
     }
 }
 
-/// The cells (row after row, `nx` per row) and the large bodies.
+/// The cells (row after row, `nx` per row), the walls listed per cell and
+/// the large bodies not placed in cells.
 pub struct Grid {
     cells: Vec<CellList>,
     nx: i64,
-    /// the bodies outside the grid (walls), by index in the scene
+    ny: i64,
+    /// per cell, the placed large bodies (fixed, not moving) whose box covers it
+    walls: Vec<Vec<u32>>,
+    /// the large bodies outside the cells (moving or movable), by index in the scene
     pub large: Vec<u32>,
 }
 
 impl Grid {
-    /// The empty grid of a scene, with its large bodies listed.
+    /// The empty grid of a scene (its large bodies are placed by [`place_large`]).
     pub fn new(s: &Scene) -> Grid {
-        let large = s.bodies.iter().filter(|b| b.large).map(|b| b.idx).collect();
-        Grid { cells: vec![CellList::default(); (s.nx * s.ny) as usize], nx: s.nx, large }
+        let n = (s.nx * s.ny) as usize;
+        Grid { cells: vec![CellList::default(); n], nx: s.nx, ny: s.ny, walls: vec![Vec::new(); n], large: Vec::new() }
     }
 
     /// The cell (jx, jy); both within the grid.
@@ -92,6 +99,97 @@ impl Grid {
     pub fn remove(&mut self, b: u32, cx: i32, cy: i32) {
         let k = (i64::from(cy) * self.nx + i64::from(cx)) as usize;
         self.cells[k].remove(b);
+    }
+
+    /// Take large body b (its placed cells `wcells`, None: in `large`) out
+    /// of the grid (the reference's unplace_large).
+    pub fn unplace_large(&mut self, b: u32, wcells: Option<[i32; 4]>) {
+        let Some([i0, i1, j0, j1]) = wcells else {
+            let at = self.large.iter().position(|&o| o == b).expect("a large body is listed");
+            self.large.remove(at);
+            return;
+        };
+        for jy in i64::from(j0)..=i64::from(j1) {
+            for jx in i64::from(i0)..=i64::from(i1) {
+                let list = &mut self.walls[(jy * self.nx + jx) as usize];
+                let at = list.iter().position(|&o| o == b).expect("a wall is listed in its cells");
+                list.remove(at);
+            }
+        }
+    }
+
+    /// Append to out the placed large bodies listed in the cells x_lo..=x_hi,
+    /// y_lo..=y_hi (clamped to the grid), but b (the caller sorts and
+    /// removes repeats: the reference's marks).
+    pub fn walls_in(&self, b: usize, x_lo: i64, x_hi: i64, y_lo: i64, y_hi: i64, out: &mut Vec<u32>) {
+        for jy in y_lo.max(0)..=y_hi.min(self.ny - 1) {
+            for jx in x_lo.max(0)..=x_hi.min(self.nx - 1) {
+                for &o in &self.walls[(jy * self.nx + jx) as usize] {
+                    if o as usize != b {
+                        out.push(o);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The large bodies b (in cell (cx, cy)) predicts against: those placed
+    /// in its 3x3 cells and every one in `large`, each once, but b, in index
+    /// order.
+    pub fn large_near(&self, b: usize, cx: i32, cy: i32) -> Vec<u32> {
+        let (cx, cy) = (i64::from(cx), i64::from(cy));
+        let mut out = Vec::new();
+        self.walls_in(b, cx - 1, cx + 1, cy - 1, cy + 1, &mut out);
+        out.extend(self.large.iter().copied().filter(|&o| o as usize != b));
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+/// Put large body bi of the scene into the grid: into the walls of every
+/// cell its box covers when it is fixed and does not move (v = a = 0; the
+/// box of a polygon that does not turn from its vertices at its time, else
+/// its centre +- bound; the cells from cell_of(box's low corner) to
+/// cell_of(its high corner)), else into `large` (the reference's place_large).
+pub fn place_large(grid: &mut Grid, s: &mut Scene, bi: usize) {
+    let b = &s.bodies[bi];
+    if !(b.fixed && b.vx == 0.0 && b.vy == 0.0 && b.ax == 0.0 && b.ay == 0.0) {
+        grid.large.push(b.idx);
+        return;
+    }
+    let (x0, x1, y0, y1);
+    if b.polygon && b.om == 0.0 {
+        let (mut lx, mut ly) = point_at(b, Some(&s.verts[b.vert(0)]), b.tb);
+        let (mut hx, mut hy) = (lx, ly);
+        for k in 0..b.nverts() {
+            let (x, y) = point_at(b, Some(&s.verts[b.vert(k)]), b.tb);
+            // Python's min(x0, x), max(x1, x), ...
+            if x < lx {
+                lx = x;
+            }
+            if x > hx {
+                hx = x;
+            }
+            if y < ly {
+                ly = y;
+            }
+            if y > hy {
+                hy = y;
+            }
+        }
+        (x0, x1, y0, y1) = (lx, hx, ly, hy);
+    } else {
+        (x0, x1, y0, y1) = (b.px - b.bound, b.px + b.bound, b.py - b.bound, b.py + b.bound);
+    }
+    let (i0, j0) = cell_of(s, x0, y0);
+    let (i1, j1) = cell_of(s, x1, y1);
+    let idx = b.idx;
+    s.bodies[bi].wcells = Some([i0, i1, j0, j1]);
+    for jy in i64::from(j0)..=i64::from(j1) {
+        for jx in i64::from(i0)..=i64::from(i1) {
+            grid.walls[(jy * grid.nx + jx) as usize].push(idx);
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use super::motion::state_at;
 use super::out::{Out, SimError};
 use super::overlap::overlapping;
 use super::queue::{Event, INPUT};
-use super::grid::cell_of;
+use super::grid::{cell_of, place_large};
 use super::predict::{predict_body, predict_pair};
 use super::scene::{read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::world::{Queue, Space};
@@ -321,7 +321,7 @@ impl<E: Equations> World<E> {
         self.added += 1;
         self.out.add(t, idx as u32)?;
         if large {
-            self.w.grid.large.push(idx as u32);
+            place_large(&mut self.w.grid, &mut self.w.s, idx);
             for o in 0..self.w.s.bodies.len() {
                 let ob = &self.w.s.bodies[o];
                 if !(ob.large || ob.gone || (ob.fixed && fixed)) {

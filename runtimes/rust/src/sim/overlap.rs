@@ -62,7 +62,7 @@ pub fn overlapping(bodies: &[Body], verts: &[Vertex], tol: f64, a: &Body, skip: 
 /// by the depth they overlap (edge normals of either polygon, and for a
 /// circle the line from the nearest vertex; circles: the distance of the
 /// centres less the radii).
-fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 {
+pub(super) fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 {
     if !a_.polygon && !b_.polygon {
         let (ax, ay) = point_at(a_, None, t);
         let (bx, by) = point_at(b_, None, t);
@@ -79,7 +79,7 @@ fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 {
 
 /// Outward unit normal (ox, oy) of edge j of P at t and the offset of its
 /// line, (ox, oy) . point = off.
-fn edge_line(verts: &[Vertex], p_: &Body, j: usize, t: f64) -> (f64, f64, f64) {
+pub(super) fn edge_line(verts: &[Vertex], p_: &Body, j: usize, t: f64) -> (f64, f64, f64) {
     let ed = &verts[p_.vert(j)];
     let (px, py, _, _, ang) = state_at(p_, t);
     let c = ang.cos();

@@ -4,6 +4,7 @@
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
 use super::motion::{point_at, state_at, turn_rate};
+use super::overlap::{edge_line, separation};
 use super::out::{Res, SimError};
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
@@ -11,6 +12,11 @@ use super::support::schedule_support;
 use super::world::{Queue, Space};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
+
+/// The most stages (a meeting of the bounds, a clear stretch, a Taylor
+/// window) one prediction of a pair goes through before it leaves the rest
+/// to a horizon.
+const CHAIN: usize = 8;
 
 
 /// At a zero of the gap c: approaching (first derivative d < 0), or
@@ -111,6 +117,14 @@ fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f6
         .ok_or_else(|| SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()))
 }
 
+/// circle_circle parameters of b's centre of rotation at time now, no
+/// orbit: the centre of a bounding circle (circle_params of a polygon).
+#[inline(always)]
+fn centre_params(b: &Body, now: f64) -> [f64; 11] {
+    let (x, y, vx, vy, _) = state_at(b, now);
+    [x, vx, b.ax, 0.0, 0.0, HALF_PI, y, vy, b.ay, 0.0, 0.0]
+}
+
 /// Circle of A against circle of B (vb None) or vertex vb of B (radius 0).
 #[allow(clippy::too_many_arguments)]
 fn predict_cc<E: Equations>(
@@ -123,8 +137,14 @@ fn predict_cc<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    let [a, b, c, d, e, f, m, n, o, p, qq] = circle_params(a_, now, None);
-    let [g, h, i, j, k, l, r, s, u, v, ww] = circle_params(b_, now, vb);
+    circles_first::<E>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
+}
+
+/// The first contact within [0, win] of a circle of radius ra moving as pa
+/// (circle_params) and one of radius rb moving as pb.
+fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
+    let [a, b, c, d, e, f, m, n, o, p, qq] = *pa;
+    let [g, h, i, j, k, l, r, s, u, v, ww] = *pb;
     // only differences of the centres' motions matter: circle 1 moves
     // relative to circle 2's centre of rotation
     let args = [
@@ -150,17 +170,19 @@ fn predict_cc<E: Equations>(
         0.0,
         v,
         ww,
-        a_.r,
+        ra,
         rb,
     ];
     let mut coef = [0.0; MAX_COEF];
     let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
     let tol = w.s.tol;
-    let kappa = tol * (2.0 * (a_.r + rb) + tol);
+    let kappa = tol * (2.0 * (ra + rb) + tol);
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
-/// Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y.
+/// Point of X (circle centre with radius, or vertex vx_) against the line
+/// of edge j of Y (none while a fixed body covers the edge: its cover is
+/// not gone).
 #[allow(clippy::too_many_arguments)]
 fn predict_pe<E: Equations>(
     w: &Space,
@@ -172,13 +194,38 @@ fn predict_pe<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    let ed = &w.s.verts[y_.vert(j)];
-    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
-    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
+    let cover = w.s.verts[y_.vert(j)].cover;
+    if cover >= 0 && !w.s.bodies[cover as usize].gone {
+        return Ok(None);
+    }
     let (rho, beta, rad) = match vx_ {
         None => (x_.orbit, x_.ophase, x_.r),
         Some(v) => (v.rho, v.beta, 0.0),
     };
+    let mut coef = [0.0; MAX_COEF];
+    let deg = pe_coefficients::<E>(w, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
+    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win))
+}
+
+/// The point_edge polynomial of a circle of radius rad whose centre orbits
+/// X's centre at rho (phase beta in X's frame) against the line of edge j
+/// of Y, in s = t - now (its c[0]: the gap now); returns its degree.
+#[allow(clippy::too_many_arguments)]
+fn pe_coefficients<E: Equations>(
+    w: &Space,
+    q: &mut Queue,
+    x_: &Body,
+    y_: &Body,
+    rho: f64,
+    beta: f64,
+    rad: f64,
+    j: usize,
+    now: f64,
+    coef: &mut [f64; MAX_COEF],
+) -> Res<usize> {
+    let ed = &w.s.verts[y_.vert(j)];
+    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
+    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
     let phn = ang2 + ed.psi;
     let wr = x_.om - y_.om;
     let phr = (ang1 + beta) - phn;
@@ -197,20 +244,46 @@ fn predict_pe<E: Equations>(
     }
     q.pe_counts[idx as usize] += 1;
     q.stats.features += 1;
-    let mut coef = [0.0; MAX_COEF];
-    let deg = E::pe_coefficients(&args, &mut coef)
-        .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))?;
+    E::pe_coefficients(&args, coef)
+        .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))
+}
+
+/// The first contact within [0, win] of pe_coefficients' polynomial whose
+/// point (X's centre, or rho, beta about it; `pt.2` the vertex, whose cos
+/// and sin are cached) lies on edge j's segment.
+#[allow(clippy::too_many_arguments)]
+fn pe_first(
+    w: &Space,
+    coef: &[f64; MAX_COEF],
+    deg: usize,
+    x_: &Body,
+    y_: &Body,
+    pt: (f64, f64, Option<&Vertex>),
+    j: usize,
+    now: f64,
+    win: f64,
+) -> Option<f64> {
+    let ed = &w.s.verts[y_.vert(j)];
     let tol = w.s.tol;
+    let (rho, beta, vx_) = pt;
     let inside = |s: f64| -> bool {
         let t = now + s;
-        let (px, py) = point_at(x_, vx_, t);
+        let (mut px, mut py, _, _, pa) = state_at(x_, t);
+        if rho != 0.0 {
+            let (c, s) = match vx_ {
+                Some(v) => v.at.of(pa + beta),
+                None => ((pa + beta).cos(), (pa + beta).sin()),
+            };
+            px = px + rho * c;
+            py = py + rho * s;
+        }
         let (qx, qy, _, _, qa) = state_at(y_, t);
         let th = qa + ed.psi;
         let (c, s) = ed.normal.of(th);
         let along = (px - qx) * -s + (py - qy) * c;
         ed.s1 - tol <= along && along <= ed.s2 + tol
     };
-    Ok(first_contact(&coef, deg, win, tol, inside))
+    first_contact(coef, deg, win, tol, inside)
 }
 
 /// A candidate contact: (s, feature, a, b, i, j).
@@ -275,6 +348,49 @@ fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now
     Ok(smallest_root(&coef[..deg + 1], 0.0, win))
 }
 
+/// T turns, polygon P does not: when T's bounding circle (radius T.bound
+/// about T's centre of rotation, which does not turn) first touches P
+/// itself (its edges, then its vertices) within (0, win]; 0.0 when no edge
+/// line of P has the circle beyond it by more than the tolerance now
+/// (overlapping, or near a corner); None when they do not meet.  Exact:
+/// neither the circle nor P turns.
+fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+    let tol = w.s.tol;
+    let n = p_.nverts();
+    let mut coefs: Vec<([f64; MAX_COEF], usize)> = Vec::with_capacity(n);
+    let mut apart = false;
+    for j in 0..n {
+        let mut c = [0.0; MAX_COEF];
+        let deg = pe_coefficients::<E>(w, q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
+        if c[0] > tol {
+            apart = true;
+        }
+        coefs.push((c, deg));
+    }
+    if !apart {
+        return Ok(Some(0.0));
+    }
+    let mut meet: Option<f64> = None;
+    for (j, (c, deg)) in coefs.iter().enumerate() {
+        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win) {
+            if meet.is_none_or(|m| t < m) {
+                meet = Some(t);
+            }
+        }
+    }
+    let pt = centre_params(t_, now);
+    for k in 0..n {
+        let v = &w.s.verts[p_.vert(k)];
+        let t = circles_first::<E>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win)?;
+        if let Some(t) = t {
+            if meet.is_none_or(|m| t < m) {
+                meet = Some(t);
+            }
+        }
+    }
+    Ok(meet)
+}
+
 fn circle_polygon<E: Equations>(
     w: &Space,
     q: &mut Queue,
@@ -318,7 +434,9 @@ fn vertices_edges<E: Equations>(
 // ---- pairs --------------------------------------------------------------------
 
 /// Schedule the first contact of A and B after now, or a horizon event
-/// where the Taylor polynomials of their turns stop being good.
+/// where the Taylor polynomials of their turns stop being good.  Cheap
+/// steps chain: a later meeting of the bounds or a clear stretch moves
+/// `now` on (up to CHAIN stages, at most one Taylor window).
 pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
     let s = &w.s;
     let a_ = &s.bodies[ai];
@@ -332,28 +450,77 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         return Ok(());
     }
     q.stats.pairs += 1;
-    let mut win = s.end - now;
-    if !(win > 0.0) {
-        return Ok(());
-    }
-    if a_.polygon || b_.polygon {
-        // the bounding circles do not turn: until they touch, nothing can
-        match bounds_meet::<E>(w, q, a_, b_, now, win)? {
-            None => return Ok(()),
-            Some(meet) if meet > 0.0 => {
-                q.push_horizon(w, now + meet, a_, b_);
-                return Ok(());
-            }
-            Some(_) => {}
+    let (ta, tb) = (turn_rate(a_), turn_rate(b_));
+    let mut now = now;
+    let mut windowed = false;
+    for _ in 0..CHAIN {
+        let mut win = s.end - now;
+        if !(win > 0.0) {
+            return Ok(());
         }
-    }
-    let turn = turn_rate(a_) + turn_rate(b_);
-    if turn > 0.0 {
-        let x = s.alpha / turn;
+        if a_.polygon || b_.polygon {
+            // bounds that do not turn: until they touch, nothing can
+            let meet = if b_.polygon && ta > 0.0 && b_.om == 0.0 {
+                bound_polygon::<E>(w, q, a_, b_, now, win)?
+            } else if a_.polygon && tb > 0.0 && a_.om == 0.0 {
+                bound_polygon::<E>(w, q, b_, a_, now, win)?
+            } else {
+                bounds_meet::<E>(w, q, a_, b_, now, win)?
+            };
+            match meet {
+                None => return Ok(()),
+                Some(meet) if meet > 0.0 => {
+                    now = now + meet;
+                    continue;
+                }
+                Some(_) => {}
+            }
+        }
+        let x = if ta > 0.0 && tb > 0.0 {
+            s.alpha / (ta + tb)
+        } else if ta > 0.0 {
+            a_.window / ta
+        } else if tb > 0.0 {
+            b_.window / tb
+        } else {
+            win
+        };
+        // Python's min(w, x)
         if x < win {
             win = x;
         }
+        if ta > 0.0 || tb > 0.0 {
+            let clear = clear_time(w, a_, b_, now);
+            if clear >= win {
+                // apart all through the window, whatever the turns do: no
+                // roots to solve until they may come within the tolerance
+                now = now + clear;
+                continue;
+            }
+        }
+        if windowed {
+            // one Taylor window per prediction: the next at a horizon
+            break;
+        }
+        if let Some(bb) = features::<E>(w, q, a_, b_, now, win)? {
+            q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
+            return Ok(());
+        }
+        if ta == 0.0 && tb == 0.0 {
+            // nothing turns: the window was the whole run
+            return Ok(());
+        }
+        now = now + win;
+        windowed = true;
     }
+    if now < s.end {
+        q.push_horizon(w, now, a_, b_);
+    }
+    Ok(())
+}
+
+/// The earliest contact of A's and B's features within [0, win] after now.
+fn features<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<Best>> {
     let mut best = None;
     if !a_.polygon && !b_.polygon {
         let t = predict_cc::<E>(w, q, a_, b_, None, b_.r, now, win)?;
@@ -368,12 +535,103 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         best = vertices_edges::<E>(w, q, a_, b_, now, win, None)?;
         best = vertices_edges::<E>(w, q, b_, a_, now, win, best)?;
     }
-    if let Some(bb) = best {
-        q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
-    } else if now + win < s.end {
-        q.push_horizon(w, now + win, a_, b_);
+    Ok(best)
+}
+
+// ---- clear stretches: how long a pair surely stays apart ---------------------------
+
+/// Python's max(a, b): the first unless the second is larger.
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
-    Ok(())
+}
+
+/// How long A and B surely stay more than the tolerance apart, from their
+/// gap g along a fixed unit axis n now (0 when not apart now): along n the
+/// gap changes by (dv . n) s + (da . n) s^2/2 from the centres' relative
+/// motion and closes by at most spin s from the turns (spin: each turning
+/// body's bound times its turn rate), so it stays above the tolerance for s
+/// below the positive root of |da . n|/2 s^2 + r s - (g - tol), r = spin -
+/// dv . n (clear_root).  The axis: when one of them is a polygon P that
+/// does not turn and the other, T, turns, each of P's edge normals (the
+/// largest of the times); otherwise the line of the centres, and the best
+/// separating axis bounded by the norms |x| + |y|.
+fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
+    if b_.polygon && b_.om == 0.0 && turn_rate(a_) > 0.0 {
+        return clear_axes(w, a_, b_, now);
+    }
+    if a_.polygon && a_.om == 0.0 && turn_rate(b_) > 0.0 {
+        return clear_axes(w, b_, a_, now);
+    }
+    let (x1, y1, u1, v1, _) = state_at(a_, now);
+    let (x2, y2, u2, v2, _) = state_at(b_, now);
+    let (dx, dy) = (x2 - x1, y2 - y1);
+    let d = (dx * dx + dy * dy).sqrt();
+    if !(d > 0.0) {
+        return 0.0;
+    }
+    let (nx, ny) = (dx / d, dy / d);
+    let hi = reach(w, a_, nx, ny, now);
+    let lo = -reach(w, b_, -nx, -ny, now);
+    let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
+    let tol = w.s.tol;
+    let along = clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)), (nx * (b_.ax - a_.ax) + ny * (b_.ay - a_.ay)).abs());
+    // and along the best separating axis, which may turn: the norms, |x| + |y|
+    let anyway = clear_root(
+        separation(&w.s.verts, a_, b_, now) - tol,
+        spin + (u2 - u1).abs() + (v2 - v1).abs(),
+        (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs(),
+    );
+    max(along, anyway)
+}
+
+/// The largest projection of b on the unit axis (nx, ny) at now.
+fn reach(w: &Space, b: &Body, nx: f64, ny: f64, now: f64) -> f64 {
+    if !b.polygon {
+        let (px, py) = point_at(b, None, now);
+        return nx * px + ny * py + b.r;
+    }
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..b.nverts() {
+        let (px, py) = point_at(b, Some(&w.s.verts[b.vert(k)]), now);
+        best = max(best, nx * px + ny * py);
+    }
+    best
+}
+
+/// clear_time along each edge normal of P (P does not turn, T does).
+fn clear_axes(w: &Space, t_: &Body, p_: &Body, now: f64) -> f64 {
+    let (_, _, u1, v1, _) = state_at(t_, now);
+    let (_, _, u2, v2, _) = state_at(p_, now);
+    let (du, dv, dax, day) = (u1 - u2, v1 - v2, t_.ax - p_.ax, t_.ay - p_.ay);
+    let spin = t_.bound * turn_rate(t_);
+    let mut best = 0.0;
+    for j in 0..p_.nverts() {
+        let (ox, oy, off) = edge_line(&w.s.verts, p_, j, now);
+        let c = clear_root(-reach(w, t_, -ox, -oy, now) - off - w.s.tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs());
+        best = max(best, c);
+    }
+    best
+}
+
+/// The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+/// infinity when it has none (r <= 0 and q = 0).
+#[inline]
+fn clear_root(g: f64, r: f64, q: f64) -> f64 {
+    if !(g > 0.0) {
+        return 0.0;
+    }
+    if r > 0.0 {
+        return 2.0 * g / (r + (r * r + 2.0 * q * g).sqrt());
+    }
+    if q > 0.0 {
+        return ((r * r + 2.0 * q * g).sqrt() - r) / q;
+    }
+    f64::INFINITY
 }
 
 // ---- per body -------------------------------------------------------------------
@@ -416,9 +674,9 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
     let body = &w.s.bodies[b];
     let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
     predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, now, skip, false)?;
-    for &o in &w.grid.large {
+    for o in w.grid.large_near(b, body.cx, body.cy) {
         let o = o as usize;
-        if o != b && Some(o) != skip && !(body.fixed && w.s.bodies[o].fixed) {
+        if Some(o) != skip && !(body.fixed && w.s.bodies[o].fixed) {
             predict_pair::<E>(w, q, b, o, now)?;
         }
     }

@@ -25,6 +25,9 @@ pub struct Vertex {
     /// the compiler's quotient is: (0, 1) for a level top face)
     pub nx: f64,
     pub ny: f64,
+    /// the fixed body that covers the edge (no body can touch it while that
+    /// one is there), -1: none
+    pub cover: i64,
     /// cos and sin of the vertex's angle (body angle + beta) and of its
     /// edge's normal (body angle + psi), for the last argument asked
     pub at: CosSin,
@@ -87,6 +90,8 @@ pub struct Body {
     pub ophase: f64,
     /// m: radius of the bounding circle about the centre
     pub bound: f64,
+    /// rad: its window angle when it turns and its partner does not (0: it never turns)
+    pub window: f64,
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: u32,
     pub nv: u32,
@@ -128,6 +133,9 @@ pub struct Body {
     pub asleep: bool,
     /// the island's number (the index of its first sleeper), -1: awake
     pub island: i64,
+    /// a large body placed in the grid: the cells its box covers (x_lo,
+    /// x_hi, y_lo, y_hi), else None (in the grid's `large` list)
+    pub wcells: Option<[i32; 4]>,
 }
 
 impl Body {
@@ -244,7 +252,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
     let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (ang, om) = (tk.num()?, tk.num()?);
-    let (r, orbit, ophase, bound) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
+    let (r, orbit, ophase, bound, window) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let large = tk.int()? == 1;
     let nv = tk.int()?.max(0) as u32;
     let v0 = verts.len() as u32;
@@ -254,6 +262,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         for x in v.iter_mut() {
             *x = tk.num()?;
         }
+        let cover = tk.int()?;
         verts.push(Vertex {
             lx: v[0],
             ly: v[1],
@@ -265,6 +274,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
             s2: v[7],
             nx: v[8],
             ny: v[9],
+            cover,
             at: CosSin::new(),
             normal: CosSin::new(),
         });
@@ -299,6 +309,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         orbit,
         ophase,
         bound,
+        window,
         v0,
         nv,
         cx: 0,
@@ -306,6 +317,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         gone: false,
         asleep: false,
         island: -1,
+        wcells: None,
     })
 }
 

@@ -229,9 +229,9 @@ impl<E: Equations> World<E> {
                 }
             }
         }
-        for &o in &w.grid.large {
+        for o in w.grid.large_near(b, body.cx, body.cy) {
             let o = o as usize;
-            if o != b && !(s.bodies[o].island == island && o < b) {
+            if !(s.bodies[o].island == island && o < b) {
                 predict_pair::<E>(w, q, b, o, now)?;
             }
         }
@@ -331,11 +331,10 @@ impl<E: Equations> World<E> {
             end_support(body);
         }
         body.gone = true;
-        let (large, cx, cy) = (body.large, body.cx, body.cy);
+        let (large, cx, cy, wcells) = (body.large, body.cx, body.cy, body.wcells);
         self.w.stamps[a] += 1;
         if large {
-            let at = self.w.grid.large.iter().position(|&o| o as usize == a).expect("a large body is listed");
-            self.w.grid.large.remove(at);
+            self.w.grid.unplace_large(a as u32, wcells);
         } else {
             self.w.grid.remove(a as u32, cx, cy);
         }
@@ -405,6 +404,27 @@ impl<E: Equations> World<E> {
         b_.cy = cy as i32;
         self.w.grid.add(body, cx as i32, cy as i32);
         predict_cells::<E>(&self.w, &mut self.q, a, x_lo, x_hi, y_lo, y_hi, t, None, false)?;
+        // the walls of the new row or column but those also listed in the
+        // two it shares with the old neighbourhood (predicted at its last change)
+        let grid = &self.w.grid;
+        let mut shared = Vec::new();
+        if axis == 0 {
+            let lo = if d > 0 { cx - 1 } else { cx };
+            grid.walls_in(a, lo, lo + 1, cy - 1, cy + 1, &mut shared);
+        } else {
+            let lo = if d > 0 { cy - 1 } else { cy };
+            grid.walls_in(a, cx - 1, cx + 1, lo, lo + 1, &mut shared);
+        }
+        let mut news = Vec::new();
+        grid.walls_in(a, x_lo, x_hi, y_lo, y_hi, &mut news);
+        news.retain(|o| !shared.contains(o));
+        news.sort_unstable();
+        news.dedup();
+        if !self.w.s.bodies[a].fixed {
+            for o in news {
+                predict_pair::<E>(&self.w, &mut self.q, a, o as usize, t)?;
+            }
+        }
         schedule_cell(&self.w, &mut self.q, a, t);
         Ok(())
     }
@@ -452,7 +472,7 @@ impl<E: Equations> World<E> {
             }
             let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
             predict_cells::<E>(w, q, b, cx - 1, cx + 1, cy - 1, cy + 1, 0.0, None, true)?;
-            for &o in &w.grid.large {
+            for o in w.grid.large_near(b, body.cx, body.cy) {
                 let o = o as usize;
                 if !(fixed && w.s.bodies[o].fixed) {
                     predict_pair::<E>(w, q, b, o, 0.0)?;

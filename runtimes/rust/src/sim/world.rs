@@ -2,7 +2,7 @@
 //! stamps, grid) and the queue a prediction writes (events, counters).
 //! Two values, so that a prediction borrows the world and the queue apart.
 
-use super::grid::Grid;
+use super::grid::{place_large, Grid};
 use super::queue::{Event, Heap};
 use super::scene::{Body, Scene};
 
@@ -57,9 +57,14 @@ pub struct Space {
 }
 
 impl Space {
-    pub fn new(s: Scene) -> Space {
+    pub fn new(mut s: Scene) -> Space {
         let stamps = vec![0; s.bodies.len()];
-        let grid = Grid::new(&s);
+        let mut grid = Grid::new(&s);
+        for b in 0..s.bodies.len() {
+            if s.bodies[b].large {
+                place_large(&mut grid, &mut s, b);
+            }
+        }
         Space { s, stamps, grid }
     }
 
