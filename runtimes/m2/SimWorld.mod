@@ -22,7 +22,10 @@ IMPLEMENTATION MODULE SimWorld ;
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
    can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
-   predict_woken).
+   predict_woken, bound_polygon; the reference's predict_cc, predict_pe,
+   pe_coefficients, pe_first, circles_first, centre_params, circle_params
+   and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
+   CirclesFirst, CentreParams, CircleParams and BoundsMeet).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -41,7 +44,7 @@ FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLe
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
 FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
-                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText ;
+                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText, Grow, MaxItems ;
 FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove, LargeAdd, LargeRemove ;
 
 #include "circle_circle.mxd"
@@ -67,6 +70,12 @@ CONST
 
 TYPE
    ContactArray = POINTER TO ARRAY [0..MaxContacts - 1] OF Contact ;
+   (* the point_edge polynomial of one edge (bound_polygon's) *)
+   EdgePoly = RECORD
+      deg: INTEGER ;
+      c: ARRAY [0..PeMaxDegree] OF REAL ;
+   END ;
+   EdgePolyArray = POINTER TO ARRAY [0..MaxItems - 1] OF EdgePoly ;
    (* the counters written as the trace's N lines, in this order *)
    StatCounts = RECORD
       collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves, sleeps,
@@ -80,7 +89,8 @@ VAR
    PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
    (* the point-edge check of the prediction under way (predict_pe's inside) *)
    ChkX, ChkY: BodyRef ;
-   ChkV, ChkEdge: INTEGER ;
+   ChkRho, ChkBeta: REAL ;     (* the point: rho, beta about X's centre (rho 0: the centre) *)
+   ChkEdge: INTEGER ;
    ChkNow: REAL ;
    (* events at the current instant (the "stuck" check) *)
    LastT: REAL ;
@@ -96,6 +106,8 @@ VAR
    NContacts, CapContacts: INTEGER ;
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
    NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
+   EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
+   CapEdgePolys: INTEGER ;
 
 
 (* ---- errors ------------------------------------------------------------ *)
@@ -290,12 +302,16 @@ END Min ;
    edge (within the tolerance); the prediction sets Chk*. *)
 PROCEDURE Inside (s: REAL) : BOOLEAN ;
 VAR
-   t, px, py, qx, qy, qvx, qvy, qa, th, along: REAL ;
+   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, along: REAL ;
    ed: Vertex ;
 BEGIN
    ed := Verts^[ChkEdge] ;
    t := ChkNow + s ;
-   PointAt (ChkX, ChkV, t, px, py) ;
+   StateAt (ChkX, t, px, py, pvx, pvy, pa) ;
+   IF ChkRho # 0.0 THEN
+      px := px + ChkRho * cos (pa + ChkBeta) ;
+      py := py + ChkRho * sin (pa + ChkBeta)
+   END ;
    StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
    th := qa + ed.psi ;
    along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
@@ -445,50 +461,81 @@ BEGIN
 END CcCoefficients ;
 
 
-(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
-   (radius 0). *)
-PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+(* The circle_circle parameters of a moving circle's centre (CircleParams
+   or CentreParams), in the order x, vx, ax, d, e, f, y, vy, ay, p, q. *)
+TYPE
+   CParams = ARRAY [0..10] OF REAL ;
+
+
+PROCEDURE CircleParamsOf (b: BodyRef; now: REAL; v: INTEGER; VAR c: CParams) ;
+BEGIN
+   CircleParams (b, now, v, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10])
+END CircleParamsOf ;
+
+
+(* circle_circle parameters of b's centre of rotation at time now, no orbit:
+   the centre of a bounding circle (CircleParams of a polygon). *)
+PROCEDURE CentreParams (b: BodyRef; now: REAL; VAR c: CParams) ;
 VAR
-   a, b, c, d, e, f, m, n, o, p, q: REAL ;
-   g, h, i, j, k, l, r, s, u, v, ww: REAL ;
+   ang: REAL ;
+BEGIN
+   StateAt (b, now, c[0], c[6], c[1], c[7], ang) ;
+   c[2] := b^.ax ;
+   c[3] := 0.0 ;
+   c[4] := 0.0 ;
+   c[5] := HalfPi ;
+   c[8] := b^.ay ;
+   c[9] := 0.0 ;
+   c[10] := 0.0
+END CentreParams ;
+
+
+(* The first contact within [0, w] of a circle of radius ra moving as pa
+   and one of radius rb moving as pb. *)
+PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
    kappa: REAL ;
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
    deg: INTEGER ;
 BEGIN
-   CircleParams (A, now, -1, a, b, c, d, e, f, m, n, o, p, q) ;
-   CircleParams (B, now, vb, g, h, i, j, k, l, r, s, u, v, ww) ;
    (* only differences of the centres' motions matter: circle 1 moves
       relative to circle 2's centre of rotation *)
-   deg := CcCoefficients (a - g, b - h, c - i, d, e, f, m - r, n - s, o - u, p, q,
-                          0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A^.r, rb, coef) ;
-   kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
+   deg := CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
+                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
+                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef) ;
+   kappa := Tol * (2.0 * (ra + rb) + Tol) ;
    RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
+END CirclesFirst ;
+
+
+(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
+   (radius 0). *)
+PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   pa, pb: CParams ;
+BEGIN
+   CircleParamsOf (A, now, -1, pa) ;
+   CircleParamsOf (B, now, vb, pb) ;
+   RETURN CirclesFirst (pa, A^.r, pb, rb, w, t)
 END PredictCC ;
 
 
-(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y. *)
-PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+(* The point_edge polynomial of a circle of radius rad whose centre orbits
+   X's centre at rho (phase beta in X's frame) against the line of edge j of
+   Y, in s = t - now (its coef[0]: the gap now): its degree, or -1 when the
+   generated code leaves the effect out (the world has failed). *)
+PROCEDURE PeCoefficients (X, Y: BodyRef; rho, beta, rad: REAL; j: INTEGER; now: REAL;
+                          VAR coef: ARRAY OF REAL) : INTEGER ;
 VAR
    x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
-   rho, beta, rad, phn, wr, phr, h: REAL ;
+   phn, wr, phr, h: REAL ;
    ed: INTEGER ;
-   idx, deg: INTEGER ;
+   idx: INTEGER ;
    a1, a2, a3, a4, a5, a6: REAL ;
-   coef: ARRAY [0..PeMaxDegree] OF REAL ;
 BEGIN
    ed := Y^.v0 + j ;
    StateAt (X, now, x1, y1, u1, v1, ang1) ;
    StateAt (Y, now, x2, y2, u2, v2, ang2) ;
-   IF vx < 0 THEN
-      rho := X^.orbit ;
-      beta := X^.ophase ;
-      rad := X^.r
-   ELSE
-      rho := Verts^[vx].rho ;
-      beta := Verts^[vx].beta ;
-      rad := 0.0
-   END ;
    phn := ang2 + Verts^[ed].psi ;
    wr := X^.om - Y^.om ;
    phr := (ang1 + beta) - phn ;
@@ -508,17 +555,51 @@ BEGIN
    idx := point_edge_variant (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h) ;
    IF (idx < 0) OR (idx >= PeVariants) THEN
       Fails ("point_edge: the scene uses an effect the generated code leaves out") ;
-      RETURN FALSE             (* the world has failed, nothing more is handled *)
+      coef[0] := 1.0 ;
+      RETURN -1                (* the world has failed, nothing more is handled *)
    END ;
    INC (PeCounts[idx]) ;
    INC (Stats.features) ;
-   deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
+   RETURN point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef)
+END PeCoefficients ;
+
+
+(* The first contact within [0, w] of PeCoefficients' polynomial (degree
+   deg; none when deg < 0) whose point (X's centre, or rho, beta about it)
+   lies on edge j's segment. *)
+PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
+                   now, w: REAL; VAR t: REAL) : BOOLEAN ;
+BEGIN
+   IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
    ChkY := Y ;
-   ChkV := vx ;
-   ChkEdge := ed ;
+   ChkRho := rho ;
+   ChkBeta := beta ;
+   ChkEdge := Y^.v0 + j ;
    ChkNow := now ;
    RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
+END PeFirst ;
+
+
+(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
+   line of edge j of Y. *)
+PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   rho, beta, rad: REAL ;
+   deg: INTEGER ;
+   coef: ARRAY [0..PeMaxDegree] OF REAL ;
+BEGIN
+   IF vx < 0 THEN
+      rho := X^.orbit ;
+      beta := X^.ophase ;
+      rad := X^.r
+   ELSE
+      rho := Verts^[vx].rho ;
+      beta := Verts^[vx].beta ;
+      rad := 0.0
+   END ;
+   deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, t)
 END PredictPE ;
 
 
@@ -545,6 +626,54 @@ BEGIN
       best.j := j
    END
 END Better ;
+
+
+(* T turns, polygon P does not: when T's bounding circle (radius T.bound
+   about T's centre of rotation, which does not turn) first touches P itself
+   (its edges, then its vertices) within (0, w]: TRUE and meet = 0.0 when no
+   edge line of P has the circle beyond it by more than the tolerance now
+   (overlapping, or near a corner), TRUE and meet > 0 when they touch later,
+   FALSE when they do not meet.  Exact: neither the circle nor P turns. *)
+PROCEDURE bound_polygon (T, P: BodyRef; now, w: REAL; VAR meet: REAL) : BOOLEAN ;
+VAR
+   j, k: INTEGER ;
+   apart, found, got: BOOLEAN ;
+   t: REAL ;
+   pt, pv: CParams ;
+BEGIN
+   IF P^.nv > CapEdgePolys THEN
+      CapEdgePolys := P^.nv ;
+      EdgePolys := Grow (EdgePolys, CapEdgePolys, SIZE (EdgePoly))
+   END ;
+   apart := FALSE ;
+   FOR j := 0 TO P^.nv - 1 DO
+      EdgePolys^[j].deg := PeCoefficients (T, P, 0.0, 0.0, T^.bound, j, now, EdgePolys^[j].c) ;
+      IF EdgePolys^[j].c[0] > Tol THEN apart := TRUE END
+   END ;
+   IF NOT apart THEN
+      meet := 0.0 ;
+      RETURN TRUE
+   END ;
+   found := FALSE ;
+   meet := 0.0 ;
+   FOR j := 0 TO P^.nv - 1 DO
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, t) ;
+      IF got AND ((NOT found) OR (t < meet)) THEN
+         found := TRUE ;
+         meet := t
+      END
+   END ;
+   CentreParams (T, now, pt) ;
+   FOR k := 0 TO P^.nv - 1 DO
+      CircleParamsOf (P, now, P^.v0 + k, pv) ;
+      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, t) ;
+      IF got AND ((NOT found) OR (t < meet)) THEN
+         found := TRUE ;
+         meet := t
+      END
+   END ;
+   RETURN found
+END bound_polygon ;
 
 
 (* When the bounding circles first touch within (0, w]: TRUE and meet = 0.0
@@ -620,8 +749,15 @@ BEGIN
    w := EndT - now ;
    IF NOT (w > 0.0) THEN RETURN END ;
    IF A^.polygon OR B^.polygon THEN
-      (* the bounding circles do not turn: until they touch, nothing can *)
-      IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
+      (* the bounds do not turn: until they touch, nothing can *)
+      IF B^.polygon AND (TurnRate (A) > 0.0) AND (B^.om = 0.0) THEN
+         found := bound_polygon (A, B, now, w, meet)
+      ELSIF A^.polygon AND (TurnRate (B) > 0.0) AND (A^.om = 0.0) THEN
+         found := bound_polygon (B, A, now, w, meet)
+      ELSE
+         found := BoundsMeet (A, B, now, w, meet)
+      END ;
+      IF NOT found THEN RETURN END ;
       IF meet > 0.0 THEN
          push_horizon (now + meet, A, B) ;
          RETURN
@@ -2388,6 +2524,8 @@ BEGIN
    Contacts := NIL ;
    NContacts := 0 ;
    CapContacts := 0 ;
+   EdgePolys := NIL ;
+   CapEdgePolys := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)
 END SimWorld.
