@@ -477,8 +477,8 @@ def test_a_teleported_large_movable_body_stays_out_of_the_grid(lang):
     lines = compile_scene(scene).split("\n")
     bodies = [k for k, line in enumerate(lines) if line.startswith("body ")]
     w = lines[bodies[target]].split()
-    assert w[2] == "0" and w[19] == "0"          # movable, not large
-    w[19] = "1"
+    assert w[2] == "0" and w[20] == "0"          # movable, not large
+    w[20] = "1"
     lines[bodies[target]] = " ".join(w)
     flat = "\n".join(lines)
     out = {}

@@ -63,9 +63,10 @@ def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:
     """The flat lines add_body takes for a body given as in a JSON scene
     (checked as in one: the scene's gravity applies; position and velocity
     are the state at the world's time of the add)."""
-    from max2code.sim.scene import body_lines
+    from max2code.sim.scene import body_lines, body_window, circle_lever
     one = parse_scene(json.dumps({"end_time": scene.end_time, "gravity": list(scene.gravity), "bodies": [raw]}), path)
-    return "\n".join(body_lines(one.bodies[0], False)) + "\n"
+    b = one.bodies[0]
+    return "\n".join(body_lines(b, False, body_window(b, scene, circle_lever(scene)))) + "\n"
 
 
 def as_scene(scene) -> Scene:

@@ -686,8 +686,32 @@ def window_angle(scene: Scene) -> float:
         return 0.5
     # near a contact the lever is at most the two bodies' bounding radii
     lever = 2.0 * max(turning) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
-    n = scene.taylor_order
-    return min(0.5, (math.factorial(n + 1) * scene.tolerance / lever) ** (1.0 / (n + 1)))
+    return _angle_for(lever, scene.taylor_order, scene.tolerance)
+
+
+def _angle_for(lever: float, n: int, tol: float) -> float:
+    """The largest angle (at most 0.5 rad) whose order-n Taylor remainder of
+    sin and cos, a^(n+1)/(n+1)!, times the lever stays below the tolerance."""
+    return min(0.5, (math.factorial(n + 1) * tol / lever) ** (1.0 / (n + 1)))
+
+
+def circle_lever(scene: Scene) -> float:
+    """The largest radius of a circle that does not turn (no orbit, or no
+    spin): the partner that adds most to the lever of a turning body whose
+    partner does not turn (0 when the scene has none)."""
+    return max((b.radius for b in scene.bodies if not b.polygon and not b.turns), default=0.0)
+
+
+def body_window(b: Body, scene: Scene, circles: float) -> float:
+    """A body's own window angle, used when it turns and its partner does
+    not: the Taylor remainder of the pair's gap is then at most its own
+    bounding radius (a vertex's orbit against the partner's edge line; the
+    partner's vertex against its own turning edge, near contact) plus a
+    circle partner's radius, times a^(n+1)/(n+1)!.  0 for a body that can
+    never turn (the runtime never uses it)."""
+    if not b.may_turn:
+        return 0.0
+    return _angle_for(b.bound + circles, scene.taylor_order, scene.tolerance)
 
 
 @dataclass(frozen=True)
@@ -726,7 +750,7 @@ def _r(x: float) -> str:
     return repr(float(x))
 
 
-def body_lines(b: Body, large: bool) -> list[str]:
+def body_lines(b: Body, large: bool, window: float) -> list[str]:
     """A body's `body` line and its `v` lines in the flat format."""
     out = []
     inv_m = 0.0 if b.fixed else 1.0 / b.mass
@@ -734,7 +758,7 @@ def body_lines(b: Body, large: bool) -> list[str]:
     (px, py), (vx, vy), (ax, ay) = b.position, b.velocity, b.acceleration
     reals = " ".join(map(repr, map(float, (inv_m, inv_i, b.restitution, b.friction, px, py, vx, vy, ax, ay,
                                             b.angle, b.angular_velocity, b.radius, b.orbit_radius,
-                                            b.orbit_angle, b.bound))))
+                                            b.orbit_angle, b.bound, window))))
     out.append(f"body {'1' if b.polygon else '0'} {'1' if b.fixed else '0'} {reals} "
                f"{'1' if large else '0'} {len(b.vertices)}")
     n = len(b.vertices)
@@ -767,8 +791,9 @@ def _compile_scene(scene: Scene) -> str:
            f"max_same_time {scene.max_same}",
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
+    circles = circle_lever(scene)
     for b, large in zip(scene.bodies, g.large):
-        out += body_lines(b, large)
+        out += body_lines(b, large, body_window(b, scene, circles))
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

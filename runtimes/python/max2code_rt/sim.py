@@ -54,7 +54,7 @@ class Body:
     """A body's constants and its motion, stored as the state at its own
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
-                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "large", "verts", "stamp", "cx", "cy",
+                 "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
                  "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
@@ -71,6 +71,7 @@ class Body:
     # r              m: circle radius (0 for polygons)
     # orbit, ophase  m, rad: orbit radius and phase (circles)
     # bound          m: radius of the bounding circle about the centre
+    # window         rad: its window angle when it turns and its partner does not (0: it never turns)
     # verts          list of Vertex (polygons), else empty
     # stamp          bumped when the motion changes (lazy invalidation)
     # cx, cy         grid cell (small bodies)
@@ -228,7 +229,7 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.sup, b.sup_edge = -1, -1
     b.tx = b.ty = b.load = b.at = 0.0
     b.ang, b.om = num(), num()
-    b.r, b.orbit, b.ophase, b.bound = num(), num(), num(), num()
+    b.r, b.orbit, b.ophase, b.bound, b.window = num(), num(), num(), num(), num()
     b.large = integer() == 1
     nv = integer()
     b.verts = []
@@ -591,9 +592,13 @@ class World:
             if meet > 0.0:
                 self.push_horizon(now + meet, A, B)
                 return
-        turn = self.turn_rate(A) + self.turn_rate(B)
-        if turn > 0.0:
-            w = min(w, s.alpha / turn)
+        ta, tb = self.turn_rate(A), self.turn_rate(B)
+        if ta > 0.0 and tb > 0.0:
+            w = min(w, s.alpha / (ta + tb))
+        elif ta > 0.0:
+            w = min(w, A.window / ta)
+        elif tb > 0.0:
+            w = min(w, B.window / tb)
         best = None   # (s, feature, a, b, i, j): the earliest contact so far
         if not A.polygon and not B.polygon:
             t = self.predict_cc(A, B, None, B.r, now, w)
