@@ -269,7 +269,7 @@ BEGIN
    b^.sup := -1 ; b^.sup_edge := -1 ;
    b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
    b^.ang := Num () ; b^.om := Num () ;
-   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
+   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ; b^.window := Num () ;
    b^.large := ReadInt () = 1 ;
    nv := ReadCount () ;
    IF Failed THEN RETURN 0 END ;

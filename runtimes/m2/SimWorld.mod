@@ -735,7 +735,7 @@ END VerticesEdges ;
    where the Taylor polynomials of their turns stop being good. *)
 PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
 VAR
-   w, turn, q, t, meet: REAL ;
+   w, ta, tb, turn, q, t, meet: REAL ;
    best: Best ;
    found: BOOLEAN ;
 BEGIN
@@ -763,11 +763,21 @@ BEGIN
          RETURN
       END
    END ;
-   turn := TurnRate (A) + TurnRate (B) ;
-   IF turn > 0.0 THEN
-      q := Alpha / turn ;
-      IF q < w THEN w := q END       (* Python's min(w, q) *)
+   ta := TurnRate (A) ;
+   tb := TurnRate (B) ;
+   turn := 0.0 ;
+   q := 0.0 ;
+   IF (ta > 0.0) AND (tb > 0.0) THEN
+      turn := ta + tb ;
+      q := Alpha / turn
+   ELSIF ta > 0.0 THEN
+      turn := ta ;
+      q := A^.window / ta      (* only A turns: its own lever's window *)
+   ELSIF tb > 0.0 THEN
+      turn := tb ;
+      q := B^.window / tb
    END ;
+   IF (turn > 0.0) AND (q < w) THEN w := q END ;     (* Python's min(w, q) *)
    best.found := FALSE ;
    best.t := 0.0 ;
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
