@@ -14,7 +14,7 @@ from hypothesis import given, settings, strategies as st
 from max2code.conformance.exact_ref import reference
 from max2code.sim.invariants import check
 from max2code.sim.replay import read_trace
-from max2code.sim.scene import parse_scene
+from max2code.sim.scene import load_scene, parse_scene
 from max2code.sim.simulate import run_scene
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -70,6 +70,16 @@ def test_a_spinning_polygon_grazing_a_long_wall_collides_at_the_exact_time(ceili
     # the Taylor windows keep the gap within the tolerance (1e-12 m); the
     # corner meets the face at >= 0.05 m/s here, so 1e-10 s is generous
     assert abs(hits[0]["t"] - want) <= 1e-10, (hits[0]["t"], want)
+
+
+def test_spinning_polygons_need_few_horizons_per_collision():
+    """examples/spinning-polygons.json: at most 5 horizon events per
+    collision (6,694 for 35 collisions before the bound against the walls
+    themselves: the walls' bounding circles always overlap)."""
+    tr = run_scene(load_scene(os.path.join(ROOT, "examples", "spinning-polygons.json")), "python")
+    n = tr.stats["events"]          # the trace's N lines
+    assert n["collisions"] >= 30
+    assert n["horizons"] <= 5 * n["collisions"], n
 
 
 @settings(max_examples=8, deadline=None)

@@ -24,6 +24,9 @@ INPUT, COLLISION, STOP, LEAVE, CELL, HORIZON, FRAME = 0, 1, 2, 3, 4, 5, 6
 KIND_NAMES = ("input", "collision", "stop", "leave", "cell", "horizon", "frame")
 # contact features: circle-circle (also circle-vertex) and point-edge
 CC, PE = 0, 1
+# the most stages (a meeting of the bounds, a clear stretch, a Taylor window)
+# one prediction of a pair goes through before it leaves the rest to a horizon
+CHAIN = 8
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
@@ -569,54 +572,77 @@ class World:
     # ---- pairs ------------------------------------------------------------
     def predict_pair(self, A: Body, B: Body, now: float) -> None:
         """Schedule the first contact of A and B after now, or a horizon
-        event where the Taylor polynomials of their turns stop being good."""
+        event where the Taylor polynomials of their turns stop being good.
+        Cheap steps chain: a later meeting of the bounds or a clear stretch
+        moves `now` on (up to CHAIN stages, at most one Taylor window)."""
         s = self.s
         if A.sup == B.idx or B.sup == A.idx:
             return      # the support's edge line separates them (both convex): only leaving ends it
         if (A.asleep and self.grounded(B)) or (B.asleep and self.grounded(A)):
             return      # a sleeper against a sleeper or an unmoving fixed body: nothing moves
         self.stats.pairs += 1
-        w = s.end - now
-        if not (w > 0.0):
-            return
-        if A.polygon or B.polygon:
-            # the bounding circles do not turn: until they touch, nothing can
-            if B.polygon and self.turn_rate(A) > 0.0 and B.om == 0.0:
-                meet = self.bound_polygon(A, B, now, w)
-            elif A.polygon and self.turn_rate(B) > 0.0 and A.om == 0.0:
-                meet = self.bound_polygon(B, A, now, w)
-            else:
-                meet = self.bounds_meet(A, B, now, w)
-            if meet is None:
-                return
-            if meet > 0.0:
-                self.push_horizon(now + meet, A, B)
-                return
         ta, tb = self.turn_rate(A), self.turn_rate(B)
-        if ta > 0.0 and tb > 0.0:
-            w = min(w, s.alpha / (ta + tb))
-        elif ta > 0.0:
-            w = min(w, A.window / ta)
-        elif tb > 0.0:
-            w = min(w, B.window / tb)
-        best = None   # (s, feature, a, b, i, j): the earliest contact so far
+        windowed = False
+        for _ in range(CHAIN):
+            w = s.end - now
+            if not (w > 0.0):
+                return
+            if A.polygon or B.polygon:
+                # bounds that do not turn: until they touch, nothing can
+                if B.polygon and ta > 0.0 and B.om == 0.0:
+                    meet = self.bound_polygon(A, B, now, w)
+                elif A.polygon and tb > 0.0 and A.om == 0.0:
+                    meet = self.bound_polygon(B, A, now, w)
+                else:
+                    meet = self.bounds_meet(A, B, now, w)
+                if meet is None:
+                    return
+                if meet > 0.0:
+                    now = now + meet
+                    continue
+            if ta > 0.0 and tb > 0.0:
+                w = min(w, s.alpha / (ta + tb))
+            elif ta > 0.0:
+                w = min(w, A.window / ta)
+            elif tb > 0.0:
+                w = min(w, B.window / tb)
+            if ta > 0.0 or tb > 0.0:
+                clear = self.clear_time(A, B, now)
+                if clear >= w:
+                    # apart all through the window, whatever the turns do: no
+                    # roots to solve until they may come within the tolerance
+                    now = now + clear
+                    continue
+            if windowed:
+                break       # one Taylor window per prediction: the next at a horizon
+            best = self.features(A, B, now, w)
+            if best is not None:
+                bodies = s.bodies
+                self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
+                return
+            if ta == 0.0 and tb == 0.0:
+                return      # nothing turns: the window was the whole run
+            now = now + w
+            windowed = True
+        if now < s.end:
+            self.push_horizon(now, A, B)
+
+    def features(self, A: Body, B: Body, now: float, w: float):
+        """The earliest contact of A's and B's features within [0, w] after now:
+        (s, feature, a, b, i, j), or None."""
+        best = None
         if not A.polygon and not B.polygon:
             t = self.predict_cc(A, B, None, B.r, now, w)
             if t is not None:
                 best = (t, CC, A.idx, B.idx, -1, -1)
+        elif not A.polygon:
+            best = self.circle_polygon(A, B, now, w, None)
+        elif not B.polygon:
+            best = self.circle_polygon(B, A, now, w, None)
         else:
-            if not A.polygon:
-                best = self.circle_polygon(A, B, now, w, None)
-            elif not B.polygon:
-                best = self.circle_polygon(B, A, now, w, None)
-            else:
-                best = self.vertices_edges(A, B, now, w, None)
-                best = self.vertices_edges(B, A, now, w, best)
-        bodies = s.bodies
-        if best is not None:
-            self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
-        elif now + w < s.end:
-            self.push_horizon(now + w, A, B)
+            best = self.vertices_edges(A, B, now, w, None)
+            best = self.vertices_edges(B, A, now, w, best)
+        return best
 
     def bounds_meet(self, A: Body, B: Body, now: float, w: float) -> float | None:
         """When the bounding circles first touch within (0, w]: 0.0 when they
@@ -660,6 +686,81 @@ class World:
             if t is not None and (meet is None or t < meet):
                 meet = t
         return meet
+
+    def clear_time(self, A: Body, B: Body, now: float) -> float:
+        """How long A and B surely stay more than the tolerance apart, from
+        their gap g along a fixed unit axis n now (0 when not apart now).
+        Along n the gap changes by (dv . n) s + (da . n) s^2/2 from the
+        centres' relative motion (dv, da: the far body's velocity and
+        acceleration less the near one's, so that dv . n > 0 opens the gap)
+        and closes by at most spin s from the turns (spin: each turning
+        body's bound times its turn rate): it stays above the tolerance for
+        s below the positive root of |da . n|/2 s^2 + r s - (g - tol),
+        r = spin - dv . n (clear_root).  The axis: when one of them is a
+        polygon P that does not turn and the other, T, turns, each of P's
+        edge normals (fixed: P does not turn; g the gap of T's vertices, or
+        of its circle, beyond the edge's line), the largest of the times;
+        otherwise the line of the centres (g: the smallest projection of B
+        on it less the largest of A's, circles by their radius)."""
+        if B.polygon and B.om == 0.0 and self.turn_rate(A) > 0.0:
+            return self.clear_axes(A, B, now)
+        if A.polygon and A.om == 0.0 and self.turn_rate(B) > 0.0:
+            return self.clear_axes(B, A, now)
+        x1, y1, u1, v1, _ = self.state_at(A, now)
+        x2, y2, u2, v2, _ = self.state_at(B, now)
+        dx, dy = x2 - x1, y2 - y1
+        d = math.sqrt(dx * dx + dy * dy)
+        if not (d > 0.0):
+            return 0.0
+        nx, ny = dx / d, dy / d
+        hi = self.reach(A, nx, ny, now)
+        lo = -self.reach(B, -nx, -ny, now)
+        spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
+        tol = self.s.tol
+        along = self.clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
+                                math.fabs(nx * (B.ax - A.ax) + ny * (B.ay - A.ay)))
+        # and along the best separating axis, which may turn: the norms, |x| + |y|
+        anyway = self.clear_root(self.separation(A, B, now) - tol,
+                                 spin + math.fabs(u2 - u1) + math.fabs(v2 - v1),
+                                 math.fabs(B.ax - A.ax) + math.fabs(B.ay - A.ay))
+        return max(along, anyway)
+
+    def reach(self, b: Body, nx: float, ny: float, now: float) -> float:
+        """The largest projection of b on the unit axis (nx, ny) at now."""
+        if not b.polygon:
+            px, py = self.point_at(b, None, now)
+            return nx * px + ny * py + b.r
+        best = -math.inf
+        for v in b.verts:
+            px, py = self.point_at(b, v, now)
+            best = max(best, nx * px + ny * py)
+        return best
+
+    def clear_axes(self, T: Body, P: Body, now: float) -> float:
+        """clear_time along each edge normal of P (P does not turn, T does)."""
+        _, _, u1, v1, _ = self.state_at(T, now)
+        _, _, u2, v2, _ = self.state_at(P, now)
+        du, dv, dax, day = u1 - u2, v1 - v2, T.ax - P.ax, T.ay - P.ay
+        spin = T.bound * self.turn_rate(T)
+        best = 0.0
+        for j in range(len(P.verts)):
+            ox, oy, off = self.edge_line(P, j, now)
+            c = self.clear_root(-self.reach(T, -ox, -oy, now) - off - self.s.tol, spin - (ox * du + oy * dv),
+                                math.fabs(ox * dax + oy * day))
+            best = max(best, c)
+        return best
+
+    @staticmethod
+    def clear_root(g: float, r: float, q: float) -> float:
+        """The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+        inf when it has none (r <= 0 and q = 0)."""
+        if not (g > 0.0):
+            return 0.0
+        if r > 0.0:
+            return 2.0 * g / (r + math.sqrt(r * r + 2.0 * q * g))
+        if q > 0.0:
+            return (math.sqrt(r * r + 2.0 * q * g) - r) / q
+        return math.inf
 
     @staticmethod
     def _better(best, t, feat, a, b, i, j):
