@@ -22,7 +22,8 @@ IMPLEMENTATION MODULE SimWorld ;
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
    can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
-   predict_woken, bound_polygon; the reference's predict_cc, predict_pe,
+   predict_woken, bound_polygon, clear_time, clear_axes, clear_root, reach;
+   the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
    and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
    CirclesFirst, CentreParams, CircleParams and BoundsMeet).
@@ -59,7 +60,11 @@ CONST
    TeleportMode = 3 ;
    RemoveMode = 4 ;
    MaxContacts = 16777216 ;    (* bound of the array type only: storage grows *)
-   HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
+   HalfPi = 1.5707963267948966 ;
+   (* the most stages (a meeting of the bounds, a clear stretch, a Taylor
+      window) one prediction of a pair goes through before it leaves the rest
+      to a horizon *)
+   Chain = 8 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
@@ -731,53 +736,14 @@ BEGIN
 END VerticesEdges ;
 
 
-(* Schedules the first contact of A and B after now, or a horizon event
-   where the Taylor polynomials of their turns stop being good. *)
-PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+(* The earliest contact of A's and B's features within [0, w] after now
+   (circle-circle, circle-polygon, or A's vertices on B's edges then B's on
+   A's): best.found and its fields, else not best.found. *)
+PROCEDURE Features (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
 VAR
-   w, ta, tb, turn, q, t, meet: REAL ;
-   best: Best ;
+   t: REAL ;
    found: BOOLEAN ;
 BEGIN
-   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
-      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
-   END ;
-   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
-      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
-   END ;
-   INC (Stats.pairs) ;
-   w := EndT - now ;
-   IF NOT (w > 0.0) THEN RETURN END ;
-   IF A^.polygon OR B^.polygon THEN
-      (* the bounds do not turn: until they touch, nothing can *)
-      IF B^.polygon AND (TurnRate (A) > 0.0) AND (B^.om = 0.0) THEN
-         found := bound_polygon (A, B, now, w, meet)
-      ELSIF A^.polygon AND (TurnRate (B) > 0.0) AND (A^.om = 0.0) THEN
-         found := bound_polygon (B, A, now, w, meet)
-      ELSE
-         found := BoundsMeet (A, B, now, w, meet)
-      END ;
-      IF NOT found THEN RETURN END ;
-      IF meet > 0.0 THEN
-         push_horizon (now + meet, A, B) ;
-         RETURN
-      END
-   END ;
-   ta := TurnRate (A) ;
-   tb := TurnRate (B) ;
-   turn := 0.0 ;
-   q := 0.0 ;
-   IF (ta > 0.0) AND (tb > 0.0) THEN
-      turn := ta + tb ;
-      q := Alpha / turn
-   ELSIF ta > 0.0 THEN
-      turn := ta ;
-      q := A^.window / ta      (* only A turns: its own lever's window *)
-   ELSIF tb > 0.0 THEN
-      turn := tb ;
-      q := B^.window / tb
-   END ;
-   IF (turn > 0.0) AND (q < w) THEN w := q END ;     (* Python's min(w, q) *)
    best.found := FALSE ;
    best.t := 0.0 ;
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
@@ -790,12 +756,176 @@ BEGIN
    ELSE
       VerticesEdges (A, B, now, w, best) ;
       VerticesEdges (B, A, now, w, best)
-   END ;
-   IF best.found THEN
-      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
-   ELSIF now + w < EndT THEN
-      push_horizon (now + w, A, B)
    END
+END Features ;
+
+
+(* The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+   +infinity when it has none (r <= 0 and q = 0). *)
+PROCEDURE clear_root (g, r, q: REAL) : REAL ;
+BEGIN
+   IF NOT (g > 0.0) THEN RETURN 0.0 END ;
+   IF r > 0.0 THEN RETURN 2.0 * g / (r + sqrt (r * r + 2.0 * q * g)) END ;
+   IF q > 0.0 THEN RETURN (sqrt (r * r + 2.0 * q * g) - r) / q END ;
+   RETURN Inf
+END clear_root ;
+
+
+(* The largest projection of b on the unit axis (nx, ny) at now (a circle:
+   its centre's plus its radius). *)
+PROCEDURE reach (b: BodyRef; nx, ny, now: REAL) : REAL ;
+VAR
+   px, py, best, d: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF NOT b^.polygon THEN
+      PointAt (b, -1, now, px, py) ;
+      RETURN nx * px + ny * py + b^.r
+   END ;
+   best := -Inf ;
+   FOR k := 0 TO b^.nv - 1 DO
+      PointAt (b, b^.v0 + k, now, px, py) ;
+      d := nx * px + ny * py ;
+      IF d > best THEN best := d END        (* Python's max(best, d) *)
+   END ;
+   RETURN best
+END reach ;
+
+
+(* clear_time along each edge normal of P (P does not turn, T does): the
+   largest of the times. *)
+PROCEDURE clear_axes (T, P: BodyRef; now: REAL) : REAL ;
+VAR
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, du, dv, dax, day, spin, best, ox, oy, off, c: REAL ;
+   j: INTEGER ;
+BEGIN
+   StateAt (T, now, x1, y1, u1, v1, a1) ;
+   StateAt (P, now, x2, y2, u2, v2, a2) ;
+   du := u1 - u2 ;
+   dv := v1 - v2 ;
+   dax := T^.ax - P^.ax ;
+   day := T^.ay - P^.ay ;
+   spin := T^.bound * TurnRate (T) ;
+   best := 0.0 ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, now, ox, oy, off) ;
+      c := clear_root (-reach (T, -ox, -oy, now) - off - Tol, spin - (ox * du + oy * dv),
+                       ABS (ox * dax + oy * day)) ;
+      IF c > best THEN best := c END        (* Python's max(best, c) *)
+   END ;
+   RETURN best
+END clear_axes ;
+
+
+(* How long A and B surely stay more than the tolerance apart, from their
+   gap g along a fixed unit axis n now (0 when not apart now): along n the
+   gap changes by (dv . n) s + (da . n) s^2/2 from the centres' relative
+   motion and closes by at most spin s from the turns (spin: each turning
+   body's bound times its turn rate), so it stays above the tolerance for s
+   below the positive root of |da . n|/2 s^2 + r s - (g - tol),
+   r = spin - dv . n (clear_root).  The axes: P's edge normals when one body
+   is a polygon P that does not turn and the other turns (clear_axes); else
+   the larger of the line of the centres and the separating axis of
+   separation (which may turn: unsigned norms). *)
+PROCEDURE clear_time (A, B: BodyRef; now: REAL) : REAL ;
+VAR
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, hi, lo, spin, along, anyway: REAL ;
+BEGIN
+   IF B^.polygon AND (B^.om = 0.0) AND (TurnRate (A) > 0.0) THEN RETURN clear_axes (A, B, now) END ;
+   IF A^.polygon AND (A^.om = 0.0) AND (TurnRate (B) > 0.0) THEN RETURN clear_axes (B, A, now) END ;
+   StateAt (A, now, x1, y1, u1, v1, a1) ;
+   StateAt (B, now, x2, y2, u2, v2, a2) ;
+   dx := x2 - x1 ;
+   dy := y2 - y1 ;
+   d := sqrt (dx * dx + dy * dy) ;
+   IF NOT (d > 0.0) THEN RETURN 0.0 END ;
+   nx := dx / d ;
+   ny := dy / d ;
+   hi := reach (A, nx, ny, now) ;
+   lo := -reach (B, -nx, -ny, now) ;
+   spin := A^.bound * TurnRate (A) + B^.bound * TurnRate (B) ;
+   along := clear_root (lo - hi - Tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
+                        ABS (nx * (B^.ax - A^.ax) + ny * (B^.ay - A^.ay))) ;
+   (* and along the best separating axis, which may turn: the norms, |x| + |y| *)
+   anyway := clear_root (separation (A, B, now) - Tol, spin + ABS (u2 - u1) + ABS (v2 - v1),
+                         ABS (B^.ax - A^.ax) + ABS (B^.ay - A^.ay)) ;
+   IF anyway > along THEN RETURN anyway END ;     (* Python's max(along, anyway) *)
+   RETURN along
+END clear_time ;
+
+
+(* Schedules the first contact of A and B after now, or a horizon event
+   where the Taylor polynomials of their turns stop being good.  Cheap
+   steps chain: a later meeting of the bounds or a clear stretch moves now
+   on (up to Chain stages, at most one Taylor window). *)
+PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+VAR
+   w, ta, tb, q, meet, clear: REAL ;
+   best: Best ;
+   found, windowed: BOOLEAN ;
+   stage: INTEGER ;
+BEGIN
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
+   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
+      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
+   END ;
+   INC (Stats.pairs) ;
+   ta := TurnRate (A) ;
+   tb := TurnRate (B) ;
+   windowed := FALSE ;
+   stage := 0 ;
+   LOOP
+      IF stage = Chain THEN EXIT END ;
+      INC (stage) ;
+      w := EndT - now ;
+      IF NOT (w > 0.0) THEN RETURN END ;
+      meet := 0.0 ;
+      IF A^.polygon OR B^.polygon THEN
+         (* bounds that do not turn: until they touch, nothing can *)
+         IF B^.polygon AND (ta > 0.0) AND (B^.om = 0.0) THEN
+            found := bound_polygon (A, B, now, w, meet)
+         ELSIF A^.polygon AND (tb > 0.0) AND (A^.om = 0.0) THEN
+            found := bound_polygon (B, A, now, w, meet)
+         ELSE
+            found := BoundsMeet (A, B, now, w, meet)
+         END ;
+         IF NOT found THEN RETURN END
+      END ;
+      IF meet > 0.0 THEN
+         now := now + meet              (* the next stage from there *)
+      ELSE
+         q := w ;
+         IF (ta > 0.0) AND (tb > 0.0) THEN
+            q := Alpha / (ta + tb)
+         ELSIF ta > 0.0 THEN
+            q := A^.window / ta         (* only A turns: its own lever's window *)
+         ELSIF tb > 0.0 THEN
+            q := B^.window / tb
+         END ;
+         IF q < w THEN w := q END ;     (* Python's min(w, q) *)
+         clear := 0.0 ;
+         IF (ta > 0.0) OR (tb > 0.0) THEN clear := clear_time (A, B, now) END ;
+         IF ((ta > 0.0) OR (tb > 0.0)) AND (clear >= w) THEN
+            (* apart all through the window, whatever the turns do: no roots
+               to solve until they may come within the tolerance *)
+            now := now + clear
+         ELSE
+            IF windowed THEN EXIT END ;   (* one Taylor window per prediction: the next at a horizon *)
+            Features (A, B, now, w, best) ;
+            IF best.found THEN
+               push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i,
+                               best.j) ;
+               RETURN
+            END ;
+            IF (ta = 0.0) AND (tb = 0.0) THEN RETURN END ;   (* nothing turns: the window was the whole run *)
+            now := now + w ;
+            windowed := TRUE
+         END
+      END
+   END ;
+   IF now < EndT THEN push_horizon (now, A, B) END
 END PredictPair ;
 
 
