@@ -20,18 +20,73 @@ class InvariantReport:
     drift_where: str
 
 
-def energy(scene: Scene, rp: Replay, t: float) -> float:
-    """Kinetic (linear and rotational) plus gravitational potential energy
-    of the movable bodies at time t."""
-    gx, gy = scene.gravity
+def energy(scene: Scene, rp: Replay, t: float, before: bool = False) -> float:
+    """Kinetic (linear and rotational) plus potential energy of the movable
+    bodies at time t: the potential of each body's free acceleration (the
+    scene's, gravity included: a body whose own acceleration cancels
+    gravity has none).  before: with the states in force just before t
+    (carried to t), not the ones the events at t left."""
     total = 0.0
     for k, b in enumerate(scene.bodies):
         if b.fixed:
             continue
-        s = rp.state_at(k, t)
+        s = rp.state_before(k, t) if before else rp.state_at(k, t)
+        ax, ay = b.acceleration
         total += 0.5 * b.mass * (s.vx * s.vx + s.vy * s.vy) + 0.5 * b.inertia * s.omega * s.omega
-        total -= b.mass * (gx * s.px + gy * s.py)
+        total -= b.mass * (ax * s.px + ay * s.py)
     return total
+
+
+@dataclass
+class EnergyReport:
+    instants: int               # event instants checked
+    max_growth: float           # largest (E(t) - lowest E before t) / |Eref| (see energy_growth)
+    growth_where: str
+    max_jump: float             # largest E(t) - E(t-) at one instant (J), driven instants left out
+    jump_where: str
+
+
+def driven_instants(scene: Scene, rp: Replay) -> set[float]:
+    """The instants at which something outside the bodies may add energy: an
+    input, or a contact with a fixed body that moves or turns (it does work)."""
+    bodies = scene.bodies
+    out = set()
+    for e in rp.events:
+        if e.kind == "input":
+            out.add(e.t)
+        elif e.kind in ("collision", "support"):
+            for k in e.bodies:
+                b = bodies[k]
+                if b.fixed and (b.velocity != (0.0, 0.0) or b.acceleration != (0.0, 0.0) or b.angular_velocity != 0.0):
+                    out.add(e.t)
+    return out
+
+
+def energy_growth(scene: Scene, rp: Replay) -> EnergyReport:
+    """Energy never grows: at every event instant t (frames left out), E(t)
+    against the lowest energy at an instant since t = 0 or since the last
+    driven instant (driven_instants: there it starts again from E after it),
+    relative to the energy Eref at that start; and the jump E(t) - E(t-)
+    across each instant that is not driven.  Between events, free motion and
+    frictionless sliding keep E; friction and sleep only take it away."""
+    driven = driven_instants(scene, rp)
+    ref = low = energy(scene, rp, 0.0)
+    growth, gwhere = -math.inf, ""
+    jump, jwhere = -math.inf, ""
+    times = sorted({e.t for e in rp.events if e.kind != "frame"})
+    for t in times:
+        e = energy(scene, rp, t)
+        if t in driven:
+            ref = low = e
+            continue
+        rel = (e - low) / abs(ref) if ref != 0.0 else e - low
+        if rel > growth:
+            growth, gwhere = rel, f"t={t!r}"
+        low = min(low, e)
+        d = e - energy(scene, rp, t, before=True)
+        if d > jump:
+            jump, jwhere = d, f"t={t!r}"
+    return EnergyReport(len(times), growth, gwhere, jump, jwhere)
 
 
 def _at(b: Body, s) -> Body:

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import json
 import math
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -121,6 +121,13 @@ class Replay:
         k = self.body_index(body)
         s = self.segment(k, t)
         return s if s.t == t else advance(s, self.scene.bodies[k], t)
+
+    def state_before(self, body: int | str, t: float) -> State:
+        """The state just before t: the one in force before the changes at t,
+        carried to t."""
+        k = self.body_index(body)
+        i = bisect_left(self.times[k], t) - 1
+        return advance(self.states[k][max(i, 0)], self.scene.bodies[k], t)
 
     def shape_at(self, body: int | str, t: float):
         """The body in the world at time t: ('circle', (cx, cy), r) or

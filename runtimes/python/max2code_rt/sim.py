@@ -1007,24 +1007,24 @@ class World:
         return None
 
     def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
-        """The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-        from A to B (both advanced to the contact time): 0.0 when the material
-        points do not approach and are not pressed together, else the
-        impulse j >= 0 (velocities changed).  Pressed together, they leave at
-        rest_speed at least, so time advances (docs/simulator.md)."""
+        """The impulse of a contact at (cx, cy) with normal (nx, ny) from A to
+        B (both advanced to the contact time): 0.0 when the material points
+        do not approach and are not pressed together, else the normal
+        impulse j (velocities changed).  A fast contact is frictionless and
+        leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one
+        hops (`hop`).  Never adds energy (docs/simulator.md, Impulse)."""
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
-        imp = 0.0
         rest = self.s.rest_speed
         press = self.pressed(A, B, nx, ny)
-        if vn < 0.0 or (press and vn < rest):
+        if press and -vn < rest:
+            return self.hop(A, B, cx, cy, nx, ny, vn)
+        imp = 0.0
+        if vn < 0.0:
             ran = (cx - A.px) * ny - (cy - A.py) * nx
             rbn = (cx - B.px) * ny - (cy - B.py) * nx
             k = A.inv_m + B.inv_m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
             e = A.e * B.e
-            if press:
-                sep = max(e * -vn, rest)
-            else:
-                sep = max(e * -vn, min(-vn, rest))
+            sep = max(e * -vn, min(-vn, rest))
             imp = (sep - vn) / k
             A.vx = A.vx - imp * A.inv_m * nx
             A.vy = A.vy - imp * A.inv_m * ny
@@ -1033,6 +1033,64 @@ class World:
             B.vy = B.vy + imp * B.inv_m * ny
             B.om = B.om + imp * B.inv_i * rbn
         return imp
+
+    def hop(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float, vn: float) -> float:
+        """A slow pressed contact (pressed, -vn < rest_speed): the bodies
+        separate at hop along n, paid from their relative motion at the
+        contact, so the pair's energy stays what it was: hop = rest_speed
+        when kn Q pays it, else sqrt(kn Q), but at least rest_speed / 32 (the
+        one case that adds energy: a pair nearly at rest on each other).  With u = (vn, vt) the relative velocity of the material points
+        in the frame (n, t), t = (-ny, nx), and K the contact's 2x2 inverse
+        mass matrix (kn, knt; knt, kt), the pair's energy relative to its
+        centre is Q / 2, Q = u . K^-1 u; the new relative velocity is
+        (hop, x) with the same Q (x on vt's side of knt hop / kn), through
+        the impulse P = K^-1 (u' - u) (normal part jn, tangential jt).
+        Returns jn."""
+        tx, ty = -ny, nx
+        uax = A.vx - A.om * (cy - A.py)
+        uay = A.vy + A.om * (cx - A.px)
+        ubx = B.vx - B.om * (cy - B.py)
+        uby = B.vy + B.om * (cx - B.px)
+        vt = (ubx - uax) * tx + (uby - uay) * ty
+        ran = (cx - A.px) * ny - (cy - A.py) * nx
+        rbn = (cx - B.px) * ny - (cy - B.py) * nx
+        rat = (cx - A.px) * ty - (cy - A.py) * tx
+        rbt = (cx - B.px) * ty - (cy - B.py) * tx
+        m = A.inv_m + B.inv_m
+        kn = m + A.inv_i * ran * ran + B.inv_i * rbn * rbn
+        kt = m + A.inv_i * rat * rat + B.inv_i * rbt * rbt
+        knt = A.inv_i * ran * rat + B.inv_i * rbn * rbt
+        det = kn * kt - knt * knt
+        q = (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det
+        cap = kn * q
+        rest = self.s.rest_speed
+        floor = 0.03125 * rest
+        if cap >= rest * rest:
+            hop = rest
+        elif cap >= floor * floor:
+            hop = math.sqrt(cap)
+        else:
+            hop = floor
+        d = det * (cap - hop * hop)
+        root = math.sqrt(d) if d > 0.0 else 0.0
+        mid = knt * hop
+        if vt * kn >= mid:
+            x = (mid + root) / kn
+        else:
+            x = (mid - root) / kn
+        dn = hop - vn
+        dt = x - vt
+        jn = (kt * dn - knt * dt) / det
+        jt = (kn * dt - knt * dn) / det
+        px = jn * nx + jt * tx
+        py = jn * ny + jt * ty
+        A.vx = A.vx - px * A.inv_m
+        A.vy = A.vy - py * A.inv_m
+        A.om = A.om - (jn * ran + jt * rat) * A.inv_i
+        B.vx = B.vx + px * B.inv_m
+        B.vy = B.vy + py * B.inv_m
+        B.om = B.om + (jn * rbn + jt * rbt) * B.inv_i
+        return jn
 
     # ---- sleeping islands ---------------------------------------------------
     def grounded(self, G: Body) -> bool:
