@@ -21,7 +21,7 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
-   can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, clear_time, clear_axes, clear_root, reach;
    the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
@@ -1331,33 +1331,96 @@ BEGIN
 END pressed ;
 
 
-(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-   from A to B (both advanced to the contact time): 0.0 when the material
-   points do not approach and are not pressed together, else the impulse
-   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
-   at least, so time advances (docs/simulator.md). *)
+(* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
+   at hop along n, paid from their relative motion at the contact, so the
+   pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
+   sqrt(kn Q), but at least rest_speed / 32 (the one case that adds energy:
+   a pair nearly at rest on each other).  With
+   u = (vn, vt) the relative velocity of the material points in the frame
+   (n, t), t = (-ny, nx), and K the contact's 2x2 inverse mass matrix (kn,
+   knt; knt, kt), the pair's energy relative to its centre is Q / 2,
+   Q = u . K^-1 u; the new relative velocity is (hop, x) with the same Q (x
+   on vt's side of knt hop / kn), through the impulse P = K^-1 (u' - u)
+   (normal part jn, tangential jt).  Returns jn. *)
+PROCEDURE hop (A, B: BodyRef; cx, cy, nx, ny, vn: REAL) : REAL ;
+VAR
+   tx, ty, uax, uay, ubx, uby, vt, ran, rbn, rat, rbt, m, kn, kt, knt, det, q, cap, h, d, root, mid, x,
+   dn, dt, jn, jt, px, py, floor: REAL ;
+BEGIN
+   tx := -ny ;
+   ty := nx ;
+   uax := A^.vx - A^.om * (cy - A^.py) ;
+   uay := A^.vy + A^.om * (cx - A^.px) ;
+   ubx := B^.vx - B^.om * (cy - B^.py) ;
+   uby := B^.vy + B^.om * (cx - B^.px) ;
+   vt := (ubx - uax) * tx + (uby - uay) * ty ;
+   ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
+   rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
+   rat := (cx - A^.px) * ty - (cy - A^.py) * tx ;
+   rbt := (cx - B^.px) * ty - (cy - B^.py) * tx ;
+   m := A^.invM + B^.invM ;
+   kn := m + A^.invI * ran * ran + B^.invI * rbn * rbn ;
+   kt := m + A^.invI * rat * rat + B^.invI * rbt * rbt ;
+   knt := A^.invI * ran * rat + B^.invI * rbn * rbt ;
+   det := kn * kt - knt * knt ;
+   q := (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det ;
+   cap := kn * q ;
+   floor := 0.03125 * RestSpeed ;
+   IF cap >= RestSpeed * RestSpeed THEN
+      h := RestSpeed
+   ELSIF cap >= floor * floor THEN
+      h := sqrt (cap)
+   ELSE
+      h := floor
+   END ;
+   d := det * (cap - h * h) ;
+   IF d > 0.0 THEN root := sqrt (d) ELSE root := 0.0 END ;
+   mid := knt * h ;
+   IF vt * kn >= mid THEN
+      x := (mid + root) / kn
+   ELSE
+      x := (mid - root) / kn
+   END ;
+   dn := h - vn ;
+   dt := x - vt ;
+   jn := (kt * dn - knt * dt) / det ;
+   jt := (kn * dt - knt * dn) / det ;
+   px := jn * nx + jt * tx ;
+   py := jn * ny + jt * ty ;
+   A^.vx := A^.vx - px * A^.invM ;
+   A^.vy := A^.vy - py * A^.invM ;
+   A^.om := A^.om - (jn * ran + jt * rat) * A^.invI ;
+   B^.vx := B^.vx + px * B^.invM ;
+   B^.vy := B^.vy + py * B^.invM ;
+   B^.om := B^.om + (jn * rbn + jt * rbt) * B^.invI ;
+   RETURN jn
+END hop ;
+
+
+(* The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
+   (both advanced to the contact time): 0.0 when the material points do not
+   approach and are not pressed together, else the normal impulse j
+   (velocities changed).  A fast contact is frictionless and leaves at
+   sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
+   Never adds energy (docs/simulator.md, Impulse). *)
 PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
-   press: BOOLEAN ;
 BEGIN
    vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   IF pressed (A, B, nx, ny) AND (-vn < RestSpeed) THEN
+      RETURN hop (A, B, cx, cy, nx, ny, vn)
+   END ;
    imp := 0.0 ;
-   press := pressed (A, B, nx, ny) ;
-   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
+   IF vn < 0.0 THEN
       ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
       rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
       k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
       e := A^.e * B^.e ;
-      (* sep = max(e * -vn, rest_speed) when pressed, else
-         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
+      (* sep = max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
       me := e * (-vn) ;
-      IF press THEN
-         mn := RestSpeed
-      ELSE
-         m1 := -vn ;
-         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
-      END ;
+      m1 := -vn ;
+      IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
       IF mn > me THEN sep := mn ELSE sep := me END ;
       imp := (sep - vn) / k ;
       A^.vx := A^.vx - imp * A^.invM * nx ;
