@@ -291,6 +291,8 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
+   b^.placed := FALSE ;
+   b^.seen := 0 ;
    RETURN nv
 END ReadBody ;
 

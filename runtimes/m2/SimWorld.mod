@@ -22,7 +22,8 @@ IMPLEMENTATION MODULE SimWorld ;
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
    hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
-   predict_woken, bound_polygon, clear_time, clear_axes, clear_root, reach;
+   predict_woken, bound_polygon, place_large, unplace_large, walls_in,
+   large_near, clear_time, clear_axes, clear_root, reach;
    the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
    and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
@@ -46,7 +47,8 @@ FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
 FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
                      ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText, Grow, MaxItems ;
-FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove, LargeAdd, LargeRemove ;
+FROM SimGrid IMPORT Cells, Walls, Large, NLarge, IntList, InitGrid, CellOf, CellAdd, CellRemove, WallAdd, WallRemove,
+                    LargeAdd, LargeRemove ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -112,6 +114,9 @@ VAR
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
    NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
    EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
+   Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
+   Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
+   CapNear: INTEGER ;
    CapEdgePolys: INTEGER ;
 
 
@@ -956,16 +961,149 @@ BEGIN
 END PredictCells ;
 
 
-(* Predicts b against the large bodies other than b and skip, unless both
-   are fixed. *)
+(* A large body into the grid's walls when it is fixed and does not move
+   (v = a = 0): its box (a polygon that does not turn: its vertices at its
+   time; else its centre +- bound) in cells, every cell from CellOf (the
+   box's low corner) to CellOf (its high corner), each cell's list in the
+   order bodies are placed; else into the large list. *)
+PROCEDURE place_large (b: BodyRef) ;
+VAR
+   x0, y0, x1, y1, x, y: REAL ;
+   k, i0, j0, i1, j1, jx, jy: INTEGER ;
+BEGIN
+   IF NOT (b^.fixed AND (b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
+      LargeAdd (b^.idx) ;
+      RETURN
+   END ;
+   IF b^.polygon AND (b^.om = 0.0) THEN
+      PointAt (b, b^.v0, b^.tb, x0, y0) ;
+      x1 := x0 ;
+      y1 := y0 ;
+      FOR k := 0 TO b^.nv - 1 DO
+         PointAt (b, b^.v0 + k, b^.tb, x, y) ;
+         (* Python's min and max: the first unless the second is beyond it *)
+         IF x < x0 THEN x0 := x END ;
+         IF x > x1 THEN x1 := x END ;
+         IF y < y0 THEN y0 := y END ;
+         IF y > y1 THEN y1 := y END
+      END
+   ELSE
+      x0 := b^.px - b^.bound ;
+      x1 := b^.px + b^.bound ;
+      y0 := b^.py - b^.bound ;
+      y1 := b^.py + b^.bound
+   END ;
+   CellOf (x0, y0, i0, j0) ;
+   CellOf (x1, y1, i1, j1) ;
+   b^.placed := TRUE ;
+   b^.wi0 := i0 ;
+   b^.wi1 := i1 ;
+   b^.wj0 := j0 ;
+   b^.wj1 := j1 ;
+   FOR jy := j0 TO j1 DO
+      FOR jx := i0 TO i1 DO
+         WallAdd (jy * GridNX + jx, b^.idx)
+      END
+   END
+END place_large ;
+
+
+(* A large body out of the walls of its cells, or out of the large list. *)
+PROCEDURE unplace_large (b: BodyRef) ;
+VAR
+   jx, jy: INTEGER ;
+BEGIN
+   IF NOT b^.placed THEN
+      LargeRemove (b^.idx) ;
+      RETURN
+   END ;
+   FOR jy := b^.wj0 TO b^.wj1 DO
+      FOR jx := b^.wi0 TO b^.wi1 DO
+         WallRemove (jy * GridNX + jx, b^.idx)
+      END
+   END
+END unplace_large ;
+
+
+(* Appends body i to Near^[n], n + 1. *)
+PROCEDURE NearAdd (VAR n: INTEGER; i: INTEGER) ;
+BEGIN
+   IF n >= CapNear THEN
+      IF CapNear = 0 THEN CapNear := 16 ELSE CapNear := 2 * CapNear END ;
+      Near := Grow (Near, CapNear, SIZE (INTEGER))
+   END ;
+   Near^[n] := i ;
+   INC (n)
+END NearAdd ;
+
+
+(* The placed large bodies listed in the cells xlo..xhi, ylo..yhi (clamped
+   to the grid, rows then columns), but b and those already carrying the
+   current mark, are marked and (keep) appended to Near^[n..]. *)
+PROCEDURE walls_in (b: BodyRef; xlo, xhi, ylo, yhi: INTEGER; keep: BOOLEAN; VAR n: INTEGER) ;
+VAR
+   jx, jy, c, k, oi: INTEGER ;
+BEGIN
+   FOR jy := Max (ylo, 0) TO Min (yhi, GridNY - 1) DO
+      FOR jx := Max (xlo, 0) TO Min (xhi, GridNX - 1) DO
+         c := jy * GridNX + jx ;
+         FOR k := 0 TO Walls^[c].n - 1 DO
+            oi := Walls^[c].items^[k] ;
+            IF (Bodies^[oi].seen # Mark) AND (oi # b^.idx) THEN
+               Bodies^[oi].seen := Mark ;
+               IF keep THEN NearAdd (n, oi) END
+            END
+         END
+      END
+   END
+END walls_in ;
+
+
+(* Near^[0 .. n - 1] in index order (the indices differ). *)
+PROCEDURE SortNear (n: INTEGER) ;
+VAR
+   i, k, v: INTEGER ;
+BEGIN
+   FOR i := 1 TO n - 1 DO
+      v := Near^[i] ;
+      k := i ;
+      WHILE (k > 0) AND (Near^[k - 1] > v) DO
+         Near^[k] := Near^[k - 1] ;
+         DEC (k)
+      END ;
+      Near^[k] := v
+   END
+END SortNear ;
+
+
+(* The large bodies b predicts against, in Near^[0 .. n - 1]: those placed
+   in its 3x3 cells and every one in the large list, each once, but b, in
+   index order. *)
+PROCEDURE large_near (b: BodyRef; VAR n: INTEGER) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   INC (Mark) ;
+   n := 0 ;
+   walls_in (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, TRUE, n) ;
+   FOR k := 0 TO NLarge - 1 DO
+      IF Large^[k] # b^.idx THEN NearAdd (n, Large^[k]) END
+   END ;
+   SortNear (n)
+END large_near ;
+
+
+(* Predicts b against the large bodies near it (large_near) other than
+   skip, unless both are fixed. *)
 PROCEDURE PredictLarge (b: BodyRef; skip: INTEGER; now: REAL) ;
 VAR
-   k, oi: INTEGER ;
+   k, n, oi: INTEGER ;
    o: BodyRef ;
 BEGIN
-   FOR k := 0 TO NLarge - 1 DO
-      oi := Large^[k] ;
-      IF (oi # b^.idx) AND (oi # skip) THEN
+   large_near (b, n) ;
+   FOR k := 0 TO n - 1 DO
+      oi := Near^[k] ;
+      IF oi # skip THEN
          o := ADR (Bodies^[oi]) ;
          IF NOT (b^.fixed AND o^.fixed) THEN
             PredictPair (b, o, now)
@@ -1606,7 +1744,7 @@ END handle_wake ;
    predicted by the one with the smaller index. *)
 PROCEDURE predict_woken (b: BodyRef; now: REAL; island: INTEGER) ;
 VAR
-   jx, jy, c, k, oi: INTEGER ;
+   jx, jy, c, k, oi, n: INTEGER ;
    o: BodyRef ;
 BEGIN
    FOR jy := Max (b^.cy - 1, 0) TO Min (b^.cy + 1, GridNY - 1) DO
@@ -1623,10 +1761,11 @@ BEGIN
          END
       END
    END ;
-   FOR k := 0 TO NLarge - 1 DO
-      oi := Large^[k] ;
+   large_near (b, n) ;
+   FOR k := 0 TO n - 1 DO
+      oi := Near^[k] ;
       o := ADR (Bodies^[oi]) ;
-      IF (oi # b^.idx) AND NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
+      IF NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
          PredictPair (b, o, now)
       END
    END ;
@@ -1920,7 +2059,7 @@ BEGIN
    IF b^.sup >= 0 THEN end_support (b) END ;
    b^.gone := TRUE ;
    INC (b^.stamp) ;
-   IF b^.large THEN LargeRemove (b^.idx) ELSE CellRemove (b) END ;
+   IF b^.large THEN unplace_large (b) ELSE CellRemove (b) END ;
    Str ("E input ") ;
    Real (t) ;
    Str (" ") ;
@@ -2110,7 +2249,7 @@ END circle_separation ;
 PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
 VAR
    b: BodyRef ;
-   d, col, row: INTEGER ;
+   d, col, row, lo, n, k: INTEGER ;
 BEGIN
    INC (Stats.cells) ;
    b := ADR (Bodies^[ev.body]) ;
@@ -2126,6 +2265,25 @@ BEGIN
       row := b^.cy + d ;
       CellAdd (b) ;
       PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
+   END ;
+   (* the walls of the new row or column but those also listed in the two
+      it shares with the old neighbourhood (predicted at its last change) *)
+   INC (Mark) ;
+   n := 0 ;
+   IF ev.axis = 0 THEN
+      IF d > 0 THEN lo := b^.cx - 1 ELSE lo := b^.cx END ;
+      walls_in (b, lo, lo + 1, b^.cy - 1, b^.cy + 1, FALSE, n) ;
+      walls_in (b, col, col, b^.cy - 1, b^.cy + 1, TRUE, n)
+   ELSE
+      IF d > 0 THEN lo := b^.cy - 1 ELSE lo := b^.cy END ;
+      walls_in (b, b^.cx - 1, b^.cx + 1, lo, lo + 1, FALSE, n) ;
+      walls_in (b, b^.cx - 1, b^.cx + 1, row, row, TRUE, n)
+   END ;
+   SortNear (n) ;
+   IF NOT b^.fixed THEN
+      FOR k := 0 TO n - 1 DO
+         PredictPair (b, ADR (Bodies^[Near^[k]]), t)
+      END
    END ;
    ScheduleCell (b, t)
 END handle_cell ;
@@ -2191,6 +2349,10 @@ VAR
    ev: Event ;
 BEGIN
    InitGrid ;
+   Mark := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      IF Bodies^[i].large THEN place_large (ADR (Bodies^[i])) END
+   END ;
    Clear ;
    Seq := 0 ;
    Stats.collisions := 0 ;
@@ -2634,7 +2796,7 @@ BEGIN
    Str (" -1 -1 -1 -1 0 0 0 0 0") ;
    Ln ;
    IF b^.large THEN
-      LargeAdd (b^.idx) ;
+      place_large (b) ;
       FOR i := 0 TO NBodies - 1 DO
          o := ADR (Bodies^[i]) ;
          IF (NOT o^.large) AND (NOT o^.gone) AND NOT (o^.fixed AND b^.fixed) THEN
@@ -2729,6 +2891,9 @@ BEGIN
    CapContacts := 0 ;
    EdgePolys := NIL ;
    CapEdgePolys := 0 ;
+   Near := NIL ;
+   CapNear := 0 ;
+   Mark := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)
 END SimWorld.

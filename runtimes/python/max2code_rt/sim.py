@@ -58,7 +58,7 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -86,6 +86,8 @@ class Body:
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
     # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
     # island         the island's number (the index of its first sleeper), -1: awake
+    # wcells         a large body placed in the grid: the cells its box covers (x_lo, x_hi, y_lo, y_hi), else None
+    # seen           the mark of the last large_near that listed it
 
 
 class Stats:
@@ -245,6 +247,8 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.gone = False
     b.asleep = False
     b.island = -1
+    b.wcells = None
+    b.seen = 0
     return b
 
 
@@ -317,7 +321,14 @@ class World:
         self.seq = 0
         self.stats = Stats()
         self.cells: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
-        self.large: list[Body] = [b for b in scene.bodies if b.large]
+        # large bodies: a fixed one that does not move is listed in every cell
+        # its box covers (walls); the others (moving, or movable) in `large`
+        self.walls: list[list[Body]] = [[] for _ in range(scene.nx * scene.ny)]
+        self.large: list[Body] = []
+        self.mark = 0
+        for b in scene.bodies:
+            if b.large:
+                self.place_large(b)
         self.time = 0.0             # s: the world's current time
         self.last_t = -1.0          # the instant of the last event handled, and how many came at it
         self.same = 0
@@ -405,6 +416,66 @@ class World:
                 for o in self.cells[jy * s.nx + jx]:
                     if o is not b:
                         yield o
+
+    def place_large(self, b: Body) -> None:
+        """A large body into the grid's walls when it is fixed and does not
+        move (v = a = 0): its box (a polygon that does not turn: its
+        vertices at its time; else its centre +- bound) in cells, every cell
+        from cell_of(box's low corner) to cell_of(its high corner), each
+        cell's list in the order bodies are placed; else into `large`."""
+        if not (b.fixed and b.vx == 0.0 and b.vy == 0.0 and b.ax == 0.0 and b.ay == 0.0):
+            self.large.append(b)
+            return
+        if b.polygon and b.om == 0.0:
+            x0, y0 = self.point_at(b, b.verts[0], b.tb)
+            x1, y1 = x0, y0
+            for v in b.verts:
+                x, y = self.point_at(b, v, b.tb)
+                x0, x1, y0, y1 = min(x0, x), max(x1, x), min(y0, y), max(y1, y)
+        else:
+            x0, x1, y0, y1 = b.px - b.bound, b.px + b.bound, b.py - b.bound, b.py + b.bound
+        i0, j0 = self.cell_of(x0, y0)
+        i1, j1 = self.cell_of(x1, y1)
+        b.wcells = (i0, i1, j0, j1)
+        nx = self.s.nx
+        for jy in range(j0, j1 + 1):
+            for jx in range(i0, i1 + 1):
+                self.walls[jy * nx + jx].append(b)
+
+    def unplace_large(self, b: Body) -> None:
+        if b.wcells is None:
+            self.large.remove(b)
+            return
+        i0, i1, j0, j1 = b.wcells
+        nx = self.s.nx
+        for jy in range(j0, j1 + 1):
+            for jx in range(i0, i1 + 1):
+                self.walls[jy * nx + jx].remove(b)
+
+    def walls_in(self, b: Body, x_lo: int, x_hi: int, y_lo: int, y_hi: int, out: list) -> None:
+        """Append to out the placed large bodies listed in the cells x_lo..x_hi,
+        y_lo..y_hi (clamped to the grid, rows then columns), but b and those
+        already carrying the current mark, and mark them."""
+        s = self.s
+        mark = self.mark
+        for jy in range(max(y_lo, 0), min(y_hi, s.ny - 1) + 1):
+            for jx in range(max(x_lo, 0), min(x_hi, s.nx - 1) + 1):
+                for o in self.walls[jy * s.nx + jx]:
+                    if o.seen != mark and o is not b:
+                        o.seen = mark
+                        out.append(o)
+
+    def large_near(self, b: Body) -> list[Body]:
+        """The large bodies b predicts against: those placed in its 3x3 cells
+        and every one in `large`, each once, but b, in index order."""
+        self.mark += 1
+        out: list[Body] = []
+        self.walls_in(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1, out)
+        for o in self.large:
+            if o is not b:
+                out.append(o)
+        out.sort(key=lambda o: o.idx)
+        return out
 
     # ---- first valid root of one feature ----------------------------------
     @staticmethod
@@ -786,8 +857,8 @@ class World:
         for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
             if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
-        for o in self.large:
-            if o is not b and o is not skip and not (b.fixed and o.fixed):
+        for o in self.large_near(b):
+            if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
         if b.sup >= 0:
@@ -1211,8 +1282,8 @@ class World:
         for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
             if not (o.island == island and o.idx < b.idx) and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
-        for o in self.large:
-            if o is not b and not (o.island == island and o.idx < b.idx):
+        for o in self.large_near(b):
+            if not (o.island == island and o.idx < b.idx):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
 
@@ -1359,7 +1430,7 @@ class World:
         body.gone = True
         body.stamp += 1
         if body.large:
-            self.large.remove(body)
+            self.unplace_large(body)
         else:
             self.cell_remove(body)
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {k} -1 0 0 0 0 0\n")
@@ -1490,6 +1561,21 @@ class World:
         for o in self.candidates(body, x_lo, x_hi, y_lo, y_hi):
             if not (body.fixed and o.fixed):
                 self.predict_pair(body, o, ev.t)
+        # the walls of the new row or column but those also listed in the
+        # two it shares with the old neighbourhood (predicted at its last change)
+        self.mark += 1
+        news: list[Body] = []
+        if ev.axis == 0:
+            lo = body.cx - 1 if d > 0 else body.cx
+            self.walls_in(body, lo, lo + 1, body.cy - 1, body.cy + 1, [])
+        else:
+            lo = body.cy - 1 if d > 0 else body.cy
+            self.walls_in(body, body.cx - 1, body.cx + 1, lo, lo + 1, [])
+        self.walls_in(body, x_lo, x_hi, y_lo, y_hi, news)
+        news.sort(key=lambda o: o.idx)
+        if not body.fixed:
+            for o in news:
+                self.predict_pair(body, o, ev.t)
         self.schedule_cell(body, ev.t)
 
     def handle_horizon(self, ev: HorizonEvent) -> None:
@@ -1522,7 +1608,7 @@ class World:
             for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
                 if o.idx > b.idx and not (b.fixed and o.fixed):
                     self.predict_pair(b, o, 0.0)
-            for o in self.large:
+            for o in self.large_near(b):
                 if not (b.fixed and o.fixed):
                     self.predict_pair(b, o, 0.0)
             self.schedule_cell(b, 0.0)
@@ -1629,7 +1715,7 @@ class World:
         self.added += 1
         self.out.write(f"E add {_fmt(t)} {b.idx} -1 -1 -1 -1 0 0 0 0 0\n")
         if b.large:
-            self.large.append(b)
+            self.place_large(b)
             for o in s.bodies:
                 if not o.large and not o.gone and not (o.fixed and b.fixed):
                     self.predict_pair(o, b, t)
