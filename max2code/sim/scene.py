@@ -750,8 +750,9 @@ def _r(x: float) -> str:
     return repr(float(x))
 
 
-def body_lines(b: Body, large: bool, window: float) -> list[str]:
-    """A body's `body` line and its `v` lines in the flat format."""
+def body_lines(b: Body, large: bool, window: float, covers: list[int] | None = None) -> list[str]:
+    """A body's `body` line and its `v` lines in the flat format (covers:
+    per edge, the fixed body covering it, -1 none: covered_edges)."""
     out = []
     inv_m = 0.0 if b.fixed else 1.0 / b.mass
     inv_i = 0.0 if (b.fixed or not b.polygon) else 1.0 / b.inertia
@@ -770,7 +771,78 @@ def body_lines(b: Body, large: bool, window: float) -> list[str]:
         tx, ty = ex / ln, ey / ln
         out.append(" ".join(["v", _r(x0), _r(y0), _r(math.hypot(x0, y0)), _r(math.atan2(y0, x0)),
                              _r(math.atan2(ny, nx)), _r(nx * x0 + ny * y0),
-                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny)]))
+                             _r(tx * x0 + ty * y0), _r(tx * x1 + ty * y1), _r(nx), _r(ny),
+                             str(covers[k] if covers else -1)]))
+    return out
+
+
+def _static(b: Body) -> bool:
+    return b.fixed and b.velocity == (0.0, 0.0) and b.acceleration == (0.0, 0.0) and b.angular_velocity == 0.0
+
+
+def _world_vertices(b: Body) -> list[tuple[float, float]]:
+    c, s = math.cos(b.angle), math.sin(b.angle)
+    px, py = b.position
+    return [(px + c * x - s * y, py + s * x + c * y) for x, y in b.vertices]
+
+
+def _edges(pts: list[tuple[float, float]]) -> list[tuple[float, float, float]]:
+    """(nx, ny, h) per edge of a counter-clockwise polygon: the outward unit
+    normal and the line's offset, n . p <= h inside."""
+    out = []
+    n = len(pts)
+    for k in range(n):
+        (x0, y0), (x1, y1) = pts[k], pts[(k + 1) % n]
+        ln = math.hypot(x1 - x0, y1 - y0)
+        nx, ny = (y1 - y0) / ln, -(x1 - x0) / ln
+        out.append((nx, ny, nx * x0 + ny * y0))
+    return out
+
+
+def covered_edges(scene: Scene) -> dict[int, list[int]]:
+    """The faces of fixed polygons that no body can touch: edge k of a fixed,
+    unmoving polygon P is covered by another fixed, unmoving polygon Q (the
+    first by index) when both its ends lie in Q (within the tolerance) and Q
+    goes on past the edge on its outside: at each end, every edge of Q whose
+    line it lies on (within the tolerance) faces away from the edge's
+    outward normal (dot product <= 1e-9).  Q convex: the edge and the space
+    just outside it are inside Q, so a body touching it would overlap Q.  (A
+    wall's bottom face lying flush on a floor: a corner pinched between it
+    and the floor's top would meet both faces at one instant, forever.)
+    Returns {body index: per edge, Q's index or -1} for the bodies that have
+    a covered edge."""
+    tol = scene.tolerance
+    static = [(k, b) for k, b in enumerate(scene.bodies) if b.polygon and _static(b)]
+    if len(static) < 2:
+        return {}
+    shapes = {k: (_world_vertices(b), b) for k, b in static}
+    lines = {k: _edges(pts) for k, (pts, _) in shapes.items()}
+    out: dict[int, list[int]] = {}
+    for k, (pts, b) in shapes.items():
+        covers = [-1] * len(pts)
+        for e, (nx, ny, _) in enumerate(lines[k]):
+            ends = (pts[e], pts[(e + 1) % len(pts)])
+            for q, (_, bq) in shapes.items():
+                if q == k:
+                    continue
+                dx, dy = bq.position[0] - b.position[0], bq.position[1] - b.position[1]
+                reach = b.bound + bq.bound + tol
+                if dx * dx + dy * dy > reach * reach:
+                    continue
+                ok = True
+                for x, y in ends:
+                    for qx, qy, qh in lines[q]:
+                        d = qx * x + qy * y - qh
+                        if d > tol or (d >= -tol and qx * nx + qy * ny > 1e-9):
+                            ok = False
+                            break
+                    if not ok:
+                        break
+                if ok:
+                    covers[e] = q
+                    break
+        if any(c >= 0 for c in covers):
+            out[k] = covers
     return out
 
 
@@ -792,8 +864,9 @@ def _compile_scene(scene: Scene) -> str:
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny}",
            f"bodies {len(scene.bodies)}"]
     circles = circle_lever(scene)
-    for b, large in zip(scene.bodies, g.large):
-        out += body_lines(b, large, body_window(b, scene, circles))
+    covered = covered_edges(scene)
+    for k, (b, large) in enumerate(zip(scene.bodies, g.large)):
+        out += body_lines(b, large, body_window(b, scene, circles), covered.get(k))
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")

@@ -281,7 +281,7 @@ BEGIN
       IF Failed THEN RETURN 0 END ;
       v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
       v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-      v.nx := Num () ; v.ny := Num () ;
+      v.nx := Num () ; v.ny := Num () ; v.cover := ReadInt () ;
       Verts^[v0 + k] := v
    END ;
    b^.tb := 0.0 ;

@@ -592,13 +592,16 @@ END PeFirst ;
 
 
 (* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y. *)
+   line of edge j of Y (none while a fixed body covers the edge: its cover
+   is not gone; nothing is counted). *)
 PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    rho, beta, rad: REAL ;
-   deg: INTEGER ;
+   deg, cover: INTEGER ;
    coef: ARRAY [0..PeMaxDegree] OF REAL ;
 BEGIN
+   cover := Verts^[Y^.v0 + j].cover ;
+   IF (cover >= 0) AND (cover < NBodies) AND NOT Bodies^[cover].gone THEN RETURN FALSE END ;
    IF vx < 0 THEN
       rho := X^.orbit ;
       beta := X^.ophase ;

@@ -40,7 +40,7 @@ class SimError(Exception):
 class Vertex:
     """One vertex of a polygon and the edge that starts at it (to the next
     vertex), in the body's frame: all precomputed by the scene compiler."""
-    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2", "nx", "ny")
+    __slots__ = ("lx", "ly", "rho", "beta", "psi", "h", "s1", "s2", "nx", "ny", "cover")
     # lx, ly   m: the vertex about the centre of mass
     # rho, beta  m, rad: its polar form
     # psi      rad: angle of the edge's outward normal
@@ -48,9 +48,12 @@ class Vertex:
     # s1, s2   m: the edge's extent along its tangent (-ny, nx)
     # nx, ny   the edge's outward unit normal (cos psi, sin psi, but exact
     #          where the compiler's quotient is: (0, 1) for a level top face)
+    # cover    the fixed body that covers the edge (no body can touch it while
+    #          that one is there), -1: none
 
-    def __init__(self, vals):
+    def __init__(self, vals, cover: int):
         self.lx, self.ly, self.rho, self.beta, self.psi, self.h, self.s1, self.s2, self.nx, self.ny = vals
+        self.cover = cover
 
 
 class Body:
@@ -240,7 +243,7 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.verts = []
     for _ in range(nv):
         tk.word("v")
-        b.verts.append(Vertex([num() for _ in range(10)]))
+        b.verts.append(Vertex([num() for _ in range(10)], integer()))
     b.tb = 0.0
     b.stamp = 0
     b.cx = b.cy = 0
@@ -579,7 +582,11 @@ class World:
         return self.cc_coef(*args)
 
     def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
-        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y."""
+        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y
+        (none while a fixed body covers the edge: its cover is not gone)."""
+        cover = Y.verts[j].cover
+        if cover >= 0 and not self.s.bodies[cover].gone:
+            return None
         if vx_ is None:
             rho, beta, rad = X.orbit, X.ophase, X.r
         else:
