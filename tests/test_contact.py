@@ -28,7 +28,7 @@ G = 9.81
 # them (python is the reference).  A runtime without one of them cannot read
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
-PORTED = {"hop": {"python"}, "cover": {"python"}}
+PORTED = {"hop": {"python", "m2"}, "cover": {"python", "m2"}}
 
 
 def runtimes():
