@@ -1,7 +1,7 @@
 IMPLEMENTATION MODULE SimGrid ;
 
 FROM SimC IMPORT floor, free ;
-FROM SimScene IMPORT Bodies, NBodies, GridX0, GridY0, CellW, CellH, GridNX, GridNY, Grow ;
+FROM SimScene IMPORT NBodies, GridX0, GridY0, CellW, CellH, GridNX, GridNY, Grow ;
 
 
 VAR
@@ -11,30 +11,58 @@ VAR
 
 PROCEDURE InitGrid ;
 VAR
-   i, k: INTEGER ;
+   k: INTEGER ;
 BEGIN
    IF Cells # NIL THEN
-      FOR k := 0 TO NCells - 1 DO free (Cells^[k].items) END ;
+      FOR k := 0 TO NCells - 1 DO
+         free (Cells^[k].items) ;
+         free (Walls^[k].items)
+      END ;
       free (Cells) ;
+      free (Walls) ;
       free (Large)
    END ;
    NCells := GridNX * GridNY ;
    Cells := Grow (NIL, NCells, SIZE (CellRec)) ;
+   Walls := Grow (NIL, NCells, SIZE (CellRec)) ;
    FOR k := 0 TO GridNX * GridNY - 1 DO
       Cells^[k].n := 0 ;
       Cells^[k].cap := 0 ;
-      Cells^[k].items := NIL
+      Cells^[k].items := NIL ;
+      Walls^[k].n := 0 ;
+      Walls^[k].cap := 0 ;
+      Walls^[k].items := NIL
    END ;
    CapLarge := NBodies + 1 ;
    Large := Grow (NIL, CapLarge, SIZE (INTEGER)) ;
-   NLarge := 0 ;
-   FOR i := 0 TO NBodies - 1 DO
-      IF Bodies^[i].large THEN
-         Large^[NLarge] := i ;
-         INC (NLarge)
-      END
-   END
+   NLarge := 0
 END InitGrid ;
+
+
+PROCEDURE WallAdd (c, i: INTEGER) ;
+BEGIN
+   IF Walls^[c].n = Walls^[c].cap THEN
+      IF Walls^[c].cap = 0 THEN Walls^[c].cap := 4 ELSE Walls^[c].cap := 2 * Walls^[c].cap END ;
+      Walls^[c].items := Grow (Walls^[c].items, Walls^[c].cap, SIZE (INTEGER))
+   END ;
+   Walls^[c].items^[Walls^[c].n] := i ;
+   INC (Walls^[c].n)
+END WallAdd ;
+
+
+PROCEDURE WallRemove (c, i: INTEGER) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   k := 0 ;
+   WHILE (k < Walls^[c].n) AND (Walls^[c].items^[k] # i) DO INC (k) END ;
+   IF k = Walls^[c].n THEN RETURN END ;
+   DEC (Walls^[c].n) ;
+   WHILE k < Walls^[c].n DO
+      Walls^[c].items^[k] := Walls^[c].items^[k + 1] ;
+      INC (k)
+   END
+END WallRemove ;
 
 
 PROCEDURE Clamp (f: REAL; n: INTEGER) : INTEGER ;
@@ -114,6 +142,7 @@ BEGIN
    CapLarge := 0 ;
    NCells := 0 ;
    Cells := NIL ;
+   Walls := NIL ;
    Large := NIL ;
    NLarge := 0
 END SimGrid.

@@ -299,7 +299,7 @@ BEGIN
    b^.sup := -1 ; b^.sup_edge := -1 ;
    b^.tx := 0.0 ; b^.ty := 0.0 ; b^.load := 0.0 ; b^.at := 0.0 ;
    b^.ang := Num () ; b^.om := Num () ;
-   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ;
+   b^.r := Num () ; b^.orbit := Num () ; b^.ophase := Num () ; b^.bound := Num () ; b^.window := Num () ;
    b^.large := ReadInt () = 1 ;
    nv := ReadCount () ;
    IF Failed THEN RETURN 0 END ;
@@ -311,7 +311,7 @@ BEGIN
       IF Failed THEN RETURN 0 END ;
       v.lx := Num () ; v.ly := Num () ; v.rho := Num () ; v.beta := Num () ;
       v.psi := Num () ; v.h := Num () ; v.s1 := Num () ; v.s2 := Num () ;
-      v.nx := Num () ; v.ny := Num () ;
+      v.nx := Num () ; v.ny := Num () ; v.cover := ReadInt () ;
       Verts^[v0 + k] := v
    END ;
    b^.tb := 0.0 ;
@@ -321,6 +321,8 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
+   b^.placed := FALSE ;
+   b^.seen := 0 ;
    RETURN nv
 END ReadBody ;
 

@@ -21,8 +21,13 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
-   can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
-   predict_woken).
+   hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   predict_woken, bound_polygon, place_large, unplace_large, walls_in,
+   large_near, clear_time, clear_axes, clear_root, reach;
+   the reference's features is Features; the reference's predict_cc, predict_pe,
+   pe_coefficients, pe_first, circles_first, centre_params, circle_params
+   and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
+   CirclesFirst, CentreParams, CircleParams and BoundsMeet).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -41,8 +46,9 @@ FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLe
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
 FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
                      EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
-                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText ;
-FROM SimGrid IMPORT Cells, Large, NLarge, InitGrid, CellOf, CellAdd, CellRemove, LargeAdd, LargeRemove ;
+                     ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText, Grow, MaxItems ;
+FROM SimGrid IMPORT Cells, Walls, Large, NLarge, IntList, InitGrid, CellOf, CellAdd, CellRemove, WallAdd, WallRemove,
+                    LargeAdd, LargeRemove ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -56,7 +62,11 @@ CONST
    TeleportMode = 3 ;
    RemoveMode = 4 ;
    MaxContacts = 16777216 ;    (* bound of the array type only: storage grows *)
-   HalfPi = 1.5707963267948966 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
+   HalfPi = 1.5707963267948966 ;
+   (* the most stages (a meeting of the bounds, a clear stretch, a Taylor
+      window) one prediction of a pair goes through before it leaves the rest
+      to a horizon *)
+   Chain = 8 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
@@ -67,6 +77,12 @@ CONST
 
 TYPE
    ContactArray = POINTER TO ARRAY [0..MaxContacts - 1] OF Contact ;
+   (* the point_edge polynomial of one edge (bound_polygon's) *)
+   EdgePoly = RECORD
+      deg: INTEGER ;
+      c: ARRAY [0..PeMaxDegree] OF REAL ;
+   END ;
+   EdgePolyArray = POINTER TO ARRAY [0..MaxItems - 1] OF EdgePoly ;
    (* the counters written as the trace's N lines, in this order *)
    StatCounts = RECORD
       collisions, inputs, frames, cells, horizons, stale, pairs, features, supports, stops, leaves, sleeps,
@@ -80,7 +96,8 @@ VAR
    PeCounts: ARRAY [0..PeVariants - 1] OF LONGINT ;
    (* the point-edge check of the prediction under way (predict_pe's inside) *)
    ChkX, ChkY: BodyRef ;
-   ChkV, ChkEdge: INTEGER ;
+   ChkRho, ChkBeta: REAL ;     (* the point: rho, beta about X's centre (rho 0: the centre) *)
+   ChkEdge: INTEGER ;
    ChkNow: REAL ;
    (* events at the current instant (the "stuck" check) *)
    LastT: REAL ;
@@ -96,6 +113,11 @@ VAR
    NContacts, CapContacts: INTEGER ;
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
    NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
+   EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
+   Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
+   Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
+   CapNear: INTEGER ;
+   CapEdgePolys: INTEGER ;
 
 
 (* ---- errors ------------------------------------------------------------ *)
@@ -290,12 +312,16 @@ END Min ;
    edge (within the tolerance); the prediction sets Chk*. *)
 PROCEDURE Inside (s: REAL) : BOOLEAN ;
 VAR
-   t, px, py, qx, qy, qvx, qvy, qa, th, along: REAL ;
+   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, along: REAL ;
    ed: Vertex ;
 BEGIN
    ed := Verts^[ChkEdge] ;
    t := ChkNow + s ;
-   PointAt (ChkX, ChkV, t, px, py) ;
+   StateAt (ChkX, t, px, py, pvx, pvy, pa) ;
+   IF ChkRho # 0.0 THEN
+      px := px + ChkRho * cos (pa + ChkBeta) ;
+      py := py + ChkRho * sin (pa + ChkBeta)
+   END ;
    StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
    th := qa + ed.psi ;
    along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
@@ -445,50 +471,81 @@ BEGIN
 END CcCoefficients ;
 
 
-(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
-   (radius 0). *)
-PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+(* The circle_circle parameters of a moving circle's centre (CircleParams
+   or CentreParams), in the order x, vx, ax, d, e, f, y, vy, ay, p, q. *)
+TYPE
+   CParams = ARRAY [0..10] OF REAL ;
+
+
+PROCEDURE CircleParamsOf (b: BodyRef; now: REAL; v: INTEGER; VAR c: CParams) ;
+BEGIN
+   CircleParams (b, now, v, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10])
+END CircleParamsOf ;
+
+
+(* circle_circle parameters of b's centre of rotation at time now, no orbit:
+   the centre of a bounding circle (CircleParams of a polygon). *)
+PROCEDURE CentreParams (b: BodyRef; now: REAL; VAR c: CParams) ;
 VAR
-   a, b, c, d, e, f, m, n, o, p, q: REAL ;
-   g, h, i, j, k, l, r, s, u, v, ww: REAL ;
+   ang: REAL ;
+BEGIN
+   StateAt (b, now, c[0], c[6], c[1], c[7], ang) ;
+   c[2] := b^.ax ;
+   c[3] := 0.0 ;
+   c[4] := 0.0 ;
+   c[5] := HalfPi ;
+   c[8] := b^.ay ;
+   c[9] := 0.0 ;
+   c[10] := 0.0
+END CentreParams ;
+
+
+(* The first contact within [0, w] of a circle of radius ra moving as pa
+   and one of radius rb moving as pb. *)
+PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
    kappa: REAL ;
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
    deg: INTEGER ;
 BEGIN
-   CircleParams (A, now, -1, a, b, c, d, e, f, m, n, o, p, q) ;
-   CircleParams (B, now, vb, g, h, i, j, k, l, r, s, u, v, ww) ;
    (* only differences of the centres' motions matter: circle 1 moves
       relative to circle 2's centre of rotation *)
-   deg := CcCoefficients (a - g, b - h, c - i, d, e, f, m - r, n - s, o - u, p, q,
-                          0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, A^.r, rb, coef) ;
-   kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
+   deg := CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
+                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
+                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef) ;
+   kappa := Tol * (2.0 * (ra + rb) + Tol) ;
    RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
+END CirclesFirst ;
+
+
+(* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
+   (radius 0). *)
+PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   pa, pb: CParams ;
+BEGIN
+   CircleParamsOf (A, now, -1, pa) ;
+   CircleParamsOf (B, now, vb, pb) ;
+   RETURN CirclesFirst (pa, A^.r, pb, rb, w, t)
 END PredictCC ;
 
 
-(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y. *)
-PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+(* The point_edge polynomial of a circle of radius rad whose centre orbits
+   X's centre at rho (phase beta in X's frame) against the line of edge j of
+   Y, in s = t - now (its coef[0]: the gap now): its degree, or -1 when the
+   generated code leaves the effect out (the world has failed). *)
+PROCEDURE PeCoefficients (X, Y: BodyRef; rho, beta, rad: REAL; j: INTEGER; now: REAL;
+                          VAR coef: ARRAY OF REAL) : INTEGER ;
 VAR
    x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2: REAL ;
-   rho, beta, rad, phn, wr, phr, h: REAL ;
+   phn, wr, phr, h: REAL ;
    ed: INTEGER ;
-   idx, deg: INTEGER ;
+   idx: INTEGER ;
    a1, a2, a3, a4, a5, a6: REAL ;
-   coef: ARRAY [0..PeMaxDegree] OF REAL ;
 BEGIN
    ed := Y^.v0 + j ;
    StateAt (X, now, x1, y1, u1, v1, ang1) ;
    StateAt (Y, now, x2, y2, u2, v2, ang2) ;
-   IF vx < 0 THEN
-      rho := X^.orbit ;
-      beta := X^.ophase ;
-      rad := X^.r
-   ELSE
-      rho := Verts^[vx].rho ;
-      beta := Verts^[vx].beta ;
-      rad := 0.0
-   END ;
    phn := ang2 + Verts^[ed].psi ;
    wr := X^.om - Y^.om ;
    phr := (ang1 + beta) - phn ;
@@ -508,17 +565,54 @@ BEGIN
    idx := point_edge_variant (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h) ;
    IF (idx < 0) OR (idx >= PeVariants) THEN
       Fails ("point_edge: the scene uses an effect the generated code leaves out") ;
-      RETURN FALSE             (* the world has failed, nothing more is handled *)
+      coef[0] := 1.0 ;
+      RETURN -1                (* the world has failed, nothing more is handled *)
    END ;
    INC (PeCounts[idx]) ;
    INC (Stats.features) ;
-   deg := point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef) ;
+   RETURN point_edge_coefficients (a1, a2, a3, a4, a5, a6, rho, wr, phr, Y^.om, phn, h, coef)
+END PeCoefficients ;
+
+
+(* The first contact within [0, w] of PeCoefficients' polynomial (degree
+   deg; none when deg < 0) whose point (X's centre, or rho, beta about it)
+   lies on edge j's segment. *)
+PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
+                   now, w: REAL; VAR t: REAL) : BOOLEAN ;
+BEGIN
+   IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
    ChkY := Y ;
-   ChkV := vx ;
-   ChkEdge := ed ;
+   ChkRho := rho ;
+   ChkBeta := beta ;
+   ChkEdge := Y^.v0 + j ;
    ChkNow := now ;
    RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
+END PeFirst ;
+
+
+(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
+   line of edge j of Y (none while a fixed body covers the edge: its cover
+   is not gone; nothing is counted). *)
+PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   rho, beta, rad: REAL ;
+   deg, cover: INTEGER ;
+   coef: ARRAY [0..PeMaxDegree] OF REAL ;
+BEGIN
+   cover := Verts^[Y^.v0 + j].cover ;
+   IF (cover >= 0) AND (cover < NBodies) AND NOT Bodies^[cover].gone THEN RETURN FALSE END ;
+   IF vx < 0 THEN
+      rho := X^.orbit ;
+      beta := X^.ophase ;
+      rad := X^.r
+   ELSE
+      rho := Verts^[vx].rho ;
+      beta := Verts^[vx].beta ;
+      rad := 0.0
+   END ;
+   deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, t)
 END PredictPE ;
 
 
@@ -545,6 +639,54 @@ BEGIN
       best.j := j
    END
 END Better ;
+
+
+(* T turns, polygon P does not: when T's bounding circle (radius T.bound
+   about T's centre of rotation, which does not turn) first touches P itself
+   (its edges, then its vertices) within (0, w]: TRUE and meet = 0.0 when no
+   edge line of P has the circle beyond it by more than the tolerance now
+   (overlapping, or near a corner), TRUE and meet > 0 when they touch later,
+   FALSE when they do not meet.  Exact: neither the circle nor P turns. *)
+PROCEDURE bound_polygon (T, P: BodyRef; now, w: REAL; VAR meet: REAL) : BOOLEAN ;
+VAR
+   j, k: INTEGER ;
+   apart, found, got: BOOLEAN ;
+   t: REAL ;
+   pt, pv: CParams ;
+BEGIN
+   IF P^.nv > CapEdgePolys THEN
+      CapEdgePolys := P^.nv ;
+      EdgePolys := Grow (EdgePolys, CapEdgePolys, SIZE (EdgePoly))
+   END ;
+   apart := FALSE ;
+   FOR j := 0 TO P^.nv - 1 DO
+      EdgePolys^[j].deg := PeCoefficients (T, P, 0.0, 0.0, T^.bound, j, now, EdgePolys^[j].c) ;
+      IF EdgePolys^[j].c[0] > Tol THEN apart := TRUE END
+   END ;
+   IF NOT apart THEN
+      meet := 0.0 ;
+      RETURN TRUE
+   END ;
+   found := FALSE ;
+   meet := 0.0 ;
+   FOR j := 0 TO P^.nv - 1 DO
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, t) ;
+      IF got AND ((NOT found) OR (t < meet)) THEN
+         found := TRUE ;
+         meet := t
+      END
+   END ;
+   CentreParams (T, now, pt) ;
+   FOR k := 0 TO P^.nv - 1 DO
+      CircleParamsOf (P, now, P^.v0 + k, pv) ;
+      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, t) ;
+      IF got AND ((NOT found) OR (t < meet)) THEN
+         found := TRUE ;
+         meet := t
+      END
+   END ;
+   RETURN found
+END bound_polygon ;
 
 
 (* When the bounding circles first touch within (0, w]: TRUE and meet = 0.0
@@ -602,36 +744,14 @@ BEGIN
 END VerticesEdges ;
 
 
-(* Schedules the first contact of A and B after now, or a horizon event
-   where the Taylor polynomials of their turns stop being good. *)
-PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+(* The earliest contact of A's and B's features within [0, w] after now
+   (circle-circle, circle-polygon, or A's vertices on B's edges then B's on
+   A's): best.found and its fields, else not best.found. *)
+PROCEDURE Features (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
 VAR
-   w, turn, q, t, meet: REAL ;
-   best: Best ;
+   t: REAL ;
    found: BOOLEAN ;
 BEGIN
-   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
-      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
-   END ;
-   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
-      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
-   END ;
-   INC (Stats.pairs) ;
-   w := EndT - now ;
-   IF NOT (w > 0.0) THEN RETURN END ;
-   IF A^.polygon OR B^.polygon THEN
-      (* the bounding circles do not turn: until they touch, nothing can *)
-      IF NOT BoundsMeet (A, B, now, w, meet) THEN RETURN END ;
-      IF meet > 0.0 THEN
-         push_horizon (now + meet, A, B) ;
-         RETURN
-      END
-   END ;
-   turn := TurnRate (A) + TurnRate (B) ;
-   IF turn > 0.0 THEN
-      q := Alpha / turn ;
-      IF q < w THEN w := q END       (* Python's min(w, q) *)
-   END ;
    best.found := FALSE ;
    best.t := 0.0 ;
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
@@ -644,12 +764,176 @@ BEGIN
    ELSE
       VerticesEdges (A, B, now, w, best) ;
       VerticesEdges (B, A, now, w, best)
-   END ;
-   IF best.found THEN
-      push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i, best.j)
-   ELSIF now + w < EndT THEN
-      push_horizon (now + w, A, B)
    END
+END Features ;
+
+
+(* The positive root of q/2 s^2 + r s - g (q >= 0), for g > 0, else 0;
+   +infinity when it has none (r <= 0 and q = 0). *)
+PROCEDURE clear_root (g, r, q: REAL) : REAL ;
+BEGIN
+   IF NOT (g > 0.0) THEN RETURN 0.0 END ;
+   IF r > 0.0 THEN RETURN 2.0 * g / (r + sqrt (r * r + 2.0 * q * g)) END ;
+   IF q > 0.0 THEN RETURN (sqrt (r * r + 2.0 * q * g) - r) / q END ;
+   RETURN Inf
+END clear_root ;
+
+
+(* The largest projection of b on the unit axis (nx, ny) at now (a circle:
+   its centre's plus its radius). *)
+PROCEDURE reach (b: BodyRef; nx, ny, now: REAL) : REAL ;
+VAR
+   px, py, best, d: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF NOT b^.polygon THEN
+      PointAt (b, -1, now, px, py) ;
+      RETURN nx * px + ny * py + b^.r
+   END ;
+   best := -Inf ;
+   FOR k := 0 TO b^.nv - 1 DO
+      PointAt (b, b^.v0 + k, now, px, py) ;
+      d := nx * px + ny * py ;
+      IF d > best THEN best := d END        (* Python's max(best, d) *)
+   END ;
+   RETURN best
+END reach ;
+
+
+(* clear_time along each edge normal of P (P does not turn, T does): the
+   largest of the times. *)
+PROCEDURE clear_axes (T, P: BodyRef; now: REAL) : REAL ;
+VAR
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, du, dv, dax, day, spin, best, ox, oy, off, c: REAL ;
+   j: INTEGER ;
+BEGIN
+   StateAt (T, now, x1, y1, u1, v1, a1) ;
+   StateAt (P, now, x2, y2, u2, v2, a2) ;
+   du := u1 - u2 ;
+   dv := v1 - v2 ;
+   dax := T^.ax - P^.ax ;
+   day := T^.ay - P^.ay ;
+   spin := T^.bound * TurnRate (T) ;
+   best := 0.0 ;
+   FOR j := 0 TO P^.nv - 1 DO
+      edge_line (P, j, now, ox, oy, off) ;
+      c := clear_root (-reach (T, -ox, -oy, now) - off - Tol, spin - (ox * du + oy * dv),
+                       ABS (ox * dax + oy * day)) ;
+      IF c > best THEN best := c END        (* Python's max(best, c) *)
+   END ;
+   RETURN best
+END clear_axes ;
+
+
+(* How long A and B surely stay more than the tolerance apart, from their
+   gap g along a fixed unit axis n now (0 when not apart now): along n the
+   gap changes by (dv . n) s + (da . n) s^2/2 from the centres' relative
+   motion and closes by at most spin s from the turns (spin: each turning
+   body's bound times its turn rate), so it stays above the tolerance for s
+   below the positive root of |da . n|/2 s^2 + r s - (g - tol),
+   r = spin - dv . n (clear_root).  The axes: P's edge normals when one body
+   is a polygon P that does not turn and the other turns (clear_axes); else
+   the larger of the line of the centres and the separating axis of
+   separation (which may turn: unsigned norms). *)
+PROCEDURE clear_time (A, B: BodyRef; now: REAL) : REAL ;
+VAR
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, hi, lo, spin, along, anyway: REAL ;
+BEGIN
+   IF B^.polygon AND (B^.om = 0.0) AND (TurnRate (A) > 0.0) THEN RETURN clear_axes (A, B, now) END ;
+   IF A^.polygon AND (A^.om = 0.0) AND (TurnRate (B) > 0.0) THEN RETURN clear_axes (B, A, now) END ;
+   StateAt (A, now, x1, y1, u1, v1, a1) ;
+   StateAt (B, now, x2, y2, u2, v2, a2) ;
+   dx := x2 - x1 ;
+   dy := y2 - y1 ;
+   d := sqrt (dx * dx + dy * dy) ;
+   IF NOT (d > 0.0) THEN RETURN 0.0 END ;
+   nx := dx / d ;
+   ny := dy / d ;
+   hi := reach (A, nx, ny, now) ;
+   lo := -reach (B, -nx, -ny, now) ;
+   spin := A^.bound * TurnRate (A) + B^.bound * TurnRate (B) ;
+   along := clear_root (lo - hi - Tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
+                        ABS (nx * (B^.ax - A^.ax) + ny * (B^.ay - A^.ay))) ;
+   (* and along the best separating axis, which may turn: the norms, |x| + |y| *)
+   anyway := clear_root (separation (A, B, now) - Tol, spin + ABS (u2 - u1) + ABS (v2 - v1),
+                         ABS (B^.ax - A^.ax) + ABS (B^.ay - A^.ay)) ;
+   IF anyway > along THEN RETURN anyway END ;     (* Python's max(along, anyway) *)
+   RETURN along
+END clear_time ;
+
+
+(* Schedules the first contact of A and B after now, or a horizon event
+   where the Taylor polynomials of their turns stop being good.  Cheap
+   steps chain: a later meeting of the bounds or a clear stretch moves now
+   on (up to Chain stages, at most one Taylor window). *)
+PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+VAR
+   w, ta, tb, q, meet, clear: REAL ;
+   best: Best ;
+   found, windowed: BOOLEAN ;
+   stage: INTEGER ;
+BEGIN
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
+   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
+      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
+   END ;
+   INC (Stats.pairs) ;
+   ta := TurnRate (A) ;
+   tb := TurnRate (B) ;
+   windowed := FALSE ;
+   stage := 0 ;
+   LOOP
+      IF stage = Chain THEN EXIT END ;
+      INC (stage) ;
+      w := EndT - now ;
+      IF NOT (w > 0.0) THEN RETURN END ;
+      meet := 0.0 ;
+      IF A^.polygon OR B^.polygon THEN
+         (* bounds that do not turn: until they touch, nothing can *)
+         IF B^.polygon AND (ta > 0.0) AND (B^.om = 0.0) THEN
+            found := bound_polygon (A, B, now, w, meet)
+         ELSIF A^.polygon AND (tb > 0.0) AND (A^.om = 0.0) THEN
+            found := bound_polygon (B, A, now, w, meet)
+         ELSE
+            found := BoundsMeet (A, B, now, w, meet)
+         END ;
+         IF NOT found THEN RETURN END
+      END ;
+      IF meet > 0.0 THEN
+         now := now + meet              (* the next stage from there *)
+      ELSE
+         q := w ;
+         IF (ta > 0.0) AND (tb > 0.0) THEN
+            q := Alpha / (ta + tb)
+         ELSIF ta > 0.0 THEN
+            q := A^.window / ta         (* only A turns: its own lever's window *)
+         ELSIF tb > 0.0 THEN
+            q := B^.window / tb
+         END ;
+         IF q < w THEN w := q END ;     (* Python's min(w, q) *)
+         clear := 0.0 ;
+         IF (ta > 0.0) OR (tb > 0.0) THEN clear := clear_time (A, B, now) END ;
+         IF ((ta > 0.0) OR (tb > 0.0)) AND (clear >= w) THEN
+            (* apart all through the window, whatever the turns do: no roots
+               to solve until they may come within the tolerance *)
+            now := now + clear
+         ELSE
+            IF windowed THEN EXIT END ;   (* one Taylor window per prediction: the next at a horizon *)
+            Features (A, B, now, w, best) ;
+            IF best.found THEN
+               push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i,
+                               best.j) ;
+               RETURN
+            END ;
+            IF (ta = 0.0) AND (tb = 0.0) THEN RETURN END ;   (* nothing turns: the window was the whole run *)
+            now := now + w ;
+            windowed := TRUE
+         END
+      END
+   END ;
+   IF now < EndT THEN push_horizon (now, A, B) END
 END PredictPair ;
 
 
@@ -680,16 +964,149 @@ BEGIN
 END PredictCells ;
 
 
-(* Predicts b against the large bodies other than b and skip, unless both
-   are fixed. *)
+(* A large body into the grid's walls when it is fixed and does not move
+   (v = a = 0): its box (a polygon that does not turn: its vertices at its
+   time; else its centre +- bound) in cells, every cell from CellOf (the
+   box's low corner) to CellOf (its high corner), each cell's list in the
+   order bodies are placed; else into the large list. *)
+PROCEDURE place_large (b: BodyRef) ;
+VAR
+   x0, y0, x1, y1, x, y: REAL ;
+   k, i0, j0, i1, j1, jx, jy: INTEGER ;
+BEGIN
+   IF NOT (b^.fixed AND (b^.vx = 0.0) AND (b^.vy = 0.0) AND (b^.ax = 0.0) AND (b^.ay = 0.0)) THEN
+      LargeAdd (b^.idx) ;
+      RETURN
+   END ;
+   IF b^.polygon AND (b^.om = 0.0) THEN
+      PointAt (b, b^.v0, b^.tb, x0, y0) ;
+      x1 := x0 ;
+      y1 := y0 ;
+      FOR k := 0 TO b^.nv - 1 DO
+         PointAt (b, b^.v0 + k, b^.tb, x, y) ;
+         (* Python's min and max: the first unless the second is beyond it *)
+         IF x < x0 THEN x0 := x END ;
+         IF x > x1 THEN x1 := x END ;
+         IF y < y0 THEN y0 := y END ;
+         IF y > y1 THEN y1 := y END
+      END
+   ELSE
+      x0 := b^.px - b^.bound ;
+      x1 := b^.px + b^.bound ;
+      y0 := b^.py - b^.bound ;
+      y1 := b^.py + b^.bound
+   END ;
+   CellOf (x0, y0, i0, j0) ;
+   CellOf (x1, y1, i1, j1) ;
+   b^.placed := TRUE ;
+   b^.wi0 := i0 ;
+   b^.wi1 := i1 ;
+   b^.wj0 := j0 ;
+   b^.wj1 := j1 ;
+   FOR jy := j0 TO j1 DO
+      FOR jx := i0 TO i1 DO
+         WallAdd (jy * GridNX + jx, b^.idx)
+      END
+   END
+END place_large ;
+
+
+(* A large body out of the walls of its cells, or out of the large list. *)
+PROCEDURE unplace_large (b: BodyRef) ;
+VAR
+   jx, jy: INTEGER ;
+BEGIN
+   IF NOT b^.placed THEN
+      LargeRemove (b^.idx) ;
+      RETURN
+   END ;
+   FOR jy := b^.wj0 TO b^.wj1 DO
+      FOR jx := b^.wi0 TO b^.wi1 DO
+         WallRemove (jy * GridNX + jx, b^.idx)
+      END
+   END
+END unplace_large ;
+
+
+(* Appends body i to Near^[n], n + 1. *)
+PROCEDURE NearAdd (VAR n: INTEGER; i: INTEGER) ;
+BEGIN
+   IF n >= CapNear THEN
+      IF CapNear = 0 THEN CapNear := 16 ELSE CapNear := 2 * CapNear END ;
+      Near := Grow (Near, CapNear, SIZE (INTEGER))
+   END ;
+   Near^[n] := i ;
+   INC (n)
+END NearAdd ;
+
+
+(* The placed large bodies listed in the cells xlo..xhi, ylo..yhi (clamped
+   to the grid, rows then columns), but b and those already carrying the
+   current mark, are marked and (keep) appended to Near^[n..]. *)
+PROCEDURE walls_in (b: BodyRef; xlo, xhi, ylo, yhi: INTEGER; keep: BOOLEAN; VAR n: INTEGER) ;
+VAR
+   jx, jy, c, k, oi: INTEGER ;
+BEGIN
+   FOR jy := Max (ylo, 0) TO Min (yhi, GridNY - 1) DO
+      FOR jx := Max (xlo, 0) TO Min (xhi, GridNX - 1) DO
+         c := jy * GridNX + jx ;
+         FOR k := 0 TO Walls^[c].n - 1 DO
+            oi := Walls^[c].items^[k] ;
+            IF (Bodies^[oi].seen # Mark) AND (oi # b^.idx) THEN
+               Bodies^[oi].seen := Mark ;
+               IF keep THEN NearAdd (n, oi) END
+            END
+         END
+      END
+   END
+END walls_in ;
+
+
+(* Near^[0 .. n - 1] in index order (the indices differ). *)
+PROCEDURE SortNear (n: INTEGER) ;
+VAR
+   i, k, v: INTEGER ;
+BEGIN
+   FOR i := 1 TO n - 1 DO
+      v := Near^[i] ;
+      k := i ;
+      WHILE (k > 0) AND (Near^[k - 1] > v) DO
+         Near^[k] := Near^[k - 1] ;
+         DEC (k)
+      END ;
+      Near^[k] := v
+   END
+END SortNear ;
+
+
+(* The large bodies b predicts against, in Near^[0 .. n - 1]: those placed
+   in its 3x3 cells and every one in the large list, each once, but b, in
+   index order. *)
+PROCEDURE large_near (b: BodyRef; VAR n: INTEGER) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   INC (Mark) ;
+   n := 0 ;
+   walls_in (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, TRUE, n) ;
+   FOR k := 0 TO NLarge - 1 DO
+      IF Large^[k] # b^.idx THEN NearAdd (n, Large^[k]) END
+   END ;
+   SortNear (n)
+END large_near ;
+
+
+(* Predicts b against the large bodies near it (large_near) other than
+   skip, unless both are fixed. *)
 PROCEDURE PredictLarge (b: BodyRef; skip: INTEGER; now: REAL) ;
 VAR
-   k, oi: INTEGER ;
+   k, n, oi: INTEGER ;
    o: BodyRef ;
 BEGIN
-   FOR k := 0 TO NLarge - 1 DO
-      oi := Large^[k] ;
-      IF (oi # b^.idx) AND (oi # skip) THEN
+   large_near (b, n) ;
+   FOR k := 0 TO n - 1 DO
+      oi := Near^[k] ;
+      IF oi # skip THEN
          o := ADR (Bodies^[oi]) ;
          IF NOT (b^.fixed AND o^.fixed) THEN
             PredictPair (b, o, now)
@@ -1055,33 +1472,96 @@ BEGIN
 END pressed ;
 
 
-(* The frictionless impulse of a contact at (cx, cy) with normal (nx, ny)
-   from A to B (both advanced to the contact time): 0.0 when the material
-   points do not approach and are not pressed together, else the impulse
-   j >= 0 (velocities changed).  Pressed together, they leave at rest_speed
-   at least, so time advances (docs/simulator.md). *)
+(* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
+   at hop along n, paid from their relative motion at the contact, so the
+   pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
+   sqrt(kn Q), but at least rest_speed / 32 (the one case that adds energy:
+   a pair nearly at rest on each other).  With
+   u = (vn, vt) the relative velocity of the material points in the frame
+   (n, t), t = (-ny, nx), and K the contact's 2x2 inverse mass matrix (kn,
+   knt; knt, kt), the pair's energy relative to its centre is Q / 2,
+   Q = u . K^-1 u; the new relative velocity is (hop, x) with the same Q (x
+   on vt's side of knt hop / kn), through the impulse P = K^-1 (u' - u)
+   (normal part jn, tangential jt).  Returns jn. *)
+PROCEDURE hop (A, B: BodyRef; cx, cy, nx, ny, vn: REAL) : REAL ;
+VAR
+   tx, ty, uax, uay, ubx, uby, vt, ran, rbn, rat, rbt, m, kn, kt, knt, det, q, cap, h, d, root, mid, x,
+   dn, dt, jn, jt, px, py, floor: REAL ;
+BEGIN
+   tx := -ny ;
+   ty := nx ;
+   uax := A^.vx - A^.om * (cy - A^.py) ;
+   uay := A^.vy + A^.om * (cx - A^.px) ;
+   ubx := B^.vx - B^.om * (cy - B^.py) ;
+   uby := B^.vy + B^.om * (cx - B^.px) ;
+   vt := (ubx - uax) * tx + (uby - uay) * ty ;
+   ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
+   rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
+   rat := (cx - A^.px) * ty - (cy - A^.py) * tx ;
+   rbt := (cx - B^.px) * ty - (cy - B^.py) * tx ;
+   m := A^.invM + B^.invM ;
+   kn := m + A^.invI * ran * ran + B^.invI * rbn * rbn ;
+   kt := m + A^.invI * rat * rat + B^.invI * rbt * rbt ;
+   knt := A^.invI * ran * rat + B^.invI * rbn * rbt ;
+   det := kn * kt - knt * knt ;
+   q := (kt * vn * vn - 2.0 * knt * vn * vt + kn * vt * vt) / det ;
+   cap := kn * q ;
+   floor := 0.03125 * RestSpeed ;
+   IF cap >= RestSpeed * RestSpeed THEN
+      h := RestSpeed
+   ELSIF cap >= floor * floor THEN
+      h := sqrt (cap)
+   ELSE
+      h := floor
+   END ;
+   d := det * (cap - h * h) ;
+   IF d > 0.0 THEN root := sqrt (d) ELSE root := 0.0 END ;
+   mid := knt * h ;
+   IF vt * kn >= mid THEN
+      x := (mid + root) / kn
+   ELSE
+      x := (mid - root) / kn
+   END ;
+   dn := h - vn ;
+   dt := x - vt ;
+   jn := (kt * dn - knt * dt) / det ;
+   jt := (kn * dt - knt * dn) / det ;
+   px := jn * nx + jt * tx ;
+   py := jn * ny + jt * ty ;
+   A^.vx := A^.vx - px * A^.invM ;
+   A^.vy := A^.vy - py * A^.invM ;
+   A^.om := A^.om - (jn * ran + jt * rat) * A^.invI ;
+   B^.vx := B^.vx + px * B^.invM ;
+   B^.vy := B^.vy + py * B^.invM ;
+   B^.om := B^.om + (jn * rbn + jt * rbt) * B^.invI ;
+   RETURN jn
+END hop ;
+
+
+(* The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
+   (both advanced to the contact time): 0.0 when the material points do not
+   approach and are not pressed together, else the normal impulse j
+   (velocities changed).  A fast contact is frictionless and leaves at
+   sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
+   Never adds energy (docs/simulator.md, Impulse). *)
 PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
-   press: BOOLEAN ;
 BEGIN
    vn := normal_speed (A, B, cx, cy, nx, ny) ;
+   IF pressed (A, B, nx, ny) AND (-vn < RestSpeed) THEN
+      RETURN hop (A, B, cx, cy, nx, ny, vn)
+   END ;
    imp := 0.0 ;
-   press := pressed (A, B, nx, ny) ;
-   IF (vn < 0.0) OR (press AND (vn < RestSpeed)) THEN
+   IF vn < 0.0 THEN
       ran := (cx - A^.px) * ny - (cy - A^.py) * nx ;
       rbn := (cx - B^.px) * ny - (cy - B^.py) * nx ;
       k := A^.invM + B^.invM + A^.invI * ran * ran + B^.invI * rbn * rbn ;
       e := A^.e * B^.e ;
-      (* sep = max(e * -vn, rest_speed) when pressed, else
-         max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
+      (* sep = max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
       me := e * (-vn) ;
-      IF press THEN
-         mn := RestSpeed
-      ELSE
-         m1 := -vn ;
-         IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END
-      END ;
+      m1 := -vn ;
+      IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
       IF mn > me THEN sep := mn ELSE sep := me END ;
       imp := (sep - vn) / k ;
       A^.vx := A^.vx - imp * A^.invM * nx ;
@@ -1267,7 +1747,7 @@ END handle_wake ;
    predicted by the one with the smaller index. *)
 PROCEDURE predict_woken (b: BodyRef; now: REAL; island: INTEGER) ;
 VAR
-   jx, jy, c, k, oi: INTEGER ;
+   jx, jy, c, k, oi, n: INTEGER ;
    o: BodyRef ;
 BEGIN
    FOR jy := Max (b^.cy - 1, 0) TO Min (b^.cy + 1, GridNY - 1) DO
@@ -1284,10 +1764,11 @@ BEGIN
          END
       END
    END ;
-   FOR k := 0 TO NLarge - 1 DO
-      oi := Large^[k] ;
+   large_near (b, n) ;
+   FOR k := 0 TO n - 1 DO
+      oi := Near^[k] ;
       o := ADR (Bodies^[oi]) ;
-      IF (oi # b^.idx) AND NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
+      IF NOT ((o^.island = island) AND (o^.idx < b^.idx)) THEN
          PredictPair (b, o, now)
       END
    END ;
@@ -1581,7 +2062,7 @@ BEGIN
    IF b^.sup >= 0 THEN end_support (b) END ;
    b^.gone := TRUE ;
    INC (b^.stamp) ;
-   IF b^.large THEN LargeRemove (b^.idx) ELSE CellRemove (b) END ;
+   IF b^.large THEN unplace_large (b) ELSE CellRemove (b) END ;
    Str ("E input ") ;
    Real (t) ;
    Str (" ") ;
@@ -1771,7 +2252,7 @@ END circle_separation ;
 PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
 VAR
    b: BodyRef ;
-   d, col, row: INTEGER ;
+   d, col, row, lo, n, k: INTEGER ;
 BEGIN
    INC (Stats.cells) ;
    b := ADR (Bodies^[ev.body]) ;
@@ -1787,6 +2268,25 @@ BEGIN
       row := b^.cy + d ;
       CellAdd (b) ;
       PredictCells (b, b^.cx - 1, b^.cx + 1, row, row, -1, -1, t)
+   END ;
+   (* the walls of the new row or column but those also listed in the two
+      it shares with the old neighbourhood (predicted at its last change) *)
+   INC (Mark) ;
+   n := 0 ;
+   IF ev.axis = 0 THEN
+      IF d > 0 THEN lo := b^.cx - 1 ELSE lo := b^.cx END ;
+      walls_in (b, lo, lo + 1, b^.cy - 1, b^.cy + 1, FALSE, n) ;
+      walls_in (b, col, col, b^.cy - 1, b^.cy + 1, TRUE, n)
+   ELSE
+      IF d > 0 THEN lo := b^.cy - 1 ELSE lo := b^.cy END ;
+      walls_in (b, b^.cx - 1, b^.cx + 1, lo, lo + 1, FALSE, n) ;
+      walls_in (b, b^.cx - 1, b^.cx + 1, row, row, TRUE, n)
+   END ;
+   SortNear (n) ;
+   IF NOT b^.fixed THEN
+      FOR k := 0 TO n - 1 DO
+         PredictPair (b, ADR (Bodies^[Near^[k]]), t)
+      END
    END ;
    ScheduleCell (b, t)
 END handle_cell ;
@@ -1852,6 +2352,10 @@ VAR
    ev: Event ;
 BEGIN
    InitGrid ;
+   Mark := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      IF Bodies^[i].large THEN place_large (ADR (Bodies^[i])) END
+   END ;
    Clear ;
    Seq := 0 ;
    Stats.collisions := 0 ;
@@ -2326,7 +2830,7 @@ BEGIN
    Str (" -1 -1 -1 -1 0 0 0 0 0") ;
    Ln ;
    IF b^.large THEN
-      LargeAdd (b^.idx) ;
+      place_large (b) ;
       FOR i := 0 TO NBodies - 1 DO
          o := ADR (Bodies^[i]) ;
          IF (NOT o^.large) AND (NOT o^.gone) AND NOT (o^.fixed AND b^.fixed) THEN
@@ -2419,6 +2923,11 @@ BEGIN
    Contacts := NIL ;
    NContacts := 0 ;
    CapContacts := 0 ;
+   EdgePolys := NIL ;
+   CapEdgePolys := 0 ;
+   Near := NIL ;
+   CapNear := 0 ;
+   Mark := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)
 END SimWorld.
