@@ -42,16 +42,23 @@ def _reference(scene):
     return got, refused, w.state(STRIKER, scene.end_time)
 
 
+def _build_and_run(tmp_path, scene, module: str, source: str, scene_file: str, exe_name: str):
+    """The Modula-2 program `module` (its text source) built against the
+    simulator of the scene's effects, with the compiled scene in
+    scene_file, and run in tmp_path: the finished process."""
+    (tmp_path / f"{module}.mod").write_text(source, encoding="utf-8")
+    (tmp_path / scene_file).write_text(compile_scene(scene), encoding="ascii")
+    build = build_simulator("m2", scene.effects, scene.taylor_order)
+    exe = str(tmp_path / exe_name)
+    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / f"{module}.mod"), exe),
+                          cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
+    assert made.returncode == 0, made.stderr[-3000:]
+    return subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+
+
 def test_the_modula2_example_runs_as_the_reference(tmp_path):
     scene = load_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
-    build = build_simulator("m2", scene.effects, scene.taylor_order)
-    (tmp_path / "WorldDemo.mod").write_text(_program(), encoding="utf-8")
-    (tmp_path / "cradle.scene").write_text(compile_scene(scene), encoding="ascii")
-    exe = str(tmp_path / "demo")
-    cmd = Modula2().sim_program_build(build.workdir, str(tmp_path / "WorldDemo.mod"), exe)
-    made = subprocess.run(cmd, cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
-    assert made.returncode == 0, made.stderr[-3000:]
-    run = subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+    run = _build_and_run(tmp_path, scene, "WorldDemo", _program(), "cradle.scene", "demo")
     assert run.returncode == 0, run.stdout + run.stderr
     lines = run.stdout.splitlines()
     contacts, refused, (x, y, *_rest) = _reference(scene)
@@ -139,14 +146,8 @@ def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
     w.finish()
     assert expect[0] == "index -1" and expect[2].startswith("error add_body: a movable body")
     calls = "\n".join(f'   text := "{t}" ;\n   Say (AddBody (text, k)) ;' for t in texts)
-    (tmp_path / "AddDemo.mod").write_text(ADD_PROGRAM.replace("%s\n", calls + "\n", 1), encoding="ascii")
-    (tmp_path / "scene.txt").write_text(compile_scene(scene), encoding="ascii")
-    build = build_simulator("m2", scene.effects, scene.taylor_order)
-    exe = str(tmp_path / "add")
-    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / "AddDemo.mod"), exe),
-                          cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
-    assert made.returncode == 0, made.stderr[-3000:]
-    run = subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+    run = _build_and_run(tmp_path, scene, "AddDemo", ADD_PROGRAM.replace("%s\n", calls + "\n", 1), "scene.txt",
+                         "add")
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr
     assert run.stderr.splitlines() == expect
     assert run.stdout == out.getvalue()
@@ -225,15 +226,8 @@ def test_a_modula2_session_is_recorded_and_replays_in_the_batch_simulators(tmp_p
     scene = load_scene(path)
     names = {b.name: k for k, b in enumerate(scene.bodies)}
     hit = python_world(scene).advance(0.45)[3].t               # an event's exact time
-    (tmp_path / "Session.mod").write_text(SESSION_PROGRAM % dict(names, hit=repr(hit).replace("e", "E")),
-                                          encoding="ascii")
-    (tmp_path / "scene.txt").write_text(compile_scene(scene), encoding="ascii")
-    build = build_simulator("m2", scene.effects, scene.taylor_order)
-    exe = str(tmp_path / "session")
-    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / "Session.mod"), exe),
-                          cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
-    assert made.returncode == 0, made.stderr[-3000:]
-    run = subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)
+    run = _build_and_run(tmp_path, scene, "Session", SESSION_PROGRAM % dict(names, hit=repr(hit).replace("e", "E")),
+                         "scene.txt", "session")
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr
     log = [(float(t), int(b), int(m), float(x), float(y)) for t, b, m, x, y in map(str.split, run.stderr.splitlines())]
     assert len(log) == 2 + 7

@@ -46,17 +46,24 @@ def python_lines(scene) -> list[str]:
     return lines
 
 
-def test_the_rust_example_program_runs_as_the_python_world(tmp_path):
-    scene = load_scene(str(paths.ROOT / "examples" / "newtons-cradle.json"))
+def _build_and_run(tmp_path, scene, source: str, exe: str):
+    """The Rust program source (main.rs) built against the runtime with the
+    generated equations of the scene's effects beside it, the compiled
+    scene in scene.flat, and run in tmp_path: the finished process."""
     build = build_simulator("rust", scene.effects, scene.taylor_order)
     shutil.copy(build.generated["circle_circle"], tmp_path / "circle_circle.rs")
     shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
     (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
-    (tmp_path / "main.rs").write_text(program(), encoding="utf-8")
+    (tmp_path / "main.rs").write_text(source, encoding="utf-8")
     rust = target("rust")
-    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", "example"],
+    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", exe],
                    cwd=tmp_path, check=True, capture_output=True, timeout=600)
-    r = subprocess.run([str(tmp_path / "example")], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    return subprocess.run([str(tmp_path / exe)], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+
+
+def test_the_rust_example_program_runs_as_the_python_world(tmp_path):
+    scene = load_scene(str(paths.ROOT / "examples" / "newtons-cradle.json"))
+    r = _build_and_run(tmp_path, scene, program(), "example")
     assert r.returncode == 0, r.stderr
     got = r.stdout.splitlines()
     assert any(line.startswith("contact ") for line in got) and any(line.startswith("striker ") for line in got)
@@ -122,17 +129,9 @@ def test_add_and_remove_body_in_rust_write_the_python_world_bytes(tmp_path):
     w.finish()
     assert f"E add 0.5 {k} " in out.getvalue() and f"E input 1 {k} " in out.getvalue()
 
-    build = build_simulator("rust", scene.effects, scene.taylor_order)
-    shutil.copy(build.generated["circle_circle"], tmp_path / "circle_circle.rs")
-    shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
-    (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
     (tmp_path / "inside.flat").write_text(inside, encoding="ascii")
     (tmp_path / "free.flat").write_text(free, encoding="ascii")
-    (tmp_path / "main.rs").write_text(ADD_PROGRAM, encoding="utf-8")
-    rust = target("rust")
-    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", "add"],
-                   cwd=tmp_path, check=True, capture_output=True, timeout=600)
-    r = subprocess.run([str(tmp_path / "add")], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    r = _build_and_run(tmp_path, scene, ADD_PROGRAM, "add")
     assert r.returncode == 0, r.stderr
     n = len(scene.bodies)
     assert r.stderr.splitlines() == ["refused None", f"added {k} of {n} at 0.29999999999999999 1.5 0 -1"]
@@ -192,15 +191,7 @@ def test_a_rust_session_recorded_gives_its_trace_in_rust_and_python(tmp_path):
     path.write_text(json.dumps(raw), encoding="utf-8")
     scene = load_scene(str(path))
     assert [b.name for b in scene.bodies[4:7]] == ["ball", "crate", "pebble"]
-    build = build_simulator("rust", scene.effects, scene.taylor_order)
-    shutil.copy(build.generated["circle_circle"], tmp_path / "circle_circle.rs")
-    shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
-    (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
-    (tmp_path / "main.rs").write_text(SESSION_PROGRAM, encoding="utf-8")
-    rust = target("rust")
-    subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", "session"],
-                   cwd=tmp_path, check=True, capture_output=True, timeout=600)
-    r = subprocess.run([str(tmp_path / "session")], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    r = _build_and_run(tmp_path, scene, SESSION_PROGRAM, "session")
     assert r.returncode == 0, r.stderr
     log = [(float(t), int(b), int(m), float(x), float(y)) for t, b, m, x, y in (ln.split() for ln in r.stderr.splitlines())]
     assert [m for _, _, m, _, _ in log] == [2, 0, 1, 3, 4]

@@ -387,28 +387,29 @@ static void place_large(sim *m, m2c_sim_body *b)
             wall_push(m, &m->walls[(size_t)jy * (size_t)nx + (size_t)jx], b->idx);
 }
 
+/* idx (which is listed) out of items[0 .. *n - 1], the others keeping their order. */
+static void remove_listed(int32_t *items, int32_t *n, int32_t idx)
+{
+    int32_t q = 0;
+    while (items[q] != idx)
+        q++;
+    for (; q + 1 < *n; q++)
+        items[q] = items[q + 1];
+    (*n)--;
+}
+
 /* A large body out of the walls' cells or the large list (the others keep their order). */
 static void unplace_large(sim *m, m2c_sim_body *b)
 {
     if (!b->placed) {
-        int32_t q = 0;
-        while (m->large[q] != b->idx)
-            q++;
-        for (; q + 1 < m->nlarge; q++)
-            m->large[q] = m->large[q + 1];
-        m->nlarge--;
+        remove_listed(m->large, &m->nlarge, b->idx);
         return;
     }
     int32_t nx = m->s->nx;
     for (int32_t jy = b->wcells[2]; jy <= b->wcells[3]; jy++) {
         for (int32_t jx = b->wcells[0]; jx <= b->wcells[1]; jx++) {
             m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)nx + (size_t)jx];
-            int32_t q = 0;
-            while (c->items[q] != b->idx)
-                q++;
-            for (; q + 1 < c->n; q++)
-                c->items[q] = c->items[q + 1];
-            c->n--;
+            remove_listed(c->items, &c->n, b->idx);
         }
     }
     b->placed = 0;
