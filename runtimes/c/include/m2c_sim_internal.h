@@ -304,6 +304,7 @@ struct m2c_world {
     int32_t *large;                     /* the large bodies not placed in the walls' cells, by index */
     int32_t nlarge;
     m2c_sim_wall *walls;                /* nx * ny: the large fixed unmoving bodies listed per cell it covers */
+    int32_t *wnear;                     /* nx * ny: entries of the walls' lists in the cell's 3x3 block (0: none near) */
     unsigned long long mark;            /* the current large_near / walls_in mark */
     int32_t *near;                      /* large_near's answer: nnear body indices (room for near_cap) */
     int32_t nnear;

@@ -328,6 +328,18 @@ static void cell_add(sim *m, m2c_sim_body *b)
 }
 
 /* Appends idx to a wall list (cell); dies when out of memory. */
+/* Adds dn to the count of walls near each cell whose 3x3 block holds
+ * cell (jx, jy) (the cells around it, clamped to the grid). */
+static void wnear_add(sim *m, int32_t jx, int32_t jy, int32_t dn)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t y0 = jy > 0 ? jy - 1 : 0, y1 = jy < s->ny - 1 ? jy + 1 : s->ny - 1;
+    int32_t x0 = jx > 0 ? jx - 1 : 0, x1 = jx < s->nx - 1 ? jx + 1 : s->nx - 1;
+    for (int32_t y = y0; y <= y1; y++)
+        for (int32_t x = x0; x <= x1; x++)
+            m->wnear[(size_t)y * (size_t)s->nx + (size_t)x] += dn;
+}
+
 static void wall_push(sim *m, m2c_sim_wall *c, int32_t idx)
 {
     if (c->n == c->cap) {
@@ -383,8 +395,10 @@ static void place_large(sim *m, m2c_sim_body *b)
     b->wcells[3] = j1;
     int32_t nx = m->s->nx;
     for (int32_t jy = j0; jy <= j1; jy++)
-        for (int32_t jx = i0; jx <= i1; jx++)
+        for (int32_t jx = i0; jx <= i1; jx++) {
             wall_push(m, &m->walls[(size_t)jy * (size_t)nx + (size_t)jx], b->idx);
+            wnear_add(m, jx, jy, 1);
+        }
 }
 
 /* idx (which is listed) out of items[0 .. *n - 1], the others keeping their order. */
@@ -410,6 +424,7 @@ static void unplace_large(sim *m, m2c_sim_body *b)
         for (int32_t jx = b->wcells[0]; jx <= b->wcells[1]; jx++) {
             m2c_sim_wall *c = &m->walls[(size_t)jy * (size_t)nx + (size_t)jx];
             remove_listed(c->items, &c->n, b->idx);
+            wnear_add(m, jx, jy, -1);
         }
     }
     b->placed = 0;
@@ -465,14 +480,17 @@ static int by_index(const void *a, const void *b)
  * once, but b, in index order. */
 static void large_near(sim *m, const m2c_sim_body *b)
 {
-    m->mark++;
     m->nnear = 0;
-    walls_in(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 1);
+    if (m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx] != 0) {     /* else no wall near */
+        m->mark++;
+        walls_in(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 1);
+    }
     near_room(m, m->nlarge);
     for (int32_t k = 0; k < m->nlarge; k++)
         if (m->large[k] != b->idx)
             m->near[m->nnear++] = m->large[k];
-    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+    if (m->nnear > 1)
+        qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
 }
 
 /* ---- first valid root of one feature ----------------------------------------- */
@@ -2105,9 +2123,14 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
     fetch_next(m);
     predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
     /* the walls of the new row or column but those also listed in the two
-     * it shares with the old neighbourhood (predicted at its last change) */
-    m->mark++;
+     * it shares with the old neighbourhood (predicted at its last change):
+     * none when no wall is listed in the new 3x3 block */
     m->nnear = 0;
+    if (m->wnear[(size_t)body->cy * (size_t)m->s->nx + (size_t)body->cx] == 0) {
+        schedule_cell(m, body, ev->t);
+        return;
+    }
+    m->mark++;
     if (ev->u.cell.axis == 0) {
         int32_t lo = d > 0 ? body->cx - 1 : body->cx;
         walls_in(m, body, lo, lo + 1, body->cy - 1, body->cy + 1, 0);
@@ -2116,7 +2139,8 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
         walls_in(m, body, body->cx - 1, body->cx + 1, lo, lo + 1, 0);
     }
     walls_in(m, body, x_lo, x_hi, y_lo, y_hi, 1);
-    qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
+    if (m->nnear > 1)
+        qsort(m->near, (size_t)m->nnear, sizeof *m->near, by_index);
     if (!body->fixed)
         for (int32_t k = 0; k < m->nnear; k++)
             predict_pair(m, body, &m->bodies[m->near[k]], ev->t);
@@ -2337,7 +2361,8 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         die(m, "out of memory");
     m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
-    if (m->walls == NULL)
+    m->wnear = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->wnear);
+    if (m->walls == NULL || m->wnear == NULL)
         die(m, "out of memory");
     for (int32_t k = 0; k < scene->nbodies; k++)
         if (scene->bodies[k].large)
@@ -2583,6 +2608,7 @@ void m2c_sim_close(sim *m)
         for (size_t k = 0; k < (size_t)m->s->nx * (size_t)m->s->ny; k++)
             free(m->walls[k].items);
     free(m->walls);
+    free(m->wnear);
     free(m->near);
     free(m->stamp);
     free(m->vtrig);
