@@ -33,7 +33,8 @@ void m2c_sim_scene_free(m2c_sim_scene *scene);
 
 /* Writes x into buf exactly as C's printf("%.17g", x) and Python's
  * "%.17g" % x do (a NaN of either sign as "nan", like Python); returns the
- * length.  buf holds at least M2C_SIM_NUMBER_MAX bytes; no NUL is written. */
+ * length.  buf holds at least M2C_SIM_NUMBER_MAX bytes, all of which it may
+ * write (past the length: scratch); no NUL is written. */
 #define M2C_SIM_NUMBER_MAX 32
 int m2c_sim_format_number(char *buf, double x);
 

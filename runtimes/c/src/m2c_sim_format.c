@@ -232,7 +232,8 @@ int m2c_sim_format_number(char *buf, double x)
         memcpy(buf, tmp, (size_t)n);
         return n;
     }
-    char dg[17];
+    /* the 17 digits, then room for the fixed-size copies below */
+    char dg[40];
     uint32_t hi = (uint32_t)(d / 100000000u), lo = (uint32_t)(d % 100000000u);   /* 9 and 8 digits */
     dg[0] = (char)('0' + hi / 100000000u);
     eight_digits(dg + 1, hi % 100000000u);
@@ -240,46 +241,48 @@ int m2c_sim_format_number(char *buf, double x)
     int last = 16;                      /* the last digit that is not a trailing zero */
     while (last > 0 && dg[last] == '0')
         last--;
+    if (x10 >= -4 && x10 < 17) {
+        /* fixed notation, built with copies of fixed size (no loop per
+         * digit) in t, then copied whole: buf holds M2C_SIM_NUMBER_MAX */
+        char t[64];
+        int n;
+        t[0] = '-';
+        char *q = t + neg;
+        if (x10 >= 0) {
+            memcpy(q, dg, 17);                          /* the whole part: digits 0..x10 */
+            q[x10 + 1] = '.';
+            memcpy(q + x10 + 2, dg + x10 + 1, 16);      /* the fraction: digits x10+1..last */
+            n = last > x10 ? last + 2 : x10 + 1;
+        } else {
+            memcpy(q, "0.0000", 6);                     /* 0. and -x10-1 zeros */
+            memcpy(q + 1 - x10, dg, 17);
+            n = 1 - x10 + last + 1;
+        }
+        memcpy(buf, t, M2C_SIM_NUMBER_MAX);
+        return neg + n;
+    }
+    /* the exponent form */
     if (neg)
         *p++ = '-';
-    if (x10 >= -4 && x10 < 17) {
-        if (x10 >= 0) {
-            for (int k = 0; k <= x10; k++)
-                *p++ = dg[k];
-            if (last > x10) {
-                *p++ = '.';
-                for (int k = x10 + 1; k <= last; k++)
-                    *p++ = dg[k];
-            }
-        } else {
-            *p++ = '0';
-            *p++ = '.';
-            for (int k = 0; k < -x10 - 1; k++)
-                *p++ = '0';
-            for (int k = 0; k <= last; k++)
-                *p++ = dg[k];
-        }
-    } else {
-        *p++ = dg[0];
-        if (last > 0) {
-            *p++ = '.';
-            for (int k = 1; k <= last; k++)
-                *p++ = dg[k];
-        }
-        *p++ = 'e';
-        int ex = x10;
-        if (ex < 0) {
-            *p++ = '-';
-            ex = -ex;
-        } else {
-            *p++ = '+';
-        }
-        if (ex >= 100) {
-            *p++ = (char)('0' + ex / 100);
-            ex %= 100;
-        }
-        *p++ = (char)('0' + ex / 10);
-        *p++ = (char)('0' + ex % 10);
+    *p++ = dg[0];
+    if (last > 0) {
+        *p++ = '.';
+        for (int k = 1; k <= last; k++)
+            *p++ = dg[k];
     }
+    *p++ = 'e';
+    int ex = x10;
+    if (ex < 0) {
+        *p++ = '-';
+        ex = -ex;
+    } else {
+        *p++ = '+';
+    }
+    if (ex >= 100) {
+        *p++ = (char)('0' + ex / 100);
+        ex %= 100;
+    }
+    *p++ = (char)('0' + ex / 10);
+    *p++ = (char)('0' + ex % 10);
     return (int)(p - buf);
 }
