@@ -38,6 +38,11 @@ void m2c_sim_scene_free(m2c_sim_scene *scene);
 #define M2C_SIM_NUMBER_MAX 32
 int m2c_sim_format_number(char *buf, double x);
 
+/* A decimal number (w[0..n-1], no NUL needed) as strtod reads it: 1 with
+ * *out, or 0 when it is one that strtod itself must read (the scene
+ * reader's fast path, m2c_sim_scene.c). */
+int m2c_sim_parse_number(const char *w, size_t n, double *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -109,6 +109,61 @@ static int check_format(long long n)
     return bad != 0;
 }
 
+/* m2c_sim_parse_number against strtod on n decimals: shortest round-trip
+ * and %.15g .. %.17g forms of random doubles, and random digit strings. */
+static int check_parse(long long n)
+{
+    long long bad = 0, fast = 0;
+    char text[64];
+    for (long long k = 0; k < n; k++) {
+        uint64_t u = next_random();
+        double x;
+        switch (k % 4) {
+        case 0:                                     /* any finite bit pattern */
+            memcpy(&x, &u, sizeof x);
+            if (!isfinite(x))
+                x = 1.0;
+            break;
+        case 1:                                     /* simulation-like magnitudes */
+            x = ((double)(u >> 11) / 9007199254740992.0 - 0.5) * pow(10.0, (double)(int)(next_random() % 40u) - 20);
+            break;
+        case 2:                                     /* 53-bit mantissas, exponents -80..+80 */
+            x = ldexp((double)(u >> 11), (int)(next_random() % 160u) - 133);
+            break;
+        default:                                    /* few digits */
+            x = (double)(int64_t)(u % 2000001u) / 1000.0 - 1000.0;
+            break;
+        }
+        int prec = (int)(next_random() % 4u);       /* 0: shortest, else 14 + prec digits */
+        if (prec == 0) {
+            for (int d = 1; d <= 17; d++) {
+                snprintf(text, sizeof text, "%.*g", d, x);
+                if (strtod(text, NULL) == x)
+                    break;
+            }
+        } else {
+            snprintf(text, sizeof text, "%.*g", 14 + prec, x);
+        }
+        if (k % 7 == 6) {                           /* random digits, point and exponent */
+            int nd = 1 + (int)(next_random() % 20u), at = (int)(next_random() % 21u), q = 0;
+            for (int d = 0; d < nd; d++) {
+                if (d == at)
+                    text[q++] = '.';
+                text[q++] = (char)('0' + next_random() % 10u);
+            }
+            q += snprintf(text + q, sizeof text - (size_t)q, "e%d", (int)(next_random() % 60u) - 40);
+        }
+        double mine, ref = strtod(text, NULL);
+        if (m2c_sim_parse_number(text, strlen(text), &mine)) {
+            fast++;
+            if (memcmp(&mine, &ref, sizeof mine) != 0 && bad++ < 10)
+                printf("%s: %a, strtod %a\n", text, mine, ref);
+        }
+    }
+    printf("%lld of %lld decimals (%lld read without strtod) differ from strtod\n", bad, n, fast);
+    return bad != 0;
+}
+
 static void count_contact(const m2c_contact *c, void *user)
 {
     (void)c;
@@ -267,6 +322,8 @@ int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "--check-format") == 0)
         return check_format(atoll(argv[2]));
+    if (argc == 3 && strcmp(argv[1], "--check-parse") == 0)
+        return check_parse(atoll(argv[2]));
     double dt = 0.0;
     int live = 0, nargs = 0;
     const char *args[3] = { NULL, NULL, NULL };
@@ -286,7 +343,7 @@ int main(int argc, char **argv)
             return 2;
         }
     } else if (nargs != 0 || live) {
-        fprintf(stderr, "usage: %s [--step DT [--live]] < SCENE   (or --check-format N)\n", argv[0]);
+        fprintf(stderr, "usage: %s [--step DT [--live]] < SCENE   (or --check-format N, --check-parse N)\n", argv[0]);
         return 2;
     }
     char err[M2C_WORLD_ERROR_MAX_COPY];
