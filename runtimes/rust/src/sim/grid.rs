@@ -72,6 +72,8 @@ pub struct Grid {
     ny: i64,
     /// per cell, the placed large bodies (fixed, not moving) whose box covers it
     walls: Vec<Vec<u32>>,
+    /// per cell, the entries of the walls' lists in its 3x3 block (0: no wall near)
+    wnear: Vec<u32>,
     /// the large bodies outside the cells (moving or movable), by index in the scene
     pub large: Vec<u32>,
 }
@@ -80,7 +82,35 @@ impl Grid {
     /// The empty grid of a scene (its large bodies are placed by [`place_large`]).
     pub fn new(s: &Scene) -> Grid {
         let n = (s.nx * s.ny) as usize;
-        Grid { cells: vec![CellList::default(); n], nx: s.nx, ny: s.ny, walls: vec![Vec::new(); n], large: Vec::new() }
+        Grid {
+            cells: vec![CellList::default(); n],
+            nx: s.nx,
+            ny: s.ny,
+            walls: vec![Vec::new(); n],
+            wnear: vec![0; n],
+            large: Vec::new(),
+        }
+    }
+
+    /// Whether any wall is listed in the 3x3 block of cell (cx, cy).
+    #[inline(always)]
+    pub fn walls_near(&self, cx: i64, cy: i64) -> bool {
+        self.wnear[(cy * self.nx + cx) as usize] != 0
+    }
+
+    /// A wall entry into (add) or out of the list of cell (jx, jy): counted
+    /// in every cell whose 3x3 block holds it.
+    fn count_wall(&mut self, jx: i64, jy: i64, add: bool) {
+        for y in (jy - 1).max(0)..=(jy + 1).min(self.ny - 1) {
+            for x in (jx - 1).max(0)..=(jx + 1).min(self.nx - 1) {
+                let c = &mut self.wnear[(y * self.nx + x) as usize];
+                if add {
+                    *c += 1;
+                } else {
+                    *c -= 1;
+                }
+            }
+        }
     }
 
     /// The cell (jx, jy); both within the grid.
@@ -114,6 +144,7 @@ impl Grid {
                 let list = &mut self.walls[(jy * self.nx + jx) as usize];
                 let at = list.iter().position(|&o| o == b).expect("a wall is listed in its cells");
                 list.remove(at);
+                self.count_wall(jx, jy, false);
             }
         }
     }
@@ -139,7 +170,9 @@ impl Grid {
     pub fn large_near(&self, b: usize, cx: i32, cy: i32) -> Vec<u32> {
         let (cx, cy) = (i64::from(cx), i64::from(cy));
         let mut out = Vec::new();
-        self.walls_in(b, cx - 1, cx + 1, cy - 1, cy + 1, &mut out);
+        if self.walls_near(cx, cy) {
+            self.walls_in(b, cx - 1, cx + 1, cy - 1, cy + 1, &mut out);
+        }
         out.extend(self.large.iter().copied().filter(|&o| o as usize != b));
         out.sort_unstable();
         out.dedup();
@@ -189,6 +222,7 @@ pub fn place_large(grid: &mut Grid, s: &mut Scene, bi: usize) {
     for jy in i64::from(j0)..=i64::from(j1) {
         for jx in i64::from(i0)..=i64::from(i1) {
             grid.walls[(jy * grid.nx + jx) as usize].push(idx);
+            grid.count_wall(jx, jy, true);
         }
     }
 }

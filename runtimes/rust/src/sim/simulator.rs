@@ -405,8 +405,13 @@ impl<E: Equations> World<E> {
         self.w.grid.add(body, cx as i32, cy as i32);
         predict_cells::<E>(&self.w, &mut self.q, a, x_lo, x_hi, y_lo, y_hi, t, None, false)?;
         // the walls of the new row or column but those also listed in the
-        // two it shares with the old neighbourhood (predicted at its last change)
+        // two it shares with the old neighbourhood (predicted at its last
+        // change): none when no wall is listed in the new 3x3 block
         let grid = &self.w.grid;
+        if !grid.walls_near(cx, cy) {
+            schedule_cell(&self.w, &mut self.q, a, t);
+            return Ok(());
+        }
         let mut shared = Vec::new();
         if axis == 0 {
             let lo = if d > 0 { cx - 1 } else { cx };
