@@ -174,16 +174,17 @@ typedef struct m2c_sim_bucket {
 #define M2C_SIM_SEQ_BITS 33         /* then seq is renumbered (keeping the order) */
 #endif
 
-/* A radix heap on the bits of t (m2c_sim_queue.c): near[] holds, as a
- * 4-ary heap, the events at or before `last` (the time last reached);
- * bucket k (1..64) the later ones whose bits first differ from last's at
- * bit k-1. */
+/* A radix heap on the hex digits of t's bits (m2c_sim_queue.c): near[]
+ * holds, as a 4-ary heap, the events at or before `last` (the time last
+ * reached); bucket 16 i + j the later ones whose bits first differ from
+ * last's in hex digit i, where theirs is j. */
+#define M2C_SIM_BUCKETS 256
 typedef struct m2c_sim_heap {
     size_t n;                   /* events queued */
     uint64_t last;              /* bits of the time last reached */
     m2c_sim_bucket near;        /* a 4-ary heap */
-    m2c_sim_bucket bucket[65];  /* bucket[0] unused */
-    uint64_t full;              /* bit k-1 set: bucket k is not empty */
+    m2c_sim_bucket bucket[M2C_SIM_BUCKETS];
+    uint64_t full[M2C_SIM_BUCKETS / 64];    /* bit k set: bucket k is not empty */
     m2c_sim_event *rest;        /* the events, by slot (cap of them) */
     size_t cap;
     uint32_t *free;             /* unused slots (a stack) */
