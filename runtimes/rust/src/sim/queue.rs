@@ -145,13 +145,15 @@ fn time_bits(t: f64) -> u64 {
     }
 }
 
-/// The event queue: a radix heap on the bits of the times.  Events at or
-/// before the time reached (`reached`, the last time taken from the
-/// buckets) wait in a small 4-ary heap ordered by (t, kind, seq); later
-/// ones wait unsorted in bucket k, k the highest bit in which their time
-/// differs from the time reached.  When the small heap runs empty, the
-/// lowest bucket's earliest time becomes the time reached and its events
-/// move to the small heap (that time) or to lower buckets.  So events are
+/// The event queue: a radix heap on the hex digits of the times' bits.
+/// Events at or before the time reached (`reached`, the last time taken
+/// from the buckets) wait in a small 4-ary heap ordered by (t, kind, seq);
+/// later ones wait unsorted in bucket 16 i + j, i the highest hex digit in
+/// which their time differs from the time reached and j their digit there.
+/// When the small heap runs empty, the lowest bucket's earliest time
+/// becomes the time reached and its events move to the small heap (that
+/// time) or to lower buckets (an event moves at most once per digit: 16
+/// times, against 64 with a bucket per bit).  So events are
 /// appended and scanned in order instead of sifted at random, and the pop
 /// order is Python's heapq order on (t, kind, seq) (unique keys: any
 /// correct priority queue gives it), also for an event scheduled a rounding
@@ -161,15 +163,32 @@ pub struct Heap {
     near: Near,
     reached: u64,
     buckets: Vec<Vec<Entry>>,
-    /// bit k set: bucket k is not empty
-    mask: u64,
+    /// bit k % 64 of word k / 64 set: bucket k is not empty
+    mask: [u64; BUCKETS / 64],
     /// the scheduling counter
     seq: u64,
 }
 
+/// Buckets: 16 hex digits of 16 values.
+const BUCKETS: usize = 256;
+
+/// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
+/// the highest digit where they differ.
+#[inline(always)]
+fn bucket_of(o: u64, reached: u64) -> usize {
+    let i = (63 - (o ^ reached).leading_zeros()) / 4;
+    16 * i as usize + ((o >> (4 * i)) & 15) as usize
+}
+
 impl Heap {
     pub fn new() -> Heap {
-        Heap { near: Near { v: Vec::with_capacity(64) }, reached: 0, buckets: vec![Vec::new(); 64], mask: 0, seq: 0 }
+        Heap {
+            near: Near { v: Vec::with_capacity(64) },
+            reached: 0,
+            buckets: vec![Vec::new(); BUCKETS],
+            mask: [0; BUCKETS / 64],
+            seq: 0,
+        }
     }
 
     #[inline(always)]
@@ -178,9 +197,9 @@ impl Heap {
         if o <= self.reached {
             self.near.push(e);
         } else {
-            let k = 63 - (o ^ self.reached).leading_zeros() as usize;
+            let k = bucket_of(o, self.reached);
             self.buckets[k].push(e);
-            self.mask |= 1 << k;
+            self.mask[k / 64] |= 1 << (k % 64);
         }
     }
 
@@ -212,14 +231,14 @@ impl Heap {
     #[inline]
     fn refill(&mut self) {
         if self.near.v.is_empty() {
-            if self.mask == 0 {
+            let Some(w) = self.mask.iter().position(|&m| m != 0) else {
                 return;
-            }
-            let k = self.mask.trailing_zeros() as usize;
-            self.mask &= !(1u64 << k);
+            };
+            let k = 64 * w + self.mask[w].trailing_zeros() as usize;
+            self.mask[w] &= !(1u64 << (k % 64));
             let mut items = std::mem::take(&mut self.buckets[k]);
             self.reached = items.iter().map(|e| time_bits(e.t)).min().expect("a bucket in the mask has events");
-            // all of them now differ from the time reached below bit k
+            // all of them now differ from the time reached in a lower digit
             for &e in &items {
                 self.place(e);
             }
