@@ -86,6 +86,35 @@ def test_the_c_converter_takes_collisions_and_states(monkeypatch):
     assert in_c(scene, build, events, [n // 4, n // 2]) == want
 
 
+def test_without_a_c_compiler_the_command_says_so_and_writes_the_same_bytes(monkeypatch):
+    """When the C converter cannot be built, `auto` converts in Python
+    after one note, `c` refuses with one line, `python` is silent; the
+    trace is the same bytes on every path."""
+    from max2code.sim import trace_json
+    from max2code.sim.simulate import stream_scene
+
+    scene = load_scene(str(ROOT / "examples" / "billiard-break.json"))
+
+    def run(converter):
+        out, notes = [], []
+        stream_scene(scene, "c", out.append, converter=converter, warn=notes.append)
+        return "".join(out), notes
+
+    want, notes = run("c")
+    assert notes == [] and want.count("\n") > 100
+    assert run("python") == (want, [])
+    monkeypatch.setattr(trace_json, "_tried", True)
+    monkeypatch.setattr(trace_json, "_lib", None)
+    monkeypatch.setattr(trace_json, "_why", "gcc not found")
+    got, notes = run("auto")
+    assert got == want
+    assert notes == ["max2code simulate: note: the C trace converter cannot be built (gcc not found); "
+                     "converting the trace in Python (the same bytes, slower)"]
+    with pytest.raises(SimulateError, match=r"^max2code simulate: error: --converter c: the C trace converter "
+                                            r"cannot be built \(gcc not found\)$"):
+        run("c")
+
+
 SCENE = parse_scene(json.dumps({"end_time": 2.0, "bodies": [
     {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]},
     {"name": "b", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1.0, 0.0]},

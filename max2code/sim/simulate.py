@@ -579,15 +579,31 @@ def _events_end(data: bytes) -> int:
     return 0
 
 
+CONVERTERS = ("auto", "c", "python")
+
+
 def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
-                 progress: bool = False, timeout: float = 3600) -> dict:
+                 progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
     `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
-    and raises SimulateError."""
+    and raises SimulateError.  `converter`: "c" converts the trace in C
+    (SimulateError when that converter cannot be built), "python" in
+    Python, "auto" in C when it can be built, else in Python after passing
+    one line saying so to `warn` (the same bytes either way)."""
+    if converter not in CONVERTERS:
+        raise ValueError(f"converter {converter!r}")
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     flat = compile_scene(scene)
-    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, accelerate=True)
+    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
+                          accelerate=converter != "python")
+    if converter != "python" and conv._c is None:
+        from max2code.sim import trace_json
+        why = f"the C trace converter cannot be built ({trace_json.why_not()})"
+        if converter == "c":
+            raise SimulateError(f"max2code simulate: error: --converter c: {why}")
+        if warn is not None:
+            warn(f"max2code simulate: note: {why}; converting the trace in Python (the same bytes, slower)")
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             cwd=build.workdir)
     err: list[bytes] = []
