@@ -381,12 +381,12 @@ def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> B
                 radius=radius, friction=friction)
 
 
-def load_scene(path: str) -> Scene:
+def load_scene(path: str, *, check: bool = True) -> Scene:
     try:
         text = read_text(path)
     except InputError as exc:
         raise SceneError(str(exc)) from None
-    return parse_scene(text, path)
+    return parse_scene(text, path, check=check)
 
 
 @contextlib.contextmanager
@@ -402,9 +402,28 @@ def _no_gc():
             gc.enable()
 
 
-def parse_scene(text: str, path: str = "<scene>") -> Scene:
+def parse_scene(text: str, path: str = "<scene>", *, check: bool = True) -> Scene:
+    """The scene of a JSON text, every field checked; SceneError names the
+    first fault.  check=False leaves out the checks of the whole scene that
+    come last (magnitudes, then overlaps at t = 0): check_scene makes them
+    (`max2code simulate` runs them while the simulator reads the scene)."""
     with _no_gc():
-        return _parse_scene(text, path)
+        scene = _parse_scene(text, path)
+        if check:
+            _check_scene(scene)
+    return scene
+
+
+def check_scene(scene: Scene) -> None:
+    """The last checks of parse_scene, for a scene read with check=False:
+    SceneError when a body reaches too far or two bodies overlap at t = 0."""
+    with _no_gc():
+        _check_scene(scene)
+
+
+def _check_scene(scene: Scene) -> None:
+    _check_magnitudes(scene, _Reader(scene.path))
+    _check_overlaps(scene)
 
 
 def _parse_scene(text: str, path: str) -> Scene:
@@ -489,8 +508,6 @@ def _parse_scene(text: str, path: str) -> Scene:
 
     scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
                   int(max_events))
-    _check_magnitudes(scene, rd)
-    _check_overlaps(scene)
     return scene
 
 
@@ -910,11 +927,18 @@ def _circle_line(b: Body, large: bool, window: float) -> str:
 
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
+    return "".join(compile_parts(scene))
+
+
+def compile_parts(scene: Scene, bodies: int = 2048):
+    """compile_scene in pieces of whole lines, about `bodies` bodies each,
+    made as they are asked for (a simulator can read one while the next is
+    made)."""
     with _no_gc():
-        return _compile_scene(scene)
+        yield from _compile_parts(scene, bodies)
 
 
-def _compile_scene(scene: Scene) -> str:
+def _compile_parts(scene: Scene, size: int):
     g = make_grid(scene)
     out = ["m2c-scene 1",
            f"end {_r(scene.end_time)}",
@@ -928,13 +952,17 @@ def _compile_scene(scene: Scene) -> str:
     circles = circle_lever(scene)
     covered = covered_edges(scene)
     for k, (b, large) in enumerate(zip(scene.bodies, g.large)):
-        window = body_window(b, scene, circles)
         if b.polygon:
-            out += body_lines(b, large, window, covered.get(k))
+            out += body_lines(b, large, body_window(b, scene, circles), covered.get(k))
         else:
+            # a circle may turn only when it orbits and spins (Body.may_turn): else its window is 0
+            window = body_window(b, scene, circles) if b.orbit_radius > 0.0 and b.angular_velocity != 0.0 else 0.0
             out.append(_circle_line(b, large, window))
+        if len(out) >= size:
+            yield "\n".join(out) + "\n"
+            out = []
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")
     out.append("end")
-    return "\n".join(out) + "\n"
+    yield "\n".join(out) + "\n"

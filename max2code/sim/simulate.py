@@ -19,7 +19,7 @@ from pathlib import Path
 from max2code import __version__
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
-from max2code.sim.scene import Scene, compile_scene
+from max2code.sim.scene import Scene, compile_parts, compile_scene
 from max2code.targets import simulator_languages
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
@@ -80,27 +80,41 @@ def _hash_tree(path, h) -> None:
                 h.update(fh.read())
 
 
-def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
-    """Generate the equations for exactly these effects and build the
-    simulator of `lang` with them (rebuilt only when something changed)."""
-    tag = ("-".join(effects) or "none") + f"-o{order}"
-    workdir = BUILD / "sim" / lang / tag
-    workdir.mkdir(parents=True, exist_ok=True)
-    # everything the build depends on but Maxima's version (its results are
-    # cached by version anyway): when unchanged, neither generate nor build
+def _build_key(lang: str, effects: tuple[str, ...], order: int):
+    """The build's folder and the hash of everything it depends on but
+    Maxima's version (its results are cached by version anyway)."""
+    workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
     key = hashlib.sha256(json.dumps([lang, list(effects), order, __version__]).encode())
     for path in EQUATIONS.values():
         key.update(path.read_bytes())
     for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang):
         _hash_tree(tree, key)
-    inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
+    return workdir, key
+
+
+def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild | None:
+    """build_simulator's result when nothing changed since it last ran (no
+    generating, no building: a few milliseconds), else None."""
+    workdir, key = _build_key(lang, effects, order)
     try:
-        if inputs_stamp.read_text() == key.hexdigest() and stamp.exists():
-            saved = json.loads(names_file.read_text(encoding="utf-8"))
+        if (workdir / "inputs.stamp").read_text() == key.hexdigest() and (workdir / "build.stamp").exists():
+            saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
             if all(os.path.exists(g) for g in saved["generated"].values()):
                 return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
     except (OSError, ValueError, KeyError, TypeError):
         pass
+    return None
+
+
+def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
+    """Generate the equations for exactly these effects and build the
+    simulator of `lang` with them (rebuilt only when something changed)."""
+    done = built_simulator(lang, effects, order)
+    if done is not None:
+        return done
+    workdir, key = _build_key(lang, effects, order)
+    workdir.mkdir(parents=True, exist_ok=True)
+    inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
     # the generator is imported only when something must be generated (it is most of the start-up)
     from max2code.generate.mxm import read_mxm
     from max2code.generate.pipeline import GenerateRequest, derive, generate
@@ -582,19 +596,40 @@ def _events_end(data: bytes) -> int:
 CONVERTERS = ("auto", "c", "python")
 
 
+def _close_quietly(f) -> None:
+    """Close a pipe whose reader may be gone (what was still buffered is dropped)."""
+    try:
+        f.close()
+    except OSError:
+        pass
+
+
 def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
-                 progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None) -> dict:
+                 progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None,
+                 check=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
     `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
     and raises SimulateError.  `converter`: "c" converts the trace in C
     (SimulateError when that converter cannot be built), "python" in
     Python, "auto" in C when it can be built, else in Python after passing
-    one line saying so to `warn` (the same bytes either way)."""
+    one line saying so to `warn` (the same bytes either way).
+
+    The flat scene goes to the simulator as it is compiled (the simulator
+    reads one piece while the next is made).  `check`, when given, is
+    called after that and before anything is written: the checks of the
+    scene left for last (scene.check_scene of a scene read with
+    check=False), which so run while the simulator starts; an exception
+    from it stops the simulator and is raised as it is (and first, when
+    compiling fails or a real build must run)."""
     if converter not in CONVERTERS:
         raise ValueError(f"converter {converter!r}")
-    build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
-    flat = compile_scene(scene)
+    build = built_simulator(lang, scene.effects, scene.taylor_order)
+    if build is None:
+        if check is not None:   # generating and building take long: refuse a bad scene first
+            check()
+            check = None
+        build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
                           accelerate=converter != "python")
     if converter != "python" and conv._c is None:
@@ -608,21 +643,37 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
                             cwd=build.workdir)
     err: list[bytes] = []
 
-    def feed_input():
-        try:
-            proc.stdin.write(flat.encode("ascii"))
-            proc.stdin.close()
-        except (BrokenPipeError, OSError):
-            pass
-
     def drain_errors():
         err.append(proc.stderr.read()[-4000:])
 
-    threads = [threading.Thread(target=feed_input, daemon=True), threading.Thread(target=drain_errors, daemon=True)]
+    threads = [threading.Thread(target=drain_errors, daemon=True)]
     for th in threads:
         th.start()
     timer = threading.Timer(timeout, proc.kill)
     timer.start()
+    try:
+        # the simulators read the whole scene before they write: writing it from here cannot wait on their output
+        try:
+            for part in compile_parts(scene):
+                proc.stdin.write(part.encode("ascii"))
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            _close_quietly(proc.stdin)      # the simulator stopped reading: its exit status and last line say why
+        except BaseException:
+            if check is not None:
+                check()         # a fault of the scene comes first
+            raise
+        if check is not None:
+            check()
+    except BaseException:
+        timer.cancel()
+        proc.kill()
+        _close_quietly(proc.stdin)
+        proc.wait()
+        for th in threads:
+            th.join(timeout=5)
+        proc.stdout.close()
+        raise
     last, rest = "", b""
     try:
         # chunks of whole events: the converters' fast paths
