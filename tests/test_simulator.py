@@ -158,6 +158,32 @@ def test_fast_circle_reading_agrees_with_the_careful_one(base, changes, k, gravi
     _fast_agrees(raw, k, gravity)
 
 
+def test_whole_scene_columns_agree_with_each_body():
+    """scene.turning, circle_lever and make_grid read fields of all bodies
+    at once; the same as asking each body, on every example and on crowds
+    with a spinning orbit added."""
+    import max2code.sim.scene as sc
+    scenes = [load_scene(p) for p in EXAMPLES]
+    for seed in range(20):
+        raw = _crowd(seed)
+        if seed % 2:
+            raw["bodies"].append({"name": "spinner", "shape": "circle", "radius": 0.01, "fixed": True,
+                                  "position": [50.0, 50.0], "orbit": {"radius": 0.5}, "angular_velocity": 1.0})
+        try:
+            scenes.append(parse_scene(json.dumps(raw), "crowd.json", check=False))
+        except SceneError:
+            pass
+    assert len(scenes) > 20
+    for scene in scenes:
+        bodies = scene.bodies
+        assert sc.turning(bodies) == [b for b in bodies if b.may_turn]
+        assert sc.circle_lever(scene) == max((b.radius for b in bodies if not b.polygon and not b.turns), default=0.0)
+        size = 2.0 * max((b.bound for b in bodies if not b.fixed), default=1.0) * (1.0 + 1e-6)
+        assert sc.make_grid(scene).large == tuple(b.bound * 2.0 > size for b in bodies)
+        assert scene.effects == tuple(e for e, on in (("acceleration", any(b.acceleration != (0.0, 0.0) for b in bodies)),
+                                                      ("orbit", any(b.may_turn for b in bodies))) if on)
+
+
 def _crowd(seed: int) -> dict:
     """Circles of mixed sizes (some fixed) crowded into a small box with a
     wall or two: overlapping pairs, touching pairs, big bodies, empty rows."""

@@ -13,7 +13,9 @@ import functools
 import gc
 import json
 import math
+import operator
 from dataclasses import dataclass, field
+from itertools import compress, repeat
 
 from max2code.errors import Max2CodeError
 from max2code.textio import InputError, read_text
@@ -110,11 +112,31 @@ class Scene:
         """The world effects the scene uses (variants.WORLD_EFFECTS): a movable
         polygon counts as turning, since a contact off its centre sets it spinning."""
         out = []
-        if any(b.acceleration != (0.0, 0.0) for b in self.bodies):
+        if any(map(operator.ne, map(_acceleration, self.bodies), repeat((0.0, 0.0)))):
             out.append("acceleration")
-        if any(b.may_turn for b in self.bodies):
+        if turning(self.bodies):
             out.append("orbit")
         return tuple(out)
+
+
+# a field of many bodies at once: map(_bound, bodies)
+_acceleration, _bound, _fixed = (operator.attrgetter("acceleration"), operator.attrgetter("bound"),
+                                 operator.attrgetter("fixed"))
+_is_polygon, _position, _radius = (operator.attrgetter("polygon"), operator.attrgetter("position"),
+                                operator.attrgetter("radius"))
+_spin = operator.attrgetter("angular_velocity")
+
+
+def _any_spin(bodies: list[Body]) -> bool:
+    return any(map(operator.ne, map(_spin, bodies), repeat(0.0)))
+
+
+def turning(bodies: list[Body]) -> list[Body]:
+    """The bodies that may turn (Body.may_turn), in order.  When none spins,
+    only the movable polygons may: the circles (a gas's many) need no look."""
+    if _any_spin(bodies):
+        return [b for b in bodies if b.may_turn]
+    return [b for b in compress(bodies, map(_is_polygon, bodies)) if not b.fixed]
 
 
 # ---------------------------------------------------------------- reading
@@ -288,6 +310,7 @@ _CIRCLE_KEYS = frozenset(BODY_KEYS - {"vertices", "orbit"})
 _BIG_INT = 2 ** 62
 _ABSENT = object()          # a key left out (JSON null is a value, and a wrong one)
 _ORIGIN = [0.0, 0.0]        # a pair left out
+_first, _second = operator.itemgetter(0), operator.itemgetter(1)
 
 
 def _real(v, default):
@@ -747,11 +770,11 @@ def window_angle(scene: Scene) -> float:
     polynomials of order n stay within the tolerance: the remainder of sin
     and cos is at most a^(n+1)/(n+1)!, times the lever (the sum of two
     bounding radii at most)."""
-    turning = [b.bound for b in scene.bodies if b.may_turn]
-    if not turning:
+    bounds = list(map(_bound, turning(scene.bodies)))
+    if not bounds:
         return 0.5
     # near a contact the lever is at most the two bodies' bounding radii
-    lever = 2.0 * max(turning) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
+    lever = 2.0 * max(bounds) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
     return _angle_for(lever, scene.taylor_order, scene.tolerance)
 
 
@@ -765,6 +788,9 @@ def circle_lever(scene: Scene) -> float:
     """The largest radius of a circle that does not turn (no orbit, or no
     spin): the partner that adds most to the lever of a turning body whose
     partner does not turn (0 when the scene has none)."""
+    if not _any_spin(scene.bodies):     # then none turns
+        circles = compress(scene.bodies, map(operator.not_, map(_is_polygon, scene.bodies)))
+        return max(map(_radius, circles), default=0.0)
     return max((b.radius for b in scene.bodies if not b.polygon and not b.turns), default=0.0)
 
 
@@ -797,14 +823,15 @@ def make_grid(scene: Scene) -> Grid:
     than half a cell (fixed walls) are kept in a separate list instead.
     Wider cells (by density or free path) were measured and cost more than
     the cell crossings they save (docs/simulator.md, "Cell size, measured")."""
-    movable = [b for b in scene.bodies if not b.fixed]
-    size = 2.0 * max((b.bound for b in movable), default=1.0) * (1.0 + 1e-6)
-    large = tuple(b.bound * 2.0 > size for b in scene.bodies)
-    small = [b for b, lg in zip(scene.bodies, large) if not lg]
+    bound = list(map(_bound, scene.bodies))
+    size = 2.0 * max(compress(bound, map(operator.not_, map(_fixed, scene.bodies))), default=1.0) * (1.0 + 1e-6)
+    large = tuple(map(operator.gt, map(operator.mul, bound, repeat(2.0)), repeat(size)))
+    small = list(compress(scene.bodies, map(operator.not_, large)))
     if not small:
         return Grid(0.0, 0.0, size, size, 1, 1, large)
-    xs = [b.position[0] for b in small]
-    ys = [b.position[1] for b in small]
+    pos = list(map(_position, small))
+    xs = list(map(_first, pos))
+    ys = list(map(_second, pos))
     x0, y0 = min(xs) - size, min(ys) - size
     w, h = max(xs) - min(xs) + 2.0 * size, max(ys) - min(ys) + 2.0 * size
     limit = max(16, 4 * len(small))

@@ -193,6 +193,7 @@ _ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
 _FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
 _FEATURE_OF.update({("1", i, j): FEATURES[(1, not i)] for i in (False, True) for j in (False, True)})
 _first = operator.itemgetter(0)
+_vertices = operator.attrgetter("vertices")
 _S_END = ("]}\n", ",")                # after a state: the next line is not, or is, a state
 _E_END = ("}\n", ',"states":[')       # after an event's head: likewise
 
@@ -302,9 +303,10 @@ class TraceConverter:
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
         # the fast path's integer fields by their text
-        self._body = {str(i): n for i, n in enumerate(self.names)}
-        most = max([len(scene.bodies), len(scene.inputs)] + [len(b.vertices) for b in scene.bodies])
-        self._int = {str(i): str(i) for i in range(-1, most + 1)}
+        self._body = dict(zip(map(str, range(len(self.names))), self.names))
+        most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
+        ints = list(map(str, range(-1, most + 1)))
+        self._int = dict(zip(ints, ints))
         self._features = _FeatureText(self._int)
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
