@@ -184,6 +184,38 @@ def test_whole_scene_columns_agree_with_each_body():
                                                       ("orbit", any(b.may_turn for b in bodies))) if on)
 
 
+_json_value = st.recursive(
+    st.none() | st.booleans() | st.floats(allow_nan=True) | st.integers(-10 ** 40, 10 ** 40) | st.text(max_size=4)
+    | st.sampled_from([10 ** 19, 2 ** 64, -(2 ** 64) - 1, 10 ** 25 + 1, 0.1 ** 22, 123456789.123456789e-30]),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.sampled_from("abc"), inner, max_size=3),
+    max_leaves=12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_json_value, st.sampled_from([" ", "\n", ""]), st.booleans())
+def test_big_scenes_decode_as_json_does(value, space, cut):
+    """scene._decode (orjson for a big scene, when installed) gives what
+    json.loads gives, whole numbers beyond 64 bits, NaN and Infinity
+    included, and the same error on a text cut short."""
+    import max2code.sim.scene as sc
+    text = json.dumps(value, indent=1 if space == "\n" else None).replace(" ", space or " ")
+    text = text[:len(text) // 2] if cut else text
+    try:
+        want = repr(json.loads(text))
+    except json.JSONDecodeError as exc:
+        want = repr(exc)
+    old = sc.FAST_JSON_BYTES
+    sc.FAST_JSON_BYTES = 0
+    try:
+        try:
+            got = repr(sc._decode(text))
+        except json.JSONDecodeError as exc:
+            got = repr(exc)
+    finally:
+        sc.FAST_JSON_BYTES = old
+    assert got == want
+
+
 def _crowd(seed: int) -> dict:
     """Circles of mixed sizes (some fixed) crowded into a small box with a
     wall or two: overlapping pairs, touching pairs, big bodies, empty rows."""

@@ -404,6 +404,46 @@ def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> B
                 radius=radius, friction=friction)
 
 
+FAST_JSON_BYTES = 1 << 20          # scenes at least this long are decoded by orjson, when it is installed
+_DIGITS = bytes.maketrans(b"123456789", b"000000000")
+_LONG = b"0" * 19       # orjson keeps ints from -2^63 to 2^64 - 1: 19 digits and more may be beyond
+
+
+def _decode(text: str):
+    """json.loads of the scene.  A big scene (FAST_JSON_BYTES) goes through
+    orjson when it is installed (about 2x faster; the same values: it reads
+    doubles correctly rounded, keeps the last of repeated keys, and refuses
+    what json would read otherwise: NaN, Infinity, numbers beyond the
+    doubles, lone surrogates, deep nesting), unless it holds a whole number
+    of 19 digits or more, which orjson may make a float where json keeps an
+    int (found as a run of 19 digits that does not follow a '.'); on
+    anything orjson refuses, json decodes and reports the fault."""
+    if len(text) >= FAST_JSON_BYTES and _orjson() is not None:
+        data = text.encode("utf-8", "surrogatepass")
+        runs = data.translate(_DIGITS)
+        at = runs.find(_LONG)
+        while at > 0 and runs[at - 1] == 46:        # 46: '.': a fraction's digits; on to the run's end
+            end = at + len(_LONG)
+            while end < len(runs) and runs[end] == 48:
+                end += 1
+            at = runs.find(_LONG, end)
+        if at < 0:
+            try:
+                return _orjson().loads(data)
+            except Exception:       # noqa: BLE001 -- json decodes it again and names the fault
+                pass
+    return json.loads(text)
+
+
+@functools.cache
+def _orjson():
+    try:
+        import orjson
+    except ImportError:
+        return None
+    return orjson
+
+
 def load_scene(path: str, *, check: bool = True) -> Scene:
     try:
         text = read_text(path)
@@ -452,7 +492,7 @@ def _check_scene(scene: Scene) -> None:
 def _parse_scene(text: str, path: str) -> Scene:
     rd = _Reader(path)
     try:
-        raw = json.loads(text)
+        raw = _decode(text)
     except json.JSONDecodeError as exc:
         raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: error: not valid JSON: {exc.msg}") from None
     except RecursionError:
