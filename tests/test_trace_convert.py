@@ -175,6 +175,21 @@ def test_bad_lines_are_the_same_error(bad):
     assert str(a.value) == str(b.value) == str(c.value) and "bad trace line 2" in str(a.value)
 
 
+@pytest.mark.parametrize("bad", ["F 1 -0 0.5 nan -1 0 0", "F 7 -0 0.5 1e-300 -1 0 0", "F 1 -0 0.5 1e-300 -1 0",
+                                 "F 1 -0 0.5 1e-300 -1 0 -inf"])
+def test_bad_final_states_are_the_same_error(bad):
+    """The final states (converted a block at a time on the command's path)."""
+    text = LINES.replace("F 1 -0 0.5 1e-300 -1 0 0\n", bad + "\n", 1)
+    with pytest.raises(SimulateError) as a:
+        slow(SCENE, BUILD, text)
+    for cuts in ([4], [13], [14], [15], [16]):
+        with pytest.raises(SimulateError) as b:
+            fast(SCENE, BUILD, text, cuts)
+        with pytest.raises(SimulateError) as c:
+            in_c(SCENE, BUILD, text, cuts)
+        assert str(a.value) == str(b.value) == str(c.value) and "bad trace line 15" in str(a.value)
+
+
 @pytest.mark.parametrize("names", [["a", "b c", "x~!{}"], ['quote"d'], ["back\\slash"], ["del\x7f"], ["é"],
                                    ["tab\t"], ["plain", "line\nbreak"], ["\u2603", "ok"]])
 def test_names_are_their_json(names):

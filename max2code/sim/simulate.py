@@ -388,7 +388,22 @@ class TraceConverter:
         """Whole events of the flat trace: `data` ends with a newline where a
         line other than a state begins, or at the trace's end.  Converted in
         C when the converter was made with `accelerate` and the C code takes
-        the chunk; else as feed_chunk.  The same bytes either way."""
+        the chunk; else as feed_chunk.  The same bytes either way.  The
+        final states (F lines, one per body, after the last event: as many
+        lines as bodies) go to _finals."""
+        at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1
+        if at > 0 or data.startswith(b"F "):
+            if at:
+                self.feed_events(data[:at])
+            end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
+            block = data[at:end] if end else data[at:]
+            if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
+                self._finals(block.decode("ascii", "replace"))
+            else:
+                self.feed_chunk(block.decode("ascii", "replace"))
+            if end and end < len(data):
+                self.feed_chunk(data[end:].decode("ascii", "replace"))
+            return
         if self._c is not None and data:
             got = self._c.convert(data, self.frames)
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
@@ -398,6 +413,21 @@ class TraceConverter:
                 self.write(got[0])
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
+
+    def _finals(self, text: str) -> None:
+        """Complete F lines, column by column (as _states); anything unusual
+        goes to feed_chunk."""
+        lines = text.split("\n")
+        lines.pop()                     # after the last newline
+        try:
+            cols = _columns(lines, 8, "F", range(2, 8))
+            final = list(map(_final, map(self._body.__getitem__, cols[1]), *cols[2:]))
+        except (_Slow, IndexError, ValueError, KeyError):
+            self.feed_chunk(text)
+            return
+        self._flush()                   # the last event is whole
+        self.final += final
+        self.line += len(lines)
 
     def feed_chunk(self, text: str) -> None:
         """Complete lines of the flat trace (text ends with a newline, or is empty)."""
