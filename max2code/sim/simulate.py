@@ -662,15 +662,6 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
             check()
             check = None
         build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
-    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
-                          accelerate=converter != "python")
-    if converter != "python" and conv._c is None:
-        from max2code.sim import trace_json
-        why = f"the C trace converter cannot be built ({trace_json.why_not()})"
-        if converter == "c":
-            raise SimulateError(f"max2code simulate: error: --converter c: {why}")
-        if warn is not None:
-            warn(f"max2code simulate: note: {why}; converting the trace in Python (the same bytes, slower)")
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             cwd=build.workdir)
     err: list[bytes] = []
@@ -697,6 +688,16 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
             raise
         if check is not None:
             check()
+        # made while the simulator runs: for 10^5 bodies its tables of names take a while
+        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
+                              accelerate=converter != "python")
+        if converter != "python" and conv._c is None:
+            from max2code.sim import trace_json
+            why = f"the C trace converter cannot be built ({trace_json.why_not()})"
+            if converter == "c":
+                raise SimulateError(f"max2code simulate: error: --converter c: {why}")
+            if warn is not None:
+                warn(f"max2code simulate: note: {why}; converting the trace in Python (the same bytes, slower)")
     except BaseException:
         timer.cancel()
         proc.kill()
