@@ -713,14 +713,15 @@ def _check_overlaps(scene: Scene) -> None:
     if not bodies:
         return
     tol = scene.tolerance
-    cell = 2.0 * max(b.bound for b in bodies if not b.fixed) if any(not b.fixed for b in bodies) else 1.0
-    big = []
-    small = []
-    for i, b in enumerate(bodies):
-        (big if b.bound > cell / 2.0 else small).append(i)
+    # the fields of all bodies at once
+    bound, fixed = list(map(_bound, bodies)), list(map(_fixed, bodies))
+    position = list(map(_position, bodies))
+    xs, ys = list(map(_first, position)), list(map(_second, position))
+    cell = 2.0 * max(compress(bound, map(operator.not_, fixed))) if not all(fixed) else 1.0
+    is_big = list(map(operator.gt, bound, repeat(cell / 2.0)))
+    big = list(compress(range(len(bodies)), is_big))
+    small = list(compress(range(len(bodies)), map(operator.not_, is_big)))
     found: list[tuple[int, int, float]] = []
-    xs, ys = [b.position[0] for b in bodies], [b.position[1] for b in bodies]
-    bound, fixed = [b.bound for b in bodies], [b.fixed for b in bodies]
 
     def test(i: int, j: int) -> None:
         if fixed[i] and fixed[j]:
@@ -735,29 +736,32 @@ def _check_overlaps(scene: Scene) -> None:
     # the grid of the small bodies; cell (gx, gy) is the whole number gx * rows + gy - low, with a free
     # row either side, so that its neighbours are the key plus a constant
     floor = math.floor
-    gx = [floor(xs[i] / cell) for i in small]
-    gy = [floor(ys[i] / cell) for i in small]
+    gx = list(map(floor, map(operator.truediv, map(xs.__getitem__, small), repeat(cell))))
+    gy = list(map(floor, map(operator.truediv, map(ys.__getitem__, small), repeat(cell))))
     grid: dict[int, list[int]] = {}
+    get = grid.get
     if small:
         low = min(gy) - 1
         rows = max(gy) - low + 2
-        for i, x, y in zip(small, gx, gy):
-            key = x * rows + y - low
-            if key in grid:
-                grid[key].append(i)
-            else:
+        for i, key in zip(small, map(operator.sub, map(operator.add, map(operator.mul, gx, repeat(rows)), gy),
+                                     repeat(low))):
+            members = get(key)
+            if members is None:
                 grid[key] = [i]
+            else:
+                members.append(i)
         # each pair of neighbouring cells once: the cell itself and four of its eight neighbours,
-        # (1, -1), (1, 0), (1, 1) and (0, 1); the distance test of `test` first, inlined
-        get = grid.get
-        steps = (rows - 1, rows, rows + 1, 1)
-        for key, members in grid.items():
-            if len(members) > 1:
-                for k, i in enumerate(members):
-                    for j in members[k + 1:]:
-                        test(i, j)
-            for step in steps:
-                for j in get(key + step, ()):
+        # (1, -1), (1, 0), (1, 1) and (0, 1), each step for all cells at once (most neighbours of a
+        # gas's cells are empty: no Python runs for them); the distance test of `test` first, inlined
+        keys, cells = list(grid), list(grid.values())
+        for members in compress(cells, map(operator.gt, map(len, cells), repeat(1))):
+            for k, i in enumerate(members):
+                for j in members[k + 1:]:
+                    test(i, j)
+        for step in (rows - 1, rows, rows + 1, 1):
+            near = list(map(get, map(operator.add, keys, repeat(step))))
+            for members, others in zip(compress(cells, near), filter(None, near)):
+                for j in others:
                     xj, yj, bj = xs[j], ys[j], bound[j]
                     for i in members:
                         reach = bound[i] + bj + tol
