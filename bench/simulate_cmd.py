@@ -91,8 +91,9 @@ def command(scene_path: str, out: str, lang: str, converter: str) -> tuple[float
     """Wall, CPU (the command and its simulator), peak RSS in MB of the
     command's largest process, and the trace's size in bytes."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python")]))
+    extra = [] if converter == "auto" else ["--converter", converter]     # auto: the default, and any version's
     wall, cpu, mb, _ = timed([sys.executable, "-m", "max2code", "simulate", "--lang", lang, scene_path, "-o", out,
-                              "-q", "--converter", converter], env=env)
+                              "-q", *extra], env=env)
     return wall, cpu, mb, os.path.getsize(out)
 
 
