@@ -391,8 +391,11 @@ class TraceConverter:
         the chunk; else as feed_chunk.  The same bytes either way.  The
         final states (F lines, one per body, after the last event: as many
         lines as bodies) go to _finals."""
-        at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1
-        if at > 0 or data.startswith(b"F "):
+        last = data.rfind(b"\n", 0, len(data) - 1) + 1          # the chunk's last line
+        at = -1             # where its F lines begin: they come after every event, so not before an E or S line
+        if data[last:last + 1] not in (b"E", b"S", b""):
+            at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1 or -1
+        if at >= 0:
             if at:
                 self.feed_events(data[:at])
             end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
