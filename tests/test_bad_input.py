@@ -68,6 +68,35 @@ def test_frames_beyond_max_events_are_refused(tmp_path, capsys):
     assert code == 1 and "max_events" in one_error_line(err, f"{p}: error: frame_rate")
 
 
+@pytest.mark.parametrize("lang", ["c", "python"])
+@pytest.mark.parametrize("fault", ["overlap", "far"])
+def test_the_last_scene_checks_stop_the_simulator_and_write_nothing(tmp_path, capsys, monkeypatch, fault, lang):
+    """`simulate` makes the checks of the whole scene (overlaps, magnitudes)
+    while the simulator reads the scene: the same one line as parse_scene,
+    nothing written, to a file or to standard output; and before a build
+    when the simulator must be built first."""
+    from max2code.sim import scene as sc
+    from max2code.sim import simulate as sim
+
+    data = scene()
+    if fault == "overlap":
+        data["bodies"][0]["position"] = [0, 0.05]
+    else:
+        data["bodies"][0]["velocity"] = [1e160, 0]
+    p = write(tmp_path, "bad.json", data)
+    with pytest.raises(sc.SceneError) as want:
+        sc.load_scene(str(p))
+    out = tmp_path / "trace.jsonl"
+    code, stdout, err = run(capsys, "simulate", "--lang", lang, p, "-o", out)
+    assert code == 1 and err == str(want.value) + "\n" and stdout == "" and not out.exists()
+    code, stdout, err = run(capsys, "simulate", "--lang", lang, p)
+    assert code == 1 and err == str(want.value) + "\n" and stdout == ""
+    monkeypatch.setattr(sim, "built_simulator", lambda *a: None)
+    monkeypatch.setattr(sim, "build_simulator", lambda *a, **k: pytest.fail("built before the scene was checked"))
+    code, stdout, err = run(capsys, "simulate", "--lang", lang, p)
+    assert code == 1 and err == str(want.value) + "\n" and stdout == ""
+
+
 def test_max_events_stops_a_run(tmp_path, capsys):
     p = write(tmp_path, "many.json", scene(frame_rate=100, end_time=1))
     out = tmp_path / "trace.jsonl"

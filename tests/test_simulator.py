@@ -158,6 +158,64 @@ def test_fast_circle_reading_agrees_with_the_careful_one(base, changes, k, gravi
     _fast_agrees(raw, k, gravity)
 
 
+def test_whole_scene_columns_agree_with_each_body():
+    """scene.turning, circle_lever and make_grid read fields of all bodies
+    at once; the same as asking each body, on every example and on crowds
+    with a spinning orbit added."""
+    import max2code.sim.scene as sc
+    scenes = [load_scene(p) for p in EXAMPLES]
+    for seed in range(20):
+        raw = _crowd(seed)
+        if seed % 2:
+            raw["bodies"].append({"name": "spinner", "shape": "circle", "radius": 0.01, "fixed": True,
+                                  "position": [50.0, 50.0], "orbit": {"radius": 0.5}, "angular_velocity": 1.0})
+        try:
+            scenes.append(parse_scene(json.dumps(raw), "crowd.json", check=False))
+        except SceneError:
+            pass
+    assert len(scenes) > 20
+    for scene in scenes:
+        bodies = scene.bodies
+        assert sc.turning(bodies) == [b for b in bodies if b.may_turn]
+        assert sc.circle_lever(scene) == max((b.radius for b in bodies if not b.polygon and not b.turns), default=0.0)
+        size = 2.0 * max((b.bound for b in bodies if not b.fixed), default=1.0) * (1.0 + 1e-6)
+        assert sc.make_grid(scene).large == tuple(b.bound * 2.0 > size for b in bodies)
+        assert scene.effects == tuple(e for e, on in (("acceleration", any(b.acceleration != (0.0, 0.0) for b in bodies)),
+                                                      ("orbit", any(b.may_turn for b in bodies))) if on)
+
+
+_json_value = st.recursive(
+    st.none() | st.booleans() | st.floats(allow_nan=True) | st.integers(-10 ** 40, 10 ** 40) | st.text(max_size=4)
+    | st.sampled_from([10 ** 19, 2 ** 64, -(2 ** 64) - 1, 10 ** 25 + 1, 0.1 ** 22, 123456789.123456789e-30]),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.sampled_from("abc"), inner, max_size=3),
+    max_leaves=12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_json_value, st.sampled_from([" ", "\n", ""]), st.booleans())
+def test_big_scenes_decode_as_json_does(value, space, cut):
+    """scene._decode (orjson for a big scene, when installed) gives what
+    json.loads gives, whole numbers beyond 64 bits, NaN and Infinity
+    included, and the same error on a text cut short."""
+    import max2code.sim.scene as sc
+    text = json.dumps(value, indent=1 if space == "\n" else None).replace(" ", space or " ")
+    text = text[:len(text) // 2] if cut else text
+    try:
+        want = repr(json.loads(text))
+    except json.JSONDecodeError as exc:
+        want = repr(exc)
+    old = sc.FAST_JSON_BYTES
+    sc.FAST_JSON_BYTES = 0
+    try:
+        try:
+            got = repr(sc._decode(text))
+        except json.JSONDecodeError as exc:
+            got = repr(exc)
+    finally:
+        sc.FAST_JSON_BYTES = old
+    assert got == want
+
+
 def _crowd(seed: int) -> dict:
     """Circles of mixed sizes (some fixed) crowded into a small box with a
     wall or two: overlapping pairs, touching pairs, big bodies, empty rows."""

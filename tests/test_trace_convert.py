@@ -86,6 +86,35 @@ def test_the_c_converter_takes_collisions_and_states(monkeypatch):
     assert in_c(scene, build, events, [n // 4, n // 2]) == want
 
 
+def test_without_a_c_compiler_the_command_says_so_and_writes_the_same_bytes(monkeypatch):
+    """When the C converter cannot be built, `auto` converts in Python
+    after one note, `c` refuses with one line, `python` is silent; the
+    trace is the same bytes on every path."""
+    from max2code.sim import trace_json
+    from max2code.sim.simulate import stream_scene
+
+    scene = load_scene(str(ROOT / "examples" / "billiard-break.json"))
+
+    def run(converter):
+        out, notes = [], []
+        stream_scene(scene, "c", out.append, converter=converter, warn=notes.append)
+        return "".join(out), notes
+
+    want, notes = run("c")
+    assert notes == [] and want.count("\n") > 100
+    assert run("python") == (want, [])
+    monkeypatch.setattr(trace_json, "_tried", True)
+    monkeypatch.setattr(trace_json, "_lib", None)
+    monkeypatch.setattr(trace_json, "_why", "gcc not found")
+    got, notes = run("auto")
+    assert got == want
+    assert notes == ["max2code simulate: note: the C trace converter cannot be built (gcc not found); "
+                     "converting the trace in Python (the same bytes, slower)"]
+    with pytest.raises(SimulateError, match=r"^max2code simulate: error: --converter c: the C trace converter "
+                                            r"cannot be built \(gcc not found\)$"):
+        run("c")
+
+
 SCENE = parse_scene(json.dumps({"end_time": 2.0, "bodies": [
     {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]},
     {"name": "b", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1.0, 0.0]},
@@ -144,6 +173,21 @@ def test_bad_lines_are_the_same_error(bad):
     with pytest.raises(SimulateError) as c:
         in_c(SCENE, BUILD, text, [3, 4])
     assert str(a.value) == str(b.value) == str(c.value) and "bad trace line 2" in str(a.value)
+
+
+@pytest.mark.parametrize("bad", ["F 1 -0 0.5 nan -1 0 0", "F 7 -0 0.5 1e-300 -1 0 0", "F 1 -0 0.5 1e-300 -1 0",
+                                 "F 1 -0 0.5 1e-300 -1 0 -inf"])
+def test_bad_final_states_are_the_same_error(bad):
+    """The final states (converted a block at a time on the command's path)."""
+    text = LINES.replace("F 1 -0 0.5 1e-300 -1 0 0\n", bad + "\n", 1)
+    with pytest.raises(SimulateError) as a:
+        slow(SCENE, BUILD, text)
+    for cuts in ([4], [13], [14], [15], [16]):
+        with pytest.raises(SimulateError) as b:
+            fast(SCENE, BUILD, text, cuts)
+        with pytest.raises(SimulateError) as c:
+            in_c(SCENE, BUILD, text, cuts)
+        assert str(a.value) == str(b.value) == str(c.value) and "bad trace line 15" in str(a.value)
 
 
 @pytest.mark.parametrize("names", [["a", "b c", "x~!{}"], ['quote"d'], ["back\\slash"], ["del\x7f"], ["é"],

@@ -6,8 +6,8 @@ import sys
 from dataclasses import dataclass
 
 from max2code.errors import ArgumentParser, Max2CodeError
-from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, load_scene
-from max2code.sim.simulate import LANGS, SimulateError, Trace, run_scene, stream_scene
+from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, check_scene, load_scene
+from max2code.sim.simulate import CONVERTERS, LANGS, SimulateError, Trace, run_scene, stream_scene
 from max2code.textio import check_output, open_output
 
 
@@ -15,9 +15,9 @@ class SimCliError(Max2CodeError):
     pass
 
 
-def _load(path: str):
+def _load(path: str, check: bool = True):
     try:
-        return load_scene(path)
+        return load_scene(path, check=check)
     except SceneError as exc:
         raise SimCliError(str(exc)) from None
 
@@ -41,16 +41,20 @@ def simulate_main(argv: list[str]) -> int:
     p.add_argument("--max-events", type=_count, metavar="N",
                    help="stop with an error after N events (collisions, inputs, frames); default: the scene's "
                         f"max_events ({DEFAULT_MAX_EVENTS:,})")
+    p.add_argument("--converter", choices=CONVERTERS, default="auto",
+                   help="convert the flat trace to JSON in C (built with gcc on first use) or in Python (the "
+                        "same bytes, slower); default auto: C when gcc builds it, else Python with a note on stderr")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
     args = p.parse_args(argv)
     check_output(args.output)
-    scene = _load(args.scene)
+    scene = _load(args.scene, check=False)        # the last checks run while the simulator reads the scene
     limit = args.max_events if args.max_events is not None else scene.max_events
     try:
         with open_output(args.output) as out:
             stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
-                                    progress=not args.quiet and sys.stderr.isatty())
-    except SimulateError as exc:
+                                 progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
+                                 warn=lambda line: print(line, file=sys.stderr), check=lambda: check_scene(scene))
+    except (SimulateError, SceneError) as exc:
         raise SimCliError(str(exc)) from None
     if not args.quiet:
         ev = stats["events"]

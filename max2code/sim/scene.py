@@ -13,7 +13,9 @@ import functools
 import gc
 import json
 import math
+import operator
 from dataclasses import dataclass, field
+from itertools import compress, repeat
 
 from max2code.errors import Max2CodeError
 from max2code.textio import InputError, read_text
@@ -110,11 +112,31 @@ class Scene:
         """The world effects the scene uses (variants.WORLD_EFFECTS): a movable
         polygon counts as turning, since a contact off its centre sets it spinning."""
         out = []
-        if any(b.acceleration != (0.0, 0.0) for b in self.bodies):
+        if any(map(operator.ne, map(_acceleration, self.bodies), repeat((0.0, 0.0)))):
             out.append("acceleration")
-        if any(b.may_turn for b in self.bodies):
+        if turning(self.bodies):
             out.append("orbit")
         return tuple(out)
+
+
+# a field of many bodies at once: map(_bound, bodies)
+_acceleration, _bound, _fixed = (operator.attrgetter("acceleration"), operator.attrgetter("bound"),
+                                 operator.attrgetter("fixed"))
+_is_polygon, _position, _radius = (operator.attrgetter("polygon"), operator.attrgetter("position"),
+                                operator.attrgetter("radius"))
+_spin = operator.attrgetter("angular_velocity")
+
+
+def _any_spin(bodies: list[Body]) -> bool:
+    return any(map(operator.ne, map(_spin, bodies), repeat(0.0)))
+
+
+def turning(bodies: list[Body]) -> list[Body]:
+    """The bodies that may turn (Body.may_turn), in order.  When none spins,
+    only the movable polygons may: the circles (a gas's many) need no look."""
+    if _any_spin(bodies):
+        return [b for b in bodies if b.may_turn]
+    return [b for b in compress(bodies, map(_is_polygon, bodies)) if not b.fixed]
 
 
 # ---------------------------------------------------------------- reading
@@ -288,6 +310,7 @@ _CIRCLE_KEYS = frozenset(BODY_KEYS - {"vertices", "orbit"})
 _BIG_INT = 2 ** 62
 _ABSENT = object()          # a key left out (JSON null is a value, and a wrong one)
 _ORIGIN = [0.0, 0.0]        # a pair left out
+_first, _second = operator.itemgetter(0), operator.itemgetter(1)
 
 
 def _real(v, default):
@@ -381,12 +404,52 @@ def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> B
                 radius=radius, friction=friction)
 
 
-def load_scene(path: str) -> Scene:
+FAST_JSON_BYTES = 1 << 20          # scenes at least this long are decoded by orjson, when it is installed
+_DIGITS = bytes.maketrans(b"123456789", b"000000000")
+_LONG = b"0" * 19       # orjson keeps ints from -2^63 to 2^64 - 1: 19 digits and more may be beyond
+
+
+def _decode(text: str):
+    """json.loads of the scene.  A big scene (FAST_JSON_BYTES) goes through
+    orjson when it is installed (about 2x faster; the same values: it reads
+    doubles correctly rounded, keeps the last of repeated keys, and refuses
+    what json would read otherwise: NaN, Infinity, numbers beyond the
+    doubles, lone surrogates, deep nesting), unless it holds a whole number
+    of 19 digits or more, which orjson may make a float where json keeps an
+    int (found as a run of 19 digits that does not follow a '.'); on
+    anything orjson refuses, json decodes and reports the fault."""
+    if len(text) >= FAST_JSON_BYTES and _orjson() is not None:
+        data = text.encode("utf-8", "surrogatepass")
+        runs = data.translate(_DIGITS)
+        at = runs.find(_LONG)
+        while at > 0 and runs[at - 1] == 46:        # 46: '.': a fraction's digits; on to the run's end
+            end = at + len(_LONG)
+            while end < len(runs) and runs[end] == 48:
+                end += 1
+            at = runs.find(_LONG, end)
+        if at < 0:
+            try:
+                return _orjson().loads(data)
+            except Exception:       # noqa: BLE001 -- json decodes it again and names the fault
+                pass
+    return json.loads(text)
+
+
+@functools.cache
+def _orjson():
+    try:
+        import orjson
+    except ImportError:
+        return None
+    return orjson
+
+
+def load_scene(path: str, *, check: bool = True) -> Scene:
     try:
         text = read_text(path)
     except InputError as exc:
         raise SceneError(str(exc)) from None
-    return parse_scene(text, path)
+    return parse_scene(text, path, check=check)
 
 
 @contextlib.contextmanager
@@ -402,15 +465,34 @@ def _no_gc():
             gc.enable()
 
 
-def parse_scene(text: str, path: str = "<scene>") -> Scene:
+def parse_scene(text: str, path: str = "<scene>", *, check: bool = True) -> Scene:
+    """The scene of a JSON text, every field checked; SceneError names the
+    first fault.  check=False leaves out the checks of the whole scene that
+    come last (magnitudes, then overlaps at t = 0): check_scene makes them
+    (`max2code simulate` runs them while the simulator reads the scene)."""
     with _no_gc():
-        return _parse_scene(text, path)
+        scene = _parse_scene(text, path)
+        if check:
+            _check_scene(scene)
+    return scene
+
+
+def check_scene(scene: Scene) -> None:
+    """The last checks of parse_scene, for a scene read with check=False:
+    SceneError when a body reaches too far or two bodies overlap at t = 0."""
+    with _no_gc():
+        _check_scene(scene)
+
+
+def _check_scene(scene: Scene) -> None:
+    _check_magnitudes(scene, _Reader(scene.path))
+    _check_overlaps(scene)
 
 
 def _parse_scene(text: str, path: str) -> Scene:
     rd = _Reader(path)
     try:
-        raw = json.loads(text)
+        raw = _decode(text)
     except json.JSONDecodeError as exc:
         raise SceneError(f"{path}:{exc.lineno}:{exc.colno}: error: not valid JSON: {exc.msg}") from None
     except RecursionError:
@@ -489,8 +571,6 @@ def _parse_scene(text: str, path: str) -> Scene:
 
     scene = Scene(path, raw.get("name", path), end, fps, gravity, tol, rest, int(order), int(max_same), bodies, inputs,
                   int(max_events))
-    _check_magnitudes(scene, rd)
-    _check_overlaps(scene)
     return scene
 
 
@@ -633,14 +713,15 @@ def _check_overlaps(scene: Scene) -> None:
     if not bodies:
         return
     tol = scene.tolerance
-    cell = 2.0 * max(b.bound for b in bodies if not b.fixed) if any(not b.fixed for b in bodies) else 1.0
-    big = []
-    small = []
-    for i, b in enumerate(bodies):
-        (big if b.bound > cell / 2.0 else small).append(i)
+    # the fields of all bodies at once
+    bound, fixed = list(map(_bound, bodies)), list(map(_fixed, bodies))
+    position = list(map(_position, bodies))
+    xs, ys = list(map(_first, position)), list(map(_second, position))
+    cell = 2.0 * max(compress(bound, map(operator.not_, fixed))) if not all(fixed) else 1.0
+    is_big = list(map(operator.gt, bound, repeat(cell / 2.0)))
+    big = list(compress(range(len(bodies)), is_big))
+    small = list(compress(range(len(bodies)), map(operator.not_, is_big)))
     found: list[tuple[int, int, float]] = []
-    xs, ys = [b.position[0] for b in bodies], [b.position[1] for b in bodies]
-    bound, fixed = [b.bound for b in bodies], [b.fixed for b in bodies]
 
     def test(i: int, j: int) -> None:
         if fixed[i] and fixed[j]:
@@ -655,29 +736,32 @@ def _check_overlaps(scene: Scene) -> None:
     # the grid of the small bodies; cell (gx, gy) is the whole number gx * rows + gy - low, with a free
     # row either side, so that its neighbours are the key plus a constant
     floor = math.floor
-    gx = [floor(xs[i] / cell) for i in small]
-    gy = [floor(ys[i] / cell) for i in small]
+    gx = list(map(floor, map(operator.truediv, map(xs.__getitem__, small), repeat(cell))))
+    gy = list(map(floor, map(operator.truediv, map(ys.__getitem__, small), repeat(cell))))
     grid: dict[int, list[int]] = {}
+    get = grid.get
     if small:
         low = min(gy) - 1
         rows = max(gy) - low + 2
-        for i, x, y in zip(small, gx, gy):
-            key = x * rows + y - low
-            if key in grid:
-                grid[key].append(i)
-            else:
+        for i, key in zip(small, map(operator.sub, map(operator.add, map(operator.mul, gx, repeat(rows)), gy),
+                                     repeat(low))):
+            members = get(key)
+            if members is None:
                 grid[key] = [i]
+            else:
+                members.append(i)
         # each pair of neighbouring cells once: the cell itself and four of its eight neighbours,
-        # (1, -1), (1, 0), (1, 1) and (0, 1); the distance test of `test` first, inlined
-        get = grid.get
-        steps = (rows - 1, rows, rows + 1, 1)
-        for key, members in grid.items():
-            if len(members) > 1:
-                for k, i in enumerate(members):
-                    for j in members[k + 1:]:
-                        test(i, j)
-            for step in steps:
-                for j in get(key + step, ()):
+        # (1, -1), (1, 0), (1, 1) and (0, 1), each step for all cells at once (most neighbours of a
+        # gas's cells are empty: no Python runs for them); the distance test of `test` first, inlined
+        keys, cells = list(grid), list(grid.values())
+        for members in compress(cells, map(operator.gt, map(len, cells), repeat(1))):
+            for k, i in enumerate(members):
+                for j in members[k + 1:]:
+                    test(i, j)
+        for step in (rows - 1, rows, rows + 1, 1):
+            near = list(map(get, map(operator.add, keys, repeat(step))))
+            for members, others in zip(compress(cells, near), filter(None, near)):
+                for j in others:
                     xj, yj, bj = xs[j], ys[j], bound[j]
                     for i in members:
                         reach = bound[i] + bj + tol
@@ -730,11 +814,11 @@ def window_angle(scene: Scene) -> float:
     polynomials of order n stay within the tolerance: the remainder of sin
     and cos is at most a^(n+1)/(n+1)!, times the lever (the sum of two
     bounding radii at most)."""
-    turning = [b.bound for b in scene.bodies if b.may_turn]
-    if not turning:
+    bounds = list(map(_bound, turning(scene.bodies)))
+    if not bounds:
         return 0.5
     # near a contact the lever is at most the two bodies' bounding radii
-    lever = 2.0 * max(turning) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
+    lever = 2.0 * max(bounds) + max(b.bound for b in scene.bodies if not b.fixed or b.turns)
     return _angle_for(lever, scene.taylor_order, scene.tolerance)
 
 
@@ -748,6 +832,9 @@ def circle_lever(scene: Scene) -> float:
     """The largest radius of a circle that does not turn (no orbit, or no
     spin): the partner that adds most to the lever of a turning body whose
     partner does not turn (0 when the scene has none)."""
+    if not _any_spin(scene.bodies):     # then none turns
+        circles = compress(scene.bodies, map(operator.not_, map(_is_polygon, scene.bodies)))
+        return max(map(_radius, circles), default=0.0)
     return max((b.radius for b in scene.bodies if not b.polygon and not b.turns), default=0.0)
 
 
@@ -780,14 +867,15 @@ def make_grid(scene: Scene) -> Grid:
     than half a cell (fixed walls) are kept in a separate list instead.
     Wider cells (by density or free path) were measured and cost more than
     the cell crossings they save (docs/simulator.md, "Cell size, measured")."""
-    movable = [b for b in scene.bodies if not b.fixed]
-    size = 2.0 * max((b.bound for b in movable), default=1.0) * (1.0 + 1e-6)
-    large = tuple(b.bound * 2.0 > size for b in scene.bodies)
-    small = [b for b, lg in zip(scene.bodies, large) if not lg]
+    bound = list(map(_bound, scene.bodies))
+    size = 2.0 * max(compress(bound, map(operator.not_, map(_fixed, scene.bodies))), default=1.0) * (1.0 + 1e-6)
+    large = tuple(map(operator.gt, map(operator.mul, bound, repeat(2.0)), repeat(size)))
+    small = list(compress(scene.bodies, map(operator.not_, large)))
     if not small:
         return Grid(0.0, 0.0, size, size, 1, 1, large)
-    xs = [b.position[0] for b in small]
-    ys = [b.position[1] for b in small]
+    pos = list(map(_position, small))
+    xs = list(map(_first, pos))
+    ys = list(map(_second, pos))
     x0, y0 = min(xs) - size, min(ys) - size
     w, h = max(xs) - min(xs) + 2.0 * size, max(ys) - min(ys) + 2.0 * size
     limit = max(16, 4 * len(small))
@@ -910,11 +998,18 @@ def _circle_line(b: Body, large: bool, window: float) -> str:
 
 def compile_scene(scene: Scene) -> str:
     """The flat text a runtime's simulator reads (docs/simulator.md)."""
+    return "".join(compile_parts(scene))
+
+
+def compile_parts(scene: Scene, bodies: int = 2048):
+    """compile_scene in pieces of whole lines, about `bodies` bodies each,
+    made as they are asked for (a simulator can read one while the next is
+    made)."""
     with _no_gc():
-        return _compile_scene(scene)
+        yield from _compile_parts(scene, bodies)
 
 
-def _compile_scene(scene: Scene) -> str:
+def _compile_parts(scene: Scene, size: int):
     g = make_grid(scene)
     out = ["m2c-scene 1",
            f"end {_r(scene.end_time)}",
@@ -928,13 +1023,17 @@ def _compile_scene(scene: Scene) -> str:
     circles = circle_lever(scene)
     covered = covered_edges(scene)
     for k, (b, large) in enumerate(zip(scene.bodies, g.large)):
-        window = body_window(b, scene, circles)
         if b.polygon:
-            out += body_lines(b, large, window, covered.get(k))
+            out += body_lines(b, large, body_window(b, scene, circles), covered.get(k))
         else:
+            # a circle may turn only when it orbits and spins (Body.may_turn): else its window is 0
+            window = body_window(b, scene, circles) if b.orbit_radius > 0.0 and b.angular_velocity != 0.0 else 0.0
             out.append(_circle_line(b, large, window))
+        if len(out) >= size:
+            yield "\n".join(out) + "\n"
+            out = []
     out.append(f"inputs {len(scene.inputs)}")
     for e in scene.inputs:
         out.append(f"input {_r(e.time)} {e.body} {e.mode} {_r(e.velocity[0])} {_r(e.velocity[1])}")
     out.append("end")
-    return "\n".join(out) + "\n"
+    yield "\n".join(out) + "\n"

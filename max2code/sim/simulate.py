@@ -19,7 +19,7 @@ from pathlib import Path
 from max2code import __version__
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
-from max2code.sim.scene import Scene, compile_scene
+from max2code.sim.scene import Scene, compile_parts, compile_scene
 from max2code.targets import simulator_languages
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
@@ -80,27 +80,41 @@ def _hash_tree(path, h) -> None:
                 h.update(fh.read())
 
 
-def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
-    """Generate the equations for exactly these effects and build the
-    simulator of `lang` with them (rebuilt only when something changed)."""
-    tag = ("-".join(effects) or "none") + f"-o{order}"
-    workdir = BUILD / "sim" / lang / tag
-    workdir.mkdir(parents=True, exist_ok=True)
-    # everything the build depends on but Maxima's version (its results are
-    # cached by version anyway): when unchanged, neither generate nor build
+def _build_key(lang: str, effects: tuple[str, ...], order: int):
+    """The build's folder and the hash of everything it depends on but
+    Maxima's version (its results are cached by version anyway)."""
+    workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
     key = hashlib.sha256(json.dumps([lang, list(effects), order, __version__]).encode())
     for path in EQUATIONS.values():
         key.update(path.read_bytes())
     for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang):
         _hash_tree(tree, key)
-    inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
+    return workdir, key
+
+
+def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild | None:
+    """build_simulator's result when nothing changed since it last ran (no
+    generating, no building: a few milliseconds), else None."""
+    workdir, key = _build_key(lang, effects, order)
     try:
-        if inputs_stamp.read_text() == key.hexdigest() and stamp.exists():
-            saved = json.loads(names_file.read_text(encoding="utf-8"))
+        if (workdir / "inputs.stamp").read_text() == key.hexdigest() and (workdir / "build.stamp").exists():
+            saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
             if all(os.path.exists(g) for g in saved["generated"].values()):
                 return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
     except (OSError, ValueError, KeyError, TypeError):
         pass
+    return None
+
+
+def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
+    """Generate the equations for exactly these effects and build the
+    simulator of `lang` with them (rebuilt only when something changed)."""
+    done = built_simulator(lang, effects, order)
+    if done is not None:
+        return done
+    workdir, key = _build_key(lang, effects, order)
+    workdir.mkdir(parents=True, exist_ok=True)
+    inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
     # the generator is imported only when something must be generated (it is most of the start-up)
     from max2code.generate.mxm import read_mxm
     from max2code.generate.pipeline import GenerateRequest, derive, generate
@@ -179,6 +193,7 @@ _ZERO = {"0": "0.0", "-0": "-0.0"}     # the commonest whole numbers of a trace
 _FEATURE_OF = {("0", i, j): FEATURES[(0, not j)] for i in (False, True) for j in (False, True)}
 _FEATURE_OF.update({("1", i, j): FEATURES[(1, not i)] for i in (False, True) for j in (False, True)})
 _first = operator.itemgetter(0)
+_vertices = operator.attrgetter("vertices")
 _S_END = ("]}\n", ",")                # after a state: the next line is not, or is, a state
 _E_END = ("}\n", ',"states":[')       # after an event's head: likewise
 
@@ -288,9 +303,10 @@ class TraceConverter:
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
         # the fast path's integer fields by their text
-        self._body = {str(i): n for i, n in enumerate(self.names)}
-        most = max([len(scene.bodies), len(scene.inputs)] + [len(b.vertices) for b in scene.bodies])
-        self._int = {str(i): str(i) for i in range(-1, most + 1)}
+        self._body = dict(zip(map(str, range(len(self.names))), self.names))
+        most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
+        ints = list(map(str, range(-1, most + 1)))
+        self._int = dict(zip(ints, ints))
         self._features = _FeatureText(self._int)
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
@@ -372,7 +388,25 @@ class TraceConverter:
         """Whole events of the flat trace: `data` ends with a newline where a
         line other than a state begins, or at the trace's end.  Converted in
         C when the converter was made with `accelerate` and the C code takes
-        the chunk; else as feed_chunk.  The same bytes either way."""
+        the chunk; else as feed_chunk.  The same bytes either way.  The
+        final states (F lines, one per body, after the last event: as many
+        lines as bodies) go to _finals."""
+        last = data.rfind(b"\n", 0, len(data) - 1) + 1          # the chunk's last line
+        at = -1             # where its F lines begin: they come after every event, so not before an E or S line
+        if data[last:last + 1] not in (b"E", b"S", b""):
+            at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1 or -1
+        if at >= 0:
+            if at:
+                self.feed_events(data[:at])
+            end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
+            block = data[at:end] if end else data[at:]
+            if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
+                self._finals(block.decode("ascii", "replace"))
+            else:
+                self.feed_chunk(block.decode("ascii", "replace"))
+            if end and end < len(data):
+                self.feed_chunk(data[end:].decode("ascii", "replace"))
+            return
         if self._c is not None and data:
             got = self._c.convert(data, self.frames)
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
@@ -382,6 +416,21 @@ class TraceConverter:
                 self.write(got[0])
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
+
+    def _finals(self, text: str) -> None:
+        """Complete F lines, column by column (as _states); anything unusual
+        goes to feed_chunk."""
+        lines = text.split("\n")
+        lines.pop()                     # after the last newline
+        try:
+            cols = _columns(lines, 8, "F", range(2, 8))
+            final = list(map(_final, map(self._body.__getitem__, cols[1]), *cols[2:]))
+        except (_Slow, IndexError, ValueError, KeyError):
+            self.feed_chunk(text)
+            return
+        self._flush()                   # the last event is whole
+        self.final += final
+        self.line += len(lines)
 
     def feed_chunk(self, text: str) -> None:
         """Complete lines of the flat trace (text ends with a newline, or is empty)."""
@@ -579,34 +628,88 @@ def _events_end(data: bytes) -> int:
     return 0
 
 
+CONVERTERS = ("auto", "c", "python")
+
+
+def _close_quietly(f) -> None:
+    """Close a pipe whose reader may be gone (what was still buffered is dropped)."""
+    try:
+        f.close()
+    except OSError:
+        pass
+
+
 def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
-                 progress: bool = False, timeout: float = 3600) -> dict:
+                 progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None,
+                 check=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
     `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
-    and raises SimulateError."""
-    build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
-    flat = compile_scene(scene)
-    conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, accelerate=True)
+    and raises SimulateError.  `converter`: "c" converts the trace in C
+    (SimulateError when that converter cannot be built), "python" in
+    Python, "auto" in C when it can be built, else in Python after passing
+    one line saying so to `warn` (the same bytes either way).
+
+    The flat scene goes to the simulator as it is compiled (the simulator
+    reads one piece while the next is made).  `check`, when given, is
+    called after that and before anything is written: the checks of the
+    scene left for last (scene.check_scene of a scene read with
+    check=False), which so run while the simulator starts; an exception
+    from it stops the simulator and is raised as it is (and first, when
+    compiling fails or a real build must run)."""
+    if converter not in CONVERTERS:
+        raise ValueError(f"converter {converter!r}")
+    build = built_simulator(lang, scene.effects, scene.taylor_order)
+    if build is None:
+        if check is not None:   # generating and building take long: refuse a bad scene first
+            check()
+            check = None
+        build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             cwd=build.workdir)
     err: list[bytes] = []
 
-    def feed_input():
-        try:
-            proc.stdin.write(flat.encode("ascii"))
-            proc.stdin.close()
-        except (BrokenPipeError, OSError):
-            pass
-
     def drain_errors():
         err.append(proc.stderr.read()[-4000:])
 
-    threads = [threading.Thread(target=feed_input, daemon=True), threading.Thread(target=drain_errors, daemon=True)]
+    threads = [threading.Thread(target=drain_errors, daemon=True)]
     for th in threads:
         th.start()
     timer = threading.Timer(timeout, proc.kill)
     timer.start()
+    try:
+        # the simulators read the whole scene before they write: writing it from here cannot wait on their output
+        try:
+            for part in compile_parts(scene):
+                proc.stdin.write(part.encode("ascii"))
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            _close_quietly(proc.stdin)      # the simulator stopped reading: its exit status and last line say why
+        except BaseException:
+            if check is not None:
+                check()         # a fault of the scene comes first
+            raise
+        if check is not None:
+            check()
+        # made while the simulator runs: for 10^5 bodies its tables of names take a while
+        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
+                              accelerate=converter != "python")
+        if converter != "python" and conv._c is None:
+            from max2code.sim import trace_json
+            why = f"the C trace converter cannot be built ({trace_json.why_not()})"
+            if converter == "c":
+                raise SimulateError(f"max2code simulate: error: --converter c: {why}")
+            if warn is not None:
+                warn(f"max2code simulate: note: {why}; converting the trace in Python (the same bytes, slower)")
+    except BaseException:
+        timer.cancel()
+        proc.kill()
+        _close_quietly(proc.stdin)
+        proc.wait()
+        for th in threads:
+            th.join(timeout=5)
+        proc.stdout.close()
+        raise
     last, rest = "", b""
     try:
         # chunks of whole events: the converters' fast paths

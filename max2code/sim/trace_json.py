@@ -23,6 +23,7 @@ SOURCE = RUNTIMES / "c" / "tools" / "m2c_trace_json.c"
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-shared", "-fPIC"]
 _lib: ctypes.CDLL | None = None
 _tried = False
+_why = ""          # why the library could not be had (after library() returned None)
 
 
 def build() -> str:
@@ -46,13 +47,22 @@ def build() -> str:
 
 
 def library() -> ctypes.CDLL | None:
-    """The loaded library, or None when it cannot be built or loaded."""
-    global _lib, _tried
+    """The loaded library, or None when it cannot be built or loaded (then
+    why_not() says why)."""
+    global _lib, _tried, _why
     if not _tried:
         _tried = True
         try:
             lib = ctypes.CDLL(build())
-        except (OSError, subprocess.SubprocessError):
+        except subprocess.CalledProcessError as exc:
+            err = (exc.stderr or b"").decode("ascii", "replace").strip().splitlines()
+            _why = f"gcc failed on {SOURCE.name}" + (f": {err[0]}" if err else "")
+            return None
+        except FileNotFoundError as exc:
+            _why = f"{exc.filename or 'gcc'} not found"
+            return None
+        except (OSError, subprocess.SubprocessError) as exc:
+            _why = f"{type(exc).__name__}: {exc}"
             return None
         lib.tj_new.restype = ctypes.c_void_p
         lib.tj_new.argtypes = [ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long]
@@ -63,6 +73,11 @@ def library() -> ctypes.CDLL | None:
                                    ctypes.c_int, ctypes.POINTER(ctypes.c_long)]
         _lib = lib
     return _lib
+
+
+def why_not() -> str:
+    """Why library() returned None (empty when it did not)."""
+    return _why
 
 
 class CTrace:
