@@ -190,17 +190,10 @@ def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
     dx = xb - xa
     dxold = dx
     neg = slo < 0
-    an = a[n]
-    rest = a[n - 1::-1]
+    horner = _HORNER2[n]
     fabs = _fabs
     for _ in range(MAXIT):
-        v = an
-        d = 0.0
-        h = 0.0
-        for ai in rest:
-            h = h * x + d
-            d = d * x + v
-            v = v * x + ai
+        v, d, h = horner(a, x)
         if v == 0.0:
             return x
         if (v < 0.0) == neg:
@@ -315,6 +308,84 @@ _FACT = [float(math.factorial(i)) for i in range(MAX_DEGREE + 1)]
 BERN_DEPTH = 12           # Bernstein subdivision depth limit
 
 
+def _unrolled_bernstein(n: int):
+    """Step 7.2 for degree n as straight-line code: (a, lo, w) -> n! times
+    the Bernstein coefficients of p on [lo, lo + w] and their error bound e.
+    The same operations in the same order as the loops of docs/roots.md
+    (Taylor shift when lo != 0, powers of w times j! (n-j)!, summation
+    triangle, ptilde(|lo| + w)); CPython runs the unrolled statements on
+    local variables several times faster than the index loops."""
+    b = [f"b{i}" for i in range(n + 1)]
+    lines = [f"def bern(a, lo, w):", f"    {', '.join(b)}, = a", "    if lo != 0.0:"]
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            lines.append(f"        {b[j]} = {b[j]} + lo * {b[j + 1]}")
+    lines.append("    f = 1.0")
+    for j in range(n + 1):
+        lines.append(f"    {b[j]} = {b[j]} * f * {_FACT[j] * _FACT[n - j]!r}")
+        lines.append("    f = f * w")
+    for k in range(1, n + 1):
+        for j in range(n, k - 1, -1):
+            lines.append(f"    {b[j]} = {b[j]} + {b[j - 1]}")
+    lines.append("    y = fabs(lo) + w")
+    lines.append(f"    pt = fabs(a[{n}])")
+    for i in range(n - 1, -1, -1):
+        lines.append(f"    pt = pt * y + fabs(a[{i}])")
+    lines.append(f"    return [{', '.join(b)}], {8.0 * (n + 1)!r} * EPS * pt * {_FACT[n]!r} + TINY")
+    env = {"fabs": _fabs, "EPS": EPS, "TINY": TINY}
+    exec("\n".join(lines), env)
+    return env["bern"]
+
+
+def _unrolled_split(n: int):
+    """de Casteljau at 1/2 (step 7.3) for degree n as straight-line code:
+    b -> (left half, right half), the same operations as the loops."""
+    c = [f"c{i}" for i in range(n + 1)]
+    left = ["l0"]
+    right = [""] * (n + 1)
+    right[n] = c[n]
+    lines = [f"def split(b):", f"    {', '.join(c)}, = b", "    l0 = c0"]
+    for k in range(1, n + 1):
+        for i in range(n - k + 1):
+            lines.append(f"    {c[i]} = 0.5 * ({c[i]} + {c[i + 1]})")
+        lines.append(f"    l{k} = c0")
+        left.append(f"l{k}")
+        if n - k > 0:
+            lines.append(f"    r{n - k} = {c[n - k]}")
+            right[n - k] = f"r{n - k}"
+        else:
+            right[0] = f"l{n}"
+    lines.append(f"    return [{', '.join(left)}], [{', '.join(right)}]")
+    env: dict = {}
+    exec("\n".join(lines), env)
+    return env["split"]
+
+
+def _unrolled_horner(n: int, running_bound: bool):
+    """Horner for p(x), p'(x) and p''(x)/2 (and Higham's running bound mu
+    when running_bound) for degree n as straight-line code: (a, x) ->
+    (v, d, h[, mu]), the same operations as the loops of _halley and
+    _polish_halley."""
+    lines = [f"def horner(a, x):", f"    {', '.join(f'a{i}' for i in range(n + 1))}, = a",
+             f"    v = a{n}", "    d = 0.0", "    h = 0.0"]
+    if running_bound:
+        lines += ["    ax = fabs(x)", "    mu = 0.5 * fabs(v)"]
+    for i in range(n - 1, -1, -1):
+        lines += ["    h = h * x + d", "    d = d * x + v", f"    v = v * x + a{i}"]
+        if running_bound:
+            lines.append("    mu = mu * ax + fabs(v)")
+    lines.append("    return v, d, h, mu" if running_bound else "    return v, d, h")
+    env = {"fabs": _fabs}
+    exec("\n".join(lines), env)
+    return env["horner"]
+
+
+_HORNER2 = [None] * 3 + [_unrolled_horner(n, False) for n in range(3, MAX_DEGREE + 1)]
+_HORNER2_MU = [None] * 3 + [_unrolled_horner(n, True) for n in range(3, MAX_DEGREE + 1)]
+_BERN = [None] * 3 + [_unrolled_bernstein(n) for n in range(3, MAX_DEGREE + 1)]
+_SPLIT = [None] * 3 + [_unrolled_split(n) for n in range(3, MAX_DEGREE + 1)]
+
+
 def _by_derivatives(a: list[float], n: int, lo: float, hi: float) -> float | None:
     """The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
     derivatives bottom up, then the first root of p with careful signs."""
@@ -373,28 +444,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
         if not (lo < hi):
             return None
     # 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
-    b = list(a)
-    if lo != 0.0:
-        for i in range(n):
-            for j in range(n - 1, i - 1, -1):
-                b[j] = b[j] + lo * b[j + 1]
-    w = hi - lo
-    f = 1.0
-    fact = _FACT
-    for j in range(n + 1):
-        b[j] = b[j] * f * (fact[j] * fact[n - j])
-        f = f * w
-    for k in range(1, n + 1):
-        prev = b[k - 1]
-        for j in range(k, n + 1):
-            cur = b[j]
-            b[j] = cur + prev
-            prev = cur
-    y = fabs(lo) + w
-    pt = fabs(a[n])
-    for i in range(n - 1, -1, -1):
-        pt = pt * y + fabs(a[i])
-    e = 8.0 * (n + 1) * EPS * pt * fact[n] + TINY
+    b, e = _BERN[n](a, lo, hi - lo)
     # 3. subdivision, left to right
     stack = []
     depth = 0
@@ -442,13 +492,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
                     return t
             else:
                 # de Casteljau at 1/2: left half in b, right half pushed
-                c = list(b)
-                rb = list(b)
-                for k in range(1, n + 1):
-                    for i in range(n - k + 1):
-                        c[i] = 0.5 * (c[i] + c[i + 1])
-                    b[k] = c[0]
-                    rb[n - k] = c[n - k]
+                b, rb = _SPLIT[n](b)
                 xm = 0.5 * (xl + xr)
                 e = e + nf * EPS * m
                 depth += 1
@@ -499,19 +543,9 @@ def _polish_halley(a: list[float], n: int, x: float, xa: float, xb: float) -> fl
     of at most POLISH_TOL |x| (a Newton step: NEWTON_TOL) ends it, else
     another round, at most three."""
     fabs = _fabs
-    an = a[n]
-    rest = a[n - 1::-1]
+    horner = _HORNER2_MU[n]
     for _ in range(3):
-        ax = fabs(x)
-        v = an
-        d = 0.0
-        h = 0.0
-        mu = 0.5 * fabs(v)
-        for ai in rest:
-            h = h * x + d
-            d = d * x + v
-            v = v * x + ai
-            mu = mu * ax + fabs(v)
+        v, d, h, mu = horner(a, x)
         if d == 0.0:
             return x
         if mu > 2.0 * fabs(x * d):   # plain Horner not accurate enough: compensated
