@@ -925,17 +925,30 @@ fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize
 /// Smallest real root `t` of `c[0] + c[1] t + ... + c[n] t^n` with
 /// `lo < t <= hi`, or `None` (also for NaN/inf input, `lo >= hi`, all-zero or
 /// constant polynomials, and more than `MAX_DEGREE + 1` coefficients).
+///
+/// Inlined into the caller (also across crates: the simulator, generated
+/// code, the benchmark) as far as the degree-2 fast path; the rest is one
+/// out-of-line call.
+#[inline]
 pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) & (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+        // fast path: moderate coefficients give the same bits unscaled; lo < hi,
+        // both finite, exactly when hi - lo is positive and finite (an overflow
+        // only sends the call to the general path)
+        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
+        return Some(x + 0.0);
+    }
+    smallest_root_general(c, lo, hi)
+}
+
+/// Everything but the degree-2 fast path (out of line).
+#[inline(never)]
+fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if c.len() > N1 {
         return None;
     }
     if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
         return None;
-    }
-    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) {
-        // fast path: moderate coefficients give the same bits unscaled
-        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
-        return Some(x + 0.0);
     }
     // a NaN or infinity stops the search for the top nonzero coefficient, so it
     // stays in c[0..=n], whose finiteness the spread pass of `solve` tests
