@@ -26,7 +26,10 @@ VAR
    Tiny,                      (* 2^-1000, floor of the touching bound *)
    Sixteenth,                 (* 2^-16, bisection step from an end at 0 *)
    NewtonTol,                 (* 2^-30: an accepted Newton step this small (relative) has converged *)
-   HalleyTol,                 (* 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root) *)
+   HalleyTol,                 (* 2^-8: an accepted Halley step this small: the polish finishes it (Bernstein's single root) *)
+   HalleyMin,                 (* 2^-968: Halley's products below this lose precision to underflow *)
+   HandoffTol,                (* 2^-14: ... or an accepted Newton step (Halley refused) this small *)
+   PolishTol,                 (* 2^-22: a polishing Halley step this small ends the polish *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
    Unit52: LONGCARD ;         (* 2^52: the exponent field's unit in a REAL's bits *)
@@ -225,15 +228,36 @@ BEGIN
 END Newton ;
 
 
-(* Bernstein's single simple root in (lo, hi): Newton with Halley's step
-   v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
-   Newton step, same direction; false for any overflow or NaN), else the
-   Newton step; an accepted step of at most HalleyTol |x| ends it. *)
+(* The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
+   v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
+   same direction; false for an overflow or NaN) and both v d and d^2 are at
+   least HalleyMin (no precision lost to underflow), else Newton's v / d;
+   TRUE when it is Halley's. *)
+PROCEDURE HalleyStep (v, d, h: REAL; VAR step: REAL) : BOOLEAN ;
+VAR
+   dd, vd, den: REAL ;
+BEGIN
+   dd := d * d ;
+   vd := v * d ;
+   den := dd - v * h ;
+   IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
+   THEN
+      step := vd / den ;
+      RETURN TRUE
+   END ;
+   step := v / d ;
+   RETURN FALSE
+END HalleyStep ;
+
+
+(* Bernstein's single simple root in (lo, hi): Newton with the step of
+   HalleyStep, h = p''/2; an accepted Halley step of at most HalleyTol |x|
+   ends it, a Newton step of at most HandoffTol |x|. *)
 PROCEDURE Halley (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
                   x0: REAL) : REAL ;
 VAR
-   x, xa, xb, dx, dxold, v, d, h, dd, den, step, xn, tol: REAL ;
-   neg: BOOLEAN ;
+   x, xa, xb, dx, dxold, v, d, h, step, xn, tol: REAL ;
+   neg, isHalley: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
    xa := lo ;
@@ -256,15 +280,13 @@ BEGIN
       IF (v < 0.0) = neg THEN xa := x ELSE xb := x END ;
       IF (d # 0.0) AND (ABS (4.0 * v) < ABS (dxold * d))
       THEN
-         dd := d * d ;
-         den := dd - v * h ;
-         IF den > 0.5 * dd THEN step := (v * d) / den ELSE step := v / d END ;
+         isHalley := HalleyStep (v, d, h, step) ;
          xn := x - step ;
          IF (xa < xn) AND (xn < xb)
          THEN
             dxold := dx ;
             dx := step ;
-            tol := HalleyTol
+            IF isHalley THEN tol := HalleyTol ELSE tol := HandoffTol END
          ELSE
             dxold := dx ;
             dx := 0.5 * (xb - xa) ;
@@ -320,6 +342,41 @@ BEGIN
    END ;
    RETURN x
 END Polish ;
+
+
+(* The polish after Bernstein's Halley iteration: the step of HalleyStep
+   from p(x) (plain Horner where its running error bound allows, else
+   compensated), p'(x) and p''(x)/2, kept only inside (xa, xb]; a Halley step
+   of at most PolishTol |x| (a Newton step: NewtonTol) ends it, else another
+   round, at most three. *)
+PROCEDURE PolishHalley (VAR a: Coeffs; n: INTEGER; x, xa, xb: REAL) : REAL ;
+VAR
+   ax, v, d, h, mu, step, xn, tol: REAL ;
+   i, k: INTEGER ;
+BEGIN
+   FOR k := 1 TO 3 DO
+      ax := ABS (x) ;
+      v := a[n] ;
+      d := 0.0 ;
+      h := 0.0 ;
+      mu := 0.5 * ABS (v) ;
+      FOR i := n - 1 TO 0 BY -1 DO
+         h := h * x + d ;
+         d := d * x + v ;
+         v := v * x + a[i] ;
+         mu := mu * ax + ABS (v)
+      END ;
+      IF d = 0.0 THEN RETURN x END ;
+      (* plain Horner not accurate enough: compensated *)
+      IF mu > 2.0 * ABS (x * d) THEN v := CompHorner (a, n, x) END ;
+      IF HalleyStep (v, d, h, step) THEN tol := PolishTol ELSE tol := NewtonTol END ;
+      xn := x - step ;
+      IF NOT ((xa < xn) AND (xn <= xb)) THEN RETURN x END ;
+      IF ABS (step) <= tol * ABS (xn) THEN RETURN xn END ;
+      x := xn
+   END ;
+   RETURN x
+END PolishHalley ;
 
 
 (* Real roots of a x^2 + b x + c (a # 0), ascending, into r[0..]; returns
@@ -575,7 +632,7 @@ BEGIN
          IF NOT ((xl < x0) AND (x0 < xr)) THEN x0 := 0.5 * (xl + xr) END ;
          IF b[0] < 0.0 THEN sl := -1 ELSE sl := 1 END ;
          x := Halley (a, n, xl, xr, sl, x0) ;
-         x := Polish (a, n, x, xl, xr) ;
+         x := PolishHalley (a, n, x, xl, xr) ;
          IF NOT (x > xl) THEN x := xr END ;
          IF x > xr THEN x := xr END ;
          t := x ;
@@ -967,7 +1024,10 @@ BEGIN
    Tiny := ldexp (1.0, -1000) ;
    Sixteenth := ldexp (1.0, -16) ;
    NewtonTol := ldexp (1.0, -30) ;
-   HalleyTol := ldexp (1.0, -14) ;
+   HalleyTol := ldexp (1.0, -8) ;
+   HalleyMin := ldexp (1.0, -968) ;
+   HandoffTol := ldexp (1.0, -14) ;
+   PolishTol := ldexp (1.0, -22) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
    Unit52 := 4503599627370496 ;

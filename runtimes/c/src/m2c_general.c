@@ -190,7 +190,7 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
             if (!(xl < x0 && x0 < xr))
                 x0 = 0.5 * (xl + xr);
             double x = m2c_halley_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_HALLEY_TOL);
-            x = m2c_polish_impl(a, n, x, xl, xr);
+            x = m2c_polish_halley_impl(a, n, x, xl, xr);
             if (!(x > xl))
                 x = xr;
             if (x > xr)

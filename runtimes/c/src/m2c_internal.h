@@ -17,7 +17,10 @@
 #define M2C_TINY 0x1p-1000       /* absolute floor of the touching and Bernstein bounds */
 #define M2C_SIXTEENTH 0x1p-16    /* bisection step from a bracket end at 0 */
 #define M2C_NEWTON_TOL 0x1p-30   /* an accepted Newton step this small (relative) has converged */
-#define M2C_HALLEY_TOL 0x1p-14   /* an accepted Halley step this small: the polish finishes it */
+#define M2C_HALLEY_TOL 0x1p-8    /* an accepted Halley step this small: the polish finishes it */
+#define M2C_HALLEY_MIN 0x1p-968  /* Halley's products below this lose precision to underflow */
+#define M2C_HANDOFF_TOL 0x1p-14  /* ... or an accepted Newton step (Halley refused) this small */
+#define M2C_POLISH_TOL 0x1p-22   /* a polishing Halley step this small ends the polish */
 #define M2C_MAXIT 100            /* bracketed Newton step limit */
 #define M2C_BERN_DEPTH 12        /* Bernstein subdivision depth limit */
 #define M2C_QUAD_SPREAD 900      /* degree 2: one scale when coefficient exponents span at most this */
@@ -119,12 +122,29 @@ M2C_INLINE double m2c_newton_impl(const double *a, int n, double lo, double hi, 
     return x;
 }
 
+/* The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
+ * v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
+ * same direction; false for an overflow or NaN) and both v d and d^2 are at
+ * least 2^-968 (no precision lost to underflow: in a band of tiny values
+ * they can underflow), else Newton's v / d.  1 when Halley's. */
+M2C_INLINE int m2c_halley_step(double v, double d, double h, double *step)
+{
+    double dd = d * d;
+    double vd = v * d;
+    double den = dd - v * h;
+    if (den > 0.5 * dd && fabs(vd) >= M2C_HALLEY_MIN && dd >= M2C_HALLEY_MIN) {
+        *step = vd / den;
+        return 1;
+    }
+    *step = v / d;
+    return 0;
+}
+
 /* Bernstein's single simple root in (lo, hi): the bracketed method of
  * m2c_newton_impl with Halley's step (cubic convergence) where it is safe:
- * h = p''/2 comes from a third Horner chain, the step v d / (d^2 - v h) is
- * taken when d^2 - v h > d^2 / 2 (at most twice the Newton step, same
- * direction; false for any overflow or NaN), else the Newton step v / d.
- * An accepted step of at most tol |x| ends it. */
+ * h = p''/2 comes from a third Horner chain, m2c_halley_step chooses the
+ * step.  An accepted Halley step of at most tolhalley |x| ends it, a Newton
+ * step of at most 2^-14 |x|. */
 M2C_INLINE double m2c_halley_impl(const double *a, int n, double lo, double hi, int slo,
                                   double x0, double tolhalley)
 {
@@ -152,14 +172,13 @@ M2C_INLINE double m2c_halley_impl(const double *a, int n, double lo, double hi, 
             xb = x;
         double xn;
         if (d != 0.0 && fabs(4.0 * v) < fabs(dxold * d)) {
-            double dd = d * d;
-            double den = dd - v * h;
-            double step = den > 0.5 * dd ? (v * d) / den : v / d;
+            double step;
+            int halley = m2c_halley_step(v, d, h, &step);
             xn = x - step;
             if (xa < xn && xn < xb) {
                 dxold = dx;
                 dx = step;
-                tol = tolhalley;
+                tol = halley ? tolhalley : M2C_HANDOFF_TOL;
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
@@ -214,6 +233,62 @@ M2C_INLINE double m2c_polish_impl(const double *a, int n, double x, double xa, d
         double xn = x - vc / d;
         if (!(xa < xn && xn <= xb) || xn == x)
             return x;
+        x = xn;
+    }
+    return x;
+}
+
+/* p(x) by compensated Horner, inlined (the same operations as
+ * m2c_comp_horner). */
+M2C_INLINE double m2c_comp_horner_impl(const double *a, int n, double x)
+{
+    double s = a[n];
+    double c = 0.0;
+    M2C_UNROLL
+    for (int i = n - 1; i >= 0; i--) {
+        double p, pe;
+        m2c_two_prod(s, x, &p, &pe);
+        double ai = a[i];
+        s = p + ai;
+        double z = s - p;
+        double se = (p - (s - z)) + (ai - z);
+        c = c * x + (pe + se);
+    }
+    return s + c;
+}
+
+/* The polish after Bernstein's Halley iteration (docs/roots.md step 7.3):
+ * the step of m2c_halley_step from p(x) (plain Horner where its running
+ * error bound allows, else compensated), p'(x) and p''(x)/2, kept only
+ * inside (xa, xb]; a Halley step of at most 2^-22 |x| (a Newton step: 2^-30)
+ * ends it, else another round, at most three. */
+M2C_INLINE double m2c_polish_halley_impl(const double *a, int n, double x, double xa, double xb)
+{
+    for (int k = 0; k < 3; k++) {
+        double ax = fabs(x);
+        double v = a[n];
+        double d = 0.0;
+        double h = 0.0;
+        double mu = 0.5 * fabs(v);
+        M2C_UNROLL
+        for (int i = n - 1; i >= 0; i--) {
+            h = h * x + d;
+            d = d * x + v;
+            v = v * x + a[i];
+            mu = mu * ax + fabs(v);
+        }
+        if (d == 0.0)
+            return x;
+        if (mu > 2.0 * fabs(x * d)) /* plain Horner not accurate enough: compensated */
+            v = m2c_comp_horner_impl(a, n, x);
+        double step;
+        /* Newton where Halley is refused converges only quadratically */
+        double tol = m2c_halley_step(v, d, h, &step) ? M2C_POLISH_TOL : M2C_NEWTON_TOL;
+        double xn = x - step;
+        if (!(xa < xn && xn <= xb))
+            return x;
+        if (fabs(step) <= tol * fabs(xn))
+            return xn;
         x = xn;
     }
     return x;

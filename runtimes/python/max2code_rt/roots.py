@@ -16,7 +16,10 @@ SPLITTER = 134217729.0    # 2^27 + 1, Veltkamp splitting constant
 TINY = 2.0 ** -1000       # absolute floor of the touching bound
 SIXTEENTH = 2.0 ** -16    # bisection step from an end at zero
 NEWTON_TOL = 2.0 ** -30   # an accepted Newton step this small (relative) has converged
-HALLEY_TOL = 2.0 ** -14   # an accepted Halley step this small: the polish finishes it (Bernstein's single root)
+HALLEY_TOL = 2.0 ** -8    # an accepted Halley step this small: the polish finishes it (Bernstein's single root)
+HALLEY_MIN = 2.0 ** -968  # Halley's products below this lose precision to underflow
+HANDOFF_TOL = 2.0 ** -14  # ... or an accepted Newton step (Halley refused) this small
+POLISH_TOL = 2.0 ** -22   # a polishing Halley step this small ends the polish
 MAXIT = 100               # bracketed Newton step limit
 MODERATE_LO = 2.0 ** -200  # degree-2 fast path: every coefficient 0 or in [2^-200, 2^200)
 MODERATE_HI = 2.0 ** 200
@@ -28,6 +31,7 @@ _ldexp = math.ldexp
 _isfinite = math.isfinite
 _fabs = math.fabs
 _sqrt = math.sqrt
+_frexp = math.frexp
 
 
 def _two_prod(a: float, b: float) -> tuple[float, float]:
@@ -162,28 +166,34 @@ def _newton(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float,
     return x
 
 
+def _halley_step(v: float, d: float, h: float) -> tuple[float, bool]:
+    """The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
+    v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
+    same direction; false for an overflow or NaN) and both v d and d^2 are at
+    least HALLEY_MIN (no precision lost to underflow), else Newton's v / d;
+    and whether it is Halley's."""
+    dd = d * d
+    vd = v * d
+    den = dd - v * h
+    if den > 0.5 * dd and _fabs(vd) >= HALLEY_MIN and dd >= HALLEY_MIN:
+        return vd / den, True
+    return v / d, False
+
+
 def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -> float:
-    """Bernstein's single simple root in (lo, hi): _newton with Halley's step
-    v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
-    Newton step, same direction; false for any overflow or NaN), else the
-    Newton step; an accepted step of at most HALLEY_TOL |x| ends it."""
+    """Bernstein's single simple root in (lo, hi): _newton with the step of
+    _halley_step, h = p''/2; an accepted Halley step of at most HALLEY_TOL |x|
+    ends it, a Newton step of at most HANDOFF_TOL |x|."""
     xa = lo
     xb = hi
     x = x0
     dx = xb - xa
     dxold = dx
     neg = slo < 0
-    an = a[n]
-    rest = a[n - 1::-1]
+    horner = _HORNER2[n]
     fabs = _fabs
     for _ in range(MAXIT):
-        v = an
-        d = 0.0
-        h = 0.0
-        for ai in rest:
-            h = h * x + d
-            d = d * x + v
-            v = v * x + ai
+        v, d, h = horner(a, x)
         if v == 0.0:
             return x
         if (v < 0.0) == neg:
@@ -192,13 +202,18 @@ def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
             xb = x
         if d != 0.0 and fabs(4.0 * v) < fabs(dxold * d):
             dd = d * d
+            vd = v * d
             den = dd - v * h
-            step = (v * d) / den if den > 0.5 * dd else v / d
+            if den > 0.5 * dd and fabs(vd) >= HALLEY_MIN and dd >= HALLEY_MIN:
+                step = vd / den
+                tol = HALLEY_TOL
+            else:
+                step = v / d
+                tol = HANDOFF_TOL
             xn = x - step
             if xa < xn < xb:
                 dxold = dx
                 dx = step
-                tol = HALLEY_TOL
             else:
                 dxold = dx
                 dx = 0.5 * (xb - xa)
@@ -275,13 +290,8 @@ def _roots_between(a: list[float], n: int, crit: list[float], lo: float, hi: flo
     return out
 
 
-def _scale(c: list[float], n: int) -> list[float]:
-    """Coefficients times an exact power of two so that max |a_i| is in [1, 2)."""
-    m = 0.0
-    for i in range(n + 1):
-        v = _fabs(c[i])
-        if v > m:
-            m = v
+def _scale(c: list[float], n: int, m: float) -> list[float]:
+    """Coefficients times an exact power of two so that m = max |c_i| is in [1, 2)."""
     e = math.frexp(m)[1]
     k = 1 - e
     a = list(c[: n + 1])
@@ -296,6 +306,84 @@ def _scale(c: list[float], n: int) -> list[float]:
 # i! for 0 <= i <= 16 (exact)
 _FACT = [float(math.factorial(i)) for i in range(MAX_DEGREE + 1)]
 BERN_DEPTH = 12           # Bernstein subdivision depth limit
+
+
+def _unrolled_bernstein(n: int):
+    """Step 7.2 for degree n as straight-line code: (a, lo, w) -> n! times
+    the Bernstein coefficients of p on [lo, lo + w] and their error bound e.
+    The same operations in the same order as the loops of docs/roots.md
+    (Taylor shift when lo != 0, powers of w times j! (n-j)!, summation
+    triangle, ptilde(|lo| + w)); CPython runs the unrolled statements on
+    local variables several times faster than the index loops."""
+    b = [f"b{i}" for i in range(n + 1)]
+    lines = [f"def bern(a, lo, w):", f"    {', '.join(b)}, = a", "    if lo != 0.0:"]
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            lines.append(f"        {b[j]} = {b[j]} + lo * {b[j + 1]}")
+    lines.append("    f = 1.0")
+    for j in range(n + 1):
+        lines.append(f"    {b[j]} = {b[j]} * f * {_FACT[j] * _FACT[n - j]!r}")
+        lines.append("    f = f * w")
+    for k in range(1, n + 1):
+        for j in range(n, k - 1, -1):
+            lines.append(f"    {b[j]} = {b[j]} + {b[j - 1]}")
+    lines.append("    y = fabs(lo) + w")
+    lines.append(f"    pt = fabs(a[{n}])")
+    for i in range(n - 1, -1, -1):
+        lines.append(f"    pt = pt * y + fabs(a[{i}])")
+    lines.append(f"    return [{', '.join(b)}], {8.0 * (n + 1)!r} * EPS * pt * {_FACT[n]!r} + TINY")
+    env = {"fabs": _fabs, "EPS": EPS, "TINY": TINY}
+    exec("\n".join(lines), env)
+    return env["bern"]
+
+
+def _unrolled_split(n: int):
+    """de Casteljau at 1/2 (step 7.3) for degree n as straight-line code:
+    b -> (left half, right half), the same operations as the loops."""
+    c = [f"c{i}" for i in range(n + 1)]
+    left = ["l0"]
+    right = [""] * (n + 1)
+    right[n] = c[n]
+    lines = [f"def split(b):", f"    {', '.join(c)}, = b", "    l0 = c0"]
+    for k in range(1, n + 1):
+        for i in range(n - k + 1):
+            lines.append(f"    {c[i]} = 0.5 * ({c[i]} + {c[i + 1]})")
+        lines.append(f"    l{k} = c0")
+        left.append(f"l{k}")
+        if n - k > 0:
+            lines.append(f"    r{n - k} = {c[n - k]}")
+            right[n - k] = f"r{n - k}"
+        else:
+            right[0] = f"l{n}"
+    lines.append(f"    return [{', '.join(left)}], [{', '.join(right)}]")
+    env: dict = {}
+    exec("\n".join(lines), env)
+    return env["split"]
+
+
+def _unrolled_horner(n: int, running_bound: bool):
+    """Horner for p(x), p'(x) and p''(x)/2 (and Higham's running bound mu
+    when running_bound) for degree n as straight-line code: (a, x) ->
+    (v, d, h[, mu]), the same operations as the loops of _halley and
+    _polish_halley."""
+    lines = [f"def horner(a, x):", f"    {', '.join(f'a{i}' for i in range(n + 1))}, = a",
+             f"    v = a{n}", "    d = 0.0", "    h = 0.0"]
+    if running_bound:
+        lines += ["    ax = fabs(x)", "    mu = 0.5 * fabs(v)"]
+    for i in range(n - 1, -1, -1):
+        lines += ["    h = h * x + d", "    d = d * x + v", f"    v = v * x + a{i}"]
+        if running_bound:
+            lines.append("    mu = mu * ax + fabs(v)")
+    lines.append("    return v, d, h, mu" if running_bound else "    return v, d, h")
+    env = {"fabs": _fabs}
+    exec("\n".join(lines), env)
+    return env["horner"]
+
+
+_HORNER2 = [None] * 3 + [_unrolled_horner(n, False) for n in range(3, MAX_DEGREE + 1)]
+_HORNER2_MU = [None] * 3 + [_unrolled_horner(n, True) for n in range(3, MAX_DEGREE + 1)]
+_BERN = [None] * 3 + [_unrolled_bernstein(n) for n in range(3, MAX_DEGREE + 1)]
+_SPLIT = [None] * 3 + [_unrolled_split(n) for n in range(3, MAX_DEGREE + 1)]
 
 
 def _by_derivatives(a: list[float], n: int, lo: float, hi: float) -> float | None:
@@ -356,28 +444,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
         if not (lo < hi):
             return None
     # 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
-    b = list(a)
-    if lo != 0.0:
-        for i in range(n):
-            for j in range(n - 1, i - 1, -1):
-                b[j] = b[j] + lo * b[j + 1]
-    w = hi - lo
-    f = 1.0
-    fact = _FACT
-    for j in range(n + 1):
-        b[j] = b[j] * f * (fact[j] * fact[n - j])
-        f = f * w
-    for k in range(1, n + 1):
-        prev = b[k - 1]
-        for j in range(k, n + 1):
-            cur = b[j]
-            b[j] = cur + prev
-            prev = cur
-    y = fabs(lo) + w
-    pt = fabs(a[n])
-    for i in range(n - 1, -1, -1):
-        pt = pt * y + fabs(a[i])
-    e = 8.0 * (n + 1) * EPS * pt * fact[n] + TINY
+    b, e = _BERN[n](a, lo, hi - lo)
     # 3. subdivision, left to right
     stack = []
     depth = 0
@@ -412,7 +479,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             if not (xl < x0 < xr):
                 x0 = 0.5 * (xl + xr)
             x = _halley(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
-            x = _polish(a, n, x, xl, xr)
+            x = _polish_halley(a, n, x, xl, xr)
             if not (x > xl):
                 x = xr
             if x > xr:
@@ -425,13 +492,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
                     return t
             else:
                 # de Casteljau at 1/2: left half in b, right half pushed
-                c = list(b)
-                rb = list(b)
-                for k in range(1, n + 1):
-                    for i in range(n - k + 1):
-                        c[i] = 0.5 * (c[i] + c[i + 1])
-                    b[k] = c[0]
-                    rb[n - k] = c[n - k]
+                b, rb = _SPLIT[n](b)
                 xm = 0.5 * (xl + xr)
                 e = e + nf * EPS * m
                 depth += 1
@@ -471,6 +532,30 @@ def _polish(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
         xn = x - vc / d
         if not (xa < xn <= xb) or xn == x:
             return x
+        x = xn
+    return x
+
+
+def _polish_halley(a: list[float], n: int, x: float, xa: float, xb: float) -> float:
+    """The polish after Bernstein's Halley iteration: the step of _halley_step
+    from p(x) (plain Horner where its running error bound allows, else
+    compensated), p'(x) and p''(x)/2, kept only inside (xa, xb]; a Halley step
+    of at most POLISH_TOL |x| (a Newton step: NEWTON_TOL) ends it, else
+    another round, at most three."""
+    fabs = _fabs
+    horner = _HORNER2_MU[n]
+    for _ in range(3):
+        v, d, h, mu = horner(a, x)
+        if d == 0.0:
+            return x
+        if mu > 2.0 * fabs(x * d):   # plain Horner not accurate enough: compensated
+            v = _comp_horner(a, n, x)
+        step, halley = _halley_step(v, d, h)
+        xn = x - step
+        if not (xa < xn <= xb):
+            return x
+        if fabs(step) <= (POLISH_TOL if halley else NEWTON_TOL) * fabs(xn):
+            return xn
         x = xn
     return x
 
@@ -604,19 +689,18 @@ def _banded(c: list[float], n: int, j: int, ue: int, le: int, lo: float, hi: flo
 def _solve(c: list[float], n: int, lo: float, hi: float) -> float | None:
     """Degree n >= 2 (c[n] != 0, all finite, lo < hi finite): one power-of-two
     scale of the coefficients when the roots allow it, else bands."""
-    mx = 0.0
-    mn = math.inf
-    j = -1
-    for i in range(n + 1):
-        v = _fabs(c[i])
-        if v != 0.0:
-            if j < 0:
-                j = i
-            if v > mx:
-                mx = v
-            if v < mn:
-                mn = v
-    spread = _exponent(mx) - _exponent(mn)
+    ac = list(map(_fabs, c))
+    mx = max(ac)
+    if 0.0 in ac:
+        nz = [v for v in ac if v != 0.0]
+        mn = min(nz)
+        j = 0
+        while ac[j] == 0.0:
+            j += 1
+    else:
+        mn = min(ac)
+        j = 0
+    spread = _frexp(mx)[1] - _frexp(mn)[1]
     if n == 2:
         one_scale = spread <= QUAD_SPREAD
         if not one_scale:
@@ -628,7 +712,7 @@ def _solve(c: list[float], n: int, lo: float, hi: float) -> float | None:
             ue, le = _root_exponents(c, n, j)
             one_scale = ue <= lim and le >= -lim
     if one_scale:
-        a = _scale(c, n)
+        a = _scale(c, n, mx)
         while n >= 0 and a[n] == 0.0:     # underflowed to zero in the scaling
             n -= 1
         if n <= 0:
@@ -659,9 +743,8 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
         # fast path: the same bits as scaling first (no intermediate leaves the normal range)
         t = _quadratic_in(c[2], c[1], c[0], lo, hi)
         return None if t is None else t + 0.0
-    for v in c:
-        if not _isfinite(v):
-            return None
+    if not all(map(_isfinite, c)):
+        return None
     while n >= 0 and c[n] == 0.0:
         n -= 1
     if n <= 0:

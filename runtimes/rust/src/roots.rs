@@ -10,7 +10,10 @@ const SPLITTER: f64 = 134217729.0; // 2^27 + 1, Veltkamp splitting constant
 const TINY: f64 = 9.332636185032189e-302; // 2^-1000, floor of the touching bound
 const SIXTEENTH: f64 = 1.52587890625e-05; // 2^-16, bisection step from an end at 0
 const NEWTON_TOL: f64 = 9.313225746154785e-10; // 2^-30: an accepted Newton step this small (relative) has converged
-const HALLEY_TOL: f64 = 6.103515625e-05; // 2^-14: an accepted Halley step this small: the polish finishes it (Bernstein's single root)
+const HALLEY_TOL: f64 = 0.00390625; // 2^-8: an accepted Halley step this small: the polish finishes it (Bernstein's single root)
+const HALLEY_MIN: f64 = 4.008336720017946e-292; // 2^-968: Halley's products below this lose precision to underflow
+const HANDOFF_TOL: f64 = 6.103515625e-05; // 2^-14: ... or an accepted Newton step (Halley refused) this small
+const POLISH_TOL: f64 = 2.384185791015625e-07; // 2^-22: a polishing Halley step this small ends the polish
 const MAXIT: usize = 100; // bracketed Newton step limit
 const BERN_DEPTH: usize = 12; // Bernstein subdivision depth limit
 const QUAD_SPREAD: i32 = 900; // degree 2: one scale when coefficient exponents span at most this
@@ -183,10 +186,26 @@ fn newton(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64, tolnewton: f
     x
 }
 
-/// Bernstein's single simple root in (lo, hi): `newton` with Halley's step
-/// v d / (d^2 - v h), h = p''/2, where d^2 - v h > d^2 / 2 (at most twice the
-/// Newton step, same direction; false for any overflow or NaN), else the
-/// Newton step; an accepted step of at most HALLEY_TOL |x| ends it.
+/// The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
+/// v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
+/// same direction; false for an overflow or NaN) and both v d and d^2 are at
+/// least HALLEY_MIN (no precision lost to underflow), else Newton's v / d;
+/// and whether it is Halley's.
+#[inline(always)]
+fn halley_step(v: f64, d: f64, h: f64) -> (f64, bool) {
+    let dd = d * d;
+    let vd = v * d;
+    let den = dd - v * h;
+    if den > 0.5 * dd && vd.abs() >= HALLEY_MIN && dd >= HALLEY_MIN {
+        (vd / den, true)
+    } else {
+        (v / d, false)
+    }
+}
+
+/// Bernstein's single simple root in (lo, hi): `newton` with the step of
+/// `halley_step`, h = p''/2; an accepted Halley step of at most HALLEY_TOL
+/// |x| ends it, a Newton step of at most HANDOFF_TOL |x|.
 #[inline(always)]
 fn halley(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
     let mut xa = lo;
@@ -215,14 +234,12 @@ fn halley(a: &[f64], n: usize, lo: f64, hi: f64, slo: i32, x0: f64) -> f64 {
         }
         let mut xn;
         if d != 0.0 && (4.0 * v).abs() < (dxold * d).abs() {
-            let dd = d * d;
-            let den = dd - v * h;
-            let step = if den > 0.5 * dd { (v * d) / den } else { v / d };
+            let (step, is_halley) = halley_step(v, d, h);
             xn = x - step;
             if xa < xn && xn < xb {
                 dxold = dx;
                 dx = step;
-                tol = HALLEY_TOL;
+                tol = if is_halley { HALLEY_TOL } else { HANDOFF_TOL };
             } else {
                 dxold = dx;
                 dx = 0.5 * (xb - xa);
@@ -281,6 +298,45 @@ fn polish(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
         let xn = x - vc / d;
         if !(xa < xn && xn <= xb) || xn == x {
             return x;
+        }
+        x = xn;
+    }
+    x
+}
+
+/// The polish after Bernstein's Halley iteration: the step of `halley_step`
+/// from p(x) (plain Horner where its running error bound allows, else
+/// compensated), p'(x) and p''(x)/2, kept only inside (xa, xb]; a Halley step
+/// of at most POLISH_TOL |x| (a Newton step: NEWTON_TOL) ends it, else
+/// another round, at most three.
+#[inline(always)]
+fn polish_halley(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
+    for _ in 0..3 {
+        let ax = x.abs();
+        let mut v = a[n];
+        let mut d = 0.0;
+        let mut h = 0.0;
+        let mut mu = 0.5 * v.abs();
+        for i in (0..n).rev() {
+            h = h * x + d;
+            d = d * x + v;
+            v = v * x + a[i];
+            mu = mu * ax + v.abs();
+        }
+        if d == 0.0 {
+            return x;
+        }
+        if mu > 2.0 * (x * d).abs() {
+            // plain Horner not accurate enough: compensated
+            v = comp_horner(a, n, x);
+        }
+        let (step, is_halley) = halley_step(v, d, h);
+        let xn = x - step;
+        if !(xa < xn && xn <= xb) {
+            return x;
+        }
+        if step.abs() <= (if is_halley { POLISH_TOL } else { NEWTON_TOL }) * xn.abs() {
+            return xn;
         }
         x = xn;
     }
@@ -693,7 +749,7 @@ fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: 
             x0 = 0.5 * (xl + xr);
         }
         let x1 = halley(a, n, xl, xr, if b[0] < 0.0 { -1 } else { 1 }, x0);
-        let mut x = polish(a, n, x1, xl, xr);
+        let mut x = polish_halley(a, n, x1, xl, xr);
         if !(x > xl) {
             x = xr;
         }
@@ -869,17 +925,30 @@ fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize
 /// Smallest real root `t` of `c[0] + c[1] t + ... + c[n] t^n` with
 /// `lo < t <= hi`, or `None` (also for NaN/inf input, `lo >= hi`, all-zero or
 /// constant polynomials, and more than `MAX_DEGREE + 1` coefficients).
+///
+/// Inlined into the caller (also across crates: the simulator, generated
+/// code, the benchmark) as far as the degree-2 fast path; the rest is one
+/// out-of-line call.
+#[inline]
 pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) & (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+        // fast path: moderate coefficients give the same bits unscaled; lo < hi,
+        // both finite, exactly when hi - lo is positive and finite (an overflow
+        // only sends the call to the general path)
+        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
+        return Some(x + 0.0);
+    }
+    smallest_root_general(c, lo, hi)
+}
+
+/// Everything but the degree-2 fast path (out of line).
+#[inline(never)]
+fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if c.len() > N1 {
         return None;
     }
     if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
         return None;
-    }
-    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) {
-        // fast path: moderate coefficients give the same bits unscaled
-        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
-        return Some(x + 0.0);
     }
     // a NaN or infinity stops the search for the top nonzero coefficient, so it
     // stays in c[0..=n], whose finiteness the spread pass of `solve` tests
