@@ -5,18 +5,7 @@
 
 double m2c_comp_horner(const double *a, int n, double x)
 {
-    double s = a[n];
-    double c = 0.0;
-    for (int i = n - 1; i >= 0; i--) {
-        double p, pe;
-        m2c_two_prod(s, x, &p, &pe);
-        double ai = a[i];
-        s = p + ai;
-        double z = s - p;
-        double se = (p - (s - z)) + (ai - z);
-        c = c * x + (pe + se);
-    }
-    return s + c;
+    return m2c_comp_horner_impl(a, n, x);
 }
 
 int m2c_sign_top(const double *a, int n, double x)
