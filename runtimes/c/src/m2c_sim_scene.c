@@ -16,9 +16,9 @@ typedef struct reader {
     int failed;
 } reader;
 
-static int is_space(char c)
+static inline int is_space(char c)
 {
-    return c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+    return c == ' ' || (unsigned char)(c - '\t') <= (unsigned char)('\r' - '\t');     /* \t \n \v \f \r */
 }
 
 static void fail(reader *r, const char *fmt, ...)
@@ -42,7 +42,7 @@ static const char *token(reader *r, size_t *len, const char *expect)
     while (*p && is_space(*p))
         p++;
     const char *start = p;
-    while (*p && !is_space(*p))
+    while ((unsigned char)*p > ' ' || (*p && !is_space(*p)))     /* above ' ': neither NUL nor a space */
         p++;
     r->p = p;
     *len = (size_t)(p - start);
@@ -88,28 +88,33 @@ int m2c_sim_parse_number(const char *w, size_t n, double *out)
         p++;
     }
     uint64_t m = 0;
-    int digits = 0, sig = 0, q = 0, point = 0;
-    for (; p < end; p++) {
-        if (*p >= '0' && *p <= '9') {
-            digits++;
-            if (m == 0 && *p == '0') {
-                if (point)
-                    q--;
-                continue;           /* a leading zero */
-            }
-            if (++sig > 19)
-                return 0;
-            m = 10u * m + (uint64_t)(*p - '0');
-            if (point)
-                q--;
-        } else if (*p == '.' && !point) {
-            point = 1;
-        } else {
-            break;
+    int q = 0;
+    const char *first = p;
+    /* leading zeros, then the whole part's digits, then the fraction's
+     * (its zeros before any other digit only move the point) */
+    while (p < end && *p == '0')
+        p++;
+    const char *sig = p;
+    while (p < end && (unsigned)(*p - '0') < 10u)
+        m = 10u * m + (uint64_t)(*p++ - '0');
+    int digits = (int)(p - first), nsig = (int)(p - sig);
+    if (p < end && *p == '.') {
+        p++;
+        const char *f = p;
+        if (m == 0) {
+            while (p < end && *p == '0')
+                p++;
+            q -= (int)(p - f);
         }
+        const char *g = p;
+        while (p < end && (unsigned)(*p - '0') < 10u)
+            m = 10u * m + (uint64_t)(*p++ - '0');
+        q -= (int)(p - g);
+        digits += (int)(p - f);
+        nsig += (int)(p - g);
     }
-    if (digits == 0)
-        return 0;
+    if (digits == 0 || nsig > 19)
+        return 0;           /* no digits, or m may have overflowed */
     if (p < end) {
         if (*p != 'e' && *p != 'E')
             return 0;

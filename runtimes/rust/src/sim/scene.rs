@@ -202,6 +202,126 @@ pub struct Scene {
 
 /// The whitespace-separated words of a flat text, read in order; `what`
 /// names the text in messages ("scene", "add_body").
+/// The decimal `w` ([-]digits[.digits][e[+-]digits], at most 19
+/// significant digits) as the nearest double, ties to even, as `parse`
+/// reads it; None when it is not of that form or not in the range below
+/// (`parse` then reads it).  With m the digits as an integer and x = m 10^q:
+/// when m < 2^53 and |q| <= 22, x is one correctly rounded product or
+/// quotient of two exact doubles; when -22 <= q < 0, the 53-bit quotient
+/// floor(m 2^s / 10^-q) and its remainder are exact in 128 bits and give
+/// the rounding.  The scene's numbers are shortest round-trip decimals (up
+/// to 17 digits): nearly all take one of the two paths.  The C runtime's
+/// m2c_sim_parse_number, step for step.
+pub fn parse_decimal(w: &[u8]) -> Option<f64> {
+    const P10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
+        1e20, 1e21, 1e22,
+    ];
+    let n = w.len();
+    let mut p = 0;
+    let neg = n > 0 && w[0] == b'-';
+    if neg {
+        p = 1;
+    }
+    let first = p;
+    // leading zeros, then the whole part's digits, then the fraction's (its
+    // zeros before any other digit only move the point)
+    while p < n && w[p] == b'0' {
+        p += 1;
+    }
+    let sig = p;
+    let mut m: u64 = 0;
+    while p < n && w[p].is_ascii_digit() {
+        m = m.wrapping_mul(10).wrapping_add(u64::from(w[p] - b'0'));
+        p += 1;
+    }
+    let (mut digits, mut nsig) = (p - first, p - sig);
+    let mut q: i32 = 0;
+    if p < n && w[p] == b'.' {
+        p += 1;
+        let f = p;
+        if m == 0 {
+            while p < n && w[p] == b'0' {
+                p += 1;
+            }
+            q -= (p - f) as i32;
+        }
+        let g = p;
+        while p < n && w[p].is_ascii_digit() {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(w[p] - b'0'));
+            p += 1;
+        }
+        q -= (p - g) as i32;
+        digits += p - f;
+        nsig += p - g;
+    }
+    if digits == 0 || nsig > 19 {
+        return None; // no digits, or m may have wrapped
+    }
+    if p < n {
+        if w[p] != b'e' && w[p] != b'E' {
+            return None;
+        }
+        p += 1;
+        let mut eneg = false;
+        if p < n && (w[p] == b'+' || w[p] == b'-') {
+            eneg = w[p] == b'-';
+            p += 1;
+        }
+        let (mut ed, mut e) = (0, 0i32);
+        while p < n && w[p].is_ascii_digit() {
+            ed += 1;
+            if ed > 4 {
+                return None;
+            }
+            e = 10 * e + i32::from(w[p] - b'0');
+            p += 1;
+        }
+        if ed == 0 || p != n {
+            return None;
+        }
+        q += if eneg { -e } else { e };
+    }
+    let x = if m == 0 {
+        0.0
+    } else if m < (1u64 << 53) && (-22..=22).contains(&q) {
+        if q >= 0 {
+            m as f64 * P10[q as usize]
+        } else {
+            m as f64 / P10[(-q) as usize]
+        }
+    } else if (-22..0).contains(&q) {
+        let pw = 10u128.pow((-q) as u32);
+        let bits_w = 64 - m.leading_zeros() as i32;
+        let bits_p = 128 - pw.leading_zeros() as i32;
+        let mut sh = 53 + bits_p - bits_w; // m 2^sh / 10^-q in (2^52, 2^54)
+        if sh < 1 {
+            return None; // m >= 2^57 with a small 10^-q
+        }
+        let mut num = u128::from(m) << sh;
+        let mut mq = num / pw;
+        if mq >> 53 != 0 {
+            sh -= 1;
+            num >>= 1; // exact: num had sh >= 1 zero bits at the bottom
+            mq = num / pw;
+        }
+        let rem = num - mq * pw;
+        let mut mant = mq as u64;
+        if 2 * rem > pw || (2 * rem == pw && mant & 1 == 1) {
+            mant += 1;
+        }
+        if mant >> 53 != 0 {
+            mant >>= 1; // rounded up to 2^53
+            sh -= 1;
+        }
+        // mant 2^-sh, with 2^-sh a normal double (sh <= 128)
+        mant as f64 * f64::from_bits(((1023 - sh) as u64) << 52)
+    } else {
+        return None;
+    };
+    Some(if neg { -x } else { x })
+}
+
 pub struct Tokens<'a> {
     it: std::str::SplitAsciiWhitespace<'a>,
     what: &'static str,
@@ -229,6 +349,9 @@ impl<'a> Tokens<'a> {
 
     fn num(&mut self) -> Result<f64, String> {
         let w = self.next_word(None)?;
+        if let Some(x) = parse_decimal(w.as_bytes()) {
+            return Ok(x);
+        }
         w.parse::<f64>().map_err(|_| format!("{}: expected a number, found '{w}'", self.what))
     }
 
@@ -376,5 +499,64 @@ impl Scene {
         }
         tk.expect("end")?;
         Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, bodies, verts, inputs })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_decimal;
+
+    /// xorshift64*: reproducible numbers without a dependency.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(2685821657736338717)
+        }
+    }
+
+    /// parse_decimal reads what `parse` reads, bit for bit, whenever it
+    /// reads a decimal at all: shortest and 15-17 digit forms of random
+    /// doubles of every magnitude, and random digit strings.
+    #[test]
+    fn decimals_read_as_parse_reads_them() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut fast, mut total) = (0, 0);
+        let mut check = |text: String| {
+            let want: f64 = text.parse().expect("a number");
+            if let Some(x) = parse_decimal(text.as_bytes()) {
+                assert_eq!(x.to_bits(), want.to_bits(), "{text}");
+                fast += 1;
+            }
+            total += 1;
+        };
+        for k in 0..200_000u64 {
+            let u = rng.next();
+            let x = match k % 3 {
+                0 => f64::from_bits(u),
+                1 => ((u >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((rng.next() % 40) as i32 - 20),
+                _ => (u % 2_000_001) as f64 / 1000.0 - 1000.0,
+            };
+            if !x.is_finite() {
+                continue;
+            }
+            check(format!("{x:?}"));
+            check(format!("{x:e}"));
+            check(format!("{x:.16e}"));
+            check(format!("{x:.14e}"));
+            let nd = 1 + (rng.next() % 20) as usize;
+            let at = (rng.next() % 21) as usize;
+            let mut s = String::new();
+            for d in 0..nd {
+                if d == at {
+                    s.push('.');
+                }
+                s.push(char::from(b'0' + (rng.next() % 10) as u8));
+            }
+            check(format!("{s}e{}", (rng.next() % 60) as i32 - 40));
+        }
+        assert!(fast > total / 4 && fast < total, "{fast} of {total} read without parse");
     }
 }
