@@ -28,11 +28,15 @@ G = 9.81
 # them (python is the reference).  A runtime without one of them cannot read
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
-PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"}}
+PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
+          "moving": {"python"}}
+# the steps every proof needs; the others only the proofs that name them
+BASE_STEPS = ("hop", "cover")
 
 
-def runtimes():
-    missing = lambda lang: sorted(step for step, langs in PORTED.items() if lang not in langs)     # noqa: E731
+def runtimes(*steps):
+    need = BASE_STEPS + steps
+    missing = lambda lang: sorted(step for step in need if lang not in PORTED[step])     # noqa: E731
     return [lang if not missing(lang) else
             pytest.param(lang, marks=pytest.mark.xfail(strict=True, reason=f"{lang} port of REF step(s) "
                                                                             f"{', '.join(missing(lang))} not merged yet"))
@@ -406,3 +410,117 @@ def test_energy_never_grows_in_the_gravity_box_and_the_game(name):
     rp = read_trace("\n".join(tr.lines()), scene, path)
     er = never_gains_energy(scene, rp, path)
     assert er.instants >= 100, er
+
+
+# ---- support on a moving fixed body (REF step "moving") --------------------
+
+def platform(x=0.0, top=0.0, half=1.0, velocity=(0.0, 0.0), acceleration=(0.0, 0.0), **kw):
+    """A fixed plank whose top face is at height `top` at t = 0, translating."""
+    return floor("platform", x=x, top=top, half=half, velocity=list(velocity), acceleration=list(acceleration), **kw)
+
+
+def platform_at(scene, t):
+    p = next(b for b in scene.bodies if b.name == "platform")
+    return (p.position[0] + p.velocity[0] * t + 0.5 * p.acceleration[0] * t * t,
+            p.position[1] + p.velocity[1] * t + 0.5 * p.acceleration[1] * t * t)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_box_on_a_platform_moving_at_constant_velocity_keeps_its_offset(lang):
+    """Resting on the platform (moving with it), with friction: supported at
+    t = 0, carried along, never slides, leaves or sleeps."""
+    V = 0.7
+    scene, tr, rp = run([platform(velocity=(V, 0.0), friction=1.0),
+                         box_body(x=0.3, velocity=[V, 0.0], friction=0.5)], end=1.0, lang=lang)
+    assert kinds(tr) == ["support"]
+    assert len(rp.frame_times) == 100
+    for t in rp.frame_times:
+        st = rp.state_at("box", t)
+        px, _ = platform_at(scene, t)
+        assert abs((st.px - px) - 0.3) <= 1e-12 and st.py == 0.1
+        assert st.vx == V and st.vy == 0.0 and st.angle == 0.0
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_frictionless_ball_stays_put_on_a_moving_platform_and_leaves_at_its_edge(lang):
+    """The platform slides away under a ball at rest: no friction, so the ball
+    keeps its world x until the platform's end passes under its centre."""
+    V, x0 = 0.8, 0.25
+    scene, tr, rp = run([platform(velocity=(V, 0.0)), ball(x=x0)], end=2.0, lang=lang)
+    assert kinds(tr)[:2] == ["support", "leave"]
+    leave = next(e for e in tr.events if e["kind"] == "leave")
+    # the face's left end is at -1 + V t: it reaches x0 at (x0 + 1) / V
+    assert leave["t"] == pytest.approx((x0 + 1.0) / V, rel=1e-12)
+    for t in rp.frame_times:
+        if t >= leave["t"]:
+            break
+        st = rp.state_at("ball", t)
+        assert st.px == x0 and st.py == 0.1 and st.vx == 0.0 and st.vy == 0.0
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_ball_on_a_rising_platform_rides_up_with_it(lang):
+    v = 0.4
+    scene, tr, rp = run([platform(velocity=(0.0, v)), ball(velocity=[0.0, v])], end=1.5, lang=lang)
+    assert kinds(tr) == ["support"]
+    for t in rp.frame_times:
+        st = rp.state_at("ball", t)
+        assert st.py == pytest.approx(0.1 + v * t, rel=1e-12, abs=1e-15) and st.vy == v and st.px == 0.0
+    f = final(tr, "ball")
+    assert f["position"][1] == pytest.approx(0.1 + v * 1.5, rel=1e-12)
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_box_placed_on_a_moving_platform_slides_on_it_until_friction_stops_it(lang):
+    """The box starts at rest on a platform moving at V: it slides back
+    relative to the platform, friction mu g carries it along, and the
+    relative slide stops at V / (mu g); from then on it moves with the
+    platform, V exactly, keeping its offset."""
+    V, mu = 1.5, 0.4
+    scene, tr, rp = run([platform(half=2.0, velocity=(V, 0.0), friction=1.0), box_body(friction=mu)],
+                        end=1.0, lang=lang)
+    assert kinds(tr) == ["support", "stop"]
+    stop = next(e for e in tr.events if e["kind"] == "stop")
+    ts = V / (mu * G)
+    assert stop["t"] == pytest.approx(ts, rel=1e-12)
+    for t in rp.frame_times:
+        st = rp.state_at("box", t)
+        px, _ = platform_at(scene, t)
+        assert st.py == 0.1 and st.angle == 0.0
+        if t < ts:
+            assert st.px == pytest.approx(mu * G * t * t / 2, rel=1e-12)
+            assert st.vx == pytest.approx(mu * G * t, rel=1e-12)
+        else:
+            assert st.vx == V
+            # the offset at the stop: the box moved mu g ts^2 / 2, the platform V ts
+            assert st.px - px == pytest.approx(-V * ts / 2, rel=1e-12)
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes())
+def test_a_platform_falling_faster_than_gravity_never_supports(lang):
+    """The platform accelerates downward at 2 g: the relative acceleration
+    lifts the ball off at once, so no contact, no support: free fall (as
+    before the step: every runtime)."""
+    scene, tr, rp = run([platform(acceleration=(0.0, -2 * G)), ball()], end=0.5, lang=lang)
+    assert kinds(tr) == []
+    for t in rp.frame_times:
+        assert rp.state_at("ball", t).py == pytest.approx(0.1 - G * t * t / 2, rel=1e-12)
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_platform_falling_slower_than_gravity_carries_the_ball_down(lang):
+    """At 0.5 g downward the load is 0.5 g: supported, the ball falls with
+    the platform (not at g) and never sleeps."""
+    scene, tr, rp = run([platform(acceleration=(0.0, -0.5 * G)), ball()], end=0.5, lang=lang)
+    assert kinds(tr) == ["support"]
+    for t in rp.frame_times:
+        st = rp.state_at("ball", t)
+        assert st.py == pytest.approx(0.1 - 0.5 * G * t * t / 2, rel=1e-12)
+        assert st.vy == pytest.approx(-0.5 * G * t, rel=1e-12)
+    no_overlap(scene, rp)
+

@@ -20,20 +20,25 @@ class InvariantReport:
     drift_where: str
 
 
-def energy(scene: Scene, rp: Replay, t: float, before: bool = False) -> float:
+def energy(scene: Scene, rp: Replay, t: float, before: bool = False,
+           frame: tuple[float, float] = (0.0, 0.0)) -> float:
     """Kinetic (linear and rotational) plus potential energy of the movable
     bodies at time t: the potential of each body's free acceleration (the
     scene's, gravity included: a body whose own acceleration cancels
     gravity has none).  before: with the states in force just before t
-    (carried to t), not the ones the events at t left."""
+    (carried to t), not the ones the events at t left.  frame: measured in
+    the inertial frame moving at that velocity (through the origin at t = 0):
+    velocities v - frame, positions p - frame t (the default: the world's)."""
+    fx, fy = frame
     total = 0.0
     for k, b in enumerate(scene.bodies):
         if b.fixed:
             continue
         s = rp.state_before(k, t) if before else rp.state_at(k, t)
         ax, ay = b.acceleration
-        total += 0.5 * b.mass * (s.vx * s.vx + s.vy * s.vy) + 0.5 * b.inertia * s.omega * s.omega
-        total -= b.mass * (ax * s.px + ay * s.py)
+        vx, vy = s.vx - fx, s.vy - fy
+        total += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * s.omega * s.omega
+        total -= b.mass * (ax * (s.px - fx * t) + ay * (s.py - fy * t))
     return total
 
 
@@ -46,9 +51,10 @@ class EnergyReport:
     jump_where: str
 
 
-def driven_instants(scene: Scene, rp: Replay) -> set[float]:
+def driven_instants(scene: Scene, rp: Replay, frame: tuple[float, float] = (0.0, 0.0)) -> set[float]:
     """The instants at which something outside the bodies may add energy: an
-    input, or a contact with a fixed body that moves or turns (it does work)."""
+    input, or a contact with a fixed body that moves or turns in the frame
+    (moving at velocity `frame`: see energy) (it does work)."""
     bodies = scene.bodies
     out = set()
     for e in rp.events:
@@ -57,25 +63,28 @@ def driven_instants(scene: Scene, rp: Replay) -> set[float]:
         elif e.kind in ("collision", "support"):
             for k in e.bodies:
                 b = bodies[k]
-                if b.fixed and (b.velocity != (0.0, 0.0) or b.acceleration != (0.0, 0.0) or b.angular_velocity != 0.0):
+                if b.fixed and (b.velocity != frame or b.acceleration != (0.0, 0.0) or b.angular_velocity != 0.0):
                     out.add(e.t)
     return out
 
 
-def energy_growth(scene: Scene, rp: Replay) -> EnergyReport:
+def energy_growth(scene: Scene, rp: Replay, frame: tuple[float, float] = (0.0, 0.0)) -> EnergyReport:
     """Energy never grows: at every event instant t (frames left out), E(t)
     against the lowest energy at an instant since t = 0 or since the last
     driven instant (driven_instants: there it starts again from E after it),
     relative to the energy Eref at that start; and the jump E(t) - E(t-)
     across each instant that is not driven.  Between events, free motion and
-    frictionless sliding keep E; friction and sleep only take it away."""
-    driven = driven_instants(scene, rp)
-    ref = low = energy(scene, rp, 0.0)
+    frictionless sliding keep E; friction and sleep only take it away.
+    frame: measured in the frame moving at that constant velocity (energy),
+    where a fixed body moving with the frame (a platform carrying bodies)
+    does no work and every fixed body that does not (walls) drives."""
+    driven = driven_instants(scene, rp, frame)
+    ref = low = energy(scene, rp, 0.0, frame=frame)
     growth, gwhere = -math.inf, ""
     jump, jwhere = -math.inf, ""
     times = sorted({e.t for e in rp.events if e.kind != "frame"})
     for t in times:
-        e = energy(scene, rp, t)
+        e = energy(scene, rp, t, frame=frame)
         if t in driven:
             ref = low = e
             continue
@@ -83,7 +92,7 @@ def energy_growth(scene: Scene, rp: Replay) -> EnergyReport:
         if rel > growth:
             growth, gwhere = rel, f"t={t!r}"
         low = min(low, e)
-        d = e - energy(scene, rp, t, before=True)
+        d = e - energy(scene, rp, t, before=True, frame=frame)
         if d > jump:
             jump, jwhere = d, f"t={t!r}"
     return EnergyReport(len(times), growth, gwhere, jump, jwhere)

@@ -70,7 +70,8 @@ class Body:
     # px, py         m: centre (of rotation) at tb
     # vx, vy         m/s: velocity at tb
     # ax, ay         m/s^2: acceleration now (gravity included; while supported,
-    #                only its part along the support's edge, less friction)
+    #                the support's acceleration plus the relative one along its
+    #                edge, less friction)
     # fax, fay       m/s^2: free acceleration (gravity and the body's own), from the scene
     # ang, om        rad, rad/s: angle at tb, angular velocity
     # tb             s: the time of this state
@@ -84,8 +85,8 @@ class Body:
     # sup            index of the fixed body supporting it, -1: free
     # sup_edge       the supporting edge (index into sup's vertices)
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
-    # load           m/s^2: free acceleration pressing onto the support, > 0
-    # at             m/s^2: free acceleration along the tangent
+    # load           m/s^2: free acceleration relative to the support's pressing onto it, > 0
+    # at             m/s^2: free acceleration relative to the support's, along the tangent
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
     # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
     # island         the island's number (the index of its first sleeper), -1: awake
@@ -965,7 +966,7 @@ class World:
     @staticmethod
     def support_frame(B: Body, j: int):
         """Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j
-        of B in the world (B does not move)."""
+        of B in the world (B does not turn)."""
         ed = B.verts[j]
         c = math.cos(B.ang)
         s = math.sin(B.ang)
@@ -978,12 +979,13 @@ class World:
         return B.vx == 0.0 and B.vy == 0.0 and B.ax == 0.0 and B.ay == 0.0 and B.om == 0.0
 
     def can_support(self, A: Body, B: Body, feature: int, i: int, j: int, vn: float) -> bool:
-        """A point-edge contact of movable A on edge j of a fixed, unmoving
-        polygon B becomes support (docs/simulator.md, Contact model)."""
-        if feature != PE or A.fixed or not B.fixed or not self.static(B):
+        """A point-edge contact of movable A on edge j of a fixed polygon B
+        that does not turn (it may translate) becomes support, everything
+        relative to B (docs/simulator.md, Contact model); both advanced."""
+        if feature != PE or A.fixed or not B.fixed or B.om != 0.0:
             return False
         tx, ty, ox, oy = self.support_frame(B, j)
-        load = -(A.fax * ox + A.fay * oy)
+        load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
         rest = self.s.rest_speed
         if not (load > 0.0) or vn >= rest or A.e * B.e * -vn >= rest:
             return False
@@ -993,7 +995,7 @@ class World:
             return False
         # at an end of the edge (within the tolerance) and moving past it: it
         # is leaving (a support would end at once, again and again)
-        u = A.vx * tx + A.vy * ty
+        u = (A.vx - B.vx) * tx + (A.vy - B.vy) * ty
         tol = self.s.tol
         if (u > 0.0 and q >= ed.s2 - tol) or (u < 0.0 and q <= ed.s1 + tol):
             return False
@@ -1016,27 +1018,35 @@ class World:
         return False
 
     def enter_support(self, A: Body, B: Body, j: int) -> None:
-        """A (advanced to now) keeps only its velocity along the edge, stops
-        turning, and from now on accelerates along the edge only."""
+        """A (advanced to now, as B) keeps only its velocity relative to B
+        along the edge, stops turning, and from now on accelerates relative
+        to B along the edge only."""
         tx, ty, ox, oy = self.support_frame(B, j)
-        u = A.vx * tx + A.vy * ty
-        A.vx = u * tx
-        A.vy = u * ty
+        u = (A.vx - B.vx) * tx + (A.vy - B.vy) * ty
+        if self.static(B):
+            A.vx = u * tx
+            A.vy = u * ty
+        else:
+            A.vx = B.vx + u * tx
+            A.vy = B.vy + u * ty
         if A.polygon:
             A.om = 0.0
         A.sup = B.idx
         A.sup_edge = j
         A.tx = tx
         A.ty = ty
-        A.load = -(A.fax * ox + A.fay * oy)
-        A.at = A.fax * tx + A.fay * ty
+        A.load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
+        A.at = (A.fax - B.ax) * tx + (A.fay - B.ay) * ty
         self.slide_accel(A, u)
 
     def slide_accel(self, A: Body, u: float) -> None:
-        """Acceleration of supported A with tangential speed u: the free
-        acceleration along the edge less Coulomb friction mu |a_n| against
-        the motion; at rest, none while friction can hold it."""
-        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        """Acceleration of supported A with tangential speed u relative to
+        its support B: the relative free acceleration along the edge less
+        Coulomb friction mu |a_n| against the relative motion; at relative
+        rest, none while friction can hold it; plus B's acceleration when B
+        moves."""
+        B = self.s.bodies[A.sup]
+        f = A.mu * B.mu * A.load
         if u > 0.0:
             a = A.at - f
         elif u < 0.0:
@@ -1047,8 +1057,12 @@ class World:
             a = A.at + f
         else:
             a = 0.0
-        A.ax = a * A.tx
-        A.ay = a * A.ty
+        if self.static(B):
+            A.ax = a * A.tx
+            A.ay = a * A.ty
+        else:
+            A.ax = B.ax + a * A.tx
+            A.ay = B.ay + a * A.ty
 
     @staticmethod
     def end_support(A: Body) -> None:
@@ -1057,16 +1071,25 @@ class World:
         A.sup = -1
         A.sup_edge = -1
 
+    def support_relative(self, b: Body):
+        """Supported b's motion relative to its support B along the edge, at
+        b's time: (q, u, a), q the centre's coordinate along the tangent
+        from B's centre, u, a its speed and acceleration."""
+        B = self.s.bodies[b.sup]
+        bx, by, bvx, bvy, _ = self.state_at(B, b.tb)
+        q = (b.px - bx) * b.tx + (b.py - by) * b.ty
+        u = (b.vx - bvx) * b.tx + (b.vy - bvy) * b.ty
+        a = (b.ax - B.ax) * b.tx + (b.ay - B.ay) * b.ty
+        return q, u, a
+
     def schedule_support(self, b: Body, now: float) -> None:
-        """A supported body's stop (its tangential speed reaches zero) and
-        leave (its centre, projected on the edge, reaches an end) events."""
-        u = b.vx * b.tx + b.vy * b.ty
-        a = b.ax * b.tx + b.ay * b.ty
+        """A supported body's stop (its tangential speed relative to the
+        support reaches zero) and leave (its centre, projected on the
+        edge, reaches an end) events."""
+        q, u, a = self.support_relative(b)
         if u != 0.0 and a != 0.0 and (u > 0.0) != (a > 0.0):
             self.push(StopEvent(b.tb + -u / a, b.idx, b.stamp))
-        B = self.s.bodies[b.sup]
-        ed = B.verts[b.sup_edge]
-        q = (b.px - B.px) * b.tx + (b.py - B.py) * b.ty
+        ed = self.s.bodies[b.sup].verts[b.sup_edge]
         hi = self.s.end - b.tb
         s2 = self.first_crossing(q - ed.s2, u, a, 1, 0.0, hi)
         s1 = self.first_crossing(q - ed.s1, u, a, -1, 0.0, hi)
@@ -1181,13 +1204,17 @@ class World:
         return G.asleep or (G.fixed and self.static(G))
 
     def at_rest(self, A: Body) -> bool:
-        """A supported body slower than rest_speed along its edge that static
-        friction would hold there (|at| <= mu load, as in slide_accel at
-        u = 0; on a level frictionless edge at = 0): it stays where it is."""
+        """A body supported by an unmoving body, slower than rest_speed along
+        its edge, that static friction would hold there (|at| <= mu load, as
+        in slide_accel at u = 0; on a level frictionless edge at = 0): it
+        stays where it is.  On a moving support: never (it does not sleep)."""
+        B = self.s.bodies[A.sup]
+        if not self.static(B):
+            return False
         u = A.vx * A.tx + A.vy * A.ty
         if not (u * u < self.s.rest_speed * self.s.rest_speed):
             return False
-        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        f = A.mu * B.mu * A.load
         return not (A.at > f) and not (A.at < -f)
 
     def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
@@ -1368,12 +1395,17 @@ class World:
         self.predict_body(A, ev.t, None)
 
     def handle_stop(self, ev: StopEvent) -> None:
-        """Sliding stops: velocity exactly zero, then rest or slide back."""
+        """Sliding stops: velocity exactly the support's (zero when it does
+        not move), then rest or slide back."""
         self.stats.stops += 1
         A = self.s.bodies[ev.body]
         self.rebase(A, ev.t)
-        A.vx = 0.0
-        A.vy = 0.0
+        B = self.s.bodies[A.sup]
+        if self.static(B):
+            A.vx = 0.0
+            A.vy = 0.0
+        else:
+            _, _, A.vx, A.vy, _ = self.state_at(B, ev.t)
         self.slide_accel(A, 0.0)
         self.out.write(f"E stop {_fmt(ev.t)} {A.idx} {A.sup} -1 -1 {A.sup_edge} 0 0 0 0 0\n")
         if self.at_rest(A):
