@@ -1162,17 +1162,21 @@ static int first_crossing(double p, double v, double a, int direction, double lo
     return 0;
 }
 
-/* A supported body's stop (its tangential speed reaches zero) and leave
- * (its centre, projected on the edge, reaches an end) events. */
+/* A supported body's stop (its tangential speed relative to the support
+ * reaches zero) and leave (its centre, projected on the edge, reaches an
+ * end) events.  Relative to the support B, at b's time: q the centre's
+ * coordinate along the tangent from B's centre, u, a its speed and
+ * acceleration (the reference's support_relative). */
 static void schedule_support(sim *m, const m2c_sim_body *b)
 {
-    double u = b->vx * b->tx + b->vy * b->ty;
-    double a = b->ax * b->tx + b->ay * b->ty;
+    const m2c_sim_body *B = &m->bodies[b->sup];
+    motion sb = state_at(B, b->tb);
+    double q = (b->px - sb.x) * b->tx + (b->py - sb.y) * b->ty;
+    double u = (b->vx - sb.vx) * b->tx + (b->vy - sb.vy) * b->ty;
+    double a = (b->ax - B->ax) * b->tx + (b->ay - B->ay) * b->ty;
     if (u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0))
         push_stop(m, b->tb + -u / a, b);
-    const m2c_sim_body *B = &m->bodies[b->sup];
     const m2c_sim_vertex *ed = &B->verts[b->sup_edge];
-    double q = (b->px - B->px) * b->tx + (b->py - B->py) * b->ty;
     double hi = m->s->end - b->tb;
     double s1 = 0.0, s2 = 0.0;
     int h2 = first_crossing(q - ed->s2, u, a, 1, 0.0, hi, &s2);
@@ -1266,7 +1270,7 @@ static inline double normal_speed(const m2c_sim_body *A, const m2c_sim_body *B, 
 /* ---- support: resting and sliding on a fixed body ----------------------------------------- */
 
 /* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
- * the world (B does not move). */
+ * the world (B does not turn). */
 static void support_frame(const m2c_sim_body *B, int32_t j, double *tx, double *ty, double *ox, double *oy)
 {
     const m2c_sim_vertex *ed = &B->verts[j];
@@ -1303,16 +1307,17 @@ static int flat(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i,
     return 0;
 }
 
-/* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
- * B becomes support (docs/simulator.md, Contact model). */
+/* A point-edge contact of movable A on edge j of a fixed polygon B that
+ * does not turn (it may translate) becomes support, everything relative to
+ * B (docs/simulator.md, Contact model); both advanced. */
 static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j,
                        double vn)
 {
-    if (feature != PE || A->fixed || !B->fixed || !is_static(B))
+    if (feature != PE || A->fixed || !B->fixed || B->om != 0.0)
         return 0;
     double tx, ty, ox, oy;
     support_frame(B, j, &tx, &ty, &ox, &oy);
-    double load = -(A->fax * ox + A->fay * oy);
+    double load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
     double rest = m->s->rest_speed;
     if (!(load > 0.0) || vn >= rest || A->e * B->e * -vn >= rest)
         return 0;
@@ -1322,7 +1327,7 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
         return 0;
     /* at an end of the edge (within the tolerance) and moving past it: it
      * is leaving (a support would end at once, again and again) */
-    double u = A->vx * tx + A->vy * ty;
+    double u = (A->vx - B->vx) * tx + (A->vy - B->vy) * ty;
     double tol = m->s->tol;
     if ((u > 0.0 && q >= ed->s2 - tol) || (u < 0.0 && q <= ed->s1 + tol))
         return 0;
@@ -1334,12 +1339,14 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     return 1;
 }
 
-/* Acceleration of supported A with tangential speed u: the free
- * acceleration along the edge less Coulomb friction mu |a_n| against the
- * motion; at rest, none while friction can hold it. */
+/* Acceleration of supported A with tangential speed u relative to its
+ * support B: the relative free acceleration along the edge less Coulomb
+ * friction mu |a_n| against the relative motion; at relative rest, none
+ * while friction can hold it; plus B's acceleration when B moves. */
 static void slide_accel(const sim *m, m2c_sim_body *A, double u)
 {
-    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    double f = A->mu * B->mu * A->load;
     double a;
     if (u > 0.0)
         a = A->at - f;
@@ -1351,27 +1358,38 @@ static void slide_accel(const sim *m, m2c_sim_body *A, double u)
         a = A->at + f;
     else
         a = 0.0;
-    A->ax = a * A->tx;
-    A->ay = a * A->ty;
+    if (is_static(B)) {
+        A->ax = a * A->tx;
+        A->ay = a * A->ty;
+    } else {
+        A->ax = B->ax + a * A->tx;
+        A->ay = B->ay + a * A->ty;
+    }
 }
 
-/* A (advanced to now) keeps only its velocity along the edge, stops
- * turning, and from now on accelerates along the edge only. */
+/* A (advanced to now, as B) keeps only its velocity relative to B along
+ * the edge, stops turning, and from now on accelerates relative to B along
+ * the edge only. */
 static void enter_support(const sim *m, m2c_sim_body *A, const m2c_sim_body *B, int32_t j)
 {
     double tx, ty, ox, oy;
     support_frame(B, j, &tx, &ty, &ox, &oy);
-    double u = A->vx * tx + A->vy * ty;
-    A->vx = u * tx;
-    A->vy = u * ty;
+    double u = (A->vx - B->vx) * tx + (A->vy - B->vy) * ty;
+    if (is_static(B)) {
+        A->vx = u * tx;
+        A->vy = u * ty;
+    } else {
+        A->vx = B->vx + u * tx;
+        A->vy = B->vy + u * ty;
+    }
     if (A->polygon)
         A->om = 0.0;
     A->sup = B->idx;
     A->sup_edge = j;
     A->tx = tx;
     A->ty = ty;
-    A->load = -(A->fax * ox + A->fay * oy);
-    A->at = A->fax * tx + A->fay * ty;
+    A->load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
+    A->at = (A->fax - B->ax) * tx + (A->fay - B->ay) * ty;
     slide_accel(m, A, u);
 }
 
@@ -1539,16 +1557,20 @@ static inline int grounded(const m2c_sim_body *G)
     return G->asleep || (G->fixed && is_static(G));
 }
 
-/* A supported body slower than rest_speed along its edge that static
- * friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
- * on a level frictionless edge at = 0): it stays where it is. */
+/* A body supported by an unmoving body, slower than rest_speed along its
+ * edge, that static friction would hold there (|at| <= mu load, as in
+ * slide_accel at u = 0; on a level frictionless edge at = 0): it stays
+ * where it is.  On a moving support: never (it does not sleep). */
 static int at_rest(const sim *m, const m2c_sim_body *A)
 {
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    if (!is_static(B))
+        return 0;
     double u = A->vx * A->tx + A->vy * A->ty;
     double rest = m->s->rest_speed;
     if (!(u * u < rest * rest))
         return 0;
-    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    double f = A->mu * B->mu * A->load;
     return !(A->at > f) && !(A->at < -f);
 }
 
@@ -1796,14 +1818,22 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         predict_body(m, B, t, ((!A->fixed && !A->asleep) || (A->asleep && imp == 0.0)) ? A : NULL);
 }
 
-/* Sliding stops: velocity exactly zero, then rest or slide back. */
+/* Sliding stops: velocity exactly the support's (zero when it does not
+ * move), then rest or slide back. */
 static void handle_stop(sim *m, const m2c_sim_event *ev)
 {
     m->stats.stops++;
     m2c_sim_body *A = &m->bodies[ev->u.stop.body];
     advance(A, ev->t);
-    A->vx = 0.0;
-    A->vy = 0.0;
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    if (is_static(B)) {
+        A->vx = 0.0;
+        A->vy = 0.0;
+    } else {
+        motion sb = state_at(B, ev->t);
+        A->vx = sb.vx;
+        A->vy = sb.vy;
+    }
     slide_accel(m, A, 0.0);
     emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
     if (at_rest(m, A)) {
