@@ -1613,12 +1613,17 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
  * the normal speed of S's material point by less than rest_speed, it
  * stands (S stays asleep, unchanged: a gentle touch); else the other
  * body's velocity is restored and the full impulse is applied (S moves:
- * jolted, its island wakes).  Returns the impulse applied. */
+ * jolted, its island wakes).  When the other body is fixed (it moves or
+ * turns: a sleeper is never predicted against an unmoving one) S cannot be
+ * held (the pair would have no mass): the full impulse at once.  Returns
+ * the impulse applied. */
 static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                               double ny)
 {
     m2c_sim_body *S = A->asleep ? A : B;
     m2c_sim_body *M = A->asleep ? B : A;
+    if (M->fixed)
+        return contact_impulse(m, A, B, cx, cy, nx, ny);
     double vx = M->vx, vy = M->vy, om = M->om;
     double inv_m = S->inv_m, inv_i = S->inv_i;
     S->inv_m = 0.0;
