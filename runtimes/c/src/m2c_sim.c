@@ -487,6 +487,32 @@ typedef struct pe_check {
     double now, tol;                    /* s, m */
 } pe_check;
 
+/* A neighbour of X's vertex i at t lies more than the tolerance behind the
+ * line (c, sn) . (p - (qx, qy)) = h (an edge's line: its outward unit normal
+ * (c, sn), its body's centre (qx, qy)), previous neighbour first
+ * (docs/simulator.md, "Corners"). */
+static int behind(sim *m, const m2c_sim_body *X, int32_t i, double t, double qx, double qy, double c, double sn,
+                  double h)
+{
+    int32_t n = X->nverts;
+    motion p = state_at(X, t);
+    double lim = -m->s->tol;
+    const int32_t ks[2] = { (i + n - 1) % n, (i + 1) % n };
+    for (int l = 0; l < 2; l++) {
+        const m2c_sim_vertex *v = &X->verts[ks[l]];
+        double vc, vs;
+        trig(VTRIG(m, v), p.ang + v->beta, &vc, &vs);
+        double kx = p.x + v->rho * vc;
+        double ky = p.y + v->rho * vs;
+        if ((kx - qx) * c + (ky - qy) * sn - h < lim)
+            return 1;
+    }
+    return 0;
+}
+
+/* The point lies on the edge's segment at now + s; when it is X's vertex
+ * (vx), neither neighbour of that vertex lies behind the edge's line
+ * (behind: else a corner meets a corner, another feature pair's contact). */
 static int inside(const pe_check *k, double s)
 {
     if (k == NULL)
@@ -509,7 +535,11 @@ static int inside(const pe_check *k, double s)
     double c, sn;
     trig(ETRIG(k->m, k->ed), q.ang + k->ed->psi, &c, &sn);
     double along = (px - q.x) * -sn + (py - q.y) * c;
-    return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
+    if (!(k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol))
+        return 0;
+    if (k->vx == NULL)
+        return 1;
+    return !behind(k->m, k->X, (int32_t)(k->vx - k->X->verts), t, q.x, q.y, c, sn, k->ed->h);
 }
 
 /* At a zero s of the gap c whose first derivative there is d: approaching
