@@ -78,6 +78,16 @@ typedef struct m2c_sim_trig {
 enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3,
        M2C_SIM_REMOVE = 4 };
 
+/* An input of this mode may act on b: any on a movable body; on a fixed
+ * one, removal, or set_velocity when it is a polygon that does not turn
+ * (its edges then translate: docs/simulator.md, Contact model). */
+static inline int m2c_sim_drivable(const m2c_sim_body *b, int32_t mode)
+{
+    if (!b->fixed || mode == M2C_SIM_REMOVE)
+        return 1;
+    return mode == M2C_SIM_SET_VELOCITY && b->polygon && b->om == 0.0;
+}
+
 /* A scripted or live input. */
 typedef struct m2c_sim_input {
     double t;               /* s */

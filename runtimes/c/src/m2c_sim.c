@@ -2090,8 +2090,64 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
     wake_touching(m, body, t);
 }
 
+/* Input k sets the velocity of fixed polygon B (based at t, it does not
+ * turn): a large one placed in grid cells moves to the large list for good;
+ * every body it supported leaves (E leave, free motion: it meets B again at
+ * once and is supported again relative to B's new motion, or bounces, or
+ * falls); B is predicted against every body again (a large B: each small
+ * one that is not fixed or removed, in index order; a small one:
+ * predict_body), the bodies that left against the others; last the islands
+ * touching B wake (wake_touching). */
+static void drive(sim *m, m2c_sim_body *B, int32_t k, double t, double vx, double vy)
+{
+    B->vx = vx;
+    B->vy = vy;
+    m->stamp[B->idx]++;
+    if (B->placed) {
+        unplace_large(m, B);
+        m->large[m->nlarge++] = B->idx;
+    }
+    emit_input(m, t, B, k);
+    emit_state(m, B);
+    int32_t n = m->s->nbodies;
+    int32_t *left = NULL;
+    int32_t nleft = 0;
+    for (int32_t q = 0; q < n; q++) {
+        m2c_sim_body *A = &m->bodies[q];
+        if (A->sup != B->idx)
+            continue;
+        if (left == NULL) {
+            left = malloc((size_t)n * sizeof *left);
+            if (left == NULL)
+                die(m, "out of memory");
+        }
+        m->stats.leaves++;
+        advance(A, t);
+        int32_t edge = A->sup_edge;
+        end_support(A);
+        m->stamp[A->idx]++;
+        emit_support_change(m, "E leave ", t, A, B->idx, edge);
+        emit_state(m, A);
+        left[nleft++] = A->idx;
+    }
+    if (B->large) {
+        for (int32_t q = 0; q < n; q++) {
+            const m2c_sim_body *o = &m->bodies[q];
+            if (!o->large && !o->gone && !o->fixed)
+                predict_pair(m, o, B, t);
+        }
+    } else {
+        predict_body(m, B, t, NULL);
+    }
+    for (int32_t q = 0; q < nleft; q++)
+        predict_body(m, &m->bodies[left[q]], t, B);
+    free(left);
+    wake_touching(m, B, t);
+}
+
 /* Scripted or live input number k: its body's velocity set or added to,
- * an impulse through its centre, or its centre moved. */
+ * an impulse through its centre, or its centre moved; on a fixed body
+ * (set_velocity), drive. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
 {
     m->stats.inputs++;
@@ -2108,6 +2164,10 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     advance(body, t);
     if (in->mode == M2C_SIM_REMOVE) {
         remove_body(m, body, k, t);
+        return;
+    }
+    if (body->fixed) {
+        drive(m, body, k, t, in->vx, in->vy);
         return;
     }
     if (in->mode == M2C_SIM_TELEPORT) {
@@ -2455,8 +2515,9 @@ int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done
         snprintf(m->err, sizeof m->err, "body %d was removed", body);
         return -1;
     }
-    if (b->fixed && mode != M2C_SIM_REMOVE) {
-        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only", body);
+    if (!m2c_sim_drivable(b, mode)) {
+        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only (or set the velocity of a "
+                 "fixed polygon that does not turn, or remove a fixed body)", body);
         return -1;
     }
     if (!isfinite(x) || !isfinite(y)) {
