@@ -1534,6 +1534,59 @@ static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, do
     return imp;
 }
 
+/* n . t of a supported body's edge tangent t (0 for a fixed body). */
+static inline double along(const m2c_sim_body *b, double nx, double ny)
+{
+    if (b->sup < 0)
+        return 0.0;
+    return nx * b->tx + ny * b->ty;
+}
+
+/* A slow contact of bodies held on their supports: each supported or
+ * fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
+ * impulse along their edges can change vn (kh > 0). */
+static int held(const sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny, double vn)
+{
+    if (!((A->sup >= 0 || A->fixed) && (B->sup >= 0 || B->fixed)))
+        return 0;
+    if (!(vn < 0.0) || !(-vn < m->s->rest_speed) || pressed(A, B, nx, ny))
+        return 0;
+    double ka = along(A, nx, ny);
+    double kb = along(B, nx, ny);
+    return A->inv_m * ka * ka + B->inv_m * kb * kb > 0.0;
+}
+
+/* The normal impulse j of a held contact (held): each supported body takes
+ * only its part along its support's edge, dv = -+ j (n . t) t / m, and
+ * keeps its support; the normal speed leaves at sep = max(e |vn|,
+ * min(|vn|, rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
+ * The friction of each is set again for its new speed (slide_accel). */
+static double held_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double nx, double ny, double vn)
+{
+    double ka = along(A, nx, ny);
+    double kb = along(B, nx, ny);
+    double k = A->inv_m * ka * ka + B->inv_m * kb * kb;
+    double e = A->e * B->e;
+    double evn = e * -vn;
+    double nvn = -vn;
+    double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
+    double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
+    double imp = (sep - vn) / k;
+    if (A->sup >= 0) {
+        double d = imp * A->inv_m * ka;
+        A->vx = A->vx - d * A->tx;
+        A->vy = A->vy - d * A->ty;
+        slide_accel(m, A, A->vx * A->tx + A->vy * A->ty);
+    }
+    if (B->sup >= 0) {
+        double d = imp * B->inv_m * kb;
+        B->vx = B->vx + d * B->tx;
+        B->vy = B->vy + d * B->ty;
+        slide_accel(m, B, B->vx * B->tx + B->vy * B->ty);
+    }
+    return imp;
+}
+
 /* ---- event handlers: one per kind ------------------------------------------------------ */
 
 /* An E line of a contact: collision or support. */
@@ -1817,13 +1870,17 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     m->stats.collisions++;
     /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-     * on it); a gentle touch leaves it asleep, a real impulse wakes its island */
+     * on it); a gentle touch leaves it asleep, a real impulse wakes its
+     * island; a slow contact of bodies held on their supports keeps them there */
+    int hold = held(m, A, B, nx, ny, vn);
     double imp;
-    if (A->asleep || B->asleep)
+    if (hold)
+        imp = held_impulse(m, A, B, nx, ny, vn);
+    else if (A->asleep || B->asleep)
         imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
     else
         imp = contact_impulse(m, A, B, cx, cy, nx, ny);
-    if (imp != 0.0) {
+    if (imp != 0.0 && !hold) {
         if (A->asleep && jolted(A))
             handle_wake(m, A, t);
         if (B->asleep && jolted(B))
