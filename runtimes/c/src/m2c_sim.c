@@ -1192,21 +1192,28 @@ static int first_crossing(double p, double v, double a, int direction, double lo
     return 0;
 }
 
-/* A supported body's stop (its tangential speed relative to the support
- * reaches zero) and leave (its centre, projected on the edge, reaches an
- * end) events.  Relative to the support B, at b's time: q the centre's
- * coordinate along the tangent from B's centre, u, a its speed and
- * acceleration (the reference's support_relative). */
-static void schedule_support(sim *m, const m2c_sim_body *b)
+/* Supported b's motion relative to its support B along the edge, at b's
+ * time: q (m) the centre's coordinate along the tangent from B's centre,
+ * u (m/s), a (m/s^2) its speed and acceleration. */
+static void support_relative(const sim *m, const m2c_sim_body *b, double *q, double *u, double *a)
 {
     const m2c_sim_body *B = &m->bodies[b->sup];
     motion sb = state_at(B, b->tb);
-    double q = (b->px - sb.x) * b->tx + (b->py - sb.y) * b->ty;
-    double u = (b->vx - sb.vx) * b->tx + (b->vy - sb.vy) * b->ty;
-    double a = (b->ax - B->ax) * b->tx + (b->ay - B->ay) * b->ty;
+    *q = (b->px - sb.x) * b->tx + (b->py - sb.y) * b->ty;
+    *u = (b->vx - sb.vx) * b->tx + (b->vy - sb.vy) * b->ty;
+    *a = (b->ax - B->ax) * b->tx + (b->ay - B->ay) * b->ty;
+}
+
+/* A supported body's stop (its tangential speed relative to the support
+ * reaches zero) and leave (its centre, projected on the edge, reaches an
+ * end) events. */
+static void schedule_support(sim *m, const m2c_sim_body *b)
+{
+    double q, u, a;
+    support_relative(m, b, &q, &u, &a);
     if (u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0))
         push_stop(m, b->tb + -u / a, b);
-    const m2c_sim_vertex *ed = &B->verts[b->sup_edge];
+    const m2c_sim_vertex *ed = &m->bodies[b->sup].verts[b->sup_edge];
     double hi = m->s->end - b->tb;
     double s1 = 0.0, s2 = 0.0;
     int h2 = first_crossing(q - ed->s2, u, a, 1, 0.0, hi, &s2);
@@ -1560,7 +1567,8 @@ static int held(const sim *m, const m2c_sim_body *A, const m2c_sim_body *B, doub
  * only its part along its support's edge, dv = -+ j (n . t) t / m, and
  * keeps its support; the normal speed leaves at sep = max(e |vn|,
  * min(|vn|, rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
- * The friction of each is set again for its new speed (slide_accel). */
+ * The friction of each is set again for its new speed relative to its
+ * support (slide_accel; support_relative: the support may move). */
 static double held_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double nx, double ny, double vn)
 {
     double ka = along(A, nx, ny);
@@ -1576,13 +1584,17 @@ static double held_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, doubl
         double d = imp * A->inv_m * ka;
         A->vx = A->vx - d * A->tx;
         A->vy = A->vy - d * A->ty;
-        slide_accel(m, A, A->vx * A->tx + A->vy * A->ty);
+        double q, u, a;
+        support_relative(m, A, &q, &u, &a);
+        slide_accel(m, A, u);
     }
     if (B->sup >= 0) {
         double d = imp * B->inv_m * kb;
         B->vx = B->vx + d * B->tx;
         B->vy = B->vy + d * B->ty;
-        slide_accel(m, B, B->vx * B->tx + B->vy * B->ty);
+        double q, u, a;
+        support_relative(m, B, &q, &u, &a);
+        slide_accel(m, B, u);
     }
     return imp;
 }
