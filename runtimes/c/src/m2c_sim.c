@@ -1097,9 +1097,13 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                 bound = origin + (double)i * size;
             }
             double c[3] = { p - bound, v, 0.5 * a };
-            if (c[0] == 0.0 && ulo == 0.0 && v * (double)dir > 0.0) {
-                /* exactly on the boundary now and moving across it: the
-                 * root finder reports no root at the interval's start */
+            if (ulo == 0.0 && c[0] * (double)dir >= 0.0
+                && (v * (double)dir > 0.0 || (v == 0.0 && a * (double)dir > 0.0))) {
+                /* on the boundary now, or past it (cell_of's quotient and
+                 * the boundary's sum origin + i size can round apart), and
+                 * moving or accelerating across it: cross at once (the root
+                 * finder reports no root at the interval's start, and none
+                 * at all for a boundary already behind) */
                 if (!have || 0.0 < bu) {
                     have = 1;
                     bu = 0.0;
