@@ -387,7 +387,10 @@ def test_a_corner_counts_on_a_face_within_the_tolerance(depth, counts):
     w = python_world(parse_scene(json.dumps(raw), "corner.json"))
     F, X = w.s.bodies
     top = next(j for j, v in enumerate(F.verts) if v.ny == 1.0)
-    near = lambda b, p: min(range(len(b.verts)), key=lambda k: math.dist(w.point_at(b, b.verts[k], 0.0), p))  # noqa: E731
+
+    def near(b, p):
+        return min(range(len(b.verts)), key=lambda k: math.dist(w.point_at(b, b.verts[k], 0.0), p))
+
     i = near(X, (1.0, 0.0))
     assert w.point_at(X, X.verts[(i + 1) % 4], 0.0)[1] < 0.0 or w.point_at(X, X.verts[(i + 3) % 4], 0.0)[1] < 0.0
     got = w.predict_pe(X, F, X.verts[i], top, 0.0, 1.0, i)
