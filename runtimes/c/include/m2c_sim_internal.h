@@ -35,8 +35,9 @@ typedef struct m2c_sim_vertex {
 typedef struct m2c_sim_body {
     _Alignas(64) double px, py;     /* m: centre (of rotation) at time tb */
     double vx, vy;          /* m/s: velocity at tb */
-    double ax, ay;          /* m/s^2: acceleration now (gravity included; while supported, only its
-                               part along the support's edge, less friction) */
+    double ax, ay;          /* m/s^2: acceleration now (gravity included; while supported, the
+                               support's acceleration plus the relative one along its edge, less
+                               friction) */
     double tb;              /* s: the time of this state */
     double om;              /* rad/s: angular velocity */
     double ang;             /* rad: angle at tb */
@@ -57,8 +58,8 @@ typedef struct m2c_sim_body {
     int32_t sup;            /* index of the fixed body supporting it, -1: free */
     int32_t sup_edge;       /* the supporting edge (index into sup's vertices) */
     double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
-    double load;            /* m/s^2: free acceleration pressing onto the support, > 0 */
-    double at;              /* m/s^2: free acceleration along the tangent */
+    double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
+    double at;              /* m/s^2: free acceleration relative to the support's, along the tangent */
     unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
     unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
@@ -76,6 +77,16 @@ typedef struct m2c_sim_trig {
 /* input modes (the flat scene's MODE; docs/simulator.md) */
 enum { M2C_SIM_SET_VELOCITY = 0, M2C_SIM_ADD_VELOCITY = 1, M2C_SIM_IMPULSE = 2, M2C_SIM_TELEPORT = 3,
        M2C_SIM_REMOVE = 4 };
+
+/* An input of this mode may act on b: any on a movable body; on a fixed
+ * one, removal, or set_velocity when it is a polygon that does not turn
+ * (its edges then translate: docs/simulator.md, Contact model). */
+static inline int m2c_sim_drivable(const m2c_sim_body *b, int32_t mode)
+{
+    if (!b->fixed || mode == M2C_SIM_REMOVE)
+        return 1;
+    return mode == M2C_SIM_SET_VELOCITY && b->polygon && b->om == 0.0;
+}
 
 /* A scripted or live input. */
 typedef struct m2c_sim_input {

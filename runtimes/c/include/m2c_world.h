@@ -91,8 +91,10 @@ int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
  * handled as the same input scripted at T and listed after the scene's
  * would be (the scene's inputs at T first, then this one, before any other
  * event at T), and appended to the world's input list: the recording.
- * Movable bodies only.  0, or -1 with m2c_world_error(w): no such body, a
- * fixed body, a coordinate that is not finite (the world unchanged), or a
+ * Movable bodies only, but set_velocity also on a fixed polygon that does
+ * not turn (a moving platform: docs/engine-api.md).  0, or -1 with
+ * m2c_world_error(w): no such body, another input on a fixed body, a
+ * coordinate that is not finite (the world unchanged), or a
  * failure (the world unusable).  Velocities in m/s; an impulse in N s
  * through the centre (dv = J / mass). */
 int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy);

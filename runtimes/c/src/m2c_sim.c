@@ -505,6 +505,32 @@ typedef struct pe_check {
     double now, tol;                    /* s, m */
 } pe_check;
 
+/* A neighbour of X's vertex i at t lies more than the tolerance behind the
+ * line (c, sn) . (p - (qx, qy)) = h (an edge's line: its outward unit normal
+ * (c, sn), its body's centre (qx, qy)), previous neighbour first
+ * (docs/simulator.md, "Corners"). */
+static int behind(sim *m, const m2c_sim_body *X, int32_t i, double t, double qx, double qy, double c, double sn,
+                  double h)
+{
+    int32_t n = X->nverts;
+    motion p = state_at(X, t);
+    double lim = -m->s->tol;
+    const int32_t ks[2] = { (i + n - 1) % n, (i + 1) % n };
+    for (int l = 0; l < 2; l++) {
+        const m2c_sim_vertex *v = &X->verts[ks[l]];
+        double vc, vs;
+        trig(VTRIG(m, v), p.ang + v->beta, &vc, &vs);
+        double kx = p.x + v->rho * vc;
+        double ky = p.y + v->rho * vs;
+        if ((kx - qx) * c + (ky - qy) * sn - h < lim)
+            return 1;
+    }
+    return 0;
+}
+
+/* The point lies on the edge's segment at now + s; when it is X's vertex
+ * (vx), neither neighbour of that vertex lies behind the edge's line
+ * (behind: else a corner meets a corner, another feature pair's contact). */
 static int inside(const pe_check *k, double s)
 {
     if (k == NULL)
@@ -527,7 +553,11 @@ static int inside(const pe_check *k, double s)
     double c, sn;
     trig(ETRIG(k->m, k->ed), q.ang + k->ed->psi, &c, &sn);
     double along = (px - q.x) * -sn + (py - q.y) * c;
-    return k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol;
+    if (!(k->ed->s1 - k->tol <= along && along <= k->ed->s2 + k->tol))
+        return 0;
+    if (k->vx == NULL)
+        return 1;
+    return !behind(k->m, k->X, (int32_t)(k->vx - k->X->verts), t, q.x, q.y, c, sn, k->ed->h);
 }
 
 /* At a zero s of the gap c whose first derivative there is d: approaching
@@ -1085,9 +1115,13 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                 bound = origin + (double)i * size;
             }
             double c[3] = { p - bound, v, 0.5 * a };
-            if (c[0] == 0.0 && ulo == 0.0 && v * (double)dir > 0.0) {
-                /* exactly on the boundary now and moving across it: the
-                 * root finder reports no root at the interval's start */
+            if (ulo == 0.0 && c[0] * (double)dir >= 0.0
+                && (v * (double)dir > 0.0 || (v == 0.0 && a * (double)dir > 0.0))) {
+                /* on the boundary now, or past it (cell_of's quotient and
+                 * the boundary's sum origin + i size can round apart), and
+                 * moving or accelerating across it: cross at once (the root
+                 * finder reports no root at the interval's start, and none
+                 * at all for a boundary already behind) */
                 if (!have || 0.0 < bu) {
                     have = 1;
                     bu = 0.0;
@@ -1180,17 +1214,28 @@ static int first_crossing(double p, double v, double a, int direction, double lo
     return 0;
 }
 
-/* A supported body's stop (its tangential speed reaches zero) and leave
- * (its centre, projected on the edge, reaches an end) events. */
+/* Supported b's motion relative to its support B along the edge, at b's
+ * time: q (m) the centre's coordinate along the tangent from B's centre,
+ * u (m/s), a (m/s^2) its speed and acceleration. */
+static void support_relative(const sim *m, const m2c_sim_body *b, double *q, double *u, double *a)
+{
+    const m2c_sim_body *B = &m->bodies[b->sup];
+    motion sb = state_at(B, b->tb);
+    *q = (b->px - sb.x) * b->tx + (b->py - sb.y) * b->ty;
+    *u = (b->vx - sb.vx) * b->tx + (b->vy - sb.vy) * b->ty;
+    *a = (b->ax - B->ax) * b->tx + (b->ay - B->ay) * b->ty;
+}
+
+/* A supported body's stop (its tangential speed relative to the support
+ * reaches zero) and leave (its centre, projected on the edge, reaches an
+ * end) events. */
 static void schedule_support(sim *m, const m2c_sim_body *b)
 {
-    double u = b->vx * b->tx + b->vy * b->ty;
-    double a = b->ax * b->tx + b->ay * b->ty;
+    double q, u, a;
+    support_relative(m, b, &q, &u, &a);
     if (u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0))
         push_stop(m, b->tb + -u / a, b);
-    const m2c_sim_body *B = &m->bodies[b->sup];
-    const m2c_sim_vertex *ed = &B->verts[b->sup_edge];
-    double q = (b->px - B->px) * b->tx + (b->py - B->py) * b->ty;
+    const m2c_sim_vertex *ed = &m->bodies[b->sup].verts[b->sup_edge];
     double hi = m->s->end - b->tb;
     double s1 = 0.0, s2 = 0.0;
     int h2 = first_crossing(q - ed->s2, u, a, 1, 0.0, hi, &s2);
@@ -1284,7 +1329,7 @@ static inline double normal_speed(const m2c_sim_body *A, const m2c_sim_body *B, 
 /* ---- support: resting and sliding on a fixed body ----------------------------------------- */
 
 /* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
- * the world (B does not move). */
+ * the world (B does not turn). */
 static void support_frame(const m2c_sim_body *B, int32_t j, double *tx, double *ty, double *ox, double *oy)
 {
     const m2c_sim_vertex *ed = &B->verts[j];
@@ -1321,16 +1366,17 @@ static int flat(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i,
     return 0;
 }
 
-/* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
- * B becomes support (docs/simulator.md, Contact model). */
+/* A point-edge contact of movable A on edge j of a fixed polygon B that
+ * does not turn (it may translate) becomes support, everything relative to
+ * B (docs/simulator.md, Contact model); both advanced. */
 static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j,
                        double vn)
 {
-    if (feature != PE || A->fixed || !B->fixed || !is_static(B))
+    if (feature != PE || A->fixed || !B->fixed || B->om != 0.0)
         return 0;
     double tx, ty, ox, oy;
     support_frame(B, j, &tx, &ty, &ox, &oy);
-    double load = -(A->fax * ox + A->fay * oy);
+    double load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
     double rest = m->s->rest_speed;
     if (!(load > 0.0) || vn >= rest || A->e * B->e * -vn >= rest)
         return 0;
@@ -1340,7 +1386,7 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
         return 0;
     /* at an end of the edge (within the tolerance) and moving past it: it
      * is leaving (a support would end at once, again and again) */
-    double u = A->vx * tx + A->vy * ty;
+    double u = (A->vx - B->vx) * tx + (A->vy - B->vy) * ty;
     double tol = m->s->tol;
     if ((u > 0.0 && q >= ed->s2 - tol) || (u < 0.0 && q <= ed->s1 + tol))
         return 0;
@@ -1352,12 +1398,14 @@ static int can_support(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     return 1;
 }
 
-/* Acceleration of supported A with tangential speed u: the free
- * acceleration along the edge less Coulomb friction mu |a_n| against the
- * motion; at rest, none while friction can hold it. */
+/* Acceleration of supported A with tangential speed u relative to its
+ * support B: the relative free acceleration along the edge less Coulomb
+ * friction mu |a_n| against the relative motion; at relative rest, none
+ * while friction can hold it; plus B's acceleration when B moves. */
 static void slide_accel(const sim *m, m2c_sim_body *A, double u)
 {
-    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    double f = A->mu * B->mu * A->load;
     double a;
     if (u > 0.0)
         a = A->at - f;
@@ -1369,27 +1417,38 @@ static void slide_accel(const sim *m, m2c_sim_body *A, double u)
         a = A->at + f;
     else
         a = 0.0;
-    A->ax = a * A->tx;
-    A->ay = a * A->ty;
+    if (is_static(B)) {
+        A->ax = a * A->tx;
+        A->ay = a * A->ty;
+    } else {
+        A->ax = B->ax + a * A->tx;
+        A->ay = B->ay + a * A->ty;
+    }
 }
 
-/* A (advanced to now) keeps only its velocity along the edge, stops
- * turning, and from now on accelerates along the edge only. */
+/* A (advanced to now, as B) keeps only its velocity relative to B along
+ * the edge, stops turning, and from now on accelerates relative to B along
+ * the edge only. */
 static void enter_support(const sim *m, m2c_sim_body *A, const m2c_sim_body *B, int32_t j)
 {
     double tx, ty, ox, oy;
     support_frame(B, j, &tx, &ty, &ox, &oy);
-    double u = A->vx * tx + A->vy * ty;
-    A->vx = u * tx;
-    A->vy = u * ty;
+    double u = (A->vx - B->vx) * tx + (A->vy - B->vy) * ty;
+    if (is_static(B)) {
+        A->vx = u * tx;
+        A->vy = u * ty;
+    } else {
+        A->vx = B->vx + u * tx;
+        A->vy = B->vy + u * ty;
+    }
     if (A->polygon)
         A->om = 0.0;
     A->sup = B->idx;
     A->sup_edge = j;
     A->tx = tx;
     A->ty = ty;
-    A->load = -(A->fax * ox + A->fay * oy);
-    A->at = A->fax * tx + A->fay * ty;
+    A->load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
+    A->at = (A->fax - B->ax) * tx + (A->fay - B->ay) * ty;
     slide_accel(m, A, u);
 }
 
@@ -1504,6 +1563,64 @@ static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, do
     return imp;
 }
 
+/* n . t of a supported body's edge tangent t (0 for a fixed body). */
+static inline double along(const m2c_sim_body *b, double nx, double ny)
+{
+    if (b->sup < 0)
+        return 0.0;
+    return nx * b->tx + ny * b->ty;
+}
+
+/* A slow contact of bodies held on their supports: each supported or
+ * fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
+ * impulse along their edges can change vn (kh > 0). */
+static int held(const sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny, double vn)
+{
+    if (!((A->sup >= 0 || A->fixed) && (B->sup >= 0 || B->fixed)))
+        return 0;
+    if (!(vn < 0.0) || !(-vn < m->s->rest_speed) || pressed(A, B, nx, ny))
+        return 0;
+    double ka = along(A, nx, ny);
+    double kb = along(B, nx, ny);
+    return A->inv_m * ka * ka + B->inv_m * kb * kb > 0.0;
+}
+
+/* The normal impulse j of a held contact (held): each supported body takes
+ * only its part along its support's edge, dv = -+ j (n . t) t / m, and
+ * keeps its support; the normal speed leaves at sep = max(e |vn|,
+ * min(|vn|, rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
+ * The friction of each is set again for its new speed relative to its
+ * support (slide_accel; support_relative: the support may move). */
+static double held_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double nx, double ny, double vn)
+{
+    double ka = along(A, nx, ny);
+    double kb = along(B, nx, ny);
+    double k = A->inv_m * ka * ka + B->inv_m * kb * kb;
+    double e = A->e * B->e;
+    double evn = e * -vn;
+    double nvn = -vn;
+    double lim = m->s->rest_speed < nvn ? m->s->rest_speed : nvn;      /* Python's min(-vn, rest) */
+    double sep = lim > evn ? lim : evn;                                 /* Python's max(e * -vn, lim) */
+    double imp = (sep - vn) / k;
+    if (A->sup >= 0) {
+        double d = imp * A->inv_m * ka;
+        A->vx = A->vx - d * A->tx;
+        A->vy = A->vy - d * A->ty;
+        double q, u, a;
+        support_relative(m, A, &q, &u, &a);
+        slide_accel(m, A, u);
+    }
+    if (B->sup >= 0) {
+        double d = imp * B->inv_m * kb;
+        B->vx = B->vx + d * B->tx;
+        B->vy = B->vy + d * B->ty;
+        double q, u, a;
+        support_relative(m, B, &q, &u, &a);
+        slide_accel(m, B, u);
+    }
+    return imp;
+}
+
 /* ---- event handlers: one per kind ------------------------------------------------------ */
 
 /* An E line of a contact: collision or support. */
@@ -1557,16 +1674,20 @@ static inline int grounded(const m2c_sim_body *G)
     return G->asleep || (G->fixed && is_static(G));
 }
 
-/* A supported body slower than rest_speed along its edge that static
- * friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
- * on a level frictionless edge at = 0): it stays where it is. */
+/* A body supported by an unmoving body, slower than rest_speed along its
+ * edge, that static friction would hold there (|at| <= mu load, as in
+ * slide_accel at u = 0; on a level frictionless edge at = 0): it stays
+ * where it is.  On a moving support: never (it does not sleep). */
 static int at_rest(const sim *m, const m2c_sim_body *A)
 {
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    if (!is_static(B))
+        return 0;
     double u = A->vx * A->tx + A->vy * A->ty;
     double rest = m->s->rest_speed;
     if (!(u * u < rest * rest))
         return 0;
-    double f = A->mu * m->bodies[A->sup].mu * A->load;
+    double f = A->mu * B->mu * A->load;
     return !(A->at > f) && !(A->at < -f);
 }
 
@@ -1609,12 +1730,17 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
  * the normal speed of S's material point by less than rest_speed, it
  * stands (S stays asleep, unchanged: a gentle touch); else the other
  * body's velocity is restored and the full impulse is applied (S moves:
- * jolted, its island wakes).  Returns the impulse applied. */
+ * jolted, its island wakes).  When the other body is fixed (it moves or
+ * turns: a sleeper is never predicted against an unmoving one) S cannot be
+ * held (the pair would have no mass): the full impulse at once.  Returns
+ * the impulse applied. */
 static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                               double ny)
 {
     m2c_sim_body *S = A->asleep ? A : B;
     m2c_sim_body *M = A->asleep ? B : A;
+    if (M->fixed)
+        return contact_impulse(m, A, B, cx, cy, nx, ny);
     double vx = M->vx, vy = M->vy, om = M->om;
     double inv_m = S->inv_m, inv_i = S->inv_i;
     S->inv_m = 0.0;
@@ -1778,13 +1904,17 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     }
     m->stats.collisions++;
     /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-     * on it); a gentle touch leaves it asleep, a real impulse wakes its island */
+     * on it); a gentle touch leaves it asleep, a real impulse wakes its
+     * island; a slow contact of bodies held on their supports keeps them there */
+    int hold = held(m, A, B, nx, ny, vn);
     double imp;
-    if (A->asleep || B->asleep)
+    if (hold)
+        imp = held_impulse(m, A, B, nx, ny, vn);
+    else if (A->asleep || B->asleep)
         imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
     else
         imp = contact_impulse(m, A, B, cx, cy, nx, ny);
-    if (imp != 0.0) {
+    if (imp != 0.0 && !hold) {
         if (A->asleep && jolted(A))
             handle_wake(m, A, t);
         if (B->asleep && jolted(B))
@@ -1814,14 +1944,22 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         predict_body(m, B, t, ((!A->fixed && !A->asleep) || (A->asleep && imp == 0.0)) ? A : NULL);
 }
 
-/* Sliding stops: velocity exactly zero, then rest or slide back. */
+/* Sliding stops: velocity exactly the support's (zero when it does not
+ * move), then rest or slide back. */
 static void handle_stop(sim *m, const m2c_sim_event *ev)
 {
     m->stats.stops++;
     m2c_sim_body *A = &m->bodies[ev->u.stop.body];
     advance(A, ev->t);
-    A->vx = 0.0;
-    A->vy = 0.0;
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    if (is_static(B)) {
+        A->vx = 0.0;
+        A->vy = 0.0;
+    } else {
+        motion sb = state_at(B, ev->t);
+        A->vx = sb.vx;
+        A->vy = sb.vy;
+    }
     slide_accel(m, A, 0.0);
     emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
     if (at_rest(m, A)) {
@@ -2043,8 +2181,64 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
     wake_touching(m, body, t);
 }
 
+/* Input k sets the velocity of fixed polygon B (based at t, it does not
+ * turn): a large one placed in grid cells moves to the large list for good;
+ * every body it supported leaves (E leave, free motion: it meets B again at
+ * once and is supported again relative to B's new motion, or bounces, or
+ * falls); B is predicted against every body again (a large B: each small
+ * one that is not fixed or removed, in index order; a small one:
+ * predict_body), the bodies that left against the others; last the islands
+ * touching B wake (wake_touching). */
+static void drive(sim *m, m2c_sim_body *B, int32_t k, double t, double vx, double vy)
+{
+    B->vx = vx;
+    B->vy = vy;
+    m->stamp[B->idx]++;
+    if (B->placed) {
+        unplace_large(m, B);
+        m->large[m->nlarge++] = B->idx;
+    }
+    emit_input(m, t, B, k);
+    emit_state(m, B);
+    int32_t n = m->s->nbodies;
+    int32_t *left = NULL;
+    int32_t nleft = 0;
+    for (int32_t q = 0; q < n; q++) {
+        m2c_sim_body *A = &m->bodies[q];
+        if (A->sup != B->idx)
+            continue;
+        if (left == NULL) {
+            left = malloc((size_t)n * sizeof *left);
+            if (left == NULL)
+                die(m, "out of memory");
+        }
+        m->stats.leaves++;
+        advance(A, t);
+        int32_t edge = A->sup_edge;
+        end_support(A);
+        m->stamp[A->idx]++;
+        emit_support_change(m, "E leave ", t, A, B->idx, edge);
+        emit_state(m, A);
+        left[nleft++] = A->idx;
+    }
+    if (B->large) {
+        for (int32_t q = 0; q < n; q++) {
+            const m2c_sim_body *o = &m->bodies[q];
+            if (!o->large && !o->gone && !o->fixed)
+                predict_pair(m, o, B, t);
+        }
+    } else {
+        predict_body(m, B, t, NULL);
+    }
+    for (int32_t q = 0; q < nleft; q++)
+        predict_body(m, &m->bodies[left[q]], t, B);
+    free(left);
+    wake_touching(m, B, t);
+}
+
 /* Scripted or live input number k: its body's velocity set or added to,
- * an impulse through its centre, or its centre moved. */
+ * an impulse through its centre, or its centre moved; on a fixed body
+ * (set_velocity), drive. */
 static void handle_input(sim *m, const m2c_sim_event *ev)
 {
     m->stats.inputs++;
@@ -2061,6 +2255,10 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     advance(body, t);
     if (in->mode == M2C_SIM_REMOVE) {
         remove_body(m, body, k, t);
+        return;
+    }
+    if (body->fixed) {
+        drive(m, body, k, t, in->vx, in->vy);
         return;
     }
     if (in->mode == M2C_SIM_TELEPORT) {
@@ -2415,8 +2613,9 @@ int m2c_sim_live_input(sim *m, int body, int mode, double x, double y, int *done
         snprintf(m->err, sizeof m->err, "body %d was removed", body);
         return -1;
     }
-    if (b->fixed && mode != M2C_SIM_REMOVE) {
-        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only", body);
+    if (!m2c_sim_drivable(b, mode)) {
+        snprintf(m->err, sizeof m->err, "body %d is fixed: inputs move movable bodies only (or set the velocity of a "
+                 "fixed polygon that does not turn, or remove a fixed body)", body);
         return -1;
     }
     if (!isfinite(x) || !isfinite(y)) {

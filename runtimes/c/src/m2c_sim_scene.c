@@ -409,6 +409,9 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
             fail(r, "input on body %lld, which does not exist", body);
         else if (!r->failed && (in->mode < 0 || in->mode > 4))
             fail(r, "unknown input mode %d", (int)in->mode);
+        else if (!r->failed && !m2c_sim_drivable(&s->bodies[body], in->mode))
+            fail(r, "input %d on fixed body %lld: only set_velocity (on a polygon that does not turn) or remove",
+                 (int)k, body);
         in->body = (int32_t)body;
     }
     word(r, "end");

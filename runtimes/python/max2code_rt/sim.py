@@ -70,7 +70,8 @@ class Body:
     # px, py         m: centre (of rotation) at tb
     # vx, vy         m/s: velocity at tb
     # ax, ay         m/s^2: acceleration now (gravity included; while supported,
-    #                only its part along the support's edge, less friction)
+    #                the support's acceleration plus the relative one along its
+    #                edge, less friction)
     # fax, fay       m/s^2: free acceleration (gravity and the body's own), from the scene
     # ang, om        rad, rad/s: angle at tb, angular velocity
     # tb             s: the time of this state
@@ -84,8 +85,8 @@ class Body:
     # sup            index of the fixed body supporting it, -1: free
     # sup_edge       the supporting edge (index into sup's vertices)
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
-    # load           m/s^2: free acceleration pressing onto the support, > 0
-    # at             m/s^2: free acceleration along the tangent
+    # load           m/s^2: free acceleration relative to the support's pressing onto it, > 0
+    # at             m/s^2: free acceleration relative to the support's, along the tangent
     # gone           removed from the world (remove_body, input MODE 4): frozen, out of the grid
     # asleep         frozen in a sleeping island (v = a = w = 0, no events of its own)
     # island         the island's number (the index of its first sleeper), -1: awake
@@ -255,6 +256,15 @@ def read_body(tk: Tokens, i: int) -> Body:
     return b
 
 
+def drivable(b: Body, mode: int) -> bool:
+    """An input of this mode may act on b: any on a movable body; on a fixed
+    one, removal, or set_velocity when it is a polygon that does not turn
+    (its edges then translate: docs/simulator.md, Contact model)."""
+    if not b.fixed or mode == REMOVE:
+        return True
+    return mode == SET_VELOCITY and b.polygon and b.om == 0.0
+
+
 class Scene:
     """A compiled scene, read from the flat format."""
 
@@ -283,6 +293,9 @@ class Scene:
                 raise SimError(f"scene: input on body {inp.body}, which does not exist")
             if not 0 <= inp.mode <= 4:
                 raise SimError(f"scene: unknown input mode {inp.mode}")
+            if not drivable(self.bodies[inp.body], inp.mode):
+                raise SimError(f"scene: input {len(self.inputs)} on fixed body {inp.body}: only set_velocity "
+                               f"(on a polygon that does not turn) or remove")
             self.inputs.append(inp)
         word("end")
 
@@ -586,9 +599,9 @@ class World:
         self.stats.features += 1
         return self.cc_coef(*args)
 
-    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
-        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y
-        (none while a fixed body covers the edge: its cover is not gone)."""
+    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float, i: int = -1):
+        """Point of X (circle centre with radius, or vertex vx_, X's vertex i) against the line of edge j
+        of Y (none while a fixed body covers the edge: its cover is not gone)."""
         cover = Y.verts[j].cover
         if cover >= 0 and not self.s.bodies[cover].gone:
             return None
@@ -597,7 +610,7 @@ class World:
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
         coef = self.pe_coefficients(X, Y, rho, beta, rad, j, now)
-        return self.pe_first(coef, X, Y, rho, beta, j, now, w)
+        return self.pe_first(coef, X, Y, rho, beta, j, now, w, i)
 
     def pe_coefficients(self, X: Body, Y: Body, rho: float, beta: float, rad: float, j: int,
                         now: float) -> list[float]:
@@ -626,9 +639,13 @@ class World:
         return self.pe_coef(*args)
 
     def pe_first(self, coef: list[float], X: Body, Y: Body, rho: float, beta: float, j: int, now: float,
-                 w: float):
+                 w: float, i: int = -1):
         """The first contact within [0, w] of pe_coefficients' polygon whose
-        point (X's centre, or rho, beta about it) lies on edge j's segment."""
+        point (X's centre, or rho, beta about it) lies on edge j's segment;
+        when the point is X's vertex i (i >= 0), both neighbours of that
+        vertex must also lie no more than the tolerance behind edge j's line
+        (`behind`: else that line does not separate the bodies there, a
+        corner meeting a corner: another feature pair is the contact)."""
         ed = Y.verts[j]
         tol = self.s.tol
 
@@ -639,10 +656,32 @@ class World:
                 px, py = px + rho * math.cos(pa + beta), py + rho * math.sin(pa + beta)
             qx, qy, _, _, qa = self.state_at(Y, t)
             th = qa + ed.psi
-            along = (px - qx) * -math.sin(th) + (py - qy) * math.cos(th)
-            return ed.s1 - tol <= along <= ed.s2 + tol
+            c = math.cos(th)
+            sn = math.sin(th)
+            along = (px - qx) * -sn + (py - qy) * c
+            if not (ed.s1 - tol <= along <= ed.s2 + tol):
+                return False
+            if i < 0:
+                return True
+            return not self.behind(X, i, t, qx, qy, c, sn, ed.h)
 
         return self.first_contact(coef, len(coef) - 1, w, tol, inside)
+
+    def behind(self, X: Body, i: int, t: float, qx: float, qy: float, c: float, sn: float, h: float) -> bool:
+        """A neighbour of X's vertex i at t lies more than the tolerance
+        behind the line (c, sn) . (p - (qx, qy)) = h (an edge's line: its
+        outward unit normal (c, sn) at angle th, its body's centre (qx, qy)),
+        previous neighbour first (docs/simulator.md, "Corners")."""
+        n = len(X.verts)
+        px, py, _, _, pa = self.state_at(X, t)
+        lim = -self.s.tol
+        for k in ((i + n - 1) % n, (i + 1) % n):
+            v = X.verts[k]
+            kx = px + v.rho * math.cos(pa + v.beta)
+            ky = py + v.rho * math.sin(pa + v.beta)
+            if (kx - qx) * c + (ky - qy) * sn - h < lim:
+                return True
+        return False
 
     def point_at(self, b: Body, v: Vertex | None, t: float) -> tuple[float, float]:
         """World position of a circle's centre (v None) or of a vertex, at t."""
@@ -861,7 +900,7 @@ class World:
     def vertices_edges(self, A: Body, B: Body, now: float, w: float, best):
         for i, v in enumerate(A.verts):
             for j in range(len(B.verts)):
-                best = self._better(best, self.predict_pe(A, B, v, j, now, w), PE, A.idx, B.idx, i, j)
+                best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
         return best
 
     # ---- per body -----------------------------------------------------------
@@ -898,9 +937,13 @@ class World:
                         continue
                     bound = origin + i * size
                 c = [p - bound, v, 0.5 * a]
-                if c[0] == 0.0 and ulo == 0.0 and v * direction > 0.0:
-                    # exactly on the boundary now and moving across it: the
-                    # root finder reports no root at the interval's start
+                if (ulo == 0.0 and c[0] * direction >= 0.0
+                        and (v * direction > 0.0 or (v == 0.0 and a * direction > 0.0))):
+                    # on the boundary now, or past it (cell_of's quotient and
+                    # the boundary's sum origin + i size can round apart), and
+                    # moving or accelerating across it: cross at once (the
+                    # root finder reports no root at the interval's start,
+                    # and none at all for a boundary already behind)
                     if best is None or 0.0 < best[0]:
                         best = (0.0, axis, direction)
                     continue
@@ -965,7 +1008,7 @@ class World:
     @staticmethod
     def support_frame(B: Body, j: int):
         """Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j
-        of B in the world (B does not move)."""
+        of B in the world (B does not turn)."""
         ed = B.verts[j]
         c = math.cos(B.ang)
         s = math.sin(B.ang)
@@ -978,12 +1021,13 @@ class World:
         return B.vx == 0.0 and B.vy == 0.0 and B.ax == 0.0 and B.ay == 0.0 and B.om == 0.0
 
     def can_support(self, A: Body, B: Body, feature: int, i: int, j: int, vn: float) -> bool:
-        """A point-edge contact of movable A on edge j of a fixed, unmoving
-        polygon B becomes support (docs/simulator.md, Contact model)."""
-        if feature != PE or A.fixed or not B.fixed or not self.static(B):
+        """A point-edge contact of movable A on edge j of a fixed polygon B
+        that does not turn (it may translate) becomes support, everything
+        relative to B (docs/simulator.md, Contact model); both advanced."""
+        if feature != PE or A.fixed or not B.fixed or B.om != 0.0:
             return False
         tx, ty, ox, oy = self.support_frame(B, j)
-        load = -(A.fax * ox + A.fay * oy)
+        load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
         rest = self.s.rest_speed
         if not (load > 0.0) or vn >= rest or A.e * B.e * -vn >= rest:
             return False
@@ -993,7 +1037,7 @@ class World:
             return False
         # at an end of the edge (within the tolerance) and moving past it: it
         # is leaving (a support would end at once, again and again)
-        u = A.vx * tx + A.vy * ty
+        u = (A.vx - B.vx) * tx + (A.vy - B.vy) * ty
         tol = self.s.tol
         if (u > 0.0 and q >= ed.s2 - tol) or (u < 0.0 and q <= ed.s1 + tol):
             return False
@@ -1016,27 +1060,35 @@ class World:
         return False
 
     def enter_support(self, A: Body, B: Body, j: int) -> None:
-        """A (advanced to now) keeps only its velocity along the edge, stops
-        turning, and from now on accelerates along the edge only."""
+        """A (advanced to now, as B) keeps only its velocity relative to B
+        along the edge, stops turning, and from now on accelerates relative
+        to B along the edge only."""
         tx, ty, ox, oy = self.support_frame(B, j)
-        u = A.vx * tx + A.vy * ty
-        A.vx = u * tx
-        A.vy = u * ty
+        u = (A.vx - B.vx) * tx + (A.vy - B.vy) * ty
+        if self.static(B):
+            A.vx = u * tx
+            A.vy = u * ty
+        else:
+            A.vx = B.vx + u * tx
+            A.vy = B.vy + u * ty
         if A.polygon:
             A.om = 0.0
         A.sup = B.idx
         A.sup_edge = j
         A.tx = tx
         A.ty = ty
-        A.load = -(A.fax * ox + A.fay * oy)
-        A.at = A.fax * tx + A.fay * ty
+        A.load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
+        A.at = (A.fax - B.ax) * tx + (A.fay - B.ay) * ty
         self.slide_accel(A, u)
 
     def slide_accel(self, A: Body, u: float) -> None:
-        """Acceleration of supported A with tangential speed u: the free
-        acceleration along the edge less Coulomb friction mu |a_n| against
-        the motion; at rest, none while friction can hold it."""
-        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        """Acceleration of supported A with tangential speed u relative to
+        its support B: the relative free acceleration along the edge less
+        Coulomb friction mu |a_n| against the relative motion; at relative
+        rest, none while friction can hold it; plus B's acceleration when B
+        moves."""
+        B = self.s.bodies[A.sup]
+        f = A.mu * B.mu * A.load
         if u > 0.0:
             a = A.at - f
         elif u < 0.0:
@@ -1047,8 +1099,12 @@ class World:
             a = A.at + f
         else:
             a = 0.0
-        A.ax = a * A.tx
-        A.ay = a * A.ty
+        if self.static(B):
+            A.ax = a * A.tx
+            A.ay = a * A.ty
+        else:
+            A.ax = B.ax + a * A.tx
+            A.ay = B.ay + a * A.ty
 
     @staticmethod
     def end_support(A: Body) -> None:
@@ -1057,16 +1113,25 @@ class World:
         A.sup = -1
         A.sup_edge = -1
 
+    def support_relative(self, b: Body):
+        """Supported b's motion relative to its support B along the edge, at
+        b's time: (q, u, a), q the centre's coordinate along the tangent
+        from B's centre, u, a its speed and acceleration."""
+        B = self.s.bodies[b.sup]
+        bx, by, bvx, bvy, _ = self.state_at(B, b.tb)
+        q = (b.px - bx) * b.tx + (b.py - by) * b.ty
+        u = (b.vx - bvx) * b.tx + (b.vy - bvy) * b.ty
+        a = (b.ax - B.ax) * b.tx + (b.ay - B.ay) * b.ty
+        return q, u, a
+
     def schedule_support(self, b: Body, now: float) -> None:
-        """A supported body's stop (its tangential speed reaches zero) and
-        leave (its centre, projected on the edge, reaches an end) events."""
-        u = b.vx * b.tx + b.vy * b.ty
-        a = b.ax * b.tx + b.ay * b.ty
+        """A supported body's stop (its tangential speed relative to the
+        support reaches zero) and leave (its centre, projected on the
+        edge, reaches an end) events."""
+        q, u, a = self.support_relative(b)
         if u != 0.0 and a != 0.0 and (u > 0.0) != (a > 0.0):
             self.push(StopEvent(b.tb + -u / a, b.idx, b.stamp))
-        B = self.s.bodies[b.sup]
-        ed = B.verts[b.sup_edge]
-        q = (b.px - B.px) * b.tx + (b.py - B.py) * b.ty
+        ed = self.s.bodies[b.sup].verts[b.sup_edge]
         hi = self.s.end - b.tb
         s2 = self.first_crossing(q - ed.s2, u, a, 1, 0.0, hi)
         s1 = self.first_crossing(q - ed.s1, u, a, -1, 0.0, hi)
@@ -1175,19 +1240,68 @@ class World:
         B.om = B.om + (jn * rbn + jt * rbt) * B.inv_i
         return jn
 
+    @staticmethod
+    def along(b: Body, nx: float, ny: float) -> float:
+        """n . t of a supported body's edge tangent t (0 for a fixed body)."""
+        if b.sup < 0:
+            return 0.0
+        return nx * b.tx + ny * b.ty
+
+    def held(self, A: Body, B: Body, nx: float, ny: float, vn: float) -> bool:
+        """A slow contact of bodies held on their supports: each supported
+        or fixed, approaching (vn < 0) slower than rest_speed, not pressed,
+        and an impulse along their edges can change vn (kh > 0)."""
+        if not ((A.sup >= 0 or A.fixed) and (B.sup >= 0 or B.fixed)):
+            return False
+        if not (vn < 0.0) or not (-vn < self.s.rest_speed) or self.pressed(A, B, nx, ny):
+            return False
+        ka = self.along(A, nx, ny)
+        kb = self.along(B, nx, ny)
+        return A.inv_m * ka * ka + B.inv_m * kb * kb > 0.0
+
+    def held_impulse(self, A: Body, B: Body, nx: float, ny: float, vn: float) -> float:
+        """The normal impulse j of a held contact (held): each supported body
+        takes only its part along its support's edge, dv = -+ j (n . t) t / m,
+        and keeps its support (the support's reaction takes the rest and does
+        no work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
+        rest_speed)) = |vn| (slow), through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
+        The friction of each is set again for its new speed relative to its
+        support (slide_accel; support_relative: the support may move)."""
+        ka = self.along(A, nx, ny)
+        kb = self.along(B, nx, ny)
+        k = A.inv_m * ka * ka + B.inv_m * kb * kb
+        e = A.e * B.e
+        sep = max(e * -vn, min(-vn, self.s.rest_speed))
+        imp = (sep - vn) / k
+        if A.sup >= 0:
+            d = imp * A.inv_m * ka
+            A.vx = A.vx - d * A.tx
+            A.vy = A.vy - d * A.ty
+            self.slide_accel(A, self.support_relative(A)[1])
+        if B.sup >= 0:
+            d = imp * B.inv_m * kb
+            B.vx = B.vx + d * B.tx
+            B.vy = B.vy + d * B.ty
+            self.slide_accel(B, self.support_relative(B)[1])
+        return imp
+
     # ---- sleeping islands ---------------------------------------------------
     def grounded(self, G: Body) -> bool:
         """A body others can fall asleep on: asleep, or fixed and unmoving."""
         return G.asleep or (G.fixed and self.static(G))
 
     def at_rest(self, A: Body) -> bool:
-        """A supported body slower than rest_speed along its edge that static
-        friction would hold there (|at| <= mu load, as in slide_accel at
-        u = 0; on a level frictionless edge at = 0): it stays where it is."""
+        """A body supported by an unmoving body, slower than rest_speed along
+        its edge, that static friction would hold there (|at| <= mu load, as
+        in slide_accel at u = 0; on a level frictionless edge at = 0): it
+        stays where it is.  On a moving support: never (it does not sleep)."""
+        B = self.s.bodies[A.sup]
+        if not self.static(B):
+            return False
         u = A.vx * A.tx + A.vy * A.ty
         if not (u * u < self.s.rest_speed * self.s.rest_speed):
             return False
-        f = A.mu * self.s.bodies[A.sup].mu * A.load
+        f = A.mu * B.mu * A.load
         return not (A.at > f) and not (A.at < -f)
 
     def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
@@ -1226,9 +1340,14 @@ class World:
         rest_speed, j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S
         stays asleep, unchanged: a gentle touch); else the other body's
         velocity is restored and the full impulse is applied (S moves:
-        `jolted`, its island wakes).  Returns the impulse applied."""
+        `jolted`, its island wakes).  When the other body is fixed (it moves
+        or turns: a sleeper is never predicted against an unmoving one) S
+        cannot be held (the pair would have no mass): the full impulse at
+        once.  Returns the impulse applied."""
         S = A if A.asleep else B
         M = B if A.asleep else A
+        if M.fixed:
+            return self.contact_impulse(A, B, cx, cy, nx, ny)
         vx, vy, om = M.vx, M.vy, M.om
         inv_m, inv_i = S.inv_m, S.inv_i
         S.inv_m = 0.0
@@ -1319,12 +1438,16 @@ class World:
             return
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        # on it); a gentle touch leaves it asleep, a real impulse wakes its island
-        if A.asleep or B.asleep:
+        # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        # a slow contact of bodies held on their supports keeps them there
+        held = self.held(A, B, nx, ny, vn)
+        if held:
+            imp = self.held_impulse(A, B, nx, ny, vn)
+        elif A.asleep or B.asleep:
             imp = self.sleeper_impulse(A, B, cx, cy, nx, ny)
         else:
             imp = self.contact_impulse(A, B, cx, cy, nx, ny)
-        if imp != 0.0:
+        if imp != 0.0 and not held:
             if A.asleep and self.jolted(A):
                 self.handle_wake(A, t)
             if B.asleep and self.jolted(B):
@@ -1368,12 +1491,17 @@ class World:
         self.predict_body(A, ev.t, None)
 
     def handle_stop(self, ev: StopEvent) -> None:
-        """Sliding stops: velocity exactly zero, then rest or slide back."""
+        """Sliding stops: velocity exactly the support's (zero when it does
+        not move), then rest or slide back."""
         self.stats.stops += 1
         A = self.s.bodies[ev.body]
         self.rebase(A, ev.t)
-        A.vx = 0.0
-        A.vy = 0.0
+        B = self.s.bodies[A.sup]
+        if self.static(B):
+            A.vx = 0.0
+            A.vy = 0.0
+        else:
+            _, _, A.vx, A.vy, _ = self.state_at(B, ev.t)
         self.slide_accel(A, 0.0)
         self.out.write(f"E stop {_fmt(ev.t)} {A.idx} {A.sup} -1 -1 {A.sup_edge} 0 0 0 0 0\n")
         if self.at_rest(A):
@@ -1407,6 +1535,9 @@ class World:
         self.rebase(body, t)
         if inp.mode == REMOVE:
             self.remove(body, ev.k, t)
+            return
+        if body.fixed:
+            self.drive(body, ev.k, t, inp.vx, inp.vy)
             return
         if inp.mode == TELEPORT:
             o = self.overlapping(body, inp.vx, inp.vy, t)
@@ -1458,10 +1589,52 @@ class World:
                 self.predict_body(A, t, None)
         self.wake_touching(body, t)
 
+    def drive(self, B: Body, k: int, t: float, vx: float, vy: float) -> None:
+        """Input k sets the velocity of fixed polygon B (based at t, it does
+        not turn): a large one placed in grid cells moves to the large list
+        for good; every body it supported leaves (E leave, free motion: it
+        meets B again at once and is supported again relative to B's new
+        motion, or bounces, or falls); B is predicted against every body
+        again (a large B: each small one that is not fixed or removed, in
+        index order; a small one: predict_body), the bodies that left
+        against the others; last the islands touching B wake (wake_touching:
+        B may have held them, or carries them into others)."""
+        B.vx = vx
+        B.vy = vy
+        B.stamp += 1
+        if B.wcells is not None:
+            self.unplace_large(B)
+            B.wcells = None
+            self.large.append(B)
+        self.out.write(f"E input {_fmt(t)} {B.idx} -1 -1 {k} -1 0 0 0 0 0\n")
+        self.emit_state(B)
+        bodies = self.s.bodies
+        left = []
+        for A in bodies:
+            if A.sup == B.idx:
+                self.stats.leaves += 1
+                self.rebase(A, t)
+                edge = A.sup_edge
+                self.end_support(A)
+                A.stamp += 1
+                self.out.write(f"E leave {_fmt(t)} {A.idx} {B.idx} -1 -1 {edge} 0 0 0 0 0\n")
+                self.emit_state(A)
+                left.append(A)
+        if B.large:
+            for o in bodies:
+                if not o.large and not o.gone and not o.fixed:
+                    self.predict_pair(o, B, t)
+        else:
+            self.predict_body(B, t, None)
+        for A in left:
+            self.predict_body(A, t, B)
+        self.wake_touching(B, t)
+
     def wake_touching(self, body: Body, t: float) -> None:
         """The islands of the sleepers whose bounding circles reach the
-        removed body's (within the tolerance) wake: it may have held them
-        (by index; a woken island's other members are awake already)."""
+        body's (within the tolerance; a body removed, or a fixed one whose
+        velocity an input set) wake: it may have held them (by index; a
+        woken island's other members are awake already)."""
         tol = self.s.tol
         for o in self.s.bodies:
             if o.asleep:
@@ -1777,8 +1950,9 @@ class World:
         b = self.body(body)
         if b.gone:
             raise SimError(f"body {body} was removed")
-        if b.fixed and mode != REMOVE:
-            raise SimError(f"body {body} is fixed: inputs move movable bodies only")
+        if not drivable(b, mode):
+            raise SimError(f"body {body} is fixed: inputs move movable bodies only (or set the velocity of a "
+                           f"fixed polygon that does not turn, or remove a fixed body)")
         if not (math.isfinite(x) and math.isfinite(y)):
             raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")
         t = self.time
