@@ -8,14 +8,14 @@ use super::contact::{contact_frame, contact_impulse, normal_speed, sleeper_impul
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
-use super::motion::rebase;
+use super::motion::{rebase, state_at};
 use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
-use super::support::{can_support, end_support, enter_support, slide_accel};
+use super::support::{can_support, end_support, enter_support, is_static, slide_accel};
 use super::Equations;
 
 impl<E: Equations> World<E> {
@@ -120,7 +120,7 @@ impl<E: Equations> World<E> {
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
         }
-        if at_rest(&self.w.s.bodies[ai], self.w.s.bodies[bi].mu, self.w.s.rest_speed) {
+        if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
         self.w.stamps[ai] += 1;
@@ -128,21 +128,25 @@ impl<E: Equations> World<E> {
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
-    /// Sliding stops: velocity exactly zero, then rest (asleep when at
-    /// rest) or slide back.
+    /// Sliding stops: velocity exactly the support's (zero when it does
+    /// not move), then rest (asleep when at rest) or slide back.
     fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
         self.q.stats.stops += 1;
         let ai = body as usize;
-        let bodies = &mut self.w.s.bodies;
-        let mu_sup = bodies[bodies[ai].sup as usize].mu;
-        let a_ = &mut bodies[ai];
+        let sup = self.w.s.bodies[ai].sup as usize;
+        let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, sup);
         rebase(a_, t);
-        a_.vx = 0.0;
-        a_.vy = 0.0;
-        slide_accel(a_, mu_sup, 0.0);
+        if is_static(b_) {
+            a_.vx = 0.0;
+            a_.vy = 0.0;
+        } else {
+            let (_, _, bvx, bvy, _) = state_at(b_, t);
+            a_.vx = bvx;
+            a_.vy = bvy;
+        }
+        slide_accel(a_, b_, 0.0);
         self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
-        if at_rest(a_, mu_sup, self.w.s.rest_speed) {
-            let sup = a_.sup as usize;
+        if at_rest(a_, b_, self.w.s.rest_speed) {
             return self.handle_sleep(ai, sup, t);
         }
         self.w.stamps[ai] += 1;
