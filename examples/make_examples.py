@@ -149,3 +149,25 @@ write("ball-pit.json", {
               + [{"name": "dropper", "shape": "circle", "radius": 0.05, "mass": 0.1, "restitution": 0.8,
                   "friction": 0.3, "position": [-0.45, 1.58]}],
     "inputs": [{"time": 5.0, "body": "dropper", "set_velocity": [1.2, 0.0]}]})
+
+# a moving platform (issue 10): a short level of two ledges with a gap; a
+# platform (fixed, friction) crosses the gap at 0.4 m/s carrying a box that
+# rests on it; a ball dropped into the gap lands on the platform, bounces,
+# comes to rest on it and is carried along too (neither sleeps: a body on a
+# moving support never does); another ball sleeps on the right ledge
+V = 0.4
+write("moving-platform.json", {
+    "name": "moving platform: a box and a ball carried across a gap", "end_time": 4.0, "frame_rate": 60,
+    "gravity": [0.0, -9.81],
+    "bodies": [plank("ledge_l", 0.5, -0.1, 0.5, 0.1, friction=1.0),
+               plank("ledge_r", 3.9, -0.1, 0.5, 0.1, friction=1.0),
+               plank("pit", 2.2, -1.1, 1.2, 0.1),
+               plank("wall_l", -0.1, 0.0, 0.1, 1.2), plank("wall_r", 4.5, 0.0, 0.1, 1.2),
+               plank("platform", 1.35, -0.05, 0.3, 0.05, friction=1.0, velocity=[V, 0.0]),
+               {"name": "box", "shape": "polygon", "mass": 1.0, "restitution": 0.2, "friction": 0.5,
+                "position": [1.2, 0.1], "velocity": [V, 0.0],
+                "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]},
+               {"name": "ball", "shape": "circle", "radius": 0.06, "mass": 0.2, "restitution": 0.5,
+                "friction": 0.3, "position": [1.75, 0.9]},
+               {"name": "rester", "shape": "circle", "radius": 0.08, "mass": 0.3, "restitution": 0.5,
+                "friction": 0.3, "position": [3.9, 0.08]}]})

@@ -524,3 +524,22 @@ def test_a_platform_falling_slower_than_gravity_carries_the_ball_down(lang):
         assert st.vy == pytest.approx(-0.5 * G * t, rel=1e-12)
     no_overlap(scene, rp)
 
+
+def test_the_moving_platform_example_never_overlaps_nor_gains_energy_in_the_platform_frame():
+    """examples/moving-platform.json: the box and the ball end carried at the
+    platform's velocity; no overlap at any event or frame; in the frame of
+    the platform (inertial: constant velocity) the energy never grows, where
+    in the world's the platform's friction does work on what it carries."""
+    path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples",
+                        "moving-platform.json")
+    from max2code.sim.scene import load_scene
+    from max2code.sim.simulate import run_scene
+    scene = load_scene(path)
+    tr = run_scene(scene, "python")
+    rp = read_trace("\n".join(tr.lines()), scene, path)
+    no_overlap(scene, rp)
+    V = next(b for b in scene.bodies if b.name == "platform").velocity
+    assert final(tr, "box")["velocity"] == list(V) and final(tr, "ball")["velocity"] == list(V)
+    assert energy_growth(scene, rp).max_growth > 1e-3          # the world's: the platform drives
+    er = energy_growth(scene, rp, frame=V)
+    assert er.max_growth <= 1e-12 and er.max_jump <= 1e-12, er
