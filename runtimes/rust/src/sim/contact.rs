@@ -158,10 +158,16 @@ pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn:
 /// j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
 /// unchanged: a gentle touch); else the other body's velocity is restored
 /// and the full impulse is applied (S moves: `jolted`, its island wakes).
-/// Returns the impulse applied.
+/// When the other body is fixed (it moves or turns: a sleeper is never
+/// predicted against an unmoving one) S cannot be held (the pair would
+/// have no mass): the full impulse at once.  Returns the impulse applied.
 #[allow(clippy::too_many_arguments)]
 pub fn sleeper_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     let a_sleeps = a_.asleep;
+    let other_fixed = if a_sleeps { b_.fixed } else { a_.fixed };
+    if other_fixed {
+        return contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+    }
     let (vx, vy, om) = if a_sleeps { (b_.vx, b_.vy, b_.om) } else { (a_.vx, a_.vy, a_.om) };
     let (inv_m, inv_i) = {
         let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };
