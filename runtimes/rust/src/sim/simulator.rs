@@ -274,6 +274,9 @@ impl<E: Equations> World<E> {
         if inp.mode == REMOVE {
             return self.remove(a, k, t);
         }
+        if self.w.s.bodies[a].fixed {
+            return self.drive(a, k, t, inp.vx, inp.vy);
+        }
         if inp.mode == TELEPORT {
             let s = &self.w.s;
             if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[a], Some(a), inp.vx, inp.vy, t) {
@@ -360,9 +363,63 @@ impl<E: Equations> World<E> {
         self.wake_touching(a, t)
     }
 
-    /// The islands of the sleepers whose bounding circles reach the removed
-    /// body's (within the tolerance) wake: it may have held them (by index;
-    /// a woken island's other members are awake already).
+    /// Input k sets the velocity of fixed polygon b (based at t, it does not
+    /// turn): a large one placed in grid cells moves to the large list for
+    /// good; every body it supported leaves (E leave, free motion: it meets
+    /// b again at once and is supported again relative to b's new motion,
+    /// or bounces, or falls); b is predicted against every body again (a
+    /// large b: each small one that is not fixed or removed, in index
+    /// order; a small one: predict_body), the bodies that left against the
+    /// others; last the islands touching b wake (wake_touching: b may have
+    /// held them, or carries them into others).
+    fn drive(&mut self, b: usize, k: u32, t: f64, vx: f64, vy: f64) -> Res<()> {
+        let body = &mut self.w.s.bodies[b];
+        body.vx = vx;
+        body.vy = vy;
+        self.w.stamps[b] += 1;
+        if let Some(cells) = body.wcells {
+            self.w.grid.unplace_large(b as u32, Some(cells));
+            body.wcells = None;
+            self.w.grid.large.push(b as u32);
+        }
+        self.out.input(t, b as u32, k)?;
+        self.out.state(&self.w.s.bodies[b])?;
+        let n = self.w.s.bodies.len();
+        let mut left = Vec::new();
+        for o in 0..n {
+            if self.w.s.bodies[o].sup != b as i32 {
+                continue;
+            }
+            self.q.stats.leaves += 1;
+            let a_ = &mut self.w.s.bodies[o];
+            rebase(a_, t);
+            let edge = a_.sup_edge;
+            end_support(a_);
+            self.w.stamps[o] += 1;
+            self.out.support_end("leave", t, a_.idx, b as i32, edge)?;
+            self.out.state(a_)?;
+            left.push(o);
+        }
+        if self.w.s.bodies[b].large {
+            for o in 0..n {
+                let ob = &self.w.s.bodies[o];
+                if !ob.large && !ob.gone && !ob.fixed {
+                    predict_pair::<E>(&self.w, &mut self.q, o, b, t)?;
+                }
+            }
+        } else {
+            predict_body::<E>(&self.w, &mut self.q, b, t, None)?;
+        }
+        for o in left {
+            predict_body::<E>(&self.w, &mut self.q, o, t, Some(b))?;
+        }
+        self.wake_touching(b, t)
+    }
+
+    /// The islands of the sleepers whose bounding circles reach the body's
+    /// (within the tolerance; a body removed, or a fixed one whose velocity
+    /// an input set) wake: it may have held them (by index; a woken
+    /// island's other members are awake already).
     fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
         let tol = self.w.s.tol;
         let (bx, by, bound) = {
