@@ -4,7 +4,7 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_frame, contact_impulse, normal_speed, sleeper_impulse, two_mut};
+use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
@@ -48,8 +48,19 @@ impl<E: Equations> World<E> {
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        // on it); a gentle touch leaves it asleep, a real impulse wakes its island
-        let imp = {
+        // on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        // a slow contact of bodies held on their supports keeps them there
+        let is_held = held(&self.w.s.bodies[ai], &self.w.s.bodies[bi], nx, ny, vn, rest_speed);
+        let imp = if is_held {
+            // the supports (fixed bodies, unchanged here), for slide_accel
+            let support = |k: usize| {
+                let sup = self.w.s.bodies[k].sup;
+                (sup >= 0).then(|| self.w.s.bodies[sup as usize].clone())
+            };
+            let (sup_a, sup_b) = (support(ai), support(bi));
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
+        } else {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
                 sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
@@ -57,7 +68,7 @@ impl<E: Equations> World<E> {
                 contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
             }
         };
-        if imp != 0.0 {
+        if imp != 0.0 && !is_held {
             if self.w.s.bodies[ai].asleep && jolted(&self.w.s.bodies[ai]) {
                 self.handle_wake(ai, t)?;
             }
@@ -69,7 +80,7 @@ impl<E: Equations> World<E> {
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            if imp != 0.0 {
+            if imp != 0.0 && !is_held {
                 if a_.sup >= 0 {
                     end_support(a_);
                 }
