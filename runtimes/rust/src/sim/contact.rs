@@ -3,7 +3,7 @@
 
 use super::motion::point_at;
 use super::scene::{Body, Vertex};
-use super::support::slide_accel;
+use super::support::{slide_accel, support_relative};
 use super::CC;
 
 /// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
@@ -183,8 +183,9 @@ pub fn held(a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) ->
 /// and keeps its support (the support's reaction takes the rest and does
 /// no work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
 /// rest_speed)) = |vn| (slow), through kh = (n . tA)^2 / mA + (n . tB)^2 /
-/// mB.  The friction of each is set again for its new speed (slide_accel
-/// with its support, `sup_a` / `sup_b`; None for a fixed body).
+/// mB.  The friction of each is set again for its new speed relative to
+/// its support (slide_accel; support_relative: the support may move), the
+/// supports `sup_a` / `sup_b` (None for a fixed body).
 #[allow(clippy::too_many_arguments)]
 pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: Option<&Body>, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> f64 {
     let ka = along(a_, nx, ny);
@@ -200,15 +201,17 @@ pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: O
         let d = imp * a_.inv_m * ka;
         a_.vx = a_.vx - d * a_.tx;
         a_.vy = a_.vy - d * a_.ty;
-        let u = a_.vx * a_.tx + a_.vy * a_.ty;
-        slide_accel(a_, sup_a.expect("a supported body has its support"), u);
+        let sup = sup_a.expect("a supported body has its support");
+        let (_, u, _) = support_relative(a_, sup);
+        slide_accel(a_, sup, u);
     }
     if b_.sup >= 0 {
         let d = imp * b_.inv_m * kb;
         b_.vx = b_.vx + d * b_.tx;
         b_.vy = b_.vy + d * b_.ty;
-        let u = b_.vx * b_.tx + b_.vy * b_.ty;
-        slide_accel(b_, sup_b.expect("a supported body has its support"), u);
+        let sup = sup_b.expect("a supported body has its support");
+        let (_, u, _) = support_relative(b_, sup);
+        slide_accel(b_, sup, u);
     }
     imp
 }
