@@ -750,9 +750,13 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 origin + i as f64 * size
             };
             let c = [p - bound, v, 0.5 * a];
-            if c[0] == 0.0 && ulo == 0.0 && v * f64::from(direction) > 0.0 {
-                // exactly on the boundary now and moving across it: the root
-                // finder reports no root at the interval's start
+            let dir = f64::from(direction);
+            if ulo == 0.0 && c[0] * dir >= 0.0 && (v * dir > 0.0 || (v == 0.0 && a * dir > 0.0)) {
+                // on the boundary now, or past it (cell_of's quotient and the
+                // boundary's sum origin + i size can round apart), and moving
+                // or accelerating across it: cross at once (the root finder
+                // reports no root at the interval's start, and none at all
+                // for a boundary already behind)
                 if best.is_none_or(|bb| 0.0 < bb.0) {
                     best = Some((0.0, axis, direction));
                 }
