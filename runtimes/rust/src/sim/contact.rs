@@ -3,6 +3,7 @@
 
 use super::motion::point_at;
 use super::scene::{Body, Vertex};
+use super::support::{slide_accel, support_relative};
 use super::CC;
 
 /// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
@@ -152,16 +153,85 @@ pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn:
     jn
 }
 
+/// n . t of a supported body's edge tangent t (0 for a fixed body).
+#[inline(always)]
+pub fn along(b_: &Body, nx: f64, ny: f64) -> f64 {
+    if b_.sup < 0 {
+        return 0.0;
+    }
+    nx * b_.tx + ny * b_.ty
+}
+
+/// A slow contact of bodies held on their supports: each supported or
+/// fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
+/// impulse along their edges can change vn (kh > 0).
+#[allow(clippy::too_many_arguments)]
+pub fn held(a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> bool {
+    if !((a_.sup >= 0 || a_.fixed) && (b_.sup >= 0 || b_.fixed)) {
+        return false;
+    }
+    if !(vn < 0.0) || !(-vn < rest_speed) || pressed(a_, b_, nx, ny) {
+        return false;
+    }
+    let ka = along(a_, nx, ny);
+    let kb = along(b_, nx, ny);
+    a_.inv_m * ka * ka + b_.inv_m * kb * kb > 0.0
+}
+
+/// The normal impulse j of a held contact (`held`): each supported body
+/// takes only its part along its support's edge, dv = -+ j (n . t) t / m,
+/// and keeps its support (the support's reaction takes the rest and does
+/// no work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
+/// rest_speed)) = |vn| (slow), through kh = (n . tA)^2 / mA + (n . tB)^2 /
+/// mB.  The friction of each is set again for its new speed relative to
+/// its support (slide_accel; support_relative: the support may move), the
+/// supports `sup_a` / `sup_b` (None for a fixed body).
+#[allow(clippy::too_many_arguments)]
+pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: Option<&Body>, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> f64 {
+    let ka = along(a_, nx, ny);
+    let kb = along(b_, nx, ny);
+    let k = a_.inv_m * ka * ka + b_.inv_m * kb * kb;
+    let e = a_.e * b_.e;
+    let first = e * -vn;
+    // Python's max(e * -vn, min(-vn, rest))
+    let lo = if rest_speed < -vn { rest_speed } else { -vn };
+    let sep = if lo > first { lo } else { first };
+    let imp = (sep - vn) / k;
+    if a_.sup >= 0 {
+        let d = imp * a_.inv_m * ka;
+        a_.vx = a_.vx - d * a_.tx;
+        a_.vy = a_.vy - d * a_.ty;
+        let sup = sup_a.expect("a supported body has its support");
+        let (_, u, _) = support_relative(a_, sup);
+        slide_accel(a_, sup, u);
+    }
+    if b_.sup >= 0 {
+        let d = imp * b_.inv_m * kb;
+        b_.vx = b_.vx + d * b_.tx;
+        b_.vy = b_.vy + d * b_.ty;
+        let sup = sup_b.expect("a supported body has its support");
+        let (_, u, _) = support_relative(b_, sup);
+        slide_accel(b_, sup, u);
+    }
+    imp
+}
+
 /// The impulse of a contact of A and B, one of them (S) asleep: first with
 /// S held as if fixed (its 1/m and 1/I zero); when that impulse would
 /// change the normal speed of S's material point by less than rest_speed,
 /// j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
 /// unchanged: a gentle touch); else the other body's velocity is restored
 /// and the full impulse is applied (S moves: `jolted`, its island wakes).
-/// Returns the impulse applied.
+/// When the other body is fixed (it moves or turns: a sleeper is never
+/// predicted against an unmoving one) S cannot be held (the pair would
+/// have no mass): the full impulse at once.  Returns the impulse applied.
 #[allow(clippy::too_many_arguments)]
 pub fn sleeper_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
     let a_sleeps = a_.asleep;
+    let other_fixed = if a_sleeps { b_.fixed } else { a_.fixed };
+    if other_fixed {
+        return contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+    }
     let (vx, vy, om) = if a_sleeps { (b_.vx, b_.vy, b_.om) } else { (a_.vx, a_.vy, a_.om) };
     let (inv_m, inv_i) = {
         let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };

@@ -13,7 +13,7 @@ use super::overlap::overlapping;
 use super::queue::{Event, INPUT};
 use super::grid::{cell_of, place_large};
 use super::predict::{predict_body, predict_pair};
-use super::scene::{read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+use super::scene::{drivable, read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::world::{Queue, Space};
 use super::Equations;
 
@@ -237,8 +237,10 @@ impl<E: Equations> World<E> {
         if self.body(body)?.gone {
             return Err(SimError::Msg(format!("body {body} was removed")));
         }
-        if self.body(body)?.fixed && mode != REMOVE {
-            return Err(SimError::Msg(format!("body {body} is fixed: inputs move movable bodies only")));
+        if !drivable(self.body(body)?, mode) {
+            return Err(SimError::Msg(format!(
+                "body {body} is fixed: inputs move movable bodies only (or set the velocity of a fixed polygon that does not turn, or remove a fixed body)"
+            )));
         }
         if !(x.is_finite() && y.is_finite()) {
             return Err(SimError::Msg(format!("input on body {body}: ({}, {}) is not finite", g17(x), g17(y))));

@@ -180,9 +180,9 @@ fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
-/// Point of X (circle centre with radius, or vertex vx_) against the line
-/// of edge j of Y (none while a fixed body covers the edge: its cover is
-/// not gone).
+/// Point of X (circle centre with radius, or vertex vx_, X's vertex i;
+/// -1: a circle) against the line of edge j of Y (none while a fixed body
+/// covers the edge: its cover is not gone).
 #[allow(clippy::too_many_arguments)]
 fn predict_pe<E: Equations>(
     w: &Space,
@@ -193,6 +193,7 @@ fn predict_pe<E: Equations>(
     j: usize,
     now: f64,
     win: f64,
+    i: i32,
 ) -> Res<Option<f64>> {
     let cover = w.s.verts[y_.vert(j)].cover;
     if cover >= 0 && !w.s.bodies[cover as usize].gone {
@@ -204,7 +205,7 @@ fn predict_pe<E: Equations>(
     };
     let mut coef = [0.0; MAX_COEF];
     let deg = pe_coefficients::<E>(w, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
-    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win))
+    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win, i))
 }
 
 /// The point_edge polynomial of a circle of radius rad whose centre orbits
@@ -250,7 +251,11 @@ fn pe_coefficients<E: Equations>(
 
 /// The first contact within [0, win] of pe_coefficients' polynomial whose
 /// point (X's centre, or rho, beta about it; `pt.2` the vertex, whose cos
-/// and sin are cached) lies on edge j's segment.
+/// and sin are cached) lies on edge j's segment; when the point is X's
+/// vertex i (i >= 0), both neighbours of that vertex must also lie no more
+/// than the tolerance behind edge j's line (`behind`: else that line does
+/// not separate the bodies there, a corner meeting a corner: another
+/// feature pair is the contact).
 #[allow(clippy::too_many_arguments)]
 fn pe_first(
     w: &Space,
@@ -262,6 +267,7 @@ fn pe_first(
     j: usize,
     now: f64,
     win: f64,
+    i: i32,
 ) -> Option<f64> {
     let ed = &w.s.verts[y_.vert(j)];
     let tol = w.s.tol;
@@ -279,11 +285,40 @@ fn pe_first(
         }
         let (qx, qy, _, _, qa) = state_at(y_, t);
         let th = qa + ed.psi;
-        let (c, s) = ed.normal.of(th);
-        let along = (px - qx) * -s + (py - qy) * c;
-        ed.s1 - tol <= along && along <= ed.s2 + tol
+        let (c, sn) = ed.normal.of(th);
+        let along = (px - qx) * -sn + (py - qy) * c;
+        if !(ed.s1 - tol <= along && along <= ed.s2 + tol) {
+            return false;
+        }
+        if i < 0 {
+            return true;
+        }
+        !behind(w, x_, i as usize, t, (qx, qy), (c, sn), ed.h)
     };
     first_contact(coef, deg, win, tol, inside)
+}
+
+/// A neighbour of X's vertex i at t lies more than the tolerance behind the
+/// line (c, sn) . (p - q) = h (an edge's line: its outward unit normal
+/// `n` = (c, sn), its body's centre `q`), previous neighbour first
+/// (docs/simulator.md, "Corners").
+#[inline]
+fn behind(w: &Space, x_: &Body, i: usize, t: f64, q: (f64, f64), n: (f64, f64), h: f64) -> bool {
+    let nv = x_.nverts();
+    let (px, py, _, _, pa) = state_at(x_, t);
+    let (qx, qy) = q;
+    let (c, sn) = n;
+    let lim = -w.s.tol;
+    for k in [(i + nv - 1) % nv, (i + 1) % nv] {
+        let v = &w.s.verts[x_.vert(k)];
+        let (vc, vs) = v.at.of(pa + v.beta);
+        let kx = px + v.rho * vc;
+        let ky = py + v.rho * vs;
+        if (kx - qx) * c + (ky - qy) * sn - h < lim {
+            return true;
+        }
+    }
+    false
 }
 
 /// A candidate contact: (s, feature, a, b, i, j).
@@ -372,7 +407,7 @@ fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, n
     }
     let mut meet: Option<f64> = None;
     for (j, (c, deg)) in coefs.iter().enumerate() {
-        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win) {
+        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win, -1) {
             if meet.is_none_or(|m| t < m) {
                 meet = Some(t);
             }
@@ -401,7 +436,7 @@ fn circle_polygon<E: Equations>(
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
     for j in 0..p_.nverts() {
-        let t = predict_pe::<E>(w, q, c_, p_, None, j, now, win)?;
+        let t = predict_pe::<E>(w, q, c_, p_, None, j, now, win, -1)?;
         best = better(best, t, PE, c_.index(), p_.index(), -1, j as i32);
     }
     for k in 0..p_.nverts() {
@@ -424,7 +459,7 @@ fn vertices_edges<E: Equations>(
     for i in 0..a_.nverts() {
         let v = &w.s.verts[a_.vert(i)];
         for j in 0..b_.nverts() {
-            let t = predict_pe::<E>(w, q, a_, b_, Some(v), j, now, win)?;
+            let t = predict_pe::<E>(w, q, a_, b_, Some(v), j, now, win, i as i32)?;
             best = better(best, t, PE, a_.index(), b_.index(), i as i32, j as i32);
         }
     }
@@ -715,9 +750,13 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 origin + i as f64 * size
             };
             let c = [p - bound, v, 0.5 * a];
-            if c[0] == 0.0 && ulo == 0.0 && v * f64::from(direction) > 0.0 {
-                // exactly on the boundary now and moving across it: the root
-                // finder reports no root at the interval's start
+            let dir = f64::from(direction);
+            if ulo == 0.0 && c[0] * dir >= 0.0 && (v * dir > 0.0 || (v == 0.0 && a * dir > 0.0)) {
+                // on the boundary now, or past it (cell_of's quotient and the
+                // boundary's sum origin + i size can round apart), and moving
+                // or accelerating across it: cross at once (the root finder
+                // reports no root at the interval's start, and none at all
+                // for a boundary already behind)
                 if best.is_none_or(|bb| 0.0 < bb.0) {
                     best = Some((0.0, axis, direction));
                 }

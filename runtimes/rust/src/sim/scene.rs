@@ -165,6 +165,16 @@ pub const IMPULSE: i64 = 2;
 pub const TELEPORT: i64 = 3;
 pub const REMOVE: i64 = 4;
 
+/// An input of this mode may act on b: any on a movable body; on a fixed
+/// one, removal, or set_velocity when it is a polygon that does not turn
+/// (its edges then translate: docs/simulator.md, Contact model).
+pub fn drivable(b: &Body, mode: i64) -> bool {
+    if !b.fixed || mode == REMOVE {
+        return true;
+    }
+    mode == SET_VELOCITY && b.polygon && b.om == 0.0
+}
+
 /// A scripted or live input.
 #[derive(Clone, Copy, Debug)]
 pub struct Input {
@@ -494,6 +504,12 @@ impl Scene {
             }
             if !(0..=4).contains(&mode) {
                 return Err(format!("scene: unknown input mode {mode}"));
+            }
+            if !drivable(&bodies[body as usize], mode) {
+                return Err(format!(
+                    "scene: input {} on fixed body {body}: only set_velocity (on a polygon that does not turn) or remove",
+                    inputs.len()
+                ));
             }
             inputs.push(Input { t, body, mode, vx, vy });
         }

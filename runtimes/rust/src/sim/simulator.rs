@@ -4,18 +4,18 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_frame, contact_impulse, normal_speed, sleeper_impulse, two_mut};
+use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
-use super::motion::rebase;
+use super::motion::{rebase, state_at};
 use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
-use super::support::{can_support, end_support, enter_support, slide_accel};
+use super::support::{can_support, end_support, enter_support, is_static, slide_accel};
 use super::Equations;
 
 impl<E: Equations> World<E> {
@@ -48,8 +48,19 @@ impl<E: Equations> World<E> {
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        // on it); a gentle touch leaves it asleep, a real impulse wakes its island
-        let imp = {
+        // on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        // a slow contact of bodies held on their supports keeps them there
+        let is_held = held(&self.w.s.bodies[ai], &self.w.s.bodies[bi], nx, ny, vn, rest_speed);
+        let imp = if is_held {
+            // the supports (fixed bodies, unchanged here), for slide_accel
+            let support = |k: usize| {
+                let sup = self.w.s.bodies[k].sup;
+                (sup >= 0).then(|| self.w.s.bodies[sup as usize].clone())
+            };
+            let (sup_a, sup_b) = (support(ai), support(bi));
+            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
+        } else {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
                 sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
@@ -57,7 +68,7 @@ impl<E: Equations> World<E> {
                 contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
             }
         };
-        if imp != 0.0 {
+        if imp != 0.0 && !is_held {
             if self.w.s.bodies[ai].asleep && jolted(&self.w.s.bodies[ai]) {
                 self.handle_wake(ai, t)?;
             }
@@ -69,7 +80,7 @@ impl<E: Equations> World<E> {
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            if imp != 0.0 {
+            if imp != 0.0 && !is_held {
                 if a_.sup >= 0 {
                     end_support(a_);
                 }
@@ -120,7 +131,7 @@ impl<E: Equations> World<E> {
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
         }
-        if at_rest(&self.w.s.bodies[ai], self.w.s.bodies[bi].mu, self.w.s.rest_speed) {
+        if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
         self.w.stamps[ai] += 1;
@@ -128,21 +139,25 @@ impl<E: Equations> World<E> {
         predict_body::<E>(&self.w, &mut self.q, ai, t, None)
     }
 
-    /// Sliding stops: velocity exactly zero, then rest (asleep when at
-    /// rest) or slide back.
+    /// Sliding stops: velocity exactly the support's (zero when it does
+    /// not move), then rest (asleep when at rest) or slide back.
     fn handle_stop(&mut self, t: f64, body: u32) -> Res<()> {
         self.q.stats.stops += 1;
         let ai = body as usize;
-        let bodies = &mut self.w.s.bodies;
-        let mu_sup = bodies[bodies[ai].sup as usize].mu;
-        let a_ = &mut bodies[ai];
+        let sup = self.w.s.bodies[ai].sup as usize;
+        let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, sup);
         rebase(a_, t);
-        a_.vx = 0.0;
-        a_.vy = 0.0;
-        slide_accel(a_, mu_sup, 0.0);
+        if is_static(b_) {
+            a_.vx = 0.0;
+            a_.vy = 0.0;
+        } else {
+            let (_, _, bvx, bvy, _) = state_at(b_, t);
+            a_.vx = bvx;
+            a_.vy = bvy;
+        }
+        slide_accel(a_, b_, 0.0);
         self.out.support_end("stop", t, a_.idx, a_.sup, a_.sup_edge)?;
-        if at_rest(a_, mu_sup, self.w.s.rest_speed) {
-            let sup = a_.sup as usize;
+        if at_rest(a_, b_, self.w.s.rest_speed) {
             return self.handle_sleep(ai, sup, t);
         }
         self.w.stamps[ai] += 1;
@@ -270,6 +285,9 @@ impl<E: Equations> World<E> {
         if inp.mode == REMOVE {
             return self.remove(a, k, t);
         }
+        if self.w.s.bodies[a].fixed {
+            return self.drive(a, k, t, inp.vx, inp.vy);
+        }
         if inp.mode == TELEPORT {
             let s = &self.w.s;
             if let Some(o) = overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[a], Some(a), inp.vx, inp.vy, t) {
@@ -356,9 +374,63 @@ impl<E: Equations> World<E> {
         self.wake_touching(a, t)
     }
 
-    /// The islands of the sleepers whose bounding circles reach the removed
-    /// body's (within the tolerance) wake: it may have held them (by index;
-    /// a woken island's other members are awake already).
+    /// Input k sets the velocity of fixed polygon b (based at t, it does not
+    /// turn): a large one placed in grid cells moves to the large list for
+    /// good; every body it supported leaves (E leave, free motion: it meets
+    /// b again at once and is supported again relative to b's new motion,
+    /// or bounces, or falls); b is predicted against every body again (a
+    /// large b: each small one that is not fixed or removed, in index
+    /// order; a small one: predict_body), the bodies that left against the
+    /// others; last the islands touching b wake (wake_touching: b may have
+    /// held them, or carries them into others).
+    fn drive(&mut self, b: usize, k: u32, t: f64, vx: f64, vy: f64) -> Res<()> {
+        let body = &mut self.w.s.bodies[b];
+        body.vx = vx;
+        body.vy = vy;
+        self.w.stamps[b] += 1;
+        if let Some(cells) = body.wcells {
+            self.w.grid.unplace_large(b as u32, Some(cells));
+            body.wcells = None;
+            self.w.grid.large.push(b as u32);
+        }
+        self.out.input(t, b as u32, k)?;
+        self.out.state(&self.w.s.bodies[b])?;
+        let n = self.w.s.bodies.len();
+        let mut left = Vec::new();
+        for o in 0..n {
+            if self.w.s.bodies[o].sup != b as i32 {
+                continue;
+            }
+            self.q.stats.leaves += 1;
+            let a_ = &mut self.w.s.bodies[o];
+            rebase(a_, t);
+            let edge = a_.sup_edge;
+            end_support(a_);
+            self.w.stamps[o] += 1;
+            self.out.support_end("leave", t, a_.idx, b as i32, edge)?;
+            self.out.state(a_)?;
+            left.push(o);
+        }
+        if self.w.s.bodies[b].large {
+            for o in 0..n {
+                let ob = &self.w.s.bodies[o];
+                if !ob.large && !ob.gone && !ob.fixed {
+                    predict_pair::<E>(&self.w, &mut self.q, o, b, t)?;
+                }
+            }
+        } else {
+            predict_body::<E>(&self.w, &mut self.q, b, t, None)?;
+        }
+        for o in left {
+            predict_body::<E>(&self.w, &mut self.q, o, t, Some(b))?;
+        }
+        self.wake_touching(b, t)
+    }
+
+    /// The islands of the sleepers whose bounding circles reach the body's
+    /// (within the tolerance; a body removed, or a fixed one whose velocity
+    /// an input set) wake: it may have held them (by index; a woken
+    /// island's other members are awake already).
     fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
         let tol = self.w.s.tol;
         let (bx, by, bound) = {

@@ -14,16 +14,19 @@ pub fn grounded(g_: &Body) -> bool {
     g_.asleep || (g_.fixed && is_static(g_))
 }
 
-/// A supported body slower than rest_speed along its edge that static
-/// friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
-/// on a level frictionless edge at = 0): it stays where it is.  `mu_sup`:
-/// the support's friction coefficient.
-pub fn at_rest(a_: &Body, mu_sup: f64, rest_speed: f64) -> bool {
+/// A body supported by an unmoving body (`sup`), slower than rest_speed
+/// along its edge, that static friction would hold there (|at| <= mu load,
+/// as in slide_accel at u = 0; on a level frictionless edge at = 0): it
+/// stays where it is.  On a moving support: never (it does not sleep).
+pub fn at_rest(a_: &Body, sup: &Body, rest_speed: f64) -> bool {
+    if !is_static(sup) {
+        return false;
+    }
     let u = a_.vx * a_.tx + a_.vy * a_.ty;
     if !(u * u < rest_speed * rest_speed) {
         return false;
     }
-    let f = a_.mu * mu_sup * a_.load;
+    let f = a_.mu * sup.mu * a_.load;
     !(a_.at > f) && !(a_.at < -f)
 }
 

@@ -3,7 +3,7 @@
 //! model: supported, sliding, friction").  A supported body's motion stays
 //! `p + v dt + a dt^2/2`, so every generated equation predicts it unchanged.
 
-use super::motion::point_at;
+use super::motion::{point_at, state_at};
 use super::queue::Event;
 use super::scene::{Body, Vertex};
 use super::world::{Queue, Space};
@@ -11,7 +11,7 @@ use super::PE;
 use crate::roots::smallest_root;
 
 /// Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
-/// the world (B does not move).
+/// the world (B does not turn).
 #[inline]
 pub fn support_frame(verts: &[Vertex], b_: &Body, j: i32) -> (f64, f64, f64, f64) {
     let ed = &verts[b_.vert(j as usize)];
@@ -28,16 +28,17 @@ pub fn is_static(b_: &Body) -> bool {
     b_.vx == 0.0 && b_.vy == 0.0 && b_.ax == 0.0 && b_.ay == 0.0 && b_.om == 0.0
 }
 
-/// A point-edge contact of movable A on edge j of a fixed, unmoving polygon
-/// B becomes support (both advanced to now; vn from `normal_speed`).
+/// A point-edge contact of movable A on edge j of a fixed polygon B that
+/// does not turn (it may translate) becomes support, everything relative to
+/// B (both advanced to now; vn from `normal_speed`).
 #[allow(clippy::too_many_arguments)]
 pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
-    if feature != PE || a_.fixed || !b_.fixed || !is_static(b_) {
+    if feature != PE || a_.fixed || !b_.fixed || b_.om != 0.0 {
         return false;
     }
     let s = &w.s;
     let (tx, ty, ox, oy) = support_frame(&s.verts, b_, j);
-    let load = -(a_.fax * ox + a_.fay * oy);
+    let load = -((a_.fax - b_.ax) * ox + (a_.fay - b_.ay) * oy);
     let rest = s.rest_speed;
     if !(load > 0.0) || vn >= rest || a_.e * b_.e * -vn >= rest {
         return false;
@@ -49,7 +50,7 @@ pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
     }
     // at an end of the edge (within the tolerance) and moving past it: it
     // is leaving (a support would end at once, again and again)
-    let u = a_.vx * tx + a_.vy * ty;
+    let u = (a_.vx - b_.vx) * tx + (a_.vy - b_.vy) * ty;
     let tol = s.tol;
     if (u > 0.0 && q >= ed.s2 - tol) || (u < 0.0 && q <= ed.s1 + tol) {
         return false;
@@ -83,13 +84,19 @@ pub(super) fn flat(w: &Space, a_: &Body, b_: &Body, i: i32, j: i32, ox: f64, oy:
     false
 }
 
-/// A (advanced to now) keeps only its velocity along edge j of B, stops
-/// turning, and from now on accelerates along the edge only.
+/// A (advanced to now, as B) keeps only its velocity relative to B along
+/// edge j of B, stops turning, and from now on accelerates relative to B
+/// along the edge only.
 pub fn enter_support(verts: &[Vertex], a_: &mut Body, b_: &Body, j: i32) {
     let (tx, ty, ox, oy) = support_frame(verts, b_, j);
-    let u = a_.vx * tx + a_.vy * ty;
-    a_.vx = u * tx;
-    a_.vy = u * ty;
+    let u = (a_.vx - b_.vx) * tx + (a_.vy - b_.vy) * ty;
+    if is_static(b_) {
+        a_.vx = u * tx;
+        a_.vy = u * ty;
+    } else {
+        a_.vx = b_.vx + u * tx;
+        a_.vy = b_.vy + u * ty;
+    }
     if a_.polygon {
         a_.om = 0.0;
     }
@@ -97,17 +104,18 @@ pub fn enter_support(verts: &[Vertex], a_: &mut Body, b_: &Body, j: i32) {
     a_.sup_edge = j;
     a_.tx = tx;
     a_.ty = ty;
-    a_.load = -(a_.fax * ox + a_.fay * oy);
-    a_.at = a_.fax * tx + a_.fay * ty;
-    slide_accel(a_, b_.mu, u);
+    a_.load = -((a_.fax - b_.ax) * ox + (a_.fay - b_.ay) * oy);
+    a_.at = (a_.fax - b_.ax) * tx + (a_.fay - b_.ay) * ty;
+    slide_accel(a_, b_, u);
 }
 
-/// Acceleration of supported A with tangential speed u (`mu_sup`: the
-/// support's friction coefficient): the free acceleration along the edge
-/// less Coulomb friction mu |a_n| against the motion; at rest, none while
-/// friction can hold it.
-pub fn slide_accel(a_: &mut Body, mu_sup: f64, u: f64) {
-    let f = a_.mu * mu_sup * a_.load;
+/// Acceleration of supported A with tangential speed u relative to its
+/// support B (`sup`): the relative free acceleration along the edge less
+/// Coulomb friction mu |a_n| against the relative motion; at relative
+/// rest, none while friction can hold it; plus B's acceleration when B
+/// moves.
+pub fn slide_accel(a_: &mut Body, sup: &Body, u: f64) {
+    let f = a_.mu * sup.mu * a_.load;
     let a = if u > 0.0 {
         a_.at - f
     } else if u < 0.0 {
@@ -119,8 +127,13 @@ pub fn slide_accel(a_: &mut Body, mu_sup: f64, u: f64) {
     } else {
         0.0
     };
-    a_.ax = a * a_.tx;
-    a_.ay = a * a_.ty;
+    if is_static(sup) {
+        a_.ax = a * a_.tx;
+        a_.ay = a * a_.ty;
+    } else {
+        a_.ax = sup.ax + a * a_.tx;
+        a_.ay = sup.ay + a * a_.ty;
+    }
 }
 
 /// Free motion again.
@@ -131,20 +144,31 @@ pub fn end_support(a_: &mut Body) {
     a_.sup_edge = -1;
 }
 
-/// A supported body's stop (its tangential speed reaches zero) and leave
-/// (its centre, projected on the edge, reaches an end) events.
+/// Supported b's motion relative to its support `sup` along the edge, at
+/// b's time: (q, u, a), q the centre's coordinate along the tangent from
+/// the support's centre, u, a its speed and acceleration.
+#[inline]
+pub fn support_relative(b: &Body, sup: &Body) -> (f64, f64, f64) {
+    let (bx, by, bvx, bvy, _) = state_at(sup, b.tb);
+    let q = (b.px - bx) * b.tx + (b.py - by) * b.ty;
+    let u = (b.vx - bvx) * b.tx + (b.vy - bvy) * b.ty;
+    let a = (b.ax - sup.ax) * b.tx + (b.ay - sup.ay) * b.ty;
+    (q, u, a)
+}
+
+/// A supported body's stop (its tangential speed relative to the support
+/// reaches zero) and leave (its centre, projected on the edge, reaches an
+/// end) events.
 pub fn schedule_support(w: &Space, q: &mut Queue, bi: usize) {
     let s = &w.s;
     let b = &s.bodies[bi];
     let stamp = w.stamps[bi];
-    let u = b.vx * b.tx + b.vy * b.ty;
-    let a = b.ax * b.tx + b.ay * b.ty;
+    let sup = &s.bodies[b.sup as usize];
+    let (p, u, a) = support_relative(b, sup);
     if u != 0.0 && a != 0.0 && (u > 0.0) != (a > 0.0) {
         q.heap.push(b.tb + -u / a, Event::Stop { body: b.idx, stamp });
     }
-    let sup = &s.bodies[b.sup as usize];
     let ed = &s.verts[sup.vert(b.sup_edge as usize)];
-    let p = (b.px - sup.px) * b.tx + (b.py - sup.py) * b.ty;
     let hi = s.end - b.tb;
     let mut s2 = first_crossing(p - ed.s2, u, a, 1, 0.0, hi);
     let s1 = first_crossing(p - ed.s1, u, a, -1, 0.0, hi);
