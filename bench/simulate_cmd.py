@@ -3,15 +3,18 @@ time, CPU time and peak memory of the command and of the simulator's process
 alone, on bench/sim.py's gases of equal disks or on the example scenes.
 
     python3 bench/simulate_cmd.py [--lang c] [--sizes 10000,100000] [--events 3e5] [--seed 1]
-                                  [--converter auto|c|python|both] [--repeat N] [--examples]
+                                  [--converter auto|c|python|both] [--repeat N] [--against DIR] [--examples]
 
 For each size, the end time is scaled (one pilot run) so that the run handles
 about `--events` events; the scene is written to a temporary JSON file, the
 engine is run on its flat form (trace drained into a pipe), then the command
 `max2code simulate --lang LANG SCENE -o TRACE -q --converter CONV` runs in a
-fresh Python process.  With `--repeat N` each is run N times and the run of
-least wall time is shown (on a shared machine the others waited for a core).
-`--examples` times each scene of examples/ instead (what a game developer
+fresh Python process.  With `--repeat N` the engine and the commands run in turn N times,
+and the least wall time and the least CPU time of each are shown (on a shared
+machine the others waited for a core).
+`--against DIR` adds the command of another checkout (its own build
+folder), run in turn with this one's.  `--examples` times each scene of
+examples/ instead (what a game developer
 sees on small scenes).  Peak memory is a process's maximum resident set (the
 command's: that of the largest of the command and its simulator child),
 measured through GNU time when installed (a child forked from this script
@@ -87,19 +90,33 @@ def engine(build, flat_path: str) -> tuple[float, float, float, dict[str, int]]:
     return wall, cpu, mb, counts
 
 
-def command(scene_path: str, out: str, lang: str, converter: str) -> tuple[float, float, float, int]:
+def command(scene_path: str, out: str, lang: str, converter: str, root: str = ROOT) -> tuple[float, float, float, int]:
     """Wall, CPU (the command and its simulator), peak RSS in MB of the
-    command's largest process, and the trace's size in bytes."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python")]))
+    command's largest process, and the trace's size in bytes; the command
+    of the checkout `root`."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.path.join(root, "runtimes", "python")]))
     extra = [] if converter == "auto" else ["--converter", converter]     # auto: the default, and any version's
     wall, cpu, mb, _ = timed([sys.executable, "-m", "max2code", "simulate", "--lang", lang, scene_path, "-o", out,
                               "-q", *extra], env=env)
     return wall, cpu, mb, os.path.getsize(out)
 
 
-def best(runs: int, f, *args):
-    """The result of least wall time (its first field) of `runs` calls."""
-    return min((f(*args) for _ in range(runs)), key=lambda r: r[0])
+def best(results: list[tuple]) -> tuple:
+    """The least wall time and the least CPU time of several runs, the
+    largest peak, and the rest of the last."""
+    return (min(r[0] for r in results), min(r[1] for r in results), max(r[2] for r in results), *results[-1][3:])
+
+
+def measure(build, flat_path: str, path: str, out: str, lang: str, cmds: list[tuple[str, str, str]], repeat: int):
+    """The engine and each command (label, checkout, converter), run in
+    turn `repeat` times (so that a change of the machine's load falls on
+    all alike); best() of each."""
+    runs: dict[str, list] = {}
+    for _ in range(repeat):
+        runs.setdefault("engine", []).append(engine(build, flat_path))
+        for label, root, conv in cmds:
+            runs.setdefault(label, []).append(command(path, out, lang, conv, root))
+    return best(runs["engine"]), [(label, best(runs[label])) for label, _, _ in cmds]
 
 
 HEAD = (f"{'scene':>14} {'events':>8} {'conv':>6} {'engine wall':>11} {'cpu':>6} {'MB':>4} "
@@ -121,10 +138,17 @@ def main(argv: list[str]) -> int:
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--converter", default="auto", choices=("auto", "c", "python", "both"),
                    help="the command's trace converter (both: c, then python)")
-    p.add_argument("--repeat", type=int, default=1, help="runs of each, the fastest shown (default 1)")
+    p.add_argument("--repeat", type=int, default=1,
+                   help="runs of each, in turn; the least wall and the least CPU shown (default 1)")
+    p.add_argument("--against", metavar="CHECKOUT",
+                   help="also time the command of another checkout of max2code (e.g. an older commit), in turn "
+                        "with this one's")
     p.add_argument("--examples", action="store_true", help="time the example scenes instead of gases")
     args = p.parse_args(argv)
     convs = ("c", "python") if args.converter == "both" else (args.converter,)
+    cmds = [(conv, ROOT, conv) for conv in convs]
+    if args.against:
+        cmds.append(("other", os.path.abspath(args.against), "auto"))
     print(HEAD)
     with tempfile.TemporaryDirectory(prefix="simcmd-") as tmp:
         out, flat_path = os.path.join(tmp, "trace.jsonl"), os.path.join(tmp, "scene.flat")
@@ -134,10 +158,9 @@ def main(argv: list[str]) -> int:
                 build = build_simulator(args.lang, scene.effects, scene.taylor_order)
                 with open(flat_path, "w", encoding="ascii") as fh:
                     fh.write(compile_scene(scene))
-                eng = best(args.repeat, engine, build, flat_path)
-                for conv in convs:
-                    cmd = best(args.repeat, command, path, out, args.lang, conv)
-                    print(row(os.path.basename(path)[:-5][:14], eng[3], conv, eng, cmd))
+                eng, got = measure(build, flat_path, path, out, args.lang, cmds, args.repeat)
+                for label, cmd in got:
+                    print(row(os.path.basename(path)[:-5][:14], eng[3], label, eng, cmd))
         else:
             probe = parse_scene(json.dumps(gas(2, args.fraction, 1.0, args.seed)), "gas")
             build = build_simulator(args.lang, probe.effects, probe.taylor_order)
@@ -152,12 +175,11 @@ def main(argv: list[str]) -> int:
                     json.dump(raw, fh)
                 with open(flat_path, "w", encoding="ascii") as fh:
                     fh.write(compile_scene(parse_scene(json.dumps(raw), path)))
-                eng = best(args.repeat, engine, build, flat_path)
-                for conv in convs:
-                    cmd = best(args.repeat, command, path, out, args.lang, conv)
-                    print(row(f"gas {n}", eng[3], conv, eng, cmd))
+                eng, got = measure(build, flat_path, path, out, args.lang, cmds, args.repeat)
+                for label, cmd in got:
+                    print(row(f"gas {n}", eng[3], label, eng, cmd))
     print("engine: the simulator's process on the flat scene, its trace drained into a pipe; cmd: `max2code "
-          "simulate -o TRACE -q --converter CONV` in a fresh process (scene check, build cache look-up, run, JSON "
+          "simulate -o TRACE -q --converter CONV` in a fresh process (other: the --against checkout's command) (scene check, build cache look-up, run, JSON "
           "trace; its CPU includes the simulator's); ratio: cmd wall / engine wall; cpu ratio: cmd CPU / engine "
           f"CPU; MB: peak resident memory (the command's: of its largest process); load average at the end: "
           f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}")
