@@ -29,7 +29,7 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "moving": {"python"}}
+          "moving": {"python", "m2"}}
 # the steps every proof needs; the others only the proofs that name them
 BASE_STEPS = ("hop", "cover")
 

@@ -18,7 +18,7 @@ IMPLEMENTATION MODULE SimWorld ;
    handle_support, handle_stop, handle_leave, start, finish, dispatch,
    process, is_stale, push, push_collision, push_horizon, contact_frame,
    contact_impulse, normal_speed, can_support, flat, enter_support,
-   slide_accel, end_support, schedule_support, first_crossing, rebase,
+   slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, inputs_now, remove, wake_touching, grounded, at_rest,
    hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
@@ -1280,7 +1280,7 @@ END normal_speed ;
 (* ---- support: resting and sliding on a fixed body -------------------------------- *)
 
 (* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
-   the world (B does not move). *)
+   the world (B does not turn). *)
 PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
 VAR
    c, s, enx, eny: REAL ;
@@ -1324,21 +1324,22 @@ BEGIN
 END flat ;
 
 
-(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
-   B becomes support (docs/simulator.md, Contact model). *)
+(* A point-edge contact of movable A on edge j of a fixed polygon B that
+   does not turn (it may translate) becomes support, everything relative to
+   B (docs/simulator.md, Contact model); both advanced. *)
 PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
 VAR
    tx, ty, ox, oy, load, q, u: REAL ;
 BEGIN
-   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (B^.om # 0.0) THEN RETURN FALSE END ;
    support_frame (B, j, tx, ty, ox, oy) ;
-   load := -(A^.fax * ox + A^.fay * oy) ;
+   load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
    IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
    q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
    IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
    (* at an end of the edge (within the tolerance) and moving past it: it is
       leaving (a support would end at once, again and again) *)
-   u := A^.vx * tx + A^.vy * ty ;
+   u := (A^.vx - B^.vx) * tx + (A^.vy - B^.vy) * ty ;
    IF ((u > 0.0) AND (q >= Verts^[B^.v0 + j].s2 - Tol)) OR ((u < 0.0) AND (q <= Verts^[B^.v0 + j].s1 + Tol)) THEN
       RETURN FALSE
    END ;
@@ -1350,14 +1351,17 @@ BEGIN
 END can_support ;
 
 
-(* Acceleration of supported A with tangential speed u: the free
-   acceleration along the edge less Coulomb friction mu |a_n| against the
-   motion; at rest, none while friction can hold it. *)
+(* Acceleration of supported A with tangential speed u relative to its
+   support B: the relative free acceleration along the edge less Coulomb
+   friction mu |a_n| against the relative motion; at relative rest, none
+   while friction can hold it; plus B's acceleration when B moves. *)
 PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
 VAR
    f, a: REAL ;
+   B: BodyRef ;
 BEGIN
-   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   B := ADR (Bodies^[A^.sup]) ;
+   f := A^.mu * B^.mu * A^.load ;
    IF u > 0.0 THEN
       a := A^.at - f
    ELSIF u < 0.0 THEN
@@ -1369,28 +1373,39 @@ BEGIN
    ELSE
       a := 0.0
    END ;
-   A^.ax := a * A^.tx ;
-   A^.ay := a * A^.ty
+   IF static (B) THEN
+      A^.ax := a * A^.tx ;
+      A^.ay := a * A^.ty
+   ELSE
+      A^.ax := B^.ax + a * A^.tx ;
+      A^.ay := B^.ay + a * A^.ty
+   END
 END slide_accel ;
 
 
-(* A (advanced to now) keeps only its velocity along the edge, stops
-   turning, and from now on accelerates along the edge only. *)
+(* A (advanced to now, as B) keeps only its velocity relative to B along the
+   edge, stops turning, and from now on accelerates relative to B along the
+   edge only. *)
 PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
 VAR
    tx, ty, ox, oy, u: REAL ;
 BEGIN
    support_frame (B, j, tx, ty, ox, oy) ;
-   u := A^.vx * tx + A^.vy * ty ;
-   A^.vx := u * tx ;
-   A^.vy := u * ty ;
+   u := (A^.vx - B^.vx) * tx + (A^.vy - B^.vy) * ty ;
+   IF static (B) THEN
+      A^.vx := u * tx ;
+      A^.vy := u * ty
+   ELSE
+      A^.vx := B^.vx + u * tx ;
+      A^.vy := B^.vy + u * ty
+   END ;
    IF A^.polygon THEN A^.om := 0.0 END ;
    A^.sup := B^.idx ;
    A^.sup_edge := j ;
    A^.tx := tx ;
    A^.ty := ty ;
-   A^.load := -(A^.fax * ox + A^.fay * oy) ;
-   A^.at := A^.fax * tx + A^.fay * ty ;
+   A^.load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
+   A^.at := (A^.fax - B^.ax) * tx + (A^.fay - B^.ay) * ty ;
    slide_accel (A, u)
 END enter_support ;
 
@@ -1423,19 +1438,33 @@ BEGIN
 END first_crossing ;
 
 
-(* A supported body's stop (its tangential speed reaches zero) and leave
-   (its centre, projected on the edge, reaches an end) events; b is at its
-   own time tb (the reference's now). *)
+(* Supported b's motion relative to its support B along the edge, at b's
+   time: q the centre's coordinate along the tangent from B's centre, u, a
+   its speed and acceleration. *)
+PROCEDURE support_relative (b: BodyRef; VAR q, u, a: REAL) ;
+VAR
+   B: BodyRef ;
+   bx, by, bvx, bvy, bang: REAL ;
+BEGIN
+   B := ADR (Bodies^[b^.sup]) ;
+   StateAt (B, b^.tb, bx, by, bvx, bvy, bang) ;
+   q := (b^.px - bx) * b^.tx + (b^.py - by) * b^.ty ;
+   u := (b^.vx - bvx) * b^.tx + (b^.vy - bvy) * b^.ty ;
+   a := (b^.ax - B^.ax) * b^.tx + (b^.ay - B^.ay) * b^.ty
+END support_relative ;
+
+
+(* A supported body's stop (its tangential speed relative to the support
+   reaches zero) and leave (its centre, projected on the edge, reaches an
+   end) events; b is at its own time tb (the reference's now). *)
 PROCEDURE schedule_support (b: BodyRef) ;
 VAR
    u, a, q, hi, s1, s2: REAL ;
-   B: BodyRef ;
    ed: INTEGER ;
    f1, f2: BOOLEAN ;
    ev: Event ;
 BEGIN
-   u := b^.vx * b^.tx + b^.vy * b^.ty ;
-   a := b^.ax * b^.tx + b^.ay * b^.ty ;
+   support_relative (b, q, u, a) ;
    IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
       ev.t := b^.tb + (-u) / a ;
       ev.kind := KStop ;
@@ -1443,9 +1472,7 @@ BEGIN
       ev.stop.stamp := b^.stamp ;
       push (ev)
    END ;
-   B := ADR (Bodies^[b^.sup]) ;
-   ed := B^.v0 + b^.sup_edge ;
-   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
+   ed := Bodies^[b^.sup].v0 + b^.sup_edge ;
    hi := EndT - b^.tb ;
    f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
    f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
@@ -1594,16 +1621,20 @@ BEGIN
 END grounded ;
 
 
-(* A supported body slower than rest_speed along its edge that static
-   friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
-   on a level frictionless edge at = 0): it stays where it is. *)
+(* A body supported by an unmoving body, slower than rest_speed along its
+   edge, that static friction would hold there (|at| <= mu load, as in
+   slide_accel at u = 0; on a level frictionless edge at = 0): it stays where
+   it is.  On a moving support: never (it does not sleep). *)
 PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
 VAR
    u, f: REAL ;
+   B: BodyRef ;
 BEGIN
+   B := ADR (Bodies^[A^.sup]) ;
+   IF NOT static (B) THEN RETURN FALSE END ;
    u := A^.vx * A^.tx + A^.vy * A^.ty ;
    IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
-   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   f := A^.mu * B^.mu * A^.load ;
    RETURN (NOT (A^.at > f)) AND NOT (A^.at < -f)
 END at_rest ;
 
@@ -1931,16 +1962,23 @@ BEGIN
 END EmitSupportEnd ;
 
 
-(* Sliding stops: velocity exactly zero, then rest or slide back. *)
+(* Sliding stops: velocity exactly the support's (zero when it does not
+   move), then rest or slide back. *)
 PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
 VAR
-   A: BodyRef ;
+   A, B: BodyRef ;
+   bx, by, bang: REAL ;
 BEGIN
    INC (Stats.stops) ;
    A := ADR (Bodies^[ev.body]) ;
    rebase (A, t) ;
-   A^.vx := 0.0 ;
-   A^.vy := 0.0 ;
+   B := ADR (Bodies^[A^.sup]) ;
+   IF static (B) THEN
+      A^.vx := 0.0 ;
+      A^.vy := 0.0
+   ELSE
+      StateAt (B, t, bx, by, A^.vx, A^.vy, bang)
+   END ;
    slide_accel (A, 0.0) ;
    EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
    IF at_rest (A) THEN
