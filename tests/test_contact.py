@@ -543,3 +543,22 @@ def test_the_moving_platform_example_never_overlaps_nor_gains_energy_in_the_plat
     assert energy_growth(scene, rp).max_growth > 1e-3          # the world's: the platform drives
     er = energy_growth(scene, rp, frame=V)
     assert er.max_growth <= 1e-12 and er.max_jump <= 1e-12, er
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_moving_fixed_body_that_hits_a_sleeper_wakes_it_and_pushes_it(lang):
+    """A fixed pusher moving at 0.5 m/s reaches a ball asleep on the floor:
+    the sleeper cannot be held as if fixed against a fixed body (no mass to
+    share the impulse), so it takes the full impulse and wakes at once:
+    restitution 0.5 sends it off at 0.5 + 0.5 * 0.5 m/s, sliding on the
+    frictionless floor."""
+    pusher = {"name": "pusher", "shape": "polygon", "fixed": True, "position": [-0.6, 0.15], "velocity": [0.5, 0.0],
+              "vertices": [[-0.05, -0.1], [0.05, -0.1], [0.05, 0.1], [-0.05, 0.1]]}
+    scene, tr, rp = run([floor(half=2.0), ball(restitution=0.5), pusher], end=2.0, lang=lang)
+    k = kinds(tr)
+    assert k[:5] == ["support", "sleep", "wake", "collision", "support"]
+    hit = next(e for e in tr.events if e["kind"] == "collision")
+    assert hit["t"] == pytest.approx((0.6 - 0.05 - 0.1) / 0.5, rel=1e-12)
+    st = rp.state_at("ball", 1.5)
+    assert st.vx == pytest.approx(0.75, rel=1e-12) and st.vy == 0.0 and st.py == 0.1
+    no_overlap(scene, rp)

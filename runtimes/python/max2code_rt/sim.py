@@ -1253,9 +1253,14 @@ class World:
         rest_speed, j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S
         stays asleep, unchanged: a gentle touch); else the other body's
         velocity is restored and the full impulse is applied (S moves:
-        `jolted`, its island wakes).  Returns the impulse applied."""
+        `jolted`, its island wakes).  When the other body is fixed (it moves
+        or turns: a sleeper is never predicted against an unmoving one) S
+        cannot be held (the pair would have no mass): the full impulse at
+        once.  Returns the impulse applied."""
         S = A if A.asleep else B
         M = B if A.asleep else A
+        if M.fixed:
+            return self.contact_impulse(A, B, cx, cy, nx, ny)
         vx, vy, om = M.vx, M.vy, M.om
         inv_m, inv_i = S.inv_m, S.inv_i
         S.inv_m = 0.0
