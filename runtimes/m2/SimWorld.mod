@@ -1645,7 +1645,9 @@ END at_rest ;
    j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
    unchanged: a gentle touch); else the other body's velocity is restored
    and the full impulse is applied (S moves: jolted, its island wakes).
-   Returns the impulse applied. *)
+   When the other body is fixed (it moves or turns: a sleeper is never
+   predicted against an unmoving one) S cannot be held (the pair would have
+   no mass): the full impulse at once.  Returns the impulse applied. *)
 PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    S, M: BodyRef ;
@@ -1658,6 +1660,7 @@ BEGIN
       S := B ;
       M := A
    END ;
+   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny) END ;
    vx := M^.vx ;
    vy := M^.vy ;
    om := M^.om ;
