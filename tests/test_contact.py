@@ -29,14 +29,17 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "moving": {"python", "m2"}}
-# the steps every proof needs; the others only the proofs that name them
-BASE_STEPS = ("hop", "cover")
+          "stuck": {"python", "m2"}, "moving": {"python", "m2"}}
+# the steps every proof needs (without them a runtime cannot read the flat
+# scene, or writes other bytes everywhere); a proof names the others it needs
+EVERYWHERE = ("hop", "cover")
 
 
-def runtimes(*steps):
-    need = BASE_STEPS + steps
-    missing = lambda lang: sorted(step for step in need if lang not in PORTED[step])     # noqa: E731
+def runtimes(*needs):
+    """LANGS, each a strict xfail while it lacks one of the REF steps
+    EVERYWHERE or needs."""
+    steps = EVERYWHERE + needs
+    missing = lambda lang: sorted(step for step in steps if lang not in PORTED[step])     # noqa: E731
     return [lang if not missing(lang) else
             pytest.param(lang, marks=pytest.mark.xfail(strict=True, reason=f"{lang} port of REF step(s) "
                                                                             f"{', '.join(missing(lang))} not merged yet"))
@@ -266,14 +269,56 @@ def test_a_ball_bouncing_gently_on_a_sleeper_comes_back_onto_it(seed):
     _closed_scene_checks(resting_scene(seed, boxes=False), f"resting-{seed}.json")
 
 
+def stuck_at_once(raw: dict) -> dict:
+    """The scene with a low limit of events at one instant: these small
+    scenes have at most a few at any instant, and a loop (stuck) then fails
+    at once in every runtime instead of after 100000 events."""
+    raw["max_events_at_one_time"] = 1000
+    return raw
+
+
+@pytest.mark.parametrize("lang", runtimes("stuck"))
 @pytest.mark.parametrize("seed", [12345, 31689])
-@pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known: random resting boxes (resting_scene with boxes) that get stuck at one "
-                          "instant (more than 100000 events) in every runtime alike; found by the port "
-                          "helpers of session 5, cause not yet found")
-def test_random_resting_boxes_that_get_stuck(seed):
-    scene = parse_scene(json.dumps(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json")
-    run_scene(scene, "c")
+def test_random_resting_boxes_whose_bottom_corners_meet_finish(seed, lang):
+    """Found by the port helpers of session 5 (stuck at one instant in every
+    runtime): two boxes standing on the floor with their bottom corners
+    touching at one point; each corner was accepted against the other box's
+    bottom face (docs/simulator.md, "Corners").  They finish, with no
+    overlap beyond the tolerance and no gain of energy."""
+    name = f"resting-{seed}-boxes.json"
+    scene = parse_scene(json.dumps(stuck_at_once(resting_scene(seed, boxes=True))), name)
+    tr = run_scene(scene, lang)
+    rp = read_trace("\n".join(tr.lines()), scene, name)
+    no_overlap(scene, rp)
+    never_gains_energy(scene, rp, name)
+
+
+@pytest.mark.parametrize("depth,counts", [(0.99, True), (1.01, False)])
+def test_a_corner_counts_on_a_face_within_the_tolerance(depth, counts):
+    """A box's lower left corner on the right end of a floor's top face, the
+    box turned so that its lower right corner, beyond the floor's end, lies
+    `depth` tolerances below the face's line: the corner counts on the face
+    up to one tolerance, not beyond; the floor's corner on the box's bottom
+    face is a contact either way (docs/simulator.md, "Corners")."""
+    from max2code.sim.live import python_world
+    tol = 1e-9
+    th = -math.asin(depth * tol / 0.2)
+    c, s = math.cos(th), math.sin(th)
+    centre = [1.0 + 0.1 * c - 0.1 * s, 0.1 * s + 0.1 * c]     # the corner (-0.1, -0.1) turned by th at (1, 0)
+    raw = {"end_time": 1.0, "gravity": [0.0, -G], "tolerance": tol,
+           "bodies": [floor(), box_body(x=centre[0], y=centre[1], angle=th)]}
+    w = python_world(parse_scene(json.dumps(raw), "corner.json"))
+    F, X = w.s.bodies
+    top = next(j for j, v in enumerate(F.verts) if v.ny == 1.0)
+    near = lambda b, p: min(range(len(b.verts)), key=lambda k: math.dist(w.point_at(b, b.verts[k], 0.0), p))  # noqa: E731
+    i = near(X, (1.0, 0.0))
+    assert w.point_at(X, X.verts[(i + 1) % 4], 0.0)[1] < 0.0 or w.point_at(X, X.verts[(i + 3) % 4], 0.0)[1] < 0.0
+    got = w.predict_pe(X, F, X.verts[i], top, 0.0, 1.0, i)
+    assert (got == 0.0) if counts else (got is None), got
+    # the floor's corner on the box's bottom face (outward normal down)
+    bottom = next(j for j in range(4) if w.edge_line(X, j, 0.0)[1] < -0.5)
+    k = near(F, (1.0, 0.0))
+    assert w.predict_pe(F, X, F.verts[k], bottom, 0.0, 1.0, k) == 0.0
 
 
 def test_box_spinning_into_a_floor_wall_corner():

@@ -24,7 +24,7 @@ IMPLEMENTATION MODULE SimWorld ;
    hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
-   the reference's features is Features; the reference's predict_cc, predict_pe,
+   behind; the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
    and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
    CirclesFirst, CentreParams, CircleParams and BoundsMeet).
@@ -98,6 +98,7 @@ VAR
    ChkX, ChkY: BodyRef ;
    ChkRho, ChkBeta: REAL ;     (* the point: rho, beta about X's centre (rho 0: the centre) *)
    ChkEdge: INTEGER ;
+   ChkVert: INTEGER ;          (* the point is X's vertex ChkVert (local index; -1: not a vertex) *)
    ChkNow: REAL ;
    (* events at the current instant (the "stuck" check) *)
    LastT: REAL ;
@@ -308,11 +309,37 @@ END Min ;
 
 (* ---- first valid root of one feature ----------------------------------- *)
 
+(* A neighbour of X's vertex i at t lies more than the tolerance behind the
+   line (c, sn) . (p - (qx, qy)) = h (an edge's line: its outward unit
+   normal (c, sn), its body's centre (qx, qy)), previous neighbour first
+   (docs/simulator.md, "Corners"). *)
+PROCEDURE behind (X: BodyRef; i: INTEGER; t, qx, qy, c, sn, h: REAL) : BOOLEAN ;
+VAR
+   px, py, pvx, pvy, pa, lim, kx, ky: REAL ;
+   n, m, k: INTEGER ;
+   v: Vertex ;
+BEGIN
+   n := X^.nv ;
+   StateAt (X, t, px, py, pvx, pvy, pa) ;
+   lim := -Tol ;
+   FOR m := 0 TO 1 DO
+      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      v := Verts^[X^.v0 + k] ;
+      kx := px + v.rho * cos (pa + v.beta) ;
+      ky := py + v.rho * sin (pa + v.beta) ;
+      IF (kx - qx) * c + (ky - qy) * sn - h < lim THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END behind ;
+
+
 (* The point-edge check of predict_pe: whether the contact at s lies on the
-   edge (within the tolerance); the prediction sets Chk*. *)
+   edge (within the tolerance) and, when the point is X's vertex ChkVert,
+   neither of its neighbours lies behind the edge's line (behind); the
+   prediction sets Chk*. *)
 PROCEDURE Inside (s: REAL) : BOOLEAN ;
 VAR
-   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, along: REAL ;
+   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, c, sn, along: REAL ;
    ed: Vertex ;
 BEGIN
    ed := Verts^[ChkEdge] ;
@@ -324,8 +351,12 @@ BEGIN
    END ;
    StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
    th := qa + ed.psi ;
-   along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
-   RETURN (ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)
+   c := cos (th) ;
+   sn := sin (th) ;
+   along := (px - qx) * (-sn) + (py - qy) * c ;
+   IF NOT ((ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)) THEN RETURN FALSE END ;
+   IF ChkVert < 0 THEN RETURN TRUE END ;
+   RETURN NOT behind (ChkX, ChkVert, t, qx, qy, c, sn, ed.h)
 END Inside ;
 
 
@@ -576,9 +607,12 @@ END PeCoefficients ;
 
 (* The first contact within [0, w] of PeCoefficients' polynomial (degree
    deg; none when deg < 0) whose point (X's centre, or rho, beta about it)
-   lies on edge j's segment. *)
+   lies on edge j's segment; when the point is X's vertex i (i >= 0), both
+   neighbours of that vertex must also lie no more than the tolerance behind
+   edge j's line (behind: else that line does not separate the bodies
+   there, a corner meeting a corner: another feature pair is the contact). *)
 PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
-                   now, w: REAL; VAR t: REAL) : BOOLEAN ;
+                   now, w: REAL; i: INTEGER; VAR t: REAL) : BOOLEAN ;
 BEGIN
    IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
@@ -586,13 +620,14 @@ BEGIN
    ChkRho := rho ;
    ChkBeta := beta ;
    ChkEdge := Y^.v0 + j ;
+   ChkVert := i ;
    ChkNow := now ;
    RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
 END PeFirst ;
 
 
-(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y (none while a fixed body covers the edge: its cover
+(* Point of X (circle centre with radius, vx < 0, or vertex vx: the index in
+   Verts of X's vertex vx - X^.v0) against the line of edge j of Y (none while a fixed body covers the edge: its cover
    is not gone; nothing is counted). *)
 PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
@@ -612,7 +647,10 @@ BEGIN
       rad := 0.0
    END ;
    deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
-   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, t)
+   IF vx < 0 THEN
+      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, t)
+   END ;
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, t)
 END PredictPE ;
 
 
@@ -670,7 +708,7 @@ BEGIN
    found := FALSE ;
    meet := 0.0 ;
    FOR j := 0 TO P^.nv - 1 DO
-      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, t) ;
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1, t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t

@@ -587,9 +587,9 @@ class World:
         self.stats.features += 1
         return self.cc_coef(*args)
 
-    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float):
-        """Point of X (circle centre with radius, or vertex vx_) against the line of edge j of Y
-        (none while a fixed body covers the edge: its cover is not gone)."""
+    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float, i: int = -1):
+        """Point of X (circle centre with radius, or vertex vx_, X's vertex i) against the line of edge j
+        of Y (none while a fixed body covers the edge: its cover is not gone)."""
         cover = Y.verts[j].cover
         if cover >= 0 and not self.s.bodies[cover].gone:
             return None
@@ -598,7 +598,7 @@ class World:
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
         coef = self.pe_coefficients(X, Y, rho, beta, rad, j, now)
-        return self.pe_first(coef, X, Y, rho, beta, j, now, w)
+        return self.pe_first(coef, X, Y, rho, beta, j, now, w, i)
 
     def pe_coefficients(self, X: Body, Y: Body, rho: float, beta: float, rad: float, j: int,
                         now: float) -> list[float]:
@@ -627,9 +627,13 @@ class World:
         return self.pe_coef(*args)
 
     def pe_first(self, coef: list[float], X: Body, Y: Body, rho: float, beta: float, j: int, now: float,
-                 w: float):
+                 w: float, i: int = -1):
         """The first contact within [0, w] of pe_coefficients' polygon whose
-        point (X's centre, or rho, beta about it) lies on edge j's segment."""
+        point (X's centre, or rho, beta about it) lies on edge j's segment;
+        when the point is X's vertex i (i >= 0), both neighbours of that
+        vertex must also lie no more than the tolerance behind edge j's line
+        (`behind`: else that line does not separate the bodies there, a
+        corner meeting a corner: another feature pair is the contact)."""
         ed = Y.verts[j]
         tol = self.s.tol
 
@@ -640,10 +644,32 @@ class World:
                 px, py = px + rho * math.cos(pa + beta), py + rho * math.sin(pa + beta)
             qx, qy, _, _, qa = self.state_at(Y, t)
             th = qa + ed.psi
-            along = (px - qx) * -math.sin(th) + (py - qy) * math.cos(th)
-            return ed.s1 - tol <= along <= ed.s2 + tol
+            c = math.cos(th)
+            sn = math.sin(th)
+            along = (px - qx) * -sn + (py - qy) * c
+            if not (ed.s1 - tol <= along <= ed.s2 + tol):
+                return False
+            if i < 0:
+                return True
+            return not self.behind(X, i, t, qx, qy, c, sn, ed.h)
 
         return self.first_contact(coef, len(coef) - 1, w, tol, inside)
+
+    def behind(self, X: Body, i: int, t: float, qx: float, qy: float, c: float, sn: float, h: float) -> bool:
+        """A neighbour of X's vertex i at t lies more than the tolerance
+        behind the line (c, sn) . (p - (qx, qy)) = h (an edge's line: its
+        outward unit normal (c, sn) at angle th, its body's centre (qx, qy)),
+        previous neighbour first (docs/simulator.md, "Corners")."""
+        n = len(X.verts)
+        px, py, _, _, pa = self.state_at(X, t)
+        lim = -self.s.tol
+        for k in ((i + n - 1) % n, (i + 1) % n):
+            v = X.verts[k]
+            kx = px + v.rho * math.cos(pa + v.beta)
+            ky = py + v.rho * math.sin(pa + v.beta)
+            if (kx - qx) * c + (ky - qy) * sn - h < lim:
+                return True
+        return False
 
     def point_at(self, b: Body, v: Vertex | None, t: float) -> tuple[float, float]:
         """World position of a circle's centre (v None) or of a vertex, at t."""
@@ -862,7 +888,7 @@ class World:
     def vertices_edges(self, A: Body, B: Body, now: float, w: float, best):
         for i, v in enumerate(A.verts):
             for j in range(len(B.verts)):
-                best = self._better(best, self.predict_pe(A, B, v, j, now, w), PE, A.idx, B.idx, i, j)
+                best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
         return best
 
     # ---- per body -----------------------------------------------------------
