@@ -151,14 +151,16 @@ write("ball-pit.json", {
     "inputs": [{"time": 5.0, "body": "dropper", "set_velocity": [1.2, 0.0]}]})
 
 # a moving platform (issue 10): a short level of two ledges with a gap; a
-# platform (fixed, friction) crosses the gap at 0.4 m/s carrying a box that
+# platform (fixed, friction) goes back and forth across the gap at 0.5 m/s
+# (scripted set_velocity inputs reverse it at each end), carrying a box that
 # rests on it; a ball dropped into the gap lands on the platform, bounces,
 # comes to rest on it and is carried along too (neither sleeps: a body on a
-# moving support never does); another ball sleeps on the right ledge
-V = 0.4
+# moving support never does); at each reversal both slide on the platform
+# until friction stops them; another ball sleeps on the right ledge
+V = 0.5
 write("moving-platform.json", {
-    "name": "moving platform: a box and a ball carried across a gap", "end_time": 4.0, "frame_rate": 60,
-    "gravity": [0.0, -9.81],
+    "name": "moving platform: a box and a ball carried back and forth across a gap", "end_time": 8.0,
+    "frame_rate": 60, "gravity": [0.0, -9.81],
     "bodies": [plank("ledge_l", 0.5, -0.1, 0.5, 0.1, friction=1.0),
                plank("ledge_r", 3.9, -0.1, 0.5, 0.1, friction=1.0),
                plank("pit", 2.2, -1.1, 1.2, 0.1),
@@ -168,6 +170,8 @@ write("moving-platform.json", {
                 "position": [1.2, 0.1], "velocity": [V, 0.0],
                 "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]},
                {"name": "ball", "shape": "circle", "radius": 0.06, "mass": 0.2, "restitution": 0.5,
-                "friction": 0.3, "position": [1.75, 0.9]},
+                "friction": 0.3, "position": [1.85, 0.9]},
                {"name": "rester", "shape": "circle", "radius": 0.08, "mass": 0.3, "restitution": 0.5,
-                "friction": 0.3, "position": [3.9, 0.08]}]})
+                "friction": 0.3, "position": [3.9, 0.08]}],
+    "inputs": [{"time": 3.4, "body": "platform", "set_velocity": [-V, 0.0]},
+               {"time": 6.8, "body": "platform", "set_velocity": [V, 0.0]}]})

@@ -573,8 +573,9 @@ def test_a_platform_falling_slower_than_gravity_carries_the_ball_down(lang):
 def test_the_moving_platform_example_never_overlaps_nor_gains_energy_in_the_platform_frame():
     """examples/moving-platform.json: the box and the ball end carried at the
     platform's velocity; no overlap at any event or frame; in the frame of
-    the platform (inertial: constant velocity) the energy never grows, where
-    in the world's the platform's friction does work on what it carries."""
+    the platform (inertial between the inputs that reverse it: constant
+    velocity) the energy never grows, where in the world's the platform's
+    friction does work on what it carries."""
     path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples",
                         "moving-platform.json")
     from max2code.sim.scene import load_scene
@@ -583,10 +584,11 @@ def test_the_moving_platform_example_never_overlaps_nor_gains_energy_in_the_plat
     tr = run_scene(scene, "python")
     rp = read_trace("\n".join(tr.lines()), scene, path)
     no_overlap(scene, rp)
-    V = next(b for b in scene.bodies if b.name == "platform").velocity
-    assert final(tr, "box")["velocity"] == list(V) and final(tr, "ball")["velocity"] == list(V)
+    V = final(tr, "platform")["velocity"]
+    assert final(tr, "box")["velocity"] == V and final(tr, "ball")["velocity"] == V
+    assert [e["t"] for e in tr.events if e["kind"] == "input"] == [i.time for i in scene.inputs]
     assert energy_growth(scene, rp).max_growth > 1e-3          # the world's: the platform drives
-    er = energy_growth(scene, rp, frame=V)
+    er = energy_growth(scene, rp, frame="platform")
     assert er.max_growth <= 1e-12 and er.max_jump <= 1e-12, er
 
 
@@ -607,3 +609,71 @@ def test_a_moving_fixed_body_that_hits_a_sleeper_wakes_it_and_pushes_it(lang):
     st = rp.state_at("ball", 1.5)
     assert st.vx == pytest.approx(0.75, rel=1e-12) and st.vy == 0.0 and st.py == 0.1
     no_overlap(scene, rp)
+
+
+def reversing_platform_scene(V=0.5, mu=0.5, t1=0.6, end=1.5):
+    return [platform(velocity=(V, 0.0), friction=1.0), box_body(velocity=[V, 0.0], friction=mu)], \
+        [{"time": t1, "body": "platform", "set_velocity": [-V, 0.0]}], end
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_box_on_a_platform_that_reverses_slides_on_it_then_rides_back(lang):
+    """A box rides a platform at V; at t1 an input sets the platform's
+    velocity to -V: the box leaves its support (it keeps V), meets the
+    platform again at once and slides on it at 2V relative, friction
+    (mu g) stops the relative slide at t1 + 2V / (mu g), and from then on
+    it moves with the platform, -V exactly."""
+    V, mu, t1 = 0.5, 0.5, 0.6
+    bodies, inputs, end = reversing_platform_scene(V, mu, t1)
+    scene, tr, rp = run(bodies, end=end, lang=lang, inputs=inputs)
+    assert kinds(tr) == ["support", "input", "leave", "support", "stop"]
+    stop = next(e for e in tr.events if e["kind"] == "stop")
+    ts = 2 * V / (mu * G)
+    assert stop["t"] == pytest.approx(t1 + ts, rel=1e-12)
+    x1 = V * t1
+    for t in rp.frame_times:
+        st = rp.state_at("box", t)
+        pl = rp.state_at("platform", t)
+        assert st.py == 0.1 and st.angle == 0.0
+        if t <= t1:
+            assert st.px == pytest.approx(V * t, rel=1e-12) and pl.px == pytest.approx(V * t, rel=1e-12)
+        else:
+            assert pl.px == pytest.approx(x1 - V * (t - t1), rel=1e-12, abs=1e-15) and pl.vx == -V
+            s = min(t - t1, ts)
+            x = x1 + V * s - mu * G * s * s / 2 - V * (t - t1 - s)
+            assert st.px == pytest.approx(x, rel=1e-12, abs=1e-12)
+            assert st.vx == (pytest.approx(V - mu * G * s, rel=1e-12, abs=1e-12) if t < t1 + ts else -V)
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_a_ball_asleep_on_a_platform_wakes_when_an_input_sets_it_moving(lang):
+    """The ball falls asleep on the platform at rest; at t1 the platform is
+    set moving at V: the ball's island wakes, the ball is supported again
+    relative to the moving platform and (no friction) keeps its world x
+    until the platform's left end passes under it, at t1 + (x0 + 1) / V."""
+    V, x0, t1 = 0.8, 0.25, 0.5
+    scene, tr, rp = run([platform(), ball(x=x0)], end=3.0, lang=lang,
+                        inputs=[{"time": t1, "body": "platform", "set_velocity": [V, 0.0]}])
+    assert kinds(tr)[:6] == ["support", "sleep", "input", "wake", "support", "leave"]
+    leave = next(e for e in tr.events if e["kind"] == "leave")
+    assert leave["t"] == pytest.approx(t1 + (x0 + 1.0) / V, rel=1e-12)
+    for t in rp.frame_times:
+        if t >= leave["t"]:
+            break
+        st = rp.state_at("ball", t)
+        assert st.px == x0 and st.py == 0.1 and st.vx == 0.0 and st.vy == 0.0
+    no_overlap(scene, rp)
+
+
+@pytest.mark.parametrize("body, kind, msg", [
+    ({"angular_velocity": 1.0}, "set_velocity", "is fixed"),
+    ({}, "add_velocity", "is fixed"),
+    ({}, "impulse", "is fixed"),
+])
+def test_inputs_on_fixed_bodies_other_than_setting_a_translating_polygons_velocity_are_refused(body, kind, msg):
+    from max2code.sim.scene import SceneError
+    raw = {"end_time": 1.0, "bodies": [platform(**body), ball(y=0.5)],
+           "inputs": [{"time": 0.5, "body": "platform", kind: [1.0, 0.0]}]}
+    with pytest.raises(SceneError, match=msg):
+        parse_scene(json.dumps(raw), "s.json")

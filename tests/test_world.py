@@ -28,6 +28,7 @@ EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("world", "inputs", "bodies", "recordings")}
+PORTED["moving"] = {"python", "m2"}     # support on moving fixed bodies, inputs on fixed ones (test_contact.py)
 
 
 def runtimes(step: str):
@@ -112,6 +113,63 @@ def test_live_removals_write_the_bytes_of_the_same_removals_scripted(lang):
         w = line.split()
         s = rp.state_at(int(w[2]), float(w[1]))
         assert tuple(float(x) for x in w[3:9]) == (s.px, s.py, s.vx, s.vy, s.angle, s.omega), line
+
+
+def moving_platform_scene():
+    """A platform that goes back and forth (set_velocity on a fixed
+    polygon, at probe times (0.05 s steps) and between), carrying a box, with a ball
+    asleep on a ledge that the platform's first input does not touch and a
+    ball it wakes (asleep on it while it stands)."""
+    plank = lambda name, x, y, hw, **kw: dict({"name": name, "shape": "polygon", "fixed": True,   # noqa: E731
+                                               "position": [x, y], "friction": 1.0,
+                                               "vertices": [[-hw, -0.05], [hw, -0.05], [hw, 0.05], [-hw, 0.05]]},
+                                              **kw)
+    return {"end_time": 3.0, "frame_rate": 30, "gravity": [0.0, -9.81],
+            "bodies": [plank("ledge", -2.0, -0.05, 0.5), plank("platform", 0.0, -0.05, 0.8),
+                       {"name": "box", "shape": "polygon", "mass": 1.0, "friction": 0.5, "position": [-0.3, 0.1],
+                        "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]},
+                       {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.4, 0.1]},
+                       {"name": "rester", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [-2.0, 0.1]}],
+            "inputs": [{"time": 0.5, "body": "platform", "set_velocity": [0.6, 0.0]},
+                       {"time": 1.2, "body": "platform", "set_velocity": [-0.6, 0.0]},
+                       {"time": 1.9, "body": "platform", "set_velocity": [0.0, 0.0]},
+                       {"time": 2.27, "body": "platform", "set_velocity": [0.3, 0.1]}]}
+
+
+@pytest.mark.parametrize("lang", runtimes("moving"))
+def test_live_velocities_of_a_fixed_platform_write_the_bytes_of_the_same_inputs_scripted(lang):
+    """set_velocity on a fixed polygon, live at its times: the scripted
+    scene's bytes, and states equal to the replay: the movable bodies' bit
+    for bit, the platform's to rounding (the world re-bases a fixed body at
+    each of its collisions, which write no state line for it; the replay
+    carries it from its last input)."""
+    scene = parse_scene(json.dumps(moving_platform_scene()))
+    batch = run_scene(scene, lang)
+    kinds = [e["kind"] for e in batch.events if e["kind"] != "frame"]
+    assert kinds.count("input") == 4 and "wake" in kinds and "leave" in kinds
+    trace, probe = stepped(scene, lang, 0.05, live=True)
+    assert trace == batch.raw
+    rp = read_trace("\n".join(batch.lines()), scene)
+    for line in (x for x in probe if x.startswith("P ")):
+        w = line.split()
+        k = int(w[2])
+        s = rp.state_at(k, float(w[1]))
+        got, want = tuple(float(x) for x in w[3:9]), (s.px, s.py, s.vx, s.vy, s.angle, s.omega)
+        if scene.bodies[k].fixed:
+            assert got == pytest.approx(want, rel=1e-14, abs=1e-15), line
+        else:
+            assert got == want, line
+
+
+def test_a_fixed_body_takes_only_set_velocity_and_only_when_it_does_not_turn():
+    from max2code_rt.sim import SimError
+    scene = parse_scene(json.dumps(moving_platform_scene()))
+    w = python_world(scene)
+    w.advance(0.1)
+    with pytest.raises(SimError, match="is fixed"):
+        w.add_velocity(1, 1.0, 0.0)
+    w.set_velocity(1, 0.2, 0.0)
+    assert w.state(1, 0.1)[2:4] == (0.2, 0.0)
 
 
 # ---- the Python API itself -------------------------------------------------

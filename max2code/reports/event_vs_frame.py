@@ -205,7 +205,8 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
         if b.fixed:
             if b.acceleration != (0.0, 0.0):
                 raise EvfError(f"{scene.path}: {b.name}: a fixed body that accelerates has no pymunk counterpart")
-            moving = vx != 0.0 or vy != 0.0 or om != 0.0
+            # kinematic when it moves or turns, or an input sets its velocity later
+            moving = vx != 0.0 or vy != 0.0 or om != 0.0 or any(e.body == i for e in scene.inputs)
             body = pymunk.Body(body_type=pymunk.Body.KINEMATIC if moving else pymunk.Body.STATIC)
         else:
             body = pymunk.Body(b.mass, b.inertia if b.polygon else math.inf)

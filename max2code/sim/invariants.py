@@ -20,16 +20,28 @@ class InvariantReport:
     drift_where: str
 
 
-def energy(scene: Scene, rp: Replay, t: float, before: bool = False,
-           frame: tuple[float, float] = (0.0, 0.0)) -> float:
+def _frame_at(scene: Scene, rp: Replay, frame, t: float, before: bool = False):
+    """(velocity, displacement since t = 0) of the frame at t: a constant
+    velocity (vx, vy), or a body's name (a fixed body that does not
+    accelerate: its velocity changes only at the inputs that set it)."""
+    if isinstance(frame, str):
+        k = rp.body_index(frame)
+        s = rp.state_before(k, t) if before else rp.state_at(k, t)
+        x0, y0 = scene.bodies[k].position
+        return (s.vx, s.vy), (s.px - x0, s.py - y0)
+    return frame, (frame[0] * t, frame[1] * t)
+
+
+def energy(scene: Scene, rp: Replay, t: float, before: bool = False, frame=(0.0, 0.0)) -> float:
     """Kinetic (linear and rotational) plus potential energy of the movable
     bodies at time t: the potential of each body's free acceleration (the
     scene's, gravity included: a body whose own acceleration cancels
     gravity has none).  before: with the states in force just before t
     (carried to t), not the ones the events at t left.  frame: measured in
-    the inertial frame moving at that velocity (through the origin at t = 0):
-    velocities v - frame, positions p - frame t (the default: the world's)."""
-    fx, fy = frame
+    the frame moving at that constant velocity (or with that fixed body,
+    see _frame_at), which is the world's at t = 0: velocities less the
+    frame's, positions less its displacement (the default: the world's)."""
+    (fx, fy), (dx, dy) = _frame_at(scene, rp, frame, t, before)
     total = 0.0
     for k, b in enumerate(scene.bodies):
         if b.fixed:
@@ -38,7 +50,7 @@ def energy(scene: Scene, rp: Replay, t: float, before: bool = False,
         ax, ay = b.acceleration
         vx, vy = s.vx - fx, s.vy - fy
         total += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * s.omega * s.omega
-        total -= b.mass * (ax * (s.px - fx * t) + ay * (s.py - fy * t))
+        total -= b.mass * (ax * (s.px - dx) + ay * (s.py - dy))
     return total
 
 
@@ -51,10 +63,10 @@ class EnergyReport:
     jump_where: str
 
 
-def driven_instants(scene: Scene, rp: Replay, frame: tuple[float, float] = (0.0, 0.0)) -> set[float]:
+def driven_instants(scene: Scene, rp: Replay, frame=(0.0, 0.0)) -> set[float]:
     """The instants at which something outside the bodies may add energy: an
     input, or a contact with a fixed body that moves or turns in the frame
-    (moving at velocity `frame`: see energy) (it does work)."""
+    (see energy) (it does work)."""
     bodies = scene.bodies
     out = set()
     for e in rp.events:
@@ -63,21 +75,27 @@ def driven_instants(scene: Scene, rp: Replay, frame: tuple[float, float] = (0.0,
         elif e.kind in ("collision", "support"):
             for k in e.bodies:
                 b = bodies[k]
-                if b.fixed and (b.velocity != frame or b.acceleration != (0.0, 0.0) or b.angular_velocity != 0.0):
+                if not b.fixed:
+                    continue
+                s = rp.state_at(k, e.t)
+                if (s.vx, s.vy) != _frame_at(scene, rp, frame, e.t)[0] or b.acceleration != (0.0, 0.0) \
+                        or b.angular_velocity != 0.0:
                     out.add(e.t)
     return out
 
 
-def energy_growth(scene: Scene, rp: Replay, frame: tuple[float, float] = (0.0, 0.0)) -> EnergyReport:
+def energy_growth(scene: Scene, rp: Replay, frame=(0.0, 0.0)) -> EnergyReport:
     """Energy never grows: at every event instant t (frames left out), E(t)
     against the lowest energy at an instant since t = 0 or since the last
     driven instant (driven_instants: there it starts again from E after it),
     relative to the energy Eref at that start; and the jump E(t) - E(t-)
     across each instant that is not driven.  Between events, free motion and
     frictionless sliding keep E; friction and sleep only take it away.
-    frame: measured in the frame moving at that constant velocity (energy),
-    where a fixed body moving with the frame (a platform carrying bodies)
-    does no work and every fixed body that does not (walls) drives."""
+    frame: measured in the frame moving at that constant velocity, or with
+    that fixed body (energy), where a fixed body moving with the frame (a
+    platform carrying bodies) does no work and every fixed body that does
+    not (walls) drives; an input (one that sets the platform's velocity
+    too) drives."""
     driven = driven_instants(scene, rp, frame)
     ref = low = energy(scene, rp, 0.0, frame=frame)
     growth, gwhere = -math.inf, ""

@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 from max2code.errors import Max2CodeError
 from max2code.textio import InputError, read_text
-from max2code.sim.scene import REMOVE, TELEPORT, Body, Scene
+from max2code.sim.scene import REMOVE, SET_VELOCITY, TELEPORT, Body, Scene
 
 EVENT_KINDS = ("collision", "support", "stop", "leave", "sleep", "wake", "input", "frame")
 
@@ -229,7 +229,8 @@ class _Lines:
 
 def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: float | None = 1e-6) -> Replay:
     """Read a JSON-lines trace of `scene` into a Replay.  Errors (bad JSON,
-    unknown bodies or kinds, states of fixed bodies, times out of order or
+    unknown bodies or kinds, states of fixed bodies (but at an input that
+    sets its velocity), times out of order or
     past the end, a final line that does not list exactly the scene's
     bodies) name the file and line.  With a `tolerance` (None: no check),
     the trace must agree with the scene to that many metres (times the
@@ -312,7 +313,9 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
             rd.fail(f"{kind}: expected a list of 'states'")
         for s in states:
             k, st = rd.state(s, t, f"{kind} state")
-            if scene.bodies[k].fixed:
+            driven = (kind == "input" and isinstance(k_in, int) and 0 <= k_in < len(scene.inputs)
+                      and scene.inputs[k_in].mode == SET_VELOCITY and scene.inputs[k_in].body == k)
+            if scene.bodies[k].fixed and not driven:       # only an input that sets its velocity moves it
                 rd.fail(f"{kind}: the trace changes the motion of {scene.bodies[k].name}, which is fixed in "
                         f"{scene.path}: the trace belongs to another scene")
             if k not in ev.bodies and kind != "wake":       # a wake changes every body of its island

@@ -473,8 +473,11 @@ def _parse_scene(text: str, path: str) -> Scene:
         modes = [m for m in INPUT_KINDS if m in e]
         if len(modes) != 1:
             rd.fail(where, f"give exactly one of {', '.join(INPUT_KINDS)}")
-        if bodies[bi].fixed and modes[0] != "remove":
-            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only (or remove them)")
+        fb = bodies[bi]
+        if fb.fixed and modes[0] != "remove" and not (modes[0] == "set_velocity" and fb.polygon
+                                                      and fb.angular_velocity == 0.0):
+            rd.fail(f"{where}.body", f"'{e['body']}' is fixed: inputs move movable bodies only (or set the velocity "
+                                     "of a fixed polygon that does not turn, or remove a body)")
         if bi in removed:
             rd.fail(f"{where}.body", f"'{e['body']}' was removed by inputs[{removed[bi]}]")
         if modes[0] == "remove":
@@ -852,7 +855,8 @@ def _edges(pts: list[tuple[float, float]]) -> list[tuple[float, float, float]]:
 
 def covered_edges(scene: Scene) -> dict[int, list[int]]:
     """The faces of fixed polygons that no body can touch: edge k of a fixed,
-    unmoving polygon P is covered by another fixed, unmoving polygon Q (the
+    unmoving polygon P (no input sets its velocity) is covered by another
+    fixed, unmoving polygon Q (the
     first by index) when both its ends lie in Q (within the tolerance) and Q
     goes on past the edge on its outside: at each end, every edge of Q whose
     line it lies on (within the tolerance) faces away from the edge's
@@ -863,7 +867,8 @@ def covered_edges(scene: Scene) -> dict[int, list[int]]:
     Returns {body index: per edge, Q's index or -1} for the bodies that have
     a covered edge."""
     tol = scene.tolerance
-    static = [(k, b) for k, b in enumerate(scene.bodies) if b.polygon and _static(b)]
+    driven = {e.body for e in scene.inputs if e.mode == SET_VELOCITY}     # fixed bodies an input sets moving
+    static = [(k, b) for k, b in enumerate(scene.bodies) if b.polygon and _static(b) and k not in driven]
     if len(static) < 2:
         return {}
     shapes = {k: (_world_vertices(b), b) for k, b in static}

@@ -20,7 +20,7 @@ IMPLEMENTATION MODULE SimWorld ;
    contact_impulse, normal_speed, can_support, flat, enter_support,
    slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
-   live_input, inputs_now, remove, wake_touching, grounded, at_rest,
+   live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
    hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
@@ -118,6 +118,8 @@ VAR
    Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
    Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
    CapNear: INTEGER ;
+   Left: IntList ;             (* drive's list of the bodies that left the driven body *)
+   CapLeft: INTEGER ;
    CapEdgePolys: INTEGER ;
 
 
@@ -2077,6 +2079,10 @@ BEGIN
       remove (b, ev.k, t) ;
       RETURN
    END ;
+   IF b^.fixed THEN
+      drive (b, ev.k, t, inp.vx, inp.vy) ;
+      RETURN
+   END ;
    IF inp.mode = TeleportMode THEN
       o := overlapping (b, inp.vx, inp.vy, t) ;
       IF o >= 0 THEN
@@ -2167,9 +2173,75 @@ BEGIN
 END remove ;
 
 
-(* The islands of the sleepers whose bounding circles reach the removed
-   body's (within the tolerance) wake: it may have held them (by index; a
-   woken island's other members are awake already). *)
+(* Input k sets the velocity of fixed polygon B (based at t, it does not
+   turn): a large one placed in grid cells moves to the large list for
+   good; every body it supported leaves (E leave, free motion: it meets B
+   again at once and is supported again relative to B's new motion, or
+   bounces, or falls); B is predicted against every body again (a large B:
+   each small one that is not fixed or removed, in index order; a small one:
+   PredictBody), the bodies that left against the others; last the islands
+   touching B wake (wake_touching: B may have held them, or carries them
+   into others). *)
+PROCEDURE drive (B: BodyRef; k: INTEGER; t, vx, vy: REAL) ;
+VAR
+   i, n, edge: INTEGER ;
+   A, o: BodyRef ;
+BEGIN
+   B^.vx := vx ;
+   B^.vy := vy ;
+   INC (B^.stamp) ;
+   IF B^.placed THEN
+      unplace_large (B) ;
+      B^.placed := FALSE ;
+      LargeAdd (B^.idx)
+   END ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (B^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (B) ;
+   n := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      A := ADR (Bodies^[i]) ;
+      IF A^.sup = B^.idx THEN
+         INC (Stats.leaves) ;
+         rebase (A, t) ;
+         edge := A^.sup_edge ;
+         end_support (A) ;
+         INC (A^.stamp) ;
+         EmitSupportEnd ("leave", t, A^.idx, B^.idx, edge) ;
+         EmitState (A) ;
+         IF n >= CapLeft THEN
+            IF CapLeft = 0 THEN CapLeft := 16 ELSE CapLeft := 2 * CapLeft END ;
+            Left := Grow (Left, CapLeft, SIZE (INTEGER))
+         END ;
+         Left^[n] := i ;
+         INC (n)
+      END
+   END ;
+   IF B^.large THEN
+      FOR i := 0 TO NBodies - 1 DO
+         o := ADR (Bodies^[i]) ;
+         IF (NOT o^.large) AND (NOT o^.gone) AND (NOT o^.fixed) THEN PredictPair (o, B, t) END
+      END
+   ELSE
+      PredictBody (B, t, -1)
+   END ;
+   FOR i := 0 TO n - 1 DO
+      PredictBody (ADR (Bodies^[Left^[i]]), t, B^.idx)
+   END ;
+   wake_touching (B, t)
+END drive ;
+
+
+(* The islands of the sleepers whose bounding circles reach the body's
+   (within the tolerance; a body removed, or a fixed one whose velocity an
+   input set) wake: it may have held them (by index; a woken island's other
+   members are awake already). *)
 PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
 VAR
    i: INTEGER ;
@@ -2781,6 +2853,16 @@ END inputs_now ;
    then this one, before any other event at T (docs/engine-api.md, "Live
    inputs").  It is appended to the input list, which is the recording.
    done: FALSE when a teleport is refused (nothing changed). *)
+(* An input of this mode may act on b: any on a movable body; on a fixed
+   one, removal, or set_velocity when it is a polygon that does not turn
+   (its edges then translate: docs/simulator.md, Contact model). *)
+PROCEDURE drivable (b: BodyRef; mode: INTEGER) : BOOLEAN ;
+BEGIN
+   IF (NOT b^.fixed) OR (mode = RemoveMode) THEN RETURN TRUE END ;
+   RETURN (mode = SetVelocityMode) AND b^.polygon AND (b^.om = 0.0)
+END drivable ;
+
+
 PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
 VAR
    b: BodyRef ;
@@ -2796,10 +2878,11 @@ BEGIN
       Append (m, " was removed") ;
       RETURN Refuse (m)
    END ;
-   IF b^.fixed AND (mode # RemoveMode) THEN
+   IF NOT drivable (b, mode) THEN
       m := "body " ;
       AppendInt (m, body) ;
-      Append (m, " is fixed: inputs move movable bodies only") ;
+      Append (m, " is fixed: inputs move movable bodies only (or set the velocity of a fixed polygon that does ") ;
+      Append (m, "not turn, or remove a fixed body)") ;
       RETURN Refuse (m)
    END ;
    IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
@@ -3006,6 +3089,8 @@ BEGIN
    CapEdgePolys := 0 ;
    Near := NIL ;
    CapNear := 0 ;
+   Left := NIL ;
+   CapLeft := 0 ;
    Mark := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)

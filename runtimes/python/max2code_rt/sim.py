@@ -256,6 +256,15 @@ def read_body(tk: Tokens, i: int) -> Body:
     return b
 
 
+def drivable(b: Body, mode: int) -> bool:
+    """An input of this mode may act on b: any on a movable body; on a fixed
+    one, removal, or set_velocity when it is a polygon that does not turn
+    (its edges then translate: docs/simulator.md, Contact model)."""
+    if not b.fixed or mode == REMOVE:
+        return True
+    return mode == SET_VELOCITY and b.polygon and b.om == 0.0
+
+
 class Scene:
     """A compiled scene, read from the flat format."""
 
@@ -284,6 +293,9 @@ class Scene:
                 raise SimError(f"scene: input on body {inp.body}, which does not exist")
             if not 0 <= inp.mode <= 4:
                 raise SimError(f"scene: unknown input mode {inp.mode}")
+            if not drivable(self.bodies[inp.body], inp.mode):
+                raise SimError(f"scene: input {len(self.inputs)} on fixed body {inp.body}: only set_velocity "
+                               f"(on a polygon that does not turn) or remove")
             self.inputs.append(inp)
         word("end")
 
@@ -1471,6 +1483,9 @@ class World:
         if inp.mode == REMOVE:
             self.remove(body, ev.k, t)
             return
+        if body.fixed:
+            self.drive(body, ev.k, t, inp.vx, inp.vy)
+            return
         if inp.mode == TELEPORT:
             o = self.overlapping(body, inp.vx, inp.vy, t)
             if o >= 0:
@@ -1521,10 +1536,52 @@ class World:
                 self.predict_body(A, t, None)
         self.wake_touching(body, t)
 
+    def drive(self, B: Body, k: int, t: float, vx: float, vy: float) -> None:
+        """Input k sets the velocity of fixed polygon B (based at t, it does
+        not turn): a large one placed in grid cells moves to the large list
+        for good; every body it supported leaves (E leave, free motion: it
+        meets B again at once and is supported again relative to B's new
+        motion, or bounces, or falls); B is predicted against every body
+        again (a large B: each small one that is not fixed or removed, in
+        index order; a small one: predict_body), the bodies that left
+        against the others; last the islands touching B wake (wake_touching:
+        B may have held them, or carries them into others)."""
+        B.vx = vx
+        B.vy = vy
+        B.stamp += 1
+        if B.wcells is not None:
+            self.unplace_large(B)
+            B.wcells = None
+            self.large.append(B)
+        self.out.write(f"E input {_fmt(t)} {B.idx} -1 -1 {k} -1 0 0 0 0 0\n")
+        self.emit_state(B)
+        bodies = self.s.bodies
+        left = []
+        for A in bodies:
+            if A.sup == B.idx:
+                self.stats.leaves += 1
+                self.rebase(A, t)
+                edge = A.sup_edge
+                self.end_support(A)
+                A.stamp += 1
+                self.out.write(f"E leave {_fmt(t)} {A.idx} {B.idx} -1 -1 {edge} 0 0 0 0 0\n")
+                self.emit_state(A)
+                left.append(A)
+        if B.large:
+            for o in bodies:
+                if not o.large and not o.gone and not o.fixed:
+                    self.predict_pair(o, B, t)
+        else:
+            self.predict_body(B, t, None)
+        for A in left:
+            self.predict_body(A, t, B)
+        self.wake_touching(B, t)
+
     def wake_touching(self, body: Body, t: float) -> None:
         """The islands of the sleepers whose bounding circles reach the
-        removed body's (within the tolerance) wake: it may have held them
-        (by index; a woken island's other members are awake already)."""
+        body's (within the tolerance; a body removed, or a fixed one whose
+        velocity an input set) wake: it may have held them (by index; a
+        woken island's other members are awake already)."""
         tol = self.s.tol
         for o in self.s.bodies:
             if o.asleep:
@@ -1840,8 +1897,9 @@ class World:
         b = self.body(body)
         if b.gone:
             raise SimError(f"body {body} was removed")
-        if b.fixed and mode != REMOVE:
-            raise SimError(f"body {body} is fixed: inputs move movable bodies only")
+        if not drivable(b, mode):
+            raise SimError(f"body {body} is fixed: inputs move movable bodies only (or set the velocity of a "
+                           f"fixed polygon that does not turn, or remove a fixed body)")
         if not (math.isfinite(x) and math.isfinite(y)):
             raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")
         t = self.time
