@@ -29,7 +29,7 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "stuck": {"python", "m2"}, "moving": {"python", "m2"}}
+          "stuck": {"python", "m2"}, "held": {"python", "m2"}, "moving": {"python", "m2"}}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
@@ -291,6 +291,29 @@ def test_random_resting_boxes_whose_bottom_corners_meet_finish(seed, lang):
     rp = read_trace("\n".join(tr.lines()), scene, name)
     no_overlap(scene, rp)
     never_gains_energy(scene, rp, name)
+
+
+@pytest.mark.parametrize("lang", runtimes("held"))
+def test_boxes_meeting_slowly_on_a_floor_stay_on_it(lang):
+    """Two equal boxes sliding one way on a frictionless floor, the one
+    behind 0.03125 m/s faster (slower than rest_speed): a held contact
+    (docs/simulator.md, "Held contacts"); they swap their speeds along the
+    floor exactly and keep their supports (none ends, none is entered
+    again), at exactly the height they had."""
+    bodies = [floor(half=2.0), box_body("a", x=-0.3, velocity=[0.25, 0.0]),
+              box_body("b", x=0.0, velocity=[0.21875, 0.0])]
+    scene, tr, rp = run(bodies, end=5.0, frame_rate=2, lang=lang)
+    ev = [e for e in tr.events if e["kind"] != "frame"]
+    assert [e["kind"] for e in ev] == ["support", "support", "collision"], [e["kind"] for e in ev]
+    hit = ev[2]
+    assert abs(hit["t"] - 0.1 / 0.03125) <= 1e-12
+    got = {st["body"]: st for st in hit["states"]}
+    assert got["a"]["velocity"] == [0.21875, 0.0] and got["b"]["velocity"] == [0.25, 0.0], got
+    assert got["a"]["acceleration"] == [0.0, 0.0] and got["b"]["acceleration"] == [0.0, 0.0]
+    for name in ("a", "b"):
+        assert final(tr, name)["position"][1] == 0.1 and final(tr, name)["angle"] == 0.0
+    no_overlap(scene, rp)
+    never_gains_energy(scene, rp, "held.json")
 
 
 @pytest.mark.parametrize("depth,counts", [(0.99, True), (1.01, False)])

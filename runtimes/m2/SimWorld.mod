@@ -21,7 +21,7 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
-   hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   hop, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
@@ -1642,6 +1642,66 @@ BEGIN
 END contact_impulse ;
 
 
+(* n . t of a supported body's edge tangent t (0 for a body that is not
+   supported: a fixed one). *)
+PROCEDURE along (b: BodyRef; nx, ny: REAL) : REAL ;
+BEGIN
+   IF b^.sup < 0 THEN RETURN 0.0 END ;
+   RETURN nx * b^.tx + ny * b^.ty
+END along ;
+
+
+(* A slow contact of bodies held on their supports: each supported or fixed,
+   approaching (vn < 0) slower than rest_speed, not pressed, and an impulse
+   along their edges can change vn (kh > 0). *)
+PROCEDURE held (A, B: BodyRef; nx, ny, vn: REAL) : BOOLEAN ;
+VAR
+   ka, kb: REAL ;
+BEGIN
+   IF NOT (((A^.sup >= 0) OR A^.fixed) AND ((B^.sup >= 0) OR B^.fixed)) THEN RETURN FALSE END ;
+   IF (NOT (vn < 0.0)) OR (NOT (-vn < RestSpeed)) OR pressed (A, B, nx, ny) THEN RETURN FALSE END ;
+   ka := along (A, nx, ny) ;
+   kb := along (B, nx, ny) ;
+   RETURN A^.invM * ka * ka + B^.invM * kb * kb > 0.0
+END held ;
+
+
+(* The normal impulse j of a held contact (held): each supported body takes
+   only its part along its support's edge, dv = -+ j (n . t) t / m, and
+   keeps its support (the support's reaction takes the rest and does no
+   work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
+   rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.  The
+   friction of each is set again for its new speed (slide_accel). *)
+PROCEDURE held_impulse (A, B: BodyRef; nx, ny, vn: REAL) : REAL ;
+VAR
+   ka, kb, k, e, sep, imp, d, m1, mn, me: REAL ;
+BEGIN
+   ka := along (A, nx, ny) ;
+   kb := along (B, nx, ny) ;
+   k := A^.invM * ka * ka + B^.invM * kb * kb ;
+   e := A^.e * B^.e ;
+   (* sep = max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
+   me := e * (-vn) ;
+   m1 := -vn ;
+   IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
+   IF mn > me THEN sep := mn ELSE sep := me END ;
+   imp := (sep - vn) / k ;
+   IF A^.sup >= 0 THEN
+      d := imp * A^.invM * ka ;
+      A^.vx := A^.vx - d * A^.tx ;
+      A^.vy := A^.vy - d * A^.ty ;
+      slide_accel (A, A^.vx * A^.tx + A^.vy * A^.ty)
+   END ;
+   IF B^.sup >= 0 THEN
+      d := imp * B^.invM * kb ;
+      B^.vx := B^.vx + d * B^.tx ;
+      B^.vy := B^.vy + d * B^.ty ;
+      slide_accel (B, B^.vx * B^.tx + B^.vy * B^.ty)
+   END ;
+   RETURN imp
+END held_impulse ;
+
+
 PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
 BEGIN
    Str ("N ") ;
@@ -1856,6 +1916,7 @@ PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
 VAR
    A, B: BodyRef ;
    cx, cy, nx, ny, vn, imp: REAL ;
+   isheld: BOOLEAN ;
 BEGIN
    A := ADR (Bodies^[ev.a]) ;
    B := ADR (Bodies^[ev.b]) ;
@@ -1877,13 +1938,17 @@ BEGIN
    END ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-      on it); a gentle touch leaves it asleep, a real impulse wakes its island *)
-   IF A^.asleep OR B^.asleep THEN
+      on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+      a slow contact of bodies held on their supports keeps them there *)
+   isheld := held (A, B, nx, ny, vn) ;
+   IF isheld THEN
+      imp := held_impulse (A, B, nx, ny, vn)
+   ELSIF A^.asleep OR B^.asleep THEN
       imp := sleeper_impulse (A, B, cx, cy, nx, ny)
    ELSE
       imp := contact_impulse (A, B, cx, cy, nx, ny)
    END ;
-   IF imp # 0.0 THEN
+   IF (imp # 0.0) AND NOT isheld THEN
       IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
       IF B^.asleep AND jolted (B) THEN handle_wake (B, t) END ;
       IF A^.sup >= 0 THEN end_support (A) END ;

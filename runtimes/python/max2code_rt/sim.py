@@ -1236,6 +1236,50 @@ class World:
         B.om = B.om + (jn * rbn + jt * rbt) * B.inv_i
         return jn
 
+    @staticmethod
+    def along(b: Body, nx: float, ny: float) -> float:
+        """n . t of a supported body's edge tangent t (0 for a fixed body)."""
+        if b.sup < 0:
+            return 0.0
+        return nx * b.tx + ny * b.ty
+
+    def held(self, A: Body, B: Body, nx: float, ny: float, vn: float) -> bool:
+        """A slow contact of bodies held on their supports: each supported
+        or fixed, approaching (vn < 0) slower than rest_speed, not pressed,
+        and an impulse along their edges can change vn (kh > 0)."""
+        if not ((A.sup >= 0 or A.fixed) and (B.sup >= 0 or B.fixed)):
+            return False
+        if not (vn < 0.0) or not (-vn < self.s.rest_speed) or self.pressed(A, B, nx, ny):
+            return False
+        ka = self.along(A, nx, ny)
+        kb = self.along(B, nx, ny)
+        return A.inv_m * ka * ka + B.inv_m * kb * kb > 0.0
+
+    def held_impulse(self, A: Body, B: Body, nx: float, ny: float, vn: float) -> float:
+        """The normal impulse j of a held contact (held): each supported body
+        takes only its part along its support's edge, dv = -+ j (n . t) t / m,
+        and keeps its support (the support's reaction takes the rest and does
+        no work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
+        rest_speed)) = |vn| (slow), through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
+        The friction of each is set again for its new speed (slide_accel)."""
+        ka = self.along(A, nx, ny)
+        kb = self.along(B, nx, ny)
+        k = A.inv_m * ka * ka + B.inv_m * kb * kb
+        e = A.e * B.e
+        sep = max(e * -vn, min(-vn, self.s.rest_speed))
+        imp = (sep - vn) / k
+        if A.sup >= 0:
+            d = imp * A.inv_m * ka
+            A.vx = A.vx - d * A.tx
+            A.vy = A.vy - d * A.ty
+            self.slide_accel(A, A.vx * A.tx + A.vy * A.ty)
+        if B.sup >= 0:
+            d = imp * B.inv_m * kb
+            B.vx = B.vx + d * B.tx
+            B.vy = B.vy + d * B.ty
+            self.slide_accel(B, B.vx * B.tx + B.vy * B.ty)
+        return imp
+
     # ---- sleeping islands ---------------------------------------------------
     def grounded(self, G: Body) -> bool:
         """A body others can fall asleep on: asleep, or fixed and unmoving."""
@@ -1389,12 +1433,16 @@ class World:
             return
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        # on it); a gentle touch leaves it asleep, a real impulse wakes its island
-        if A.asleep or B.asleep:
+        # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        # a slow contact of bodies held on their supports keeps them there
+        held = self.held(A, B, nx, ny, vn)
+        if held:
+            imp = self.held_impulse(A, B, nx, ny, vn)
+        elif A.asleep or B.asleep:
             imp = self.sleeper_impulse(A, B, cx, cy, nx, ny)
         else:
             imp = self.contact_impulse(A, B, cx, cy, nx, ny)
-        if imp != 0.0:
+        if imp != 0.0 and not held:
             if A.asleep and self.jolted(A):
                 self.handle_wake(A, t)
             if B.asleep and self.jolted(B):
