@@ -700,3 +700,28 @@ def test_inputs_on_fixed_bodies_other_than_setting_a_translating_polygons_veloci
            "inputs": [{"time": 0.5, "body": "platform", kind: [1.0, 0.0]}]}
     with pytest.raises(SceneError, match=msg):
         parse_scene(json.dumps(raw), "s.json")
+
+
+@pytest.mark.parametrize("lang", runtimes("held", "moving"))
+def test_a_held_contact_on_a_moving_platform_sets_friction_from_the_relative_speed(lang):
+    """Two boxes ride a platform moving at V; the one in front (frictionless)
+    drifts back at 0.03 m/s relative to it into the one behind (friction
+    0.5): a held contact (both supported, slow) swaps their relative speeds.
+    The one behind now slides back relative to the platform (-0.03 m/s,
+    though forward in the world), so friction pushes it forward and the
+    relative slide stops 0.03 / (mu g) later; the front box rests relative
+    to the platform."""
+    V, du, gap, mu = 1.0, 0.03, 0.015, 0.5
+    scene, tr, rp = run([platform(half=2.0, velocity=(V, 0.0), friction=1.0),
+                         box_body("rear", velocity=[V, 0.0], friction=mu),
+                         box_body("front", x=0.2 + gap, velocity=[V - du, 0.0])], end=1.0, lang=lang)
+    assert kinds(tr) == ["support", "support", "collision", "stop"]
+    hit = next(e for e in tr.events if e["kind"] == "collision")
+    assert hit["t"] == pytest.approx(gap / du, rel=1e-9)
+    stop = next(e for e in tr.events if e["kind"] == "stop")
+    assert stop["bodies"] == ["rear", "platform"]
+    assert stop["t"] == pytest.approx(hit["t"] + du / (mu * G), rel=1e-9)
+    f = final(tr, "rear")
+    assert f["velocity"] == [V, 0.0]
+    assert final(tr, "front")["velocity"][0] == pytest.approx(V, rel=1e-12)
+    no_overlap(scene, rp)

@@ -1671,10 +1671,11 @@ END held ;
    keeps its support (the support's reaction takes the rest and does no
    work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
    rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.  The
-   friction of each is set again for its new speed (slide_accel). *)
+   friction of each is set again for its new speed relative to its support
+   (slide_accel; support_relative: the support may move). *)
 PROCEDURE held_impulse (A, B: BodyRef; nx, ny, vn: REAL) : REAL ;
 VAR
-   ka, kb, k, e, sep, imp, d, m1, mn, me: REAL ;
+   ka, kb, k, e, sep, imp, d, m1, mn, me, q, u, a: REAL ;
 BEGIN
    ka := along (A, nx, ny) ;
    kb := along (B, nx, ny) ;
@@ -1690,13 +1691,15 @@ BEGIN
       d := imp * A^.invM * ka ;
       A^.vx := A^.vx - d * A^.tx ;
       A^.vy := A^.vy - d * A^.ty ;
-      slide_accel (A, A^.vx * A^.tx + A^.vy * A^.ty)
+      support_relative (A, q, u, a) ;
+      slide_accel (A, u)
    END ;
    IF B^.sup >= 0 THEN
       d := imp * B^.invM * kb ;
       B^.vx := B^.vx + d * B^.tx ;
       B^.vy := B^.vy + d * B^.ty ;
-      slide_accel (B, B^.vx * B^.tx + B^.vy * B^.ty)
+      support_relative (B, q, u, a) ;
+      slide_accel (B, u)
    END ;
    RETURN imp
 END held_impulse ;

@@ -1261,7 +1261,8 @@ class World:
         and keeps its support (the support's reaction takes the rest and does
         no work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
         rest_speed)) = |vn| (slow), through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.
-        The friction of each is set again for its new speed (slide_accel)."""
+        The friction of each is set again for its new speed relative to its
+        support (slide_accel; support_relative: the support may move)."""
         ka = self.along(A, nx, ny)
         kb = self.along(B, nx, ny)
         k = A.inv_m * ka * ka + B.inv_m * kb * kb
@@ -1272,12 +1273,12 @@ class World:
             d = imp * A.inv_m * ka
             A.vx = A.vx - d * A.tx
             A.vy = A.vy - d * A.ty
-            self.slide_accel(A, A.vx * A.tx + A.vy * A.ty)
+            self.slide_accel(A, self.support_relative(A)[1])
         if B.sup >= 0:
             d = imp * B.inv_m * kb
             B.vx = B.vx + d * B.tx
             B.vy = B.vy + d * B.ty
-            self.slide_accel(B, B.vx * B.tx + B.vy * B.ty)
+            self.slide_accel(B, self.support_relative(B)[1])
         return imp
 
     # ---- sleeping islands ---------------------------------------------------
