@@ -29,7 +29,8 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "stuck": {"python", "m2"}, "held": {"python", "m2"}, "moving": {"python", "m2"}}
+          "stuck": {"python", "m2"}, "held": {"python", "m2"}, "moving": {"python", "m2"},
+          "cells": {"python", "m2"}}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
@@ -314,6 +315,29 @@ def test_boxes_meeting_slowly_on_a_floor_stay_on_it(lang):
         assert final(tr, name)["position"][1] == 0.1 and final(tr, name)["angle"] == 0.0
     no_overlap(scene, rp)
     never_gains_energy(scene, rp, "held.json")
+
+
+@pytest.mark.parametrize("lang", runtimes("stuck", "cells"))
+def test_a_box_woken_on_a_cell_boundary_leaves_its_cell(lang):
+    """Found by the seed hunt of session 6 (resting_scene(165) with boxes):
+    a box asleep at x = 0.6, in cell 2 by cell_of, while that cell's lower
+    boundary X0 + 2 CW rounds to 0.6000000000000001; woken and sliding
+    left, it got no cell event (the boundary was already behind it), stayed
+    in cell 2 and went 0.24 m into a ball asleep two cells away.  A body on
+    or past a boundary, moving across it, crosses at once (docs/simulator.md,
+    "Broad phase")."""
+    from max2code.sim.live import python_world
+    raw = stuck_at_once(resting_scene(165, boxes=True))
+    raw["end_time"] = 1.0
+    scene = parse_scene(json.dumps(raw), "resting-165-boxes.json")
+    w = python_world(scene)
+    box = next(b for b in w.s.bodies if scene.bodies[b.idx].name == "r1")
+    assert box.px == 0.6 and box.cx == 2 and w.s.x0 + 2 * w.s.cw > box.px   # the scene has the rounding
+    tr = run_scene(scene, lang)
+    rp = read_trace("\n".join(tr.lines()), scene, "resting-165-boxes.json")
+    assert tr.stats["events"]["cells"] > 0
+    no_overlap(scene, rp)
+    never_gains_energy(scene, rp, "resting-165-boxes.json")
 
 
 @pytest.mark.parametrize("depth,counts", [(0.99, True), (1.01, False)])

@@ -1201,9 +1201,13 @@ BEGIN
             bound := origin + VAL (REAL, i) * size ;
             crossed := TRUE
          END ;
-         IF crossed AND (p - bound = 0.0) AND (ulo = 0.0) AND (v * VAL (REAL, direction) > 0.0) THEN
-            (* exactly on the boundary now and moving across it: the root
-               finder reports no root at the interval's start *)
+         IF crossed AND (ulo = 0.0) AND ((p - bound) * VAL (REAL, direction) >= 0.0)
+            AND ((v * VAL (REAL, direction) > 0.0) OR ((v = 0.0) AND (a * VAL (REAL, direction) > 0.0))) THEN
+            (* on the boundary now, or past it (CellOf's quotient and the
+               boundary's sum origin + i size can round apart), and moving or
+               accelerating across it: cross at once (the root finder reports
+               no root at the interval's start, and none at all for a
+               boundary already behind) *)
             IF (NOT found) OR (0.0 < bu) THEN
                found := TRUE ;
                bu := 0.0 ;
