@@ -937,9 +937,13 @@ class World:
                         continue
                     bound = origin + i * size
                 c = [p - bound, v, 0.5 * a]
-                if c[0] == 0.0 and ulo == 0.0 and v * direction > 0.0:
-                    # exactly on the boundary now and moving across it: the
-                    # root finder reports no root at the interval's start
+                if (ulo == 0.0 and c[0] * direction >= 0.0
+                        and (v * direction > 0.0 or (v == 0.0 and a * direction > 0.0))):
+                    # on the boundary now, or past it (cell_of's quotient and
+                    # the boundary's sum origin + i size can round apart), and
+                    # moving or accelerating across it: cross at once (the
+                    # root finder reports no root at the interval's start,
+                    # and none at all for a boundary already behind)
                     if best is None or 0.0 < best[0]:
                         best = (0.0, axis, direction)
                     continue
