@@ -29,8 +29,8 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "stuck": {"python", "m2"}, "held": {"python", "m2"}, "moving": {"python", "m2"},
-          "cells": {"python", "m2"}}
+          "stuck": {"python", "m2"}, "held": {"python", "m2"}, "cells": {"python", "m2"},
+          "moving": {"python", "m2"}}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
