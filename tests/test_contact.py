@@ -28,9 +28,7 @@ G = 9.81
 # them (python is the reference).  A runtime without one of them cannot read
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
-PORTED = {"hop": {"python", "c", "rust", "m2"}, "cover": {"python", "c", "rust", "m2"},
-          "stuck": {"python", "c", "rust"}, "held": {"python", "c", "rust"}, "moving": {"python", "c", "rust"},
-          "cells": {"python", "c", "rust"}}
+PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")

@@ -28,7 +28,7 @@ EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("world", "inputs", "bodies", "recordings")}
-PORTED["moving"] = {"python", "c", "rust"}      # support on moving fixed bodies, inputs on fixed ones (test_contact.py)
+PORTED["moving"] = {"python", "c", "rust", "m2"}     # support on moving fixed bodies, inputs on fixed ones (test_contact.py)
 
 
 def runtimes(step: str):

@@ -376,6 +376,17 @@ BEGIN
          m := "unknown input mode " ;
          AppendWhole (m, Inputs^[i].mode) ;
          Error (m, "")
+      ELSIF (NOT Failed) AND Bodies^[Inputs^[i].body].fixed AND (Inputs^[i].mode # 4)
+            AND NOT ((Inputs^[i].mode = 0) AND Bodies^[Inputs^[i].body].polygon
+                     AND (Bodies^[Inputs^[i].body].om = 0.0)) THEN
+         (* a fixed body takes removal (4), or set_velocity (0) when it is a
+            polygon that does not turn *)
+         m := "input " ;
+         AppendWhole (m, i) ;
+         Append (m, " on fixed body ") ;
+         AppendWhole (m, Inputs^[i].body) ;
+         Append (m, ": only set_velocity (on a polygon that does not turn) or remove") ;
+         Error (m, "")
       END
    END ;
    Expect ("end")

@@ -18,13 +18,13 @@ IMPLEMENTATION MODULE SimWorld ;
    handle_support, handle_stop, handle_leave, start, finish, dispatch,
    process, is_stale, push, push_collision, push_horizon, contact_frame,
    contact_impulse, normal_speed, can_support, flat, enter_support,
-   slide_accel, end_support, schedule_support, first_crossing, rebase,
+   slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
-   live_input, inputs_now, remove, wake_touching, grounded, at_rest,
-   hop, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
+   hop, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
-   the reference's features is Features; the reference's predict_cc, predict_pe,
+   behind; the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
    and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
    CirclesFirst, CentreParams, CircleParams and BoundsMeet).
@@ -98,6 +98,7 @@ VAR
    ChkX, ChkY: BodyRef ;
    ChkRho, ChkBeta: REAL ;     (* the point: rho, beta about X's centre (rho 0: the centre) *)
    ChkEdge: INTEGER ;
+   ChkVert: INTEGER ;          (* the point is X's vertex ChkVert (local index; -1: not a vertex) *)
    ChkNow: REAL ;
    (* events at the current instant (the "stuck" check) *)
    LastT: REAL ;
@@ -117,6 +118,8 @@ VAR
    Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
    Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
    CapNear: INTEGER ;
+   Left: IntList ;             (* drive's list of the bodies that left the driven body *)
+   CapLeft: INTEGER ;
    CapEdgePolys: INTEGER ;
 
 
@@ -308,11 +311,37 @@ END Min ;
 
 (* ---- first valid root of one feature ----------------------------------- *)
 
+(* A neighbour of X's vertex i at t lies more than the tolerance behind the
+   line (c, sn) . (p - (qx, qy)) = h (an edge's line: its outward unit
+   normal (c, sn), its body's centre (qx, qy)), previous neighbour first
+   (docs/simulator.md, "Corners"). *)
+PROCEDURE behind (X: BodyRef; i: INTEGER; t, qx, qy, c, sn, h: REAL) : BOOLEAN ;
+VAR
+   px, py, pvx, pvy, pa, lim, kx, ky: REAL ;
+   n, m, k: INTEGER ;
+   v: Vertex ;
+BEGIN
+   n := X^.nv ;
+   StateAt (X, t, px, py, pvx, pvy, pa) ;
+   lim := -Tol ;
+   FOR m := 0 TO 1 DO
+      IF m = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      v := Verts^[X^.v0 + k] ;
+      kx := px + v.rho * cos (pa + v.beta) ;
+      ky := py + v.rho * sin (pa + v.beta) ;
+      IF (kx - qx) * c + (ky - qy) * sn - h < lim THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END behind ;
+
+
 (* The point-edge check of predict_pe: whether the contact at s lies on the
-   edge (within the tolerance); the prediction sets Chk*. *)
+   edge (within the tolerance) and, when the point is X's vertex ChkVert,
+   neither of its neighbours lies behind the edge's line (behind); the
+   prediction sets Chk*. *)
 PROCEDURE Inside (s: REAL) : BOOLEAN ;
 VAR
-   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, along: REAL ;
+   t, px, py, pvx, pvy, pa, qx, qy, qvx, qvy, qa, th, c, sn, along: REAL ;
    ed: Vertex ;
 BEGIN
    ed := Verts^[ChkEdge] ;
@@ -324,8 +353,12 @@ BEGIN
    END ;
    StateAt (ChkY, t, qx, qy, qvx, qvy, qa) ;
    th := qa + ed.psi ;
-   along := (px - qx) * (-sin (th)) + (py - qy) * cos (th) ;
-   RETURN (ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)
+   c := cos (th) ;
+   sn := sin (th) ;
+   along := (px - qx) * (-sn) + (py - qy) * c ;
+   IF NOT ((ed.s1 - Tol <= along) AND (along <= ed.s2 + Tol)) THEN RETURN FALSE END ;
+   IF ChkVert < 0 THEN RETURN TRUE END ;
+   RETURN NOT behind (ChkX, ChkVert, t, qx, qy, c, sn, ed.h)
 END Inside ;
 
 
@@ -576,9 +609,12 @@ END PeCoefficients ;
 
 (* The first contact within [0, w] of PeCoefficients' polynomial (degree
    deg; none when deg < 0) whose point (X's centre, or rho, beta about it)
-   lies on edge j's segment. *)
+   lies on edge j's segment; when the point is X's vertex i (i >= 0), both
+   neighbours of that vertex must also lie no more than the tolerance behind
+   edge j's line (behind: else that line does not separate the bodies
+   there, a corner meeting a corner: another feature pair is the contact). *)
 PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
-                   now, w: REAL; VAR t: REAL) : BOOLEAN ;
+                   now, w: REAL; i: INTEGER; VAR t: REAL) : BOOLEAN ;
 BEGIN
    IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
@@ -586,13 +622,14 @@ BEGIN
    ChkRho := rho ;
    ChkBeta := beta ;
    ChkEdge := Y^.v0 + j ;
+   ChkVert := i ;
    ChkNow := now ;
    RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
 END PeFirst ;
 
 
-(* Point of X (circle centre with radius, vx < 0, or vertex vx) against the
-   line of edge j of Y (none while a fixed body covers the edge: its cover
+(* Point of X (circle centre with radius, vx < 0, or vertex vx: the index in
+   Verts of X's vertex vx - X^.v0) against the line of edge j of Y (none while a fixed body covers the edge: its cover
    is not gone; nothing is counted). *)
 PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
@@ -612,7 +649,10 @@ BEGIN
       rad := 0.0
    END ;
    deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
-   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, t)
+   IF vx < 0 THEN
+      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, t)
+   END ;
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, t)
 END PredictPE ;
 
 
@@ -670,7 +710,7 @@ BEGIN
    found := FALSE ;
    meet := 0.0 ;
    FOR j := 0 TO P^.nv - 1 DO
-      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, t) ;
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1, t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t
@@ -1161,9 +1201,13 @@ BEGIN
             bound := origin + VAL (REAL, i) * size ;
             crossed := TRUE
          END ;
-         IF crossed AND (p - bound = 0.0) AND (ulo = 0.0) AND (v * VAL (REAL, direction) > 0.0) THEN
-            (* exactly on the boundary now and moving across it: the root
-               finder reports no root at the interval's start *)
+         IF crossed AND (ulo = 0.0) AND ((p - bound) * VAL (REAL, direction) >= 0.0)
+            AND ((v * VAL (REAL, direction) > 0.0) OR ((v = 0.0) AND (a * VAL (REAL, direction) > 0.0))) THEN
+            (* on the boundary now, or past it (CellOf's quotient and the
+               boundary's sum origin + i size can round apart), and moving or
+               accelerating across it: cross at once (the root finder reports
+               no root at the interval's start, and none at all for a
+               boundary already behind) *)
             IF (NOT found) OR (0.0 < bu) THEN
                found := TRUE ;
                bu := 0.0 ;
@@ -1280,7 +1324,7 @@ END normal_speed ;
 (* ---- support: resting and sliding on a fixed body -------------------------------- *)
 
 (* Unit tangent (tx, ty) and outward unit normal (ox, oy) of edge j of B in
-   the world (B does not move). *)
+   the world (B does not turn). *)
 PROCEDURE support_frame (B: BodyRef; j: INTEGER; VAR tx, ty, ox, oy: REAL) ;
 VAR
    c, s, enx, eny: REAL ;
@@ -1324,21 +1368,22 @@ BEGIN
 END flat ;
 
 
-(* A point-edge contact of movable A on edge j of a fixed, unmoving polygon
-   B becomes support (docs/simulator.md, Contact model). *)
+(* A point-edge contact of movable A on edge j of a fixed polygon B that
+   does not turn (it may translate) becomes support, everything relative to
+   B (docs/simulator.md, Contact model); both advanced. *)
 PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
 VAR
    tx, ty, ox, oy, load, q, u: REAL ;
 BEGIN
-   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (NOT static (B)) THEN RETURN FALSE END ;
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (B^.om # 0.0) THEN RETURN FALSE END ;
    support_frame (B, j, tx, ty, ox, oy) ;
-   load := -(A^.fax * ox + A^.fay * oy) ;
+   load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
    IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
    q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
    IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
    (* at an end of the edge (within the tolerance) and moving past it: it is
       leaving (a support would end at once, again and again) *)
-   u := A^.vx * tx + A^.vy * ty ;
+   u := (A^.vx - B^.vx) * tx + (A^.vy - B^.vy) * ty ;
    IF ((u > 0.0) AND (q >= Verts^[B^.v0 + j].s2 - Tol)) OR ((u < 0.0) AND (q <= Verts^[B^.v0 + j].s1 + Tol)) THEN
       RETURN FALSE
    END ;
@@ -1350,14 +1395,17 @@ BEGIN
 END can_support ;
 
 
-(* Acceleration of supported A with tangential speed u: the free
-   acceleration along the edge less Coulomb friction mu |a_n| against the
-   motion; at rest, none while friction can hold it. *)
+(* Acceleration of supported A with tangential speed u relative to its
+   support B: the relative free acceleration along the edge less Coulomb
+   friction mu |a_n| against the relative motion; at relative rest, none
+   while friction can hold it; plus B's acceleration when B moves. *)
 PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
 VAR
    f, a: REAL ;
+   B: BodyRef ;
 BEGIN
-   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   B := ADR (Bodies^[A^.sup]) ;
+   f := A^.mu * B^.mu * A^.load ;
    IF u > 0.0 THEN
       a := A^.at - f
    ELSIF u < 0.0 THEN
@@ -1369,28 +1417,39 @@ BEGIN
    ELSE
       a := 0.0
    END ;
-   A^.ax := a * A^.tx ;
-   A^.ay := a * A^.ty
+   IF static (B) THEN
+      A^.ax := a * A^.tx ;
+      A^.ay := a * A^.ty
+   ELSE
+      A^.ax := B^.ax + a * A^.tx ;
+      A^.ay := B^.ay + a * A^.ty
+   END
 END slide_accel ;
 
 
-(* A (advanced to now) keeps only its velocity along the edge, stops
-   turning, and from now on accelerates along the edge only. *)
+(* A (advanced to now, as B) keeps only its velocity relative to B along the
+   edge, stops turning, and from now on accelerates relative to B along the
+   edge only. *)
 PROCEDURE enter_support (A, B: BodyRef; j: INTEGER) ;
 VAR
    tx, ty, ox, oy, u: REAL ;
 BEGIN
    support_frame (B, j, tx, ty, ox, oy) ;
-   u := A^.vx * tx + A^.vy * ty ;
-   A^.vx := u * tx ;
-   A^.vy := u * ty ;
+   u := (A^.vx - B^.vx) * tx + (A^.vy - B^.vy) * ty ;
+   IF static (B) THEN
+      A^.vx := u * tx ;
+      A^.vy := u * ty
+   ELSE
+      A^.vx := B^.vx + u * tx ;
+      A^.vy := B^.vy + u * ty
+   END ;
    IF A^.polygon THEN A^.om := 0.0 END ;
    A^.sup := B^.idx ;
    A^.sup_edge := j ;
    A^.tx := tx ;
    A^.ty := ty ;
-   A^.load := -(A^.fax * ox + A^.fay * oy) ;
-   A^.at := A^.fax * tx + A^.fay * ty ;
+   A^.load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
+   A^.at := (A^.fax - B^.ax) * tx + (A^.fay - B^.ay) * ty ;
    slide_accel (A, u)
 END enter_support ;
 
@@ -1423,19 +1482,33 @@ BEGIN
 END first_crossing ;
 
 
-(* A supported body's stop (its tangential speed reaches zero) and leave
-   (its centre, projected on the edge, reaches an end) events; b is at its
-   own time tb (the reference's now). *)
+(* Supported b's motion relative to its support B along the edge, at b's
+   time: q the centre's coordinate along the tangent from B's centre, u, a
+   its speed and acceleration. *)
+PROCEDURE support_relative (b: BodyRef; VAR q, u, a: REAL) ;
+VAR
+   B: BodyRef ;
+   bx, by, bvx, bvy, bang: REAL ;
+BEGIN
+   B := ADR (Bodies^[b^.sup]) ;
+   StateAt (B, b^.tb, bx, by, bvx, bvy, bang) ;
+   q := (b^.px - bx) * b^.tx + (b^.py - by) * b^.ty ;
+   u := (b^.vx - bvx) * b^.tx + (b^.vy - bvy) * b^.ty ;
+   a := (b^.ax - B^.ax) * b^.tx + (b^.ay - B^.ay) * b^.ty
+END support_relative ;
+
+
+(* A supported body's stop (its tangential speed relative to the support
+   reaches zero) and leave (its centre, projected on the edge, reaches an
+   end) events; b is at its own time tb (the reference's now). *)
 PROCEDURE schedule_support (b: BodyRef) ;
 VAR
    u, a, q, hi, s1, s2: REAL ;
-   B: BodyRef ;
    ed: INTEGER ;
    f1, f2: BOOLEAN ;
    ev: Event ;
 BEGIN
-   u := b^.vx * b^.tx + b^.vy * b^.ty ;
-   a := b^.ax * b^.tx + b^.ay * b^.ty ;
+   support_relative (b, q, u, a) ;
    IF (u # 0.0) AND (a # 0.0) AND ((u > 0.0) # (a > 0.0)) THEN
       ev.t := b^.tb + (-u) / a ;
       ev.kind := KStop ;
@@ -1443,9 +1516,7 @@ BEGIN
       ev.stop.stamp := b^.stamp ;
       push (ev)
    END ;
-   B := ADR (Bodies^[b^.sup]) ;
-   ed := B^.v0 + b^.sup_edge ;
-   q := (b^.px - B^.px) * b^.tx + (b^.py - B^.py) * b^.ty ;
+   ed := Bodies^[b^.sup].v0 + b^.sup_edge ;
    hi := EndT - b^.tb ;
    f2 := first_crossing (q - Verts^[ed].s2, u, a, 1, 0.0, hi, s2) ;
    f1 := first_crossing (q - Verts^[ed].s1, u, a, -1, 0.0, hi, s1) ;
@@ -1575,6 +1646,69 @@ BEGIN
 END contact_impulse ;
 
 
+(* n . t of a supported body's edge tangent t (0 for a body that is not
+   supported: a fixed one). *)
+PROCEDURE along (b: BodyRef; nx, ny: REAL) : REAL ;
+BEGIN
+   IF b^.sup < 0 THEN RETURN 0.0 END ;
+   RETURN nx * b^.tx + ny * b^.ty
+END along ;
+
+
+(* A slow contact of bodies held on their supports: each supported or fixed,
+   approaching (vn < 0) slower than rest_speed, not pressed, and an impulse
+   along their edges can change vn (kh > 0). *)
+PROCEDURE held (A, B: BodyRef; nx, ny, vn: REAL) : BOOLEAN ;
+VAR
+   ka, kb: REAL ;
+BEGIN
+   IF NOT (((A^.sup >= 0) OR A^.fixed) AND ((B^.sup >= 0) OR B^.fixed)) THEN RETURN FALSE END ;
+   IF (NOT (vn < 0.0)) OR (NOT (-vn < RestSpeed)) OR pressed (A, B, nx, ny) THEN RETURN FALSE END ;
+   ka := along (A, nx, ny) ;
+   kb := along (B, nx, ny) ;
+   RETURN A^.invM * ka * ka + B^.invM * kb * kb > 0.0
+END held ;
+
+
+(* The normal impulse j of a held contact (held): each supported body takes
+   only its part along its support's edge, dv = -+ j (n . t) t / m, and
+   keeps its support (the support's reaction takes the rest and does no
+   work); the normal speed leaves at sep = max(e |vn|, min(|vn|,
+   rest_speed)) through kh = (n . tA)^2 / mA + (n . tB)^2 / mB.  The
+   friction of each is set again for its new speed relative to its support
+   (slide_accel; support_relative: the support may move). *)
+PROCEDURE held_impulse (A, B: BodyRef; nx, ny, vn: REAL) : REAL ;
+VAR
+   ka, kb, k, e, sep, imp, d, m1, mn, me, q, u, a: REAL ;
+BEGIN
+   ka := along (A, nx, ny) ;
+   kb := along (B, nx, ny) ;
+   k := A^.invM * ka * ka + B^.invM * kb * kb ;
+   e := A^.e * B^.e ;
+   (* sep = max(e * -vn, min(-vn, rest_speed)), as Python's min and max pick *)
+   me := e * (-vn) ;
+   m1 := -vn ;
+   IF RestSpeed < m1 THEN mn := RestSpeed ELSE mn := m1 END ;
+   IF mn > me THEN sep := mn ELSE sep := me END ;
+   imp := (sep - vn) / k ;
+   IF A^.sup >= 0 THEN
+      d := imp * A^.invM * ka ;
+      A^.vx := A^.vx - d * A^.tx ;
+      A^.vy := A^.vy - d * A^.ty ;
+      support_relative (A, q, u, a) ;
+      slide_accel (A, u)
+   END ;
+   IF B^.sup >= 0 THEN
+      d := imp * B^.invM * kb ;
+      B^.vx := B^.vx + d * B^.tx ;
+      B^.vy := B^.vy + d * B^.ty ;
+      support_relative (B, q, u, a) ;
+      slide_accel (B, u)
+   END ;
+   RETURN imp
+END held_impulse ;
+
+
 PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
 BEGIN
    Str ("N ") ;
@@ -1594,16 +1728,20 @@ BEGIN
 END grounded ;
 
 
-(* A supported body slower than rest_speed along its edge that static
-   friction would hold there (|at| <= mu load, as in slide_accel at u = 0;
-   on a level frictionless edge at = 0): it stays where it is. *)
+(* A body supported by an unmoving body, slower than rest_speed along its
+   edge, that static friction would hold there (|at| <= mu load, as in
+   slide_accel at u = 0; on a level frictionless edge at = 0): it stays where
+   it is.  On a moving support: never (it does not sleep). *)
 PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
 VAR
    u, f: REAL ;
+   B: BodyRef ;
 BEGIN
+   B := ADR (Bodies^[A^.sup]) ;
+   IF NOT static (B) THEN RETURN FALSE END ;
    u := A^.vx * A^.tx + A^.vy * A^.ty ;
    IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
-   f := A^.mu * Bodies^[A^.sup].mu * A^.load ;
+   f := A^.mu * B^.mu * A^.load ;
    RETURN (NOT (A^.at > f)) AND NOT (A^.at < -f)
 END at_rest ;
 
@@ -1614,7 +1752,9 @@ END at_rest ;
    j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
    unchanged: a gentle touch); else the other body's velocity is restored
    and the full impulse is applied (S moves: jolted, its island wakes).
-   Returns the impulse applied. *)
+   When the other body is fixed (it moves or turns: a sleeper is never
+   predicted against an unmoving one) S cannot be held (the pair would have
+   no mass): the full impulse at once.  Returns the impulse applied. *)
 PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
 VAR
    S, M: BodyRef ;
@@ -1627,6 +1767,7 @@ BEGIN
       S := B ;
       M := A
    END ;
+   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny) END ;
    vx := M^.vx ;
    vy := M^.vy ;
    om := M^.om ;
@@ -1782,6 +1923,7 @@ PROCEDURE handle_collision (t: REAL; ev: CollisionEvent) ;
 VAR
    A, B: BodyRef ;
    cx, cy, nx, ny, vn, imp: REAL ;
+   isheld: BOOLEAN ;
 BEGIN
    A := ADR (Bodies^[ev.a]) ;
    B := ADR (Bodies^[ev.b]) ;
@@ -1803,13 +1945,17 @@ BEGIN
    END ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-      on it); a gentle touch leaves it asleep, a real impulse wakes its island *)
-   IF A^.asleep OR B^.asleep THEN
+      on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+      a slow contact of bodies held on their supports keeps them there *)
+   isheld := held (A, B, nx, ny, vn) ;
+   IF isheld THEN
+      imp := held_impulse (A, B, nx, ny, vn)
+   ELSIF A^.asleep OR B^.asleep THEN
       imp := sleeper_impulse (A, B, cx, cy, nx, ny)
    ELSE
       imp := contact_impulse (A, B, cx, cy, nx, ny)
    END ;
-   IF imp # 0.0 THEN
+   IF (imp # 0.0) AND NOT isheld THEN
       IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
       IF B^.asleep AND jolted (B) THEN handle_wake (B, t) END ;
       IF A^.sup >= 0 THEN end_support (A) END ;
@@ -1931,16 +2077,23 @@ BEGIN
 END EmitSupportEnd ;
 
 
-(* Sliding stops: velocity exactly zero, then rest or slide back. *)
+(* Sliding stops: velocity exactly the support's (zero when it does not
+   move), then rest or slide back. *)
 PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
 VAR
-   A: BodyRef ;
+   A, B: BodyRef ;
+   bx, by, bang: REAL ;
 BEGIN
    INC (Stats.stops) ;
    A := ADR (Bodies^[ev.body]) ;
    rebase (A, t) ;
-   A^.vx := 0.0 ;
-   A^.vy := 0.0 ;
+   B := ADR (Bodies^[A^.sup]) ;
+   IF static (B) THEN
+      A^.vx := 0.0 ;
+      A^.vy := 0.0
+   ELSE
+      StateAt (B, t, bx, by, A^.vx, A^.vy, bang)
+   END ;
    slide_accel (A, 0.0) ;
    EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
    IF at_rest (A) THEN
@@ -1996,6 +2149,10 @@ BEGIN
    rebase (b, t) ;
    IF inp.mode = RemoveMode THEN
       remove (b, ev.k, t) ;
+      RETURN
+   END ;
+   IF b^.fixed THEN
+      drive (b, ev.k, t, inp.vx, inp.vy) ;
       RETURN
    END ;
    IF inp.mode = TeleportMode THEN
@@ -2088,9 +2245,75 @@ BEGIN
 END remove ;
 
 
-(* The islands of the sleepers whose bounding circles reach the removed
-   body's (within the tolerance) wake: it may have held them (by index; a
-   woken island's other members are awake already). *)
+(* Input k sets the velocity of fixed polygon B (based at t, it does not
+   turn): a large one placed in grid cells moves to the large list for
+   good; every body it supported leaves (E leave, free motion: it meets B
+   again at once and is supported again relative to B's new motion, or
+   bounces, or falls); B is predicted against every body again (a large B:
+   each small one that is not fixed or removed, in index order; a small one:
+   PredictBody), the bodies that left against the others; last the islands
+   touching B wake (wake_touching: B may have held them, or carries them
+   into others). *)
+PROCEDURE drive (B: BodyRef; k: INTEGER; t, vx, vy: REAL) ;
+VAR
+   i, n, edge: INTEGER ;
+   A, o: BodyRef ;
+BEGIN
+   B^.vx := vx ;
+   B^.vy := vy ;
+   INC (B^.stamp) ;
+   IF B^.placed THEN
+      unplace_large (B) ;
+      B^.placed := FALSE ;
+      LargeAdd (B^.idx)
+   END ;
+   Str ("E input ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (B^.idx) ;
+   Str (" -1 -1 ") ;
+   Int (k) ;
+   Str (" -1 0 0 0 0 0") ;
+   Ln ;
+   EmitState (B) ;
+   n := 0 ;
+   FOR i := 0 TO NBodies - 1 DO
+      A := ADR (Bodies^[i]) ;
+      IF A^.sup = B^.idx THEN
+         INC (Stats.leaves) ;
+         rebase (A, t) ;
+         edge := A^.sup_edge ;
+         end_support (A) ;
+         INC (A^.stamp) ;
+         EmitSupportEnd ("leave", t, A^.idx, B^.idx, edge) ;
+         EmitState (A) ;
+         IF n >= CapLeft THEN
+            IF CapLeft = 0 THEN CapLeft := 16 ELSE CapLeft := 2 * CapLeft END ;
+            Left := Grow (Left, CapLeft, SIZE (INTEGER))
+         END ;
+         Left^[n] := i ;
+         INC (n)
+      END
+   END ;
+   IF B^.large THEN
+      FOR i := 0 TO NBodies - 1 DO
+         o := ADR (Bodies^[i]) ;
+         IF (NOT o^.large) AND (NOT o^.gone) AND (NOT o^.fixed) THEN PredictPair (o, B, t) END
+      END
+   ELSE
+      PredictBody (B, t, -1)
+   END ;
+   FOR i := 0 TO n - 1 DO
+      PredictBody (ADR (Bodies^[Left^[i]]), t, B^.idx)
+   END ;
+   wake_touching (B, t)
+END drive ;
+
+
+(* The islands of the sleepers whose bounding circles reach the body's
+   (within the tolerance; a body removed, or a fixed one whose velocity an
+   input set) wake: it may have held them (by index; a woken island's other
+   members are awake already). *)
 PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
 VAR
    i: INTEGER ;
@@ -2702,6 +2925,16 @@ END inputs_now ;
    then this one, before any other event at T (docs/engine-api.md, "Live
    inputs").  It is appended to the input list, which is the recording.
    done: FALSE when a teleport is refused (nothing changed). *)
+(* An input of this mode may act on b: any on a movable body; on a fixed
+   one, removal, or set_velocity when it is a polygon that does not turn
+   (its edges then translate: docs/simulator.md, Contact model). *)
+PROCEDURE drivable (b: BodyRef; mode: INTEGER) : BOOLEAN ;
+BEGIN
+   IF (NOT b^.fixed) OR (mode = RemoveMode) THEN RETURN TRUE END ;
+   RETURN (mode = SetVelocityMode) AND b^.polygon AND (b^.om = 0.0)
+END drivable ;
+
+
 PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
 VAR
    b: BodyRef ;
@@ -2717,10 +2950,11 @@ BEGIN
       Append (m, " was removed") ;
       RETURN Refuse (m)
    END ;
-   IF b^.fixed AND (mode # RemoveMode) THEN
+   IF NOT drivable (b, mode) THEN
       m := "body " ;
       AppendInt (m, body) ;
-      Append (m, " is fixed: inputs move movable bodies only") ;
+      Append (m, " is fixed: inputs move movable bodies only (or set the velocity of a fixed polygon that does ") ;
+      Append (m, "not turn, or remove a fixed body)") ;
       RETURN Refuse (m)
    END ;
    IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
@@ -2927,6 +3161,8 @@ BEGIN
    CapEdgePolys := 0 ;
    Near := NIL ;
    CapNear := 0 ;
+   Left := NIL ;
+   CapLeft := 0 ;
    Mark := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)
