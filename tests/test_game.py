@@ -128,3 +128,51 @@ def test_the_hero_runs_off_a_ledge_end():
     ledge1's left end); the hero now leaves the edge and plays on."""
     proc = play("--keys", LEDGE_END, "--frames", "700")
     assert proc.returncode == 0, proc.stderr[-500:]
+
+
+@pytest.mark.parametrize("engine", ["c", "python"])
+def test_the_lift_carries_the_hero(engine):
+    """The hero put on the lift (a fixed plank rising at 0.6 m/s) lands, is
+    supported and rides up with it: its centre stays on the plank's top,
+    exactly, and moves with the plank's speed.  At the top of the shaft the
+    game loop sends the lift down (a live set_velocity on a fixed polygon):
+    the hero, still rising, leaves it, falls back on it and rides it down.
+    Both engines, through the game's own rules (Game.step turns the lift)."""
+    sys.path.insert(0, os.path.dirname(GAME))
+    try:
+        import game as game_mod
+    finally:
+        sys.path.pop(0)
+    from max2code.sim.live import open_world
+    from max2code.sim.scene import parse_scene
+    with open(os.path.join(ROOT, "examples", "game", "level.json"), encoding="utf-8") as fh:
+        raw = json.load(fh)
+    # the level without its boulders and gems, which would knock the hero off
+    raw["bodies"] = [b for b in raw["bodies"] if not b["name"].startswith(("boulder", "gem"))]
+    scene = parse_scene(json.dumps(raw), "level-lift.json")
+    names = [b.name for b in scene.bodies]
+    lift, hero = names.index("lift"), names.index("hero")
+    world = open_world(scene, engine)
+    game = game_mod.Game(world, scene)
+    top = 0.08 + 0.25                               # the plank's half height + the hero's radius
+    assert world.teleport(hero, 11.3, 3.0 + top + 1e-3)
+    world.set_velocity(hero, 0.0, 0.0)
+    turn = (game_mod.LIFT_Y[1] - 3.0) / 0.6        # s: the lift reaches the top of its shaft
+    riding = {"up": 0, "down": 0, "off": 0}
+    for frame in range(1, 60 * 9):
+        t = frame / 60.0
+        game.contacts(world.advance(t))
+        game.step(t)
+        _, ly, _, lvy, _, _ = world.state(lift, t)
+        x, y, vx, vy, _, _ = world.state(hero, t)
+        on = abs(y - (ly + top)) <= 1e-9 and vy == lvy and x == 11.3 and vx == 0.0
+        if 0.5 <= t < turn - 0.01:                  # landed (a 1 mm fall) and carried up since
+            assert on and lvy == 0.6, (t, x, y, vx, vy, ly, lvy)
+            riding["up"] += 1
+        elif t >= turn + 0.5:                       # fell back on the descending lift and carried down
+            assert on and lvy == -0.6, (t, x, y, vx, vy, ly, lvy)
+            riding["down"] += 1
+        elif not on:
+            riding["off"] += 1
+    assert riding["up"] > 300 and riding["down"] > 100 and riding["off"] > 0, riding
+    assert game.inputs == 1                         # the lift's one turn (the test's own inputs aside)

@@ -39,6 +39,7 @@ WALK, JUMP = 3.2, 6.6                        # m/s
 SPAWN = (1.0, 0.25)                          # where the hero starts and returns after a hit
 SHELF_Y = 9.6                                # m: collected gems rest here, above the ceiling, one slot each
 KEYS = ("left", "right", "jump")
+LIFT_Y = (3.0, 6.5)                          # m: the lift's centre turns back at these heights
 
 
 class GameError(Exception):
@@ -69,6 +70,7 @@ class Game:
         self.names = [b.name for b in scene.bodies]
         idx = {n: k for k, n in enumerate(self.names)}
         self.hero = idx["hero"]
+        self.lift = idx.get("lift")
         self.gems = {k for k, n in enumerate(self.names) if n.startswith("gem")}
         self.boulders = {k for k, n in enumerate(self.names) if n.startswith("boulder")}
         self.collected: list[int] = []      # gems on the shelf, in the order taken
@@ -112,6 +114,12 @@ class Game:
     def step(self, t: float) -> None:
         """The live inputs of this frame, at the world's time t."""
         w, h = self.w, self.hero
+        if self.lift is not None:
+            # the lift turns back at the first frame past an end of its shaft (a live
+            # set_velocity on a fixed polygon: what rests on it meets it again at once)
+            _, ly, _, lvy, _, _ = w.state(self.lift, t)
+            if (lvy > 0.0 and ly >= LIFT_Y[1]) or (lvy < 0.0 and ly <= LIFT_Y[0]):
+                self._input("set_velocity", self.lift, 0.0, -lvy)
         for g in list(self.pending):
             slot = 12.2 + 0.45 * len(self.collected)
             if self._input("teleport", g, slot, SHELF_Y):

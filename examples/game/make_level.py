@@ -3,9 +3,11 @@
 script says how its numbers were chosen.
 
 A 16 m x 9 m room (60 pixels a metre fills a 960 x 540 window): ground,
-walls and ceiling; five ledges; two moving platforms (a bar spinning slowly
-about its centre, and two discs carried round a wheel: orbiting fixed
-circles, the paper's orbits); the hero, a ball (a circle never turns by
+walls and ceiling; five ledges; three moving platforms (a bar spinning slowly
+about its centre, two discs carried round a wheel: orbiting fixed
+circles, the paper's orbits, and a lift: a fixed plank that rises and
+falls at constant speed, reversed by the game loop at the ends of its
+shaft, which carries what rests on it); the hero, a ball (a circle never turns by
 contact, so it cannot tumble) without friction or bounce, walked and jumped
 by the keys; four gems that float (their own acceleration cancels gravity)
 and drift, to collect; two heavy balls that bounce for ever (restitution 1),
@@ -34,6 +36,8 @@ def level():
               box("ledge5", 1.6, 4.4, 1.1, 0.1),
               # moving platforms: a bar turning once in about 8 s, two discs round a wheel
               box("spinner", 9.4, 4.0, 1.1, 0.08, angular_velocity=0.8),
+              # the lift: game.py reverses it at the ends of its shaft (LIFT_Y)
+              box("lift", 11.3, 3.0, 0.6, 0.08, velocity=[0.0, 0.6]),
               {"name": "disc1", "shape": "circle", "fixed": True, "radius": 0.35, "position": [5.0, 6.2],
                "orbit": {"radius": 1.3, "angle": 0.0}, "angular_velocity": 0.6},
               {"name": "disc2", "shape": "circle", "fixed": True, "radius": 0.35, "position": [5.0, 6.2],
