@@ -106,7 +106,8 @@ LEDGE_END = os.path.join(ROOT, "tests", "data", "game-stuck-keys.txt")
 
 def test_a_stuck_engine_is_one_line(tmp_path):
     """The engine's guard against a stuck scene (more than max_events_at_one_time
-    events at one instant; here 1, so the hero's first landing trips it): the
+    events at one instant; here 1, so the first instant the guard counts two
+    events at trips it, at t = 19.63 s in the key script's session): the
     game stops with one line naming the scene and the time, exit 1, no
     traceback and no recording."""
     with open(os.path.join(ROOT, "examples", "game", "level.json"), encoding="utf-8") as fh:
@@ -115,7 +116,7 @@ def test_a_stuck_engine_is_one_line(tmp_path):
     scene = tmp_path / "level.json"
     scene.write_text(json.dumps(level))
     rec = tmp_path / "rec.json"
-    proc = play("--scene", str(scene), "--keys", KEYS, "--frames", "700", "--quiet", "--record", str(rec))
+    proc = play("--scene", str(scene), "--keys", KEYS, "--frames", str(FRAMES), "--quiet", "--record", str(rec))
     assert proc.returncode == 1
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"{scene}: error: the engine stopped before t = "), lines
