@@ -231,9 +231,11 @@ def test_a_box_pushed_along_a_floor_slides_on_it_and_stops():
     no_overlap(scene, rp)
 
 
-def _closed_scene_checks(raw, name):
+def _closed_scene_checks(raw, name, lang="python"):
+    """The scene run in lang: no overlap beyond the tolerance at any event or
+    frame, energy never grows."""
     scene = parse_scene(json.dumps(raw), name)
-    tr = run_scene(scene, "python")
+    tr = run_scene(scene, lang)
     rp = read_trace("\n".join(tr.lines()), scene, name)
     rep = no_overlap(scene, rp)
     never_gains_energy(scene, rp, name)
@@ -284,12 +286,7 @@ def test_random_resting_boxes_whose_bottom_corners_meet_finish(seed, lang):
     touching at one point; each corner was accepted against the other box's
     bottom face (docs/simulator.md, "Corners").  They finish, with no
     overlap beyond the tolerance and no gain of energy."""
-    name = f"resting-{seed}-boxes.json"
-    scene = parse_scene(json.dumps(stuck_at_once(resting_scene(seed, boxes=True))), name)
-    tr = run_scene(scene, lang)
-    rp = read_trace("\n".join(tr.lines()), scene, name)
-    no_overlap(scene, rp)
-    never_gains_energy(scene, rp, name)
+    _closed_scene_checks(stuck_at_once(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json", lang)
 
 
 @pytest.mark.parametrize("lang", runtimes("held"))
@@ -350,11 +347,7 @@ def test_a_ball_resting_on_a_sliding_box_never_gains_energy():
     C is fast): 0.7 s of resting_scene(128) with boxes."""
     raw = resting_scene(128, boxes=True)
     raw["end_time"] = 0.7
-    scene = parse_scene(json.dumps(raw), "resting-128-boxes.json")
-    tr = run_scene(scene, "c")
-    rp = read_trace("\n".join(tr.lines()), scene, "resting-128-boxes.json")
-    no_overlap(scene, rp)
-    never_gains_energy(scene, rp, "resting-128-boxes.json")
+    _closed_scene_checks(raw, "resting-128-boxes.json", "c")
 
 
 @pytest.mark.xfail(strict=True, raises=SimulateError,
