@@ -163,7 +163,10 @@ def test_special_lines_convert_alike():
 @pytest.mark.parametrize("bad", ["S 0 0 nan 0 0 0 0 0 0 0", "S 0 0 1 inf 0 0 0 0 0 0", "S 0 0 1 0 -NaN 0 0 0 0 0",
                                  "S 9 0 1 0 0 0 0 0 0 0", "E collision 1 0 1 7 -1 -1 0 0 1 0 1",
                                  "E bounce 1 0 1 0 -1 -1 0 0 1 0 1", "Q 1 2", "N collisions 1.5",
-                                 "E collision 1 0 1 0 -1 -1 0 0 1 0 inf"])
+                                 "E collision 1 0 1 0 -1 -1 0 0 1 0 inf",
+                                 # a negative body index is refused, never read from the end of the names
+                                 "S -1 0 1 0 0 0 0 0 0 0", "E collision 1 -1 0 0 -1 -1 0 0 1 0 1",
+                                 "E stop 1 2 -1 -1 -1 2 0 0 0 0 0", "V point_edge -1 3"])
 def test_bad_lines_are_the_same_error(bad):
     text = LINES.replace("S 0 0 0 0 -1 0 0 0 0 0\n", bad + "\n", 1)
     with pytest.raises(SimulateError) as a:
@@ -176,7 +179,7 @@ def test_bad_lines_are_the_same_error(bad):
 
 
 @pytest.mark.parametrize("bad", ["F 1 -0 0.5 nan -1 0 0", "F 7 -0 0.5 1e-300 -1 0 0", "F 1 -0 0.5 1e-300 -1 0",
-                                 "F 1 -0 0.5 1e-300 -1 0 -inf"])
+                                 "F 1 -0 0.5 1e-300 -1 0 -inf", "F -1 -0 0.5 1e-300 -1 0 0"])
 def test_bad_final_states_are_the_same_error(bad):
     """The final states (converted a block at a time on the command's path)."""
     text = LINES.replace("F 1 -0 0.5 1e-300 -1 0 0\n", bad + "\n", 1)

@@ -326,6 +326,15 @@ class TraceConverter:
             self.head = None
             self.states = []
 
+    def _name(self, index) -> str:
+        """The JSON name of body `index` (a token or an int); a negative or
+        too large index is a ValueError (a bad trace line), never a name
+        read from the end of the list."""
+        i = int(index)
+        if i < 0:
+            raise ValueError(f"body index {i} is negative")
+        return self.names[i]
+
     def feed(self, line: str) -> None:
         """One line of the flat trace, checked."""
         self.line += 1
@@ -337,7 +346,7 @@ class TraceConverter:
             if tag == "S":
                 if self.head is None:
                     raise ValueError("a state without its event")
-                self.states.append(_state(self.names[int(w[1])], _num(w[3]), _num(w[4]), _num(w[5]),
+                self.states.append(_state(self._name(w[1]), _num(w[3]), _num(w[4]), _num(w[5]),
                                              _num(w[6]), _num(w[7]), _num(w[8]), _num(w[9]), _num(w[10])))
                 return
             self._flush()
@@ -349,17 +358,17 @@ class TraceConverter:
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
                     feature = FEATURES[(feat, (j >= 0) if feat == 0 else (i >= 0))]
-                    head = _contact(t, kind, self.names[a], self.names[b], _features(feature, i, j), _num(w[8]),
+                    head = _contact(t, kind, self._name(a), self._name(b), _features(feature, i, j), _num(w[8]),
                                     _num(w[9]), _num(w[10]), _num(w[11]), _num(w[12]))
                 elif kind in ("stop", "leave"):
-                    head = _support_end(t, kind, self.names[int(w[3])], self.names[int(w[4])], int(w[7]))
+                    head = _support_end(t, kind, self._name(w[3]), self._name(w[4]), int(w[7]))
                 elif kind == "sleep":
-                    head = (f'{{"t":{t},"kind":"sleep","bodies":[{self.names[int(w[3])]},{self.names[int(w[4])]}],'
+                    head = (f'{{"t":{t},"kind":"sleep","bodies":[{self._name(w[3])},{self._name(w[4])}],'
                             f'"island":{int(w[7])}')
                 elif kind == "wake":
-                    head = f'{{"t":{t},"kind":"wake","bodies":[{self.names[int(w[3])]}],"island":{int(w[7])}'
+                    head = f'{{"t":{t},"kind":"wake","bodies":[{self._name(w[3])}],"island":{int(w[7])}'
                 elif kind == "input":
-                    head = f'{{"t":{t},"kind":"input","bodies":[{self.names[int(w[3])]}],"input":{int(w[6])}'
+                    head = f'{{"t":{t},"kind":"input","bodies":[{self._name(w[3])}],"input":{int(w[6])}'
                 elif kind == "frame":
                     if not self.frames:
                         return
@@ -368,12 +377,14 @@ class TraceConverter:
                     raise ValueError(f"unknown event kind {kind!r}")
                 self.head = head
             elif tag == "F":
-                self.final.append(_final(self.names[int(w[1])], _num(w[2]), _num(w[3]), _num(w[4]),
+                self.final.append(_final(self._name(w[1]), _num(w[2]), _num(w[3]), _num(w[4]),
                                             _num(w[5]), _num(w[6]), _num(w[7])))
             elif tag == "N":
                 self.counts[w[1]] = int(w[2])
             elif tag == "V":
                 eq, k, n = w[1], int(w[2]), int(w[3])
+                if k < 0:
+                    raise ValueError(f"variant index {k} is negative")
                 if n:
                     self.predictions[self.build.variant_names[eq][k]] = n
             elif tag == "X":
@@ -548,7 +559,10 @@ class TraceConverter:
             elif tag == "V" and len(w) == 4:
                 served = int(w[3])
                 if served:
-                    predictions[self.build.variant_names[w[1]][int(w[2])]] = served
+                    k = int(w[2])
+                    if k < 0:
+                        raise _Slow     # the precise path says why
+                    predictions[self.build.variant_names[w[1]][k]] = served
             else:
                 raise _Slow             # blank, unknown or malformed lines: the precise path
             heads.append(head)
