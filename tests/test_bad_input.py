@@ -132,6 +132,35 @@ def test_magnitudes_that_cannot_be_represented_name_the_field(tmp_path, capsys, 
     one_error_line(err, f"{p}: error: bodies[0] (ball).{field}")
 
 
+@pytest.mark.parametrize("x", [1e17, -3e16, 1e30])
+def test_a_polygon_so_far_out_that_its_vertices_round_together_is_refused(tmp_path, capsys, x):
+    """A 0.2 m box (and a second one beside it) placed where the doubles are
+    coarser than the box: its edges vanish.  Refused at the body's position,
+    never a ZeroDivisionError while the scene is checked."""
+    box = [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]
+    s = {"end_time": 1.0, "gravity": [0, -9.81], "bodies": [
+        {"name": "far", "shape": "polygon", "fixed": True, "position": [x, 0], "vertices": box},
+        {"name": "beside", "shape": "polygon", "fixed": True, "position": [x, 0.2], "vertices": box},
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [x, 0.5]}]}
+    p = write(tmp_path, "far.json", s)
+    for lang in ("python", "c"):
+        code, out, err = run(capsys, "simulate", "--lang", lang, p)
+        assert code == 1 and out == ""
+        assert "vertices round together" in one_error_line(err, f"{p}: error: bodies[0] (far).position")
+
+
+def test_a_polygon_far_out_but_still_resolved_is_simulated(tmp_path, capsys):
+    """1e6 m out the same box is 2e-11 relative of its position: simulated (the ball lands on it)."""
+    box = [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]
+    s = {"end_time": 1.0, "gravity": [0, -9.81], "bodies": [
+        {"name": "far", "shape": "polygon", "fixed": True, "position": [1e6, 0], "vertices": box},
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1e6, 0.5]}]}
+    p = write(tmp_path, "far.json", s)
+    code, out, err = run(capsys, "simulate", "--lang", "python", p, "-q")
+    assert code == 0, err
+    assert any(json.loads(x).get("kind") == "collision" for x in out.splitlines())
+
+
 @pytest.mark.parametrize("where,text", [
     ("end_time", '{"end_time": 1' + "0" * 400 + ', "bodies": []}'),
     ("bodies[0] (ball).position[0]", json.dumps(scene()).replace('"position": [0, 1]',

@@ -633,6 +633,16 @@ def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, 
         if v > limit:
             rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
                                              f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
+    if b.polygon:
+        pts = world_vertices(b)
+        n = len(pts)
+        (x0, y0) = pts[0]
+        twice_area = sum((pts[i][0] - x0) * (pts[i + 1][1] - y0) - (pts[i + 1][0] - x0) * (pts[i][1] - y0)
+                         for i in range(1, n - 1))
+        if any(pts[i] == pts[(i + 1) % n] for i in range(n)) or not twice_area > 0.0:
+            rd.fail(f"{where}.position", f"at {far:g} m from the origin the polygon's vertices round together in "
+                                         "doubles (an edge vanishes or the polygon turns inside out); move the "
+                                         "scene nearer the origin or scale it")
     reach = far + speed * T + accel * T * T / 2.0 + b.bound
     if not reach <= LENGTH_MAX:
         rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
@@ -647,6 +657,7 @@ def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, 
 
 # ---------------------------------------------------------------- geometry
 def world_vertices(b: Body) -> list[tuple[float, float]]:
+    """A polygon's vertices placed at its position and angle (t = 0)."""
     ca, sa = math.cos(b.angle), math.sin(b.angle)
     return [(b.position[0] + ca * x - sa * y, b.position[1] + sa * x + ca * y) for x, y in b.vertices]
 
@@ -922,12 +933,6 @@ def _static(b: Body) -> bool:
     return b.fixed and b.velocity == (0.0, 0.0) and b.acceleration == (0.0, 0.0) and b.angular_velocity == 0.0
 
 
-def _world_vertices(b: Body) -> list[tuple[float, float]]:
-    c, s = math.cos(b.angle), math.sin(b.angle)
-    px, py = b.position
-    return [(px + c * x - s * y, py + s * x + c * y) for x, y in b.vertices]
-
-
 def _edges(pts: list[tuple[float, float]]) -> list[tuple[float, float, float]]:
     """(nx, ny, h) per edge of a counter-clockwise polygon: the outward unit
     normal and the line's offset, n . p <= h inside."""
@@ -959,7 +964,7 @@ def covered_edges(scene: Scene) -> dict[int, list[int]]:
     static = [(k, b) for k, b in enumerate(scene.bodies) if b.polygon and _static(b) and k not in driven]
     if len(static) < 2:
         return {}
-    shapes = {k: (_world_vertices(b), b) for k, b in static}
+    shapes = {k: (world_vertices(b), b) for k, b in static}
     lines = {k: _edges(pts) for k, (pts, _) in shapes.items()}
     out: dict[int, list[int]] = {}
     for k, (pts, b) in shapes.items():
