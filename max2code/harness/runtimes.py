@@ -23,7 +23,8 @@ class RuntimeBuildError(Max2CodeError):
 
 def run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
     try:
-        r = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        r = subprocess.run(cmd, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
     except FileNotFoundError:
         raise RuntimeBuildError(f"max2code: error: {cmd[0]} is needed to build the runtime and was not found") from None
     if r.returncode != 0:
@@ -32,7 +33,7 @@ def run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
 
 def gsl_libs() -> list[str]:
     """GSL's link flags (pkg-config, else the usual three)."""
-    out = subprocess.run(["pkg-config", "--libs", "gsl"], capture_output=True, text=True)
+    out = subprocess.run(["pkg-config", "--libs", "gsl"], stdin=subprocess.DEVNULL, capture_output=True, text=True)
     return out.stdout.split() if out.returncode == 0 else ["-lgsl", "-lgslcblas", "-lm"]
 
 

@@ -70,6 +70,7 @@ def write_harness(lang: str, generated_text: str, workdir: str, template: str, *
 def compile_harness(commands: list[list[str]], workdir: str, timeout: float) -> None:
     """Run the build commands in `workdir`; HarnessBuildError with the tool's output on failure."""
     for cmd in commands:
-        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, timeout=timeout)
+        proc = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True, cwd=workdir,
+                              timeout=timeout)
         if proc.returncode != 0:
             raise HarnessBuildError(f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}")

@@ -144,7 +144,8 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     digest = h.hexdigest()
     if not stamp.exists() or stamp.read_text() != digest:
         for cmd in cmds:
-            proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=1800)
+            proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                                  timeout=1800)
             if proc.returncode != 0:
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
