@@ -360,6 +360,26 @@ def test_a_ball_resting_on_a_sliding_box_never_gains_energy():
     _closed_scene_checks(raw, "resting-128-boxes.json", "c")
 
 
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="known (seed hunt of session 7): boxes that slide side by side or against a sleeping "
+                          "ball and meet gently while nearly at rest relative to each other; their slow pressed "
+                          "contacts hop at the floor speed rest_speed/32 (docs/simulator.md 'Hop', the one "
+                          "case that adds energy): growth 2.0e-8 (seed 244), 3.0e-8 (47), 1.3e-7 (33) relative")
+@pytest.mark.parametrize("seed", [244, 47, 33])
+def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed):
+    """2 s of resting_scene(seed) with boxes, in C (the runtimes write the same bytes)."""
+    _closed_scene_checks(stuck_at_once(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json", "c")
+
+
+@pytest.mark.xfail(strict=True, raises=SimulateError,
+                   reason="known (seed hunt of session 7): at t = 1.3776 s a ball is wedged between a wall "
+                          "and a sleeping ball; each gentle touch turns its velocity and it meets the other "
+                          "side again at the same instant: more than 1000 events at one time (stuck)")
+def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck():
+    """resting_scene(993908) with boxes, in C."""
+    _closed_scene_checks(stuck_at_once(resting_scene(993908, boxes=True)), "resting-993908-boxes.json", "c")
+
+
 @pytest.mark.xfail(strict=True, raises=SimulateError,
                    reason="known (seed hunt of session 6): a ball against the side face of a free box that "
                           "turns; the gap's polynomial closes by the turn (its second derivative has the "
