@@ -29,6 +29,7 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
+PORTED["pressed"] = {"python"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
@@ -350,16 +351,47 @@ def test_a_ball_resting_on_a_sliding_box_never_gains_energy():
     _closed_scene_checks(raw, "resting-128-boxes.json", "c")
 
 
-@pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known (seed hunt of session 6): a ball against the side face of a free box that "
-                          "turns; the gap's polynomial closes by the turn (its second derivative has the "
-                          "centripetal terms) and predicts a contact now, while contact_impulse finds the "
-                          "material points not approaching and not `pressed` (which leaves centripetal terms "
-                          "out): zero impulse, the same contact again, more than 1000 events at one instant")
-def test_a_ball_grazing_a_turning_box_is_not_stuck():
+@pytest.mark.parametrize("lang", runtimes("pressed"))
+def test_a_ball_grazing_a_turning_box_is_not_stuck(lang):
+    """Found by the seed hunt of session 6 (stuck at one instant in every
+    runtime): a ball against the side face of a free box that turns.  The
+    gap's polynomial closes by the turn (its second derivative has the
+    centripetal terms) and predicted a contact now, while contact_impulse
+    found the material points neither approaching nor `pressed` (centre
+    accelerations only): zero impulse, the same contact again, more than
+    1000 events at one instant.  The feature's own polynomial now decides
+    (`closing`): the contact hops.  0.7 s of the scene finish, with no
+    overlap beyond the tolerance and no gain of energy."""
     raw = stuck_at_once(resting_scene(190, boxes=True))
     raw["end_time"] = 0.7
-    run_scene(parse_scene(json.dumps(raw), "resting-190-boxes.json"), "c")
+    _closed_scene_checks(raw, "resting-190-boxes.json", lang)
+
+
+@pytest.mark.parametrize("lang", runtimes("pressed"))
+def test_a_ball_at_rest_on_the_face_of_a_turning_box_hops(lang):
+    """No gravity: a ball at rest touches the middle of a side face of a box
+    that turns about its centre.  There the face's material point moves
+    along the face (vn = 0) and no acceleration presses them, but the turn
+    swings the face's line into the ball (gap D (cos(w t) - 1), D the
+    ball's distance from the centre): a contact at t = 0 that must hop, the
+    ball leaving the face's material point at rest_speed, not a zero
+    impulse found again and again."""
+    w, half, r = 2.0, 0.1, 0.05
+    box = box_body(x=0.0, y=0.0, half=half, angular_velocity=w)
+    b = ball(x=half + r, y=0.0, r=r)
+    raw = stuck_at_once({"end_time": 1.0, "frame_rate": 100, "bodies": [box, b]})
+    scene = parse_scene(json.dumps(raw), "turning-face.json")
+    tr = run_scene(scene, lang)
+    rp = read_trace("\n".join(tr.lines()), scene, "turning-face.json")
+    first = next(e for e in tr.events if e["kind"] != "frame")
+    assert first["kind"] == "collision" and first["t"] == 0.0 and first["impulse"] > 0.0, first
+    got = {st["body"]: st for st in first["states"]}
+    # the contact point (half, 0) lies on the box's normal through its
+    # centre: the separation speed of the material points is vx(ball) - vx(box)
+    sep = got["ball"]["velocity"][0] - got["box"]["velocity"][0]
+    assert sep == pytest.approx(scene.rest_speed, rel=1e-12)
+    no_overlap(scene, rp)
+    never_gains_energy(scene, rp, "turning-face.json")
 
 
 @pytest.mark.parametrize("depth,counts", [(0.99, True), (1.01, False)])

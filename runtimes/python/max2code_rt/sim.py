@@ -579,6 +579,15 @@ class World:
     def circles_first(self, pa, ra: float, pb, rb: float, w: float):
         """The first contact within [0, w] of a circle of radius ra moving as
         pa (circle_params) and one of radius rb moving as pb."""
+        coef = self.circles_gap(pa, ra, pb, rb)
+        tol = self.s.tol
+        kappa = tol * (2.0 * (ra + rb) + tol)
+        return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
+
+    def circles_gap(self, pa, ra: float, pb, rb: float) -> list[float]:
+        """The circle_circle polynomial (squared distance of the centres less
+        (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
+        moving as pa (circle_params) and one of radius rb moving as pb."""
         a, b_, c, d, e, f, m, n, o, p, q = pa
         g, h, i, j, k, l, r, s_, u, v, ww = pb
         # only differences of the centres' motions matter: circle 1 moves
@@ -586,10 +595,7 @@ class World:
         # cancels (no_accel variants) and far from the origin nothing is lost
         args = (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
                 0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, ra, rb)
-        coef = self.cc_coefficients(args)
-        tol = self.s.tol
-        kappa = tol * (2.0 * (ra + rb) + tol)
-        return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
+        return self.cc_coefficients(args)
 
     def cc_coefficients(self, args) -> list[float]:
         idx = self.cc_var(*args)
@@ -994,6 +1000,29 @@ class World:
         negative.  (Centripetal terms of turning bodies are left out.)"""
         return (B.ax - A.ax) * nx + (B.ay - A.ay) * ny < 0.0
 
+    def closing(self, A: Body, B: Body, feature: int, i: int, j: int) -> bool:
+        """The gap polynomial of the contact's feature (feature, i, j as in a
+        CollisionEvent: the one that predicted it), taken again at the
+        contact (A's time: both advanced), predicts this contact now
+        (touching_now: approaching, c1 < 0, or c2 < 0 and closing again
+        before the gap exceeds its kappa).  Its second derivative has the
+        centripetal terms of a turn, which `pressed` leaves out."""
+        now = A.tb
+        if feature == CC:
+            vb = B.verts[j] if j >= 0 else None
+            rb = B.r if vb is None else 0.0
+            c = self.circles_gap(self.circle_params(A, now, None), A.r, self.circle_params(B, now, vb), rb)
+            tol = self.s.tol
+            kappa = tol * (2.0 * (A.r + rb) + tol)
+        else:
+            if i >= 0:
+                v = A.verts[i]
+                c = self.pe_coefficients(A, B, v.rho, v.beta, 0.0, j, now)
+            else:
+                c = self.pe_coefficients(A, B, A.orbit, A.ophase, A.r, j, now)
+            kappa = self.s.tol
+        return self.touching_now(c, len(c) - 1, kappa)
+
     @staticmethod
     def normal_speed(A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
         """Normal relative velocity (B's against A's, along n from A to B) of
@@ -1154,16 +1183,24 @@ class World:
             lo = u
         return None
 
-    def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
-        """The impulse of a contact at (cx, cy) with normal (nx, ny) from A to
-        B (both advanced to the contact time): 0.0 when the material points
-        do not approach and are not pressed together, else the normal
-        impulse j (velocities changed).  A fast contact is frictionless and
-        leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one
-        hops (`hop`).  Never adds energy (docs/simulator.md, Impulse)."""
+    def contact_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
+                        feature: int, i: int, j: int) -> float:
+        """The impulse of a contact of the feature (feature, i, j) at (cx, cy)
+        with normal (nx, ny) from A to B (both advanced to the contact time):
+        0.0 when the material points do not approach and are not pressed
+        together, else the normal impulse j (velocities changed).  A fast
+        contact is frictionless and leaves at sep = max(e |vn|, min(|vn|,
+        rest_speed)); a slow pressed one hops (`hop`).  When the material
+        points do not approach, the centres' accelerations do not press them
+        and a body of the pair turns, the feature's gap polynomial decides
+        whether they are pressed (`closing`: the turn closes the gap, which
+        would otherwise predict the same contact again at once).  Never adds
+        energy (docs/simulator.md, Impulse)."""
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
         rest = self.s.rest_speed
         press = self.pressed(A, B, nx, ny)
+        if not press and not (vn < 0.0) and (self.turn_rate(A) > 0.0 or self.turn_rate(B) > 0.0):
+            press = self.closing(A, B, feature, i, j)
         if press and -vn < rest:
             return self.hop(A, B, cx, cy, nx, ny, vn)
         imp = 0.0
@@ -1333,7 +1370,8 @@ class World:
             return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
         return True
 
-    def sleeper_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float) -> float:
+    def sleeper_impulse(self, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
+                        feature: int, i: int, j: int) -> float:
         """The impulse of a contact of A and B, one of them (S) asleep: first
         with S held as if fixed (its 1/m and 1/I zero); when that impulse
         would change the normal speed of S's material point by less than
@@ -1347,19 +1385,19 @@ class World:
         S = A if A.asleep else B
         M = B if A.asleep else A
         if M.fixed:
-            return self.contact_impulse(A, B, cx, cy, nx, ny)
+            return self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)
         vx, vy, om = M.vx, M.vy, M.om
         inv_m, inv_i = S.inv_m, S.inv_i
         S.inv_m = 0.0
         S.inv_i = 0.0
-        imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+        imp = self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)
         S.inv_m = inv_m
         S.inv_i = inv_i
         rsn = (cx - S.px) * ny - (cy - S.py) * nx
         if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed:
             return imp
         M.vx, M.vy, M.om = vx, vy, om
-        return self.contact_impulse(A, B, cx, cy, nx, ny)
+        return self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)
 
     @staticmethod
     def jolted(S: Body) -> bool:
@@ -1444,9 +1482,9 @@ class World:
         if held:
             imp = self.held_impulse(A, B, nx, ny, vn)
         elif A.asleep or B.asleep:
-            imp = self.sleeper_impulse(A, B, cx, cy, nx, ny)
+            imp = self.sleeper_impulse(A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
         else:
-            imp = self.contact_impulse(A, B, cx, cy, nx, ny)
+            imp = self.contact_impulse(A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
         if imp != 0.0 and not held:
             if A.asleep and self.jolted(A):
                 self.handle_wake(A, t)
