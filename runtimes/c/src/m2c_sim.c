@@ -696,17 +696,25 @@ static void centre_params(const m2c_sim_body *b, double now, double *o)
     o[10] = 0.0;
 }
 
-/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+/* The circle_circle polynomial (its degree; the squared distance of the
+ * centres less (ra + rb)^2, in s from the parameters' time) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
-static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+static int circles_gap(sim *m, const double *p1, double ra, const double *p2, double rb, double *coef)
 {
     /* only differences of the centres' motions matter: circle 1 moves
      * relative to circle 2's centre of rotation */
     double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
                      p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
                      0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], ra, rb };
+    return cc_coefficients(m, g, coef);
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+ * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
     double coef[M2C_MAX_DEGREE + 1];
-    int deg = cc_coefficients(m, g, coef);
+    int deg = circles_gap(m, p1, ra, p2, rb, coef);
     double tol = m->s->tol;
     double kappa = tol * (2.0 * (ra + rb) + tol);
     return first_contact(coef, deg, w, kappa, NULL, out);
@@ -1468,6 +1476,39 @@ static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double n
     return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
 }
 
+/* The gap polynomial of the contact's feature (feature, i, j as in a
+ * collision record: the one that predicted it), taken again at the contact
+ * (A's time: both advanced), predicts this contact now (touching_now:
+ * approaching, c1 < 0, or c2 < 0 and closing again before the gap exceeds
+ * its kappa).  Its second derivative has the centripetal terms of a turn,
+ * which `pressed` leaves out. */
+static int closing(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j)
+{
+    double now = A->tb;
+    double c[M2C_MAX_DEGREE + 1] = { 0.0 };
+    int deg;
+    double kappa;
+    if (feature == CC) {
+        const m2c_sim_vertex *vb = j >= 0 ? &B->verts[j] : NULL;
+        double rb = vb == NULL ? B->r : 0.0;
+        double p1[11], p2[11];
+        circle_params(m, A, now, NULL, p1);
+        circle_params(m, B, now, vb, p2);
+        deg = circles_gap(m, p1, A->r, p2, rb, c);
+        double tol = m->s->tol;
+        kappa = tol * (2.0 * (A->r + rb) + tol);
+    } else {
+        if (i >= 0) {
+            const m2c_sim_vertex *v = &A->verts[i];
+            deg = pe_coefficients(m, A, B, v->rho, v->beta, 0.0, j, now, c);
+        } else {
+            deg = pe_coefficients(m, A, B, A->orbit, A->ophase, A->r, j, now, c);
+        }
+        kappa = m->s->tol;
+    }
+    return touching_now(c, deg, kappa);
+}
+
 /* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
  * at hop along n, paid from their relative motion at the contact, so the
  * pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
@@ -1528,18 +1569,24 @@ static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, dou
     return jn;
 }
 
-/* The impulse (kg m/s) of a contact at (cx, cy) with normal (nx, ny) from A
- * to B (both advanced to the contact time): 0 when the material points do
- * not approach and are not pressed together, else the normal impulse j
- * (velocities changed).  A fast contact is frictionless and leaves at
- * sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
- * Never adds energy (docs/simulator.md, Impulse). */
-static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                              double ny)
+/* The impulse (kg m/s) of a contact of the feature (feature, i, j) at
+ * (cx, cy) with normal (nx, ny) from A to B (both advanced to the contact
+ * time): 0 when the material points do not approach and are not pressed
+ * together, else the normal impulse j (velocities changed).  A fast contact
+ * is frictionless and leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a
+ * slow pressed one hops (hop).  When the material points do not approach,
+ * the centres' accelerations do not press them and a body of the pair
+ * turns, the feature's gap polynomial decides whether they are pressed
+ * (closing: the turn closes the gap, which would otherwise predict the same
+ * contact again at once).  Never adds energy (docs/simulator.md, Impulse). */
+static double contact_impulse(sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
+                              int32_t feature, int32_t i, int32_t j)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
     double rest = m->s->rest_speed;
     int press = pressed(A, B, nx, ny);
+    if (!press && !(vn < 0.0) && (turn_rate(A) > 0.0 || turn_rate(B) > 0.0))
+        press = closing(m, A, B, feature, i, j);
     if (press && -vn < rest)
         return hop(m, A, B, cx, cy, nx, ny, vn);
     double imp = 0.0;
@@ -1734,18 +1781,18 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
  * turns: a sleeper is never predicted against an unmoving one) S cannot be
  * held (the pair would have no mass): the full impulse at once.  Returns
  * the impulse applied. */
-static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                              double ny)
+static double sleeper_impulse(sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                              double ny, int32_t feature, int32_t i, int32_t j)
 {
     m2c_sim_body *S = A->asleep ? A : B;
     m2c_sim_body *M = A->asleep ? B : A;
     if (M->fixed)
-        return contact_impulse(m, A, B, cx, cy, nx, ny);
+        return contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     double vx = M->vx, vy = M->vy, om = M->om;
     double inv_m = S->inv_m, inv_i = S->inv_i;
     S->inv_m = 0.0;
     S->inv_i = 0.0;
-    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     S->inv_m = inv_m;
     S->inv_i = inv_i;
     double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
@@ -1754,7 +1801,7 @@ static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, do
     M->vx = vx;
     M->vy = vy;
     M->om = om;
-    return contact_impulse(m, A, B, cx, cy, nx, ny);
+    return contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
 }
 
 /* A sleeper an impulse has set moving. */
@@ -1911,9 +1958,9 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     if (hold)
         imp = held_impulse(m, A, B, nx, ny, vn);
     else if (A->asleep || B->asleep)
-        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
+        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     else
-        imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+        imp = contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     if (imp != 0.0 && !hold) {
         if (A->asleep && jolted(A))
             handle_wake(m, A, t);
