@@ -55,7 +55,7 @@ typedef struct m2c_sim_body {
     int32_t slot;           /* index in its cell's list */
     double mu;              /* friction coefficient (Coulomb), >= 0 */
     double fax, fay;        /* m/s^2: free acceleration (gravity and the body's own), from the scene */
-    int32_t sup;            /* index of the fixed body supporting it, -1: free */
+    int32_t sup;            /* index of the body supporting it (fixed), or carrying it (movable), -1: free */
     int32_t sup_edge;       /* the supporting edge (index into sup's vertices) */
     double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
     double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
@@ -63,6 +63,7 @@ typedef struct m2c_sim_body {
     unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
     unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    int32_t carry;          /* how many bodies it carries (their sup is this movable body) */
     unsigned char placed;   /* a large body listed in the grid's walls (cells wcells), not in the large list */
     int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
     unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */

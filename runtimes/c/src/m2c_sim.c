@@ -696,17 +696,25 @@ static void centre_params(const m2c_sim_body *b, double now, double *o)
     o[10] = 0.0;
 }
 
-/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+/* The circle_circle polynomial (its degree; the squared distance of the
+ * centres less (ra + rb)^2, in s from the parameters' time) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
-static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+static int circles_gap(sim *m, const double *p1, double ra, const double *p2, double rb, double *coef)
 {
     /* only differences of the centres' motions matter: circle 1 moves
      * relative to circle 2's centre of rotation */
     double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
                      p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
                      0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], ra, rb };
+    return cc_coefficients(m, g, coef);
+}
+
+/* The first contact within [0, w] (1 with *out, else 0) of a circle of
+ * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
     double coef[M2C_MAX_DEGREE + 1];
-    int deg = cc_coefficients(m, g, coef);
+    int deg = circles_gap(m, p1, ra, p2, rb, coef);
     double tol = m->s->tol;
     double kappa = tol * (2.0 * (ra + rb) + tol);
     return first_contact(coef, deg, w, kappa, NULL, out);
@@ -1258,8 +1266,8 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
-    if (b->sup >= 0)
-        schedule_support(m, b);
+    if (b->sup >= 0 && m->bodies[b->sup].fixed)
+        schedule_support(m, b);     /* a carried body moves with its base: no stop, no leave of its own */
 }
 
 /* ---- handling events: trace lines and contacts ---------------------------------------- */
@@ -1452,8 +1460,12 @@ static void enter_support(const sim *m, m2c_sim_body *A, const m2c_sim_body *B, 
     slide_accel(m, A, u);
 }
 
-static void end_support(m2c_sim_body *A)
+/* A's support (or carrier) ends: its free acceleration again. */
+static void end_support(sim *m, m2c_sim_body *A)
 {
+    m2c_sim_body *B = &m->bodies[A->sup];
+    if (!B->fixed)
+        B->carry--;
     A->ax = A->fax;
     A->ay = A->fay;
     A->sup = -1;
@@ -1466,6 +1478,39 @@ static void end_support(m2c_sim_body *A)
 static inline int pressed(const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny)
 {
     return (B->ax - A->ax) * nx + (B->ay - A->ay) * ny < 0.0;
+}
+
+/* The gap polynomial of the contact's feature (feature, i, j as in a
+ * collision record: the one that predicted it), taken again at the contact
+ * (A's time: both advanced), predicts this contact now (touching_now:
+ * approaching, c1 < 0, or c2 < 0 and closing again before the gap exceeds
+ * its kappa).  Its second derivative has the centripetal terms of a turn,
+ * which `pressed` leaves out. */
+static int closing(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j)
+{
+    double now = A->tb;
+    double c[M2C_MAX_DEGREE + 1] = { 0.0 };
+    int deg;
+    double kappa;
+    if (feature == CC) {
+        const m2c_sim_vertex *vb = j >= 0 ? &B->verts[j] : NULL;
+        double rb = vb == NULL ? B->r : 0.0;
+        double p1[11], p2[11];
+        circle_params(m, A, now, NULL, p1);
+        circle_params(m, B, now, vb, p2);
+        deg = circles_gap(m, p1, A->r, p2, rb, c);
+        double tol = m->s->tol;
+        kappa = tol * (2.0 * (A->r + rb) + tol);
+    } else {
+        if (i >= 0) {
+            const m2c_sim_vertex *v = &A->verts[i];
+            deg = pe_coefficients(m, A, B, v->rho, v->beta, 0.0, j, now, c);
+        } else {
+            deg = pe_coefficients(m, A, B, A->orbit, A->ophase, A->r, j, now, c);
+        }
+        kappa = m->s->tol;
+    }
+    return touching_now(c, deg, kappa);
 }
 
 /* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
@@ -1528,18 +1573,24 @@ static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, dou
     return jn;
 }
 
-/* The impulse (kg m/s) of a contact at (cx, cy) with normal (nx, ny) from A
- * to B (both advanced to the contact time): 0 when the material points do
- * not approach and are not pressed together, else the normal impulse j
- * (velocities changed).  A fast contact is frictionless and leaves at
- * sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
- * Never adds energy (docs/simulator.md, Impulse). */
-static double contact_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                              double ny)
+/* The impulse (kg m/s) of a contact of the feature (feature, i, j) at
+ * (cx, cy) with normal (nx, ny) from A to B (both advanced to the contact
+ * time): 0 when the material points do not approach and are not pressed
+ * together, else the normal impulse j (velocities changed).  A fast contact
+ * is frictionless and leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a
+ * slow pressed one hops (hop).  When the material points do not approach,
+ * the centres' accelerations do not press them and a body of the pair
+ * turns, the feature's gap polynomial decides whether they are pressed
+ * (closing: the turn closes the gap, which would otherwise predict the same
+ * contact again at once).  Never adds energy (docs/simulator.md, Impulse). */
+static double contact_impulse(sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
+                              int32_t feature, int32_t i, int32_t j)
 {
     double vn = normal_speed(A, B, cx, cy, nx, ny);
     double rest = m->s->rest_speed;
     int press = pressed(A, B, nx, ny);
+    if (!press && !(vn < 0.0) && (turn_rate(A) > 0.0 || turn_rate(B) > 0.0))
+        press = closing(m, A, B, feature, i, j);
     if (press && -vn < rest)
         return hop(m, A, B, cx, cy, nx, ny, vn);
     double imp = 0.0;
@@ -1571,12 +1622,15 @@ static inline double along(const m2c_sim_body *b, double nx, double ny)
     return nx * b->tx + ny * b->ty;
 }
 
-/* A slow contact of bodies held on their supports: each supported or
- * fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
- * impulse along their edges can change vn (kh > 0). */
+/* A slow contact of bodies held on their supports: each supported (on a
+ * fixed body: a carried body is not) or fixed, approaching (vn < 0) slower
+ * than rest_speed, not pressed, and an impulse along their edges can change
+ * vn (kh > 0). */
 static int held(const sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double nx, double ny, double vn)
 {
-    if (!((A->sup >= 0 || A->fixed) && (B->sup >= 0 || B->fixed)))
+    const m2c_sim_body *bodies = m->bodies;
+    if (!((A->fixed || (A->sup >= 0 && bodies[A->sup].fixed))
+          && (B->fixed || (B->sup >= 0 && bodies[B->sup].fixed))))
         return 0;
     if (!(vn < 0.0) || !(-vn < m->s->rest_speed) || pressed(A, B, nx, ny))
         return 0;
@@ -1666,6 +1720,145 @@ static void emit_support_change(sim *m, const char *kind, double t, const m2c_si
     m->out.n += (size_t)(p - start);
 }
 
+/* ---- carried: at rest on a movable body that does not turn ------------------------------------ */
+
+/* A point-edge contact of movable A on edge j of a movable polygon B that
+ * does not turn and is itself supported or carried (its motion a
+ * polynomial: constant acceleration) becomes carrying (docs/simulator.md,
+ * "Carried bodies"); both advanced.  As can_support, everything relative
+ * to B: load = -((fa - aB) . o) > 0, slow (vn < rest_speed, eA eB (-vn) <
+ * rest_speed), A's centre over the edge; and A at relative rest along it
+ * (u = (vA - vB) . t, u^2 < rest_speed^2) where static friction holds it
+ * (|at| <= muA muB load, at = (fa - aB) . t), B not carried by A (no loop),
+ * and |vB|^2 <= |vA|^2: taking B's velocity never raises A's kinetic
+ * energy.  A polygon also turns slower than rest_speed / bound and lies on
+ * a face (flat). */
+static int can_carry(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i, int32_t j,
+                     double vn)
+{
+    if (feature != PE || A->fixed || B->fixed || !B->polygon || B->om != 0.0 || B->sup < 0)
+        return 0;
+    for (int32_t k = B->sup; k >= 0; k = m->bodies[k].sup)
+        if (k == A->idx)
+            return 0;
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    double load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
+    double rest = m->s->rest_speed;
+    if (!(load > 0.0) || vn >= rest || A->e * B->e * -vn >= rest)
+        return 0;
+    const m2c_sim_vertex *ed = &B->verts[j];
+    double q = (A->px - B->px) * tx + (A->py - B->py) * ty;
+    if (q < ed->s1 || q > ed->s2)
+        return 0;
+    double u = (A->vx - B->vx) * tx + (A->vy - B->vy) * ty;
+    if (!(u * u < rest * rest))
+        return 0;
+    double at = (A->fax - B->ax) * tx + (A->fay - B->ay) * ty;
+    double f = A->mu * B->mu * load;
+    if (at > f || at < -f)
+        return 0;
+    if (B->vx * B->vx + B->vy * B->vy > A->vx * A->vx + A->vy * A->vy)
+        return 0;
+    if (A->polygon) {
+        if (fabs(A->om) * A->bound >= rest)
+            return 0;
+        return flat(m, A, B, i, j, ox, oy, load);
+    }
+    return 1;
+}
+
+/* A (advanced to now, as B) moves with B from now on: B's velocity and
+ * acceleration exactly (its offset from B constant), no turn. */
+static void enter_carried(m2c_sim_body *A, m2c_sim_body *B, int32_t j)
+{
+    double tx, ty, ox, oy;
+    support_frame(B, j, &tx, &ty, &ox, &oy);
+    A->vx = B->vx;
+    A->vy = B->vy;
+    if (A->polygon)
+        A->om = 0.0;
+    A->sup = B->idx;
+    A->sup_edge = j;
+    A->tx = tx;
+    A->ty = ty;
+    A->load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
+    A->at = (A->fax - B->ax) * tx + (A->fay - B->ay) * ty;
+    A->ax = B->ax;
+    A->ay = B->ay;
+    B->carry++;
+}
+
+/* The bodies that left their support or carrier at one instant (leave), in
+ * the order they left, each with the body its prediction skips (-1: none). */
+typedef struct left_list {
+    int32_t n, cap;
+    int32_t *body, *skip;
+} left_list;
+
+static void left_push(sim *m, left_list *l, int32_t body, int32_t skip)
+{
+    if (l->n == l->cap) {
+        int32_t cap = l->cap ? 2 * l->cap : 8;
+        int32_t *b = realloc(l->body, (size_t)cap * sizeof *b);
+        if (b == NULL)
+            die(m, "out of memory");
+        l->body = b;
+        int32_t *k = realloc(l->skip, (size_t)cap * sizeof *k);
+        if (k == NULL)
+            die(m, "out of memory");
+        l->skip = k;
+        l->cap = cap;
+    }
+    l->body[l->n] = body;
+    l->skip[l->n] = skip;
+    l->n++;
+}
+
+static void release(sim *m, const m2c_sim_body *B, double t, left_list *left);
+
+/* A leaves its support or carrier at t (E leave, its state: world velocity
+ * kept, free acceleration), then what A carries, depth-first (release);
+ * each appended to left with the body its prediction skips
+ * (predict_released). */
+static void leave(sim *m, m2c_sim_body *A, double t, const m2c_sim_body *skip, left_list *left)
+{
+    m->stats.leaves++;
+    advance(A, t);
+    int32_t sup = A->sup, edge = A->sup_edge;
+    end_support(m, A);
+    m->stamp[A->idx]++;
+    emit_support_change(m, "E leave ", t, A, sup, edge);
+    emit_state(m, A);
+    left_push(m, left, A->idx, skip == NULL ? -1 : skip->idx);
+    release(m, A, t, left);
+}
+
+/* B's motion changes at t: every body B carries leaves (by index, each with
+ * what it carries: leave), skipping B in its prediction. */
+static void release(sim *m, const m2c_sim_body *B, double t, left_list *left)
+{
+    if (B->carry == 0)
+        return;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        m2c_sim_body *A = &m->bodies[k];
+        if (A->sup == B->idx)
+            leave(m, A, t, B, left);
+    }
+}
+
+/* Predict the bodies that left (leave), in the order they left, each but
+ * against the body it skips (already predicted with it); frees the list. */
+static void predict_released(sim *m, left_list *left, double t)
+{
+    for (int32_t k = 0; k < left->n; k++)
+        predict_body(m, &m->bodies[left->body[k]], t, left->skip[k] < 0 ? NULL : &m->bodies[left->skip[k]]);
+    free(left->body);
+    free(left->skip);
+    left->body = left->skip = NULL;
+    left->n = left->cap = 0;
+}
+
 /* ---- sleeping islands ------------------------------------------------------------------------ */
 
 /* A body others can fall asleep on: asleep, or fixed and unmoving. */
@@ -1677,11 +1870,12 @@ static inline int grounded(const m2c_sim_body *G)
 /* A body supported by an unmoving body, slower than rest_speed along its
  * edge, that static friction would hold there (|at| <= mu load, as in
  * slide_accel at u = 0; on a level frictionless edge at = 0): it stays
- * where it is.  On a moving support: never (it does not sleep). */
+ * where it is.  On a moving support: never (it does not sleep); nor on a
+ * movable one (carried: grounded is false while it carries). */
 static int at_rest(const sim *m, const m2c_sim_body *A)
 {
     const m2c_sim_body *B = &m->bodies[A->sup];
-    if (!is_static(B))
+    if (!grounded(B))
         return 0;
     double u = A->vx * A->tx + A->vy * A->ty;
     double rest = m->s->rest_speed;
@@ -1734,18 +1928,18 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
  * turns: a sleeper is never predicted against an unmoving one) S cannot be
  * held (the pair would have no mass): the full impulse at once.  Returns
  * the impulse applied. */
-static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
-                              double ny)
+static double sleeper_impulse(sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
+                              double ny, int32_t feature, int32_t i, int32_t j)
 {
     m2c_sim_body *S = A->asleep ? A : B;
     m2c_sim_body *M = A->asleep ? B : A;
     if (M->fixed)
-        return contact_impulse(m, A, B, cx, cy, nx, ny);
+        return contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     double vx = M->vx, vy = M->vy, om = M->om;
     double inv_m = S->inv_m, inv_i = S->inv_i;
     S->inv_m = 0.0;
     S->inv_i = 0.0;
-    double imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+    double imp = contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     S->inv_m = inv_m;
     S->inv_i = inv_i;
     double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
@@ -1754,7 +1948,7 @@ static double sleeper_impulse(const sim *m, m2c_sim_body *A, m2c_sim_body *B, do
     M->vx = vx;
     M->vy = vy;
     M->om = om;
-    return contact_impulse(m, A, B, cx, cy, nx, ny);
+    return contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
 }
 
 /* A sleeper an impulse has set moving. */
@@ -1788,7 +1982,7 @@ static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double 
 {
     m->stats.sleeps++;
     if (A->sup >= 0)
-        end_support(A);
+        end_support(m, A);
     A->vx = 0.0;
     A->vy = 0.0;
     A->om = 0.0;
@@ -1799,7 +1993,10 @@ static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double 
     m->stamp[A->idx]++;
     emit_island(m, "E sleep ", t, A->idx, G->idx, A->island);
     emit_state(m, A);
+    left_list left = { 0 };
+    release(m, A, t, &left);
     predict_body(m, A, t, NULL);
+    predict_released(m, &left, t);
 }
 
 /* predict_body for a member of a waking island: a pair of two members is
@@ -1859,12 +2056,15 @@ static void handle_wake(sim *m, const m2c_sim_body *S, double t)
 }
 
 /* A collision that ends in support (called by handle_collision). */
-static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, const m2c_sim_body *B, double cx,
+static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, m2c_sim_body *B, double cx,
                            double cy, double nx, double ny, double vn)
 {
     m->stats.supports++;
     double imp = -vn / A->inv_m;
-    enter_support(m, A, B, ev->u.collision.j);
+    if (B->fixed)
+        enter_support(m, A, B, ev->u.collision.j);
+    else
+        enter_carried(A, B, ev->u.collision.j);
     emit_contact(m, "E support ", ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx,
                  cy, nx, ny, imp);
     report(m, ev->t, A, B, ev->u.collision.feature, ev->u.collision.i, ev->u.collision.j, cx, cy, nx, ny, imp, 1);
@@ -1875,7 +2075,10 @@ static void handle_support(sim *m, const m2c_sim_event *ev, m2c_sim_body *A, con
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
+    left_list left = { 0 };
+    release(m, A, ev->t, &left);
     predict_body(m, A, ev->t, NULL);
+    predict_released(m, &left, ev->t);
 }
 
 /* A collision of a and b on a feature: support, or the impulse, the new
@@ -1890,7 +2093,7 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     double cx, cy, nx, ny;
     contact_frame(m, t, feature, A, B, i, j, &cx, &cy, &nx, &ny);
     double vn = normal_speed(A, B, cx, cy, nx, ny);
-    if (can_support(m, A, B, feature, i, j, vn)) {
+    if (can_support(m, A, B, feature, i, j, vn) || can_carry(m, A, B, feature, i, j, vn)) {
         handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
@@ -1911,18 +2114,18 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
     if (hold)
         imp = held_impulse(m, A, B, nx, ny, vn);
     else if (A->asleep || B->asleep)
-        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny);
+        imp = sleeper_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     else
-        imp = contact_impulse(m, A, B, cx, cy, nx, ny);
+        imp = contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     if (imp != 0.0 && !hold) {
         if (A->asleep && jolted(A))
             handle_wake(m, A, t);
         if (B->asleep && jolted(B))
             handle_wake(m, B, t);
         if (A->sup >= 0)
-            end_support(A);
+            end_support(m, A);
         if (B->sup >= 0)
-            end_support(B);
+            end_support(m, B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
     report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
@@ -1937,11 +2140,19 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             emit_state(m, both[k]);
         }
     }
+    /* an impulse changes the motion of what it hit: what they carried leaves */
+    left_list left = { 0 };
+    if (imp != 0.0) {
+        for (int k = 0; k < 2; k++)
+            if (!both[k]->fixed)
+                release(m, both[k], t, &left);
+    }
     fetch_next(m);
     if (!A->fixed && !A->asleep)
         predict_body(m, A, t, (B->asleep && imp == 0.0) ? B : NULL);
     if (!B->fixed && !B->asleep)
         predict_body(m, B, t, ((!A->fixed && !A->asleep) || (A->asleep && imp == 0.0)) ? A : NULL);
+    predict_released(m, &left, t);
 }
 
 /* Sliding stops: velocity exactly the support's (zero when it does not
@@ -1969,22 +2180,20 @@ static void handle_stop(sim *m, const m2c_sim_event *ev)
     m->stamp[A->idx]++;
     emit_state(m, A);
     fetch_next(m);
+    left_list left = { 0 };
+    release(m, A, ev->t, &left);
     predict_body(m, A, ev->t, NULL);
+    predict_released(m, &left, ev->t);
 }
 
-/* The support's edge ends under the body: free motion again. */
+/* The support's edge ends under the body: free motion again (and for what
+ * it carries). */
 static void handle_leave(sim *m, const m2c_sim_event *ev)
 {
-    m->stats.leaves++;
-    m2c_sim_body *A = &m->bodies[ev->u.leave.body];
-    advance(A, ev->t);
-    int32_t sup = A->sup, edge = A->sup_edge;
-    end_support(A);
-    m->stamp[A->idx]++;
-    emit_support_change(m, "E leave ", ev->t, A, sup, edge);
-    emit_state(m, A);
+    left_list left = { 0 };
+    leave(m, &m->bodies[ev->u.leave.body], ev->t, NULL, &left);
     fetch_next(m);
-    predict_body(m, A, ev->t, NULL);
+    predict_released(m, &left, ev->t);
 }
 
 /* ---- overlap (a teleport's check) ------------------------------------------------------------ */
@@ -2156,7 +2365,7 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
 {
     body->vx = body->vy = body->ax = body->ay = body->fax = body->fay = body->om = 0.0;
     if (body->sup >= 0)
-        end_support(body);
+        end_support(m, body);
     body->gone = 1;
     m->stamp[body->idx]++;
     if (body->large) {
@@ -2169,14 +2378,9 @@ static void remove_body(sim *m, m2c_sim_body *body, int32_t k, double t)
         m2c_sim_body *A = &m->bodies[q];
         if (A->sup != body->idx)
             continue;
-        m->stats.leaves++;
-        advance(A, t);
-        int32_t edge = A->sup_edge;
-        end_support(A);
-        m->stamp[A->idx]++;
-        emit_support_change(m, "E leave ", t, A, body->idx, edge);
-        emit_state(m, A);
-        predict_body(m, A, t, NULL);
+        left_list left = { 0 };
+        leave(m, A, t, NULL, &left);
+        predict_released(m, &left, t);
     }
     wake_touching(m, body, t);
 }
@@ -2201,25 +2405,11 @@ static void drive(sim *m, m2c_sim_body *B, int32_t k, double t, double vx, doubl
     emit_input(m, t, B, k);
     emit_state(m, B);
     int32_t n = m->s->nbodies;
-    int32_t *left = NULL;
-    int32_t nleft = 0;
+    left_list left = { 0 };
     for (int32_t q = 0; q < n; q++) {
         m2c_sim_body *A = &m->bodies[q];
-        if (A->sup != B->idx)
-            continue;
-        if (left == NULL) {
-            left = malloc((size_t)n * sizeof *left);
-            if (left == NULL)
-                die(m, "out of memory");
-        }
-        m->stats.leaves++;
-        advance(A, t);
-        int32_t edge = A->sup_edge;
-        end_support(A);
-        m->stamp[A->idx]++;
-        emit_support_change(m, "E leave ", t, A, B->idx, edge);
-        emit_state(m, A);
-        left[nleft++] = A->idx;
+        if (A->sup == B->idx)
+            leave(m, A, t, B, &left);
     }
     if (B->large) {
         for (int32_t q = 0; q < n; q++) {
@@ -2230,9 +2420,7 @@ static void drive(sim *m, m2c_sim_body *B, int32_t k, double t, double vx, doubl
     } else {
         predict_body(m, B, t, NULL);
     }
-    for (int32_t q = 0; q < nleft; q++)
-        predict_body(m, &m->bodies[left[q]], t, B);
-    free(left);
+    predict_released(m, &left, t);
     wake_touching(m, B, t);
 }
 
@@ -2270,7 +2458,7 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
         }
     }
     if (body->sup >= 0)
-        end_support(body);
+        end_support(m, body);
     if (in->mode == M2C_SIM_SET_VELOCITY) {
         body->vx = in->vx;
         body->vy = in->vy;
@@ -2292,7 +2480,10 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     m->stamp[body->idx]++;
     emit_input(m, t, body, k);
     emit_state(m, body);
+    left_list left = { 0 };
+    release(m, body, t, &left);
     predict_body(m, body, t, NULL);
+    predict_released(m, &left, t);
 }
 
 /* The body's centre crossed into the next cell along an axis: it moves

@@ -281,6 +281,7 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2
     b->gone = 0;
     b->asleep = 0;
     b->island = -1;
+    b->carry = 0;
     b->verts = NULL;
     for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
         if (*n == *cap) {
