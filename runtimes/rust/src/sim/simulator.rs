@@ -4,7 +4,7 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut};
+use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut, ImpulseCtx};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
@@ -61,11 +61,13 @@ impl<E: Equations> World<E> {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
         } else {
-            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            let s = &mut self.w.s;
+            let mut ctx = ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j };
+            let (a_, b_) = two_mut(&mut s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
-                sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+                sleeper_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
             } else {
-                contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+                contact_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
             }
         };
         if imp != 0.0 && !is_held {
