@@ -217,12 +217,14 @@ pub fn along(b_: &Body, nx: f64, ny: f64) -> f64 {
     nx * b_.tx + ny * b_.ty
 }
 
-/// A slow contact of bodies held on their supports: each supported or
-/// fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
-/// impulse along their edges can change vn (kh > 0).
+/// A slow contact of bodies held on their supports: each supported (on a
+/// fixed body: a carried body is not) or fixed, approaching (vn < 0) slower
+/// than rest_speed, not pressed, and an impulse along their edges can
+/// change vn (kh > 0); `bodies` is the scene's.
 #[allow(clippy::too_many_arguments)]
-pub fn held(a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> bool {
-    if !((a_.sup >= 0 || a_.fixed) && (b_.sup >= 0 || b_.fixed)) {
+pub fn held(bodies: &[Body], a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> bool {
+    let on_fixed = |x: &Body| x.fixed || (x.sup >= 0 && bodies[x.sup as usize].fixed);
+    if !(on_fixed(a_) && on_fixed(b_)) {
         return false;
     }
     if !(vn < 0.0) || !(-vn < rest_speed) || pressed(a_, b_, nx, ny) {
