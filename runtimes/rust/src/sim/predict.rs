@@ -154,6 +154,7 @@ fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64
 /// (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
 /// moving as pa (circle_params) and one of radius rb moving as pb, in
 /// `coef`; returns its degree.
+#[inline(always)]
 pub(super) fn circles_gap<E: Equations>(
     q: &mut Queue,
     pa: &[f64; 11],
