@@ -16,11 +16,12 @@
 //! One module per concept, as the C runtime's m2c_sim_*.c: `scene` (the
 //! flat scene), `queue` (event records and the priority queue), `grid`
 //! (broad phase), `motion`, `predict` (pairs, features, cell crossings),
-//! `contact` (contact frame and impulse), `support` (resting and sliding),
-//! `sleep` (when a body falls asleep), `overlap` (a teleport's or an added
-//! body's check), `world` (what a prediction reads and writes), `live` (the
-//! world's API), `simulator` (one handler per event kind and their
-//! dispatch), `out` and `g17` (the trace and its numbers).
+//! `contact` (contact frame and impulse), `support` (resting and sliding,
+//! when a body is carried), `sleep` (when a body falls asleep), `overlap`
+//! (a teleport's or an added body's check), `world` (what a prediction
+//! reads and writes), `live` (the world's API), `simulator` (one handler per
+//! event kind and their dispatch, carried bodies leaving), `out` and `g17`
+//! (the trace and its numbers).
 //!
 //! Operation order: each expression is written as Python evaluates it (left
 //! to right, the same parentheses); Python's `min(a, b)` is `b < a ? b : a`

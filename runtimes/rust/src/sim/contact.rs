@@ -1,10 +1,13 @@
 //! A contact's response: where and along which normal two bodies touch,
 //! and the frictionless impulse (docs/simulator.md, "Impulse").
 
-use super::motion::point_at;
+use super::motion::{point_at, turn_rate};
+use super::out::Res;
+use super::predict::{circle_params, circles_gap, pe_coefficients, touching_now};
 use super::scene::{Body, Vertex};
 use super::support::{slide_accel, support_relative};
-use super::CC;
+use super::world::Queue;
+use super::{Equations, CC, MAX_COEF};
 
 /// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
 /// feature at t (both bodies advanced to t); `verts` is the scene's.
@@ -50,6 +53,35 @@ pub fn pressed(a_: &Body, b_: &Body, nx: f64, ny: f64) -> bool {
     (b_.ax - a_.ax) * nx + (b_.ay - a_.ay) * ny < 0.0
 }
 
+/// The gap polynomial of the contact's feature (feature, i, j as in a
+/// collision record: the one that predicted it), taken again at the
+/// contact (A's time: both advanced), predicts this contact now
+/// (touching_now: approaching, c1 < 0, or c2 < 0 and closing again before
+/// the gap exceeds its kappa).  Its second derivative has the centripetal
+/// terms of a turn, which `pressed` leaves out.  `verts` is the scene's,
+/// `tol` its tolerance; the polynomial is counted as a prediction's is.
+#[allow(clippy::too_many_arguments)]
+pub fn closing<E: Equations>(verts: &[Vertex], tol: f64, q: &mut Queue, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32) -> Res<bool> {
+    let now = a_.tb;
+    let mut c = [0.0; MAX_COEF];
+    let (deg, kappa);
+    if feature == CC {
+        let vb = if j >= 0 { Some(&verts[b_.vert(j as usize)]) } else { None };
+        let rb = if vb.is_none() { b_.r } else { 0.0 };
+        deg = circles_gap::<E>(q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, &mut c)?;
+        kappa = tol * (2.0 * (a_.r + rb) + tol);
+    } else {
+        if i >= 0 {
+            let v = &verts[a_.vert(i as usize)];
+            deg = pe_coefficients::<E>(verts, q, a_, b_, v.rho, v.beta, 0.0, j as usize, now, &mut c)?;
+        } else {
+            deg = pe_coefficients::<E>(verts, q, a_, b_, a_.orbit, a_.ophase, a_.r, j as usize, now, &mut c)?;
+        }
+        kappa = tol;
+    }
+    Ok(touching_now(&c, deg, kappa))
+}
+
 /// Normal relative velocity (B's against A's, along n from A to B) of the
 /// material points at the contact: negative when approaching.
 #[inline(always)]
@@ -61,18 +93,41 @@ pub fn normal_speed(a_: &Body, b_: &Body, cx: f64, cy: f64, nx: f64, ny: f64) ->
     (ubx - uax) * nx + (uby - uay) * ny
 }
 
-/// The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
-/// (both advanced to the contact time): 0.0 when the material points do not
-/// approach and are not pressed together, else the normal impulse j
-/// (velocities changed).  A fast contact is frictionless and leaves at
-/// sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops
-/// (`hop`).  Never adds energy (docs/simulator.md, Impulse).
-pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+/// What `contact_impulse` reads besides the two bodies: the scene's
+/// vertices, tolerance and rest speed, the queue's counters (for
+/// `closing`'s polynomial), and the contact's feature (feature, i, j as in
+/// its collision record).
+pub struct ImpulseCtx<'a> {
+    pub verts: &'a [Vertex],
+    pub tol: f64,
+    pub rest_speed: f64,
+    pub q: &'a mut Queue,
+    pub feature: i32,
+    pub i: i32,
+    pub j: i32,
+}
+
+/// The impulse of a contact of the feature (ctx: feature, i, j) at (cx, cy)
+/// with normal (nx, ny) from A to B (both advanced to the contact time):
+/// 0.0 when the material points do not approach and are not pressed
+/// together, else the normal impulse j (velocities changed).  A fast
+/// contact is frictionless and leaves at sep = max(e |vn|, min(|vn|,
+/// rest_speed)); a slow pressed one hops (`hop`).  When the material
+/// points do not approach, the centres' accelerations do not press them
+/// and a body of the pair turns, the feature's gap polynomial decides
+/// whether they are pressed (`closing`: the turn closes the gap, which
+/// would otherwise predict the same contact again at once).  Never adds
+/// energy (docs/simulator.md, Impulse).
+#[allow(clippy::too_many_arguments)]
+pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64) -> Res<f64> {
     let vn = normal_speed(a_, b_, cx, cy, nx, ny);
-    let rest = rest_speed;
-    let press = pressed(a_, b_, nx, ny);
+    let rest = ctx.rest_speed;
+    let mut press = pressed(a_, b_, nx, ny);
+    if !press && !(vn < 0.0) && (turn_rate(a_) > 0.0 || turn_rate(b_) > 0.0) {
+        press = closing::<E>(ctx.verts, ctx.tol, ctx.q, a_, b_, ctx.feature, ctx.i, ctx.j)?;
+    }
     if press && -vn < rest {
-        return hop(a_, b_, cx, cy, nx, ny, vn, rest);
+        return Ok(hop(a_, b_, cx, cy, nx, ny, vn, rest));
     }
     let mut imp = 0.0;
     if vn < 0.0 {
@@ -92,7 +147,7 @@ pub fn contact_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, 
         b_.vy = b_.vy + imp * b_.inv_m * ny;
         b_.om = b_.om + imp * b_.inv_i * rbn;
     }
-    imp
+    Ok(imp)
 }
 
 /// A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
@@ -162,12 +217,14 @@ pub fn along(b_: &Body, nx: f64, ny: f64) -> f64 {
     nx * b_.tx + ny * b_.ty
 }
 
-/// A slow contact of bodies held on their supports: each supported or
-/// fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an
-/// impulse along their edges can change vn (kh > 0).
+/// A slow contact of bodies held on their supports: each supported (on a
+/// fixed body: a carried body is not) or fixed, approaching (vn < 0) slower
+/// than rest_speed, not pressed, and an impulse along their edges can
+/// change vn (kh > 0); `bodies` is the scene's.
 #[allow(clippy::too_many_arguments)]
-pub fn held(a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> bool {
-    if !((a_.sup >= 0 || a_.fixed) && (b_.sup >= 0 || b_.fixed)) {
+pub fn held(bodies: &[Body], a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> bool {
+    let on_fixed = |x: &Body| x.fixed || (x.sup >= 0 && bodies[x.sup as usize].fixed);
+    if !(on_fixed(a_) && on_fixed(b_)) {
         return false;
     }
     if !(vn < 0.0) || !(-vn < rest_speed) || pressed(a_, b_, nx, ny) {
@@ -225,12 +282,11 @@ pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: O
 /// When the other body is fixed (it moves or turns: a sleeper is never
 /// predicted against an unmoving one) S cannot be held (the pair would
 /// have no mass): the full impulse at once.  Returns the impulse applied.
-#[allow(clippy::too_many_arguments)]
-pub fn sleeper_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, rest_speed: f64) -> f64 {
+pub fn sleeper_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64) -> Res<f64> {
     let a_sleeps = a_.asleep;
     let other_fixed = if a_sleeps { b_.fixed } else { a_.fixed };
     if other_fixed {
-        return contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+        return contact_impulse::<E>(ctx, a_, b_, cx, cy, nx, ny);
     }
     let (vx, vy, om) = if a_sleeps { (b_.vx, b_.vy, b_.om) } else { (a_.vx, a_.vy, a_.om) };
     let (inv_m, inv_i) = {
@@ -240,21 +296,21 @@ pub fn sleeper_impulse(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, 
         s_.inv_i = 0.0;
         held
     };
-    let imp = contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed);
+    let imp = contact_impulse::<E>(ctx, a_, b_, cx, cy, nx, ny)?;
     {
         let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };
         s_.inv_m = inv_m;
         s_.inv_i = inv_i;
         let rsn = (cx - s_.px) * ny - (cy - s_.py) * nx;
-        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < rest_speed {
-            return imp;
+        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < ctx.rest_speed {
+            return Ok(imp);
         }
     }
     let m_ = if a_sleeps { &mut *b_ } else { &mut *a_ };
     m_.vx = vx;
     m_.vy = vy;
     m_.om = om;
-    contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+    contact_impulse::<E>(ctx, a_, b_, cx, cy, nx, ny)
 }
 
 /// Two distinct bodies of the slice, mutably.

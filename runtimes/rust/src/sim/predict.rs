@@ -81,7 +81,7 @@ pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: 
 /// circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
 /// circle's centre (v None) or of a polygon's vertex, at time now.
 #[inline(always)]
-fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11] {
+pub(super) fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11] {
     let (mut x, mut y, vx, vy, ang) = state_at(b, now);
     let (mut d, mut phase) = match v {
         None => (b.orbit, ang + b.ophase),
@@ -143,6 +143,26 @@ fn predict_cc<E: Equations>(
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
 fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
+    let mut coef = [0.0; MAX_COEF];
+    let deg = circles_gap::<E>(q, pa, ra, pb, rb, &mut coef)?;
+    let tol = w.s.tol;
+    let kappa = tol * (2.0 * (ra + rb) + tol);
+    Ok(first_contact(&coef, deg, win, kappa, |_| true))
+}
+
+/// The circle_circle polynomial (squared distance of the centres less
+/// (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
+/// moving as pa (circle_params) and one of radius rb moving as pb, in
+/// `coef`; returns its degree.
+#[inline(always)]
+pub(super) fn circles_gap<E: Equations>(
+    q: &mut Queue,
+    pa: &[f64; 11],
+    ra: f64,
+    pb: &[f64; 11],
+    rb: f64,
+    coef: &mut [f64; MAX_COEF],
+) -> Res<usize> {
     let [a, b, c, d, e, f, m, n, o, p, qq] = *pa;
     let [g, h, i, j, k, l, r, s, u, v, ww] = *pb;
     // only differences of the centres' motions matter: circle 1 moves
@@ -173,11 +193,7 @@ fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64
         ra,
         rb,
     ];
-    let mut coef = [0.0; MAX_COEF];
-    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
-    let tol = w.s.tol;
-    let kappa = tol * (2.0 * (ra + rb) + tol);
-    Ok(first_contact(&coef, deg, win, kappa, |_| true))
+    cc_coefficients::<E>(q, &args, coef)
 }
 
 /// Point of X (circle centre with radius, or vertex vx_, X's vertex i;
@@ -204,7 +220,7 @@ fn predict_pe<E: Equations>(
         Some(v) => (v.rho, v.beta, 0.0),
     };
     let mut coef = [0.0; MAX_COEF];
-    let deg = pe_coefficients::<E>(w, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
+    let deg = pe_coefficients::<E>(&w.s.verts, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
     Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win, i))
 }
 
@@ -212,8 +228,8 @@ fn predict_pe<E: Equations>(
 /// X's centre at rho (phase beta in X's frame) against the line of edge j
 /// of Y, in s = t - now (its c[0]: the gap now); returns its degree.
 #[allow(clippy::too_many_arguments)]
-fn pe_coefficients<E: Equations>(
-    w: &Space,
+pub(super) fn pe_coefficients<E: Equations>(
+    verts: &[Vertex],
     q: &mut Queue,
     x_: &Body,
     y_: &Body,
@@ -224,7 +240,7 @@ fn pe_coefficients<E: Equations>(
     now: f64,
     coef: &mut [f64; MAX_COEF],
 ) -> Res<usize> {
-    let ed = &w.s.verts[y_.vert(j)];
+    let ed = &verts[y_.vert(j)];
     let (x1, y1, u1, v1, ang1) = state_at(x_, now);
     let (x2, y2, u2, v2, ang2) = state_at(y_, now);
     let phn = ang2 + ed.psi;
@@ -396,7 +412,7 @@ fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, n
     let mut apart = false;
     for j in 0..n {
         let mut c = [0.0; MAX_COEF];
-        let deg = pe_coefficients::<E>(w, q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
+        let deg = pe_coefficients::<E>(&w.s.verts, q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
         if c[0] > tol {
             apart = true;
         }
@@ -716,7 +732,8 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
         }
     }
     schedule_cell(w, q, b, now);
-    if body.sup >= 0 {
+    if body.sup >= 0 && w.s.bodies[body.sup as usize].fixed {
+        // a carried body moves with its base: no stop, no leave of its own
         schedule_support(w, q, b);
     }
     Ok(())

@@ -116,7 +116,8 @@ pub struct Body {
     /// m/s^2: free acceleration (gravity and the body's own), from the scene
     pub fax: f64,
     pub fay: f64,
-    /// index of the fixed body supporting it, -1: free
+    /// index of the body supporting it (fixed), or carrying it (movable),
+    /// -1: free
     pub sup: i32,
     /// the supporting edge (index into sup's vertices), -1: free
     pub sup_edge: i32,
@@ -136,6 +137,8 @@ pub struct Body {
     /// a large body placed in the grid: the cells its box covers (x_lo,
     /// x_hi, y_lo, y_hi), else None (in the grid's `large` list)
     pub wcells: Option<[i32; 4]>,
+    /// how many bodies it carries (their sup is this movable body)
+    pub carry: i64,
 }
 
 impl Body {
@@ -425,6 +428,7 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
         fay: ay,
         sup: -1,
         sup_edge: -1,
+        carry: 0,
         tx: 0.0,
         ty: 0.0,
         load: 0.0,

@@ -4,7 +4,7 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut};
+use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut, ImpulseCtx};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
@@ -15,7 +15,7 @@ use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
 use super::queue::Event;
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
-use super::support::{can_support, end_support, enter_support, is_static, slide_accel};
+use super::support::{can_carry, can_support, end_support, enter_carried, enter_support, is_static, slide_accel};
 use super::Equations;
 
 impl<E: Equations> World<E> {
@@ -33,7 +33,8 @@ impl<E: Equations> World<E> {
             let (a_, b_) = (&s.bodies[ai], &s.bodies[bi]);
             let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j);
             let vn = normal_speed(a_, b_, cx, cy, nx, ny);
-            (cx, cy, nx, ny, vn, can_support(&self.w, a_, b_, feature, i, j, vn))
+            let support = can_support(&self.w, a_, b_, feature, i, j, vn) || can_carry(&self.w, a_, b_, feature, i, j, vn);
+            (cx, cy, nx, ny, vn, support)
         };
         if support {
             return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
@@ -50,7 +51,8 @@ impl<E: Equations> World<E> {
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
         // on it); a gentle touch leaves it asleep, a real impulse wakes its island;
         // a slow contact of bodies held on their supports keeps them there
-        let is_held = held(&self.w.s.bodies[ai], &self.w.s.bodies[bi], nx, ny, vn, rest_speed);
+        let bodies = &self.w.s.bodies;
+        let is_held = held(bodies, &bodies[ai], &bodies[bi], nx, ny, vn, rest_speed);
         let imp = if is_held {
             // the supports (fixed bodies, unchanged here), for slide_accel
             let support = |k: usize| {
@@ -61,11 +63,13 @@ impl<E: Equations> World<E> {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
         } else {
-            let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
+            let s = &mut self.w.s;
+            let mut ctx = ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j };
+            let (a_, b_) = two_mut(&mut s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
-                sleeper_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+                sleeper_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
             } else {
-                contact_impulse(a_, b_, cx, cy, nx, ny, rest_speed)
+                contact_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
             }
         };
         if imp != 0.0 && !is_held {
@@ -75,19 +79,16 @@ impl<E: Equations> World<E> {
             if self.w.s.bodies[bi].asleep && jolted(&self.w.s.bodies[bi]) {
                 self.handle_wake(bi, t)?;
             }
+            for k in [ai, bi] {
+                if self.w.s.bodies[k].sup >= 0 {
+                    end_support(&mut self.w.s.bodies, k);
+                }
+            }
         }
         let (a_fixed, b_fixed, a_asleep, b_asleep);
         {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            if imp != 0.0 && !is_held {
-                if a_.sup >= 0 {
-                    end_support(a_);
-                }
-                if b_.sup >= 0 {
-                    end_support(b_);
-                }
-            }
             self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
             // a sleeper still asleep (zero impulse: the bodies graze, the other
@@ -105,6 +106,15 @@ impl<E: Equations> World<E> {
                 }
             }
         }
+        // an impulse changes the motion of what it hit: what they carried leaves
+        let mut left = Vec::new();
+        if imp != 0.0 {
+            for k in [ai, bi] {
+                if !self.w.s.bodies[k].fixed {
+                    self.release(k, t, &mut left)?;
+                }
+            }
+        }
         if !a_fixed && !a_asleep {
             predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep && imp == 0.0 { Some(bi) } else { None })?;
         }
@@ -112,7 +122,7 @@ impl<E: Equations> World<E> {
             let skip_a = (!a_fixed && !a_asleep) || (a_asleep && imp == 0.0);
             predict_body::<E>(&self.w, &mut self.q, bi, t, if skip_a { Some(ai) } else { None })?;
         }
-        Ok(())
+        self.predict_released(&left, t)
     }
 
     /// A collision that ends in support (called by handle_collision):
@@ -126,7 +136,11 @@ impl<E: Equations> World<E> {
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
             let imp = -vn / a_.inv_m;
-            enter_support(&w.s.verts, a_, b_, j);
+            if b_.fixed {
+                enter_support(&w.s.verts, a_, b_, j);
+            } else {
+                enter_carried(&w.s.verts, a_, b_, j);
+            }
             self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
@@ -136,7 +150,7 @@ impl<E: Equations> World<E> {
         }
         self.w.stamps[ai] += 1;
         self.out.state(&self.w.s.bodies[ai])?;
-        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+        self.predict_changed(ai, t)
     }
 
     /// Sliding stops: velocity exactly the support's (zero when it does
@@ -162,7 +176,7 @@ impl<E: Equations> World<E> {
         }
         self.w.stamps[ai] += 1;
         self.out.state(&self.w.s.bodies[ai])?;
-        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+        self.predict_changed(ai, t)
     }
 
     // ---- sleeping islands -------------------------------------------------
@@ -173,10 +187,10 @@ impl<E: Equations> World<E> {
     fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
         self.q.stats.sleeps += 1;
         let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
-        let a_ = &mut self.w.s.bodies[a];
-        if a_.sup >= 0 {
-            end_support(a_);
+        if self.w.s.bodies[a].sup >= 0 {
+            end_support(&mut self.w.s.bodies, a);
         }
+        let a_ = &mut self.w.s.bodies[a];
         a_.vx = 0.0;
         a_.vy = 0.0;
         a_.om = 0.0;
@@ -187,7 +201,58 @@ impl<E: Equations> World<E> {
         self.w.stamps[a] += 1;
         self.out.sleep(t, a as u32, g as u32, g_island)?;
         self.out.state(&self.w.s.bodies[a])?;
-        predict_body::<E>(&self.w, &mut self.q, a, t, None)
+        self.predict_changed(a, t)
+    }
+
+    // ---- carried bodies: leaving depth-first -------------------------------
+
+    /// Body a, whose motion changed at t (state written), is predicted again
+    /// after what it carried leaves: release, predict_body, predict_released.
+    fn predict_changed(&mut self, a: usize, t: f64) -> Res<()> {
+        let mut left = Vec::new();
+        self.release(a, t, &mut left)?;
+        predict_body::<E>(&self.w, &mut self.q, a, t, None)?;
+        self.predict_released(&left, t)
+    }
+
+    /// Body a leaves its support or carrier at t (E leave, its state: world
+    /// velocity kept, free acceleration), then what a carries, depth-first
+    /// (release); each appended to `left` with the body its prediction
+    /// skips (predict_released).
+    fn leave(&mut self, a: usize, t: f64, skip: Option<usize>, left: &mut Vec<(usize, Option<usize>)>) -> Res<()> {
+        self.q.stats.leaves += 1;
+        rebase(&mut self.w.s.bodies[a], t);
+        let (sup, edge) = (self.w.s.bodies[a].sup, self.w.s.bodies[a].sup_edge);
+        end_support(&mut self.w.s.bodies, a);
+        self.w.stamps[a] += 1;
+        let a_ = &self.w.s.bodies[a];
+        self.out.support_end("leave", t, a_.idx, sup, edge)?;
+        self.out.state(a_)?;
+        left.push((a, skip));
+        self.release(a, t, left)
+    }
+
+    /// Body b's motion changes at t: every body b carries leaves (by index,
+    /// each with what it carries: leave), skipping b in its prediction.
+    fn release(&mut self, b: usize, t: f64, left: &mut Vec<(usize, Option<usize>)>) -> Res<()> {
+        if self.w.s.bodies[b].carry == 0 {
+            return Ok(());
+        }
+        for o in 0..self.w.s.bodies.len() {
+            if self.w.s.bodies[o].sup == b as i32 {
+                self.leave(o, t, Some(b), left)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Predict the bodies that left (leave), in the order they left, each
+    /// but against the body it skips (already predicted with it).
+    fn predict_released(&mut self, left: &[(usize, Option<usize>)], t: f64) -> Res<()> {
+        for &(a, skip) in left {
+            predict_body::<E>(&self.w, &mut self.q, a, t, skip)?;
+        }
+        Ok(())
     }
 
     /// The island of sleeper s wakes at t: every member (by index) gets its
@@ -256,16 +321,9 @@ impl<E: Equations> World<E> {
 
     /// The support's edge ends under the body: free motion again.
     fn handle_leave(&mut self, t: f64, body: u32) -> Res<()> {
-        self.q.stats.leaves += 1;
-        let ai = body as usize;
-        let a_ = &mut self.w.s.bodies[ai];
-        rebase(a_, t);
-        let (sup, edge) = (a_.sup, a_.sup_edge);
-        end_support(a_);
-        self.w.stamps[ai] += 1;
-        self.out.support_end("leave", t, a_.idx, sup, edge)?;
-        self.out.state(a_)?;
-        predict_body::<E>(&self.w, &mut self.q, ai, t, None)
+        let mut left = Vec::new();
+        self.leave(body as usize, t, None, &mut left)?;
+        self.predict_released(&left, t)
     }
 
     /// A scripted or live input (scene input k): a velocity set or added,
@@ -299,10 +357,10 @@ impl<E: Equations> World<E> {
                 )));
             }
         }
-        let body = &mut self.w.s.bodies[a];
-        if body.sup >= 0 {
-            end_support(body);
+        if self.w.s.bodies[a].sup >= 0 {
+            end_support(&mut self.w.s.bodies, a);
         }
+        let body = &mut self.w.s.bodies[a];
         if inp.mode == SET_VELOCITY {
             body.vx = inp.vx;
             body.vy = inp.vy;
@@ -330,7 +388,7 @@ impl<E: Equations> World<E> {
         let body = &self.w.s.bodies[a];
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
-        predict_body::<E>(&self.w, &mut self.q, a, t, None)
+        self.predict_changed(a, t)
     }
 
     /// Input k removes body a (based at t): it stops where it is (v, a, w
@@ -346,8 +404,9 @@ impl<E: Equations> World<E> {
         body.fay = 0.0;
         body.om = 0.0;
         if body.sup >= 0 {
-            end_support(body);
+            end_support(&mut self.w.s.bodies, a);
         }
+        let body = &mut self.w.s.bodies[a];
         body.gone = true;
         let (large, cx, cy, wcells) = (body.large, body.cx, body.cy, body.wcells);
         self.w.stamps[a] += 1;
@@ -361,15 +420,9 @@ impl<E: Equations> World<E> {
             if self.w.s.bodies[o].sup != a as i32 {
                 continue;
             }
-            self.q.stats.leaves += 1;
-            let a_ = &mut self.w.s.bodies[o];
-            rebase(a_, t);
-            let edge = a_.sup_edge;
-            end_support(a_);
-            self.w.stamps[o] += 1;
-            self.out.support_end("leave", t, a_.idx, a as i32, edge)?;
-            self.out.state(a_)?;
-            predict_body::<E>(&self.w, &mut self.q, o, t, None)?;
+            let mut left = Vec::new();
+            self.leave(o, t, None, &mut left)?;
+            self.predict_released(&left, t)?;
         }
         self.wake_touching(a, t)
     }
@@ -401,15 +454,7 @@ impl<E: Equations> World<E> {
             if self.w.s.bodies[o].sup != b as i32 {
                 continue;
             }
-            self.q.stats.leaves += 1;
-            let a_ = &mut self.w.s.bodies[o];
-            rebase(a_, t);
-            let edge = a_.sup_edge;
-            end_support(a_);
-            self.w.stamps[o] += 1;
-            self.out.support_end("leave", t, a_.idx, b as i32, edge)?;
-            self.out.state(a_)?;
-            left.push(o);
+            self.leave(o, t, Some(b), &mut left)?;
         }
         if self.w.s.bodies[b].large {
             for o in 0..n {
@@ -421,9 +466,7 @@ impl<E: Equations> World<E> {
         } else {
             predict_body::<E>(&self.w, &mut self.q, b, t, None)?;
         }
-        for o in left {
-            predict_body::<E>(&self.w, &mut self.q, o, t, Some(b))?;
-        }
+        self.predict_released(&left, t)?;
         self.wake_touching(b, t)
     }
 

@@ -17,9 +17,10 @@ pub fn grounded(g_: &Body) -> bool {
 /// A body supported by an unmoving body (`sup`), slower than rest_speed
 /// along its edge, that static friction would hold there (|at| <= mu load,
 /// as in slide_accel at u = 0; on a level frictionless edge at = 0): it
-/// stays where it is.  On a moving support: never (it does not sleep).
+/// stays where it is.  On a moving support: never (it does not sleep); nor
+/// on a movable one (carried: grounded is false while it carries).
 pub fn at_rest(a_: &Body, sup: &Body, rest_speed: f64) -> bool {
-    if !is_static(sup) {
+    if !grounded(sup) {
         return false;
     }
     let u = a_.vx * a_.tx + a_.vy * a_.ty;

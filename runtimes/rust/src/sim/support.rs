@@ -1,7 +1,9 @@
-//! Support: a movable body resting and sliding on an edge of a fixed,
-//! unmoving polygon, with Coulomb friction (docs/simulator.md, "Contact
-//! model: supported, sliding, friction").  A supported body's motion stays
-//! `p + v dt + a dt^2/2`, so every generated equation predicts it unchanged.
+//! Support: a movable body resting and sliding on an edge of a fixed
+//! polygon, with Coulomb friction (docs/simulator.md, "Contact model:
+//! supported, sliding, friction"), or carried at rest on a movable polygon
+//! that does not turn ("Carried bodies").  A supported or carried body's
+//! motion stays `p + v dt + a dt^2/2`, so every generated equation predicts
+//! it unchanged.
 
 use super::motion::{point_at, state_at};
 use super::queue::Event;
@@ -136,12 +138,97 @@ pub fn slide_accel(a_: &mut Body, sup: &Body, u: f64) {
     }
 }
 
-/// Free motion again.
-pub fn end_support(a_: &mut Body) {
+/// Body a's support (or carrier) ends: its free acceleration again (a
+/// carrier counts one body less); `bodies` is the scene's.
+pub fn end_support(bodies: &mut [Body], a: usize) {
+    let sup = bodies[a].sup as usize;
+    if !bodies[sup].fixed {
+        bodies[sup].carry -= 1;
+    }
+    let a_ = &mut bodies[a];
     a_.ax = a_.fax;
     a_.ay = a_.fay;
     a_.sup = -1;
     a_.sup_edge = -1;
+}
+
+// ---- carried: at rest on a movable body that does not turn -----------------------
+
+/// A point-edge contact of movable A on edge j of a movable polygon B that
+/// does not turn and is itself supported or carried (its motion a
+/// polynomial: constant acceleration) becomes carrying (docs/simulator.md,
+/// "Carried bodies"); both advanced.  As can_support, everything relative
+/// to B: load = -((fa - aB) . o) > 0, slow (vn < rest_speed, eA eB (-vn) <
+/// rest_speed), A's centre over the edge; and A at relative rest along it
+/// (u = (vA - vB) . t, u^2 < rest_speed^2) where static friction holds it
+/// (|at| <= muA muB load, at = (fa - aB) . t), B not carried by A (no
+/// loop), and |vB|^2 <= |vA|^2: taking B's velocity never raises A's
+/// kinetic energy.  A polygon also turns slower than rest_speed / bound
+/// and lies on a face (`flat`).
+#[allow(clippy::too_many_arguments)]
+pub fn can_carry(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
+    if feature != PE || a_.fixed || b_.fixed || !b_.polygon || b_.om != 0.0 || b_.sup < 0 {
+        return false;
+    }
+    let s = &w.s;
+    let mut k = b_.sup;
+    while k >= 0 {
+        if k == a_.idx as i32 {
+            return false;
+        }
+        k = s.bodies[k as usize].sup;
+    }
+    let (tx, ty, ox, oy) = support_frame(&s.verts, b_, j);
+    let load = -((a_.fax - b_.ax) * ox + (a_.fay - b_.ay) * oy);
+    let rest = s.rest_speed;
+    if !(load > 0.0) || vn >= rest || a_.e * b_.e * -vn >= rest {
+        return false;
+    }
+    let ed = &s.verts[b_.vert(j as usize)];
+    let q = (a_.px - b_.px) * tx + (a_.py - b_.py) * ty;
+    if q < ed.s1 || q > ed.s2 {
+        return false;
+    }
+    let u = (a_.vx - b_.vx) * tx + (a_.vy - b_.vy) * ty;
+    if !(u * u < rest * rest) {
+        return false;
+    }
+    let at = (a_.fax - b_.ax) * tx + (a_.fay - b_.ay) * ty;
+    let f = a_.mu * b_.mu * load;
+    if at > f || at < -f {
+        return false;
+    }
+    if b_.vx * b_.vx + b_.vy * b_.vy > a_.vx * a_.vx + a_.vy * a_.vy {
+        return false;
+    }
+    if a_.polygon {
+        if a_.om.abs() * a_.bound >= rest {
+            return false;
+        }
+        return flat(w, a_, b_, i, j, ox, oy, load);
+    }
+    true
+}
+
+/// A (advanced to now, as B) moves with B from now on: B's velocity and
+/// acceleration exactly (its offset from B constant), no turn; B counts it
+/// (`carry`).
+pub fn enter_carried(verts: &[Vertex], a_: &mut Body, b_: &mut Body, j: i32) {
+    let (tx, ty, ox, oy) = support_frame(verts, b_, j);
+    a_.vx = b_.vx;
+    a_.vy = b_.vy;
+    if a_.polygon {
+        a_.om = 0.0;
+    }
+    a_.sup = b_.idx as i32;
+    a_.sup_edge = j;
+    a_.tx = tx;
+    a_.ty = ty;
+    a_.load = -((a_.fax - b_.ax) * ox + (a_.fay - b_.ay) * oy);
+    a_.at = (a_.fax - b_.ax) * tx + (a_.fay - b_.ay) * ty;
+    a_.ax = b_.ax;
+    a_.ay = b_.ay;
+    b_.carry += 1;
 }
 
 /// Supported b's motion relative to its support `sup` along the edge, at
