@@ -21,7 +21,7 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
-   hop, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   hop, closing, circles_gap, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
@@ -541,14 +541,25 @@ VAR
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
    deg: INTEGER ;
 BEGIN
-   (* only differences of the centres' motions matter: circle 1 moves
-      relative to circle 2's centre of rotation *)
-   deg := CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
-                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
-                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef) ;
+   deg := circles_gap (pa, ra, pb, rb, coef) ;
    kappa := Tol * (2.0 * (ra + rb) + Tol) ;
    RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
 END CirclesFirst ;
+
+
+(* The circle_circle polynomial (squared distance of the centres less
+   (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
+   moving as pa (CircleParams) and one of radius rb moving as pb: fills coef
+   and returns its degree. *)
+PROCEDURE circles_gap (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb: REAL; VAR coef: ARRAY OF REAL) : INTEGER ;
+BEGIN
+   (* only differences of the centres' motions matter: circle 1 moves
+      relative to circle 2's centre of rotation, so that a common gravity
+      cancels (no_accel variants) and far from the origin nothing is lost *)
+   RETURN CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
+                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
+                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef)
+END circles_gap ;
 
 
 (* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
@@ -1543,6 +1554,45 @@ BEGIN
 END pressed ;
 
 
+(* The gap polynomial of the contact's feature (feature, i, j as in a
+   CollisionEvent: the one that predicted it), taken again at the contact
+   (A's time: both advanced), predicts this contact now (touching_now:
+   approaching, c1 < 0, or c2 < 0 and closing again before the gap exceeds
+   its kappa).  Its second derivative has the centripetal terms of a turn,
+   which pressed leaves out.  FALSE when the generated code leaves the
+   effect out (the world has failed). *)
+PROCEDURE closing (A, B: BodyRef; feature, i, j: INTEGER) : BOOLEAN ;
+VAR
+   now, rb, kappa: REAL ;
+   pa, pb: CParams ;
+   cc: ARRAY [0..CcMaxDegree] OF REAL ;
+   pe: ARRAY [0..PeMaxDegree] OF REAL ;
+   deg, vb: INTEGER ;
+BEGIN
+   now := A^.tb ;
+   IF feature = FeatCC THEN
+      IF j >= 0 THEN
+         vb := B^.v0 + j ;
+         rb := 0.0
+      ELSE
+         vb := -1 ;
+         rb := B^.r
+      END ;
+      CircleParamsOf (A, now, -1, pa) ;
+      CircleParamsOf (B, now, vb, pb) ;
+      deg := circles_gap (pa, A^.r, pb, rb, cc) ;
+      kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
+      RETURN (deg >= 1) AND touching_now (cc, deg, kappa)
+   END ;
+   IF i >= 0 THEN
+      deg := PeCoefficients (A, B, Verts^[A^.v0 + i].rho, Verts^[A^.v0 + i].beta, 0.0, j, now, pe)
+   ELSE
+      deg := PeCoefficients (A, B, A^.orbit, A^.ophase, A^.r, j, now, pe)
+   END ;
+   RETURN (deg >= 1) AND touching_now (pe, deg, Tol)
+END closing ;
+
+
 (* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
    at hop along n, paid from their relative motion at the contact, so the
    pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
@@ -1609,18 +1659,27 @@ BEGIN
 END hop ;
 
 
-(* The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
-   (both advanced to the contact time): 0.0 when the material points do not
-   approach and are not pressed together, else the normal impulse j
-   (velocities changed).  A fast contact is frictionless and leaves at
-   sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
-   Never adds energy (docs/simulator.md, Impulse). *)
-PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+(* The impulse of a contact of the feature (feature, i, j) at (cx, cy) with
+   normal (nx, ny) from A to B (both advanced to the contact time): 0.0 when
+   the material points do not approach and are not pressed together, else
+   the normal impulse j (velocities changed).  A fast contact is
+   frictionless and leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a
+   slow pressed one hops (hop).  When the material points do not approach,
+   the centres' accelerations do not press them and a body of the pair
+   turns, the feature's gap polynomial decides whether they are pressed
+   (closing: the turn closes the gap, which would otherwise predict the same
+   contact again at once).  Never adds energy (docs/simulator.md, Impulse). *)
+PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL; feature, i, j: INTEGER) : REAL ;
 VAR
    vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   press: BOOLEAN ;
 BEGIN
    vn := normal_speed (A, B, cx, cy, nx, ny) ;
-   IF pressed (A, B, nx, ny) AND (-vn < RestSpeed) THEN
+   press := pressed (A, B, nx, ny) ;
+   IF (NOT press) AND (NOT (vn < 0.0)) AND ((TurnRate (A) > 0.0) OR (TurnRate (B) > 0.0)) THEN
+      press := closing (A, B, feature, i, j)
+   END ;
+   IF press AND (-vn < RestSpeed) THEN
       RETURN hop (A, B, cx, cy, nx, ny, vn)
    END ;
    imp := 0.0 ;
@@ -1755,7 +1814,7 @@ END at_rest ;
    When the other body is fixed (it moves or turns: a sleeper is never
    predicted against an unmoving one) S cannot be held (the pair would have
    no mass): the full impulse at once.  Returns the impulse applied. *)
-PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL; feature, i, j: INTEGER) : REAL ;
 VAR
    S, M: BodyRef ;
    vx, vy, om, invM, invI, imp, rsn: REAL ;
@@ -1767,7 +1826,7 @@ BEGIN
       S := B ;
       M := A
    END ;
-   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny) END ;
+   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny, feature, i, j) END ;
    vx := M^.vx ;
    vy := M^.vy ;
    om := M^.om ;
@@ -1775,7 +1834,7 @@ BEGIN
    invI := S^.invI ;
    S^.invM := 0.0 ;
    S^.invI := 0.0 ;
-   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
+   imp := contact_impulse (A, B, cx, cy, nx, ny, feature, i, j) ;
    S^.invM := invM ;
    S^.invI := invI ;
    rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
@@ -1783,7 +1842,7 @@ BEGIN
    M^.vx := vx ;
    M^.vy := vy ;
    M^.om := om ;
-   RETURN contact_impulse (A, B, cx, cy, nx, ny)
+   RETURN contact_impulse (A, B, cx, cy, nx, ny, feature, i, j)
 END sleeper_impulse ;
 
 
@@ -1951,9 +2010,9 @@ BEGIN
    IF isheld THEN
       imp := held_impulse (A, B, nx, ny, vn)
    ELSIF A^.asleep OR B^.asleep THEN
-      imp := sleeper_impulse (A, B, cx, cy, nx, ny)
+      imp := sleeper_impulse (A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
    ELSE
-      imp := contact_impulse (A, B, cx, cy, nx, ny)
+      imp := contact_impulse (A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
    END ;
    IF (imp # 0.0) AND NOT isheld THEN
       IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
