@@ -61,7 +61,8 @@ class Body:
     last update time tb.  Units: s, m, m/s, m/s^2, rad, rad/s, kg."""
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
-                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen")
+                 "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen",
+                 "carry")
     # idx            index in the scene
     # polygon, fixed, large   flags (large: not in the grid, in the large list)
     # inv_m, inv_i   1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -82,7 +83,7 @@ class Body:
     # verts          list of Vertex (polygons), else empty
     # stamp          bumped when the motion changes (lazy invalidation)
     # cx, cy         grid cell (small bodies)
-    # sup            index of the fixed body supporting it, -1: free
+    # sup            index of the body supporting it (fixed), or carrying it (movable), -1: free
     # sup_edge       the supporting edge (index into sup's vertices)
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
     # load           m/s^2: free acceleration relative to the support's pressing onto it, > 0
@@ -92,6 +93,7 @@ class Body:
     # island         the island's number (the index of its first sleeper), -1: awake
     # wcells         a large body placed in the grid: the cells its box covers (x_lo, x_hi, y_lo, y_hi), else None
     # seen           the mark of the last large_near that listed it
+    # carry          how many bodies it carries (their sup is this movable body)
 
 
 class Stats:
@@ -253,6 +255,7 @@ def read_body(tk: Tokens, i: int) -> Body:
     b.island = -1
     b.wcells = None
     b.seen = 0
+    b.carry = 0
     return b
 
 
@@ -918,8 +921,8 @@ class World:
             if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
-        if b.sup >= 0:
-            self.schedule_support(b, now)
+        if b.sup >= 0 and self.s.bodies[b.sup].fixed:
+            self.schedule_support(b, now)     # a carried body moves with its base: no stop, no leave of its own
 
     def schedule_cell(self, b: Body, now: float) -> None:
         s = self.s
@@ -1135,12 +1138,108 @@ class World:
             A.ax = B.ax + a * A.tx
             A.ay = B.ay + a * A.ty
 
-    @staticmethod
-    def end_support(A: Body) -> None:
+    def end_support(self, A: Body) -> None:
+        """A's support (or carrier) ends: its free acceleration again."""
+        B = self.s.bodies[A.sup]
+        if not B.fixed:
+            B.carry -= 1
         A.ax = A.fax
         A.ay = A.fay
         A.sup = -1
         A.sup_edge = -1
+
+    # ---- carried: at rest on a movable body that does not turn -------------
+    def can_carry(self, A: Body, B: Body, feature: int, i: int, j: int, vn: float) -> bool:
+        """A point-edge contact of movable A on edge j of a movable polygon B
+        that does not turn and is itself supported or carried (its motion a
+        polynomial: constant acceleration) becomes carrying (docs/simulator.md,
+        "Carried bodies"); both advanced.  As can_support, everything relative
+        to B: load = -((fa - aB) . o) > 0, slow (vn < rest_speed, eA eB (-vn)
+        < rest_speed), A's centre over the edge; and A at relative rest along
+        it (u = (vA - vB) . t, u^2 < rest_speed^2) where static friction holds
+        it (|at| <= muA muB load, at = (fa - aB) . t), B not carried by A
+        (no loop), and |vB|^2 <= |vA|^2: taking B's velocity never raises
+        A's kinetic energy.  A polygon also turns slower than rest_speed /
+        bound and lies on a face (`flat`)."""
+        if feature != PE or A.fixed or B.fixed or not B.polygon or B.om != 0.0 or B.sup < 0:
+            return False
+        bodies = self.s.bodies
+        k = B.sup
+        while k >= 0:
+            if k == A.idx:
+                return False
+            k = bodies[k].sup
+        tx, ty, ox, oy = self.support_frame(B, j)
+        load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
+        rest = self.s.rest_speed
+        if not (load > 0.0) or vn >= rest or A.e * B.e * -vn >= rest:
+            return False
+        ed = B.verts[j]
+        q = (A.px - B.px) * tx + (A.py - B.py) * ty
+        if q < ed.s1 or q > ed.s2:
+            return False
+        u = (A.vx - B.vx) * tx + (A.vy - B.vy) * ty
+        if not (u * u < rest * rest):
+            return False
+        at = (A.fax - B.ax) * tx + (A.fay - B.ay) * ty
+        f = A.mu * B.mu * load
+        if at > f or at < -f:
+            return False
+        if B.vx * B.vx + B.vy * B.vy > A.vx * A.vx + A.vy * A.vy:
+            return False
+        if A.polygon:
+            if math.fabs(A.om) * A.bound >= rest:
+                return False
+            return self.flat(A, B, i, j, ox, oy, load)
+        return True
+
+    def enter_carried(self, A: Body, B: Body, j: int) -> None:
+        """A (advanced to now, as B) moves with B from now on: B's velocity
+        and acceleration exactly (its offset from B constant), no turn."""
+        tx, ty, ox, oy = self.support_frame(B, j)
+        A.vx = B.vx
+        A.vy = B.vy
+        if A.polygon:
+            A.om = 0.0
+        A.sup = B.idx
+        A.sup_edge = j
+        A.tx = tx
+        A.ty = ty
+        A.load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
+        A.at = (A.fax - B.ax) * tx + (A.fay - B.ay) * ty
+        A.ax = B.ax
+        A.ay = B.ay
+        B.carry += 1
+
+    def leave(self, A: Body, t: float, skip: Body | None, left: list) -> None:
+        """A leaves its support or carrier at t (E leave, its state: world
+        velocity kept, free acceleration), then what A carries, depth-first
+        (release); each appended to left with the body its prediction
+        skips (predict_released)."""
+        self.stats.leaves += 1
+        self.rebase(A, t)
+        sup, edge = A.sup, A.sup_edge
+        self.end_support(A)
+        A.stamp += 1
+        self.out.write(f"E leave {_fmt(t)} {A.idx} {sup} -1 -1 {edge} 0 0 0 0 0\n")
+        self.emit_state(A)
+        left.append((A, skip))
+        self.release(A, t, left)
+
+    def release(self, B: Body, t: float, left: list) -> None:
+        """B's motion changes at t: every body B carries leaves (by index,
+        each with what it carries: leave), skipping B in its prediction."""
+        if B.carry == 0:
+            return
+        for A in self.s.bodies:
+            if A.sup == B.idx:
+                self.leave(A, t, B, left)
+
+    def predict_released(self, left: list, t: float) -> None:
+        """Predict the bodies that left (leave), in the order they left,
+        each but against the body it skips (already predicted with it)."""
+        for A, skip in left:
+            self.predict_body(A, t, skip)
 
     def support_relative(self, b: Body):
         """Supported b's motion relative to its support B along the edge, at
@@ -1286,9 +1385,10 @@ class World:
 
     def held(self, A: Body, B: Body, nx: float, ny: float, vn: float) -> bool:
         """A slow contact of bodies held on their supports: each supported
-        or fixed, approaching (vn < 0) slower than rest_speed, not pressed,
+        (on a fixed body: a carried body is not) or fixed, approaching (vn < 0) slower than rest_speed, not pressed,
         and an impulse along their edges can change vn (kh > 0)."""
-        if not ((A.sup >= 0 or A.fixed) and (B.sup >= 0 or B.fixed)):
+        bodies = self.s.bodies
+        if not ((A.fixed or (A.sup >= 0 and bodies[A.sup].fixed)) and (B.fixed or (B.sup >= 0 and bodies[B.sup].fixed))):
             return False
         if not (vn < 0.0) or not (-vn < self.s.rest_speed) or self.pressed(A, B, nx, ny):
             return False
@@ -1331,9 +1431,10 @@ class World:
         """A body supported by an unmoving body, slower than rest_speed along
         its edge, that static friction would hold there (|at| <= mu load, as
         in slide_accel at u = 0; on a level frictionless edge at = 0): it
-        stays where it is.  On a moving support: never (it does not sleep)."""
+        stays where it is.  On a moving support: never (it does not sleep);
+        nor on a movable one (carried: grounded is false while it carries)."""
         B = self.s.bodies[A.sup]
-        if not self.static(B):
+        if not self.grounded(B):
             return False
         u = A.vx * A.tx + A.vy * A.ty
         if not (u * u < self.s.rest_speed * self.s.rest_speed):
@@ -1421,7 +1522,10 @@ class World:
         A.stamp += 1
         self.out.write(f"E sleep {_fmt(t)} {A.idx} {G.idx} -1 -1 {A.island} 0 0 0 0 0\n")
         self.emit_state(A)
+        left = []
+        self.release(A, t, left)
         self.predict_body(A, t, None)
+        self.predict_released(left, t)
 
     def handle_wake(self, S: Body, t: float) -> None:
         """S's island wakes at t: every member (by index) gets its free
@@ -1465,7 +1569,7 @@ class World:
         self.rebase(B, t)
         cx, cy, nx, ny = self.contact_frame(t, ev.feature, A, B, ev.i, ev.j)
         vn = self.normal_speed(A, B, cx, cy, nx, ny)
-        if self.can_support(A, B, ev.feature, ev.i, ev.j, vn):
+        if self.can_support(A, B, ev.feature, ev.i, ev.j, vn) or self.can_carry(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
         if self.can_sleep(A, B, ev, nx, ny, vn):
@@ -1507,17 +1611,27 @@ class World:
             if not b.fixed and not b.asleep:
                 b.stamp += 1
                 self.emit_state(b)
+        # an impulse changes the motion of what it hit: what they carried leaves
+        left = []
+        if imp != 0.0:
+            for b in (A, B):
+                if not b.fixed:
+                    self.release(b, t, left)
         if not A.fixed and not A.asleep:
             self.predict_body(A, t, B if (B.asleep and imp == 0.0) else None)
         if not B.fixed and not B.asleep:
             self.predict_body(B, t, A if ((not A.fixed and not A.asleep) or (A.asleep and imp == 0.0)) else None)
+        self.predict_released(left, t)
 
     def handle_support(self, ev: CollisionEvent, A: Body, B: Body, cx: float, cy: float, nx: float, ny: float,
                        vn: float) -> None:
         """A collision that ends in support (called by handle_collision)."""
         self.stats.supports += 1
         imp = -vn / A.inv_m
-        self.enter_support(A, B, ev.j)
+        if B.fixed:
+            self.enter_support(A, B, ev.j)
+        else:
+            self.enter_carried(A, B, ev.j)
         self.out.write(f"E support {_fmt(ev.t)} {A.idx} {B.idx} {ev.feature} {ev.i} {ev.j} {_fmt(cx)} {_fmt(cy)} "
                        f"{_fmt(nx)} {_fmt(ny)} {_fmt(imp)}\n")
         self.contacts.append(Contact(ev.t, A.idx, B.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, True))
@@ -1526,7 +1640,10 @@ class World:
             return
         A.stamp += 1
         self.emit_state(A)
+        left = []
+        self.release(A, ev.t, left)
         self.predict_body(A, ev.t, None)
+        self.predict_released(left, ev.t)
 
     def handle_stop(self, ev: StopEvent) -> None:
         """Sliding stops: velocity exactly the support's (zero when it does
@@ -1547,19 +1664,16 @@ class World:
             return
         A.stamp += 1
         self.emit_state(A)
+        left = []
+        self.release(A, ev.t, left)
         self.predict_body(A, ev.t, None)
+        self.predict_released(left, ev.t)
 
     def handle_leave(self, ev: LeaveEvent) -> None:
         """The support's edge ends under the body: free motion again."""
-        self.stats.leaves += 1
-        A = self.s.bodies[ev.body]
-        self.rebase(A, ev.t)
-        sup, edge = A.sup, A.sup_edge
-        self.end_support(A)
-        A.stamp += 1
-        self.out.write(f"E leave {_fmt(ev.t)} {A.idx} {sup} -1 -1 {edge} 0 0 0 0 0\n")
-        self.emit_state(A)
-        self.predict_body(A, ev.t, None)
+        left = []
+        self.leave(self.s.bodies[ev.body], ev.t, None, left)
+        self.predict_released(left, ev.t)
 
     def handle_input(self, ev: InputEvent) -> None:
         self.stats.inputs += 1
@@ -1599,7 +1713,10 @@ class World:
         body.stamp += 1
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {ev.k} -1 0 0 0 0 0\n")
         self.emit_state(body)
+        left = []
+        self.release(body, t, left)
         self.predict_body(body, t, None)
+        self.predict_released(left, t)
 
     def remove(self, body: Body, k: int, t: float) -> None:
         """Input k removes the body (based at t): it stops where it is (v, a,
@@ -1617,14 +1734,9 @@ class World:
         self.out.write(f"E input {_fmt(t)} {body.idx} -1 -1 {k} -1 0 0 0 0 0\n")
         for A in self.s.bodies:
             if A.sup == body.idx:
-                self.stats.leaves += 1
-                self.rebase(A, t)
-                edge = A.sup_edge
-                self.end_support(A)
-                A.stamp += 1
-                self.out.write(f"E leave {_fmt(t)} {A.idx} {body.idx} -1 -1 {edge} 0 0 0 0 0\n")
-                self.emit_state(A)
-                self.predict_body(A, t, None)
+                left = []
+                self.leave(A, t, None, left)
+                self.predict_released(left, t)
         self.wake_touching(body, t)
 
     def drive(self, B: Body, k: int, t: float, vx: float, vy: float) -> None:
@@ -1650,22 +1762,14 @@ class World:
         left = []
         for A in bodies:
             if A.sup == B.idx:
-                self.stats.leaves += 1
-                self.rebase(A, t)
-                edge = A.sup_edge
-                self.end_support(A)
-                A.stamp += 1
-                self.out.write(f"E leave {_fmt(t)} {A.idx} {B.idx} -1 -1 {edge} 0 0 0 0 0\n")
-                self.emit_state(A)
-                left.append(A)
+                self.leave(A, t, B, left)
         if B.large:
             for o in bodies:
                 if not o.large and not o.gone and not o.fixed:
                     self.predict_pair(o, B, t)
         else:
             self.predict_body(B, t, None)
-        for A in left:
-            self.predict_body(A, t, B)
+        self.predict_released(left, t)
         self.wake_touching(B, t)
 
     def wake_touching(self, body: Body, t: float) -> None:
