@@ -30,7 +30,7 @@ G = 9.81
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
 PORTED["pressed"] = {"python", "m2"}
-PORTED["carried"] = {"python"}
+PORTED["carried"] = {"python", "m2"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
