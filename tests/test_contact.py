@@ -29,8 +29,8 @@ G = 9.81
 # the flat scene (COVER) or writes other bytes: its proofs are strict xfails
 # until its port is merged, then fail as XPASS until it is added here.
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
-PORTED["pressed"] = {"python", "c", "rust"}
-PORTED["carried"] = {"python", "c", "rust"}
+PORTED["pressed"] = {"python", "c", "rust", "m2"}
+PORTED["carried"] = {"python", "c", "rust", "m2"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")

@@ -323,6 +323,7 @@ BEGIN
    b^.island := -1 ;
    b^.placed := FALSE ;
    b^.seen := 0 ;
+   b^.carry := 0 ;
    RETURN nv
 END ReadBody ;
 

@@ -21,7 +21,7 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
-   hop, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   hop, closing, circles_gap, can_carry, enter_carried, leave, release, predict_released, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
@@ -118,8 +118,11 @@ VAR
    Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
    Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
    CapNear: INTEGER ;
-   Left: IntList ;             (* drive's list of the bodies that left the driven body *)
-   CapLeft: INTEGER ;
+   (* the bodies that left their support or carrier (leave), in order, with
+      the body each one's prediction skips (-1: none): LeftBody^[k],
+      LeftSkip^[k] for k < NLeft; predict_released predicts them *)
+   LeftBody, LeftSkip: IntList ;
+   NLeft, CapLeft: INTEGER ;
    CapEdgePolys: INTEGER ;
 
 
@@ -541,14 +544,25 @@ VAR
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
    deg: INTEGER ;
 BEGIN
-   (* only differences of the centres' motions matter: circle 1 moves
-      relative to circle 2's centre of rotation *)
-   deg := CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
-                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
-                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef) ;
+   deg := circles_gap (pa, ra, pb, rb, coef) ;
    kappa := Tol * (2.0 * (ra + rb) + Tol) ;
    RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
 END CirclesFirst ;
+
+
+(* The circle_circle polynomial (squared distance of the centres less
+   (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
+   moving as pa (CircleParams) and one of radius rb moving as pb: fills coef
+   and returns its degree. *)
+PROCEDURE circles_gap (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb: REAL; VAR coef: ARRAY OF REAL) : INTEGER ;
+BEGIN
+   (* only differences of the centres' motions matter: circle 1 moves
+      relative to circle 2's centre of rotation, so that a common gravity
+      cancels (no_accel variants) and far from the origin nothing is lost *)
+   RETURN CcCoefficients (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
+                          pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
+                          0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb, coef)
+END circles_gap ;
 
 
 (* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
@@ -1161,7 +1175,8 @@ BEGIN
    PredictCells (b, b^.cx - 1, b^.cx + 1, b^.cy - 1, b^.cy + 1, -1, skip, now) ;
    PredictLarge (b, skip, now) ;
    ScheduleCell (b, now) ;
-   IF b^.sup >= 0 THEN schedule_support (b) END
+   (* a carried body moves with its base: no stop, no leave of its own *)
+   IF (b^.sup >= 0) AND Bodies^[b^.sup].fixed THEN schedule_support (b) END
 END PredictBody ;
 
 
@@ -1454,13 +1469,140 @@ BEGIN
 END enter_support ;
 
 
+(* A's support (or carrier) ends: its free acceleration again. *)
 PROCEDURE end_support (A: BodyRef) ;
+VAR
+   B: BodyRef ;
 BEGIN
+   B := ADR (Bodies^[A^.sup]) ;
+   IF NOT B^.fixed THEN DEC (B^.carry) END ;
    A^.ax := A^.fax ;
    A^.ay := A^.fay ;
    A^.sup := -1 ;
    A^.sup_edge := -1
 END end_support ;
+
+
+(* ---- carried: at rest on a movable body that does not turn ----------------------- *)
+
+(* A point-edge contact of movable A on edge j of a movable polygon B that
+   does not turn and is itself supported or carried (its motion a
+   polynomial: constant acceleration) becomes carrying (docs/simulator.md,
+   "Carried bodies"); both advanced.  As can_support, everything relative to
+   B: load = -((fa - aB) . o) > 0, slow (vn < rest_speed, eA eB (-vn) <
+   rest_speed), A's centre over the edge; and A at relative rest along it
+   (u = (vA - vB) . t, u^2 < rest_speed^2) where static friction holds it
+   (|at| <= muA muB load, at = (fa - aB) . t), B not carried by A (no
+   loop), and |vB|^2 <= |vA|^2: taking B's velocity never raises A's kinetic
+   energy.  A polygon also turns slower than rest_speed / bound and lies on
+   a face (flat). *)
+PROCEDURE can_carry (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, load, q, u, at, f: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR B^.fixed OR (NOT B^.polygon) OR (B^.om # 0.0) OR (B^.sup < 0) THEN
+      RETURN FALSE
+   END ;
+   k := B^.sup ;
+   WHILE k >= 0 DO
+      IF k = A^.idx THEN RETURN FALSE END ;
+      k := Bodies^[k].sup
+   END ;
+   support_frame (B, j, tx, ty, ox, oy) ;
+   load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
+   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   q := (A^.px - B^.px) * tx + (A^.py - B^.py) * ty ;
+   IF (q < Verts^[B^.v0 + j].s1) OR (q > Verts^[B^.v0 + j].s2) THEN RETURN FALSE END ;
+   u := (A^.vx - B^.vx) * tx + (A^.vy - B^.vy) * ty ;
+   IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
+   at := (A^.fax - B^.ax) * tx + (A^.fay - B^.ay) * ty ;
+   f := A^.mu * B^.mu * load ;
+   IF (at > f) OR (at < -f) THEN RETURN FALSE END ;
+   IF B^.vx * B^.vx + B^.vy * B^.vy > A^.vx * A^.vx + A^.vy * A^.vy THEN RETURN FALSE END ;
+   IF A^.polygon THEN
+      IF ABS (A^.om) * A^.bound >= RestSpeed THEN RETURN FALSE END ;
+      RETURN flat (A, B, i, j, ox, oy, load)
+   END ;
+   RETURN TRUE
+END can_carry ;
+
+
+(* A (advanced to now, as B) moves with B from now on: B's velocity and
+   acceleration exactly (its offset from B constant), no turn. *)
+PROCEDURE enter_carried (A, B: BodyRef; j: INTEGER) ;
+VAR
+   tx, ty, ox, oy: REAL ;
+BEGIN
+   support_frame (B, j, tx, ty, ox, oy) ;
+   A^.vx := B^.vx ;
+   A^.vy := B^.vy ;
+   IF A^.polygon THEN A^.om := 0.0 END ;
+   A^.sup := B^.idx ;
+   A^.sup_edge := j ;
+   A^.tx := tx ;
+   A^.ty := ty ;
+   A^.load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
+   A^.at := (A^.fax - B^.ax) * tx + (A^.fay - B^.ay) * ty ;
+   A^.ax := B^.ax ;
+   A^.ay := B^.ay ;
+   INC (B^.carry)
+END enter_carried ;
+
+
+(* A leaves its support or carrier at t (E leave, its state: world velocity
+   kept, free acceleration), then what A carries, depth-first (release);
+   each appended to the bodies that left (LeftBody, LeftSkip) with the body
+   its prediction skips (skip, -1: none; predict_released). *)
+PROCEDURE leave (A: BodyRef; t: REAL; skip: INTEGER) ;
+VAR
+   sup, edge: INTEGER ;
+BEGIN
+   INC (Stats.leaves) ;
+   rebase (A, t) ;
+   sup := A^.sup ;
+   edge := A^.sup_edge ;
+   end_support (A) ;
+   INC (A^.stamp) ;
+   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
+   EmitState (A) ;
+   IF NLeft >= CapLeft THEN
+      IF CapLeft = 0 THEN CapLeft := 16 ELSE CapLeft := 2 * CapLeft END ;
+      LeftBody := Grow (LeftBody, CapLeft, SIZE (INTEGER)) ;
+      LeftSkip := Grow (LeftSkip, CapLeft, SIZE (INTEGER))
+   END ;
+   LeftBody^[NLeft] := A^.idx ;
+   LeftSkip^[NLeft] := skip ;
+   INC (NLeft) ;
+   release (A, t)
+END leave ;
+
+
+(* B's motion changes at t: every body B carries leaves (by index, each
+   with what it carries: leave), skipping B in its prediction. *)
+PROCEDURE release (B: BodyRef; t: REAL) ;
+VAR
+   i: INTEGER ;
+BEGIN
+   IF B^.carry = 0 THEN RETURN END ;
+   FOR i := 0 TO NBodies - 1 DO
+      IF Bodies^[i].sup = B^.idx THEN leave (ADR (Bodies^[i]), t, B^.idx) END
+   END
+END release ;
+
+
+(* Predicts the bodies that left (leave) since the list held n0 of them, in
+   the order they left, each but against the body it skips (already
+   predicted with it); the list is back to n0. *)
+PROCEDURE predict_released (n0: INTEGER; t: REAL) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   FOR k := n0 TO NLeft - 1 DO
+      PredictBody (ADR (Bodies^[LeftBody^[k]]), t, LeftSkip^[k])
+   END ;
+   NLeft := n0
+END predict_released ;
 
 
 (* The first u in [lo, hi] where p + v u + a u^2 / 2 crosses zero moving in
@@ -1543,6 +1685,45 @@ BEGIN
 END pressed ;
 
 
+(* The gap polynomial of the contact's feature (feature, i, j as in a
+   CollisionEvent: the one that predicted it), taken again at the contact
+   (A's time: both advanced), predicts this contact now (touching_now:
+   approaching, c1 < 0, or c2 < 0 and closing again before the gap exceeds
+   its kappa).  Its second derivative has the centripetal terms of a turn,
+   which pressed leaves out.  FALSE when the generated code leaves the
+   effect out (the world has failed). *)
+PROCEDURE closing (A, B: BodyRef; feature, i, j: INTEGER) : BOOLEAN ;
+VAR
+   now, rb, kappa: REAL ;
+   pa, pb: CParams ;
+   cc: ARRAY [0..CcMaxDegree] OF REAL ;
+   pe: ARRAY [0..PeMaxDegree] OF REAL ;
+   deg, vb: INTEGER ;
+BEGIN
+   now := A^.tb ;
+   IF feature = FeatCC THEN
+      IF j >= 0 THEN
+         vb := B^.v0 + j ;
+         rb := 0.0
+      ELSE
+         vb := -1 ;
+         rb := B^.r
+      END ;
+      CircleParamsOf (A, now, -1, pa) ;
+      CircleParamsOf (B, now, vb, pb) ;
+      deg := circles_gap (pa, A^.r, pb, rb, cc) ;
+      kappa := Tol * (2.0 * (A^.r + rb) + Tol) ;
+      RETURN (deg >= 1) AND touching_now (cc, deg, kappa)
+   END ;
+   IF i >= 0 THEN
+      deg := PeCoefficients (A, B, Verts^[A^.v0 + i].rho, Verts^[A^.v0 + i].beta, 0.0, j, now, pe)
+   ELSE
+      deg := PeCoefficients (A, B, A^.orbit, A^.ophase, A^.r, j, now, pe)
+   END ;
+   RETURN (deg >= 1) AND touching_now (pe, deg, Tol)
+END closing ;
+
+
 (* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
    at hop along n, paid from their relative motion at the contact, so the
    pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
@@ -1609,18 +1790,27 @@ BEGIN
 END hop ;
 
 
-(* The impulse of a contact at (cx, cy) with normal (nx, ny) from A to B
-   (both advanced to the contact time): 0.0 when the material points do not
-   approach and are not pressed together, else the normal impulse j
-   (velocities changed).  A fast contact is frictionless and leaves at
-   sep = max(e |vn|, min(|vn|, rest_speed)); a slow pressed one hops (hop).
-   Never adds energy (docs/simulator.md, Impulse). *)
-PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+(* The impulse of a contact of the feature (feature, i, j) at (cx, cy) with
+   normal (nx, ny) from A to B (both advanced to the contact time): 0.0 when
+   the material points do not approach and are not pressed together, else
+   the normal impulse j (velocities changed).  A fast contact is
+   frictionless and leaves at sep = max(e |vn|, min(|vn|, rest_speed)); a
+   slow pressed one hops (hop).  When the material points do not approach,
+   the centres' accelerations do not press them and a body of the pair
+   turns, the feature's gap polynomial decides whether they are pressed
+   (closing: the turn closes the gap, which would otherwise predict the same
+   contact again at once).  Never adds energy (docs/simulator.md, Impulse). *)
+PROCEDURE contact_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL; feature, i, j: INTEGER) : REAL ;
 VAR
    vn, imp, ran, rbn, k, e, sep, m1, mn, me: REAL ;
+   press: BOOLEAN ;
 BEGIN
    vn := normal_speed (A, B, cx, cy, nx, ny) ;
-   IF pressed (A, B, nx, ny) AND (-vn < RestSpeed) THEN
+   press := pressed (A, B, nx, ny) ;
+   IF (NOT press) AND (NOT (vn < 0.0)) AND ((TurnRate (A) > 0.0) OR (TurnRate (B) > 0.0)) THEN
+      press := closing (A, B, feature, i, j)
+   END ;
+   IF press AND (-vn < RestSpeed) THEN
       RETURN hop (A, B, cx, cy, nx, ny, vn)
    END ;
    imp := 0.0 ;
@@ -1655,14 +1845,17 @@ BEGIN
 END along ;
 
 
-(* A slow contact of bodies held on their supports: each supported or fixed,
-   approaching (vn < 0) slower than rest_speed, not pressed, and an impulse
+(* A slow contact of bodies held on their supports: each supported (on a
+   fixed body: a carried body is not) or fixed, approaching (vn < 0) slower than rest_speed, not pressed, and an impulse
    along their edges can change vn (kh > 0). *)
 PROCEDURE held (A, B: BodyRef; nx, ny, vn: REAL) : BOOLEAN ;
 VAR
    ka, kb: REAL ;
 BEGIN
-   IF NOT (((A^.sup >= 0) OR A^.fixed) AND ((B^.sup >= 0) OR B^.fixed)) THEN RETURN FALSE END ;
+   IF NOT ((A^.fixed OR ((A^.sup >= 0) AND Bodies^[A^.sup].fixed))
+           AND (B^.fixed OR ((B^.sup >= 0) AND Bodies^[B^.sup].fixed))) THEN
+      RETURN FALSE
+   END ;
    IF (NOT (vn < 0.0)) OR (NOT (-vn < RestSpeed)) OR pressed (A, B, nx, ny) THEN RETURN FALSE END ;
    ka := along (A, nx, ny) ;
    kb := along (B, nx, ny) ;
@@ -1731,14 +1924,15 @@ END grounded ;
 (* A body supported by an unmoving body, slower than rest_speed along its
    edge, that static friction would hold there (|at| <= mu load, as in
    slide_accel at u = 0; on a level frictionless edge at = 0): it stays where
-   it is.  On a moving support: never (it does not sleep). *)
+   it is.  On a moving support: never (it does not sleep); nor on a movable
+   one (carried: grounded is false while it carries). *)
 PROCEDURE at_rest (A: BodyRef) : BOOLEAN ;
 VAR
    u, f: REAL ;
    B: BodyRef ;
 BEGIN
    B := ADR (Bodies^[A^.sup]) ;
-   IF NOT static (B) THEN RETURN FALSE END ;
+   IF NOT grounded (B) THEN RETURN FALSE END ;
    u := A^.vx * A^.tx + A^.vy * A^.ty ;
    IF NOT (u * u < RestSpeed * RestSpeed) THEN RETURN FALSE END ;
    f := A^.mu * B^.mu * A^.load ;
@@ -1755,7 +1949,7 @@ END at_rest ;
    When the other body is fixed (it moves or turns: a sleeper is never
    predicted against an unmoving one) S cannot be held (the pair would have
    no mass): the full impulse at once.  Returns the impulse applied. *)
-PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL) : REAL ;
+PROCEDURE sleeper_impulse (A, B: BodyRef; cx, cy, nx, ny: REAL; feature, i, j: INTEGER) : REAL ;
 VAR
    S, M: BodyRef ;
    vx, vy, om, invM, invI, imp, rsn: REAL ;
@@ -1767,7 +1961,7 @@ BEGIN
       S := B ;
       M := A
    END ;
-   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny) END ;
+   IF M^.fixed THEN RETURN contact_impulse (A, B, cx, cy, nx, ny, feature, i, j) END ;
    vx := M^.vx ;
    vy := M^.vy ;
    om := M^.om ;
@@ -1775,7 +1969,7 @@ BEGIN
    invI := S^.invI ;
    S^.invM := 0.0 ;
    S^.invI := 0.0 ;
-   imp := contact_impulse (A, B, cx, cy, nx, ny) ;
+   imp := contact_impulse (A, B, cx, cy, nx, ny, feature, i, j) ;
    S^.invM := invM ;
    S^.invI := invI ;
    rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
@@ -1783,7 +1977,7 @@ BEGIN
    M^.vx := vx ;
    M^.vy := vy ;
    M^.om := om ;
-   RETURN contact_impulse (A, B, cx, cy, nx, ny)
+   RETURN contact_impulse (A, B, cx, cy, nx, ny, feature, i, j)
 END sleeper_impulse ;
 
 
@@ -1830,6 +2024,8 @@ END can_sleep ;
    G's island, or in a new one numbered A's index when G is fixed.  Its
    awake neighbours are predicted against it again. *)
 PROCEDURE handle_sleep (A, G: BodyRef; t: REAL) ;
+VAR
+   n0: INTEGER ;
 BEGIN
    INC (Stats.sleeps) ;
    IF A^.sup >= 0 THEN end_support (A) END ;
@@ -1843,7 +2039,10 @@ BEGIN
    INC (A^.stamp) ;
    EmitSupportEnd ("sleep", t, A^.idx, G^.idx, A^.island) ;
    EmitState (A) ;
-   PredictBody (A, t, -1)
+   n0 := NLeft ;
+   release (A, t) ;
+   PredictBody (A, t, -1) ;
+   predict_released (n0, t)
 END handle_sleep ;
 
 
@@ -1924,6 +2123,7 @@ VAR
    A, B: BodyRef ;
    cx, cy, nx, ny, vn, imp: REAL ;
    isheld: BOOLEAN ;
+   n0: INTEGER ;
 BEGIN
    A := ADR (Bodies^[ev.a]) ;
    B := ADR (Bodies^[ev.b]) ;
@@ -1931,7 +2131,7 @@ BEGIN
    rebase (B, t) ;
    contact_frame (t, ev.feature, A, B, ev.i, ev.j, cx, cy, nx, ny) ;
    vn := normal_speed (A, B, cx, cy, nx, ny) ;
-   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) THEN
+   IF can_support (A, B, ev.feature, ev.i, ev.j, vn) OR can_carry (A, B, ev.feature, ev.i, ev.j, vn) THEN
       handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
       RETURN
    END ;
@@ -1951,9 +2151,9 @@ BEGIN
    IF isheld THEN
       imp := held_impulse (A, B, nx, ny, vn)
    ELSIF A^.asleep OR B^.asleep THEN
-      imp := sleeper_impulse (A, B, cx, cy, nx, ny)
+      imp := sleeper_impulse (A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
    ELSE
-      imp := contact_impulse (A, B, cx, cy, nx, ny)
+      imp := contact_impulse (A, B, cx, cy, nx, ny, ev.feature, ev.i, ev.j)
    END ;
    IF (imp # 0.0) AND NOT isheld THEN
       IF A^.asleep AND jolted (A) THEN handle_wake (A, t) END ;
@@ -1975,6 +2175,12 @@ BEGIN
       INC (B^.stamp) ;
       EmitState (B)
    END ;
+   (* an impulse changes the motion of what it hit: what they carried leaves *)
+   n0 := NLeft ;
+   IF imp # 0.0 THEN
+      IF NOT A^.fixed THEN release (A, t) END ;
+      IF NOT B^.fixed THEN release (B, t) END
+   END ;
    IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
       IF B^.asleep AND (imp = 0.0) THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END
    END ;
@@ -1984,7 +2190,8 @@ BEGIN
       ELSE
          PredictBody (B, t, -1)
       END
-   END
+   END ;
+   predict_released (n0, t)
 END handle_collision ;
 
 
@@ -2046,10 +2253,11 @@ END AddContact ;
 PROCEDURE handle_support (t: REAL; ev: CollisionEvent; A, B: BodyRef; cx, cy, nx, ny, vn: REAL) ;
 VAR
    imp: REAL ;
+   n0: INTEGER ;
 BEGIN
    INC (Stats.supports) ;
    imp := (-vn) / A^.invM ;
-   enter_support (A, B, ev.j) ;
+   IF B^.fixed THEN enter_support (A, B, ev.j) ELSE enter_carried (A, B, ev.j) END ;
    EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, TRUE) ;
    IF at_rest (A) THEN
@@ -2058,7 +2266,10 @@ BEGIN
    END ;
    INC (A^.stamp) ;
    EmitState (A) ;
-   PredictBody (A, t, -1)
+   n0 := NLeft ;
+   release (A, t) ;
+   PredictBody (A, t, -1) ;
+   predict_released (n0, t)
 END handle_support ;
 
 
@@ -2083,6 +2294,7 @@ PROCEDURE handle_stop (t: REAL; ev: StopEvent) ;
 VAR
    A, B: BodyRef ;
    bx, by, bang: REAL ;
+   n0: INTEGER ;
 BEGIN
    INC (Stats.stops) ;
    A := ADR (Bodies^[ev.body]) ;
@@ -2102,26 +2314,21 @@ BEGIN
    END ;
    INC (A^.stamp) ;
    EmitState (A) ;
-   PredictBody (A, t, -1)
+   n0 := NLeft ;
+   release (A, t) ;
+   PredictBody (A, t, -1) ;
+   predict_released (n0, t)
 END handle_stop ;
 
 
 (* The support's edge ends under the body: free motion again. *)
 PROCEDURE handle_leave (t: REAL; ev: LeaveEvent) ;
 VAR
-   A: BodyRef ;
-   sup, edge: INTEGER ;
+   n0: INTEGER ;
 BEGIN
-   INC (Stats.leaves) ;
-   A := ADR (Bodies^[ev.body]) ;
-   rebase (A, t) ;
-   sup := A^.sup ;
-   edge := A^.sup_edge ;
-   end_support (A) ;
-   INC (A^.stamp) ;
-   EmitSupportEnd ("leave", t, A^.idx, sup, edge) ;
-   EmitState (A) ;
-   PredictBody (A, t, -1)
+   n0 := NLeft ;
+   leave (ADR (Bodies^[ev.body]), t, -1) ;
+   predict_released (n0, t)
 END handle_leave ;
 
 
@@ -2129,7 +2336,7 @@ PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
 VAR
    b: BodyRef ;
    inp: Input ;
-   o: INTEGER ;
+   o, n0: INTEGER ;
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    INC (Stats.inputs) ;
@@ -2203,7 +2410,10 @@ BEGIN
    Str (" -1 0 0 0 0 0") ;
    Ln ;
    EmitState (b) ;
-   PredictBody (b, t, -1)
+   n0 := NLeft ;
+   release (b, t) ;
+   PredictBody (b, t, -1) ;
+   predict_released (n0, t)
 END handle_input ;
 
 
@@ -2212,8 +2422,7 @@ END handle_input ;
    and it is never predicted again; bodies it supported leave. *)
 PROCEDURE remove (b: BodyRef; k: INTEGER; t: REAL) ;
 VAR
-   i, edge: INTEGER ;
-   A: BodyRef ;
+   i, n0: INTEGER ;
 BEGIN
    b^.vx := 0.0 ; b^.vy := 0.0 ; b^.ax := 0.0 ; b^.ay := 0.0 ; b^.fax := 0.0 ; b^.fay := 0.0 ; b^.om := 0.0 ;
    IF b^.sup >= 0 THEN end_support (b) END ;
@@ -2229,16 +2438,10 @@ BEGIN
    Str (" -1 0 0 0 0 0") ;
    Ln ;
    FOR i := 0 TO NBodies - 1 DO
-      A := ADR (Bodies^[i]) ;
-      IF A^.sup = b^.idx THEN
-         INC (Stats.leaves) ;
-         rebase (A, t) ;
-         edge := A^.sup_edge ;
-         end_support (A) ;
-         INC (A^.stamp) ;
-         EmitSupportEnd ("leave", t, A^.idx, b^.idx, edge) ;
-         EmitState (A) ;
-         PredictBody (A, t, -1)
+      IF Bodies^[i].sup = b^.idx THEN
+         n0 := NLeft ;
+         leave (ADR (Bodies^[i]), t, -1) ;
+         predict_released (n0, t)
       END
    END ;
    wake_touching (b, t)
@@ -2256,8 +2459,8 @@ END remove ;
    into others). *)
 PROCEDURE drive (B: BodyRef; k: INTEGER; t, vx, vy: REAL) ;
 VAR
-   i, n, edge: INTEGER ;
-   A, o: BodyRef ;
+   i, n0: INTEGER ;
+   o: BodyRef ;
 BEGIN
    B^.vx := vx ;
    B^.vy := vy ;
@@ -2276,24 +2479,9 @@ BEGIN
    Str (" -1 0 0 0 0 0") ;
    Ln ;
    EmitState (B) ;
-   n := 0 ;
+   n0 := NLeft ;
    FOR i := 0 TO NBodies - 1 DO
-      A := ADR (Bodies^[i]) ;
-      IF A^.sup = B^.idx THEN
-         INC (Stats.leaves) ;
-         rebase (A, t) ;
-         edge := A^.sup_edge ;
-         end_support (A) ;
-         INC (A^.stamp) ;
-         EmitSupportEnd ("leave", t, A^.idx, B^.idx, edge) ;
-         EmitState (A) ;
-         IF n >= CapLeft THEN
-            IF CapLeft = 0 THEN CapLeft := 16 ELSE CapLeft := 2 * CapLeft END ;
-            Left := Grow (Left, CapLeft, SIZE (INTEGER))
-         END ;
-         Left^[n] := i ;
-         INC (n)
-      END
+      IF Bodies^[i].sup = B^.idx THEN leave (ADR (Bodies^[i]), t, B^.idx) END
    END ;
    IF B^.large THEN
       FOR i := 0 TO NBodies - 1 DO
@@ -2303,9 +2491,7 @@ BEGIN
    ELSE
       PredictBody (B, t, -1)
    END ;
-   FOR i := 0 TO n - 1 DO
-      PredictBody (ADR (Bodies^[Left^[i]]), t, B^.idx)
-   END ;
+   predict_released (n0, t) ;
    wake_touching (B, t)
 END drive ;
 
@@ -2751,6 +2937,7 @@ BEGIN
    Loaded := FALSE ;
    Failed := FALSE ;
    Reporting := FALSE ;
+   NLeft := 0 ;                (* a world that failed in a handler may have left some listed *)
    IF NOT ok THEN
       ReadError (ErrMsg) ;
       RETURN FALSE
@@ -3161,7 +3348,9 @@ BEGIN
    CapEdgePolys := 0 ;
    Near := NIL ;
    CapNear := 0 ;
-   Left := NIL ;
+   LeftBody := NIL ;
+   LeftSkip := NIL ;
+   NLeft := 0 ;
    CapLeft := 0 ;
    Mark := 0 ;
    endp := NIL ;
