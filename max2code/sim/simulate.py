@@ -4,6 +4,7 @@ with them (cached under build/sim/), feed it the compiled scene and read its
 flat trace back into JSON events (docs/simulator.md)."""
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import operator
@@ -69,11 +70,18 @@ class Trace:
         return out
 
 
+# C tools of the command itself, compiled on their own (max2code/sim/trace_json.py, scene_c.py): no part of
+# any simulator, so an edit of them rebuilds no simulator
+COMMAND_TOOLS = frozenset({"m2c_trace_json.c", "m2c_scene_flat.c"})
+
+
 def _hash_tree(path, h) -> None:
     for base, dirs, files in sorted(os.walk(path)):
         dirs.sort()
         dirs[:] = [d for d in dirs if d not in ("target", "__pycache__")]
         for f in sorted(files):
+            if f in COMMAND_TOOLS:
+                continue
             p = os.path.join(base, f)
             h.update(p.encode())
             with open(p, "rb") as fh:
@@ -270,6 +278,17 @@ def _json_names(names: list[str]) -> list[str]:
     return list(map(json.dumps, names))
 
 
+def trace_names(scene) -> tuple[list[str], int]:
+    """The bodies' names as JSON text, in index order, and the largest index
+    a trace line may name (a body, an input, a vertex): from a Scene, or as
+    given by a scene the C reader compiled (max2code/sim/scene_c.py)."""
+    given = getattr(scene, "json_names", None)
+    if given is not None:
+        return given, scene.most
+    most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
+    return _json_names([b.name for b in scene.bodies]), most
+
+
 class _Slow(Exception):
     """The fast path met something it does not check itself: the chunk is
     done again line by line, which gives the precise error (or the same
@@ -292,7 +311,7 @@ class TraceConverter:
     def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
                  max_events: int | None = None, accelerate: bool = False):
         self.scene, self.build, self.write = scene, build, write
-        self.names = _json_names([b.name for b in scene.bodies])
+        self.names, self.most = trace_names(scene)
         self.frames = frames
         self.max_events = max_events
         self.events = 0            # E records seen
@@ -302,18 +321,27 @@ class TraceConverter:
         self.final: list[str] = []
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
-        # the fast path's integer fields by their text
-        self._body = dict(zip(map(str, range(len(self.names))), self.names))
-        most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
-        ints = list(map(str, range(-1, most + 1)))
-        self._int = dict(zip(ints, ints))
-        self._features = _FeatureText(self._int)
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
             from max2code.sim import trace_json
             lib = trace_json.library()
             if lib is not None:
-                self._c = trace_json.CTrace(lib, self.names, most)
+                self._c = trace_json.CTrace(lib, self.names, self.most)
+
+    # the Python paths' integer fields by their text, made on their first use (for 10^5 bodies they take
+    # 0.15 s, which the C converter never needs)
+    @functools.cached_property
+    def _body(self) -> dict[str, str]:
+        return dict(zip(map(str, range(len(self.names))), self.names))
+
+    @functools.cached_property
+    def _int(self) -> dict[str, str]:
+        ints = list(map(str, range(-1, self.most + 1)))
+        return dict(zip(ints, ints))
+
+    @functools.cached_property
+    def _features(self) -> _FeatureText:
+        return _FeatureText(self._int)
 
     def _event(self) -> str:
         if self.states:
