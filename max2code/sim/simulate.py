@@ -21,6 +21,7 @@ from max2code import __version__
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
+from max2code.sim.scene_c import FlatScene
 from max2code.targets import simulator_languages
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
@@ -308,7 +309,7 @@ class TraceConverter:
     chunk is done) and, on anything unusual (a stop line, a non-finite or
     malformed number, the event limit), does the chunk again with `feed`."""
 
-    def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
+    def __init__(self, scene: Scene | FlatScene, build: SimBuild, write, *, frames: bool = True,
                  max_events: int | None = None, accelerate: bool = False):
         self.scene, self.build, self.write = scene, build, write
         self.names, self.most = trace_names(scene)
@@ -667,7 +668,7 @@ def _close_quietly(f) -> None:
         pass
 
 
-def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
+def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
                  progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None,
                  check=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
@@ -708,8 +709,11 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
     try:
         # the simulators read the whole scene before they write: writing it from here cannot wait on their output
         try:
-            for part in compile_parts(scene):
-                proc.stdin.write(part.encode("ascii"))
+            if isinstance(scene, FlatScene):
+                proc.stdin.write(scene.flat)
+            else:
+                for part in compile_parts(scene):
+                    proc.stdin.write(part.encode("ascii"))
             proc.stdin.close()
         except (BrokenPipeError, OSError):
             _close_quietly(proc.stdin)      # the simulator stopped reading: its exit status and last line say why
