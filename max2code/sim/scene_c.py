@@ -44,6 +44,7 @@ class FlatScene:
     effects: tuple[str, ...]
     max_events: int
     json_names: list[str]       # each body's name as JSON text, in index order
+    names_text: bytes           # the same, each followed by a newline
     most: int                   # the largest body, input or vertex index a trace line may name
     flat: bytes                 # the flat scene (compile_scene's text)
 
@@ -159,7 +160,8 @@ def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
     size = ctypes.c_long()
     text = ctypes.string_at(lib.sf_text(h, ctypes.byref(size)), size.value)
     offsets = lib.sf_offsets(h)
-    names = ctypes.string_at(lib.sf_names(h, ctypes.byref(size)), size.value).decode("ascii").split("\n")
+    names_text = ctypes.string_at(lib.sf_names(h, ctypes.byref(size)), size.value)
+    names = names_text.decode("ascii").split("\n")
     names.pop()
     # the polygons' lines, put where the C text leaves room for them
     own = Scene(path, path, end, fps, (gx, gy), tol, rest, int(order), int(max_same), polygons, [], int(max_events))
@@ -173,4 +175,4 @@ def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
     pieces.append(text[last:])
     effects = ("acceleration",) if accelerates or any(b.acceleration != (0.0, 0.0) for b in polygons) else ()
     most = max(int(n), max((len(b.vertices) for b in polygons), default=0))
-    return FlatScene(path, end, int(order), effects, int(max_events), names, most, b"".join(pieces))
+    return FlatScene(path, end, int(order), effects, int(max_events), names, names_text, most, b"".join(pieces))

@@ -327,7 +327,7 @@ class TraceConverter:
             from max2code.sim import trace_json
             lib = trace_json.library()
             if lib is not None:
-                self._c = trace_json.CTrace(lib, self.names, self.most)
+                self._c = trace_json.CTrace(lib, self.names, self.most, getattr(scene, "names_text", None))
 
     # the Python paths' integer fields by their text, made on their first use (for 10^5 bodies they take
     # 0.15 s, which the C converter never needs)
@@ -430,7 +430,7 @@ class TraceConverter:
             end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
             block = data[at:end] if end else data[at:]
             if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
-                self._finals(block.decode("ascii", "replace"))
+                self._finals(block)
             else:
                 self.feed_chunk(block.decode("ascii", "replace"))
             if end and end < len(data):
@@ -446,9 +446,18 @@ class TraceConverter:
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
 
-    def _finals(self, text: str) -> None:
-        """Complete F lines, column by column (as _states); anything unusual
-        goes to feed_chunk."""
+    def _finals(self, block: bytes) -> None:
+        """Complete F lines: in C when the converter was made with
+        `accelerate` and takes them; else column by column (as _states);
+        anything unusual goes to feed_chunk."""
+        if self._c is not None:
+            got = self._c.finals(block)
+            if got is not None:
+                self._flush()           # the last event is whole
+                self.final.append(got)  # the bodies' JSON, comma-separated
+                self.line += block.count(b"\n")
+                return
+        text = block.decode("ascii", "replace")
         lines = text.split("\n")
         lines.pop()                     # after the last newline
         try:
@@ -542,7 +551,8 @@ class TraceConverter:
         """The heads of the lines that are not states (None for a line that
         is no event, or a frame left out) and the number of events among
         them; F, N and V lines go to final, counts and predictions."""
-        body, ints, frames = self._body, self._int, self.frames
+        frames = self.frames
+        body = ints = None              # the tables, made when a line needs them (the N and V lines do not)
         contacts = iter(self._contacts(list(compress(others, contact))))
         heads: list[str | None] = []
         f_lines: list[str] = []
@@ -561,6 +571,8 @@ class TraceConverter:
             head = None
             if tag == "E":
                 n_events += 1
+                if body is None:
+                    body, ints = self._body, self._int
                 kind = w[1]
                 t = w[2] if "." in w[2] else _num(w[2])
                 if kind == "frame":
@@ -583,7 +595,7 @@ class TraceConverter:
             heads.append(head)
         cols = _columns(f_lines, 8, "F", range(2, 8))
         if cols:
-            final += map(_final, map(body.__getitem__, cols[1]), *cols[2:])
+            final += map(_final, map(self._body.__getitem__, cols[1]), *cols[2:])
         return heads, n_events
 
     def _states(self, s_lines: list[str]) -> list[str]:
