@@ -8,10 +8,12 @@ like the benchmark's, on hypothesis-made scenes whose numbers are spelt in
 every way JSON allows (integers, exponents, minus zero, 17 digits, subnormal)
 with defaults left out, comments, gravity, fixed circles and walls, and on
 each kind of fault."""
+import ctypes
 import json
 import math
 import os
 import random
+import struct
 import sys
 import tempfile
 
@@ -75,6 +77,51 @@ def test_the_common_scenes_are_taken():
     for name in ("gravity-box", "resting-ball"):
         fast, scene = both((ROOT / "examples" / f"{name}.json").read_text(encoding="utf-8"))
         assert fast is not None, name
+
+
+# ------------------------------------------------------------ numbers
+def some_doubles(rng, n):
+    """Doubles of every kind: uniform, any bits, spread over the decades, short decimals, powers of two
+    and their neighbours, the ends of the C code's quick ranges."""
+    edges = [0.0, -0.0, 1e-4, 1e15, 9.999999999999999e14, 1e-4 * (1 - 1e-16), 5e-324, 2.2250738585072014e-308,
+             1.7976931348623157e308, 0.1, 0.3, 2.0 / 3.0, 123456789012345.67, 1e23, 8.41e21, 9007199254740993.0]
+    yield from edges
+    for _ in range(n):
+        r = rng.random()
+        if r < 0.3:
+            yield rng.uniform(-100.0, 100.0)
+        elif r < 0.5:
+            x = struct.unpack("d", struct.pack("Q", rng.getrandbits(64)))[0]
+            if math.isfinite(x):
+                yield x
+        elif r < 0.7:
+            yield rng.uniform(0.0, 1.0) * 10.0 ** rng.randint(-8, 18)
+        elif r < 0.8:
+            yield float(f"{rng.uniform(-1e3, 1e3):.{rng.randint(1, 17)}g}")
+        elif r < 0.9:
+            yield 2.0 ** rng.randint(-30, 60) * rng.choice([1.0, -1.0, 3.0, 0.75])
+        else:
+            x = rng.uniform(1e-4, 1e15)
+            yield math.nextafter(x, math.inf) if rng.random() < 0.5 else x
+
+
+def test_numbers_read_and_written_as_python_does():
+    """The C reader's numbers are float()'s of their text (every spelling: repr, 17 digits, exponents, 19
+    and 20 digits, few digits) and its written numbers repr()'s, on 20000 doubles of every kind."""
+    lib = scene_c.library()
+    buf = ctypes.create_string_buffer(64)
+    out = ctypes.c_double()
+    read = 0
+    for x in some_doubles(random.Random(3), 20000):
+        assert lib.sf_repr(x, buf, 64) > 0 and buf.value.decode() == repr(x), x
+        for text in (repr(x), f"{x:.17g}", f"{x:.17e}", f"{x:.15e}", f"{x:.3f}", f"{x:.19e}", f"{x:.20f}"):
+            if "." not in text and "e" not in text:
+                text += ".0"
+            data = text.encode()
+            if lib.sf_number(data, len(data), ctypes.byref(out)):
+                read += 1
+                assert (out.value, math.copysign(1.0, out.value)) == (float(text), math.copysign(1.0, float(text)))
+    assert read > 100000
 
 
 # ------------------------------------------------------------ made scenes

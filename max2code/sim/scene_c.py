@@ -96,7 +96,10 @@ def library() -> ctypes.PyDLL | None:
                                 ("sf_names", p, [p, long_p]),
                                 ("sf_compile", ctypes.c_int, [p, ctypes.POINTER(ctypes.c_double),
                                                               ctypes.POINTER(ctypes.c_ubyte)]),
-                                ("sf_text", p, [p, long_p]), ("sf_offsets", long_p, [p])):
+                                ("sf_text", p, [p, long_p]), ("sf_offsets", long_p, [p]),
+                                ("sf_number", ctypes.c_int, [ctypes.c_char_p, ctypes.c_long,
+                                                             ctypes.POINTER(ctypes.c_double)]),
+                                ("sf_repr", ctypes.c_long, [ctypes.c_double, ctypes.c_char_p, ctypes.c_long])):
             fn = getattr(lib, name)
             fn.restype, fn.argtypes = res, args
         _lib = lib

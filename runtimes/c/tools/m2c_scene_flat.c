@@ -29,6 +29,7 @@
    Numbers are written by the interpreter's repr (PyOS_double_to_string,
    'r' mode, '.0' added): the flat text is the Python compiler's byte for
    byte, and tests/test_scene_c.py compares the two. */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -93,22 +94,181 @@ static int put(sf_buf *b, const char *s, size_t n)
 
 static int puts_(sf_buf *b, const char *s) { return put(b, s, strlen(s)); }
 
+/* ------------------------------------------------------------ numbers
+   Most numbers go neither through the interpreter's strtod nor its dtoa
+   (each a few hundred ns: bignum arithmetic, and the x87 control word set
+   and restored): two exact shortcuts take the common ones and leave the
+   rest to the interpreter.  tests/test_scene_c.py compares both with
+   float() and repr() on random and edge values. */
+typedef unsigned __int128 u128;
+static u128 pow10_128[40];       /* 10^0 .. 10^38 */
+static int x87_extended = -1;    /* the x87 rounds to 64 bits (the shortcut of quick_double needs it) */
+
+static void numbers_init(void)
+{
+    if (!pow10_128[0]) {
+        pow10_128[0] = 1;
+        for (int k = 1; k < 40; k++)
+            pow10_128[k] = pow10_128[k - 1] * 10;
+    }
+#if defined(__x86_64__) && LDBL_MANT_DIG == 64
+    unsigned short cw;
+    __asm__ volatile("fnstcw %0" : "=m"(cw));
+    x87_extended = (cw & 0x300) == 0x300;
+#else
+    x87_extended = 0;
+#endif
+}
+
+/* The double nearest w * 10^p (w < 2^64), when one rounding of the exact
+   value to the x87's 64-bit mantissa tells it: that rounding is within half
+   a unit of 64 bits of the exact value, so when its 11 bits below the
+   double's 53 are not at (or next to) the half-way pattern 0x400, the exact
+   value rounds to the same double as it does.  0: the interpreter decides. */
+static int quick_double(uint64_t w, int p, double *out)
+{
+#if defined(__x86_64__) && LDBL_MANT_DIG == 64
+    static const long double tens[] = {1e0L, 1e1L, 1e2L, 1e3L, 1e4L, 1e5L, 1e6L, 1e7L, 1e8L, 1e9L, 1e10L,
+                                       1e11L, 1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L,
+                                       1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};     /* exact: 5^27 < 2^64 */
+    if (!x87_extended || p < -27 || p > 27)
+        return 0;
+    if (w == 0) {
+        *out = 0.0;
+        return 1;
+    }
+    long double v = p < 0 ? (long double)w / tens[-p] : (long double)w * tens[p];
+    int ex;
+    uint64_t bits = (uint64_t)ldexpl(frexpl(v, &ex), 64);
+    unsigned low = (unsigned)(bits & 0x7FF);
+    if (low >= 0x3FF && low <= 0x401)
+        return 0;
+    *out = (double)v;
+    return fabs(*out) >= DBL_MIN && isfinite(*out);
+#else
+    (void)w;
+    (void)p;
+    (void)out;
+    return 0;
+#endif
+}
+
+/* Python's repr of x (the shortest decimal that reads back as x, the
+   nearest of those) for 1e-4 <= |x| < 1e15 and x not a power of two (whose
+   rounding interval is lopsided): its length in buf, 0 when the interpreter
+   must write it.  x = m 2^-S exactly; N = m 10^k, with k chosen so that
+   x 10^k has 17 digits before the point; each candidate D (15, 16, 17
+   digits, correctly rounded from x) reads back as x when it lies within half
+   a unit of m of it: |D 10^(17-q) 2^(S+1) - 2N| < 10^k (<= when m is even:
+   a tie rounds to even).  Fewer than 15 digits: when the 15-digit one reads
+   back, no other 15-digit decimal does (the interval is narrower than their
+   spacing), so any shorter one is it without its trailing zeros.  Written
+   as repr writes these: no exponent, at least one digit after the point. */
+static int quick_repr(double x, char *buf)
+{
+    double a = fabs(x);
+    if (!(a >= 1e-4 && a < 1e15))
+        return 0;
+    int e2;
+    double f = frexp(a, &e2);                       /* a = f 2^e2, f in [0.5, 1) */
+    uint64_t m = (uint64_t)ldexp(f, 53);
+    int S = 53 - e2;                                /* a = m 2^-S, 0 < S <= 67 */
+    if (m == (1ull << 52))
+        return 0;
+    int k = 16 - (int)floor(log10(a));
+    u128 N = 0;
+    uint64_t T = 0;                                 /* floor(x 10^k) */
+    for (int tries = 0; tries < 3; tries++) {
+        if (k < 0 || k > 22)
+            return 0;
+        N = (u128)m * pow10_128[k];
+        T = (uint64_t)(N >> S);
+        if (T < 10000000000000000ull)
+            k++;
+        else if (T >= 100000000000000000ull)
+            k--;
+        else
+            break;
+    }
+    if (T < 10000000000000000ull || T >= 100000000000000000ull)
+        return 0;
+    u128 twoN = N << 1, lim = pow10_128[k];
+    uint64_t digits = 0;
+    int q;
+    for (q = 15; q <= 17; q++) {
+        int j = 17 - q;
+        uint64_t unit = (uint64_t)pow10_128[j];
+        uint64_t D = T / unit;
+        u128 M = (u128)unit << S;
+        u128 R = N - (u128)D * M;                   /* N = D M + R, R < M */
+        if (2 * R > M || (2 * R == M && (D & 1)))
+            D++;
+        if (D >= (uint64_t)pow10_128[q])
+            return 0;                               /* rounded up to a new digit: the interpreter's */
+        u128 C = ((u128)D * unit) << (S + 1);
+        u128 diff = C > twoN ? C - twoN : twoN - C;
+        if (diff < lim || (diff == lim && !(m & 1))) {
+            digits = D;
+            break;
+        }
+    }
+    if (q > 17)
+        return 0;
+    int decpt = 17 - k;                             /* x = 0.d1d2... 10^decpt */
+    char d[24];
+    int n = 0;
+    while (digits % 10 == 0)
+        digits /= 10;
+    for (uint64_t v = digits; v; v /= 10)
+        d[n++] = (char)('0' + v % 10);              /* reversed */
+    char *o = buf;
+    if (x < 0.0)
+        *o++ = '-';
+    if (decpt <= 0) {
+        *o++ = '0';
+        *o++ = '.';
+        for (int i = 0; i < -decpt; i++)
+            *o++ = '0';
+        for (int i = n - 1; i >= 0; i--)
+            *o++ = d[i];
+    } else if (decpt >= n) {
+        for (int i = n - 1; i >= 0; i--)
+            *o++ = d[i];
+        for (int i = n; i < decpt; i++)
+            *o++ = '0';
+        *o++ = '.';
+        *o++ = '0';
+    } else {
+        for (int i = n - 1; i >= 0; i--) {
+            *o++ = d[i];
+            if (n - i == decpt)
+                *o++ = '.';
+        }
+    }
+    *o = 0;
+    return (int)(o - buf);
+}
+
 /* repr of a double, through a small cache (a gas repeats its radius, mass, zeros) */
 #define CACHE 1024
 typedef struct {
     uint64_t bits;
     char text[32];
     int len;                   /* 0: empty */
-} sf_repr;
-static sf_repr cache[CACHE];
+} sf_cached;
+static sf_cached cache[CACHE];
 
 static int put_real(sf_buf *b, double x)
 {
     uint64_t bits;
     memcpy(&bits, &x, sizeof bits);
-    sf_repr *e = &cache[(bits ^ (bits >> 29) ^ (bits >> 47)) & (CACHE - 1)];
+    sf_cached *e = &cache[(bits ^ (bits >> 29) ^ (bits >> 47)) & (CACHE - 1)];
     if (e->len && e->bits == bits)
         return put(b, e->text, (size_t)e->len);
+    char quick[40];
+    int len = quick_repr(x, quick);
+    if (len)
+        return put(b, quick, (size_t)len);
     char *s = PyOS_double_to_string(x, 'r', 0, PY_DTSF_ADD_DOT_0, NULL);
     if (!s)
         return -1;
@@ -240,6 +400,35 @@ static int number(sf_scene *s, double *out)
             v = v * 10 + (*d - '0');
         *out = (double)(*start == '-' ? -v : v);
     } else {
+        /* up to 19 significant digits and a small exponent: the quick way, when it can tell */
+        uint64_t w = 0;
+        int digits = 0, p = 0, exp_sign = 1, exp = 0, after = 0;
+        const char *d = start + (*start == '-');
+        for (; d < q && *d != 'e' && *d != 'E'; d++) {
+            if (*d == '.') {
+                after = 1;
+                continue;
+            }
+            if (digits || *d != '0') {
+                if (++digits > 19)
+                    break;
+                w = w * 10 + (uint64_t)(*d - '0');
+            }
+            p -= after;                             /* a digit after the point */
+        }
+        if (digits <= 19 && d < q) {
+            d++;
+            if (*d == '+' || *d == '-')
+                exp_sign = *d++ == '-' ? -1 : 1;
+            for (; d < q && exp < 1000; d++)
+                exp = exp * 10 + (*d - '0');
+        }
+        if (digits <= 19 && exp < 1000 && quick_double(w, p + exp_sign * exp, out)) {
+            if (*start == '-')
+                *out = -*out;
+            s->p = q;
+            return 1;
+        }
         char *stop = NULL;
         *out = PyOS_string_to_double(start, &stop, NULL);
         if (stop != q || !isfinite(*out))
@@ -557,6 +746,7 @@ static int scene_numbers(sf_scene *s)
 int sf_parse(void *h, const char *text, long size)
 {
     sf_scene *s = h;
+    numbers_init();
     for (long i = 0; i < size; i++)
         if ((unsigned char)text[i] >= 0x80)
             return NOT_MINE;            /* Python reads UTF-8 and names the bad byte */
@@ -965,3 +1155,28 @@ const char *sf_text(void *h, long *size)
 }
 
 const long *sf_offsets(void *h) { return ((sf_scene *)h)->offsets; }
+
+/* for tests/test_scene_c.py: a number read as the scene reader reads it (1 and *out, 0 when it is not one
+   it takes), and a double written as the flat scene writes it (its length) */
+int sf_number(const char *text, long size, double *out)
+{
+    sf_scene s = {0};
+    numbers_init();
+    s.text = s.p = text;
+    s.end = text + size;
+    return number(&s, out) && s.p == s.end;
+}
+
+long sf_repr(double x, char *out, long cap)
+{
+    sf_buf b = {0};
+    numbers_init();
+    if (put_real(&b, x) || (long)b.n >= cap) {
+        free(b.s);
+        return -1;
+    }
+    memcpy(out, b.s, b.n + 1);
+    long n = (long)b.n;
+    free(b.s);
+    return n;
+}
