@@ -59,9 +59,16 @@ def simulate_main(argv: list[str]) -> int:
     limit = args.max_events if args.max_events is not None else scene.max_events
     try:
         with open_output(args.output) as out:
-            stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
+            raw = getattr(out, "buffer", None)       # all of the trace as bytes, when the stream has a buffer
+            write, write_bytes = out.write, None
+            if raw is not None:
+                out.flush()
+                write_bytes = raw.write
+                write = lambda text: write_bytes(text.encode("utf-8"))      # noqa: E731
+            stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
                                  progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
-                                 warn=lambda line: print(line, file=sys.stderr), check=check)
+                                 warn=lambda line: print(line, file=sys.stderr), check=check,
+                                 write_bytes=write_bytes)
     except (SimulateError, SceneError) as exc:
         raise SimCliError(str(exc)) from None
     if not args.quiet:

@@ -310,8 +310,9 @@ class TraceConverter:
     malformed number, the event limit), does the chunk again with `feed`."""
 
     def __init__(self, scene: Scene | FlatScene, build: SimBuild, write, *, frames: bool = True,
-                 max_events: int | None = None, accelerate: bool = False):
+                 max_events: int | None = None, accelerate: bool = False, write_bytes=None):
         self.scene, self.build, self.write = scene, build, write
+        self.write_bytes = write_bytes      # the C converter's output as it is (ASCII), to write's stream, in order
         self.names, self.most = trace_names(scene)
         self.frames = frames
         self.max_events = max_events
@@ -442,7 +443,10 @@ class TraceConverter:
                 self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
                 self.events += got[1]
                 self.line += data.count(b"\n")
-                self.write(got[0])
+                if self.write_bytes is not None:
+                    self.write_bytes(got[0])
+                else:
+                    self.write(got[0].decode("ascii"))
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
 
@@ -682,7 +686,7 @@ def _close_quietly(f) -> None:
 
 def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
                  progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None,
-                 check=None) -> dict:
+                 check=None, write_bytes=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
     `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
@@ -697,7 +701,9 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
     scene left for last (scene.check_scene of a scene read with
     check=False), which so run while the simulator starts; an exception
     from it stops the simulator and is raised as it is (and first, when
-    compiling fails or a real build must run)."""
+    compiling fails or a real build must run).  `write_bytes`, when given,
+    writes ASCII bytes to the same stream as `write`, in order with it: the C
+    converter's output then goes there without a decoding and an encoding."""
     if converter not in CONVERTERS:
         raise ValueError(f"converter {converter!r}")
     build = built_simulator(lang, scene.effects, scene.taylor_order)
@@ -736,7 +742,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         if check is not None:
             check()
         # made while the simulator runs: for 10^5 bodies its tables of names take a while
-        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
+        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, write_bytes=write_bytes,
                               accelerate=converter != "python")
         if converter != "python" and conv._c is None:
             from max2code.sim import trace_json

@@ -99,8 +99,8 @@ class CTrace:
         self.events = ctypes.c_long(0)
 
     def convert(self, data: bytes, frames: bool) -> tuple[str, int] | None:
-        """The JSON lines of `data` (whole events) and its number of events,
-        or None when Python must convert it."""
+        """The JSON lines of `data` (whole events, as ASCII bytes) and its
+        number of events, or None when Python must convert it."""
         while True:
             n = self.lib.tj_convert(self.handle, data, len(data), self.buf, self.cap, int(frames),
                                     ctypes.byref(self.events))
@@ -110,7 +110,7 @@ class CTrace:
                 continue
             if n < 0:
                 return None
-            return ctypes.string_at(self.buf, n).decode("ascii"), self.events.value
+            return ctypes.string_at(self.buf, n), self.events.value
 
     def finals(self, data: bytes) -> str | None:
         """The JSON of complete F lines, comma-separated, or None when Python
