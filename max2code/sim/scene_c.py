@@ -35,9 +35,14 @@ _tried = False
 _why = ""
 
 
+PART = 4096        # bodies' lines made at a time by parts()
+
+
 @dataclass
 class FlatScene:
-    """A scene the C reader took: what `max2code simulate` needs of it."""
+    """A scene the C reader took: what `max2code simulate` needs of it, and
+    its flat scene, made in pieces by parts() (a simulator reads one while
+    the next is made) from the C reader's state, which it owns."""
     path: str
     end_time: float
     taylor_order: int
@@ -46,7 +51,37 @@ class FlatScene:
     json_names: list[str]       # each body's name as JSON text, in index order
     names_text: bytes           # the same, each followed by a newline
     most: int                   # the largest body, input or vertex index a trace line may name
-    flat: bytes                 # the flat scene (compile_scene's text)
+    head: bytes                 # the flat scene up to the bodies' lines
+    polygon_lines: dict[int, bytes]     # by body index
+    _lib: ctypes.PyDLL
+    _handle: int
+
+    def parts(self):
+        """The flat scene (compile_scene's text) in pieces of whole lines."""
+        yield self.head
+        n, k = len(self.json_names), 0
+        while k < n:
+            lines = self.polygon_lines.get(k)
+            if lines is not None:
+                yield lines
+                k += 1
+                continue
+            end = self._lib.sf_part(self._handle, k, k + PART)
+            if end < 0:
+                raise MemoryError("m2c_scene_flat: sf_part")
+            size = ctypes.c_long()
+            yield ctypes.string_at(self._lib.sf_text(self._handle, ctypes.byref(size)), size.value)
+            k = end
+        yield b"inputs 0\nend\n"
+
+    @property
+    def flat(self) -> bytes:
+        return b"".join(self.parts())
+
+    def __del__(self):
+        if getattr(self, "_handle", None):
+            self._lib.sf_free(self._handle)
+            self._handle = None
 
 
 def build() -> str:
@@ -96,7 +131,8 @@ def library() -> ctypes.PyDLL | None:
                                 ("sf_names", p, [p, long_p]),
                                 ("sf_compile", ctypes.c_int, [p, ctypes.POINTER(ctypes.c_double),
                                                               ctypes.POINTER(ctypes.c_ubyte)]),
-                                ("sf_text", p, [p, long_p]), ("sf_offsets", long_p, [p]),
+                                ("sf_text", p, [p, long_p]),
+                                ("sf_part", ctypes.c_long, [p, ctypes.c_long, ctypes.c_long]),
                                 ("sf_number", ctypes.c_int, [ctypes.c_char_p, ctypes.c_long,
                                                              ctypes.POINTER(ctypes.c_double)]),
                                 ("sf_repr", ctypes.c_long, [ctypes.c_double, ctypes.c_char_p, ctypes.c_long])):
@@ -126,10 +162,13 @@ def read_scene(path: str) -> FlatScene | None:
     h = lib.sf_new()
     if not h:
         return None
+    scene = None
     try:
-        return _read(lib, h, path, data)
+        scene = _read(lib, h, path, data)
+        return scene
     finally:
-        lib.sf_free(h)
+        if scene is None:
+            lib.sf_free(h)          # else the scene frees it
 
 
 def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
@@ -161,21 +200,19 @@ def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
     if lib.sf_compile(h, given, large) != 0:
         return None
     size = ctypes.c_long()
-    text = ctypes.string_at(lib.sf_text(h, ctypes.byref(size)), size.value)
-    offsets = lib.sf_offsets(h)
+    head = ctypes.string_at(lib.sf_text(h, ctypes.byref(size)), size.value)
     names_text = ctypes.string_at(lib.sf_names(h, ctypes.byref(size)), size.value)
     names = names_text.decode("ascii").split("\n")
     names.pop()
-    # the polygons' lines, put where the C text leaves room for them
+    # the polygons' lines
     own = Scene(path, path, end, fps, (gx, gy), tol, rest, int(order), int(max_same), polygons, [], int(max_events))
     covered = covered_edges(own)        # (only polygons can cover, or be covered)
-    pieces, last = [], 0
+    polygon_lines = {}
     for j, b in enumerate(polygons):
         covers = covered.get(j)
         lines = body_lines(b, bool(large[j]), 0.0, [at[q] if q >= 0 else -1 for q in covers] if covers else None)
-        pieces += [text[last:offsets[j]], "".join(x + "\n" for x in lines).encode("ascii")]
-        last = offsets[j]
-    pieces.append(text[last:])
+        polygon_lines[at[j]] = "".join(x + "\n" for x in lines).encode("ascii")
     effects = ("acceleration",) if accelerates or any(b.acceleration != (0.0, 0.0) for b in polygons) else ()
     most = max(int(n), max((len(b.vertices) for b in polygons), default=0))
-    return FlatScene(path, end, int(order), effects, int(max_events), names, names_text, most, b"".join(pieces))
+    return FlatScene(path, end, int(order), effects, int(max_events), names, names_text, most, head, polygon_lines,
+                     lib, h)

@@ -728,7 +728,8 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         # the simulators read the whole scene before they write: writing it from here cannot wait on their output
         try:
             if isinstance(scene, FlatScene):
-                proc.stdin.write(scene.flat)
+                for part in scene.parts():
+                    proc.stdin.write(part)
             else:
                 for part in compile_parts(scene):
                     proc.stdin.write(part.encode("ascii"))

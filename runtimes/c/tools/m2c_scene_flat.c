@@ -69,7 +69,6 @@ typedef struct {
     long *poly_start, *poly_end;
     unsigned char *large;      /* per body, from the grid */
     sf_buf out, names;
-    long *offsets;             /* per polygon: where its lines go in out */
     int accelerates;           /* a circle's acceleration (gravity included) is not (0, 0) */
 } sf_scene;
 
@@ -722,7 +721,7 @@ void sf_free(void *h)
     free(s->kind); free(s->fixed); free(s->mass); free(s->restitution); free(s->friction); free(s->px);
     free(s->py); free(s->vx); free(s->vy); free(s->ax); free(s->ay); free(s->angle); free(s->omega);
     free(s->radius); free(s->name_at); free(s->name_len); free(s->poly); free(s->poly_start); free(s->poly_end);
-    free(s->large); free(s->out.s); free(s->names.s); free(s->offsets);
+    free(s->large); free(s->out.s); free(s->names.s);
     free(s);
 }
 
@@ -1048,8 +1047,7 @@ static int line_real(sf_buf *b, const char *head, double x)
 
 /* Check and compile: poly holds per polygon (in sf_polygon's order) its bound, position x and y, and its box
    at t = 0 (x0 y0 x1 y1); large gets per polygon whether it is large (the LARGE token).  MINE, NOT_MINE or
-   NO_MEMORY; then sf_text and sf_offsets give the flat text without the polygons' lines and where each
-   polygon's lines go. */
+   NO_MEMORY; then sf_text gives the flat scene's head (up to the bodies' lines) and sf_part the rest. */
 int sf_compile(void *h, const double *poly, unsigned char *large)
 {
     sf_scene *s = h;
@@ -1063,8 +1061,7 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
             movable = s->radius[k];     /* a circle's bound is 0.0 + radius: the radius (polygons are fixed) */
     double size = 2.0 * (movable < 0.0 ? 1.0 : movable) * (1.0 + 1e-6);
     s->large = malloc((size_t)s->n + 1);
-    s->offsets = malloc(sizeof *s->offsets * (size_t)(s->npoly + 1));
-    if (!s->large || !s->offsets)
+    if (!s->large)
         return NO_MEMORY;
     double lo_x = INFINITY, lo_y = INFINITY, hi_x = -INFINITY, hi_y = -INFINITY;
     long small = 0, j = 0;
@@ -1123,12 +1120,19 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
     snprintf(tmp, sizeof tmp, " %ld %ld\nbodies %ld\n", nx, ny, s->n);
     if (puts_(b, tmp))
         return NO_MEMORY;
-    j = 0;
-    for (long k = 0; k < s->n; k++) {
-        if (s->kind[k]) {
-            s->offsets[j++] = (long)b->n;
-            continue;
-        }
+    return MINE;
+}
+
+/* After sf_compile: the lines of the bodies from `from` on, up to `upto` or the first polygon (whose lines
+   Python writes), in place of the text before; returns the index reached, -1 when out of memory.  The flat
+   scene is sf_compile's text, then the bodies' lines in order, then "inputs 0" and "end". */
+long sf_part(void *h, long from, long upto)
+{
+    sf_scene *s = h;
+    sf_buf *b = &s->out;
+    b->n = 0;
+    long k = from;
+    for (; k < upto && k < s->n && !s->kind[k]; k++) {
         int fixed = s->fixed[k];
         /* body 0 FIXED INV_MASS 0.0 RESTITUTION FRICTION PX PY VX VY AX AY ANGLE OMEGA RADIUS 0.0 0.0 BOUND 0.0
            LARGE 0 (_circle_line) */
@@ -1140,11 +1144,9 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
             || put_real(b, s->ay[k]) || put(b, " ", 1) || put_real(b, s->angle[k]) || put(b, " ", 1)
             || put_real(b, s->omega[k]) || put(b, " ", 1) || put_real(b, s->radius[k]) || puts_(b, " 0.0 0.0 ")
             || put_real(b, 0.0 + s->radius[k]) || puts_(b, s->large[k] ? " 0.0 1 0\n" : " 0.0 0 0\n"))
-            return NO_MEMORY;
+            return -1;
     }
-    if (puts_(b, "inputs 0\nend\n"))
-        return NO_MEMORY;
-    return MINE;
+    return k;
 }
 
 const char *sf_text(void *h, long *size)
@@ -1153,8 +1155,6 @@ const char *sf_text(void *h, long *size)
     *size = (long)s->out.n;
     return s->out.s;
 }
-
-const long *sf_offsets(void *h) { return ((sf_scene *)h)->offsets; }
 
 /* for tests/test_scene_c.py: a number read as the scene reader reads it (1 and *out, 0 when it is not one
    it takes), and a double written as the flat scene writes it (its length) */
