@@ -349,3 +349,29 @@ def test_command_with_and_without_the_c_reader(tmp_path, monkeypatch):
         errors.append(str(exc.value))
     assert outs[0] == outs[1] and len(outs[0]) > 1000
     assert errors[0] == errors[1] and "overlap at t = 0" in errors[0]
+
+
+MUTANT_BASE = json.dumps({**GOOD, "gravity": [0, -9.81], "comment": {"why": ["a", 1, 2.5e-3, None, True]}},
+                         indent=1)
+SPARE = ' \n\t{}[],:"-+.0123456789eEtruefalsnl\\u'
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.integers(0, len(MUTANT_BASE) - 1), st.integers(0, 2), st.sampled_from(SPARE)),
+                min_size=1, max_size=4))
+def test_mutated_texts(edits):
+    """A good scene's text with a few characters deleted, inserted or replaced (broken JSON, changed numbers
+    and names, keys and literals cut short): whatever the C reader takes, Python takes with the same flat
+    bytes, and it never reads past the text (the C code sees only the text's own bytes)."""
+    text = list(MUTANT_BASE)
+    for at, how, c in edits:
+        at = min(at, len(text) - 1)
+        if how == 0:
+            del text[at]
+        elif how == 1:
+            text.insert(at, c)
+        else:
+            text[at] = c
+    fast, scene = both("".join(text))
+    if fast is not None:
+        agree(fast, scene)
