@@ -442,7 +442,7 @@ class TraceConverter:
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
                 self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
                 self.events += got[1]
-                self.line += data.count(b"\n")
+                self.line += got[2]
                 if self.write_bytes is not None:
                     self.write_bytes(got[0])
                 else:
@@ -761,7 +761,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             th.join(timeout=5)
         proc.stdout.close()
         raise
-    last, rest = "", b""
+    last, rest, fed = "", b"", b""
     try:
         # chunks of whole events: the converters' fast paths
         while True:
@@ -771,12 +771,14 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             data = rest + data
             cut = _events_end(data)
             if cut:
-                last = data[data.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
-                conv.feed_events(data[:cut])
+                fed = data[:cut] if cut < len(data) else data
+                conv.feed_events(fed)
             rest = data[cut:]
         if rest:
             last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
             conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
+        elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
+            last = fed[fed.rfind(b"\n", 0, len(fed) - 1) + 1:].decode("ascii", "replace")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "

@@ -137,13 +137,14 @@ static int same(tok_t t, const char *lit)
 }
 
 /* Returns the bytes written to out, -1 when Python must convert this chunk,
-   -2 when out is too small; *events: the E lines of the chunk. */
-long tj_convert(void *handle, const char *in, long size, char *out, long cap, int frames, long *events)
+   -2 when out is too small; *events: the E lines of the chunk, *lines: its lines. */
+long tj_convert(void *handle, const char *in, long size, char *out, long cap, int frames, long *events,
+                long *lines)
 {
     const tj_names *h = handle;
     out_t o = {out, out + cap, 0};
     int open = 0;        /* 0: no event; 1: an event's head written; 2: and states */
-    long n_events = 0;
+    long n_events = 0, n_lines = 0;
     const char *p = in, *end = in + size;
     if (size == 0 || in[size - 1] != '\n')
         return -1;
@@ -166,6 +167,7 @@ long tj_convert(void *handle, const char *in, long size, char *out, long cap, in
             q = sp + 1;
         }
         p = nl + 1;
+        n_lines++;
         if (n == 11 && same(t[0], "S")) {
             long b = index_of(t[1], h->count - 1);
             if (open == 0 || b < 0)
@@ -261,6 +263,7 @@ long tj_convert(void *handle, const char *in, long size, char *out, long cap, in
     if (o.full)
         return -2;
     *events = n_events;
+    *lines = n_lines;
     return o.p - out;
 }
 
