@@ -57,7 +57,10 @@ class FlatScene:
     _handle: int
 
     def parts(self):
-        """The flat scene (compile_scene's text) in pieces of whole lines."""
+        """The flat scene (compile_scene's text) in pieces of whole lines
+        (not after release())."""
+        if not self._handle:
+            raise ValueError("the flat scene was released")
         yield self.head
         n, k = len(self.json_names), 0
         while k < n:
@@ -78,10 +81,13 @@ class FlatScene:
     def flat(self) -> bytes:
         return b"".join(self.parts())
 
-    def __del__(self):
+    def release(self) -> None:
+        """Free the C reader's state (the bodies' arrays: 17 MB at 10^5 bodies) once the flat scene is written."""
         if getattr(self, "_handle", None):
             self._lib.sf_free(self._handle)
             self._handle = None
+
+    __del__ = release
 
 
 def build() -> str:
