@@ -13,8 +13,8 @@
    - a JSON object of ASCII text whose keys are the scene keys, each at most
      once; "inputs" absent or []; "name" a string; numbers as the Python
      reader reads them (an integer of up to 18 digits made a double, any
-     other number read by the interpreter's own PyOS_string_to_double, so
-     the same doubles as json.loads);
+     other number the double json.loads makes: see quick_double, and the
+     interpreter's own PyOS_string_to_double for the rest);
    - bodies: circles whose keys are the circle's (no orbit, no vertices),
      each at most once, with a name of printable ASCII without escapes (its
      JSON is then the name in quotes), every field in range; polygons are
@@ -26,9 +26,11 @@
      1e-6); overlaps at t = 0 of a movable circle with any circle (grid of
      cells) and with each polygon's box (given by Python), each clear of the
      tolerance with a margin.
-   Numbers are written by the interpreter's repr (PyOS_double_to_string,
-   'r' mode, '.0' added): the flat text is the Python compiler's byte for
-   byte, and tests/test_scene_c.py compares the two. */
+   Numbers are written as the interpreter's repr writes them (quick_repr,
+   and PyOS_double_to_string, 'r' mode, '.0' added, for the rest): the flat
+   text is the Python compiler's byte for byte, and tests/test_scene_c.py
+   compares the two.  The JSON text is not kept: after sf_compile the state
+   holds the bodies' numbers and names only (sf_part writes from them). */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -1051,6 +1053,7 @@ static int line_real(sf_buf *b, const char *head, double x)
 int sf_compile(void *h, const double *poly, unsigned char *large)
 {
     sf_scene *s = h;
+    s->text = s->p = s->end = NULL;     /* Python frees the JSON text once this returns */
     int rc = magnitudes(s);
     if (rc || (rc = overlaps(s, poly)))
         return rc;
