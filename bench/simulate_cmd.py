@@ -96,8 +96,10 @@ def command(scene_path: str, out: str, lang: str, converter: str, root: str = RO
     of the checkout `root`."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.path.join(root, "runtimes", "python")]))
     extra = [] if converter == "auto" else ["--converter", converter]     # auto: the default, and any version's
+    # run from the checkout: `python -m` puts the current folder first on the path, before PYTHONPATH, so from
+    # another checkout's folder it would import that one's max2code
     wall, cpu, mb, _ = timed([sys.executable, "-m", "max2code", "simulate", "--lang", lang, scene_path, "-o", out,
-                              "-q", *extra], env=env)
+                              "-q", *extra], env=env, cwd=root)
     return wall, cpu, mb, os.path.getsize(out)
 
 

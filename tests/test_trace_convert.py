@@ -160,6 +160,16 @@ def test_special_lines_convert_alike():
     assert in_c(SCENE, BUILD, LINES, [3, 4], frames=False) == slow(SCENE, BUILD, LINES, frames=False)
 
 
+def test_the_c_converter_takes_the_final_states(monkeypatch):
+    """The F lines (one per body: 10^5 of them at the end of a big gas's trace) are converted in C, with
+    Python's bytes, whole numbers, minus zero and exponents included."""
+    finals = "".join(x for x in LINES.splitlines(keepends=True) if x.startswith("F"))
+    want = slow(SCENE, BUILD, finals)
+    assert '{"body":"b","position":[-0.0,0.5],"velocity":[1e-300,-1.0]' in want[0]
+    monkeypatch.setattr(TraceConverter, "feed_chunk", lambda self, text: pytest.fail("Python converted " + text))
+    assert in_c(SCENE, BUILD, finals, []) == want
+
+
 @pytest.mark.parametrize("bad", ["S 0 0 nan 0 0 0 0 0 0 0", "S 0 0 1 inf 0 0 0 0 0 0", "S 0 0 1 0 -NaN 0 0 0 0 0",
                                  "S 9 0 1 0 0 0 0 0 0 0", "E collision 1 0 1 7 -1 -1 0 0 1 0 1",
                                  "E bounce 1 0 1 0 -1 -1 0 0 1 0 1", "Q 1 2", "N collisions 1.5",

@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from dataclasses import dataclass
 
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, check_scene, load_scene
+from max2code.sim.scene_c import read_scene
 from max2code.sim.simulate import CONVERTERS, LANGS, SimulateError, Trace, run_scene, stream_scene
 from max2code.textio import check_output, open_output
 
@@ -47,13 +49,26 @@ def simulate_main(argv: list[str]) -> int:
     p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
     args = p.parse_args(argv)
     check_output(args.output)
-    scene = _load(args.scene, check=False)        # the last checks run while the simulator reads the scene
+    # the common case read, checked and compiled in C; else in Python, the last checks while the simulator
+    # reads the scene
+    scene = read_scene(args.scene)
+    check = None
+    if scene is None:
+        scene = _load(args.scene, check=False)
+        check = functools.partial(check_scene, scene)
     limit = args.max_events if args.max_events is not None else scene.max_events
     try:
         with open_output(args.output) as out:
-            stats = stream_scene(scene, args.lang, out.write, frames=not args.no_frames, max_events=limit,
+            raw = getattr(out, "buffer", None)       # all of the trace as bytes, when the stream has a buffer
+            write, write_bytes = out.write, None
+            if raw is not None:
+                out.flush()
+                write_bytes = raw.write
+                write = lambda text: write_bytes(text.encode("utf-8"))      # noqa: E731
+            stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
                                  progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
-                                 warn=lambda line: print(line, file=sys.stderr), check=lambda: check_scene(scene))
+                                 warn=lambda line: print(line, file=sys.stderr), check=check,
+                                 write_bytes=write_bytes)
     except (SimulateError, SceneError) as exc:
         raise SimCliError(str(exc)) from None
     if not args.quiet:

@@ -4,6 +4,7 @@ with them (cached under build/sim/), feed it the compiled scene and read its
 flat trace back into JSON events (docs/simulator.md)."""
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import operator
@@ -20,6 +21,7 @@ from max2code import __version__
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
+from max2code.sim.scene_c import FlatScene
 from max2code.targets import simulator_languages
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
@@ -69,11 +71,18 @@ class Trace:
         return out
 
 
+# C tools of the command itself, compiled on their own (max2code/sim/trace_json.py, scene_c.py): no part of
+# any simulator, so an edit of them rebuilds no simulator
+COMMAND_TOOLS = frozenset({"m2c_trace_json.c", "m2c_scene_flat.c"})
+
+
 def _hash_tree(path, h) -> None:
     for base, dirs, files in sorted(os.walk(path)):
         dirs.sort()
         dirs[:] = [d for d in dirs if d not in ("target", "__pycache__")]
         for f in sorted(files):
+            if f in COMMAND_TOOLS:
+                continue
             p = os.path.join(base, f)
             h.update(p.encode())
             with open(p, "rb") as fh:
@@ -271,6 +280,17 @@ def _json_names(names: list[str]) -> list[str]:
     return list(map(json.dumps, names))
 
 
+def trace_names(scene) -> tuple[list[str], int]:
+    """The bodies' names as JSON text, in index order, and the largest index
+    a trace line may name (a body, an input, a vertex): from a Scene, or as
+    given by a scene the C reader compiled (max2code/sim/scene_c.py)."""
+    given = getattr(scene, "json_names", None)
+    if given is not None:
+        return given, scene.most
+    most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
+    return _json_names([b.name for b in scene.bodies]), most
+
+
 class _Slow(Exception):
     """The fast path met something it does not check itself: the chunk is
     done again line by line, which gives the precise error (or the same
@@ -290,10 +310,11 @@ class TraceConverter:
     chunk is done) and, on anything unusual (a stop line, a non-finite or
     malformed number, the event limit), does the chunk again with `feed`."""
 
-    def __init__(self, scene: Scene, build: SimBuild, write, *, frames: bool = True,
-                 max_events: int | None = None, accelerate: bool = False):
+    def __init__(self, scene: Scene | FlatScene, build: SimBuild, write, *, frames: bool = True,
+                 max_events: int | None = None, accelerate: bool = False, write_bytes=None):
         self.scene, self.build, self.write = scene, build, write
-        self.names = _json_names([b.name for b in scene.bodies])
+        self.write_bytes = write_bytes      # the C converter's output as it is (ASCII), to write's stream, in order
+        self.names, self.most = trace_names(scene)
         self.frames = frames
         self.max_events = max_events
         self.events = 0            # E records seen
@@ -303,18 +324,27 @@ class TraceConverter:
         self.final: list[str] = []
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
-        # the fast path's integer fields by their text
-        self._body = dict(zip(map(str, range(len(self.names))), self.names))
-        most = max(len(scene.bodies), len(scene.inputs), max(map(len, map(_vertices, scene.bodies)), default=0))
-        ints = list(map(str, range(-1, most + 1)))
-        self._int = dict(zip(ints, ints))
-        self._features = _FeatureText(self._int)
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
             from max2code.sim import trace_json
             lib = trace_json.library()
             if lib is not None:
-                self._c = trace_json.CTrace(lib, self.names, most)
+                self._c = trace_json.CTrace(lib, self.names, self.most, getattr(scene, "names_text", None))
+
+    # the Python paths' integer fields by their text, made on their first use (for 10^5 bodies they take
+    # 0.15 s, which the C converter never needs)
+    @functools.cached_property
+    def _body(self) -> dict[str, str]:
+        return dict(zip(map(str, range(len(self.names))), self.names))
+
+    @functools.cached_property
+    def _int(self) -> dict[str, str]:
+        ints = list(map(str, range(-1, self.most + 1)))
+        return dict(zip(ints, ints))
+
+    @functools.cached_property
+    def _features(self) -> _FeatureText:
+        return _FeatureText(self._int)
 
     def _event(self) -> str:
         if self.states:
@@ -413,7 +443,7 @@ class TraceConverter:
             end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
             block = data[at:end] if end else data[at:]
             if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
-                self._finals(block.decode("ascii", "replace"))
+                self._finals(block)
             else:
                 self.feed_chunk(block.decode("ascii", "replace"))
             if end and end < len(data):
@@ -424,14 +454,26 @@ class TraceConverter:
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
                 self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
                 self.events += got[1]
-                self.line += data.count(b"\n")
-                self.write(got[0])
+                self.line += got[2]
+                if self.write_bytes is not None:
+                    self.write_bytes(got[0])
+                else:
+                    self.write(got[0].decode("ascii"))
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
 
-    def _finals(self, text: str) -> None:
-        """Complete F lines, column by column (as _states); anything unusual
-        goes to feed_chunk."""
+    def _finals(self, block: bytes) -> None:
+        """Complete F lines: in C when the converter was made with
+        `accelerate` and takes them; else column by column (as _states);
+        anything unusual goes to feed_chunk."""
+        if self._c is not None:
+            got = self._c.finals(block)
+            if got is not None:
+                self._flush()           # the last event is whole
+                self.final.append(got)  # the bodies' JSON, comma-separated
+                self.line += block.count(b"\n")
+                return
+        text = block.decode("ascii", "replace")
         lines = text.split("\n")
         lines.pop()                     # after the last newline
         try:
@@ -525,7 +567,8 @@ class TraceConverter:
         """The heads of the lines that are not states (None for a line that
         is no event, or a frame left out) and the number of events among
         them; F, N and V lines go to final, counts and predictions."""
-        body, ints, frames = self._body, self._int, self.frames
+        frames = self.frames
+        body = ints = None              # the tables, made when a line needs them (the N and V lines do not)
         contacts = iter(self._contacts(list(compress(others, contact))))
         heads: list[str | None] = []
         f_lines: list[str] = []
@@ -544,6 +587,8 @@ class TraceConverter:
             head = None
             if tag == "E":
                 n_events += 1
+                if body is None:
+                    body, ints = self._body, self._int
                 kind = w[1]
                 t = w[2] if "." in w[2] else _num(w[2])
                 if kind == "frame":
@@ -569,7 +614,7 @@ class TraceConverter:
             heads.append(head)
         cols = _columns(f_lines, 8, "F", range(2, 8))
         if cols:
-            final += map(_final, map(body.__getitem__, cols[1]), *cols[2:])
+            final += map(_final, map(self._body.__getitem__, cols[1]), *cols[2:])
         return heads, n_events
 
     def _states(self, s_lines: list[str]) -> list[str]:
@@ -596,18 +641,25 @@ class TraceConverter:
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
-        final_text, stats = self._finish()
-        return json.loads(final_text), stats
+        stats = self._finish()
+        return json.loads(f'{self._final_head()}{",".join(self.final)}]}}'), stats
 
-    def _finish(self) -> tuple[str, dict]:
-        """As finish, the final states as their JSON text (reading 10^4 bodies back costs 0.1 s)."""
+    def _final_head(self) -> str:
+        return f'{{"kind":"final","t":{repr(float(self.scene.end_time))},"bodies":['
+
+    def _finish(self) -> dict:
+        """As finish, returning the statistics only: the final states are
+        written a block at a time (one line of 15 MB at 10^5 bodies, which
+        made whole, with a newline, and encoded were four copies of it)."""
         self._flush()
-        final_text = f'{{"kind":"final","t":{repr(float(self.scene.end_time))},"bodies":[{",".join(self.final)}]}}'
+        self.write(self._final_head())
+        for k in range(0, len(self.final), 1024):
+            self.write(("," if k else "") + ",".join(self.final[k:k + 1024]))
+        self.write("]}\n")
         stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
                  "predictions": dict(sorted(self.predictions.items()))}
-        self.write(final_text + "\n")
         self.write(json.dumps(stats, separators=(",", ":")) + "\n")
-        return final_text, stats
+        return stats
 
 
 class TraceLimit(Exception):
@@ -654,9 +706,9 @@ def _close_quietly(f) -> None:
         pass
 
 
-def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
+def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = True, max_events: int | None = None,
                  progress: bool = False, timeout: float = 3600, converter: str = "auto", warn=None,
-                 check=None) -> dict:
+                 check=None, write_bytes=None) -> dict:
     """Run the scene in `lang` and pass each JSON line of its trace to
     `write` as the simulator writes it; returns the statistics.  More than
     `max_events` events (collisions, inputs, frames) stops the simulator
@@ -671,7 +723,9 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
     scene left for last (scene.check_scene of a scene read with
     check=False), which so run while the simulator starts; an exception
     from it stops the simulator and is raised as it is (and first, when
-    compiling fails or a real build must run)."""
+    compiling fails or a real build must run).  `write_bytes`, when given,
+    writes ASCII bytes to the same stream as `write`, in order with it: the C
+    converter's output then goes there without a decoding and an encoding."""
     if converter not in CONVERTERS:
         raise ValueError(f"converter {converter!r}")
     build = built_simulator(lang, scene.effects, scene.taylor_order)
@@ -695,8 +749,13 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
     try:
         # the simulators read the whole scene before they write: writing it from here cannot wait on their output
         try:
-            for part in compile_parts(scene):
-                proc.stdin.write(part.encode("ascii"))
+            if isinstance(scene, FlatScene):
+                for part in scene.parts():
+                    proc.stdin.write(part)
+                scene.release()
+            else:
+                for part in compile_parts(scene):
+                    proc.stdin.write(part.encode("ascii"))
             proc.stdin.close()
         except (BrokenPipeError, OSError):
             _close_quietly(proc.stdin)      # the simulator stopped reading: its exit status and last line say why
@@ -707,7 +766,7 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         if check is not None:
             check()
         # made while the simulator runs: for 10^5 bodies its tables of names take a while
-        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events,
+        conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, write_bytes=write_bytes,
                               accelerate=converter != "python")
         if converter != "python" and conv._c is None:
             from max2code.sim import trace_json
@@ -725,7 +784,7 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
             th.join(timeout=5)
         proc.stdout.close()
         raise
-    last, rest = "", b""
+    last, rest, fed = "", b"", b""
     try:
         # chunks of whole events: the converters' fast paths
         while True:
@@ -735,12 +794,14 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
             data = rest + data
             cut = _events_end(data)
             if cut:
-                last = data[data.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
-                conv.feed_events(data[:cut])
+                fed = data[:cut] if cut < len(data) else data
+                conv.feed_events(fed)
             rest = data[cut:]
         if rest:
             last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
             conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
+        elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
+            last = fed[fed.rfind(b"\n", 0, len(fed) - 1) + 1:].decode("ascii", "replace")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
@@ -759,7 +820,7 @@ def stream_scene(scene: Scene, lang: str, write, *, frames: bool = True, max_eve
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
         raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): "
                             f"{b''.join(err)[-2000:].decode('ascii', 'replace')}")
-    return conv._finish()[1]
+    return conv._finish()
 
 
 def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float = 3600) -> Trace:

@@ -68,9 +68,11 @@ def library() -> ctypes.CDLL | None:
         lib.tj_new.argtypes = [ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long]
         lib.tj_free.restype = None
         lib.tj_free.argtypes = [ctypes.c_void_p]
+        lib.tj_finals.restype = ctypes.c_long
+        lib.tj_finals.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long]
         lib.tj_convert.restype = ctypes.c_long
         lib.tj_convert.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long,
-                                   ctypes.c_int, ctypes.POINTER(ctypes.c_long)]
+                                   ctypes.c_int, ctypes.POINTER(ctypes.c_long), ctypes.POINTER(ctypes.c_long)]
         _lib = lib
     return _lib
 
@@ -82,10 +84,12 @@ def why_not() -> str:
 
 class CTrace:
     """One run's converter: the bodies' names as JSON text, the largest
-    vertex or body index a feature may name."""
+    vertex or body index a feature may name (`text`: the names each followed
+    by a newline, when the caller has them so)."""
 
-    def __init__(self, lib: ctypes.CDLL, names: list[str], most: int):
-        text = "".join(n + "\n" for n in names).encode("ascii")
+    def __init__(self, lib: ctypes.CDLL, names: list[str], most: int, text: bytes | None = None):
+        if text is None:
+            text = "".join(n + "\n" for n in names).encode("ascii")
         self.lib = lib
         self.handle = lib.tj_new(text, len(text), len(names), most)
         if not self.handle:
@@ -93,20 +97,32 @@ class CTrace:
         self.cap = 1 << 18
         self.buf = ctypes.create_string_buffer(self.cap)
         self.events = ctypes.c_long(0)
+        self.lines = ctypes.c_long(0)
 
     def convert(self, data: bytes, frames: bool) -> tuple[str, int] | None:
-        """The JSON lines of `data` (whole events) and its number of events,
-        or None when Python must convert it."""
+        """The JSON lines of `data` (whole events, as ASCII bytes), its
+        number of events and of lines, or None when Python must convert it."""
         while True:
             n = self.lib.tj_convert(self.handle, data, len(data), self.buf, self.cap, int(frames),
-                                    ctypes.byref(self.events))
+                                    ctypes.byref(self.events), ctypes.byref(self.lines))
             if n == -2:                  # room for a line's worth more than the trace's bytes, grown as needed
                 self.cap = max(2 * self.cap, 4 * len(data))
                 self.buf = ctypes.create_string_buffer(self.cap)
                 continue
             if n < 0:
                 return None
-            return ctypes.string_at(self.buf, n).decode("ascii"), self.events.value
+            return ctypes.string_at(self.buf, n), self.events.value, self.lines.value
+
+    def finals(self, data: bytes) -> str | None:
+        """The JSON of complete F lines, comma-separated, or None when Python
+        must convert them."""
+        while True:
+            n = self.lib.tj_finals(self.handle, data, len(data), self.buf, self.cap)
+            if n == -2:
+                self.cap = max(2 * self.cap, 4 * len(data))
+                self.buf = ctypes.create_string_buffer(self.cap)
+                continue
+            return None if n < 0 else ctypes.string_at(self.buf, n).decode("ascii")
 
     def __del__(self):
         if getattr(self, "handle", None):

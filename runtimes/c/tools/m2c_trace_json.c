@@ -137,13 +137,14 @@ static int same(tok_t t, const char *lit)
 }
 
 /* Returns the bytes written to out, -1 when Python must convert this chunk,
-   -2 when out is too small; *events: the E lines of the chunk. */
-long tj_convert(void *handle, const char *in, long size, char *out, long cap, int frames, long *events)
+   -2 when out is too small; *events: the E lines of the chunk, *lines: its lines. */
+long tj_convert(void *handle, const char *in, long size, char *out, long cap, int frames, long *events,
+                long *lines)
 {
     const tj_names *h = handle;
     out_t o = {out, out + cap, 0};
     int open = 0;        /* 0: no event; 1: an event's head written; 2: and states */
-    long n_events = 0;
+    long n_events = 0, n_lines = 0;
     const char *p = in, *end = in + size;
     if (size == 0 || in[size - 1] != '\n')
         return -1;
@@ -166,6 +167,7 @@ long tj_convert(void *handle, const char *in, long size, char *out, long cap, in
             q = sp + 1;
         }
         p = nl + 1;
+        n_lines++;
         if (n == 11 && same(t[0], "S")) {
             long b = index_of(t[1], h->count - 1);
             if (open == 0 || b < 0)
@@ -261,5 +263,61 @@ long tj_convert(void *handle, const char *in, long size, char *out, long cap, in
     if (o.full)
         return -2;
     *events = n_events;
+    *lines = n_lines;
     return o.p - out;
+}
+
+/* F lines only (the final states, one per body) as _finals writes them: each
+   `{"body":NAME,"position":[PX,PY],"velocity":[VX,VY],"angle":A,"angular_velocity":W}`,
+   separated by commas.  Returns the bytes written, -1 when Python must convert
+   the block (another line, a number or index not in its plain form), -2 when
+   out is too small. */
+long tj_finals(void *handle, const char *in, long size, char *out, long cap)
+{
+    const tj_names *h = handle;
+    out_t o = {out, out + cap, 0};
+    const char *p = in, *end = in + size;
+    if (size == 0 || in[size - 1] != '\n')
+        return -1;
+    while (p < end) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        tok_t t[8];
+        int n = 0;
+        const char *q = p;
+        for (;;) {
+            const char *sp = q;
+            while (sp < nl && *sp != ' ')
+                sp++;
+            if (sp == q || n == 8)
+                return -1;           /* a blank field or line, or too many fields */
+            t[n].s = q;
+            t[n].n = sp - q;
+            n++;
+            if (sp == nl)
+                break;
+            q = sp + 1;
+        }
+        long b = n == 8 && same(t[0], "F") ? index_of(t[1], h->count - 1) : -2;
+        if (b < 0)
+            return -1;
+        if (p != in)
+            PUTS(&o, ",");
+        p = nl + 1;
+        PUTS(&o, "{\"body\":");
+        put(&o, h->name[b], h->len[b]);
+        PUTS(&o, ",\"position\":[");
+        if (!num(&o, t[2])) return -1;
+        PUTS(&o, ",");
+        if (!num(&o, t[3])) return -1;
+        PUTS(&o, "],\"velocity\":[");
+        if (!num(&o, t[4])) return -1;
+        PUTS(&o, ",");
+        if (!num(&o, t[5])) return -1;
+        PUTS(&o, "],\"angle\":");
+        if (!num(&o, t[6])) return -1;
+        PUTS(&o, ",\"angular_velocity\":");
+        if (!num(&o, t[7])) return -1;
+        PUTS(&o, "}");
+    }
+    return o.full ? -2 : o.p - out;
 }

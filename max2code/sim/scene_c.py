@@ -1,0 +1,224 @@
+"""The common case of `max2code simulate`'s scene read, checked and compiled
+in C: runtimes/c/tools/m2c_scene_flat.c, built once into a shared library
+under BUILD/scene-flat/ and called through ctypes, in this process (it
+writes numbers with the interpreter's own repr, so its flat text is
+max2code/sim/scene.py's byte for byte).
+
+The case: circles without orbit and fixed polygons that do not turn, no
+inputs (the gases of 10^4 and 10^5 disks of bench/simulate_cmd.py: for them
+Python spent 2.5 s CPU reading, checking and compiling what the engine then
+simulates in 0.8 s).  The C code reads the whole JSON text and the circles;
+each polygon's own text is read here by scene.py's reader (they are few),
+which also checks its magnitudes, gives its box for the C overlap checks and
+writes its lines.  Anything else, and any fault or doubt, is "not mine":
+read_scene returns None and the caller reads the scene in Python, which
+gives the same bytes or the precise error; so does a machine without gcc."""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import json
+import os
+import subprocess
+import tempfile
+from dataclasses import dataclass
+
+from max2code.paths import BUILD, RUNTIMES
+from max2code.sim.scene import (Scene, SceneError, _body, _box, _check_body_magnitudes, _Reader, body_lines,
+                                covered_edges)
+
+SOURCE = RUNTIMES / "c" / "tools" / "m2c_scene_flat.c"
+FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", "-shared", "-fPIC"]
+FACTS = 11          # the numbers sf_facts gives
+_lib: ctypes.PyDLL | None = None
+_tried = False
+_why = ""
+
+
+PART = 4096        # bodies' lines made at a time by parts()
+
+
+@dataclass
+class FlatScene:
+    """A scene the C reader took: what `max2code simulate` needs of it, and
+    its flat scene, made in pieces by parts() (a simulator reads one while
+    the next is made) from the C reader's state, which it owns."""
+    path: str
+    end_time: float
+    taylor_order: int
+    effects: tuple[str, ...]
+    max_events: int
+    json_names: list[str]       # each body's name as JSON text, in index order
+    names_text: bytes           # the same, each followed by a newline
+    most: int                   # the largest body, input or vertex index a trace line may name
+    head: bytes                 # the flat scene up to the bodies' lines
+    polygon_lines: dict[int, bytes]     # by body index
+    _lib: ctypes.PyDLL
+    _handle: int
+
+    def parts(self):
+        """The flat scene (compile_scene's text) in pieces of whole lines
+        (not after release())."""
+        if not self._handle:
+            raise ValueError("the flat scene was released")
+        yield self.head
+        n, k = len(self.json_names), 0
+        while k < n:
+            lines = self.polygon_lines.get(k)
+            if lines is not None:
+                yield lines
+                k += 1
+                continue
+            end = self._lib.sf_part(self._handle, k, k + PART)
+            if end < 0:
+                raise MemoryError("m2c_scene_flat: sf_part")
+            size = ctypes.c_long()
+            yield ctypes.string_at(self._lib.sf_text(self._handle, ctypes.byref(size)), size.value)
+            k = end
+        yield b"inputs 0\nend\n"
+
+    @property
+    def flat(self) -> bytes:
+        return b"".join(self.parts())
+
+    def release(self) -> None:
+        """Free the C reader's state (the bodies' arrays: 17 MB at 10^5 bodies) once the flat scene is written."""
+        if getattr(self, "_handle", None):
+            self._lib.sf_free(self._handle)
+            self._handle = None
+
+    __del__ = release
+
+
+def build() -> str:
+    """The shared library's path, compiled when its source or flags changed."""
+    src = SOURCE.read_bytes()
+    digest = hashlib.sha256(src + "\0".join(FLAGS).encode()).hexdigest()[:16]
+    folder = BUILD / "scene-flat" / digest
+    lib = folder / "libm2c_scene_flat.so"
+    if not lib.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(suffix=".so", dir=folder)
+        os.close(fd)
+        try:
+            subprocess.run(["gcc", *FLAGS, str(SOURCE), "-o", tmp], check=True, capture_output=True, timeout=300)
+            os.replace(tmp, lib)         # whole or not at all, with other runs building at once
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return str(lib)
+
+
+def library() -> ctypes.PyDLL | None:
+    """The loaded library (a PyDLL: its calls keep the interpreter's lock, which
+    the interpreter's number conversions it calls need), or None when it
+    cannot be built or loaded (why_not() says why)."""
+    global _lib, _tried, _why
+    if not _tried:
+        _tried = True
+        try:
+            lib = ctypes.PyDLL(build())
+        except subprocess.CalledProcessError as exc:
+            err = (exc.stderr or b"").decode("ascii", "replace").strip().splitlines()
+            _why = f"gcc failed on {SOURCE.name}" + (f": {err[0]}" if err else "")
+            return None
+        except FileNotFoundError as exc:
+            _why = f"{exc.filename or 'gcc'} not found"
+            return None
+        except (OSError, subprocess.SubprocessError) as exc:
+            _why = f"{type(exc).__name__}: {exc}"
+            return None
+        p, long_p = ctypes.c_void_p, ctypes.POINTER(ctypes.c_long)
+        for name, res, args in (("sf_new", p, []), ("sf_free", None, [p]),
+                                ("sf_parse", ctypes.c_int, [p, ctypes.c_char_p, ctypes.c_long]),
+                                ("sf_polygons", ctypes.c_long, [p]),
+                                ("sf_polygon", None, [p, ctypes.c_long, long_p, long_p, long_p]),
+                                ("sf_facts", None, [p, ctypes.POINTER(ctypes.c_double)]),
+                                ("sf_names", p, [p, long_p]),
+                                ("sf_compile", ctypes.c_int, [p, ctypes.POINTER(ctypes.c_double),
+                                                              ctypes.POINTER(ctypes.c_ubyte)]),
+                                ("sf_text", p, [p, long_p]),
+                                ("sf_part", ctypes.c_long, [p, ctypes.c_long, ctypes.c_long]),
+                                ("sf_number", ctypes.c_int, [ctypes.c_char_p, ctypes.c_long,
+                                                             ctypes.POINTER(ctypes.c_double)]),
+                                ("sf_repr", ctypes.c_long, [ctypes.c_double, ctypes.c_char_p, ctypes.c_long])):
+            fn = getattr(lib, name)
+            fn.restype, fn.argtypes = res, args
+        _lib = lib
+    return _lib
+
+
+def why_not() -> str:
+    """Why library() returned None (empty when it did not)."""
+    return _why
+
+
+def read_scene(path: str) -> FlatScene | None:
+    """The scene at `path` read, checked and compiled, when it is the C
+    reader's case; else None (then scene.load_scene reads it, and reports
+    any fault)."""
+    lib = library()
+    if lib is None:
+        return None
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError:
+        return None
+    h = lib.sf_new()
+    if not h:
+        return None
+    scene = None
+    try:
+        scene = _read(lib, h, path, data)
+        return scene
+    finally:
+        if scene is None:
+            lib.sf_free(h)          # else the scene frees it
+
+
+def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
+    if lib.sf_parse(h, data, len(data)) != 0:
+        return None
+    facts = (ctypes.c_double * FACTS)()
+    lib.sf_facts(h, facts)
+    end, fps, gx, gy, tol, rest, order, max_same, max_events, n, accelerates = facts
+    rd = _Reader(path)
+    index, start, stop = ctypes.c_long(), ctypes.c_long(), ctypes.c_long()
+    at: list[int] = []
+    polygons = []
+    try:
+        for j in range(lib.sf_polygons(h)):
+            lib.sf_polygon(h, j, index, start, stop)
+            k = index.value
+            b = _body(rd, json.loads(data[start.value:stop.value]), k, (gx, gy), {})
+            if not b.fixed or b.angular_velocity != 0.0:
+                return None             # a polygon that turns or may: the window angles are Python's
+            _check_body_magnitudes(rd, end, k, b, 0.0, 0.0)
+            at.append(k)
+            polygons.append(b)
+    except SceneError:
+        return None                     # Python reads the whole scene and reports its first fault
+    given = (ctypes.c_double * (7 * len(polygons) + 1))()
+    for j, b in enumerate(polygons):
+        given[7 * j:7 * j + 7] = [b.bound, *b.position, *_box(b)]
+    large = (ctypes.c_ubyte * (len(polygons) + 1))()
+    if lib.sf_compile(h, given, large) != 0:
+        return None
+    size = ctypes.c_long()
+    head = ctypes.string_at(lib.sf_text(h, ctypes.byref(size)), size.value)
+    names_text = ctypes.string_at(lib.sf_names(h, ctypes.byref(size)), size.value)
+    names = names_text.decode("ascii").split("\n")
+    names.pop()
+    # the polygons' lines
+    own = Scene(path, path, end, fps, (gx, gy), tol, rest, int(order), int(max_same), polygons, [], int(max_events))
+    covered = covered_edges(own)        # (only polygons can cover, or be covered)
+    polygon_lines = {}
+    for j, b in enumerate(polygons):
+        covers = covered.get(j)
+        lines = body_lines(b, bool(large[j]), 0.0, [at[q] if q >= 0 else -1 for q in covers] if covers else None)
+        polygon_lines[at[j]] = "".join(x + "\n" for x in lines).encode("ascii")
+    effects = ("acceleration",) if accelerates or any(b.acceleration != (0.0, 0.0) for b in polygons) else ()
+    most = max(int(n), max((len(b.vertices) for b in polygons), default=0))
+    return FlatScene(path, end, int(order), effects, int(max_events), names, names_text, most, head, polygon_lines,
+                     lib, h)
