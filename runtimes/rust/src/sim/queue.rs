@@ -207,7 +207,7 @@ fn prefetch<T>(p: *const T) {
 pub struct Heap {
     near: Near,
     reached: u64,
-    buckets: Vec<Vec<Item>>,
+    buckets: Box<[Vec<Item>; BUCKETS]>,
     /// bit k % 64 of word k / 64 set: bucket k is not empty
     mask: [u64; BUCKETS / 64],
     /// the scheduling counter
@@ -225,11 +225,13 @@ pub struct Heap {
 const BUCKETS: usize = 256;
 
 /// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
-/// the highest digit where they differ.
+/// the highest digit where they differ.  That is at most 255 already; the
+/// mask tells the compiler so, and the buckets (a fixed array) are then
+/// indexed without a bounds check.
 #[inline(always)]
 fn bucket_of(o: u64, reached: u64) -> usize {
     let i = (63 - (o ^ reached).leading_zeros()) / 4;
-    16 * i as usize + ((o >> (4 * i)) & 15) as usize
+    (16 * i as usize + ((o >> (4 * i)) & 15) as usize) & (BUCKETS - 1)
 }
 
 impl Heap {
@@ -237,7 +239,7 @@ impl Heap {
         Heap {
             near: Near { v: Vec::with_capacity(64) },
             reached: 0,
-            buckets: vec![Vec::new(); BUCKETS],
+            buckets: Box::new(std::array::from_fn(|_| Vec::new())),
             mask: [0; BUCKETS / 64],
             seq: 0,
             slab: Vec::new(),
