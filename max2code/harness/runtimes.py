@@ -75,6 +75,13 @@ def rust_library() -> Path:
     return BUILD / "rust" / "release" / "libmax2code_rt.rlib"
 
 
+def rust_sim_library() -> Path:
+    """The max2code_rt rlib for the simulator's builds (cargo, the crate's
+    `sim` profile: release at opt-level 3, warnings denied)."""
+    cargo("build", "--profile", "sim", "--quiet", "--lib")
+    return BUILD / "rust" / "sim" / "libmax2code_rt.rlib"
+
+
 def m2_objects(*modules: str) -> list[Path]:
     """Objects of the Modula-2 runtime's modules (default: Roots), made with gm2 -fiso."""
     objs = [BUILD / "m2" / f"{m}.o" for m in (modules or ("Roots",))]

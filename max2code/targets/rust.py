@@ -46,9 +46,11 @@ class Rust(Target):
         """rustc with every warning denied."""
         return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=2", *self.runtime_flags(), src, "-o", exe]]
 
-    def runtime_flags(self) -> list[str]:
+    def runtime_flags(self, sim: bool = False) -> list[str]:
+        """rustc's flags to use the runtime crate: its release rlib, or with
+        `sim` the one the simulator's builds take (opt-level 3)."""
         from max2code.harness import runtimes
-        rlib = runtimes.rust_library()
+        rlib = runtimes.rust_sim_library() if sim else runtimes.rust_library()
         return ["--extern", f"max2code_rt={rlib}", "-L", f"dependency={rlib.parent / 'deps'}"]
 
     def testee(self, baseline: bool = False) -> list[str]:
@@ -77,13 +79,14 @@ class Rust(Target):
 
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Write main.rs (the generated modules and max2code_rt::sim_main!)
-        and compile it against the runtime's rlib: warnings denied, opt-level 3."""
+        and compile it against the runtime's rlib built for the simulator
+        (the crate's `sim` profile): warnings denied, opt-level 3 for both."""
         main = Path(workdir) / "main.rs"
         text = SIM_MAIN.format(cc=_rust_str(generated["circle_circle"]), pe=_rust_str(generated["point_edge"]))
         if not main.exists() or main.read_text(encoding="utf-8") != text:
             main.write_text(text, encoding="utf-8")
         return [["rustc", "--edition", "2021", "-D", "warnings", "-C", "opt-level=3", "-C", "codegen-units=1",
-                 *self.runtime_flags(), str(main), "-o", str(Path(workdir) / "sim")]]
+                 *self.runtime_flags(sim=True), str(main), "-o", str(Path(workdir) / "sim")]]
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
         return [str(Path(workdir) / "sim")]

@@ -4,11 +4,16 @@
  *
  * Exact and correctly rounded like printf: for a normal x = f 2^e2 the
  * 17 significant digits are D = round-half-even(x 10^p) with p = 16 - X,
- * computed in integers (f 5^p in 192 bits and shifted, or f 2^e2 / 10^-p in
- * 128 bits), with X chosen so that 10^16 <= floor(x 10^p) < 10^17.  Values
- * outside that exact range (below about 1e-39, above 2^128, subnormals) go
- * to snprintf itself.  Then %g's rules: fixed notation when -4 <= X < 17,
- * else d.ddde+XX; trailing zeros and a bare point dropped. */
+ * computed in integers, with X chosen so that 10^16 <= floor(x 10^p) <
+ * 10^17.  For 0 <= p <= 27 (X from -11 to 16, nearly every number of a
+ * trace) x 10^p = (f 2^11)(5^p 2^z) 2^(e2 + p - 11 - z) with both factors'
+ * top bits set: one 64 x 64-bit product whose high word, shifted, gives D;
+ * otherwise f 5^p in 192 bits and shifted, or f 2^e2 / 10^-p in 128 bits.
+ * Values outside that exact range (below about 1e-39, above 2^128,
+ * subnormals) go to snprintf itself.  The digits are made eight at a time
+ * in one 64-bit word (see eight_digit_values).  Then %g's rules: fixed
+ * notation when -4 <= X < 17, else d.ddde+XX; trailing zeros and a bare
+ * point dropped. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -27,6 +32,9 @@ __extension__ typedef unsigned __int128 m2c_u128;
 static m2c_u128 pow5[POW5_MAX + 1];
 static double pow10d[2 * POW10_GUESS + 2];
 static m2c_u128 pow10[POW10_MAX + 1];
+#define POW5N_MAX 27            /* 5^27 < 2^63 */
+static uint64_t pow5n[POW5N_MAX + 1];  /* 5^k shifted left until its top bit is set */
+static int pow5z[POW5N_MAX + 1];       /* by that many bits */
 static int tables_ready;
 
 static void make_tables(void)
@@ -34,6 +42,11 @@ static void make_tables(void)
     pow5[0] = 1;
     for (int k = 1; k <= POW5_MAX; k++)
         pow5[k] = pow5[k - 1] * 5u;
+    for (int k = 0; k <= POW5N_MAX; k++) {
+        uint64_t v = (uint64_t)pow5[k];
+        pow5z[k] = __builtin_clzll(v);
+        pow5n[k] = v << pow5z[k];
+    }
     pow10[0] = 1;
     for (int k = 1; k <= POW10_MAX; k++)
         pow10[k] = pow10[k - 1] * 10u;
@@ -88,17 +101,15 @@ static int scaled(uint64_t f, int e2, int x10, uint64_t *d, int *up)
     const uint64_t lo17 = UINT64_C(10000000000000000), hi17 = UINT64_C(100000000000000000);
     int p = 16 - x10;
     uint64_t q;
-    if (p >= 0 && p <= 27 && e2 + p < 0 && e2 + p > -128) {
-        /* the common case: f 5^p < 2^53 2^63 fits 128 bits */
-        m2c_u128 m = (m2c_u128)f * (uint64_t)pow5[p];
-        int sh = -(e2 + p);
-        m2c_u128 qq = m >> sh;
-        if ((qq >> 64) != 0)
-            return NO_FAST_PATH;
-        q = (uint64_t)qq;
-        m2c_u128 half = (m2c_u128)1 << (sh - 1);
-        m2c_u128 rem = m & ((half << 1) - 1u);
-        *up = rem > half ? 1 : (rem == half ? (int)(q & 1u) : 0);
+    int k = p >= 0 && p <= POW5N_MAX ? 11 + pow5z[p] - (e2 + p) - 64 : 0;
+    if (k >= 1 && k <= 63) {
+        /* the common case: the product of (f 2^11) and (5^p 2^z) has 127 or
+         * 128 bits, and the digits (under 2^57) are its high word >> k */
+        m2c_u128 n = (m2c_u128)(f << 11) * pow5n[p];
+        uint64_t hi = (uint64_t)(n >> 64), lo = (uint64_t)n;
+        q = hi >> k;
+        uint64_t r = hi & ((UINT64_C(1) << k) - 1u), half = UINT64_C(1) << (k - 1);
+        *up = r > half || (r == half && (lo != 0 || (q & 1u) != 0));
     } else if (p >= 0) {
         if (p > POW5_MAX)
             return NO_FAST_PATH;
@@ -182,20 +193,31 @@ static int decimal17(double ax, uint64_t f, int e2, int *x10, uint64_t *d)
     return -1;
 }
 
-static const char two_digits[] =
-    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
-    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
-    "8081828384858687888990919293949596979899";
-
-/* x < 10^8 as 8 digits. */
-static inline void eight_digits(char *out, uint32_t x)
+/* x < 10^8 as its eight decimal digits' values, the first in the lowest
+ * byte: split into two 4-digit lanes of 32 bits, each into two 2-digit
+ * lanes of 16 bits, each into two digits, every lane at once (the
+ * divisions by 100 and 10 as products: floor(v 10486 / 2^20) = v / 100 for
+ * v < 10^4, floor(v 103 / 2^10) = v / 10 for v < 100, and no lane's product
+ * reaches the next lane). */
+static inline uint64_t eight_digit_values(uint32_t x)
 {
-    uint32_t a = x / 10000u, b = x % 10000u;
-    uint32_t a1 = a / 100u, a2 = a % 100u, b1 = b / 100u, b2 = b % 100u;
-    memcpy(out, two_digits + 2 * a1, 2);
-    memcpy(out + 2, two_digits + 2 * a2, 2);
-    memcpy(out + 4, two_digits + 2 * b1, 2);
-    memcpy(out + 6, two_digits + 2 * b2, 2);
+    uint64_t v = (uint64_t)(x / 10000u) | ((uint64_t)(x % 10000u) << 32);
+    uint64_t h = ((v * 10486u) >> 20) & UINT64_C(0x0000007f0000007f);
+    v = h | ((v - h * 100u) << 16);
+    uint64_t t = ((v * 103u) >> 10) & UINT64_C(0x000f000f000f000f);
+    return t | ((v - t * 10u) << 8);
+}
+
+/* The eight digits of w (eight_digit_values) as text at out. */
+static inline void put_eight(char *out, uint64_t w)
+{
+    w += UINT64_C(0x3030303030303030);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy(out, &w, 8);
+#else
+    for (int k = 0; k < 8; k++)
+        out[k] = (char)(w >> (8 * k));
+#endif
 }
 
 int m2c_sim_format_number(char *buf, double x)
@@ -234,13 +256,14 @@ int m2c_sim_format_number(char *buf, double x)
     }
     /* the 17 digits, then room for the fixed-size copies below */
     char dg[40];
-    uint32_t hi = (uint32_t)(d / 100000000u), lo = (uint32_t)(d % 100000000u);   /* 9 and 8 digits */
+    uint32_t hi = (uint32_t)(d / 100000000u);  /* 9 digits */
+    uint64_t w1 = eight_digit_values(hi % 100000000u), w2 = eight_digit_values((uint32_t)(d % 100000000u));
     dg[0] = (char)('0' + hi / 100000000u);
-    eight_digits(dg + 1, hi % 100000000u);
-    eight_digits(dg + 9, lo);
-    int last = 16;                      /* the last digit that is not a trailing zero */
-    while (last > 0 && dg[last] == '0')
-        last--;
+    put_eight(dg + 1, w1);
+    put_eight(dg + 9, w2);
+    /* the last digit that is not a trailing zero: the highest byte of w1, w2
+     * that is not 0 (d >= 10^16: the first digit is not) */
+    int last = w2 != 0 ? 9 + (63 - __builtin_clzll(w2)) / 8 : w1 != 0 ? 1 + (63 - __builtin_clzll(w1)) / 8 : 0;
     if (x10 >= -4 && x10 < 17) {
         /* fixed notation, built with copies of fixed size (no loop per
          * digit) in t, then copied whole: buf holds M2C_SIM_NUMBER_MAX */

@@ -13,7 +13,11 @@
  * the trace must be the same bytes.
  *
  * `m2c_sim --check-format N` instead compares the trace's number writer with
- * printf("%.17g") on N pseudo-random doubles (exit 1 on any difference). */
+ * printf("%.17g") on N pseudo-random doubles of eight classes by turns (any
+ * bits, few-digit decimals, 53-bit mantissas, integers, simulation-like
+ * magnitudes, subnormals, powers of ten and their neighbours, zeros, ties and
+ * extremes; exit 1 on any difference). */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -79,7 +83,7 @@ static int check_format(long long n)
     for (long long k = 0; k < n; k++) {
         uint64_t u = next_random();
         double x;
-        switch (k % 5) {
+        switch (k % 8) {
         case 0:                                     /* any bit pattern */
             memcpy(&x, &u, sizeof x);
             break;
@@ -92,9 +96,37 @@ static int check_format(long long n)
         case 3:                                     /* integers */
             x = (double)(int64_t)(u >> 12) * ((u & 1u) ? -1.0 : 1.0);
             break;
-        default:                                    /* simulation-like magnitudes */
+        case 4:                                     /* simulation-like magnitudes */
             x = ((double)(u >> 11) / 9007199254740992.0 - 0.5) * pow(10.0, (double)(int)(next_random() % 40u) - 20);
             break;
+        case 5: {                                   /* subnormals */
+            uint64_t b = (u & ((UINT64_C(1) << 52) - 1u)) | (u & (UINT64_C(1) << 63));
+            memcpy(&x, &b, sizeof x);
+            break;
+        }
+        case 6: {                                   /* powers of ten and their neighbours, 1e-323 .. 1e308 */
+            char text[16];
+            snprintf(text, sizeof text, "1e%d", (int)(next_random() % 632u) - 323);
+            double pw = strtod(text, NULL);
+            uint64_t b;
+            memcpy(&b, &pw, sizeof b);
+            b = b + (u >> 1) % 5u >= 2u ? b + (u >> 1) % 5u - 2u : 0u;
+            memcpy(&x, &b, sizeof x);
+            x = (u & 1u) ? -x : x;
+            break;
+        }
+        default: {                                  /* zeros, ties at the 17th digit, extremes */
+            double sign = (u & 1u) ? -1.0 : 1.0;
+            switch (u % 6u) {
+            case 0: x = 0.0 * sign; break;
+            case 1: x = ldexp((double)(((u >> 8) % 4096u) * 2u + 1u), (int)((u >> 20) % 240u) - 120); break;
+            case 2: x = DBL_MAX * sign; break;
+            case 3: x = DBL_MIN * sign; break;
+            case 4: x = 4.9406564584124654e-324 * sign; break;
+            default: x = DBL_EPSILON * sign; break;
+            }
+            break;
+        }
         }
         int len = m2c_sim_format_number(mine, x);
         mine[len] = '\0';

@@ -2,11 +2,15 @@
 //!
 //! The 17 significant digits are the correctly rounded ones (ties to even,
 //! as glibc's printf and Python's dtoa): for most magnitudes exactly from
-//! 128-bit integer arithmetic (`digits_fast`), otherwise from Rust's exact
-//! float formatting (`{:.16e}`).  They are laid out as `%g` does: exponent
-//! form when the decimal exponent X is below -4 or at least 17 (with a sign
-//! and at least two exponent digits), fixed form otherwise, trailing zeros
-//! and a trailing point removed.
+//! integer arithmetic (`digits_fast`: x 10^p = m 5^p 2^(e+p), one 64 x 64
+//! bit product and a shift where 5^p fits 64 bits, else 128-bit
+//! arithmetic), otherwise from Rust's exact float formatting (`{:.16e}`).
+//! They are laid out as `%g` does: exponent form when the decimal exponent
+//! X is below -4 or at least 17 (with a sign and at least two exponent
+//! digits), fixed form otherwise, trailing zeros and a trailing point
+//! removed.  The fixed form is built with copies of constant size (no loop
+//! per digit) and appended as 32 bytes cut back to its length, so that no
+//! copy of variable length (a call of memcpy) is made per number.
 
 use std::fmt::Write;
 
@@ -40,6 +44,22 @@ const fn pow10_table() -> [u128; 39] {
     t
 }
 const POW10: [u128; 39] = pow10_table();
+
+/// 5^k shifted left until its top bit is set, and that shift, for
+/// 0 <= k <= 27 (5^27 < 2^63).
+const fn pow5_table() -> ([u64; 28], [u32; 28]) {
+    let (mut f, mut z) = ([0u64; 28], [0u32; 28]);
+    let mut p = 1u64;
+    let mut k = 0;
+    while k < 28 {
+        z[k] = p.leading_zeros();
+        f[k] = p << z[k];
+        p *= 5;
+        k += 1;
+    }
+    (f, z)
+}
+const POW5: ([u64; 28], [u32; 28]) = pow5_table();
 const D16: u64 = 10_000_000_000_000_000; // 10^16
 const D17: u64 = 100_000_000_000_000_000; // 10^17
 
@@ -49,20 +69,23 @@ const POW10F_MIN: i32 = 60;
 #[rustfmt::skip]
 const POW10F: [f64; 121] = [1e-60, 1e-59, 1e-58, 1e-57, 1e-56, 1e-55, 1e-54, 1e-53, 1e-52, 1e-51, 1e-50, 1e-49, 1e-48, 1e-47, 1e-46, 1e-45, 1e-44, 1e-43, 1e-42, 1e-41, 1e-40, 1e-39, 1e-38, 1e-37, 1e-36, 1e-35, 1e-34, 1e-33, 1e-32, 1e-31, 1e-30, 1e-29, 1e-28, 1e-27, 1e-26, 1e-25, 1e-24, 1e-23, 1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22, 1e23, 1e24, 1e25, 1e26, 1e27, 1e28, 1e29, 1e30, 1e31, 1e32, 1e33, 1e34, 1e35, 1e36, 1e37, 1e38, 1e39, 1e40, 1e41, 1e42, 1e43, 1e44, 1e45, 1e46, 1e47, 1e48, 1e49, 1e50, 1e51, 1e52, 1e53, 1e54, 1e55, 1e56, 1e57, 1e58, 1e59, 1e60];
 
-/// Two decimal digits per entry: 00 01 .. 99.
-const TWO_DIGITS: &[u8; 200] = b"\
-00010203040506070809101112131415161718192021222324252627282930313233343536373839\
-40414243444546474849505152535455565758596061626364656667686970717273747576777879\
-8081828384858687888990919293949596979899";
-
-/// x < 10^8 as eight digits.
-#[inline]
-fn eight_digits(out: &mut [u8], x: u32) {
-    let (a, b) = (x / 10000, x % 10000);
-    for (k, two) in [a / 100, a % 100, b / 100, b % 100].into_iter().enumerate() {
-        out[2 * k..2 * k + 2].copy_from_slice(&TWO_DIGITS[2 * two as usize..2 * two as usize + 2]);
-    }
+/// x < 10^8 as its eight decimal digits' values, the first in the lowest
+/// byte: split into two 4-digit lanes of 32 bits, each into two 2-digit
+/// lanes of 16 bits, each into two digits, every lane at once (the
+/// divisions by 100 and 10 as products: floor(v 10486 / 2^20) = v / 100
+/// for v < 10^4, floor(v 103 / 2^10) = v / 10 for v < 100, and no lane's
+/// product reaches the next lane).
+#[inline(always)]
+fn eight_digit_values(x: u32) -> u64 {
+    let v = u64::from(x / 10_000) | (u64::from(x % 10_000) << 32);
+    let h = ((v * 10_486) >> 20) & 0x0000_007f_0000_007f;
+    let v = h | ((v - h * 100) << 16);
+    let t = ((v * 103) >> 10) & 0x000f_000f_000f_000f;
+    t | ((v - t * 10) << 8)
 }
+
+/// '0' in every byte.
+const ZEROS: u64 = 0x3030_3030_3030_3030;
 
 /// floor(m 2^e 10^p) and whether rounding to nearest (ties to even) goes
 /// up, exactly; None when the intermediate values would not fit 128 bits.
@@ -102,6 +125,27 @@ fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
     Some((q, round_up))
 }
 
+/// floor(m 5^p 2^s) and whether rounding to nearest (ties to even) goes
+/// up, for 0 <= p <= 27, from one 64 x 64 bit product: m 5^p 2^s =
+/// (m 2^11)(5^p 2^z) 2^(s - 11 - z) with both factors' top bits set, so the
+/// product has 127 or 128 bits and the digits (under 2^57) are its high
+/// word shifted right by k = 11 + z - s - 64; None when k is not in 1..=63
+/// (x too large or too small for p).
+#[inline(always)]
+fn scaled5(m: u64, p: usize, s: i32) -> Option<(u64, bool)> {
+    let (f, z) = (POW5.0[p], POW5.1[p]);
+    let k = 11 + z as i32 - s - 64;
+    if !(1..=63).contains(&k) {
+        return None;
+    }
+    let n = u128::from(m << 11) * u128::from(f);
+    let (hi, lo) = ((n >> 64) as u64, n as u64);
+    let q = hi >> k;
+    let r = hi & ((1u64 << k) - 1);
+    let half = 1u64 << (k - 1);
+    Some((q, r > half || (r == half && (lo != 0 || q & 1 == 1))))
+}
+
 /// The 17 correctly rounded significant digits of finite nonzero |x| as an
 /// integer in [10^16, 10^17), and the decimal exponent X of the first
 /// digit; None when outside the range the 128-bit arithmetic covers.
@@ -117,12 +161,18 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
     let l2 = 63 - m.leading_zeros() as i32 + e;
     let mut xe = (((i64::from(l2) + 1) * 78913) >> 18) as i32; // floor((l2 + 1) log10 2)
-    // which of the two: a guess from the powers of ten (scaled() decides exactly)
+    // which of the two: a guess from the powers of ten (the digits decide exactly)
     if (-POW10F_MIN + 1..=POW10F_MIN).contains(&xe) && x.abs() < POW10F[(xe + POW10F_MIN) as usize] {
         xe -= 1;
     }
     for _ in 0..3 {
-        let (q, up) = scaled(m, e, 16 - xe)?;
+        let p = 16 - xe;
+        let s = e + p; // x 10^p = m 5^p 2^s
+        let fast = if (0..=27).contains(&p) { scaled5(m, p as usize, s) } else { None };
+        let (q, up) = match fast {
+            Some((q, up)) => (u128::from(q), up),
+            None => scaled(m, e, p)?,
+        };
         if q >= u128::from(D17) {
             xe += 1;
         } else if q < u128::from(D16) {
@@ -136,15 +186,18 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     None
 }
 
-/// The digits and exponent from Rust's exact formatting (any finite x).
-fn digits_fmt(x: f64, digits: &mut [u8; 17]) -> i32 {
+/// The 17 digits as an integer in [10^16, 10^17) and the decimal exponent,
+/// from Rust's exact formatting (any finite nonzero x).
+fn digits_fmt(x: f64) -> (u64, i32) {
     let mut s = Small { buf: [0; 40], len: 0 };
     write!(s, "{:.16e}", x.abs()).expect("17 digits fit");
     let body = &s.buf[..s.len];
     // body: D.DDDDDDDDDDDDDDDDe[-]X
-    digits[0] = body[0];
-    digits[1..].copy_from_slice(&body[2..18]);
     debug_assert_eq!(body[18], b'e');
+    let mut d = u64::from(body[0] - b'0');
+    for &c in &body[2..18] {
+        d = d * 10 + u64::from(c - b'0');
+    }
     let mut exp: i32 = 0;
     let mut exp_neg = false;
     for &c in &body[19..] {
@@ -154,11 +207,7 @@ fn digits_fmt(x: f64, digits: &mut [u8; 17]) -> i32 {
             exp = exp * 10 + i32::from(c - b'0');
         }
     }
-    if exp_neg {
-        -exp
-    } else {
-        exp
-    }
+    (d, if exp_neg { -exp } else { exp })
 }
 
 /// Append `x` formatted as `%.17g` to `out`.
@@ -177,39 +226,62 @@ fn push_g17_with(out: &mut Vec<u8>, x: f64, fast: bool) {
     }
     let neg = x.is_sign_negative();
     if x == 0.0 {
-        out.extend_from_slice(if neg { b"-0" } else { b"0" });
+        // byte by byte: a slice of either length would be a call of memcpy
+        // (zeros are a third of a gas's numbers: the accelerations)
+        if neg {
+            out.push(b'-');
+        }
+        out.push(b'0');
         return;
     }
-    let mut digits = [b'0'; 17];
-    let exp = match if fast { digits_fast(x) } else { None } {
-        Some((d, xe)) => {
-            let (hi, lo) = ((d / 100_000_000) as u32, (d % 100_000_000) as u32); // 9 and 8 digits
-            digits[0] = b'0' + (hi / 100_000_000) as u8;
-            eight_digits(&mut digits[1..9], hi % 100_000_000);
-            eight_digits(&mut digits[9..17], lo);
-            xe
-        }
-        None => digits_fmt(x, &mut digits),
+    let (d, exp) = match if fast { digits_fast(x) } else { None } {
+        Some(v) => v,
+        None => digits_fmt(x),
     };
-    let mut nd = 17;
-    while nd > 1 && digits[nd - 1] == b'0' {
-        nd -= 1;
-    }
+    // the 17 digits (the first, then two words of eight), then room for the
+    // copies of constant size below
+    let hi = (d / 100_000_000) as u32; // 9 digits
+    let (w1, w2) = (eight_digit_values(hi % 100_000_000), eight_digit_values((d % 100_000_000) as u32));
+    let mut dg = [0u8; 40];
+    dg[0] = b'0' + (hi / 100_000_000) as u8;
+    dg[1..9].copy_from_slice(&(w1 + ZEROS).to_le_bytes());
+    dg[9..17].copy_from_slice(&(w2 + ZEROS).to_le_bytes());
+    // the last digit that is not a trailing zero: the highest byte that is
+    // not 0 (d >= 10^16: the first digit is not)
+    let last = if w2 != 0 {
+        9 + (63 - w2.leading_zeros()) as usize / 8
+    } else if w1 != 0 {
+        1 + (63 - w1.leading_zeros()) as usize / 8
+    } else {
+        0
+    };
     // at most 24 bytes: sign, "0.000" and 17 digits, or d.16 digits e-XXX
-    let mut line = [0u8; 32];
-    let mut n = 0;
-    let mut put = |bytes: &[u8]| {
-        line[n..n + bytes.len()].copy_from_slice(bytes);
-        n += bytes.len();
-    };
-    if neg {
-        put(b"-");
-    }
-    if !(-4..17).contains(&exp) {
-        put(&digits[..1]);
-        if nd > 1 {
+    let mut line = [0u8; 64];
+    line[0] = b'-';
+    let s = usize::from(neg);
+    let n = if (0..17).contains(&exp) {
+        // the whole part (digits 0..=X), the point, the fraction (digits X+1..=last)
+        let xe = exp as usize;
+        line[s..s + 17].copy_from_slice(&dg[..17]);
+        line[s + xe + 1] = b'.';
+        line[s + xe + 2..s + xe + 18].copy_from_slice(&dg[xe + 1..xe + 17]);
+        s + if last > xe { last + 2 } else { xe + 1 }
+    } else if (-4..0).contains(&exp) {
+        // "0." and -X-1 zeros, then the digits
+        let zeros = (-exp) as usize;
+        line[s..s + 6].copy_from_slice(b"0.0000");
+        line[s + 1 + zeros..s + 18 + zeros].copy_from_slice(&dg[..17]);
+        s + 2 + zeros + last
+    } else {
+        let mut n = s;
+        let mut put = |bytes: &[u8]| {
+            line[n..n + bytes.len()].copy_from_slice(bytes);
+            n += bytes.len();
+        };
+        put(&dg[..1]);
+        if last > 0 {
             put(b".");
-            put(&digits[1..nd]);
+            put(&dg[1..=last]);
         }
         put(if exp < 0 { b"e-" } else { b"e+" });
         let a = exp.unsigned_abs();
@@ -217,19 +289,11 @@ fn push_g17_with(out: &mut Vec<u8>, x: f64, fast: bool) {
             put(&[b'0' + (a / 100) as u8]);
         }
         put(&[b'0' + (a / 10 % 10) as u8, b'0' + (a % 10) as u8]);
-    } else if exp >= 0 {
-        let ip = exp as usize + 1;
-        put(&digits[..ip]);
-        if nd > ip {
-            put(b".");
-            put(&digits[ip..nd]);
-        }
-    } else {
-        put(b"0.");
-        put(&b"000"[..(-exp - 1) as usize]);
-        put(&digits[..nd]);
-    }
-    out.extend_from_slice(&line[..n]);
+        n
+    };
+    let at = out.len();
+    out.extend_from_slice(&line[..32]);
+    out.truncate(at + n);
 }
 
 /// `x` formatted as `%.17g`.
@@ -242,6 +306,7 @@ pub fn g17(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::{g17, push_g17_with};
+    use std::os::raw::{c_char, c_int};
 
     fn both(x: f64) -> (Vec<u8>, Vec<u8>) {
         let (mut a, mut b) = (Vec::new(), Vec::new());
@@ -292,6 +357,94 @@ mod tests {
             check(i as f64);
             check((1u64 << 53) as f64 - i as f64);
             check(1e17 + (i * 16) as f64);
+        }
+    }
+
+    extern "C" {
+        /// The C library's snprintf: the definition of the bytes `push_g17` writes.
+        fn snprintf(buf: *mut c_char, n: usize, fmt: *const c_char, ...) -> c_int;
+    }
+
+    /// printf("%.17g", x), but "nan" for every NaN (as Python and the
+    /// simulators write it; glibc writes "-nan" for a negative one).
+    fn printf_g17(x: f64) -> Vec<u8> {
+        if x.is_nan() {
+            return b"nan".to_vec();
+        }
+        let mut buf = [0u8; 64];
+        // SAFETY: buf has 64 bytes and snprintf writes at most that many, its
+        // NUL included; the format is a NUL-terminated literal taking one double.
+        let n = unsafe { snprintf(buf.as_mut_ptr().cast(), buf.len(), b"%.17g\0".as_ptr().cast(), x) };
+        buf[..usize::try_from(n).expect("snprintf formats a double")].to_vec()
+    }
+
+    /// The k-th number of the check: every class by turns.
+    fn sample(rng: &mut Rng, k: u64) -> f64 {
+        let u = rng.next();
+        let sign = if u & 1 == 1 { -1.0 } else { 1.0 };
+        match k % 8 {
+            // any bit pattern (NaNs and infinities included)
+            0 => f64::from_bits(u),
+            // decimals with few digits
+            1 => (u % 2_000_001) as f64 / 1000.0 - 1000.0,
+            // 53-bit mantissas, exponents -253..+46
+            2 => (u >> 11) as f64 * 2f64.powi((rng.next() % 300) as i32 - 253),
+            // integers
+            3 => (u >> 12) as f64 * sign,
+            // the magnitudes of a simulation, 1e-20 .. 1e20
+            4 => ((u >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((rng.next() % 40) as i32 - 20),
+            // subnormals
+            5 => f64::from_bits((u & ((1u64 << 52) - 1)) | (u & (1u64 << 63))),
+            // powers of ten and their neighbours, 1e-323 .. 1e308
+            6 => {
+                let p: f64 = format!("1e{}", (rng.next() % 632) as i32 - 323).parse().expect("a power of ten");
+                f64::from_bits((p.to_bits() + (u >> 1) % 5).saturating_sub(2)) * sign
+            }
+            // zeros, ties at the 17th digit (small odd multiples of powers of two), the extremes
+            _ => match u % 6 {
+                0 => 0.0 * sign,
+                1 => (((u >> 8) % 4096) * 2 + 1) as f64 * 2f64.powi(((u >> 20) % 240) as i32 - 120),
+                2 => f64::MAX * sign,
+                3 => f64::MIN_POSITIVE * sign,
+                4 => 5e-324 * sign,
+                _ => f64::EPSILON * sign,
+            },
+        }
+    }
+
+    /// The written bytes are printf's on random doubles of every class;
+    /// `M2C_G17_CHECK=N` checks N numbers instead of the default 10^6
+    /// (the check of the fast writer was run on 2 10^7 and more).
+    #[test]
+    fn writes_what_printf_writes() {
+        let n: u64 = std::env::var("M2C_G17_CHECK").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut bad, mut mine) = (0u64, Vec::with_capacity(64));
+        for k in 0..n {
+            let x = sample(&mut rng, k);
+            mine.clear();
+            push_g17_with(&mut mine, x, true);
+            let want = printf_g17(x);
+            if mine != want {
+                if bad < 10 {
+                    eprintln!("{x:e} ({:#x}): {} printf {}", x.to_bits(), String::from_utf8_lossy(&mine), String::from_utf8_lossy(&want));
+                }
+                bad += 1;
+            }
+        }
+        eprintln!("{bad} of {n} numbers differ from printf(\"%.17g\")");
+        assert_eq!(bad, 0);
+    }
+
+    #[test]
+    fn eight_digit_values_are_the_digits() {
+        for x in (0..100_000u32).chain((0..100_000_000).step_by(997)).chain(99_990_000..100_000_000) {
+            let mut want = x;
+            let w = super::eight_digit_values(x);
+            for k in (0..8).rev() {
+                assert_eq!((w >> (8 * k)) & 0xff, u64::from(want % 10), "{x}");
+                want /= 10;
+            }
         }
     }
 

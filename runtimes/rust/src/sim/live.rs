@@ -353,6 +353,7 @@ impl<E: Equations> World<E> {
             }
             let e = self.q.heap.pop().expect("peeked");
             self.dispatch(e.t, e.ev)?;
+            self.sweep_if_due();
         }
         Ok(())
     }

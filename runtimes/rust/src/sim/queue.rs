@@ -55,43 +55,81 @@ impl Event {
     }
 }
 
-/// A scheduled event: `key` is kind << 60 | seq, so that (t, key) orders
-/// as Python's (t, kind, seq) tuples.
+/// A scheduled event as the queue gives it back: its time (as pushed, so
+/// -0.0 stays -0.0) and its record.
 #[derive(Clone, Copy, Debug)]
 pub struct Entry {
     pub t: f64,
-    key: u64,
     pub ev: Event,
 }
 
-impl Entry {
-    /// Python's tuple `<` on (t, kind, seq, ...): seq is unique, so the
-    /// rest is never reached and the order is total (times are never NaN).
-    #[inline(always)]
-    fn lt(&self, o: &Entry) -> bool {
-        if self.t == o.t {
-            self.key < o.key
-        } else {
-            self.t < o.t
-        }
-    }
+/// What the queue orders and moves: 24 bytes instead of a whole 56-byte
+/// `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the bits of t
+/// (`time_bits`), `key`: kind << 60 | seq, so that (tb, key) orders as
+/// Python's (t, kind, seq) tuples (seq is unique, so the order is total);
+/// `slot`: where the record waits.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    tb: u64,
+    key: u64,
+    slot: u32,
 }
 
-/// A 4-ary min-heap of entries, ordered by (t, key).
-struct Near {
-    v: Vec<Entry>,
+impl Item {
+    /// (tb, key) as one number: one wide comparison instead of two branches.
+    #[inline(always)]
+    fn order(&self) -> u128 {
+        (u128::from(self.tb) << 64) | u128::from(self.key)
+    }
 }
 
 const ARITY: usize = 4;
 
+/// Moves v[pos] down to its place among its descendants (a 4-ary min-heap
+/// on `order`).
+#[inline]
+fn sift_down(v: &mut [Item], mut pos: usize) {
+    let n = v.len();
+    let x = v[pos];
+    let xo = x.order();
+    loop {
+        let first = ARITY * pos + 1;
+        if first >= n {
+            break;
+        }
+        let mut best = first;
+        let mut bo = v[first].order();
+        for c in first + 1..(first + ARITY).min(n) {
+            let co = v[c].order();
+            if co < bo {
+                best = c;
+                bo = co;
+            }
+        }
+        if bo < xo {
+            v[pos] = v[best];
+            pos = best;
+        } else {
+            break;
+        }
+    }
+    v[pos] = x;
+}
+
+/// A 4-ary min-heap of items, ordered by (tb, key).
+struct Near {
+    v: Vec<Item>,
+}
+
 impl Near {
     #[inline]
-    fn push(&mut self, item: Entry) {
+    fn push(&mut self, item: Item) {
         let mut pos = self.v.len();
         self.v.push(item);
+        let o = item.order();
         while pos > 0 {
             let parent = (pos - 1) / ARITY;
-            if item.lt(&self.v[parent]) {
+            if o < self.v[parent].order() {
                 self.v[pos] = self.v[parent];
                 pos = parent;
             } else {
@@ -102,34 +140,25 @@ impl Near {
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<Entry> {
+    fn pop(&mut self) -> Option<Item> {
         let last = self.v.pop()?;
         if self.v.is_empty() {
             return Some(last);
         }
         let top = self.v[0];
+        self.v[0] = last;
+        sift_down(&mut self.v, 0);
+        Some(top)
+    }
+
+    /// The heap order again after items were taken out (`Heap::sweep`).
+    fn heapify(&mut self) {
         let n = self.v.len();
-        let mut pos = 0;
-        loop {
-            let first = ARITY * pos + 1;
-            if first >= n {
-                break;
-            }
-            let mut best = first;
-            for c in first + 1..(first + ARITY).min(n) {
-                if self.v[c].lt(&self.v[best]) {
-                    best = c;
-                }
-            }
-            if self.v[best].lt(&last) {
-                self.v[pos] = self.v[best];
-                pos = best;
-            } else {
-                break;
+        if n > 1 {
+            for pos in (0..=(n - 2) / ARITY).rev() {
+                sift_down(&mut self.v, pos);
             }
         }
-        self.v[pos] = last;
-        Some(top)
     }
 }
 
@@ -145,6 +174,21 @@ fn time_bits(t: f64) -> u64 {
     }
 }
 
+/// Asks the processor to bring the cache line at `p` in ahead of its use
+/// (a hint only: nothing is read, and nothing changes if it is ignored).
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: PREFETCHT0 reads no memory that a program can observe and
+    // cannot fault, whatever the address; SSE, which it needs, is part of
+    // every x86-64 processor.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 /// The event queue: a radix heap on the hex digits of the times' bits.
 /// Events at or before the time reached (`reached`, the last time taken
 /// from the buckets) wait in a small 4-ary heap ordered by (t, kind, seq);
@@ -157,27 +201,37 @@ fn time_bits(t: f64) -> u64 {
 /// appended and scanned in order instead of sifted at random, and the pop
 /// order is Python's heapq order on (t, kind, seq) (unique keys: any
 /// correct priority queue gives it), also for an event scheduled a rounding
-/// error before the time reached.  The memory is that of the most events
-/// pending at once.
+/// error before the time reached.  What moves is a 24-byte `Item`; the
+/// record waits in a slot of `slab`, reused once popped (the C runtime's
+/// queue has the same structure).  `sweep` drops the stale events.
 pub struct Heap {
     near: Near,
     reached: u64,
-    buckets: Vec<Vec<Entry>>,
+    buckets: Box<[Vec<Item>; BUCKETS]>,
     /// bit k % 64 of word k / 64 set: bucket k is not empty
     mask: [u64; BUCKETS / 64],
     /// the scheduling counter
     seq: u64,
+    /// the records, by slot
+    slab: Vec<Entry>,
+    /// slots not in use (a stack: the last freed is reused first, while
+    /// it is likely still in the cache)
+    free: Vec<u32>,
+    /// events queued
+    len: usize,
 }
 
 /// Buckets: 16 hex digits of 16 values.
 const BUCKETS: usize = 256;
 
 /// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
-/// the highest digit where they differ.
+/// the highest digit where they differ.  That is at most 255 already; the
+/// mask tells the compiler so, and the buckets (a fixed array) are then
+/// indexed without a bounds check.
 #[inline(always)]
 fn bucket_of(o: u64, reached: u64) -> usize {
     let i = (63 - (o ^ reached).leading_zeros()) / 4;
-    16 * i as usize + ((o >> (4 * i)) & 15) as usize
+    (16 * i as usize + ((o >> (4 * i)) & 15) as usize) & (BUCKETS - 1)
 }
 
 impl Heap {
@@ -185,20 +239,28 @@ impl Heap {
         Heap {
             near: Near { v: Vec::with_capacity(64) },
             reached: 0,
-            buckets: vec![Vec::new(); BUCKETS],
+            buckets: Box::new(std::array::from_fn(|_| Vec::new())),
             mask: [0; BUCKETS / 64],
             seq: 0,
+            slab: Vec::new(),
+            free: Vec::new(),
+            len: 0,
         }
     }
 
+    /// Events queued (stale ones included until they are popped or swept).
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
     #[inline(always)]
-    fn place(&mut self, e: Entry) {
-        let o = time_bits(e.t);
-        if o <= self.reached {
-            self.near.push(e);
+    fn place(&mut self, x: Item) {
+        if x.tb <= self.reached {
+            self.near.push(x);
         } else {
-            let k = bucket_of(o, self.reached);
-            self.buckets[k].push(e);
+            let k = bucket_of(x.tb, self.reached);
+            self.buckets[k].push(x);
             self.mask[k / 64] |= 1 << (k % 64);
         }
     }
@@ -207,23 +269,48 @@ impl Heap {
     /// same time and of the same kind).
     #[inline]
     pub fn push(&mut self, t: f64, ev: Event) {
+        let e = Entry { t, ev };
+        let slot = match self.free.pop() {
+            Some(s) => {
+                self.slab[s as usize] = e;
+                s
+            }
+            None => {
+                let s = u32::try_from(self.slab.len()).expect("fewer than 2^32 events queued at once");
+                self.slab.push(e);
+                s
+            }
+        };
         let key = (ev.kind() << SEQ_BITS) | self.seq;
         self.seq += 1;
-        self.place(Entry { t, key, ev });
+        self.len += 1;
+        self.place(Item { tb: time_bits(t), key, slot });
     }
 
     /// The earliest event: smallest t, then kind, then scheduling order.
     #[inline]
     pub fn pop(&mut self) -> Option<Entry> {
         self.refill();
-        self.near.pop()
+        let x = self.near.pop()?;
+        let e = self.slab[x.slot as usize];
+        self.free.push(x.slot);
+        self.len -= 1;
+        // find the next event now (events scheduled meanwhile before it go
+        // to the small heap, which orders them first) and have its record
+        // fetched from memory while this one is handled
+        self.refill();
+        if let Some(next) = self.near.v.first() {
+            prefetch(&self.slab[next.slot as usize]);
+        }
+        Some(e)
     }
 
     /// The earliest event, left queued.
     #[inline]
     pub fn peek(&mut self) -> Option<&Entry> {
         self.refill();
-        self.near.v.first()
+        let x = self.near.v.first()?;
+        Some(&self.slab[x.slot as usize])
     }
 
     /// When the small heap is empty, move the lowest bucket's events there
@@ -237,20 +324,55 @@ impl Heap {
             let k = 64 * w + self.mask[w].trailing_zeros() as usize;
             self.mask[w] &= !(1u64 << (k % 64));
             let mut items = std::mem::take(&mut self.buckets[k]);
-            self.reached = items.iter().map(|e| time_bits(e.t)).min().expect("a bucket in the mask has events");
+            self.reached = items.iter().map(|x| x.tb).min().expect("a bucket in the mask has events");
             // all of them now differ from the time reached in a lower digit
-            for &e in &items {
-                self.place(e);
+            for &x in &items {
+                self.place(x);
             }
             items.clear();
             self.buckets[k] = items;
         }
     }
+
+    /// Remove every queued event for which `drop` is true (the stale ones:
+    /// with lazy invalidation they would otherwise wait until their time,
+    /// and outnumber the live ones).  The others keep their keys, so the
+    /// pop order of what stays is unchanged.
+    pub fn sweep(&mut self, mut drop: impl FnMut(&Entry) -> bool) {
+        let (slab, free) = (&self.slab, &mut self.free);
+        let mut removed = 0;
+        let mut keep = |x: &Item| {
+            if drop(&slab[x.slot as usize]) {
+                free.push(x.slot);
+                removed += 1;
+                false
+            } else {
+                true
+            }
+        };
+        self.near.v.retain(&mut keep);
+        for (k, b) in self.buckets.iter_mut().enumerate() {
+            if !b.is_empty() {
+                b.retain(&mut keep);
+                if b.is_empty() {
+                    self.mask[k / 64] &= !(1u64 << (k % 64));
+                }
+            }
+        }
+        self.near.heapify();
+        self.len -= removed;
+    }
+}
+
+impl Default for Heap {
+    fn default() -> Heap {
+        Heap::new()
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{Event, Heap, SEQ_BITS};
+    use super::{Event, Heap};
 
     /// xorshift64*: reproducible numbers without a dependency.
     struct Rng(u64);
@@ -323,12 +445,11 @@ mod tests {
             pending.push((t, kind, seq));
             if rng.next() % 3 != 0 {
                 // peek leaves the earliest queued: the pop that follows takes it
-                let (pt, pkey) = heap.peek().map(|e| (e.t, e.key)).expect("not empty");
+                let peeked = heap.peek().map(|e| (e.t.to_bits(), e.ev.kind(), carried(&e.ev))).expect("not empty");
                 let e = heap.pop().expect("not empty");
-                assert_eq!((pt.to_bits(), pkey), (e.t.to_bits(), e.key));
+                assert_eq!(peeked, (e.t.to_bits(), e.ev.kind(), carried(&e.ev)));
                 let m = first(&pending);
                 assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
-                assert_eq!(e.key, (pending[m].1 << SEQ_BITS) | pending[m].2);
                 pending.swap_remove(m);
                 now = e.t;
                 count += 1;
@@ -353,5 +474,51 @@ mod tests {
             assert_eq!((e.t, e.ev.kind(), carried(&e.ev)), (t, kind, seq));
         }
         assert!(heap.pop().is_none());
+    }
+
+    #[test]
+    fn sweep_drops_what_it_is_told_and_keeps_the_order_of_the_rest() {
+        let mut rng = Rng(777);
+        let mut heap = Heap::new();
+        let mut pending: Vec<(f64, u64, u64)> = Vec::new();
+        let mut now = 0.0;
+        let mut swept = 0;
+        for seq in 0..30_000u64 {
+            let t = now + (rng.next() % 300) as f64 * 0.0625;
+            let kind = rng.next() % 7;
+            heap.push(t, event(kind, seq));
+            pending.push((t, kind, seq));
+            match rng.next() % 100 {
+                0..=1 => {
+                    // drop the events carrying a multiple of a random divisor
+                    let d = 2 + rng.next() % 5;
+                    let before = heap.len();
+                    heap.sweep(|e| carried(&e.ev) % d == 0);
+                    pending.retain(|p| p.2 % d != 0);
+                    assert_eq!(heap.len(), pending.len());
+                    swept += before - heap.len();
+                }
+                2..=60 => {
+                    let e = heap.pop().expect("not empty");
+                    let m = (0..pending.len())
+                        .min_by(|&x, &y| {
+                            let (a, b) = (pending[x], pending[y]);
+                            a.0.partial_cmp(&b.0).unwrap().then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+                        })
+                        .expect("not empty");
+                    assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+                    pending.swap_remove(m);
+                    now = e.t;
+                }
+                _ => {}
+            }
+        }
+        assert!(swept > 1000, "the sweeps dropped {swept} events");
+        pending.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap().then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+        for &(t, kind, seq) in &pending {
+            let e = heap.pop().expect("not empty");
+            assert_eq!((e.t, e.ev.kind(), carried(&e.ev)), (t, kind, seq));
+        }
+        assert!(heap.pop().is_none() && heap.len() == 0);
     }
 }

@@ -84,6 +84,10 @@ impl Space {
     }
 }
 
+/// The queue is first swept of stale events when it holds this many, then
+/// whenever it has doubled since the last sweep (as in the C runtime).
+pub const SWEEP_FIRST: usize = 4096;
+
 /// The event queue and the counters (everything a prediction changes).
 pub struct Queue {
     pub heap: Heap,
@@ -91,11 +95,19 @@ pub struct Queue {
     /// predictions served per variant of circle_circle and point_edge
     pub cc_counts: Vec<u64>,
     pub pe_counts: Vec<u64>,
+    /// events queued at which the stale ones are swept out (`World::sweep_if_due`)
+    pub sweep_at: usize,
 }
 
 impl Queue {
     pub fn new(cc_variants: usize, pe_variants: usize) -> Queue {
-        Queue { heap: Heap::new(), stats: Stats::default(), cc_counts: vec![0; cc_variants], pe_counts: vec![0; pe_variants] }
+        Queue {
+            heap: Heap::new(),
+            stats: Stats::default(),
+            cc_counts: vec![0; cc_variants],
+            pe_counts: vec![0; pe_variants],
+            sweep_at: SWEEP_FIRST,
+        }
     }
 
     #[allow(clippy::too_many_arguments)]
