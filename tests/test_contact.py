@@ -415,6 +415,35 @@ def test_a_carried_box_is_released_when_its_base_is_hit(lang):
     never_gains_energy(scene, rp, "carried-hit.json")
 
 
+@pytest.mark.parametrize("lang", runtimes("carried"))
+@pytest.mark.parametrize("dv", [0.01, -0.01], ids=["faster", "slower"])
+def test_entering_carried_never_raises_kinetic_energy(lang, dv):
+    """A ball at rest on a box sliding at 1 m/s but for dv (|dv| below
+    rest_speed: at relative rest), friction holding it.  Faster than its
+    base it is carried at t = 0, its velocity the base's exactly (its
+    kinetic energy falls); slower, taking the base's velocity would raise
+    it, so it is not carried then (the contact hops) but only once the base,
+    decelerating, is no faster than the ball: at that entry the ball's speed
+    just before is at least the base's."""
+    scene, tr, rp = run([floor(half=3.0, friction=0.5), box_body("base", velocity=[1.0, 0.0], friction=1.0),
+                         ball("top", y=0.3, velocity=[1.0 + dv, 0.0], friction=1.0)], end=0.5, frame_rate=10,
+                        lang=lang)
+    ev = [e for e in tr.events if e["kind"] != "frame" and e["bodies"] == ["top", "base"]]
+    carried = next(e for e in ev if e["kind"] == "support")
+    got = carried["states"][0]
+    assert got["body"] == "top" and got["acceleration"] == [-0.5 * G, 0.0]
+    t = carried["t"]
+    base = rp.state_at("base", t)
+    assert got["velocity"] == [base.vx, base.vy]
+    before = rp.state_before("top", t)
+    assert base.vx * base.vx + base.vy * base.vy <= before.vx * before.vx + before.vy * before.vy
+    if dv > 0:
+        assert t == 0.0 and ev[0] is carried and got["velocity"] == [1.0, 0.0]
+    else:
+        assert ev[0]["kind"] == "collision" and ev[0]["t"] == 0.0 and t > 0.0
+    no_overlap(scene, rp)
+
+
 @pytest.mark.xfail(strict=True, raises=AssertionError,
                    reason="known (seed hunt of session 6, also resting_scene 229 with boxes, "
                           "spinning_scene 26 and 81): a body resting on a movable box that is supported "
