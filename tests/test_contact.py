@@ -31,7 +31,7 @@ G = 9.81
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
 PORTED["pressed"] = {"python", "c", "rust", "m2"}
 PORTED["carried"] = {"python", "c", "rust", "m2"}
-PORTED["hopfloor"] = {"python", "c", "rust"}
+PORTED["hopfloor"] = {"python", "c", "rust", "m2"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
