@@ -487,10 +487,13 @@ def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed, lang):
 
 
 @pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known (seed hunt of session 7): at t = 1.3776 s a ball is wedged between a wall "
-                          "and a sleeping ball; each gentle touch turns its velocity and it meets the other "
-                          "side again at the same instant: more than 1000 events at one time (stuck); "
-                          "still stuck with the hop floor paid (step hopfloor): not an energy bookkeeping case")
+                   reason="known (seed hunt of session 7): at t = 1.3776 s a ball (r0) on the floor is wedged "
+                          "between the left wall and a smaller sleeping ball (r1) whose contact normal points "
+                          "down-right; a two-cycle at one instant: the wall's slow contact reflects vx "
+                          "(-0.038 -> 0.038, elastic: sep = |vn| < rest_speed) and the gentle touch on the held "
+                          "sleeper, pressed by gravity, hops at rest_speed (cap = |v|^2 = 0.0048 >= rest_speed^2, "
+                          "not the floor case: step hopfloor does not touch it) keeping |v|, which maps vx back "
+                          "to -0.038 (vy stays 0.0578): more than 1000 events at one time (stuck)")
 def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck():
     """resting_scene(993908) with boxes, in C."""
     _closed_scene_checks(stuck_at_once(resting_scene(993908, boxes=True)), "resting-993908-boxes.json", "c")
