@@ -31,6 +31,7 @@ G = 9.81
 PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuck", "held", "cells", "moving")}
 PORTED["pressed"] = {"python", "c", "rust", "m2"}
 PORTED["carried"] = {"python", "c", "rust", "m2"}
+PORTED["hopfloor"] = {"python", "c", "rust", "m2"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
@@ -263,14 +264,15 @@ def test_random_resting_circles_never_overlap_and_never_gain_energy(seed):
     _closed_scene_checks(resting_scene(seed, boxes=False), f"resting-{seed}.json")
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="known (found by the test above with a random seed): a ball pressed onto a ball "
-                          "that slides on the floor; the pair's slow pressed contact hops at the floor "
-                          "speed rest_speed/32 while nearly at rest relative to each other (docs/simulator.md "
-                          "'Hop', the one case that adds energy), growth 5.0e-10 relative at t = 1.419 s")
-def test_a_ball_pressed_on_a_sliding_ball_never_gains_energy():
-    """resting_scene(1909), circles only, in C (fast; the runtimes write the same bytes)."""
-    _closed_scene_checks(resting_scene(1909, boxes=False), "resting-1909.json", "c")
+@pytest.mark.parametrize("lang", runtimes("hopfloor"))
+def test_a_ball_pressed_on_a_sliding_ball_never_gains_energy(lang):
+    """Found by the test above with a random seed: resting_scene(1909),
+    circles only.  A ball pressed onto a ball that slides on the floor; the
+    pair's slow pressed contact hops at the floor speed rest_speed/32 while
+    nearly at rest relative to each other, which added 5.0e-10 relative at
+    t = 1.419 s; the hop's extra energy is now paid from the pair's common
+    motion (docs/simulator.md 'Hop', `pay_floor`)."""
+    _closed_scene_checks(resting_scene(1909, boxes=False), "resting-1909.json", lang)
 
 
 @pytest.mark.parametrize("seed", [199071, 616122, 707249, 761111])
@@ -454,37 +456,44 @@ def test_entering_carried_never_raises_kinetic_energy(lang, dv):
     no_overlap(scene, rp)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="known (seed hunt of session 6, also resting_scene 229 with boxes, "
-                          "spinning_scene 26 and 81): a body resting on a movable box that is supported "
-                          "and slides on the floor can be neither supported nor put to sleep; the pair hops "
-                          "(at the floor speed rest_speed/32 when nearly at rest relative to each other, "
-                          "docs/simulator.md 'Hop') and the box meets the floor again at once, about 4000 "
-                          "times a second; energy grows by 4.1e-10 relative. Not carried either (docs/simulator.md 'Carried bodies': nothing holds a "
-                          "frictionless body on a box that decelerates): needs a coupled solve of both accelerations")
-def test_a_ball_resting_on_a_sliding_box_never_gains_energy():
-    """The C runtime (the scene does not touch the steps not yet ported, and
-    C is fast): 0.7 s of resting_scene(128) with boxes."""
+@pytest.mark.parametrize("lang", runtimes("hopfloor"))
+def test_a_ball_resting_on_a_sliding_box_never_gains_energy(lang):
+    """Found by the seed hunt of session 6: 0.7 s of resting_scene(128) with
+    boxes.  A body resting on a movable box that is supported and slides on
+    the floor can be neither supported nor put to sleep, nor carried
+    (nothing holds a frictionless body on a box that decelerates: that needs
+    a coupled solve of both accelerations); the pair hops about 4000 times a
+    second, at the floor speed rest_speed/32 when nearly at rest relative to
+    each other, which added 4.1e-10 relative.  The floor is now paid from
+    the pair's common motion (docs/simulator.md 'Hop'): energy never grows."""
     raw = resting_scene(128, boxes=True)
     raw["end_time"] = 0.7
-    _closed_scene_checks(raw, "resting-128-boxes.json", "c")
+    _closed_scene_checks(raw, "resting-128-boxes.json", lang)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="known (seed hunt of session 7): boxes that slide side by side or against a sleeping "
-                          "ball and meet gently while nearly at rest relative to each other; their slow pressed "
-                          "contacts hop at the floor speed rest_speed/32 (docs/simulator.md 'Hop', the one "
-                          "case that adds energy): growth 2.0e-8 (seed 244), 3.0e-8 (47), 1.3e-7 (33) relative")
+@pytest.mark.parametrize("lang", runtimes("hopfloor"))
 @pytest.mark.parametrize("seed", [244, 47, 33])
-def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed):
-    """2 s of resting_scene(seed) with boxes, in C (the runtimes write the same bytes)."""
-    _closed_scene_checks(stuck_at_once(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json", "c")
+def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed, lang):
+    """Found by the seed hunt of session 7: 2 s of resting_scene(seed) with
+    boxes.  Boxes that slide side by side (244) or against a sleeper (47,
+    33: a gentle touch, the sleeper held as if fixed) meet gently while
+    nearly at rest relative to each other; their slow pressed contacts
+    hopped at the floor speed rest_speed/32, which added 2.0e-8, 3.0e-8,
+    1.3e-7 relative.  The floor is now paid from the pair's common motion,
+    and a touch whose hop could not pay it (the sleeper held: no common
+    motion) is not gentle: the sleeper takes the full impulse
+    (docs/simulator.md 'Hop', 'Waking')."""
+    _closed_scene_checks(stuck_at_once(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json", lang)
 
 
 @pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known (seed hunt of session 7): at t = 1.3776 s a ball is wedged between a wall "
-                          "and a sleeping ball; each gentle touch turns its velocity and it meets the other "
-                          "side again at the same instant: more than 1000 events at one time (stuck)")
+                   reason="known (seed hunt of session 7): at t = 1.3776 s a ball (r0) on the floor is wedged "
+                          "between the left wall and a smaller sleeping ball (r1) whose contact normal points "
+                          "down-right; a two-cycle at one instant: the wall's slow contact reflects vx "
+                          "(-0.038 -> 0.038, elastic: sep = |vn| < rest_speed) and the gentle touch on the held "
+                          "sleeper, pressed by gravity, hops at rest_speed (cap = |v|^2 = 0.0048 >= rest_speed^2, "
+                          "not the floor case: step hopfloor does not touch it) keeping |v|, which maps vx back "
+                          "to -0.038 (vy stays 0.0578): more than 1000 events at one time (stuck)")
 def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck():
     """resting_scene(993908) with boxes, in C."""
     _closed_scene_checks(stuck_at_once(resting_scene(993908, boxes=True)), "resting-993908-boxes.json", "c")

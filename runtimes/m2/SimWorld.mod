@@ -21,7 +21,7 @@ IMPLEMENTATION MODULE SimWorld ;
    slide_accel, end_support, support_relative, schedule_support, first_crossing, rebase,
    overlapping, separation, edge_line, edges_separation, circle_separation,
    live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
-   hop, closing, circles_gap, can_carry, enter_carried, leave, release, predict_released, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
+   hop, pay_floor, closing, circles_gap, can_carry, enter_carried, leave, release, predict_released, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
@@ -114,6 +114,7 @@ VAR
    NContacts, CapContacts: INTEGER ;
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
    NAdded: INTEGER ;           (* bodies added by AddBody (a recording refuses them) *)
+   Unpaid: BOOLEAN ;           (* a hop since sleeper_impulse cleared it added energy (pay_floor could not pay) *)
    EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
    Mark: LONGINT ;             (* the mark of the last large_near (walls_in lists a body once per mark) *)
    Near: IntList ;             (* large_near's and handle_cell's list of large bodies *)
@@ -1724,11 +1725,42 @@ BEGIN
 END closing ;
 
 
+(* A hop at the floor speed adds dE = need / 2 to the pair's energy (need =
+   (floor^2 - cap) / kn): it is paid from the pair's common motion, the
+   velocity V of its centre of mass (mass M), which an equal change of both
+   velocities scales by f = sqrt(1 - need / (M V^2)), leaving their relative
+   motion, hence the hop, untouched.  Not when a body of the pair is held
+   (fixed, or a sleeper held as fixed) or the common motion cannot pay it
+   (M V^2 <= need): FALSE, the hop then adds dE (Unpaid). *)
+PROCEDURE pay_floor (A, B: BodyRef; need: REAL) : BOOLEAN ;
+VAR
+   ma, mb, mass, vx, vy, e2, f, dx, dy: REAL ;
+BEGIN
+   IF (A^.invM = 0.0) OR (B^.invM = 0.0) THEN RETURN FALSE END ;
+   ma := 1.0 / A^.invM ;
+   mb := 1.0 / B^.invM ;
+   mass := ma + mb ;
+   vx := (ma * A^.vx + mb * B^.vx) / mass ;
+   vy := (ma * A^.vy + mb * B^.vy) / mass ;
+   e2 := mass * (vx * vx + vy * vy) ;
+   IF NOT (e2 > need) THEN RETURN FALSE END ;
+   f := sqrt (1.0 - need / e2) ;
+   dx := vx * f - vx ;
+   dy := vy * f - vy ;
+   A^.vx := A^.vx + dx ;
+   A^.vy := A^.vy + dy ;
+   B^.vx := B^.vx + dx ;
+   B^.vy := B^.vy + dy ;
+   RETURN TRUE
+END pay_floor ;
+
+
 (* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
    at hop along n, paid from their relative motion at the contact, so the
    pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
-   sqrt(kn Q), but at least rest_speed / 32 (the one case that adds energy:
-   a pair nearly at rest on each other).  With
+   sqrt(kn Q), but at least rest_speed / 32 (a pair nearly at rest on each
+   other: the energy that adds is paid from the pair's common motion,
+   pay_floor, else the hop sets Unpaid).  With
    u = (vn, vt) the relative velocity of the material points in the frame
    (n, t), t = (-ny, nx), and K the contact's 2x2 inverse mass matrix (kn,
    knt; knt, kt), the pair's energy relative to its centre is Q / 2,
@@ -1786,6 +1818,9 @@ BEGIN
    B^.vx := B^.vx + px * B^.invM ;
    B^.vy := B^.vy + py * B^.invM ;
    B^.om := B^.om + (jn * rbn + jt * rbt) * B^.invI ;
+   IF (cap < floor * floor) AND NOT pay_floor (A, B, (floor * floor - cap) / kn) THEN
+      Unpaid := TRUE
+   END ;
    RETURN jn
 END hop ;
 
@@ -1943,7 +1978,7 @@ END at_rest ;
 (* The impulse of a contact of A and B, one of them (S) asleep: first with
    S held as if fixed (its 1/m and 1/I zero); when that impulse would change
    the normal speed of S's material point by less than rest_speed,
-   j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
+   j (1/mS + (rS x n)^2 / IS) < rest_speed, and no hop of it was Unpaid, it stands (S stays asleep,
    unchanged: a gentle touch); else the other body's velocity is restored
    and the full impulse is applied (S moves: jolted, its island wakes).
    When the other body is fixed (it moves or turns: a sleeper is never
@@ -1969,11 +2004,12 @@ BEGIN
    invI := S^.invI ;
    S^.invM := 0.0 ;
    S^.invI := 0.0 ;
+   Unpaid := FALSE ;
    imp := contact_impulse (A, B, cx, cy, nx, ny, feature, i, j) ;
    S^.invM := invM ;
    S^.invI := invI ;
    rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
-   IF imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed THEN RETURN imp END ;
+   IF (imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed) AND NOT Unpaid THEN RETURN imp END ;
    M^.vx := vx ;
    M^.vy := vy ;
    M^.om := om ;
@@ -2787,6 +2823,7 @@ BEGIN
    Same := 0 ;
    NContacts := 0 ;
    NAdded := 0 ;
+   Unpaid := FALSE ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF NOT b^.large THEN

@@ -333,6 +333,7 @@ struct m2c_world {
     void *user;
     size_t trig_cap;                    /* entries of vtrig and etrig */
     long long added;                    /* bodies added by add_body (a recording refuses them) */
+    int unpaid;                         /* a hop since sleeper_impulse cleared it added energy (pay_floor could not pay) */
     double *scratch;                    /* bound_polygon: scratch_cap polynomials of M2C_MAX_DEGREE + 1 */
     int *scratch_deg;                   /* and their degrees */
     size_t scratch_cap;

@@ -1516,12 +1516,42 @@ static int closing(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t
 /* A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
  * at hop along n, paid from their relative motion at the contact, so the
  * pair's energy stays what it was: hop = rest_speed when kn Q pays it, else
- * sqrt(kn Q), but at least rest_speed / 32.  u = (vn, vt) the relative
+ * sqrt(kn Q), but at least rest_speed / 32 (the energy that adds is paid
+ * from the pair's common motion, pay_floor, else the hop sets unpaid).  u = (vn, vt) the relative
  * velocity of the material points in the frame (n, t), t = (-ny, nx), K the
  * contact's 2x2 inverse mass matrix (kn, knt; knt, kt), Q = u . K^-1 u; the
  * new relative velocity is (hop, x) with the same Q, through the impulse
  * P = K^-1 (u' - u).  Returns its normal part jn (kg m/s). */
-static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
+/* A hop at the floor speed adds dE = need / 2 to the pair's energy (need =
+ * (floor^2 - cap) / kn): it is paid from the pair's common motion, the
+ * velocity V of its centre of mass (mass M), which an equal change of both
+ * velocities scales by f = sqrt(1 - need / (M V^2)), leaving their relative
+ * motion, hence the hop, untouched.  Not when a body of the pair is held
+ * (fixed, or a sleeper held as fixed) or the common motion cannot pay it
+ * (M V^2 <= need): 0, the hop then adds dE (unpaid); else 1. */
+static int pay_floor(m2c_sim_body *A, m2c_sim_body *B, double need)
+{
+    if (A->inv_m == 0.0 || B->inv_m == 0.0)
+        return 0;
+    double ma = 1.0 / A->inv_m;
+    double mb = 1.0 / B->inv_m;
+    double mass = ma + mb;
+    double vx = (ma * A->vx + mb * B->vx) / mass;
+    double vy = (ma * A->vy + mb * B->vy) / mass;
+    double e2 = mass * (vx * vx + vy * vy);
+    if (!(e2 > need))
+        return 0;
+    double f = sqrt(1.0 - need / e2);
+    double dx = vx * f - vx;
+    double dy = vy * f - vy;
+    A->vx = A->vx + dx;
+    A->vy = A->vy + dy;
+    B->vx = B->vx + dx;
+    B->vy = B->vy + dy;
+    return 1;
+}
+
+static double hop(sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
                   double vn)
 {
     double tx = -ny, ty = nx;
@@ -1570,6 +1600,8 @@ static double hop(const sim *m, m2c_sim_body *A, m2c_sim_body *B, double cx, dou
     B->vx = B->vx + px * B->inv_m;
     B->vy = B->vy + py * B->inv_m;
     B->om = B->om + (jn * rbn + jt * rbt) * B->inv_i;
+    if (cap < floor_ * floor_ && !pay_floor(A, B, (floor_ * floor_ - cap) / kn))
+        m->unpaid = 1;
     return jn;
 }
 
@@ -1921,7 +1953,8 @@ static int can_sleep(sim *m, const m2c_sim_body *M, const m2c_sim_body *G, const
 
 /* The impulse of a contact of A and B, one of them (S) asleep: first with
  * S held as if fixed (its 1/m and 1/I zero); when that impulse would change
- * the normal speed of S's material point by less than rest_speed, it
+ * the normal speed of S's material point by less than rest_speed and no
+ * hop of it was unpaid, it
  * stands (S stays asleep, unchanged: a gentle touch); else the other
  * body's velocity is restored and the full impulse is applied (S moves:
  * jolted, its island wakes).  When the other body is fixed (it moves or
@@ -1939,11 +1972,12 @@ static double sleeper_impulse(sim *m, m2c_sim_body *A, m2c_sim_body *B, double c
     double inv_m = S->inv_m, inv_i = S->inv_i;
     S->inv_m = 0.0;
     S->inv_i = 0.0;
+    m->unpaid = 0;
     double imp = contact_impulse(m, A, B, cx, cy, nx, ny, feature, i, j);
     S->inv_m = inv_m;
     S->inv_i = inv_i;
     double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
-    if (imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed)
+    if (imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed && !m->unpaid)
         return imp;
     M->vx = vx;
     M->vy = vy;
@@ -2733,6 +2767,7 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     m->n_pe = pe_variants;
     m->sweep_at = 4096;
     m->last_t = -1.0;
+    m->unpaid = 0;
     CATCH(m);
     if (m2c_sim_out_init(&m->out, trace) != 0)
         die(m, "out of memory");

@@ -358,6 +358,7 @@ class World:
         self.same = 0
         self.contacts: list[Contact] = []    # reported by the next advance()
         self.added = 0              # bodies added by add_body (a recording refuses them)
+        self.unpaid = False         # a hop since sleeper_impulse cleared it added energy (pay_floor could not pay)
         self.handlers = (self.handle_input, self.handle_collision, self.handle_stop, self.handle_leave,
                          self.handle_cell, self.handle_horizon, self.handle_frame)     # by kind
         self.start()
@@ -1322,8 +1323,9 @@ class World:
         """A slow pressed contact (pressed, -vn < rest_speed): the bodies
         separate at hop along n, paid from their relative motion at the
         contact, so the pair's energy stays what it was: hop = rest_speed
-        when kn Q pays it, else sqrt(kn Q), but at least rest_speed / 32 (the
-        one case that adds energy: a pair nearly at rest on each other).  With u = (vn, vt) the relative velocity of the material points
+        when kn Q pays it, else sqrt(kn Q), but at least rest_speed / 32 (a
+        pair nearly at rest on each other: the energy that adds is paid from
+        the pair's common motion, `pay_floor`, else the hop sets `unpaid`).  With u = (vn, vt) the relative velocity of the material points
         in the frame (n, t), t = (-ny, nx), and K the contact's 2x2 inverse
         mass matrix (kn, knt; knt, kt), the pair's energy relative to its
         centre is Q / 2, Q = u . K^-1 u; the new relative velocity is
@@ -1374,7 +1376,38 @@ class World:
         B.vx = B.vx + px * B.inv_m
         B.vy = B.vy + py * B.inv_m
         B.om = B.om + (jn * rbn + jt * rbt) * B.inv_i
+        if cap < floor * floor and not self.pay_floor(A, B, (floor * floor - cap) / kn):
+            self.unpaid = True
         return jn
+
+    @staticmethod
+    def pay_floor(A: Body, B: Body, need: float) -> bool:
+        """A hop at the floor speed adds dE = need / 2 to the pair's energy
+        (need = (floor^2 - cap) / kn): it is paid from the pair's common
+        motion, the velocity V of its centre of mass (mass M), which an
+        equal change of both velocities scales by f = sqrt(1 - need / (M
+        V^2)) (M V^2 f^2 / 2 = M V^2 / 2 - dE) and which leaves their relative
+        motion, hence the hop, untouched.  Not when a body of the pair is
+        held (fixed, or a sleeper held as fixed) or the common motion cannot
+        pay it (M V^2 <= need): False, the hop then adds dE (`unpaid`)."""
+        if A.inv_m == 0.0 or B.inv_m == 0.0:
+            return False
+        ma = 1.0 / A.inv_m
+        mb = 1.0 / B.inv_m
+        mass = ma + mb
+        vx = (ma * A.vx + mb * B.vx) / mass
+        vy = (ma * A.vy + mb * B.vy) / mass
+        e2 = mass * (vx * vx + vy * vy)
+        if not (e2 > need):
+            return False
+        f = math.sqrt(1.0 - need / e2)
+        dx = vx * f - vx
+        dy = vy * f - vy
+        A.vx = A.vx + dx
+        A.vy = A.vy + dy
+        B.vx = B.vx + dx
+        B.vy = B.vy + dy
+        return True
 
     @staticmethod
     def along(b: Body, nx: float, ny: float) -> float:
@@ -1491,11 +1524,12 @@ class World:
         inv_m, inv_i = S.inv_m, S.inv_i
         S.inv_m = 0.0
         S.inv_i = 0.0
+        self.unpaid = False
         imp = self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)
         S.inv_m = inv_m
         S.inv_i = inv_i
         rsn = (cx - S.px) * ny - (cy - S.py) * nx
-        if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed:
+        if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed and not self.unpaid:
             return imp
         M.vx, M.vy, M.om = vx, vy, om
         return self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)

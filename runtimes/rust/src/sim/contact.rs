@@ -105,6 +105,8 @@ pub struct ImpulseCtx<'a> {
     pub feature: i32,
     pub i: i32,
     pub j: i32,
+    /// a hop since sleeper_impulse cleared it added energy (pay_floor could not pay)
+    pub unpaid: bool,
 }
 
 /// The impulse of a contact of the feature (ctx: feature, i, j) at (cx, cy)
@@ -127,7 +129,7 @@ pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &m
         press = closing::<E>(ctx.verts, ctx.tol, ctx.q, a_, b_, ctx.feature, ctx.i, ctx.j)?;
     }
     if press && -vn < rest {
-        return Ok(hop(a_, b_, cx, cy, nx, ny, vn, rest));
+        return Ok(hop(a_, b_, cx, cy, nx, ny, vn, rest, &mut ctx.unpaid));
     }
     let mut imp = 0.0;
     if vn < 0.0 {
@@ -153,8 +155,9 @@ pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &m
 /// A slow pressed contact (pressed, -vn < rest_speed): the bodies separate
 /// at hop along n, paid from their relative motion at the contact, so the
 /// pair's energy stays what it was: hop = rest_speed when kn Q pays it,
-/// else sqrt(kn Q), but at least rest_speed / 32 (the one case that adds
-/// energy: a pair nearly at rest on each other).  With
+/// else sqrt(kn Q), but at least rest_speed / 32 (a pair nearly at rest on
+/// each other: the energy that adds is paid from the pair's common motion,
+/// `pay_floor`, else the hop sets `unpaid`).  With
 /// u = (vn, vt) the relative velocity of the material points in the frame
 /// (n, t), t = (-ny, nx), and K the contact's 2x2 inverse mass matrix (kn,
 /// knt; knt, kt), the pair's energy relative to its centre is Q / 2,
@@ -162,7 +165,7 @@ pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &m
 /// on vt's side of knt hop / kn), through the impulse P = K^-1 (u' - u)
 /// (normal part jn, tangential jt).  Returns jn.
 #[allow(clippy::too_many_arguments)]
-pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> f64 {
+pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64, rest_speed: f64, unpaid: &mut bool) -> f64 {
     let (tx, ty) = (-ny, nx);
     let uax = a_.vx - a_.om * (cy - a_.py);
     let uay = a_.vy + a_.om * (cx - a_.px);
@@ -205,7 +208,40 @@ pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn:
     b_.vx = b_.vx + px * b_.inv_m;
     b_.vy = b_.vy + py * b_.inv_m;
     b_.om = b_.om + (jn * rbn + jt * rbt) * b_.inv_i;
+    if cap < floor * floor && !pay_floor(a_, b_, (floor * floor - cap) / kn) {
+        *unpaid = true;
+    }
     jn
+}
+
+/// A hop at the floor speed adds dE = need / 2 to the pair's energy (need =
+/// (floor^2 - cap) / kn): it is paid from the pair's common motion, the
+/// velocity V of its centre of mass (mass M), which an equal change of both
+/// velocities scales by f = sqrt(1 - need / (M V^2)), leaving their
+/// relative motion, hence the hop, untouched.  Not when a body of the pair
+/// is held (fixed, or a sleeper held as fixed) or the common motion cannot
+/// pay it (M V^2 <= need): false, the hop then adds dE (`unpaid`).
+pub fn pay_floor(a_: &mut Body, b_: &mut Body, need: f64) -> bool {
+    if a_.inv_m == 0.0 || b_.inv_m == 0.0 {
+        return false;
+    }
+    let ma = 1.0 / a_.inv_m;
+    let mb = 1.0 / b_.inv_m;
+    let mass = ma + mb;
+    let vx = (ma * a_.vx + mb * b_.vx) / mass;
+    let vy = (ma * a_.vy + mb * b_.vy) / mass;
+    let e2 = mass * (vx * vx + vy * vy);
+    if !(e2 > need) {
+        return false;
+    }
+    let f = (1.0 - need / e2).sqrt();
+    let dx = vx * f - vx;
+    let dy = vy * f - vy;
+    a_.vx = a_.vx + dx;
+    a_.vy = a_.vy + dy;
+    b_.vx = b_.vx + dx;
+    b_.vy = b_.vy + dy;
+    true
 }
 
 /// n . t of a supported body's edge tangent t (0 for a fixed body).
@@ -276,7 +312,7 @@ pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: O
 /// The impulse of a contact of A and B, one of them (S) asleep: first with
 /// S held as if fixed (its 1/m and 1/I zero); when that impulse would
 /// change the normal speed of S's material point by less than rest_speed,
-/// j (1/mS + (rS x n)^2 / IS) < rest_speed, it stands (S stays asleep,
+/// j (1/mS + (rS x n)^2 / IS) < rest_speed, and no hop of it was `unpaid`, it stands (S stays asleep,
 /// unchanged: a gentle touch); else the other body's velocity is restored
 /// and the full impulse is applied (S moves: `jolted`, its island wakes).
 /// When the other body is fixed (it moves or turns: a sleeper is never
@@ -296,13 +332,14 @@ pub fn sleeper_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &m
         s_.inv_i = 0.0;
         held
     };
+    ctx.unpaid = false;
     let imp = contact_impulse::<E>(ctx, a_, b_, cx, cy, nx, ny)?;
     {
         let s_ = if a_sleeps { &mut *a_ } else { &mut *b_ };
         s_.inv_m = inv_m;
         s_.inv_i = inv_i;
         let rsn = (cx - s_.px) * ny - (cy - s_.py) * nx;
-        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < ctx.rest_speed {
+        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < ctx.rest_speed && !ctx.unpaid {
             return Ok(imp);
         }
     }

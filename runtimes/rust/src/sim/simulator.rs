@@ -65,7 +65,7 @@ impl<E: Equations> World<E> {
             held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
         } else {
             let s = &mut self.w.s;
-            let mut ctx = ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j };
+            let mut ctx = ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j, unpaid: false };
             let (a_, b_) = two_mut(&mut s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
                 sleeper_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
