@@ -103,9 +103,9 @@ def test_without_a_c_compiler_the_command_says_so_and_writes_the_same_bytes(monk
     want, notes = run("c")
     assert notes == [] and want.count("\n") > 100
     assert run("python") == (want, [])
-    monkeypatch.setattr(trace_json, "_tried", True)
-    monkeypatch.setattr(trace_json, "_lib", None)
-    monkeypatch.setattr(trace_json, "_why", "gcc not found")
+    monkeypatch.setattr(trace_json.TOOL, "_tried", True)
+    monkeypatch.setattr(trace_json.TOOL, "_lib", None)
+    monkeypatch.setattr(trace_json.TOOL, "_why", "gcc not found")
     got, notes = run("auto")
     assert got == want
     assert notes == ["max2code simulate: note: the C trace converter cannot be built (gcc not found); "

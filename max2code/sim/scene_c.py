@@ -16,23 +16,30 @@ gives the same bytes or the precise error; so does a machine without gcc."""
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import json
-import os
-import subprocess
-import tempfile
 from dataclasses import dataclass
 
-from max2code.paths import BUILD, RUNTIMES
+from max2code.paths import RUNTIMES
+from max2code.sim.ctool import CTool
 from max2code.sim.scene import (Scene, SceneError, _body, _box, _check_body_magnitudes, _Reader, body_lines,
                                 covered_edges)
 
 SOURCE = RUNTIMES / "c" / "tools" / "m2c_scene_flat.c"
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", "-shared", "-fPIC"]
 FACTS = 11          # the numbers sf_facts gives
-_lib: ctypes.PyDLL | None = None
-_tried = False
-_why = ""
+_p, _long_p = ctypes.c_void_p, ctypes.POINTER(ctypes.c_long)
+TOOL = CTool(SOURCE, FLAGS, "scene-flat", ctypes.PyDLL, [
+    ("sf_new", _p, []), ("sf_free", None, [_p]),
+    ("sf_parse", ctypes.c_int, [_p, ctypes.c_char_p, ctypes.c_long]),
+    ("sf_polygons", ctypes.c_long, [_p]),
+    ("sf_polygon", None, [_p, ctypes.c_long, _long_p, _long_p, _long_p]),
+    ("sf_facts", None, [_p, ctypes.POINTER(ctypes.c_double)]),
+    ("sf_names", _p, [_p, _long_p]),
+    ("sf_compile", ctypes.c_int, [_p, ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_ubyte)]),
+    ("sf_text", _p, [_p, _long_p]),
+    ("sf_part", ctypes.c_long, [_p, ctypes.c_long, ctypes.c_long]),
+    ("sf_number", ctypes.c_int, [ctypes.c_char_p, ctypes.c_long, ctypes.POINTER(ctypes.c_double)]),
+    ("sf_repr", ctypes.c_long, [ctypes.c_double, ctypes.c_char_p, ctypes.c_long])])
 
 
 PART = 4096        # bodies' lines made at a time by parts()
@@ -91,66 +98,20 @@ class FlatScene:
 
 
 def build() -> str:
-    """The shared library's path, compiled when its source or flags changed."""
-    src = SOURCE.read_bytes()
-    digest = hashlib.sha256(src + "\0".join(FLAGS).encode()).hexdigest()[:16]
-    folder = BUILD / "scene-flat" / digest
-    lib = folder / "libm2c_scene_flat.so"
-    if not lib.exists():
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(suffix=".so", dir=folder)
-        os.close(fd)
-        try:
-            subprocess.run(["gcc", *FLAGS, str(SOURCE), "-o", tmp], check=True, capture_output=True, timeout=300)
-            os.replace(tmp, lib)         # whole or not at all, with other runs building at once
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-    return str(lib)
+    """The shared library's path (TOOL.build)."""
+    return TOOL.build()
 
 
 def library() -> ctypes.PyDLL | None:
     """The loaded library (a PyDLL: its calls keep the interpreter's lock, which
     the interpreter's number conversions it calls need), or None when it
     cannot be built or loaded (why_not() says why)."""
-    global _lib, _tried, _why
-    if not _tried:
-        _tried = True
-        try:
-            lib = ctypes.PyDLL(build())
-        except subprocess.CalledProcessError as exc:
-            err = (exc.stderr or b"").decode("ascii", "replace").strip().splitlines()
-            _why = f"gcc failed on {SOURCE.name}" + (f": {err[0]}" if err else "")
-            return None
-        except FileNotFoundError as exc:
-            _why = f"{exc.filename or 'gcc'} not found"
-            return None
-        except (OSError, subprocess.SubprocessError) as exc:
-            _why = f"{type(exc).__name__}: {exc}"
-            return None
-        p, long_p = ctypes.c_void_p, ctypes.POINTER(ctypes.c_long)
-        for name, res, args in (("sf_new", p, []), ("sf_free", None, [p]),
-                                ("sf_parse", ctypes.c_int, [p, ctypes.c_char_p, ctypes.c_long]),
-                                ("sf_polygons", ctypes.c_long, [p]),
-                                ("sf_polygon", None, [p, ctypes.c_long, long_p, long_p, long_p]),
-                                ("sf_facts", None, [p, ctypes.POINTER(ctypes.c_double)]),
-                                ("sf_names", p, [p, long_p]),
-                                ("sf_compile", ctypes.c_int, [p, ctypes.POINTER(ctypes.c_double),
-                                                              ctypes.POINTER(ctypes.c_ubyte)]),
-                                ("sf_text", p, [p, long_p]),
-                                ("sf_part", ctypes.c_long, [p, ctypes.c_long, ctypes.c_long]),
-                                ("sf_number", ctypes.c_int, [ctypes.c_char_p, ctypes.c_long,
-                                                             ctypes.POINTER(ctypes.c_double)]),
-                                ("sf_repr", ctypes.c_long, [ctypes.c_double, ctypes.c_char_p, ctypes.c_long])):
-            fn = getattr(lib, name)
-            fn.restype, fn.argtypes = res, args
-        _lib = lib
-    return _lib
+    return TOOL.library()
 
 
 def why_not() -> str:
     """Why library() returned None (empty when it did not)."""
-    return _why
+    return TOOL.why_not()
 
 
 def read_scene(path: str) -> FlatScene | None:

@@ -12,74 +12,35 @@ error; and without a C compiler the command converts in Python."""
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import subprocess
-import tempfile
 
-from max2code.paths import BUILD, RUNTIMES
+from max2code.paths import RUNTIMES
+from max2code.sim.ctool import CTool
 
 SOURCE = RUNTIMES / "c" / "tools" / "m2c_trace_json.c"
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-shared", "-fPIC"]
-_lib: ctypes.CDLL | None = None
-_tried = False
-_why = ""          # why the library could not be had (after library() returned None)
+_long_p = ctypes.POINTER(ctypes.c_long)
+TOOL = CTool(SOURCE, FLAGS, "trace-json", ctypes.CDLL, [
+    ("tj_new", ctypes.c_void_p, [ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long]),
+    ("tj_free", None, [ctypes.c_void_p]),
+    ("tj_finals", ctypes.c_long, [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long]),
+    ("tj_convert", ctypes.c_long, [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long,
+                                   ctypes.c_int, _long_p, _long_p])])
 
 
 def build() -> str:
-    """The shared library's path, compiled when its source or flags changed;
-    OSError or CalledProcessError when it cannot be."""
-    src = SOURCE.read_bytes()
-    digest = hashlib.sha256(src + "\0".join(FLAGS).encode()).hexdigest()[:16]
-    folder = BUILD / "trace-json" / digest
-    lib = folder / "libm2c_trace_json.so"
-    if not lib.exists():
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(suffix=".so", dir=folder)
-        os.close(fd)
-        try:
-            subprocess.run(["gcc", *FLAGS, str(SOURCE), "-o", tmp], check=True, capture_output=True, timeout=300)
-            os.replace(tmp, lib)         # whole or not at all, with other runs building at once
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-    return str(lib)
+    """The shared library's path (TOOL.build)."""
+    return TOOL.build()
 
 
 def library() -> ctypes.CDLL | None:
     """The loaded library, or None when it cannot be built or loaded (then
     why_not() says why)."""
-    global _lib, _tried, _why
-    if not _tried:
-        _tried = True
-        try:
-            lib = ctypes.CDLL(build())
-        except subprocess.CalledProcessError as exc:
-            err = (exc.stderr or b"").decode("ascii", "replace").strip().splitlines()
-            _why = f"gcc failed on {SOURCE.name}" + (f": {err[0]}" if err else "")
-            return None
-        except FileNotFoundError as exc:
-            _why = f"{exc.filename or 'gcc'} not found"
-            return None
-        except (OSError, subprocess.SubprocessError) as exc:
-            _why = f"{type(exc).__name__}: {exc}"
-            return None
-        lib.tj_new.restype = ctypes.c_void_p
-        lib.tj_new.argtypes = [ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long]
-        lib.tj_free.restype = None
-        lib.tj_free.argtypes = [ctypes.c_void_p]
-        lib.tj_finals.restype = ctypes.c_long
-        lib.tj_finals.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long]
-        lib.tj_convert.restype = ctypes.c_long
-        lib.tj_convert.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_long, ctypes.c_char_p, ctypes.c_long,
-                                   ctypes.c_int, ctypes.POINTER(ctypes.c_long), ctypes.POINTER(ctypes.c_long)]
-        _lib = lib
-    return _lib
+    return TOOL.library()
 
 
 def why_not() -> str:
     """Why library() returned None (empty when it did not)."""
-    return _why
+    return TOOL.why_not()
 
 
 class CTrace:
