@@ -79,3 +79,45 @@ def test_random_resting_scenes_agree_in_all_four_runtimes(seed):
         with open(path, "w", encoding="utf-8") as fh:
             json.dump(resting_scene(seed, boxes=False), fh)
         _agree(path)
+
+
+def _agree_raw(raw, name):
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, name)
+        with open(path, "w", encoding="utf-8") as fh:
+            json.dump(raw, fh)
+        _agree(path)
+
+
+def _box(name, x, y, half, **kw):
+    b = {"name": name, "shape": "polygon", "mass": 1.0, "position": [x, y],
+         "vertices": [[-half, -half], [half, -half], [half, half], [-half, half]]}
+    b.update(kw)
+    return b
+
+
+def test_a_stack_carried_by_a_driven_plank_agrees_in_all_four_runtimes():
+    """Carried bodies (docs/simulator.md, "Carried bodies") under every change
+    of their base's motion: a fixed plank under a box, a smaller box and a
+    ball, all at rest; the plank is driven (set_velocity) and stopped, the
+    base box is pushed, the middle box removed.  The four runtimes write the
+    same bytes, and the run goes through supports, leaves, sleeps and wakes."""
+    raw = {"end_time": 2.0, "gravity": [0.0, -9.81], "frame_rate": 20, "bodies": [
+        {"name": "plank", "shape": "polygon", "fixed": True, "position": [0.0, -0.05], "friction": 1.0,
+         "vertices": [[-2.0, -0.05], [2.0, -0.05], [2.0, 0.05], [-2.0, 0.05]]},
+        _box("base", 0.0, 0.1, 0.1, friction=1.0),
+        _box("mid", 0.02, 0.25, 0.05, friction=1.0),
+        {"name": "top", "shape": "circle", "radius": 0.05, "mass": 1.0, "position": [0.03, 0.35], "friction": 1.0}],
+        "inputs": [{"time": 0.2, "body": "plank", "set_velocity": [0.4, 0.0]},
+                   {"time": 0.7, "body": "plank", "set_velocity": [0.0, 0.0]},
+                   {"time": 1.0, "body": "base", "set_velocity": [0.3, 0.0]},
+                   {"time": 1.3, "body": "mid", "remove": True}]}
+    _agree_raw(raw, "driven-stack.json")
+
+
+@pytest.mark.parametrize("seed,boxes", [(1909, False), (244, True), (47, True), (33, True)])
+def test_scenes_whose_hops_pay_the_floor_agree_in_all_four_runtimes(seed, boxes):
+    """The seed hunt's scenes where a hop at the floor speed is paid from the
+    pair's common motion, or a sleeper's touch is not gentle because its hop
+    could not be (docs/simulator.md, "Hop"): the four runtimes write the same bytes."""
+    _agree_raw(resting_scene(seed, boxes=boxes), f"resting-{seed}{'-boxes' if boxes else ''}.json")
