@@ -15,7 +15,7 @@ from max2code.conformance.exact_ref import reference
 from max2code.sim.invariants import check, energy_growth
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import load_scene, parse_scene
-from max2code.sim.simulate import run_scene
+from max2code.sim.simulate import SimulateError, run_scene
 
 sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import spinning_scene  # noqa: E402
@@ -133,3 +133,13 @@ def test_a_polygon_resting_on_a_sliding_polygon_never_gains_energy(lang):
     rp = read_trace("\n".join(tr.lines()), scene, "spinning-26.json")
     er = energy_growth(scene, rp)
     assert er.instants > 0 and er.max_growth <= 1e-12, er
+
+
+@pytest.mark.xfail(strict=True, raises=SimulateError,
+                   reason="known (seed hunt of session 8, 200 random spinning scenes, 1 stuck; stuck on main "
+                          "before this session's steps too): spinning_scene 64739 stuck at t = 1.2938 s (more "
+                          "than 1000 events at one time); cause not analysed yet")
+def test_random_spinning_scene_64739_finishes():
+    raw = spinning_scene(64739)
+    raw["max_events_at_one_time"] = 1000
+    run_scene(parse_scene(json.dumps(raw), "spinning-64739.json"), "c")
