@@ -502,8 +502,11 @@ def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck():
 @pytest.mark.xfail(strict=True, raises=SimulateError,
                    reason="known (seed hunt of session 8, 400 random box scenes, 2 stuck; both stuck on main "
                           "before this session's steps too): resting_scene 15095 with boxes stuck at "
-                          "t = 0.7893 s, 788526 at t = 0.99999 s (more than 1000 events at one time); cause "
-                          "not analysed yet (993908 above is a two-cycle of a wall's slow contact and a hop)")
+                          "t = 0.7893 s, 788526 at t = 0.99999 s (more than 1000 events at one time). 15095: a box (r0) "
+                          "wedged between the left wall (both its left corners on it) and a ball (r1) pressing it "
+                          "there, a three-cycle of impulses at one instant (corner 0 on the wall, corner 3 on the "
+                          "wall, the ball), the class of 993908 above: simultaneous contacts that need solving "
+                          "together; 788526 not analysed yet")
 @pytest.mark.parametrize("seed", [15095, 788526])
 def test_random_box_scenes_found_stuck_finish(seed):
     """resting_scene(seed) with boxes, in C."""
