@@ -138,7 +138,9 @@ def test_a_polygon_resting_on_a_sliding_polygon_never_gains_energy(lang):
 @pytest.mark.xfail(strict=True, raises=SimulateError,
                    reason="known (seed hunt of session 8, 200 random spinning scenes, 1 stuck; stuck on main "
                           "before this session's steps too): spinning_scene 64739 stuck at t = 1.2938 s (more "
-                          "than 1000 events at one time); cause not analysed yet")
+                          "than 1000 events at one time): polygon p6 wedged between the right wall and polygon p1, which "
+                          "sleeps on the floor; each hit wakes p1, which is supported and falls asleep again at "
+                          "once, a cycle at one instant (the wedged class of test_contact.py's 993908)")
 def test_random_spinning_scene_64739_finishes():
     raw = spinning_scene(64739)
     raw["max_events_at_one_time"] = 1000
