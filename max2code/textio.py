@@ -93,6 +93,8 @@ def open_output(path: str | None, option: str = "-o") -> Iterator[IO[str]]:
         os.replace(tmp, path)
     except OSError as exc:
         _remove(tmp)
+        if exc.filename not in (None, tmp, path):
+            raise           # another file's fault (a program that cannot start, an input): not the output's
         raise OutputError(f"{option} {path}: error: cannot write: {exc.strerror or exc}") from None
     except BaseException:
         _remove(tmp)

@@ -274,6 +274,49 @@ def test_output_into_a_missing_folder_or_onto_a_folder(tmp_path, capsys, cmd, wh
     assert code == 1 and ("does not exist" in msg if where == "missing" else "is a folder" in msg)
 
 
+def test_a_fault_of_another_file_inside_an_output_block_is_not_blamed_on_the_output(tmp_path):
+    """open_output reports its own file's faults as `-o FILE: cannot write`;
+    an OSError about another file raised inside the block (a program that
+    cannot start) passes through as it is, and the half-written file is gone."""
+    from max2code.textio import OutputError, open_output
+    out = tmp_path / "t.jsonl"
+    with pytest.raises(PermissionError):
+        with open_output(str(out)) as fh:
+            fh.write("x")
+            raise PermissionError(13, "Permission denied", "/some/where/sim")
+    with pytest.raises(OutputError, match="cannot write: No space left on device"):
+        with open_output(str(out)) as fh:
+            raise OSError(28, "No space left on device")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_simulator_program_deleted_from_its_build_is_built_again(tmp_path, capsys):
+    """The build stamps match but the program is gone (deleted, or replaced
+    by another run at that moment): simulate builds it again and runs, and
+    writes its output file (it used to fail as `-o FILE: cannot write`)."""
+    from max2code.sim.scene import load_scene
+    from max2code.sim.simulate import build_simulator
+    path = os.path.join(ROOT, "examples", "newtons-cradle.json")
+    scene = load_scene(path)
+    program = build_simulator("c", scene.effects, scene.taylor_order).run_cmd[0]
+    os.unlink(program)
+    out = tmp_path / "t.jsonl"
+    code, _, err = run(capsys, "simulate", "--lang", "c", path, "-q", "-o", out)
+    assert code == 0, err
+    assert os.path.exists(program) and out.read_text().count("\n") > 100
+
+
+def test_a_simulator_that_cannot_start_is_named(tmp_path, monkeypatch):
+    """A program that exists but cannot be run is a SimulateError naming it."""
+    from max2code.sim.scene import load_scene
+    from max2code.sim.simulate import SimBuild, SimulateError, start_simulator
+    prog = tmp_path / "sim"
+    prog.write_text("not a program")           # not executable
+    build = SimBuild("c", str(tmp_path), [str(prog)], {}, {})
+    with pytest.raises(SimulateError, match=r"cannot start the c simulator .*sim: Permission denied"):
+        start_simulator(build)
+
+
 BAD_BYTES = b"\xff\xfe\x00bad"
 
 

@@ -10,6 +10,7 @@ import json
 import operator
 import os
 import re
+import shutil
 import subprocess
 import threading
 import time
@@ -45,6 +46,19 @@ def handled_events(counts: dict[str, int]) -> int:
 
 class SimulateError(Max2CodeError):
     """The simulator did not build, failed, or reported a stuck scene."""
+
+
+def start_simulator(build: "SimBuild", **kw) -> subprocess.Popen:
+    """The built simulator started with pipes to and from it; a program that
+    cannot be run (gone, not executable: e.g. rebuilt by another run at that
+    moment) is a SimulateError that names it, not an OSError that a caller
+    could take for a fault of its output file."""
+    try:
+        return subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                cwd=build.workdir, **kw)
+    except OSError as exc:
+        raise SimulateError(f"cannot start the {build.lang} simulator {build.run_cmd[0]}: "
+                            f"{exc.strerror or exc}; another max2code run may be rebuilding it: run the command again") from None
 
 
 @dataclass
@@ -108,11 +122,16 @@ def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild
     try:
         if (workdir / "inputs.stamp").read_text() == key.hexdigest() and (workdir / "build.stamp").exists():
             saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
-            if all(os.path.exists(g) for g in saved["generated"].values()):
+            if all(os.path.exists(g) for g in saved["generated"].values()) and _runnable(saved["run"]):
                 return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
     except (OSError, ValueError, KeyError, TypeError):
         pass
     return None
+
+
+def _runnable(run_cmd: list[str]) -> bool:
+    """The simulator's program is there (a path, or a command on PATH such as python3)."""
+    return os.path.exists(run_cmd[0]) or shutil.which(run_cmd[0]) is not None
 
 
 def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> SimBuild:
@@ -151,7 +170,8 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     cmds = tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
     h.update(json.dumps(cmds).encode())     # new flags rebuild too
     digest = h.hexdigest()
-    if not stamp.exists() or stamp.read_text() != digest:
+    run = tgt.sim_run(str(workdir), generated)
+    if not stamp.exists() or stamp.read_text() != digest or not _runnable(run):     # a deleted program too
         for cmd in cmds:
             proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
                                   timeout=1800)
@@ -159,7 +179,6 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
                 raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
         stamp.write_text(digest)
-    run = tgt.sim_run(str(workdir), generated)
     names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
     inputs_stamp.write_text(key.hexdigest())
     return SimBuild(lang, str(workdir), run, names, generated)
@@ -734,8 +753,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             check()
             check = None
         build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
-    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=build.workdir)
+    proc = start_simulator(build)
     err: list[bytes] = []
 
     def drain_errors():
@@ -828,8 +846,14 @@ def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float
     for tests and comparisons; `max2code simulate` streams with stream_scene)."""
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     flat = compile_scene(scene)
-    proc = subprocess.run(build.run_cmd, input=flat, capture_output=True, text=True, cwd=build.workdir,
-                          timeout=timeout)
+    proc = start_simulator(build, text=True)
+    try:
+        out, errs = proc.communicate(flat, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        raise
+    proc = subprocess.CompletedProcess(build.run_cmd, proc.returncode, out, errs)
     if proc.returncode != 0:
         last = proc.stdout.rstrip().splitlines()[-1] if proc.stdout.strip() else ""
         if last.startswith("X "):
@@ -843,8 +867,7 @@ def time_engine(build: SimBuild, flat: str, timeout: float = 3600) -> tuple[floa
     (user + system) of its process, its N counters by name).  The trace is
     drained as it comes and only its tail kept (the N lines are near the end)."""
     t0 = time.perf_counter()
-    proc = subprocess.Popen(build.run_cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=build.workdir)
+    proc = start_simulator(build)
     err: list[bytes] = []
 
     def feed_input():
