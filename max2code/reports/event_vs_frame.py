@@ -778,10 +778,12 @@ positions it saw.
 
 **Our contacts, and rest-speed ones.** Our contacts are our collisions and
 our *support* events (a contact that ends with a body resting or sliding
-on a fixed edge: a frame engine sees its begin too).  Our model gives every
+on a fixed edge, or carried on a movable box's face: a frame engine sees
+its begin too).  Our model gives every
 bouncing contact a separation speed of at least `min(approach, rest_speed)`
 (0.05 m/s, docs/simulator.md), so that a body lying on another movable body
-keeps hopping a fraction of a millimetre where Chipmunk holds one
+that cannot carry it (a ball, a turning body, a box that slides without
+friction under it) keeps hopping a fraction of a millimetre where Chipmunk holds one
 persistent contact.  A *rest-speed* contact is one where this floor set the
 separation speed (restitution times approach speed below
 `min(approach, rest_speed)`) or that ends in support, *and* that approaches
@@ -834,7 +836,8 @@ The table gives its time and how many real contacts agreed before it.
 After it the two runs are different histories.
 
 What is not modelled alike: our `rest_speed` floor (above) and our
-contact model (a body rests or slides only on fixed edges, with the exact
+contact model (a body rests or slides on fixed edges and is carried on
+movable boxes that do not turn, with the exact
 Coulomb rule, docs/simulator.md; Chipmunk solves every contact, movable
 ones too, with an iterative impulse solver and static friction); Chipmunk
 solves simultaneous contacts (the billiard rack, whose balls are 5.7e-9 m
