@@ -136,6 +136,27 @@ static int same(tok_t t, const char *lit)
     return (size_t)t.n == n && memcmp(t.s, lit, n) == 0;
 }
 
+/* The space-separated fields of the line [p, nl) into t (at most `most`):
+   their count, or -1 for a blank field or line, or too many fields. */
+static int split_line(const char *p, const char *nl, tok_t *t, int most)
+{
+    int n = 0;
+    const char *q = p;
+    for (;;) {
+        const char *sp = q;
+        while (sp < nl && *sp != ' ')
+            sp++;
+        if (sp == q || n == most)
+            return -1;
+        t[n].s = q;
+        t[n].n = sp - q;
+        n++;
+        if (sp == nl)
+            return n;
+        q = sp + 1;
+    }
+}
+
 /* Returns the bytes written to out, -1 when Python must convert this chunk,
    -2 when out is too small; *events: the E lines of the chunk, *lines: its lines. */
 long tj_convert(void *handle, const char *in, long size, char *out, long cap, int frames, long *events,
@@ -151,21 +172,9 @@ long tj_convert(void *handle, const char *in, long size, char *out, long cap, in
     while (p < end) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
         tok_t t[13];
-        int n = 0;
-        const char *q = p;
-        for (;;) {
-            const char *sp = q;
-            while (sp < nl && *sp != ' ')
-                sp++;
-            if (sp == q || n == 13)
-                return -1;           /* a blank field or line, or too many fields */
-            t[n].s = q;
-            t[n].n = sp - q;
-            n++;
-            if (sp == nl)
-                break;
-            q = sp + 1;
-        }
+        int n = split_line(p, nl, t, 13);
+        if (n < 0)
+            return -1;
         p = nl + 1;
         n_lines++;
         if (n == 11 && same(t[0], "S")) {
@@ -282,21 +291,9 @@ long tj_finals(void *handle, const char *in, long size, char *out, long cap)
     while (p < end) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
         tok_t t[8];
-        int n = 0;
-        const char *q = p;
-        for (;;) {
-            const char *sp = q;
-            while (sp < nl && *sp != ' ')
-                sp++;
-            if (sp == q || n == 8)
-                return -1;           /* a blank field or line, or too many fields */
-            t[n].s = q;
-            t[n].n = sp - q;
-            n++;
-            if (sp == nl)
-                break;
-            q = sp + 1;
-        }
+        int n = split_line(p, nl, t, 8);
+        if (n < 0)
+            return -1;
         long b = n == 8 && same(t[0], "F") ? index_of(t[1], h->count - 1) : -2;
         if (b < 0)
             return -1;
