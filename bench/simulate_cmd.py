@@ -9,7 +9,8 @@ For each size, the end time is scaled (one pilot run) so that the run handles
 about `--events` events; the scene is written to a temporary JSON file, the
 engine is run on its flat form (trace drained into a pipe), then the command
 `max2code simulate --lang LANG SCENE -o TRACE -q --converter CONV` runs in a
-fresh Python process.  With `--repeat N` the engine and the commands run in turn N times,
+fresh Python process (the checkout's modules compiled to bytecode first, as an
+install does; the last run's trace file removed before each run).  With `--repeat N` the engine and the commands run in turn N times,
 and the least wall time and the least CPU time of each are shown (on a shared
 machine the others waited for a core).
 `--against DIR` adds the command of another checkout (its own build
@@ -98,9 +99,21 @@ def command(scene_path: str, out: str, lang: str, converter: str, root: str = RO
     extra = [] if converter == "auto" else ["--converter", converter]     # auto: the default, and any version's
     # run from the checkout: `python -m` puts the current folder first on the path, before PYTHONPATH, so from
     # another checkout's folder it would import that one's max2code
+    if os.path.exists(out):     # freeing the last run's trace (tens of MB) is not this run's work
+        os.unlink(out)
     wall, cpu, mb, _ = timed([sys.executable, "-m", "max2code", "simulate", "--lang", lang, scene_path, "-o", out,
                               "-q", *extra], env=env, cwd=root)
     return wall, cpu, mb, os.path.getsize(out)
+
+
+def compiled(root: str) -> None:
+    """The checkout's Python modules compiled to bytecode, as an install
+    does (`pip install` compiles them, and a first run writes them): with
+    PYTHONDONTWRITEBYTECODE set, as on the project's machine, every command
+    would compile them again from source, some 0.1 s."""
+    for sub in ("max2code", os.path.join("runtimes", "python", "max2code_rt")):
+        subprocess.run([sys.executable, "-m", "compileall", "-q", os.path.join(root, sub)], check=True,
+                       stdout=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
 
 
 def best(results: list[tuple]) -> tuple:
@@ -151,6 +164,8 @@ def main(argv: list[str]) -> int:
     cmds = [(conv, ROOT, conv) for conv in convs]
     if args.against:
         cmds.append(("other", os.path.abspath(args.against), "auto"))
+    for root in sorted({root for _, root, _ in cmds}):
+        compiled(root)
     print(HEAD)
     with tempfile.TemporaryDirectory(prefix="simcmd-") as tmp:
         out, flat_path = os.path.join(tmp, "trace.jsonl"), os.path.join(tmp, "scene.flat")
