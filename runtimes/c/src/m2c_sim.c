@@ -3,6 +3,7 @@
  * expression is written as Python evaluates it (left to right, the same
  * parentheses), compiled with -ffp-contract=off, so the trace has the same
  * bytes.  Units: s, m, m/s, m/s^2, rad, rad/s. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -1203,6 +1204,24 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                     bu = 0.0;
                     baxis = axis;
                     bdir = dir;
+                }
+                continue;
+            }
+            if (a == 0.0) {
+                /* v moves across the boundary (tested above): one root, the
+                 * root finder's degree-1 answer (one division, the same bits
+                 * as m2c_smallest_root of c, whose c[2] is zero) without
+                 * the call */
+                double u = -c[0] / v;
+                if ((fabs(ulo) <= DBL_MAX) & (fabs(uhi) <= DBL_MAX) & (fabs(c[0]) <= DBL_MAX) & (fabs(v) <= DBL_MAX)
+                    && ulo < u && u <= uhi) {
+                    u = u + 0.0;
+                    if (!have || u < bu) {
+                        have = 1;
+                        bu = u;
+                        baxis = axis;
+                        bdir = dir;
+                    }
                 }
                 continue;
             }

@@ -829,6 +829,19 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 }
                 continue;
             }
+            if a == 0.0 {
+                // v moves across the boundary (tested above): one root, the
+                // root finder's degree-1 answer (one division, the same bits
+                // as smallest_root of c, whose c[2] is zero) without the call
+                let u = -c[0] / v;
+                if ulo.is_finite() && uhi.is_finite() && c[0].is_finite() && v.is_finite() && ulo < u && u <= uhi {
+                    let u = u + 0.0;
+                    if best.is_none_or(|bb| u < bb.0) {
+                        best = Some((u, axis, direction));
+                    }
+                }
+                continue;
+            }
             let mut lo = ulo;
             for _ in 0..3 {
                 let Some(u) = smallest_root(&c, lo, uhi) else {
