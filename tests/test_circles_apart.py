@@ -62,6 +62,15 @@ def test_clear_cases(world):
     assert not world.circles_apart(args, kappa)               # relative acceleration: left to the polynomial
 
 
+def test_underflow(world):
+    """Touching now and approaching at 1e-162 m/s: |v|^2 underflows to 0
+    while (p x v)^2 does not, so without the bounds on the sizes the miss
+    test said apart; the full prediction finds the contact now."""
+    args, kappa, t = full(world, params(10.0, 0.0, -1e-162, 1e-162), 5.0, params(0.0, 0.0, 0.0, 0.0), 5.0)
+    assert t == 0.0
+    assert not world.circles_apart(args, kappa)
+
+
 finite = st.floats(min_value=-10.0, max_value=10.0, allow_nan=False, allow_infinity=False)
 radius = st.floats(min_value=0.0, max_value=1.0, allow_nan=False, allow_infinity=False)
 
@@ -98,3 +107,17 @@ def test_grazing_approach(world, ang, miss, far, speed, r):
     ux, uy = math.cos(ang), math.sin(ang)   # direction of motion
     x, y = -far * R * ux - b * uy, -far * R * uy + b * ux
     check(world, x, y, speed * ux, speed * uy, r, r)
+
+
+magnitude = st.integers(min_value=-600, max_value=600)
+mantissa = st.floats(min_value=-1.0, max_value=1.0, allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=3000, deadline=None)
+@given(x=mantissa, y=mantissa, vx=mantissa, vy=mantissa, ex=magnitude, ev=magnitude, r=magnitude)
+def test_extreme_magnitudes(world, x, y, vx, vy, ex, ev, r):
+    """Positions, speeds and radii from 2^-600 to 2^600 (underflow and
+    overflow in the products): apart only when the full prediction finds
+    nothing."""
+    s, v = math.ldexp(1.0, ex), math.ldexp(1.0, ev)
+    check(world, x * s, y * s, vx * v, vy * v, math.ldexp(0.5, r), math.ldexp(0.5, r))

@@ -71,6 +71,10 @@ CONST
    (* CirclesApart's margins: far above the coefficients' rounding *)
    TwoM40 = 1.0 / 1099511627776.0 ;
    TwoM30 = 1.0 / 1073741824.0 ;
+   TwoM90 = TwoM30 * TwoM30 * TwoM30 ;
+   TwoM450 = TwoM90 * TwoM90 * TwoM90 * TwoM90 * TwoM90 ;   (* ... and its bounds on sizes *)
+   TwoP450 = 1.0 / TwoM450 ;
+   TwoM900 = TwoM450 * TwoM450 ;
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
@@ -584,19 +588,25 @@ END CirclesFirst ;
    contact, decided without the polynomial (docs/simulator.md, "Pairs that
    stay apart"): the centres separate (p . v > 0 by more than its rounding),
    or they approach on a line that passes farther than r from each other
-   ((p x v)^2 > (r^2 + kappa) |v|^2 by more than the rounding). *)
+   ((p x v)^2 > (r^2 + kappa) |v|^2 by more than the rounding); sizes
+   bounded so that nothing underflows or overflows. *)
 PROCEDURE CirclesApart (x, vx, y, vy, r, kappa: REAL) : BOOLEAN ;
 VAR
-   px, py, v2, cross: REAL ;
+   px, py, size, v2, p2, cross: REAL ;
 BEGIN
    px := x * vx ;
    py := y * vy ;
-   IF px + py > TwoM40 * (ABS (px) + ABS (py)) THEN
+   size := ABS (px) + ABS (py) ;
+   IF (size >= TwoM900) AND (px + py > TwoM40 * size) THEN
       RETURN TRUE
    END ;
    v2 := vx * vx + vy * vy ;
+   p2 := x * x + y * y ;
+   IF NOT ((v2 >= TwoM450) AND (v2 <= TwoP450) AND (p2 >= TwoM450) AND (p2 <= TwoP450)) THEN
+      RETURN FALSE
+   END ;
    cross := x * vy - y * vx ;
-   RETURN cross * cross - (r * r + kappa) * v2 > TwoM30 * (x * x + y * y) * v2
+   RETURN cross * cross - (r * r + kappa) * v2 > TwoM30 * p2 * v2
 END CirclesApart ;
 
 

@@ -757,19 +757,24 @@ static int circles_gap(sim *m, const double *p1, double ra, const double *p2, do
  * kappa) |v|^2 by more than the rounding (then the gap now exceeds kappa and
  * its discriminant is clearly negative: no root).  The margins (2^-40 and
  * 2^-30 of the terms' size) are far above the few units of 2^-53 by which
- * the coefficients can be off.  The prediction is still counted. */
+ * the coefficients can be off, and the sizes are bounded so that nothing
+ * underflows (where rounding is no longer relative: a speed of 1e-162 m/s
+ * squares to 0) or overflows.  The prediction is still counted. */
 static int circles_apart(const double *g, double kappa)
 {
     if (g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0)
         return 0;
     double x = g[0], vx = g[1], y = g[6], vy = g[7];
     double px = x * vx, py = y * vy;
-    if (px + py > 0x1p-40 * (fabs(px) + fabs(py)))
+    double size = fabs(px) + fabs(py);
+    if (size >= 0x1p-900 && px + py > 0x1p-40 * size)
         return 1;
     double r = g[22] + g[23];
-    double v2 = vx * vx + vy * vy;
+    double v2 = vx * vx + vy * vy, p2 = x * x + y * y;
+    if (!(v2 >= 0x1p-450 && v2 <= 0x1p450 && p2 >= 0x1p-450 && p2 <= 0x1p450))
+        return 0;
     double cross = x * vy - y * vx;
-    return cross * cross - (r * r + kappa) * v2 > 0x1p-30 * (x * x + y * y) * v2;
+    return cross * cross - (r * r + kappa) * v2 > 0x1p-30 * p2 * v2;
 }
 
 /* The first contact within [0, w] (1 with *out, else 0) of a circle of

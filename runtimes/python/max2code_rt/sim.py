@@ -29,6 +29,9 @@ CC, PE = 0, 1
 CHAIN = 8
 TWO_M40 = 2.0 ** -40  # circles_apart's margins: far above the coefficients' rounding
 TWO_M30 = 2.0 ** -30
+TWO_M900 = 2.0 ** -900  # ... and its bounds on sizes: nothing underflows or overflows
+TWO_M450 = 2.0 ** -450
+TWO_P450 = 2.0 ** 450
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
@@ -608,17 +611,22 @@ class World:
         (then the gap now exceeds kappa and its discriminant is clearly
         negative: no root).  The margins (2^-40 and 2^-30 of the terms'
         size) are far above the few units of 2^-53 by which the coefficients
-        can be off.  The caller still counts the prediction."""
+        can be off, and the sizes are bounded so that nothing underflows
+        (where rounding is no longer relative: a speed of 1e-162 m/s squares
+        to 0) or overflows.  The caller still counts the prediction."""
         if g[2] != 0.0 or g[8] != 0.0 or g[3] != 0.0 or g[14] != 0.0:
             return False
         x, vx, y, vy = g[0], g[1], g[6], g[7]
         px, py = x * vx, y * vy
-        if px + py > TWO_M40 * (math.fabs(px) + math.fabs(py)):
+        size = math.fabs(px) + math.fabs(py)
+        if size >= TWO_M900 and px + py > TWO_M40 * size:
             return True
         r = g[22] + g[23]
-        v2 = vx * vx + vy * vy
+        v2, p2 = vx * vx + vy * vy, x * x + y * y
+        if not (TWO_M450 <= v2 <= TWO_P450 and TWO_M450 <= p2 <= TWO_P450):
+            return False
         cross = x * vy - y * vx
-        return cross * cross - (r * r + kappa) * v2 > TWO_M30 * (x * x + y * y) * v2
+        return cross * cross - (r * r + kappa) * v2 > TWO_M30 * p2 * v2
 
     def circles_gap(self, pa, ra: float, pb, rb: float) -> list[float]:
         """The circle_circle polynomial (squared distance of the centres less

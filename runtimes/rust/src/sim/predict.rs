@@ -174,7 +174,9 @@ fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64
 /// kappa) |v|^2 by more than the rounding (then the gap now exceeds kappa
 /// and its discriminant is clearly negative: no root).  The margins (2^-40
 /// and 2^-30 of the terms' size) are far above the few units of 2^-53 by
-/// which the coefficients can be off.  The prediction is still counted.
+/// which the coefficients can be off, and the sizes are bounded so that
+/// nothing underflows (where rounding is no longer relative: a speed of
+/// 1e-162 m/s squares to 0) or overflows.  The prediction is still counted.
 #[inline(always)]
 fn circles_apart(g: &[f64; 24], kappa: f64) -> bool {
     if g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0 {
@@ -182,17 +184,28 @@ fn circles_apart(g: &[f64; 24], kappa: f64) -> bool {
     }
     let (x, vx, y, vy) = (g[0], g[1], g[6], g[7]);
     let (px, py) = (x * vx, y * vy);
-    if px + py > TWO_M40 * (px.abs() + py.abs()) {
+    let size = px.abs() + py.abs();
+    if size >= TWO_M900 && px + py > TWO_M40 * size {
         return true;
     }
     let r = g[22] + g[23];
-    let v2 = vx * vx + vy * vy;
+    let (v2, p2) = (vx * vx + vy * vy, x * x + y * y);
+    if !(v2 >= TWO_M450 && v2 <= TWO_P450 && p2 >= TWO_M450 && p2 <= TWO_P450) {
+        return false;
+    }
     let cross = x * vy - y * vx;
-    cross * cross - (r * r + kappa) * v2 > TWO_M30 * (x * x + y * y) * v2
+    cross * cross - (r * r + kappa) * v2 > TWO_M30 * p2 * v2
 }
 
-const TWO_M40: f64 = 1.0 / 1_099_511_627_776.0; // 2^-40
-const TWO_M30: f64 = 1.0 / 1_073_741_824.0; // 2^-30
+/// 2^e (a normal double) from its bits.
+const fn two_to(e: i64) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
+}
+const TWO_M40: f64 = two_to(-40);
+const TWO_M30: f64 = two_to(-30);
+const TWO_M900: f64 = two_to(-900);
+const TWO_M450: f64 = two_to(-450);
+const TWO_P450: f64 = two_to(450);
 
 /// The circle_circle polynomial (squared distance of the centres less
 /// (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
