@@ -25,9 +25,10 @@ IMPLEMENTATION MODULE SimWorld ;
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
    large_near, clear_time, clear_axes, clear_root, reach;
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
-   pe_coefficients, pe_first, circles_first, centre_params, circle_params
-   and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
-   CirclesFirst, CentreParams, CircleParams and BoundsMeet).
+   pe_coefficients, pe_first, circles_first, circles_apart, cc_count,
+   centre_params, circle_params and bounds_meet are PredictCC, PredictPE,
+   PeCoefficients, PeFirst, CirclesFirst, CirclesApart, CcCount,
+   CentreParams, CircleParams and BoundsMeet).
 
    Every prediction goes through the generated entries of
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
@@ -67,6 +68,13 @@ CONST
       window) one prediction of a pair goes through before it leaves the rest
       to a horizon *)
    Chain = 8 ;   (* pi/2 rounded to double (cos x = sin(x + pi/2)) *)
+   (* CirclesApart's margins: far above the coefficients' rounding *)
+   TwoM40 = 1.0 / 1099511627776.0 ;
+   TwoM30 = 1.0 / 1073741824.0 ;
+   TwoM90 = TwoM30 * TwoM30 * TwoM30 ;
+   TwoM450 = TwoM90 * TwoM90 * TwoM90 * TwoM90 * TwoM90 ;   (* ... and its bounds on sizes *)
+   TwoP450 = 1.0 / TwoM450 ;
+   TwoM900 = TwoM450 * TwoM450 ;
    (* contact features *)
    FeatCC = 0 ;
    FeatPE = 1 ;
@@ -508,6 +516,22 @@ BEGIN
 END CcCoefficients ;
 
 
+(* Counts a circle_circle prediction that CirclesApart decided: its variant
+   and the features counter, as CcCoefficients would. *)
+PROCEDURE CcCount (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z: REAL) ;
+VAR
+   idx: INTEGER ;
+BEGIN
+   idx := circle_circle_variant (a, b, c, d, e, f, m, n, o, p, q, g, h, i, j, k, l, r, s, u, v, w, x, z) ;
+   IF (idx < 0) OR (idx >= CcVariants) THEN
+      Fails ("circle_circle: the scene uses an effect the generated code leaves out") ;
+      RETURN
+   END ;
+   INC (CcCounts[idx]) ;
+   INC (Stats.features)
+END CcCount ;
+
+
 (* The circle_circle parameters of a moving circle's centre (CircleParams
    or CentreParams), in the order x, vx, ax, d, e, f, y, vy, ay, p, q. *)
 TYPE
@@ -545,10 +569,45 @@ VAR
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
    deg: INTEGER ;
 BEGIN
-   deg := circles_gap (pa, ra, pb, rb, coef) ;
    kappa := Tol * (2.0 * (ra + rb) + Tol) ;
+   IF (pa[2] - pb[2] = 0.0) AND (pa[8] - pb[8] = 0.0) AND (pa[3] = 0.0) AND (pb[3] = 0.0)
+      AND CirclesApart (pa[0] - pb[0], pa[1] - pb[1], pa[6] - pb[6], pa[7] - pb[7], ra + rb, kappa) THEN
+      CcCount (pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2], pa[3], pa[4], pa[5],
+               pa[6] - pb[6], pa[7] - pb[7], pa[8] - pb[8], pa[9], pa[10],
+               0.0, 0.0, 0.0, pb[3], pb[4], pb[5], 0.0, 0.0, 0.0, pb[9], pb[10], ra, rb) ;
+      RETURN FALSE
+   END ;
+   deg := circles_gap (pa, ra, pb, rb, coef) ;
    RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
 END CirclesFirst ;
+
+
+(* The reference's circles_apart, for a pair whose circles do not orbit and
+   whose relative acceleration is zero (CirclesFirst tests that): relative
+   position (x, y), velocity (vx, vy), r = ra + rb.  The pair surely has no
+   contact, decided without the polynomial (docs/simulator.md, "Pairs that
+   stay apart"): the centres separate (p . v > 0 by more than its rounding),
+   or they approach on a line that passes farther than r from each other
+   ((p x v)^2 > (r^2 + kappa) |v|^2 by more than the rounding); sizes
+   bounded so that nothing underflows or overflows. *)
+PROCEDURE CirclesApart (x, vx, y, vy, r, kappa: REAL) : BOOLEAN ;
+VAR
+   px, py, size, v2, p2, cross: REAL ;
+BEGIN
+   px := x * vx ;
+   py := y * vy ;
+   size := ABS (px) + ABS (py) ;
+   IF (size >= TwoM900) AND (px + py > TwoM40 * size) THEN
+      RETURN TRUE
+   END ;
+   v2 := vx * vx + vy * vy ;
+   p2 := x * x + y * y ;
+   IF NOT ((v2 >= TwoM450) AND (v2 <= TwoP450) AND (p2 >= TwoM450) AND (p2 <= TwoP450)) THEN
+      RETURN FALSE
+   END ;
+   cross := x * vy - y * vx ;
+   RETURN cross * cross - (r * r + kappa) * v2 > TwoM30 * p2 * v2
+END CirclesApart ;
 
 
 (* The circle_circle polynomial (squared distance of the centres less

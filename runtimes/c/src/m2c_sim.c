@@ -3,6 +3,7 @@
  * expression is written as Python evaluates it (left to right, the same
  * parentheses), compiled with -ffp-contract=off, so the trace has the same
  * bytes.  Units: s, m, m/s, m/s^2, rad, rad/s. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -617,8 +618,9 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
 
 /* ---- features -------------------------------------------------------------------- */
 
-/* circle_circle's coefficients for these 24 parameters; counts the variant. */
-static int cc_coefficients(sim *m, const double *g, double *coef)
+/* Counts a circle_circle prediction of these 24 parameters: its variant
+ * and the features counter. */
+static void cc_count(sim *m, const double *g)
 {
     int idx = circle_circle_variant(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                     g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21], g[22],
@@ -629,6 +631,12 @@ static int cc_coefficients(sim *m, const double *g, double *coef)
         die(m, "circle_circle: variant %d, but the build counts %d variants", idx, m->n_cc);
     m->cc_counts[idx]++;
     m->stats.features++;
+}
+
+/* circle_circle's coefficients for these 24 parameters; counts the variant. */
+static int cc_coefficients(sim *m, const double *g, double *coef)
+{
+    cc_count(m, g);
     return circle_circle_coefficients(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                       g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21],
                                       g[22], g[23], coef);
@@ -696,27 +704,93 @@ static void centre_params(const m2c_sim_body *b, double now, double *o)
     o[10] = 0.0;
 }
 
+/* circle_circle's 24 parameters (g) of a circle of radius ra moving as p1
+ * (circle_params) and one of radius rb moving as p2: only differences of
+ * the centres' motions matter, circle 1 moves relative to circle 2's
+ * centre of rotation. */
+static void cc_args(const double *p1, double ra, const double *p2, double rb, double *g)
+{
+    g[0] = p1[0] - p2[0];
+    g[1] = p1[1] - p2[1];
+    g[2] = p1[2] - p2[2];
+    g[3] = p1[3];
+    g[4] = p1[4];
+    g[5] = p1[5];
+    g[6] = p1[6] - p2[6];
+    g[7] = p1[7] - p2[7];
+    g[8] = p1[8] - p2[8];
+    g[9] = p1[9];
+    g[10] = p1[10];
+    g[11] = 0.0;
+    g[12] = 0.0;
+    g[13] = 0.0;
+    g[14] = p2[3];
+    g[15] = p2[4];
+    g[16] = p2[5];
+    g[17] = 0.0;
+    g[18] = 0.0;
+    g[19] = 0.0;
+    g[20] = p2[9];
+    g[21] = p2[10];
+    g[22] = ra;
+    g[23] = rb;
+}
+
 /* The circle_circle polynomial (its degree; the squared distance of the
  * centres less (ra + rb)^2, in s from the parameters' time) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
 static int circles_gap(sim *m, const double *p1, double ra, const double *p2, double rb, double *coef)
 {
-    /* only differences of the centres' motions matter: circle 1 moves
-     * relative to circle 2's centre of rotation */
-    double g[24] = { p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], p1[3], p1[4], p1[5],
-                     p1[6] - p2[6], p1[7] - p2[7], p1[8] - p2[8], p1[9], p1[10],
-                     0.0, 0.0, 0.0, p2[3], p2[4], p2[5], 0.0, 0.0, 0.0, p2[9], p2[10], ra, rb };
+    double g[24];
+    cc_args(p1, ra, p2, rb, g);
     return cc_coefficients(m, g, coef);
+}
+
+/* The pair of circles_gap's parameters g surely has no contact, decided
+ * without the polynomial (docs/simulator.md, "Pairs that stay apart"):
+ * neither circle orbits and their relative acceleration is zero, so the gap
+ * is |p + v s|^2 - R^2 (p, v: the relative position and velocity, R = ra +
+ * rb), and either the centres separate (p . v > 0 by more than its
+ * rounding: the generated c1 = 2 p.v is then positive, c2 = |v|^2 is never
+ * negative, and first_contact finds no approach), or they approach on a
+ * line that passes farther than R from each other: (p x v)^2 > (R^2 +
+ * kappa) |v|^2 by more than the rounding (then the gap now exceeds kappa and
+ * its discriminant is clearly negative: no root).  The margins (2^-40 and
+ * 2^-30 of the terms' size) are far above the few units of 2^-53 by which
+ * the coefficients can be off, and the sizes are bounded so that nothing
+ * underflows (where rounding is no longer relative: a speed of 1e-162 m/s
+ * squares to 0) or overflows.  The prediction is still counted. */
+static int circles_apart(const double *g, double kappa)
+{
+    if (g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0)
+        return 0;
+    double x = g[0], vx = g[1], y = g[6], vy = g[7];
+    double px = x * vx, py = y * vy;
+    double size = fabs(px) + fabs(py);
+    if (size >= 0x1p-900 && px + py > 0x1p-40 * size)
+        return 1;
+    double r = g[22] + g[23];
+    double v2 = vx * vx + vy * vy, p2 = x * x + y * y;
+    if (!(v2 >= 0x1p-450 && v2 <= 0x1p450 && p2 >= 0x1p-450 && p2 <= 0x1p450))
+        return 0;
+    double cross = x * vy - y * vx;
+    return cross * cross - (r * r + kappa) * v2 > 0x1p-30 * p2 * v2;
 }
 
 /* The first contact within [0, w] (1 with *out, else 0) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
 static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
 {
-    double coef[M2C_MAX_DEGREE + 1];
-    int deg = circles_gap(m, p1, ra, p2, rb, coef);
+    double g[24];
+    cc_args(p1, ra, p2, rb, g);
     double tol = m->s->tol;
     double kappa = tol * (2.0 * (ra + rb) + tol);
+    if (circles_apart(g, kappa)) {
+        cc_count(m, g);
+        return 0;
+    }
+    double coef[M2C_MAX_DEGREE + 1];
+    int deg = cc_coefficients(m, g, coef);
     return first_contact(coef, deg, w, kappa, NULL, out);
 }
 
@@ -1135,6 +1209,24 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
                     bu = 0.0;
                     baxis = axis;
                     bdir = dir;
+                }
+                continue;
+            }
+            if (a == 0.0) {
+                /* v moves across the boundary (tested above): one root, the
+                 * root finder's degree-1 answer (one division, the same bits
+                 * as m2c_smallest_root of c, whose c[2] is zero) without
+                 * the call */
+                double u = -c[0] / v;
+                if ((fabs(ulo) <= DBL_MAX) & (fabs(uhi) <= DBL_MAX) & (fabs(c[0]) <= DBL_MAX) & (fabs(v) <= DBL_MAX)
+                    && ulo < u && u <= uhi) {
+                    u = u + 0.0;
+                    if (!have || u < bu) {
+                        have = 1;
+                        bu = u;
+                        baxis = axis;
+                        bdir = dir;
+                    }
                 }
                 continue;
             }

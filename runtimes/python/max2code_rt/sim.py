@@ -27,6 +27,11 @@ CC, PE = 0, 1
 # the most stages (a meeting of the bounds, a clear stretch, a Taylor window)
 # one prediction of a pair goes through before it leaves the rest to a horizon
 CHAIN = 8
+TWO_M40 = 2.0 ** -40  # circles_apart's margins: far above the coefficients' rounding
+TWO_M30 = 2.0 ** -30
+TWO_M900 = 2.0 ** -900  # ... and its bounds on sizes: nothing underflows or overflows
+TWO_M450 = 2.0 ** -450
+TWO_P450 = 2.0 ** 450
 FEATURE_NAMES = ("circle-circle", "point-edge")
 # the trace's N lines, in this order (the fields of Stats)
 STAT_NAMES = ("collisions", "inputs", "frames", "cells", "horizons", "stale", "pairs", "features",
@@ -583,30 +588,74 @@ class World:
     def circles_first(self, pa, ra: float, pb, rb: float, w: float):
         """The first contact within [0, w] of a circle of radius ra moving as
         pa (circle_params) and one of radius rb moving as pb."""
-        coef = self.circles_gap(pa, ra, pb, rb)
+        args = self.cc_args(pa, ra, pb, rb)
         tol = self.s.tol
         kappa = tol * (2.0 * (ra + rb) + tol)
+        if self.circles_apart(args, kappa):
+            self.cc_count(args)
+            return None
+        coef = self.cc_coefficients(args)
         return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
+
+    @staticmethod
+    def circles_apart(g, kappa: float) -> bool:
+        """The pair of circles_gap's parameters g surely has no contact,
+        decided without the polynomial (docs/simulator.md, "Pairs that stay
+        apart"): neither circle orbits and their relative acceleration is
+        zero, so the gap is |p + v s|^2 - R^2 (p, v: the relative position
+        and velocity, R = ra + rb), and either the centres separate (p . v > 0
+        by more than its rounding: the generated c1 = 2 p.v is then positive,
+        c2 = |v|^2 is never negative, and first_contact finds no approach),
+        or they approach on a line that passes farther than R from each
+        other: (p x v)^2 > (R^2 + kappa) |v|^2 by more than the rounding
+        (then the gap now exceeds kappa and its discriminant is clearly
+        negative: no root).  The margins (2^-40 and 2^-30 of the terms'
+        size) are far above the few units of 2^-53 by which the coefficients
+        can be off, and the sizes are bounded so that nothing underflows
+        (where rounding is no longer relative: a speed of 1e-162 m/s squares
+        to 0) or overflows.  The caller still counts the prediction."""
+        if g[2] != 0.0 or g[8] != 0.0 or g[3] != 0.0 or g[14] != 0.0:
+            return False
+        x, vx, y, vy = g[0], g[1], g[6], g[7]
+        px, py = x * vx, y * vy
+        size = math.fabs(px) + math.fabs(py)
+        if size >= TWO_M900 and px + py > TWO_M40 * size:
+            return True
+        r = g[22] + g[23]
+        v2, p2 = vx * vx + vy * vy, x * x + y * y
+        if not (TWO_M450 <= v2 <= TWO_P450 and TWO_M450 <= p2 <= TWO_P450):
+            return False
+        cross = x * vy - y * vx
+        return cross * cross - (r * r + kappa) * v2 > TWO_M30 * p2 * v2
 
     def circles_gap(self, pa, ra: float, pb, rb: float) -> list[float]:
         """The circle_circle polynomial (squared distance of the centres less
         (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
         moving as pa (circle_params) and one of radius rb moving as pb."""
+        return self.cc_coefficients(self.cc_args(pa, ra, pb, rb))
+
+    @staticmethod
+    def cc_args(pa, ra: float, pb, rb: float) -> tuple:
+        """circle_circle's 24 parameters of a circle of radius ra moving as
+        pa (circle_params) and one of radius rb moving as pb."""
         a, b_, c, d, e, f, m, n, o, p, q = pa
         g, h, i, j, k, l, r, s_, u, v, ww = pb
         # only differences of the centres' motions matter: circle 1 moves
         # relative to circle 2's centre of rotation, so that a common gravity
         # cancels (no_accel variants) and far from the origin nothing is lost
-        args = (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
+        return (a - g, b_ - h, c - i, d, e, f, m - r, n - s_, o - u, p, q,
                 0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, ra, rb)
-        return self.cc_coefficients(args)
 
-    def cc_coefficients(self, args) -> list[float]:
+    def cc_count(self, args) -> None:
+        """Counts a circle_circle prediction: its variant and `features`."""
         idx = self.cc_var(*args)
         if idx < 0:
             raise SimError("circle_circle: the scene uses an effect the generated code leaves out")
         self.cc_counts[idx] += 1
         self.stats.features += 1
+
+    def cc_coefficients(self, args) -> list[float]:
+        self.cc_count(args)
         return self.cc_coef(*args)
 
     def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float, i: int = -1):

@@ -105,14 +105,22 @@ pub(super) fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11]
     [x, vx, b.ax, d, om, phase + HALF_PI, y, vy, b.ay, om, phase]
 }
 
+/// Counts a circle_circle prediction of these 24 parameters: its variant
+/// and the features counter.
 #[inline(always)]
-fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
+fn cc_count<E: Equations>(q: &mut Queue, args: &[f64; 24]) -> Res<()> {
     let idx = E::cc_variant(args);
     if idx < 0 {
         return Err(SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()));
     }
     q.cc_counts[idx as usize] += 1;
     q.stats.features += 1;
+    Ok(())
+}
+
+#[inline(always)]
+fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
+    cc_count::<E>(q, args)?;
     E::cc_coefficients(args, coef)
         .ok_or_else(|| SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()))
 }
@@ -143,12 +151,61 @@ fn predict_cc<E: Equations>(
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
 fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
-    let mut coef = [0.0; MAX_COEF];
-    let deg = circles_gap::<E>(q, pa, ra, pb, rb, &mut coef)?;
+    let args = cc_args(pa, ra, pb, rb);
     let tol = w.s.tol;
     let kappa = tol * (2.0 * (ra + rb) + tol);
+    if circles_apart(&args, kappa) {
+        cc_count::<E>(q, &args)?;
+        return Ok(None);
+    }
+    let mut coef = [0.0; MAX_COEF];
+    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
+
+/// The pair of circles_gap's parameters g surely has no contact, decided
+/// without the polynomial (docs/simulator.md, "Pairs that stay apart"):
+/// neither circle orbits and their relative acceleration is zero, so the
+/// gap is |p + v s|^2 - R^2 (p, v: the relative position and velocity, R =
+/// ra + rb), and either the centres separate (p . v > 0 by more than its
+/// rounding: the generated c1 = 2 p.v is then positive, c2 = |v|^2 is never
+/// negative, and first_contact finds no approach), or they approach on a
+/// line that passes farther than R from each other: (p x v)^2 > (R^2 +
+/// kappa) |v|^2 by more than the rounding (then the gap now exceeds kappa
+/// and its discriminant is clearly negative: no root).  The margins (2^-40
+/// and 2^-30 of the terms' size) are far above the few units of 2^-53 by
+/// which the coefficients can be off, and the sizes are bounded so that
+/// nothing underflows (where rounding is no longer relative: a speed of
+/// 1e-162 m/s squares to 0) or overflows.  The prediction is still counted.
+#[inline(always)]
+fn circles_apart(g: &[f64; 24], kappa: f64) -> bool {
+    if g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0 {
+        return false;
+    }
+    let (x, vx, y, vy) = (g[0], g[1], g[6], g[7]);
+    let (px, py) = (x * vx, y * vy);
+    let size = px.abs() + py.abs();
+    if size >= TWO_M900 && px + py > TWO_M40 * size {
+        return true;
+    }
+    let r = g[22] + g[23];
+    let (v2, p2) = (vx * vx + vy * vy, x * x + y * y);
+    if !(v2 >= TWO_M450 && v2 <= TWO_P450 && p2 >= TWO_M450 && p2 <= TWO_P450) {
+        return false;
+    }
+    let cross = x * vy - y * vx;
+    cross * cross - (r * r + kappa) * v2 > TWO_M30 * p2 * v2
+}
+
+/// 2^e (a normal double) from its bits.
+const fn two_to(e: i64) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
+}
+const TWO_M40: f64 = two_to(-40);
+const TWO_M30: f64 = two_to(-30);
+const TWO_M900: f64 = two_to(-900);
+const TWO_M450: f64 = two_to(-450);
+const TWO_P450: f64 = two_to(450);
 
 /// The circle_circle polynomial (squared distance of the centres less
 /// (ra + rb)^2, in s from the parameters' time) of a circle of radius ra
@@ -163,11 +220,18 @@ pub(super) fn circles_gap<E: Equations>(
     rb: f64,
     coef: &mut [f64; MAX_COEF],
 ) -> Res<usize> {
+    cc_coefficients::<E>(q, &cc_args(pa, ra, pb, rb), coef)
+}
+
+/// circle_circle's 24 parameters of a circle of radius ra moving as pa
+/// (circle_params) and one of radius rb moving as pb.
+#[inline(always)]
+fn cc_args(pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64) -> [f64; 24] {
     let [a, b, c, d, e, f, m, n, o, p, qq] = *pa;
     let [g, h, i, j, k, l, r, s, u, v, ww] = *pb;
     // only differences of the centres' motions matter: circle 1 moves
     // relative to circle 2's centre of rotation
-    let args = [
+    [
         a - g,
         b - h,
         c - i,
@@ -192,8 +256,7 @@ pub(super) fn circles_gap<E: Equations>(
         ww,
         ra,
         rb,
-    ];
-    cc_coefficients::<E>(q, &args, coef)
+    ]
 }
 
 /// Point of X (circle centre with radius, or vertex vx_, X's vertex i;
@@ -776,6 +839,19 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 // for a boundary already behind)
                 if best.is_none_or(|bb| 0.0 < bb.0) {
                     best = Some((0.0, axis, direction));
+                }
+                continue;
+            }
+            if a == 0.0 {
+                // v moves across the boundary (tested above): one root, the
+                // root finder's degree-1 answer (one division, the same bits
+                // as smallest_root of c, whose c[2] is zero) without the call
+                let u = -c[0] / v;
+                if ulo.is_finite() && uhi.is_finite() && c[0].is_finite() && v.is_finite() && ulo < u && u <= uhi {
+                    let u = u + 0.0;
+                    if best.is_none_or(|bb| u < bb.0) {
+                        best = Some((u, axis, direction));
+                    }
                 }
                 continue;
             }
