@@ -510,7 +510,9 @@ def test_random_box_scenes_found_stuck_finish(seed, lang):
     three-cycle of impulses at one instant (corner 0 on the wall, corner 3 on
     the wall, the ball).  788526: two boxes side by side on the floor and a
     ball against them chattered (collision, both supports entered again,
-    every 3e-4 s from t = 0.9 s) until an instant at t = 0.99999 s looped.
+    every 3e-4 s from t = 0.9 s) until, at t = 0.99999 s, box r3's corner sat
+    in the corner between the floor and the face of sleeping box r4: the
+    floor's hop and the gentle touch on r4 undid each other, the same class.
     Both are solved together as a cluster of simultaneous contacts; they
     finish, with no overlap beyond the tolerance and no gain of energy."""
     _closed_scene_checks(stuck_at_once(resting_scene(seed, boxes=True)), f"resting-{seed}-boxes.json", lang)
