@@ -305,6 +305,37 @@ typedef struct m2c_sim_stats {
 
 #define M2C_WORLD_ERROR_MAX 512
 
+/* A contact handled at one instant (an E collision or E support line): the
+ * collision record's bodies and feature, and a count. */
+typedef struct m2c_sim_touch {
+    int32_t a, b, feature, i, j;
+    int32_t times;          /* how many times it was handled at that instant */
+} m2c_sim_touch;
+
+/* One contact of a cluster being solved (docs/simulator.md, "Contact model:
+ * simultaneous contacts"): its bodies and feature, contact point, unit
+ * normal from A to B, the arms across n and kn, the change of its normal
+ * speed per unit normal impulse. */
+typedef struct m2c_sim_row {
+    m2c_sim_body *A, *B;
+    int32_t feature, i, j;
+    double cx, cy, nx, ny, ran, rbn, kn;
+} m2c_sim_row;
+
+/* The scratch of a cluster's solve (handle_cluster), kept between calls. */
+typedef struct m2c_sim_cluster {
+    m2c_sim_row *rows;                  /* the contacts (n of them, room for cap) */
+    double *acc, *acc2, *target;        /* per contact: normal impulses, targets (N s, m/s) */
+    double *pushes;                     /* wedged: directions (x, y), up to cap + 1 of them */
+    int32_t n, cap;
+    int32_t *inside;                    /* body indices reached (cluster) */
+    int32_t ninside;
+    m2c_sim_body **movers;              /* the bodies that move (nmovers, room for bcap) */
+    double *saved, *v2, *vs;            /* per mover: vx, vy, om */
+    m2c_sim_body **done;                /* predicted already, or fallen asleep (predict_apart) */
+    int32_t nmovers, ndone, bcap;
+} m2c_sim_cluster;
+
 struct m2c_world {
     m2c_sim_scene *s;                   /* owned */
     m2c_sim_body *bodies;               /* s->bodies */
@@ -334,6 +365,10 @@ struct m2c_world {
     size_t trig_cap;                    /* entries of vtrig and etrig */
     long long added;                    /* bodies added by add_body (a recording refuses them) */
     int unpaid;                         /* a hop since sleeper_impulse cleared it added energy (pay_floor could not pay) */
+    double touched_t;                   /* s: the instant of the contacts in touched */
+    m2c_sim_touch *touched;             /* the contacts handled at touched_t, in order, each once */
+    int32_t ntouched, touched_cap;
+    m2c_sim_cluster clu;                /* handle_cluster's scratch */
     double *scratch;                    /* bound_polygon: scratch_cap polynomials of M2C_MAX_DEGREE + 1 */
     int *scratch_deg;                   /* and their degrees */
     size_t scratch_cap;
