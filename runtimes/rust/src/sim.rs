@@ -38,6 +38,7 @@ use std::io::{self, Read, Write};
 
 use crate::roots::MAX_DEGREE;
 
+mod cluster;
 mod contact;
 mod g17;
 mod grid;
