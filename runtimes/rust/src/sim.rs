@@ -16,7 +16,8 @@
 //! One module per concept, as the C runtime's m2c_sim_*.c: `scene` (the
 //! flat scene), `queue` (event records and the priority queue), `grid`
 //! (broad phase), `motion`, `predict` (pairs, features, cell crossings),
-//! `contact` (contact frame and impulse), `support` (resting and sliding,
+//! `contact` (contact frame and impulse), `cluster` (simultaneous contacts
+//! solved together), `support` (resting and sliding,
 //! when a body is carried), `sleep` (when a body falls asleep), `overlap`
 //! (a teleport's or an added body's check), `world` (what a prediction
 //! reads and writes), `live` (the world's API), `simulator` (one handler per
@@ -38,6 +39,7 @@ use std::io::{self, Read, Write};
 
 use crate::roots::MAX_DEGREE;
 
+mod cluster;
 mod contact;
 mod g17;
 mod grid;

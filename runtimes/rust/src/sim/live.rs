@@ -6,6 +6,7 @@
 use std::io::Write;
 use std::marker::PhantomData;
 
+use super::cluster::Touched;
 use super::g17::g17;
 use super::motion::state_at;
 use super::out::{Out, SimError};
@@ -70,6 +71,10 @@ pub struct World<E: Equations> {
     pub(super) contacts: Vec<Contact>,
     /// bodies added by add_body (a recording refuses them)
     added: usize,
+    /// the instant of the contacts in `touched`
+    pub(super) touched_t: f64,
+    /// the contacts (a, b, feature, i, j) handled at `touched_t` (cluster.rs)
+    pub(super) touched: Vec<Touched>,
     eq: PhantomData<E>,
 }
 
@@ -97,6 +102,8 @@ impl<E: Equations> World<E> {
             same: 0,
             contacts: Vec::new(),
             added: 0,
+            touched_t: -1.0,
+            touched: Vec::new(),
             eq: PhantomData,
         }
     }

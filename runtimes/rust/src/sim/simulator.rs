@@ -24,6 +24,9 @@ impl<E: Equations> World<E> {
 
     fn handle_collision(&mut self, t: f64, a: u32, b: u32, feature: i32, i: i32, j: i32) -> Res<()> {
         let (ai, bi) = (a as usize, b as usize);
+        if self.repeated(t, (ai, bi, feature, i, j)) {
+            return self.handle_cluster(t, (ai, bi, feature, i, j));
+        }
         {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             rebase(a_, t);
@@ -107,6 +110,7 @@ impl<E: Equations> World<E> {
                 }
             }
         }
+        self.touch(t, (ai, bi, feature, i, j));
         // an impulse changes the motion of what it hit: what they carried leaves
         let mut left = Vec::new();
         if imp != 0.0 {
@@ -146,6 +150,7 @@ impl<E: Equations> World<E> {
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
         }
+        self.touch(t, (ai, bi, feature, i, j));
         if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
@@ -185,7 +190,7 @@ impl<E: Equations> World<E> {
     /// Body a (advanced to t) falls asleep resting on g: frozen (v = a = w
     /// = 0) in g's island, or in a new one numbered a's index when g is
     /// fixed.  Its awake neighbours are predicted against it again.
-    fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
+    pub(super) fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
         self.q.stats.sleeps += 1;
         let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
         if self.w.s.bodies[a].sup >= 0 {
@@ -235,7 +240,7 @@ impl<E: Equations> World<E> {
 
     /// Body b's motion changes at t: every body b carries leaves (by index,
     /// each with what it carries: leave), skipping b in its prediction.
-    fn release(&mut self, b: usize, t: f64, left: &mut Vec<(usize, Option<usize>)>) -> Res<()> {
+    pub(super) fn release(&mut self, b: usize, t: f64, left: &mut Vec<(usize, Option<usize>)>) -> Res<()> {
         if self.w.s.bodies[b].carry == 0 {
             return Ok(());
         }
@@ -249,7 +254,7 @@ impl<E: Equations> World<E> {
 
     /// Predict the bodies that left (leave), in the order they left, each
     /// but against the body it skips (already predicted with it).
-    fn predict_released(&mut self, left: &[(usize, Option<usize>)], t: f64) -> Res<()> {
+    pub(super) fn predict_released(&mut self, left: &[(usize, Option<usize>)], t: f64) -> Res<()> {
         for &(a, skip) in left {
             predict_body::<E>(&self.w, &mut self.q, a, t, skip)?;
         }
@@ -259,7 +264,7 @@ impl<E: Equations> World<E> {
     /// The island of sleeper s wakes at t: every member (by index) gets its
     /// free acceleration back, then fresh predictions (a pair of members
     /// once).
-    fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
+    pub(super) fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
         self.q.stats.wakes += 1;
         let island = self.w.s.bodies[s].island;
         self.out.wake(t, s as u32, island)?;
