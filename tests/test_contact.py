@@ -32,7 +32,7 @@ PORTED = {step: {"python", "c", "rust", "m2"} for step in ("hop", "cover", "stuc
 PORTED["pressed"] = {"python", "c", "rust", "m2"}
 PORTED["carried"] = {"python", "c", "rust", "m2"}
 PORTED["hopfloor"] = {"python", "c", "rust", "m2"}
-PORTED["wedged"] = {"python"}
+PORTED["wedged"] = {"python", "m2"}
 # the steps every proof needs (without them a runtime cannot read the flat
 # scene, or writes other bytes everywhere); a proof names the others it needs
 EVERYWHERE = ("hop", "cover")
