@@ -23,7 +23,12 @@ IMPLEMENTATION MODULE SimWorld ;
    live_input, drivable, inputs_now, remove, drive, wake_touching, grounded, at_rest,
    hop, pay_floor, closing, circles_gap, can_carry, enter_carried, leave, release, predict_released, along, held, held_impulse, can_sleep, sleeper_impulse, jolted, handle_sleep, handle_wake,
    predict_woken, bound_polygon, place_large, unplace_large, walls_in,
-   large_near, clear_time, clear_axes, clear_root, reach;
+   large_near, clear_time, clear_axes, clear_root, reach, touch, repeated,
+   handle_cluster, cluster, joins, part, give, nudge, sweeps, kinetic,
+   velocities, set_velocities, mix, pressing_contact, solve_cluster,
+   jolted_sleeper, wedged, holds, settle, predict_apart (the reference's
+   touched and touched_t are Touched and TouchedT; its rows, movers and
+   pushes are Rows, Movers and Pushes);
    behind; the reference's features is Features; the reference's predict_cc, predict_pe,
    pe_coefficients, pe_first, circles_first, centre_params, circle_params
    and bounds_meet are PredictCC, PredictPE, PeCoefficients, PeFirst,
