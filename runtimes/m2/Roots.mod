@@ -228,35 +228,18 @@ BEGIN
 END Newton ;
 
 
-(* The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
-   v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
-   same direction; false for an overflow or NaN) and both v d and d^2 are at
-   least HalleyMin (no precision lost to underflow), else Newton's v / d;
-   TRUE when it is Halley's. *)
-PROCEDURE HalleyStep (v, d, h: REAL; VAR step: REAL) : BOOLEAN ;
-VAR
-   dd, vd, den: REAL ;
-BEGIN
-   dd := d * d ;
-   vd := v * d ;
-   den := dd - v * h ;
-   IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
-   THEN
-      step := vd / den ;
-      RETURN TRUE
-   END ;
-   step := v / d ;
-   RETURN FALSE
-END HalleyStep ;
-
-
-(* Bernstein's single simple root in (lo, hi): Newton with the step of
-   HalleyStep, h = p''/2; an accepted Halley step of at most HalleyTol |x|
-   ends it, a Newton step of at most HandoffTol |x|. *)
+(* Bernstein's single simple root in (lo, hi): Newton with Halley's step,
+   h = p''/2; an accepted Halley step of at most HalleyTol |x| ends it, a
+   Newton step of at most HandoffTol |x|.  The step from p(x) = v,
+   p'(x) = d (nonzero), p''(x)/2 = h: Halley's v d / (d^2 - v h) when
+   d^2 - v h > d^2 / 2 (at most twice the Newton step, same direction; false
+   for an overflow or NaN) and both v d and d^2 are at least HalleyMin (no
+   precision lost to underflow), else Newton's v / d.  Written out here and
+   in PolishHalley: gm2 -O2 did not inline a procedure for it. *)
 PROCEDURE Halley (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
                   x0: REAL) : REAL ;
 VAR
-   x, xa, xb, dx, dxold, v, d, h, step, xn, tol: REAL ;
+   x, xa, xb, dx, dxold, v, d, h, step, xn, tol, dd, vd, den: REAL ;
    neg, isHalley: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
@@ -280,7 +263,18 @@ BEGIN
       IF (v < 0.0) = neg THEN xa := x ELSE xb := x END ;
       IF (d # 0.0) AND (ABS (4.0 * v) < ABS (dxold * d))
       THEN
-         isHalley := HalleyStep (v, d, h, step) ;
+         (* Halley's step, else Newton's (see above) *)
+         dd := d * d ;
+         vd := v * d ;
+         den := dd - v * h ;
+         IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
+         THEN
+            step := vd / den ;
+            isHalley := TRUE
+         ELSE
+            step := v / d ;
+            isHalley := FALSE
+         END ;
          xn := x - step ;
          IF (xa < xn) AND (xn < xb)
          THEN
@@ -344,14 +338,14 @@ BEGIN
 END Polish ;
 
 
-(* The polish after Bernstein's Halley iteration: the step of HalleyStep
-   from p(x) (plain Horner where its running error bound allows, else
+(* The polish after Bernstein's Halley iteration: Halley's step (as in
+   Halley) from p(x) (plain Horner where its running error bound allows, else
    compensated), p'(x) and p''(x)/2, kept only inside (xa, xb]; a Halley step
    of at most PolishTol |x| (a Newton step: NewtonTol) ends it, else another
    round, at most three. *)
 PROCEDURE PolishHalley (VAR a: Coeffs; n: INTEGER; x, xa, xb: REAL) : REAL ;
 VAR
-   ax, v, d, h, mu, step, xn, tol: REAL ;
+   ax, v, d, h, mu, step, xn, tol, dd, vd, den: REAL ;
    i, k: INTEGER ;
 BEGIN
    FOR k := 1 TO 3 DO
@@ -369,7 +363,18 @@ BEGIN
       IF d = 0.0 THEN RETURN x END ;
       (* plain Horner not accurate enough: compensated *)
       IF mu > 2.0 * ABS (x * d) THEN v := CompHorner (a, n, x) END ;
-      IF HalleyStep (v, d, h, step) THEN tol := PolishTol ELSE tol := NewtonTol END ;
+      (* Halley's step, else Newton's (see Halley) *)
+      dd := d * d ;
+      vd := v * d ;
+      den := dd - v * h ;
+      IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
+      THEN
+         step := vd / den ;
+         tol := PolishTol
+      ELSE
+         step := v / d ;
+         tol := NewtonTol
+      END ;
       xn := x - step ;
       IF NOT ((xa < xn) AND (xn <= xb)) THEN RETURN x END ;
       IF ABS (step) <= tol * ABS (xn) THEN RETURN xn END ;
