@@ -320,6 +320,19 @@ int m2c_solve(const double *c, int n, double lo, double hi, double *t)
     }
 }
 
+/* Degrees 3 and 4 straight from the entry (m2c_smallest_root): c[n] != 0,
+ * lo < hi with hi - lo finite; the answer's -0.0 made +0.0.  The same
+ * computation as m2c_solve's, with one copy per degree called directly: no
+ * general validation, no degree switch (about 2 ns of a 35 ns cubic). */
+int m2c_solve34(const double *c, int n, double lo, double hi, double *t)
+{
+    double x;
+    if (!(n == 3 ? solve_impl(c, 3, lo, hi, &x) : solve_impl(c, 4, lo, hi, &x)))
+        return 0;
+    *t = x + 0.0;
+    return 1;
+}
+
 #undef M2C_CASE
 #define M2C_CASE(N) \
     case N:         \
