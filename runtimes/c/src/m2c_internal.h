@@ -433,10 +433,10 @@ int m2c_scale(const double *c, int n, double *a);
  * or bands (docs/roots.md steps 3-7); 1 and *t when found. */
 int m2c_solve(const double *c, int n, double lo, double hi, double *t);
 
-/* Degree n = 3 or 4 from the entry: c[n] != 0, lo < hi and hi - lo finite
+/* Degree 3 <= n <= 8 from the entry: c[n] != 0, lo < hi and hi - lo finite
  * (a NaN or infinite coefficient answers none); 1 and *t (never -0.0) when
  * found. */
-int m2c_solve34(const double *c, int n, double lo, double hi, double *t);
+int m2c_solve_entry(const double *c, int n, double lo, double hi, double *t);
 
 /* Coefficients a[0..n] already scaled (max |a_i| in [1, 2), a[n] != 0,
  * n >= 1): the first root in (lo, hi] by the closed forms or the general

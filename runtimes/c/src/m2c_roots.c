@@ -56,12 +56,12 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
             return 1;
         }
     }
-    if ((degree == 3 || degree == 4) && c != 0 && t != 0 && c[degree] != 0.0) {
+    if (degree >= 3 && degree <= 8 && c != 0 && t != 0 && c[degree] != 0.0) {
         /* nothing to strip, and lo < hi with both finite (as above): one
          * per-degree copy of the general method, called directly */
         double w = hi - lo;
         if ((w > 0.0) & (w <= DBL_MAX))
-            return m2c_solve34(c, degree, lo, hi, t);
+            return m2c_solve_entry(c, degree, lo, hi, t);
     }
     return smallest_root_general(c, degree, lo, hi, t);
 }
