@@ -953,11 +953,18 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
 #[inline(never)]
 fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     let len = c.len();
-    if (len == 4 || len == 5) && c[len - 1] != 0.0 && (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
-        // degrees 3 and 4 (docs/roots.md step 1): nothing to strip, lo < hi
+    if (4..=9).contains(&len) && c[len - 1] != 0.0 && (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+        // degrees 3 to 8 (docs/roots.md step 1): nothing to strip, lo < hi
         // with both finite; that degree's copy of steps 4-7 at once (a NaN or
         // infinite coefficient answers none there)
-        let x = if len == 4 { solve::<3>(c, lo, hi) } else { solve::<4>(c, lo, hi) }?;
+        let x = match len {
+            4 => solve::<3>(c, lo, hi),
+            5 => solve::<4>(c, lo, hi),
+            6 => solve::<5>(c, lo, hi),
+            7 => solve::<6>(c, lo, hi),
+            8 => solve::<7>(c, lo, hi),
+            _ => solve::<8>(c, lo, hi),
+        }?;
         return Some(x + 0.0);
     }
     if c.len() > N1 {
