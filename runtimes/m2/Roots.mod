@@ -816,7 +816,21 @@ BEGIN
    THEN
       RETURN QuadraticIn (a[2], a[1], a[0], lo, hi, t)
    END ;
-   RETURN General (a, n, lo, hi, t)
+   (* The degree as a constant for 3 to 8 (the simulator's degrees and the
+      common ones): built with the Makefile's ROOTS_OPT, GCC makes one copy
+      of General per constant degree and unrolls its loops completely, as C
+      does with always-inline and #pragma GCC unroll.  The same operations
+      in the same order. *)
+   CASE n OF
+   3: RETURN General (a, 3, lo, hi, t) |
+   4: RETURN General (a, 4, lo, hi, t) |
+   5: RETURN General (a, 5, lo, hi, t) |
+   6: RETURN General (a, 6, lo, hi, t) |
+   7: RETURN General (a, 7, lo, hi, t) |
+   8: RETURN General (a, 8, lo, hi, t)
+   ELSE
+      RETURN General (a, n, lo, hi, t)
+   END
 END ScaledAny ;
 
 
