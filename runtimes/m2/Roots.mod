@@ -16,6 +16,10 @@ CONST
    QuadSpread = 900 ;         (* degree 2: one scale when coefficient exponents span at most this *)
    OneScaleSpan = 800 ;       (* degree n >= 3: one scale when all roots lie in 2^(+-800/n) *)
    BandSpan = 800 ;           (* otherwise bands of magnitude 2^(800/n) *)
+   (* constants, not variables: a division by Unit52 is then a shift *)
+   Unit52 = VAL (LONGCARD, 4503599627370496) ;     (* 2^52: the exponent field's unit in a REAL's bits *)
+   SignBit = VAL (LONGCARD, 9223372036854775808) ; (* 2^63: the sign bit *)
+   InfBits = VAL (LONGCARD, 9218868437227405312) ; (* the bits of infinity; NaNs lie above *)
 
 TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
@@ -32,7 +36,6 @@ VAR
    PolishTol,                 (* 2^-22: a polishing Halley step this small ends the polish *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
-   Unit52: LONGCARD ;         (* 2^52: the exponent field's unit in a REAL's bits *)
    Init: INTEGER ;
 
 
@@ -700,32 +703,33 @@ BEGIN
 END Scale ;
 
 
-(* Scale with e = Exponent (max |c_i|) known. *)
+(* Scale with e = Exponent (max |c_i|) known.  Each a[i] is c[i] times the
+   factors in one expression (the products of the copy-then-scale loops,
+   in their order). *)
 PROCEDURE ScaleBy (VAR c: ARRAY OF REAL; n, e: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
 VAR
-   f: REAL ;
+   f, g: REAL ;
    k, i: INTEGER ;
 BEGIN
    k := 1 - e ;
-   FOR i := 0 TO n DO
-      a[i] := c[i]
-   END ;
    IF k > 1000
    THEN
-      f := Pow2 (600) ;
+      (* 2^k is not a double: first 2^600, then 2^(k - 600) *)
+      g := Pow2 (600) ;
+      f := Pow2 (k - 600) ;
       FOR i := 0 TO n DO
-         a[i] := a[i] * f
-      END ;
-      k := k - 600
-   END ;
-   IF k >= -1022
-   THEN
-      f := Pow2 (k)
+         a[i] := (c[i] * g) * f
+      END
    ELSE
-      f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
-   END ;
-   FOR i := 0 TO n DO
-      a[i] := a[i] * f
+      IF k >= -1022
+      THEN
+         f := Pow2 (k)
+      ELSE
+         f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
+      END ;
+      FOR i := 0 TO n DO
+         a[i] := c[i] * f
+      END
    END ;
    (* top coefficients that underflowed to zero in the scaling *)
    WHILE (n >= 0) AND (a[n] = 0.0) DO
@@ -941,39 +945,47 @@ BEGIN
 END Banded ;
 
 
-(* Degree n >= 2 (c[n] # 0, all finite): one power-of-two scale of the
-   coefficients when the roots allow it, else bands. *)
+(* Degree n >= 2 (c[n] # 0; a NaN or infinity answers none): one
+   power-of-two scale of the coefficients when the roots allow it, else
+   bands. *)
 PROCEDURE Solve (VAR c: ARRAY OF REAL; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    a: Coeffs ;
-   mx, mn, v: REAL ;
+   mx, mn: REAL ;
    i, j, spread, ue, le, lim, n2, emx: INTEGER ;
+   u, umax, umin: LONGCARD ;
    many: BOOLEAN ;
 BEGIN
-   mx := 0.0 ;
-   mn := Inf ;
-   j := -1 ;
+   (* max and smallest nonzero |c_i| from their bits without the sign
+      (ordered like the values); a NaN or infinity shows as the largest *)
+   umax := 0 ;
+   umin := InfBits ;
    FOR i := 0 TO n DO
-      v := ABS (c[i]) ;
-      IF v # 0.0
-      THEN
-         IF j < 0 THEN j := i END ;
-         IF v > mx THEN mx := v END ;
-         IF v < mn THEN mn := v END
-      END
+      u := CAST (LONGCARD, c[i]) MOD SignBit ;
+      IF u > umax THEN umax := u END ;
+      IF (u # 0) AND (u < umin) THEN umin := u END
    END ;
+   IF umax >= InfBits THEN RETURN FALSE END ;
+   mx := CAST (REAL, umax) ;
+   mn := CAST (REAL, umin) ;
    emx := Exponent (mx) ;
    spread := emx - Exponent (mn) ;
-   lim := OneScaleSpan DIV n ;
+   (* n = 2: spread > QuadSpread; n >= 3: spread > OneScaleSpan DIV n - 2,
+      that is (spread + 2) n > OneScaleSpan (no division) *)
    IF n = 2
    THEN
       many := spread > QuadSpread
    ELSE
-      many := spread > lim - 2
+      many := (spread + 2) * n > OneScaleSpan
    END ;
    IF many
    THEN
+      j := 0 ;
+      WHILE c[j] = 0.0 DO
+         INC (j)
+      END ;
       RootExponents (c, n, j, ue, le) ;
+      lim := OneScaleSpan DIV n ;
       IF (n = 2) OR NOT ((ue <= lim) AND (le >= -lim))
       THEN
          RETURN Banded (c, n, j, ue, le, lo, hi, t)
@@ -988,7 +1000,7 @@ END Solve ;
 PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
-   n, i: INTEGER ;
+   n: INTEGER ;
    x: REAL ;
 BEGIN
    IF (degree < 0) OR (degree > MaxDegree) OR (degree > VAL (INTEGER, HIGH (c)))
@@ -1012,9 +1024,8 @@ BEGIN
       t := x + 0.0 ;
       RETURN TRUE
    END ;
-   FOR i := 0 TO degree DO
-      IF NOT IsFinite (c[i]) THEN RETURN FALSE END
-   END ;
+   (* a NaN or infinity stops the search for the top nonzero coefficient, so
+      it stays in c[0..n], whose finiteness Solve tests in its first pass *)
    n := degree ;
    WHILE (n >= 0) AND (c[n] = 0.0) DO
       DEC (n)
@@ -1022,6 +1033,7 @@ BEGIN
    IF n <= 0 THEN RETURN FALSE END ;
    IF n = 1
    THEN
+      IF NOT (IsFinite (c[0]) AND IsFinite (c[1])) THEN RETURN FALSE END ;
       (* one correctly rounded division: no scaling needed *)
       x := -c[0] / c[1] ;
       IF NOT ((lo < x) AND (x <= hi)) THEN RETURN FALSE END
@@ -1049,7 +1061,6 @@ BEGIN
    PolishTol := ldexp (1.0, -22) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
-   Unit52 := 4503599627370496 ;
    Inf := ldexp (1.0, 1023) ;
    Inf := Inf * 2.0
 END Roots.
