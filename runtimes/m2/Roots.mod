@@ -16,6 +16,10 @@ CONST
    QuadSpread = 900 ;         (* degree 2: one scale when coefficient exponents span at most this *)
    OneScaleSpan = 800 ;       (* degree n >= 3: one scale when all roots lie in 2^(+-800/n) *)
    BandSpan = 800 ;           (* otherwise bands of magnitude 2^(800/n) *)
+   (* constants, not variables: a division by Unit52 is then a shift *)
+   Unit52 = VAL (LONGCARD, 4503599627370496) ;     (* 2^52: the exponent field's unit in a REAL's bits *)
+   SignBit = VAL (LONGCARD, 9223372036854775808) ; (* 2^63: the sign bit *)
+   InfBits = VAL (LONGCARD, 9218868437227405312) ; (* the bits of infinity; NaNs lie above *)
 
 TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
@@ -32,7 +36,6 @@ VAR
    PolishTol,                 (* 2^-22: a polishing Halley step this small ends the polish *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
    Inf: REAL ;                (* infinity *)
-   Unit52: LONGCARD ;         (* 2^52: the exponent field's unit in a REAL's bits *)
    Init: INTEGER ;
 
 
@@ -228,35 +231,18 @@ BEGIN
 END Newton ;
 
 
-(* The step from p(x) = v, p'(x) = d (nonzero), p''(x)/2 = h: Halley's
-   v d / (d^2 - v h) when d^2 - v h > d^2 / 2 (at most twice the Newton step,
-   same direction; false for an overflow or NaN) and both v d and d^2 are at
-   least HalleyMin (no precision lost to underflow), else Newton's v / d;
-   TRUE when it is Halley's. *)
-PROCEDURE HalleyStep (v, d, h: REAL; VAR step: REAL) : BOOLEAN ;
-VAR
-   dd, vd, den: REAL ;
-BEGIN
-   dd := d * d ;
-   vd := v * d ;
-   den := dd - v * h ;
-   IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
-   THEN
-      step := vd / den ;
-      RETURN TRUE
-   END ;
-   step := v / d ;
-   RETURN FALSE
-END HalleyStep ;
-
-
-(* Bernstein's single simple root in (lo, hi): Newton with the step of
-   HalleyStep, h = p''/2; an accepted Halley step of at most HalleyTol |x|
-   ends it, a Newton step of at most HandoffTol |x|. *)
+(* Bernstein's single simple root in (lo, hi): Newton with Halley's step,
+   h = p''/2; an accepted Halley step of at most HalleyTol |x| ends it, a
+   Newton step of at most HandoffTol |x|.  The step from p(x) = v,
+   p'(x) = d (nonzero), p''(x)/2 = h: Halley's v d / (d^2 - v h) when
+   d^2 - v h > d^2 / 2 (at most twice the Newton step, same direction; false
+   for an overflow or NaN) and both v d and d^2 are at least HalleyMin (no
+   precision lost to underflow), else Newton's v / d.  Written out here and
+   in PolishHalley: gm2 -O2 did not inline a procedure for it. *)
 PROCEDURE Halley (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
                   x0: REAL) : REAL ;
 VAR
-   x, xa, xb, dx, dxold, v, d, h, step, xn, tol: REAL ;
+   x, xa, xb, dx, dxold, v, d, h, step, xn, tol, dd, vd, den: REAL ;
    neg, isHalley: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
@@ -280,7 +266,18 @@ BEGIN
       IF (v < 0.0) = neg THEN xa := x ELSE xb := x END ;
       IF (d # 0.0) AND (ABS (4.0 * v) < ABS (dxold * d))
       THEN
-         isHalley := HalleyStep (v, d, h, step) ;
+         (* Halley's step, else Newton's (see above) *)
+         dd := d * d ;
+         vd := v * d ;
+         den := dd - v * h ;
+         IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
+         THEN
+            step := vd / den ;
+            isHalley := TRUE
+         ELSE
+            step := v / d ;
+            isHalley := FALSE
+         END ;
          xn := x - step ;
          IF (xa < xn) AND (xn < xb)
          THEN
@@ -344,14 +341,14 @@ BEGIN
 END Polish ;
 
 
-(* The polish after Bernstein's Halley iteration: the step of HalleyStep
-   from p(x) (plain Horner where its running error bound allows, else
+(* The polish after Bernstein's Halley iteration: Halley's step (as in
+   Halley) from p(x) (plain Horner where its running error bound allows, else
    compensated), p'(x) and p''(x)/2, kept only inside (xa, xb]; a Halley step
    of at most PolishTol |x| (a Newton step: NewtonTol) ends it, else another
    round, at most three. *)
 PROCEDURE PolishHalley (VAR a: Coeffs; n: INTEGER; x, xa, xb: REAL) : REAL ;
 VAR
-   ax, v, d, h, mu, step, xn, tol: REAL ;
+   ax, v, d, h, mu, step, xn, tol, dd, vd, den: REAL ;
    i, k: INTEGER ;
 BEGIN
    FOR k := 1 TO 3 DO
@@ -369,7 +366,18 @@ BEGIN
       IF d = 0.0 THEN RETURN x END ;
       (* plain Horner not accurate enough: compensated *)
       IF mu > 2.0 * ABS (x * d) THEN v := CompHorner (a, n, x) END ;
-      IF HalleyStep (v, d, h, step) THEN tol := PolishTol ELSE tol := NewtonTol END ;
+      (* Halley's step, else Newton's (see Halley) *)
+      dd := d * d ;
+      vd := v * d ;
+      den := dd - v * h ;
+      IF (den > 0.5 * dd) AND (ABS (vd) >= HalleyMin) AND (dd >= HalleyMin)
+      THEN
+         step := vd / den ;
+         tol := PolishTol
+      ELSE
+         step := v / d ;
+         tol := NewtonTol
+      END ;
       xn := x - step ;
       IF NOT ((xa < xn) AND (xn <= xb)) THEN RETURN x END ;
       IF ABS (step) <= tol * ABS (xn) THEN RETURN xn END ;
@@ -695,32 +703,33 @@ BEGIN
 END Scale ;
 
 
-(* Scale with e = Exponent (max |c_i|) known. *)
+(* Scale with e = Exponent (max |c_i|) known.  Each a[i] is c[i] times the
+   factors in one expression (the products of the copy-then-scale loops,
+   in their order). *)
 PROCEDURE ScaleBy (VAR c: ARRAY OF REAL; n, e: INTEGER; VAR a: ARRAY OF REAL) : INTEGER ;
 VAR
-   f: REAL ;
+   f, g: REAL ;
    k, i: INTEGER ;
 BEGIN
    k := 1 - e ;
-   FOR i := 0 TO n DO
-      a[i] := c[i]
-   END ;
    IF k > 1000
    THEN
-      f := Pow2 (600) ;
+      (* 2^k is not a double: first 2^600, then 2^(k - 600) *)
+      g := Pow2 (600) ;
+      f := Pow2 (k - 600) ;
       FOR i := 0 TO n DO
-         a[i] := a[i] * f
-      END ;
-      k := k - 600
-   END ;
-   IF k >= -1022
-   THEN
-      f := Pow2 (k)
+         a[i] := (c[i] * g) * f
+      END
    ELSE
-      f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
-   END ;
-   FOR i := 0 TO n DO
-      a[i] := a[i] * f
+      IF k >= -1022
+      THEN
+         f := Pow2 (k)
+      ELSE
+         f := ldexp (1.0, k)   (* 2^-1023, subnormal *)
+      END ;
+      FOR i := 0 TO n DO
+         a[i] := c[i] * f
+      END
    END ;
    (* top coefficients that underflowed to zero in the scaling *)
    WHILE (n >= 0) AND (a[n] = 0.0) DO
@@ -811,7 +820,21 @@ BEGIN
    THEN
       RETURN QuadraticIn (a[2], a[1], a[0], lo, hi, t)
    END ;
-   RETURN General (a, n, lo, hi, t)
+   (* The degree as a constant for 3 to 8 (the simulator's degrees and the
+      common ones): built with the Makefile's ROOTS_OPT, GCC makes one copy
+      of General per constant degree and unrolls its loops completely, as C
+      does with always-inline and #pragma GCC unroll.  The same operations
+      in the same order. *)
+   CASE n OF
+   3: RETURN General (a, 3, lo, hi, t) |
+   4: RETURN General (a, 4, lo, hi, t) |
+   5: RETURN General (a, 5, lo, hi, t) |
+   6: RETURN General (a, 6, lo, hi, t) |
+   7: RETURN General (a, 7, lo, hi, t) |
+   8: RETURN General (a, 8, lo, hi, t)
+   ELSE
+      RETURN General (a, n, lo, hi, t)
+   END
 END ScaledAny ;
 
 
@@ -922,39 +945,47 @@ BEGIN
 END Banded ;
 
 
-(* Degree n >= 2 (c[n] # 0, all finite): one power-of-two scale of the
-   coefficients when the roots allow it, else bands. *)
+(* Degree n >= 2 (c[n] # 0; a NaN or infinity answers none): one
+   power-of-two scale of the coefficients when the roots allow it, else
+   bands. *)
 PROCEDURE Solve (VAR c: ARRAY OF REAL; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    a: Coeffs ;
-   mx, mn, v: REAL ;
+   mx, mn: REAL ;
    i, j, spread, ue, le, lim, n2, emx: INTEGER ;
+   u, umax, umin: LONGCARD ;
    many: BOOLEAN ;
 BEGIN
-   mx := 0.0 ;
-   mn := Inf ;
-   j := -1 ;
+   (* max and smallest nonzero |c_i| from their bits without the sign
+      (ordered like the values); a NaN or infinity shows as the largest *)
+   umax := 0 ;
+   umin := InfBits ;
    FOR i := 0 TO n DO
-      v := ABS (c[i]) ;
-      IF v # 0.0
-      THEN
-         IF j < 0 THEN j := i END ;
-         IF v > mx THEN mx := v END ;
-         IF v < mn THEN mn := v END
-      END
+      u := CAST (LONGCARD, c[i]) MOD SignBit ;
+      IF u > umax THEN umax := u END ;
+      IF (u # 0) AND (u < umin) THEN umin := u END
    END ;
+   IF umax >= InfBits THEN RETURN FALSE END ;
+   mx := CAST (REAL, umax) ;
+   mn := CAST (REAL, umin) ;
    emx := Exponent (mx) ;
    spread := emx - Exponent (mn) ;
-   lim := OneScaleSpan DIV n ;
+   (* n = 2: spread > QuadSpread; n >= 3: spread > OneScaleSpan DIV n - 2,
+      that is (spread + 2) n > OneScaleSpan (no division) *)
    IF n = 2
    THEN
       many := spread > QuadSpread
    ELSE
-      many := spread > lim - 2
+      many := (spread + 2) * n > OneScaleSpan
    END ;
    IF many
    THEN
+      j := 0 ;
+      WHILE c[j] = 0.0 DO
+         INC (j)
+      END ;
       RootExponents (c, n, j, ue, le) ;
+      lim := OneScaleSpan DIV n ;
       IF (n = 2) OR NOT ((ue <= lim) AND (le >= -lim))
       THEN
          RETURN Banded (c, n, j, ue, le, lo, hi, t)
@@ -969,7 +1000,7 @@ END Solve ;
 PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
-   n, i: INTEGER ;
+   n: INTEGER ;
    x: REAL ;
 BEGIN
    IF (degree < 0) OR (degree > MaxDegree) OR (degree > VAL (INTEGER, HIGH (c)))
@@ -993,9 +1024,8 @@ BEGIN
       t := x + 0.0 ;
       RETURN TRUE
    END ;
-   FOR i := 0 TO degree DO
-      IF NOT IsFinite (c[i]) THEN RETURN FALSE END
-   END ;
+   (* a NaN or infinity stops the search for the top nonzero coefficient, so
+      it stays in c[0..n], whose finiteness Solve tests in its first pass *)
    n := degree ;
    WHILE (n >= 0) AND (c[n] = 0.0) DO
       DEC (n)
@@ -1003,6 +1033,7 @@ BEGIN
    IF n <= 0 THEN RETURN FALSE END ;
    IF n = 1
    THEN
+      IF NOT (IsFinite (c[0]) AND IsFinite (c[1])) THEN RETURN FALSE END ;
       (* one correctly rounded division: no scaling needed *)
       x := -c[0] / c[1] ;
       IF NOT ((lo < x) AND (x <= hi)) THEN RETURN FALSE END
@@ -1030,7 +1061,6 @@ BEGIN
    PolishTol := ldexp (1.0, -22) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
-   Unit52 := 4503599627370496 ;
    Inf := ldexp (1.0, 1023) ;
    Inf := Inf * 2.0
 END Roots.

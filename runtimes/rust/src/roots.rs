@@ -669,6 +669,7 @@ fn variations(b: &[f64; N1], n: usize, e: f64) -> (i32, f64) {
 /// The general method for degree n = N >= 3 (a scaled; one copy per degree,
 /// so the loops unroll): clip to the root bound, Bernstein subdivision left
 /// to right, the derivative method where the Bernstein signs are unsure.
+#[inline(always)]
 fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f64> {
     let n = N;
     // 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2], and no
@@ -728,12 +729,19 @@ fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f6
     let nf = n as f64;
     let e = 8.0 * (nf + 1.0) * EPS * pt * FACT[n] + TINY;
     // 3. subdivision, left to right
-    subdivide::<N>(a, &b, e, lo, hi, 0)
+    subdivide_impl::<N>(a, &b, e, lo, hi, 0)
+}
+
+/// `subdivide_impl` out of line, for the halves.
+#[inline(never)]
+fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+    subdivide_impl::<N>(a, b, e, xl, xr, depth)
 }
 
 /// Step 3 on [xl, xr] with the n!-scaled Bernstein coefficients b and their
 /// error bound e: the root in (xl, xr], or None (the caller goes on right).
-fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+#[inline(always)]
+fn subdivide_impl<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
     let n = N;
     let nf = n as f64;
     let (v, bm) = variations(b, n, e);
@@ -944,6 +952,21 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
 /// Everything but the degree-2 fast path (out of line).
 #[inline(never)]
 fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    let len = c.len();
+    if (4..=9).contains(&len) && c[len - 1] != 0.0 && (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+        // degrees 3 to 8 (docs/roots.md step 1): nothing to strip, lo < hi
+        // with both finite; that degree's copy of steps 4-7 at once (a NaN or
+        // infinite coefficient answers none there)
+        let x = match len {
+            4 => solve::<3>(c, lo, hi),
+            5 => solve::<4>(c, lo, hi),
+            6 => solve::<5>(c, lo, hi),
+            7 => solve::<6>(c, lo, hi),
+            8 => solve::<7>(c, lo, hi),
+            _ => solve::<8>(c, lo, hi),
+        }?;
+        return Some(x + 0.0);
+    }
     if c.len() > N1 {
         return None;
     }
