@@ -18,7 +18,7 @@ from max2code.sim.commands import crosscheck
 from max2code.sim.simulate import LANGS
 
 sys.path.insert(0, os.path.dirname(__file__))
-from sim_scenes import resting_scene, write_random_scenes  # noqa: E402
+from sim_scenes import resting_scene, spinning_scene, write_random_scenes  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
@@ -121,3 +121,15 @@ def test_scenes_whose_hops_pay_the_floor_agree_in_all_four_runtimes(seed, boxes)
     pair's common motion, or a sleeper's touch is not gentle because its hop
     could not be (docs/simulator.md, "Hop"): the four runtimes write the same bytes."""
     _agree_raw(resting_scene(seed, boxes=boxes), f"resting-{seed}{'-boxes' if boxes else ''}.json")
+
+
+@pytest.mark.parametrize("family,seed", [("resting", 993908), ("resting", 15095), ("resting", 788526),
+                                         ("spinning", 64739)])
+def test_wedged_scenes_solved_together_agree_in_all_four_runtimes(family, seed):
+    """The seed hunts' wedged scenes, whose contacts are solved together
+    (docs/simulator.md, "Contact model: simultaneous contacts": cluster,
+    sequential impulses, separation, sleeping where the contacts hold): the
+    four runtimes write the same bytes through the whole rule."""
+    raw = resting_scene(seed, boxes=True) if family == "resting" else spinning_scene(seed)
+    raw["max_events_at_one_time"] = 1000
+    _agree_raw(raw, f"{family}-{seed}.json")
