@@ -29,9 +29,9 @@ CC, PE = 0, 1
 CHAIN = 8
 # simultaneous contacts (docs/simulator.md, "Contact model: simultaneous
 # contacts"): how many times one contact is handled at one instant before it
-# and the contacts it touches are solved together; the most sweeps of the cluster's sequential impulses, and the
-# sweep that ends them: no impulse in it changed a normal speed by more than
-# CLUSTER_TOL rest_speed
+# and the contacts that reach it are solved together; the most sweeps of the
+# cluster's sequential impulses, and the sweep that ends them: no impulse in
+# it changed a normal speed by more than CLUSTER_TOL rest_speed
 CLUSTER_REPEATS = 64
 CLUSTER_SWEEPS = 100
 CLUSTER_TOL = 1e-9
