@@ -19,7 +19,7 @@ use super::world::Queue;
 use super::Equations;
 
 /// How many times one contact is handled at one instant before it and the
-/// contacts it touches are solved together; the most sweeps of the
+/// contacts that reach it are solved together; the most sweeps of the
 /// cluster's sequential impulses, and the sweep that ends them: no impulse
 /// in it changed a normal speed by more than CLUSTER_TOL rest_speed.
 const CLUSTER_REPEATS: u32 = 64;
