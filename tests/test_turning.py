@@ -98,6 +98,21 @@ def test_spinning_polygons_in_boxes_never_overlap(seed):
     assert rep.max_overlap <= scene.tolerance, (seed, rep)
 
 
+def _finishes_cleanly(seed, lang):
+    """spinning_scene(seed), at most 1000 events at one instant, run in lang:
+    no overlap beyond the tolerance at any event or frame, energy never grows."""
+    raw = spinning_scene(seed)
+    raw["max_events_at_one_time"] = 1000
+    name = f"spinning-{seed}.json"
+    scene = parse_scene(json.dumps(raw), name)
+    tr = run_scene(scene, lang)
+    rp = read_trace("\n".join(tr.lines()), scene, name)
+    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "frame"))
+    assert rep.max_overlap <= scene.tolerance, rep
+    er = energy_growth(scene, rp)
+    assert er.instants > 0 and er.max_growth <= 1e-12, er
+
+
 @pytest.mark.parametrize("lang", runtimes("stuck", "held"))
 def test_corner_meets_corner_in_a_spinning_scene(lang):
     """Found in 1 of 100 seeds of spinning_scene (stuck at one instant in
@@ -108,15 +123,7 @@ def test_corner_meets_corner_in_a_spinning_scene(lang):
     which the floor took back at once ("Held contacts"): more than 100000
     events at one instant.  It finishes, with no overlap beyond the
     tolerance and no gain of energy."""
-    raw = spinning_scene(984787)
-    raw["max_events_at_one_time"] = 1000
-    scene = parse_scene(json.dumps(raw), "spinning-984787.json")
-    tr = run_scene(scene, lang)
-    rp = read_trace("\n".join(tr.lines()), scene, "spinning-984787.json")
-    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "frame"))
-    assert rep.max_overlap <= scene.tolerance, rep
-    er = energy_growth(scene, rp)
-    assert er.instants > 0 and er.max_growth <= 1e-12, er
+    _finishes_cleanly(984787, lang)
 
 
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
@@ -144,12 +151,4 @@ def test_random_spinning_scene_64739_finishes(lang):
     instant.  The contacts are solved together (docs/simulator.md, "Contact
     model: simultaneous contacts"): it finishes, with no overlap beyond the
     tolerance and no gain of energy."""
-    raw = spinning_scene(64739)
-    raw["max_events_at_one_time"] = 1000
-    scene = parse_scene(json.dumps(raw), "spinning-64739.json")
-    tr = run_scene(scene, lang)
-    rp = read_trace("\n".join(tr.lines()), scene, "spinning-64739.json")
-    rep = check(scene, rp, kinds=("collision", "support", "stop", "leave", "sleep", "wake", "frame"))
-    assert rep.max_overlap <= scene.tolerance, rep
-    er = energy_growth(scene, rp)
-    assert er.instants > 0 and er.max_growth <= 1e-12, er
+    _finishes_cleanly(64739, lang)
