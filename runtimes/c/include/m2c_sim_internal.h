@@ -29,45 +29,57 @@ typedef struct m2c_sim_vertex {
                                is there), -1: none */
 } m2c_sim_vertex;
 
-/* A body, laid out for the predictions: the first 64 bytes hold its motion,
- * the next 64 the rest of what a pair's prediction reads, then its support.
- * (Its stamp, for lazy invalidation, is in an array of its own, m2c_sim.c.) */
+/* A body, laid out for the predictions: a pair's prediction reads only
+ * the first two cache lines (its motion, then its shape and the flags and
+ * indices every pair checks), so a neighbour predicted against costs two
+ * lines; what only the handling of its own events reads (impulses, cell,
+ * support, islands, walls) follows.  _Alignas on px alone (on a
+ * declaration of several fields it would align each one).  (Its stamp, for
+ * lazy invalidation, is in an array of its own, m2c_sim.c.) */
 typedef struct m2c_sim_body {
-    _Alignas(64) double px, py;     /* m: centre (of rotation) at time tb */
+    /* line 0: the motion */
+    _Alignas(64) double px;         /* m: centre (of rotation) at time tb */
+    double py;
     double vx, vy;          /* m/s: velocity at tb */
     double ax, ay;          /* m/s^2: acceleration now (gravity included; while supported, the
                                support's acceleration plus the relative one along its edge, less
                                friction) */
     double tb;              /* s: the time of this state */
     double om;              /* rad/s: angular velocity */
+    /* line 1: the rest of what predict_pair reads of both bodies */
     double ang;             /* rad: angle at tb */
     double r;               /* m: circle radius (0 for polygons) */
     double orbit, ophase;   /* m, rad: orbit radius and phase (circles) */
     double bound;           /* m: radius of the bounding circle about the centre */
     double window;          /* rad: its window angle when it turns and its partner does not (0: it never turns) */
-    double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
-    unsigned char polygon, fixed, large;
-    double e;               /* restitution, 0..1 */
-    m2c_sim_vertex *verts;  /* nverts vertices (polygons), else NULL */
-    int32_t nverts;
     int32_t idx;            /* index in the scene */
+    int32_t sup;            /* index of the body supporting it (fixed), or carrying it (movable), -1: free */
+    unsigned char polygon, fixed, large;
+    unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
+    unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
+    unsigned char placed;   /* a large body listed in the grid's walls (cells wcells), not in the large list */
+    /* then what the handlers of its own events read */
+    double inv_m, inv_i;    /* 1/kg, 1/(kg m^2); 0 for fixed bodies */
+    double e;               /* restitution, 0..1 */
+    double mu;              /* friction coefficient (Coulomb), >= 0 */
     int32_t cx, cy;         /* grid cell (small bodies) */
     int32_t slot;           /* index in its cell's list */
-    double mu;              /* friction coefficient (Coulomb), >= 0 */
-    double fax, fay;        /* m/s^2: free acceleration (gravity and the body's own), from the scene */
-    int32_t sup;            /* index of the body supporting it (fixed), or carrying it (movable), -1: free */
+    int32_t nverts;
+    m2c_sim_vertex *verts;  /* nverts vertices (polygons), else NULL */
     int32_t sup_edge;       /* the supporting edge (index into sup's vertices) */
+    int32_t carry;          /* how many bodies it carries (their sup is this movable body) */
+    double fax, fay;        /* m/s^2: free acceleration (gravity and the body's own), from the scene */
     double tx, ty;          /* unit tangent of the supporting edge (along increasing S1..S2) */
     double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
     double at;              /* m/s^2: free acceleration relative to the support's, along the tangent */
-    unsigned char gone;     /* removed from the world (remove_body, input MODE 4): frozen, out of the grid */
-    unsigned char asleep;   /* frozen in a sleeping island (v = a = w = 0, no events of its own) */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
-    int32_t carry;          /* how many bodies it carries (their sup is this movable body) */
-    unsigned char placed;   /* a large body listed in the grid's walls (cells wcells), not in the large list */
     int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
     unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
 } m2c_sim_body;
+
+/* the two lines a pair's prediction reads */
+_Static_assert(offsetof(m2c_sim_body, placed) < 128, "predict_pair's fields in the first two lines");
+_Static_assert(sizeof(m2c_sim_body) % 64 == 0, "bodies on whole cache lines");
 
 /* A cache of cos and sin of one angle (rad). */
 typedef struct m2c_sim_trig {
