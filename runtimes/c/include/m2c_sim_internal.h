@@ -13,6 +13,11 @@
 #include "m2c_sim.h"
 #include "m2c_world.h"
 
+/* Advises the kernel to map the whole 2 MB pages inside [p, p + bytes) as
+ * huge pages (m2c_sim_pages.c): call it on a large array before it is first
+ * written.  A hint only. */
+void m2c_sim_huge_pages(void *p, size_t bytes);
+
 /* ---- scene ---------------------------------------------------------------- */
 
 /* One vertex of a polygon and the edge from it to the next vertex, in the
@@ -167,6 +172,8 @@ typedef struct m2c_sim_event {
             int32_t axis;       /* 0: x, 1: y */
             int32_t direction;  /* +1 or -1: the neighbouring cell entered */
             uint32_t stamp;
+            int32_t cx, cy;     /* the cell it leaves (the body's own when the record is live): only
+                                   a hint of which cells to fetch ahead, never read otherwise */
         } cell;
         struct {
             int32_t a, b;

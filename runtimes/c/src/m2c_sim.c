@@ -252,6 +252,8 @@ static void push_cell(sim *m, double t, const m2c_sim_body *b, int32_t axis, int
     e.u.cell.axis = axis;
     e.u.cell.direction = direction;
     e.u.cell.stamp = m->stamp[b->idx];
+    e.u.cell.cx = b->cx;
+    e.u.cell.cy = b->cy;
     push(m, &e);
 }
 
@@ -285,8 +287,45 @@ static void push_frame(sim *m, double t, int32_t k)
     push(m, &e);
 }
 
-/* Fetches the bodies of the event that is next for now (the queue
- * fetched the event itself when it found it), while this one is handled. */
+/* Fetches from memory the lines a body's own event reads: its prediction's
+ * two and its handler's (cell, impulse). */
+static inline void fetch_body(const sim *m, int32_t idx)
+{
+    const m2c_sim_body *b = &m->bodies[idx];
+    __builtin_prefetch(&b->px);
+    __builtin_prefetch(&b->ang);
+    __builtin_prefetch(&b->inv_m);
+}
+
+/* Fetches the cells from xa to xb (either order) of row y, clamped to
+ * the grid (no more than three: two lines at most). */
+static inline void fetch_row(const sim *m, int32_t xa, int32_t xb, int32_t y)
+{
+    const m2c_sim_scene *s = m->s;
+    int32_t lo = xa < xb ? xa : xb, hi = xa < xb ? xb : xa;
+    lo = lo > 0 ? lo : 0;
+    hi = hi < s->nx - 1 ? hi : s->nx - 1;
+    if (y < 0 || y >= s->ny || lo > hi)
+        return;
+    __builtin_prefetch(&m->grid.cells[(size_t)y * (size_t)s->nx + (size_t)lo]);
+    __builtin_prefetch(&m->grid.cells[(size_t)y * (size_t)s->nx + (size_t)hi]);
+}
+
+/* Fetches the 3x3 cells around a small body and its count of walls near
+ * (what predict_body reads of the grid). */
+static inline void fetch_block(const sim *m, const m2c_sim_body *b)
+{
+    if (b->large)
+        return;
+    for (int32_t y = b->cy - 1; y <= b->cy + 1; y++)
+        fetch_row(m, b->cx - 1, b->cx + 1, y);
+    __builtin_prefetch(&m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx]);
+}
+
+/* Fetches the stamps and bodies of the event that is next for now (the
+ * queue fetched the event itself when it found it), while this one is
+ * handled; for a cell crossing also the cells it will read (from where the
+ * record says the body is: a hint, checked by nothing). */
 static inline void fetch_next(const sim *m)
 {
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
@@ -295,11 +334,32 @@ static inline void fetch_next(const sim *m)
     if (e->kind == M2C_SIM_COLLISION) {
         __builtin_prefetch(&m->stamp[e->u.collision.a]);
         __builtin_prefetch(&m->stamp[e->u.collision.b]);
+        fetch_body(m, e->u.collision.a);
+        fetch_body(m, e->u.collision.b);
     } else if (e->kind == M2C_SIM_HORIZON) {
         __builtin_prefetch(&m->stamp[e->u.horizon.a]);
         __builtin_prefetch(&m->stamp[e->u.horizon.b]);
     } else if (e->kind == M2C_SIM_CELL) {
         __builtin_prefetch(&m->stamp[e->u.cell.body]);
+        fetch_body(m, e->u.cell.body);
+        int32_t cx = e->u.cell.cx, cy = e->u.cell.cy, d = e->u.cell.direction;
+        if (cx >= 0 && cx < m->s->nx && cy >= 0 && cy < m->s->ny) {
+            /* the cell it leaves, the one it enters and the row or column beyond */
+            int32_t nx_ = cx, ny_ = cy;
+            if (e->u.cell.axis == 0) {
+                nx_ = cx + d;
+                fetch_row(m, cx, cx + 2 * d, cy);
+                fetch_row(m, cx + 2 * d, cx + 2 * d, cy - 1);
+                fetch_row(m, cx + 2 * d, cx + 2 * d, cy + 1);
+            } else {
+                ny_ = cy + d;
+                fetch_row(m, cx, cx, cy);
+                fetch_row(m, cx, cx, cy + d);
+                fetch_row(m, cx - 1, cx + 1, cy + 2 * d);
+            }
+            if (nx_ >= 0 && nx_ < m->s->nx && ny_ >= 0 && ny_ < m->s->ny)
+                __builtin_prefetch(&m->wnear[(size_t)ny_ * (size_t)m->s->nx + (size_t)nx_]);
+        }
     } else if (e->kind == M2C_SIM_STOP) {
         __builtin_prefetch(&m->stamp[e->u.stop.body]);
     } else if (e->kind == M2C_SIM_LEAVE) {
@@ -2894,6 +2954,8 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
         handle_cluster(m, ev);
         return;
     }
+    fetch_block(m, A);      /* for predict_body, after the impulse and the trace lines */
+    fetch_block(m, B);
     advance(A, t);
     advance(B, t);
     double cx, cy, nx, ny;
@@ -3562,6 +3624,8 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     m->wnear = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->wnear);
     if (m->walls == NULL || m->wnear == NULL)
         die(m, "out of memory");
+    m2c_sim_huge_pages(m->walls, (size_t)scene->nx * (size_t)scene->ny * sizeof *m->walls);
+    m2c_sim_huge_pages(m->wnear, (size_t)scene->nx * (size_t)scene->ny * sizeof *m->wnear);
     for (int32_t k = 0; k < scene->nbodies; k++)
         if (scene->bodies[k].large)
             place_large(m, &scene->bodies[k]);
@@ -3670,6 +3734,7 @@ static int reserve_body(sim *m, int32_t nverts)
             free(b);
             return -1;
         }
+        m2c_sim_huge_pages(b, (size_t)cap * sizeof *b);
         memset(b, 0, (size_t)cap * sizeof *b);
         memcpy(b, s->bodies, (size_t)s->nbodies * sizeof *b);
         memset(st + s->bodies_cap, 0, (size_t)(cap - s->bodies_cap) * sizeof *st);

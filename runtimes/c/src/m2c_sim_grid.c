@@ -15,6 +15,7 @@ int m2c_sim_grid_init(m2c_sim_grid *g, int32_t nx, int32_t ny)
     g->nx = nx;
     g->ny = ny;
     g->cells = calloc((size_t)nx * (size_t)ny, sizeof *g->cells);
+    m2c_sim_huge_pages(g->cells, (size_t)nx * (size_t)ny * sizeof *g->cells);
     return g->cells == NULL ? -1 : 0;
 }
 

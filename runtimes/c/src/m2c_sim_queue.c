@@ -53,6 +53,7 @@ static int append(m2c_sim_bucket *b, m2c_sim_entry x)
         m2c_sim_entry *e = realloc(b->e, cap * sizeof *e);
         if (e == NULL)
             return -1;
+        m2c_sim_huge_pages(e + b->cap, (cap - b->cap) * sizeof *e);    /* the new half, not yet written */
         b->e = e;
         b->cap = cap;
     }
@@ -195,6 +196,7 @@ static int grow(m2c_sim_heap *h)
     m2c_sim_event *rest = realloc(h->rest, cap * sizeof *rest);
     if (rest == NULL)
         return -1;
+    m2c_sim_huge_pages(rest + h->cap, (cap - h->cap) * sizeof *rest);     /* the new half, not yet written */
     h->rest = rest;
     uint32_t *fr = realloc(h->free, cap * sizeof *fr);
     if (fr == NULL)

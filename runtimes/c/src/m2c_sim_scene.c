@@ -380,8 +380,10 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         s->bodies_cap = s->nbodies + 1;
         size_t bytes = ((size_t)s->nbodies + 1) * sizeof *s->bodies;      /* a multiple of 64 */
         s->bodies = aligned_alloc(64, bytes);
-        if (s->bodies != NULL)
+        if (s->bodies != NULL) {
+            m2c_sim_huge_pages(s->bodies, bytes);
             memset(s->bodies, 0, bytes);
+        }
         first = calloc((size_t)s->nbodies + 1, sizeof *first);
         if (s->bodies == NULL || first == NULL)
             fail(r, "out of memory");
