@@ -332,10 +332,22 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
 /* Fetches the stamps and bodies of the event that is next for now (the
  * queue fetched the event itself when it found it), while this one is
  * handled; for a cell crossing also the cells it will read (from where the
- * record says the body is: a hint, checked by nothing). */
-FETCH void fetch_next(const sim *m)
+ * record says the body is: a hint, checked by nothing).  Stale events at
+ * the head (a few) are dropped first and counted, as the sweep does (a
+ * stale event stays stale: the same count), so that what is fetched is the
+ * event handled next; events this handler schedules later may still come
+ * before it (then the fetch was only early). */
+FETCH void fetch_next(sim *m)
 {
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
+    for (int k = 0; e != NULL && k < 8 && is_stale(m, e); k++) {
+        m2c_sim_event drop;
+        if (m2c_sim_heap_pop(&m->heap, &drop) != 0)
+            die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        if (drop.t <= m->s->end)
+            m->stats.stale++;
+        e = m2c_sim_heap_peek(&m->heap);
+    }
     if (e == NULL)
         return;
     if (e->kind == M2C_SIM_COLLISION) {
