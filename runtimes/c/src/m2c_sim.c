@@ -318,6 +318,17 @@ FETCH void fetch_row(const sim *m, int32_t xa, int32_t xb, int32_t y)
     __builtin_prefetch(&m->grid.cells[(size_t)y * (size_t)s->nx + (size_t)hi]);
 }
 
+/* Fetches the cell a small body's position falls in (cell_of's, without
+ * its checks: a hint). */
+FETCH void fetch_cell_at(const sim *m, const m2c_sim_body *b)
+{
+    const m2c_sim_scene *s = m->s;
+    double ix = floor((b->px - s->x0) / s->cw), iy = floor((b->py - s->y0) / s->ch);
+    if (b->large || !(ix >= 0.0 && ix <= (double)(s->nx - 1) && iy >= 0.0 && iy <= (double)(s->ny - 1)))
+        return;
+    __builtin_prefetch(&m->grid.cells[(size_t)iy * (size_t)s->nx + (size_t)ix]);
+}
+
 /* Fetches the 3x3 cells around a small body and its count of walls near
  * (what predict_body reads of the grid). */
 FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
@@ -3460,10 +3471,13 @@ static void (*const handlers[M2C_SIM_KINDS])(sim *, const m2c_sim_event *) = {
  * and predicts every pair once. */
 static void start(sim *m)
 {
+    enum { AHEAD = 4 };     /* bodies: the grid reads of body k + AHEAD are fetched while k is placed or predicted */
     m2c_sim_scene *s = m->s;
     m2c_sim_body *bodies = m->bodies;
     for (int32_t k = 0; k < s->nbodies; k++) {
         m2c_sim_body *b = &bodies[k];
+        if (k + AHEAD < s->nbodies)
+            fetch_cell_at(m, &bodies[k + AHEAD]);
         if (!b->large) {
             cell_of(m, b->px, b->py, &b->cx, &b->cy);
             cell_add(m, b);
@@ -3475,6 +3489,8 @@ static void start(sim *m)
         push_frame(m, s->frame_dt, 1);
     for (int32_t k = 0; k < s->nbodies; k++) {
         const m2c_sim_body *b = &bodies[k];
+        if (k + AHEAD < s->nbodies)
+            fetch_block(m, &bodies[k + AHEAD]);
         if (b->large)
             continue;
         predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
