@@ -36,6 +36,7 @@ __extension__ typedef unsigned __int128 u128;
 #define SEQ_SHIFT M2C_SIM_SLOT_BITS
 #define SEQ_LIMIT (UINT64_C(1) << M2C_SIM_SEQ_BITS)
 #define KIND_SHIFT (M2C_SIM_SLOT_BITS + M2C_SIM_SEQ_BITS)
+#define AHEAD 32            /* the most records advance fetches at once */
 
 _Static_assert(KIND_SHIFT + 3 <= 64, "kind, seq and slot must fit 64 bits");
 _Static_assert(M2C_SIM_KINDS <= 8, "the kind has 3 bits");
@@ -162,6 +163,12 @@ static int advance(m2c_sim_heap *h)
     for (size_t q = 1; q < b->n; q++)
         if (b->e[q].tb < low)
             low = b->e[q].tb;
+    /* the lowest bucket holds the next events (but those pushed later): when
+     * they are few, fetch their records now, so that the pops that follow
+     * (many of stale events, which are only looked at) do not wait for each */
+    if (b->n <= AHEAD)
+        for (size_t q = 0; q < b->n; q++)
+            __builtin_prefetch(&h->rest[b->e[q].key & SLOT_MASK]);
     h->last = low;
     h->full[w] &= ~(UINT64_C(1) << (k & 63));
     size_t n = b->n;
