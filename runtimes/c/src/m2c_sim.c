@@ -340,6 +340,22 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
     __builtin_prefetch(&m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx]);
 }
 
+/* Fetches the stamps of the event that is next for now (the queue fetched
+ * its record when it found it): whether it is stale is the first question
+ * asked of it. */
+FETCH void fetch_stamps(const sim *m)
+{
+    const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
+    if (e == NULL)
+        return;
+    if (e->kind == M2C_SIM_COLLISION) {
+        __builtin_prefetch(&m->stamp[e->u.collision.a]);
+        __builtin_prefetch(&m->stamp[e->u.collision.b]);
+    } else if (e->kind == M2C_SIM_CELL) {
+        __builtin_prefetch(&m->stamp[e->u.cell.body]);
+    }
+}
+
 /* Fetches the stamps and bodies of the event that is next for now (the
  * queue fetched the event itself when it found it), while this one is
  * handled; for a cell crossing also the cells it will read (from where the
@@ -3600,6 +3616,7 @@ static void run_until(sim *m, double limit, int inclusive)
             break;
         if (m2c_sim_heap_pop(&m->heap, &ev) != 0)
             die(m, "out of memory (event queue of %zu events)", m->heap.n);
+        fetch_stamps(m);
         dispatch(m, &ev);
     }
 }
