@@ -363,8 +363,9 @@ FETCH void fetch_stamps(const sim *m)
  * the head (a few) are dropped first and counted, as the sweep does (a
  * stale event stays stale: the same count), so that what is fetched is the
  * event handled next; events this handler schedules later may still come
- * before it (then the fetch was only early). */
-FETCH void fetch_next(sim *m)
+ * before it (then the fetch was only early).  Not inlined: four handlers
+ * call it (it pops, so its calls are not dead code). */
+static __attribute__((noinline)) void fetch_next(sim *m)
 {
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
     for (int k = 0; e != NULL && k < 8 && is_stale(m, e); k++) {
