@@ -340,6 +340,29 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
     __builtin_prefetch(&m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx]);
 }
 
+/* Fetches the two prediction lines of every body in the 3x3 cells around a
+ * small body (its cells fetched a while before by fetch_block), for
+ * predict_body. */
+FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
+{
+    const m2c_sim_scene *s = m->s;
+    if (b->large)
+        return;
+    int32_t y0 = b->cy > 0 ? b->cy - 1 : 0, y1 = b->cy < s->ny - 1 ? b->cy + 1 : s->ny - 1;
+    int32_t x0 = b->cx > 0 ? b->cx - 1 : 0, x1 = b->cx < s->nx - 1 ? b->cx + 1 : s->nx - 1;
+    for (int32_t jy = y0; jy <= y1; jy++) {
+        for (int32_t jx = x0; jx <= x1; jx++) {
+            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            const int32_t *items = m2c_sim_cell_items(c);
+            for (int32_t k = 0; k < c->n && k < 8; k++) {
+                const m2c_sim_body *o = &m->bodies[items[k]];
+                __builtin_prefetch(&o->px);
+                __builtin_prefetch(&o->ang);
+            }
+        }
+    }
+}
+
 /* Fetches the stamps of the event that is next for now (the queue fetched
  * its record when it found it): whether it is stale is the first question
  * asked of it. */
@@ -3043,6 +3066,8 @@ static void handle_collision(sim *m, const m2c_sim_event *ev)
             end_support(m, B);
     }
     emit_contact(m, "E collision ", t, A, B, feature, i, j, cx, cy, nx, ny, imp);
+    fetch_neighbours(m, A);     /* their cells have come by now; the state lines take a while */
+    fetch_neighbours(m, B);
     report(m, t, A, B, feature, i, j, cx, cy, nx, ny, imp, 0);
     touch(m, t, A->idx, B->idx, feature, i, j);
     /* a sleeper still asleep (zero impulse: the bodies graze, the other not
