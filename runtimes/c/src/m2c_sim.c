@@ -340,16 +340,14 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
     __builtin_prefetch(&m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx]);
 }
 
-/* Fetches the two prediction lines of every body in the 3x3 cells around a
- * small body (its cells fetched a while before by fetch_block), for
- * predict_body. */
-FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
+/* Fetches the two prediction lines of the bodies listed in the cells
+ * x_lo..x_hi, y_lo..y_hi (clamped to the grid; the first 8 of each), whose
+ * lists were fetched a while before. */
+FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_lo, int32_t y_hi)
 {
     const m2c_sim_scene *s = m->s;
-    if (b->large)
-        return;
-    int32_t y0 = b->cy > 0 ? b->cy - 1 : 0, y1 = b->cy < s->ny - 1 ? b->cy + 1 : s->ny - 1;
-    int32_t x0 = b->cx > 0 ? b->cx - 1 : 0, x1 = b->cx < s->nx - 1 ? b->cx + 1 : s->nx - 1;
+    int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
+    int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
@@ -361,6 +359,14 @@ FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
             }
         }
     }
+}
+
+/* The same for the 3x3 cells around a small body (fetched by fetch_block),
+ * for predict_body. */
+FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
+{
+    if (!b->large)
+        fetch_bodies_in(m, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1);
 }
 
 /* Fetches the stamps of the event that is next for now (the queue fetched
@@ -3434,21 +3440,24 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
     m->stats.cells++;
     m2c_sim_body *body = &m->bodies[ev->u.cell.body];
     int32_t d = ev->u.cell.direction;
-    m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    /* the row or column it will predict against (fetch_next fetched its
+     * cells): their bodies are fetched while it changes cells */
     int32_t x_lo, x_hi, y_lo, y_hi;
     if (ev->u.cell.axis == 0) {
-        body->cx += d;
-        int32_t col = body->cx + d;
-        x_lo = x_hi = col;
+        x_lo = x_hi = body->cx + 2 * d;
         y_lo = body->cy - 1;
         y_hi = body->cy + 1;
     } else {
-        body->cy += d;
-        int32_t row = body->cy + d;
         x_lo = body->cx - 1;
         x_hi = body->cx + 1;
-        y_lo = y_hi = row;
+        y_lo = y_hi = body->cy + 2 * d;
     }
+    fetch_bodies_in(m, x_lo, x_hi, y_lo, y_hi);
+    m2c_sim_grid_remove(&m->grid, m->bodies, body);
+    if (ev->u.cell.axis == 0)
+        body->cx += d;
+    else
+        body->cy += d;
     cell_add(m, body);
     fetch_next(m);
     predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
