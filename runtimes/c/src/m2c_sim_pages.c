@@ -4,7 +4,7 @@
  * also misses the TLB and walks the page tables (the more so in a virtual
  * machine), with 2 MB pages the whole working set stays mapped.  Linux maps
  * an anonymous range with transparent huge pages where it was advised to
- * (madvise MADV_HUGEPAGE; the kernel's default, "madvise", does so only
+ * (madvise MADV_HUGEPAGE; under the policy "madvise", this machine's, only
  * there); elsewhere this does nothing.  Only a hint: no result depends on
  * it. */
 #define _DEFAULT_SOURCE         /* madvise under -std=c11 */
