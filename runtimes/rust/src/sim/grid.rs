@@ -35,59 +35,33 @@ impl CellList {
     fn count(&self) -> usize {
         (self.n & !WALLS_NEAR) as usize
     }
-
-    #[inline]
-    fn push(&mut self, more: &mut Vec<u32>, x: u32) {
-        let n = self.count();
-        if n < CELL_INLINE {
-            self.inline[n] = x;
-        } else {
-            more.push(x);
-        }
-        self.n += 1;
-    }
-
-    /// Python's cell_remove: the last element moves into the hole.
-    #[inline]
-    fn remove(&mut self, more: &mut Vec<u32>, x: u32) {
-        let n = self.count();
-        let k = (0..n)
-            .position(|k| if k < CELL_INLINE { self.inline[k] == x } else { more[k - CELL_INLINE] == x })
-            .expect("a body is in its cell");
-        let last = if n > CELL_INLINE { more.pop().expect("n > inline") } else { self.inline[n - 1] };
-        if k < n - 1 {
-            if k < CELL_INLINE {
-                self.inline[k] = last;
-            } else {
-                more[k - CELL_INLINE] = last;
-            }
-        }
-        self.n -= 1;
-    }
 }
 
 /// A cell's bodies as the broad phase reads them ([`Grid::cell`]).
 #[derive(Clone, Copy)]
 pub struct Cell<'a> {
-    list: &'a CellList,
-    /// the bodies past the inline ones (read only when there are any)
-    more: &'a Vec<u32>,
+    grid: &'a Grid,
+    /// the cell's index
+    k: usize,
 }
 
 impl Cell<'_> {
     /// Number of bodies in the cell.
     #[inline(always)]
     pub fn len(&self) -> usize {
-        self.list.count()
+        self.grid.cells[self.k].count()
     }
 
     /// The k-th body of the cell, in Python's list order.
     #[inline(always)]
     pub fn get(&self, k: usize) -> u32 {
         if k < CELL_INLINE {
-            self.list.inline[k]
+            self.grid.cells[self.k].inline[k]
         } else {
-            self.more[k - CELL_INLINE]
+            // indexed here only: a reference to the cell's overflow list
+            // taken before would let the compiler read it ahead, a cache
+            // line of another array for every cell
+            self.grid.more[self.k][k - CELL_INLINE]
         }
     }
 }
@@ -151,20 +125,47 @@ impl Grid {
     /// The cell (jx, jy); both within the grid.
     #[inline(always)]
     pub fn cell(&self, jx: i64, jy: i64) -> Cell<'_> {
-        let k = (jy * self.nx + jx) as usize;
-        Cell { list: &self.cells[k], more: &self.more[k] }
+        Cell { grid: self, k: (jy * self.nx + jx) as usize }
     }
 
     /// Put body b into cell (cx, cy).
     pub fn add(&mut self, b: u32, cx: i32, cy: i32) {
-        let k = (i64::from(cy) * self.nx + i64::from(cx)) as usize;
-        self.cells[k].push(&mut self.more[k], b);
+        self.push(((i64::from(cy) * self.nx) + i64::from(cx)) as usize, b);
     }
 
     /// Take body b out of cell (cx, cy).
     pub fn remove(&mut self, b: u32, cx: i32, cy: i32) {
-        let k = (i64::from(cy) * self.nx + i64::from(cx)) as usize;
-        self.cells[k].remove(&mut self.more[k], b);
+        self.pull(((i64::from(cy) * self.nx) + i64::from(cx)) as usize, b);
+    }
+
+    /// Python's append to the list of cell c.
+    #[inline]
+    fn push(&mut self, c: usize, x: u32) {
+        let n = self.cells[c].count();
+        if n < CELL_INLINE {
+            self.cells[c].inline[n] = x;
+        } else {
+            self.more[c].push(x);
+        }
+        self.cells[c].n += 1;
+    }
+
+    /// Python's cell_remove from the list of cell c: the last element moves
+    /// into the hole (the overflow list is read only when the cell has one).
+    #[inline]
+    fn pull(&mut self, c: usize, x: u32) {
+        let n = self.cells[c].count();
+        let at = |g: &Grid, k: usize| if k < CELL_INLINE { g.cells[c].inline[k] } else { g.more[c][k - CELL_INLINE] };
+        let k = (0..n).position(|k| at(self, k) == x).expect("a body is in its cell");
+        let last = if n > CELL_INLINE { self.more[c].pop().expect("n > inline") } else { self.cells[c].inline[n - 1] };
+        if k < n - 1 {
+            if k < CELL_INLINE {
+                self.cells[c].inline[k] = last;
+            } else {
+                self.more[c][k - CELL_INLINE] = last;
+            }
+        }
+        self.cells[c].n -= 1;
     }
 
     /// Take large body b (its placed cells `wcells`, None: in `large`) out
@@ -274,7 +275,7 @@ pub fn cell_of(s: &Scene, x: f64, y: f64) -> (i32, i32) {
 
 #[cfg(test)]
 mod tests {
-    use super::{Cell, CellList, CELL_INLINE, WALLS_NEAR};
+    use super::{CellList, Grid, CELL_INLINE, WALLS_NEAR};
 
     #[test]
     fn cell_list_is_a_python_list_with_last_into_the_hole() {
@@ -286,34 +287,43 @@ mod tests {
             state ^= state >> 27;
             state.wrapping_mul(0x2545_f491_4f6c_dd1d)
         };
-        let mut cell = CellList::default();
-        let mut more = Vec::new();
+        // a grid of one row of three cells; the middle one is exercised
+        let mut grid = Grid {
+            cells: vec![CellList::default(); 3],
+            more: vec![Vec::new(); 3],
+            nx: 3,
+            ny: 1,
+            walls: vec![Vec::new(); 3],
+            wnear: vec![0; 3],
+            large: Vec::new(),
+        };
         let mut model: Vec<u32> = Vec::new();
         let mut fresh = 0u32;
         for _ in 0..50_000 {
             // the walls' bit comes and goes: it never changes the list
             if next() % 7 == 0 {
-                cell.n ^= WALLS_NEAR;
+                grid.cells[1].n ^= WALLS_NEAR;
             }
             if model.is_empty() || (model.len() < 3 * CELL_INLINE && next() % 2 == 0) {
-                cell.push(&mut more, fresh);
+                grid.add(fresh, 1, 0);
                 model.push(fresh);
                 fresh += 1;
             } else {
                 let x = model[(next() % model.len() as u64) as usize];
-                cell.remove(&mut more, x);
+                grid.remove(x, 1, 0);
                 let k = model.iter().position(|&o| o == x).unwrap();
                 let last = model.pop().unwrap();
                 if k < model.len() {
                     model[k] = last;
                 }
             }
-            let view = Cell { list: &cell, more: &more };
-            assert_eq!(view.len(), model.len());
-            assert_eq!(more.len(), model.len().saturating_sub(CELL_INLINE));
+            let cell = grid.cell(1, 0);
+            assert_eq!(cell.len(), model.len());
+            assert_eq!(grid.more[1].len(), model.len().saturating_sub(CELL_INLINE));
             for (k, &x) in model.iter().enumerate() {
-                assert_eq!(view.get(k), x);
+                assert_eq!(cell.get(k), x);
             }
+            assert!(grid.cell(0, 0).len() == 0 && grid.cell(2, 0).len() == 0);
         }
     }
 }
