@@ -62,12 +62,12 @@ impl CosSin {
 /// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out by use: the first
 /// cache line holds all that a pair of circles that do not orbit needs
 /// (motion at tb, radius), the second the rest of what every pair
-/// prediction and cell crossing reads (angle, orbit, index, cell, support,
-/// the flags); the other lines are read by the collision
-/// handlers, polygons, support and sleep.  At 10^5 bodies the records no
-/// longer fit the cache, and a pair prediction read four lines of each
-/// partner before (docs/throughput.md, session 10).  (Its stamp, bumped
-/// when the motion changes, is in `Space::stamps`.)
+/// prediction and cell crossing reads (angle, orbit, index, cell,
+/// support, the flags), the third the rest of what a collision's handler
+/// reads; polygons, support and sleep read the others.  At 10^5 bodies
+/// the records no longer fit the cache: a pair prediction read four lines
+/// of each partner before (docs/throughput.md, session 10).  (Its stamp,
+/// bumped when the motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
@@ -112,7 +112,8 @@ pub struct Body {
     pub gone: bool,
     /// the supporting edge (index into sup's vertices), -1: free
     pub sup_edge: i32,
-    // the other lines
+    // line 2: what a collision's handler reads besides (contact impulse,
+    // support and sleep tests)
     /// 1/kg, 1/(kg m^2); 0 for fixed bodies
     pub inv_m: f64,
     pub inv_i: f64,
@@ -120,17 +121,17 @@ pub struct Body {
     pub e: f64,
     /// friction coefficient (Coulomb), >= 0
     pub mu: f64,
+    /// m/s^2: free acceleration (gravity and the body's own), from the scene
+    pub fax: f64,
+    pub fay: f64,
     /// m: radius of the bounding circle about the centre
     pub bound: f64,
     /// rad: its window angle when it turns and its partner does not (0: it never turns)
     pub window: f64,
+    // the other lines: polygons, support, sleep
     /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
     pub v0: u32,
     pub nv: u32,
-    // support: resting and sliding on a fixed body
-    /// m/s^2: free acceleration (gravity and the body's own), from the scene
-    pub fax: f64,
-    pub fay: f64,
     /// unit tangent of the supporting edge (along increasing S1..S2)
     pub tx: f64,
     pub ty: f64,
@@ -153,6 +154,7 @@ const _: () = {
     assert!(std::mem::offset_of!(Body, r) + 8 <= 64);
     assert!(std::mem::offset_of!(Body, sup_edge) + 4 <= 128);
     assert!(std::mem::offset_of!(Body, gone) < 128);
+    assert!(std::mem::offset_of!(Body, inv_m) == 128 && std::mem::offset_of!(Body, window) + 8 <= 192);
 };
 
 impl Body {
