@@ -87,8 +87,11 @@ impl Grid {
     /// The empty grid of a scene (its large bodies are placed by [`place_large`]).
     pub fn new(s: &Scene) -> Grid {
         let n = (s.nx * s.ny) as usize;
+        let mut cells = Vec::with_capacity(n);
+        super::huge::advise(&cells);
+        cells.resize(n, CellList::default());
         Grid {
-            cells: vec![CellList::default(); n],
+            cells,
             more: vec![Vec::new(); n],
             nx: s.nx,
             ny: s.ny,

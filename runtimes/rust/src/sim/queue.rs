@@ -277,7 +277,11 @@ impl Heap {
             }
             None => {
                 let s = u32::try_from(self.slab.len()).expect("fewer than 2^32 events queued at once");
+                let grows = self.slab.len() == self.slab.capacity();
                 self.slab.push(e);
+                if grows {
+                    super::huge::advise(&self.slab);
+                }
                 s
             }
         };

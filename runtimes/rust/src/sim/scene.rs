@@ -506,6 +506,7 @@ impl Scene {
             return Err(format!("scene: {n} bodies"));
         }
         let mut bodies = Vec::with_capacity(n as usize);
+        super::huge::advise(&bodies);
         let mut verts = Vec::new();
         for idx in 0..n as u32 {
             bodies.push(read_body(&mut tk, idx, &mut verts)?);
