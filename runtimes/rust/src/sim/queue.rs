@@ -177,7 +177,7 @@ fn time_bits(t: f64) -> u64 {
 /// Asks the processor to bring the cache line at `p` in ahead of its use
 /// (a hint only: nothing is read, and nothing changes if it is ignored).
 #[inline(always)]
-fn prefetch<T>(p: *const T) {
+pub(super) fn prefetch<T>(p: *const T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT0 reads no memory that a program can observe and
     // cannot fault, whatever the address; SSE, which it needs, is part of

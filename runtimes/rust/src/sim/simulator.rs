@@ -668,6 +668,7 @@ impl<E: Equations> World<E> {
                 return Ok(());
             }
             let e = self.q.heap.pop().expect("peeked");
+            self.w.prefetch_bodies(&e.ev);
             self.dispatch(e.t, e.ev)?;
             self.sweep_if_due();
         }
