@@ -131,6 +131,24 @@ impl Grid {
         Cell { grid: self, k: (jy * self.nx + jx) as usize }
     }
 
+    /// Call f with every body listed inline in the cells x0..=x1 of row jy
+    /// (all within the grid; none when x1 < x0): the bodies of a cell past
+    /// its inline ones are left out (a hint's loop, kept short:
+    /// [`Grid::cell`] gives them all).
+    #[inline(always)]
+    pub fn each_inline(&self, jy: i64, x0: i64, x1: i64, mut f: impl FnMut(u32)) {
+        if x1 < x0 {
+            return;
+        }
+        let k = (jy * self.nx) as usize;
+        for c in &self.cells[k + x0 as usize..=k + x1 as usize] {
+            let n = c.count().min(CELL_INLINE);
+            for &o in &c.inline[..n] {
+                f(o);
+            }
+        }
+    }
+
     /// Put body b into cell (cx, cy).
     pub fn add(&mut self, b: u32, cx: i32, cy: i32) {
         self.push(((i64::from(cy) * self.nx) + i64::from(cx)) as usize, b);

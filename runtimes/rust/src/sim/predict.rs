@@ -772,15 +772,13 @@ pub fn predict_cells<E: Equations>(
     // first have every partner's two lines fetched (at 10^5 bodies they are
     // rarely in the cache), so that their misses overlap instead of each
     // waiting for the pair before it: a hint only, nothing is read
+    let bodies = s.bodies.as_ptr();
     for jy in y0..=y1 {
-        for jx in x0..=x1 {
-            let cell = w.grid.cell(jx, jy);
-            for k in 0..cell.len() {
-                let p = s.bodies.as_ptr().wrapping_add(cell.get(k) as usize).cast::<u8>();
-                prefetch(p);
-                prefetch(p.wrapping_add(64));
-            }
-        }
+        w.grid.each_inline(jy, x0, x1, |o| {
+            let p = bodies.wrapping_add(o as usize).cast::<u8>();
+            prefetch(p);
+            prefetch(p.wrapping_add(64));
+        });
     }
     for jy in y0..=y1 {
         for jx in x0..=x1 {
