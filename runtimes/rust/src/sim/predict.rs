@@ -772,12 +772,14 @@ pub fn predict_cells<E: Equations>(
     // first have every partner's two lines fetched (at 10^5 bodies they are
     // rarely in the cache), so that their misses overlap instead of each
     // waiting for the pair before it: a hint only, nothing is read
-    let bodies = s.bodies.as_ptr();
+    let (bodies, stamps) = (s.bodies.as_ptr(), w.stamps.as_ptr());
     for jy in y0..=y1 {
         w.grid.each_inline(jy, x0, x1, |o| {
             let p = bodies.wrapping_add(o as usize).cast::<u8>();
             prefetch(p);
             prefetch(p.wrapping_add(64));
+            // and its stamp, which scheduling a contact with it reads
+            prefetch(stamps.wrapping_add(o as usize));
         });
     }
     for jy in y0..=y1 {
