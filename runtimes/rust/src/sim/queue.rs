@@ -40,6 +40,17 @@ pub enum Event {
 }
 
 impl Event {
+    /// The first body of the event (a collision's or horizon's `a`), or
+    /// u32::MAX for an input or a frame.
+    #[inline(always)]
+    pub fn body(&self) -> u32 {
+        match *self {
+            Event::Collision { a, .. } | Event::Horizon { a, .. } => a,
+            Event::Cell { body, .. } | Event::Stop { body, .. } | Event::Leave { body, .. } => body,
+            Event::Input { .. } | Event::Frame { .. } => u32::MAX,
+        }
+    }
+
     /// The kind: the order of events at equal times.
     #[inline(always)]
     pub fn kind(&self) -> u64 {
@@ -67,12 +78,15 @@ pub struct Entry {
 /// `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the bits of t
 /// (`time_bits`), `key`: kind << 60 | seq, so that (tb, key) orders as
 /// Python's (t, kind, seq) tuples (seq is unique, so the order is total);
-/// `slot`: where the record waits.
+/// `slot`: where the record waits; `body`: the event's first body
+/// ([`Event::body`]), in what were padding bytes, so that the next
+/// event's body can be fetched before its record is read.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     tb: u64,
     key: u64,
     slot: u32,
+    body: u32,
 }
 
 impl Item {
@@ -288,7 +302,7 @@ impl Heap {
         let key = (ev.kind() << SEQ_BITS) | self.seq;
         self.seq += 1;
         self.len += 1;
-        self.place(Item { tb: time_bits(t), key, slot });
+        self.place(Item { tb: time_bits(t), key, slot, body: ev.body() });
     }
 
     /// The earliest event: smallest t, then kind, then scheduling order.
@@ -307,6 +321,14 @@ impl Heap {
             prefetch(&self.slab[next.slot as usize]);
         }
         Some(e)
+    }
+
+    /// The first body of the event that is next as things stand (an event
+    /// scheduled before it meanwhile comes first), u32::MAX for none: to be
+    /// fetched ahead.
+    #[inline(always)]
+    pub fn next_body(&self) -> u32 {
+        self.near.v.first().map_or(u32::MAX, |x| x.body)
     }
 
     /// The earliest event, left queued.
