@@ -131,22 +131,34 @@ impl Grid {
         Cell { grid: self, k: (jy * self.nx + jx) as usize }
     }
 
-    /// Call f with every body listed inline in the cells x0..=x1 of row jy
-    /// (all within the grid; none when x1 < x0): the bodies of a cell past
-    /// its inline ones are left out (a hint's loop, kept short:
-    /// [`Grid::cell`] gives them all).
-    #[inline(always)]
-    pub fn each_inline(&self, jy: i64, x0: i64, x1: i64, mut f: impl FnMut(u32)) {
+    /// The bodies of the cells x0..=x1, y0..=y1 (all within the grid; none
+    /// when x1 < x0 or y1 < y0) into `out`, in the order of a walk of the
+    /// rows, their cells and each cell's list ([`Grid::cell`]); their
+    /// number, or None when they might not fit (then `out` holds a part).
+    #[inline]
+    pub fn gather(&self, x0: i64, x1: i64, y0: i64, y1: i64, out: &mut [u32]) -> Option<usize> {
         if x1 < x0 {
-            return;
+            return Some(0);
         }
-        let k = (jy * self.nx) as usize;
-        for c in &self.cells[k + x0 as usize..=k + x1 as usize] {
-            let n = c.count().min(CELL_INLINE);
-            for &o in &c.inline[..n] {
-                f(o);
+        let mut n = 0;
+        for jy in y0..=y1 {
+            let row = (jy * self.nx) as usize;
+            let (lo, hi) = (row + x0 as usize, row + x1 as usize);
+            for (c, cell) in self.cells[lo..=hi].iter().enumerate() {
+                let count = cell.count();
+                if n + count.max(CELL_INLINE) > out.len() {
+                    return None;
+                }
+                // all three inline words (those past the count are
+                // overwritten next or never read): no loop over the count
+                out[n..n + CELL_INLINE].copy_from_slice(&cell.inline);
+                if count > CELL_INLINE {
+                    out[n + CELL_INLINE..n + count].copy_from_slice(&self.more[lo + c]);
+                }
+                n += count;
             }
         }
+        Some(n)
     }
 
     /// Put body b into cell (cx, cy).
@@ -346,5 +358,72 @@ mod tests {
             }
             assert!(grid.cell(0, 0).len() == 0 && grid.cell(2, 0).len() == 0);
         }
+    }
+
+    #[test]
+    fn gather_walks_the_block_as_the_cells_do() {
+        let mut state = 4242u64;
+        let mut next = move || {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            state.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        };
+        let (nx, ny) = (5i64, 4i64);
+        let n = (nx * ny) as usize;
+        let mut grid = Grid {
+            cells: vec![CellList::default(); n],
+            more: vec![Vec::new(); n],
+            nx,
+            ny,
+            walls: vec![Vec::new(); n],
+            wnear: vec![0; n],
+            large: Vec::new(),
+        };
+        let mut fresh = 0u32;
+        let (mut fitted, mut spilled, mut overflowed) = (0, 0, 0);
+        for round in 0..2000 {
+            // up to 7 bodies in a cell (some past the inline ones), some taken out
+            let (cx, cy) = ((next() % nx as u64) as i32, (next() % ny as u64) as i32);
+            if grid.cell(i64::from(cx), i64::from(cy)).len() < 7 && next() % 3 != 0 {
+                grid.add(fresh, cx, cy);
+                fresh += 1;
+            } else if grid.cell(i64::from(cx), i64::from(cy)).len() > 0 {
+                let o = grid.cell(i64::from(cx), i64::from(cy)).get(0);
+                grid.remove(o, cx, cy);
+            }
+            if round % 2 == 1 {
+                grid.cells[(next() % n as u64) as usize].n ^= WALLS_NEAR;
+            }
+            let (x0, y0) = ((next() % nx as u64) as i64, (next() % ny as u64) as i64);
+            let (x1, y1) = (x0 - 1 + (next() % 4) as i64, y0 - 1 + (next() % 4) as i64);
+            let (x1, y1) = (x1.min(nx - 1), y1.min(ny - 1));
+            let mut walked = Vec::new();
+            for jy in y0..=y1 {
+                for jx in x0..=x1 {
+                    let cell = grid.cell(jx, jy);
+                    for k in 0..cell.len() {
+                        walked.push(cell.get(k));
+                    }
+                }
+            }
+            let mut out = [u32::MAX; 24];
+            match grid.gather(x0, x1, y0, y1, &mut out) {
+                Some(m) => {
+                    assert_eq!(&out[..m], &walked[..]);
+                    fitted += 1;
+                    if m > CELL_INLINE && (y0..=y1).any(|jy| (x0..=x1).any(|jx| grid.cell(jx, jy).len() > CELL_INLINE)) {
+                        spilled += 1;
+                    }
+                }
+                // None only when the bodies, or a cell's inline words, might not fit
+                None => {
+                    assert!(walked.len() + CELL_INLINE > out.len(), "{} bodies", walked.len());
+                    overflowed += 1;
+                }
+            }
+        }
+        // every case came up: blocks that fit, cells past their inline words, blocks that did not fit
+        assert!(fitted > 100 && spilled > 100 && overflowed > 100, "{fitted} {spilled} {overflowed}");
     }
 }
