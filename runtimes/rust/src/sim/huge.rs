@@ -3,7 +3,7 @@
 //! of megabytes read at random: with 4 KiB pages nearly every body or cell
 //! a prediction reads also misses the TLB, and under a hypervisor each
 //! such miss walks two page tables.  Linux backs a range with 2 MiB pages
-//! when asked (`madvise(MADV_HUGEPAGE)`; the machines this runs on have
+//! when asked (`madvise(MADV_HUGEPAGE)`; the project's machines have
 //! THP in "madvise" mode: nothing is backed so unless asked).  A hint
 //! only: no value, no order of operations changes, so the trace is the
 //! same bytes; elsewhere, or when the kernel refuses, nothing happens.
