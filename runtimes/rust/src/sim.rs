@@ -15,13 +15,14 @@
 //!
 //! One module per concept, as the C runtime's m2c_sim_*.c: `scene` (the
 //! flat scene), `queue` (event records and the priority queue), `grid`
-//! (broad phase), `motion`, `predict` (pairs, features, cell crossings),
-//! `contact` (contact frame and impulse), `cluster` (simultaneous contacts
-//! solved together), `support` (resting and sliding,
-//! when a body is carried), `sleep` (when a body falls asleep), `overlap`
-//! (a teleport's or an added body's check), `world` (what a prediction
-//! reads and writes), `live` (the world's API), `simulator` (one handler per
-//! event kind and their dispatch, carried bodies leaving), `out` and `g17`
+//! (broad phase), `huge` (huge pages for the large arrays), `motion`,
+//! `predict` (pairs, features, cell crossings), `contact` (contact frame
+//! and impulse), `cluster` (simultaneous contacts solved together),
+//! `support` (resting and sliding, when a body is carried), `sleep` (when
+//! a body falls asleep), `overlap` (a teleport's or an added body's
+//! check), `world` (what a prediction reads and writes), `live` (the
+//! world's API), `simulator` (one handler per event kind and their
+//! dispatch, carried bodies leaving), `out` and `g17`
 //! (the trace and its numbers).
 //!
 //! Operation order: each expression is written as Python evaluates it (left
@@ -43,6 +44,7 @@ mod cluster;
 mod contact;
 mod g17;
 mod grid;
+mod huge;
 mod live;
 mod motion;
 mod overlap;

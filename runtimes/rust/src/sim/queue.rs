@@ -40,6 +40,17 @@ pub enum Event {
 }
 
 impl Event {
+    /// The first body of the event (a collision's or horizon's `a`), or
+    /// u32::MAX for an input or a frame.
+    #[inline(always)]
+    pub fn body(&self) -> u32 {
+        match *self {
+            Event::Collision { a, .. } | Event::Horizon { a, .. } => a,
+            Event::Cell { body, .. } | Event::Stop { body, .. } | Event::Leave { body, .. } => body,
+            Event::Input { .. } | Event::Frame { .. } => u32::MAX,
+        }
+    }
+
     /// The kind: the order of events at equal times.
     #[inline(always)]
     pub fn kind(&self) -> u64 {
@@ -67,12 +78,15 @@ pub struct Entry {
 /// `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the bits of t
 /// (`time_bits`), `key`: kind << 60 | seq, so that (tb, key) orders as
 /// Python's (t, kind, seq) tuples (seq is unique, so the order is total);
-/// `slot`: where the record waits.
+/// `slot`: where the record waits; `body`: the event's first body
+/// ([`Event::body`]), in what were padding bytes, so that the next
+/// event's body can be fetched before its record is read.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     tb: u64,
     key: u64,
     slot: u32,
+    body: u32,
 }
 
 impl Item {
@@ -177,7 +191,7 @@ fn time_bits(t: f64) -> u64 {
 /// Asks the processor to bring the cache line at `p` in ahead of its use
 /// (a hint only: nothing is read, and nothing changes if it is ignored).
 #[inline(always)]
-fn prefetch<T>(p: *const T) {
+pub(super) fn prefetch<T>(p: *const T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT0 reads no memory that a program can observe and
     // cannot fault, whatever the address; SSE, which it needs, is part of
@@ -277,14 +291,18 @@ impl Heap {
             }
             None => {
                 let s = u32::try_from(self.slab.len()).expect("fewer than 2^32 events queued at once");
+                let grows = self.slab.len() == self.slab.capacity();
                 self.slab.push(e);
+                if grows {
+                    super::huge::advise(&self.slab);
+                }
                 s
             }
         };
         let key = (ev.kind() << SEQ_BITS) | self.seq;
         self.seq += 1;
         self.len += 1;
-        self.place(Item { tb: time_bits(t), key, slot });
+        self.place(Item { tb: time_bits(t), key, slot, body: ev.body() });
     }
 
     /// The earliest event: smallest t, then kind, then scheduling order.
@@ -303,6 +321,14 @@ impl Heap {
             prefetch(&self.slab[next.slot as usize]);
         }
         Some(e)
+    }
+
+    /// The first body of the event that is next as things stand (an event
+    /// scheduled before it meanwhile comes first), u32::MAX for none: to be
+    /// fetched ahead.
+    #[inline(always)]
+    pub fn next_body(&self) -> u32 {
+        self.near.v.first().map_or(u32::MAX, |x| x.body)
     }
 
     /// The earliest event, left queued.
@@ -337,8 +363,10 @@ impl Heap {
     /// Remove every queued event for which `drop` is true (the stale ones:
     /// with lazy invalidation they would otherwise wait until their time,
     /// and outnumber the live ones).  The others keep their keys, so the
-    /// pop order of what stays is unchanged.
-    pub fn sweep(&mut self, mut drop: impl FnMut(&Entry) -> bool) {
+    /// pop order of what stays is unchanged.  `ahead` is told the first
+    /// body of the event `drop` is asked about some items later (to fetch
+    /// what `drop` will read; the record itself is fetched here).
+    pub fn sweep(&mut self, mut ahead: impl FnMut(u32), mut drop: impl FnMut(&Entry) -> bool) {
         let (slab, free) = (&self.slab, &mut self.free);
         let mut removed = 0;
         let mut keep = |x: &Item| {
@@ -350,10 +378,10 @@ impl Heap {
                 true
             }
         };
-        self.near.v.retain(&mut keep);
+        retain_ahead(&mut self.near.v, slab, &mut ahead, &mut keep);
         for (k, b) in self.buckets.iter_mut().enumerate() {
             if !b.is_empty() {
-                b.retain(&mut keep);
+                retain_ahead(b, slab, &mut ahead, &mut keep);
                 if b.is_empty() {
                     self.mask[k / 64] &= !(1u64 << (k % 64));
                 }
@@ -362,6 +390,30 @@ impl Heap {
         self.near.heapify();
         self.len -= removed;
     }
+}
+
+/// Vec::retain of the items (`keep` asked about each in order, the kept
+/// ones in their order), with the record of the item AHEAD places on
+/// prefetched and its first body told to `ahead`: the items' records lie
+/// anywhere in the slab, and at 10^5 bodies a sweep otherwise waits for
+/// each in turn.
+fn retain_ahead(v: &mut Vec<Item>, slab: &[Entry], ahead: &mut impl FnMut(u32), keep: &mut impl FnMut(&Item) -> bool) {
+    const AHEAD: usize = 8;
+    let n = v.len();
+    let mut kept = 0;
+    for r in 0..n {
+        if r + AHEAD < n {
+            let y = v[r + AHEAD];
+            prefetch(slab.as_ptr().wrapping_add(y.slot as usize));
+            ahead(y.body);
+        }
+        let x = v[r];
+        if keep(&x) {
+            v[kept] = x;
+            kept += 1;
+        }
+    }
+    v.truncate(kept);
 }
 
 impl Default for Heap {
@@ -493,7 +545,7 @@ mod tests {
                     // drop the events carrying a multiple of a random divisor
                     let d = 2 + rng.next() % 5;
                     let before = heap.len();
-                    heap.sweep(|e| carried(&e.ev) % d == 0);
+                    heap.sweep(|_| {}, |e| carried(&e.ev) % d == 0);
                     pending.retain(|p| p.2 % d != 0);
                     assert_eq!(heap.len(), pending.len());
                     swept += before - heap.len();

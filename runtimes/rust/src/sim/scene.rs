@@ -59,13 +59,19 @@ impl CosSin {
 }
 
 /// A body's state at its own last update time `tb`, and its constants.
-/// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out so that a prediction
-/// reads the first two cache lines only.  (Its stamp, bumped when the
-/// motion changes, is in `Space::stamps`.)
+/// Units: s, m, m/s, m/s^2, rad, rad/s, kg.  Laid out by use: the first
+/// cache line holds all that a pair of circles that do not orbit needs
+/// (motion at tb, radius), the second the rest of what every pair
+/// prediction and cell crossing reads (angle, orbit, index, cell,
+/// support, the flags), the third the rest of what a collision's handler
+/// reads; polygons, support and sleep read the others.  At 10^5 bodies
+/// the records no longer fit the cache: a pair prediction read four lines
+/// of each partner before (docs/throughput.md, session 10).  (Its stamp,
+/// bumped when the motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
-    // motion
+    // line 0: motion at tb, radius
     /// m: centre (of rotation) at tb
     pub px: f64,
     pub py: f64,
@@ -76,35 +82,38 @@ pub struct Body {
     /// its part along the support's edge, less friction)
     pub ax: f64,
     pub ay: f64,
-    /// rad: angle at tb
-    pub ang: f64,
-    /// rad/s: angular velocity
-    pub om: f64,
-    // shape, grid cell
     /// s: the time of this state
     pub tb: f64,
     /// m: circle radius (0 for polygons)
     pub r: f64,
+    // line 1: turning, index, cell, support, flags
+    /// rad: angle at tb
+    pub ang: f64,
+    /// rad/s: angular velocity
+    pub om: f64,
     /// m, rad: orbit radius and phase (circles)
     pub orbit: f64,
     pub ophase: f64,
-    /// m: radius of the bounding circle about the centre
-    pub bound: f64,
-    /// rad: its window angle when it turns and its partner does not (0: it never turns)
-    pub window: f64,
-    /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
-    pub v0: u32,
-    pub nv: u32,
+    /// index in the scene
+    pub idx: u32,
+    /// index of the body supporting it (fixed), or carrying it (movable),
+    /// -1: free
+    pub sup: i32,
     /// grid cell (small bodies)
     pub cx: i32,
     pub cy: i32,
-    /// index in the scene
-    pub idx: u32,
     pub polygon: bool,
     pub fixed: bool,
     /// not in the grid: in the large list every body checks
     pub large: bool,
-    // contacts
+    /// frozen in a sleeping island (v = a = w = 0, no events of its own)
+    pub asleep: bool,
+    /// removed from the world (remove_body, input MODE 4): frozen, out of the grid
+    pub gone: bool,
+    /// the supporting edge (index into sup's vertices), -1: free
+    pub sup_edge: i32,
+    // line 2: what a collision's handler reads besides (contact impulse,
+    // support and sleep tests)
     /// 1/kg, 1/(kg m^2); 0 for fixed bodies
     pub inv_m: f64,
     pub inv_i: f64,
@@ -112,15 +121,17 @@ pub struct Body {
     pub e: f64,
     /// friction coefficient (Coulomb), >= 0
     pub mu: f64,
-    // support: resting and sliding on a fixed body
     /// m/s^2: free acceleration (gravity and the body's own), from the scene
     pub fax: f64,
     pub fay: f64,
-    /// index of the body supporting it (fixed), or carrying it (movable),
-    /// -1: free
-    pub sup: i32,
-    /// the supporting edge (index into sup's vertices), -1: free
-    pub sup_edge: i32,
+    /// m: radius of the bounding circle about the centre
+    pub bound: f64,
+    /// rad: its window angle when it turns and its partner does not (0: it never turns)
+    pub window: f64,
+    // the other lines: polygons, support, sleep
+    /// the body's vertices are `Scene::verts[v0 .. v0 + nv]`
+    pub v0: u32,
+    pub nv: u32,
     /// unit tangent of the supporting edge (along increasing S1..S2)
     pub tx: f64,
     pub ty: f64,
@@ -128,10 +139,6 @@ pub struct Body {
     pub load: f64,
     /// m/s^2: free acceleration along the tangent
     pub at: f64,
-    /// removed from the world (remove_body, input MODE 4): frozen, out of the grid
-    pub gone: bool,
-    /// frozen in a sleeping island (v = a = w = 0, no events of its own)
-    pub asleep: bool,
     /// the island's number (the index of its first sleeper), -1: awake
     pub island: i64,
     /// a large body placed in the grid: the cells its box covers (x_lo,
@@ -140,6 +147,15 @@ pub struct Body {
     /// how many bodies it carries (their sup is this movable body)
     pub carry: i64,
 }
+
+/// The layout above: motion and radius in the first line, what every
+/// prediction reads in the first two.
+const _: () = {
+    assert!(std::mem::offset_of!(Body, r) + 8 <= 64);
+    assert!(std::mem::offset_of!(Body, sup_edge) + 4 <= 128);
+    assert!(std::mem::offset_of!(Body, gone) < 128);
+    assert!(std::mem::offset_of!(Body, inv_m) == 128 && std::mem::offset_of!(Body, window) + 8 <= 192);
+};
 
 impl Body {
     /// Index of the body in the scene.
@@ -490,6 +506,7 @@ impl Scene {
             return Err(format!("scene: {n} bodies"));
         }
         let mut bodies = Vec::with_capacity(n as usize);
+        super::huge::advise(&bodies);
         let mut verts = Vec::new();
         for idx in 0..n as u32 {
             bodies.push(read_body(&mut tk, idx, &mut verts)?);

@@ -12,7 +12,7 @@ use super::motion::{rebase, state_at};
 use super::overlap::overlapping;
 use super::out::{Res, SimError};
 use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
-use super::queue::Event;
+use super::queue::{prefetch, Event};
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::support::{can_carry, can_support, end_support, enter_carried, enter_support, is_static, slide_accel};
@@ -668,6 +668,8 @@ impl<E: Equations> World<E> {
                 return Ok(());
             }
             let e = self.q.heap.pop().expect("peeked");
+            self.w.prefetch_bodies(&e.ev);
+            self.w.prefetch_next(self.q.heap.next_body());
             self.dispatch(e.t, e.ev)?;
             self.sweep_if_due();
         }
@@ -686,7 +688,14 @@ impl<E: Equations> World<E> {
             return;
         }
         let (w, stats, end) = (&self.w, &mut self.q.stats, self.w.s.end);
-        self.q.heap.sweep(|e| {
+        let stamps = w.stamps.as_ptr();
+        let ahead = |b: u32| {
+            if b != u32::MAX {
+                // the stamp the stale check reads (a hint: wrapping, never read here)
+                prefetch(stamps.wrapping_add(b as usize));
+            }
+        };
+        self.q.heap.sweep(ahead, |e| {
             if !w.is_stale(&e.ev) {
                 return false;
             }
