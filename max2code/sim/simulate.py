@@ -5,7 +5,6 @@ flat trace back into JSON events (docs/simulator.md)."""
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import operator
 import os
@@ -23,7 +22,7 @@ try:
 except ImportError:         # not on Windows
     fcntl = None
 
-from max2code import __version__
+from max2code import __version__, filestate
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
@@ -95,29 +94,49 @@ class Trace:
 COMMAND_TOOLS = frozenset({"m2c_trace_json.c", "m2c_scene_flat.c"})
 
 
+def _tree_files(path) -> list[str]:
+    """The files under `path` a simulator depends on, in a fixed order (no
+    build products, caches nor the command's own tools)."""
+    out = []
+    for base, dirs, files in os.walk(path):     # top-down: the folders left out of dirs are not entered
+        dirs[:] = sorted(d for d in dirs if d not in ("target", "__pycache__"))
+        out += [os.path.join(base, f) for f in sorted(files) if f not in COMMAND_TOOLS]
+    return out
+
+
 def _hash_tree(path, h) -> None:
-    for base, dirs, files in sorted(os.walk(path)):
-        dirs.sort()
-        dirs[:] = [d for d in dirs if d not in ("target", "__pycache__")]
-        for f in sorted(files):
-            if f in COMMAND_TOOLS:
-                continue
-            p = os.path.join(base, f)
-            h.update(p.encode())
-            with open(p, "rb") as fh:
-                h.update(fh.read())
+    for p in _tree_files(path):
+        h.update(p.encode())
+        with open(p, "rb") as fh:
+            h.update(fh.read())
 
 
-def _build_key(lang: str, effects: tuple[str, ...], order: int):
-    """The build's folder and the hash of everything it depends on but
-    Maxima's version (its results are cached by version anyway)."""
+def _build_key(lang: str, effects: tuple[str, ...], order: int) -> tuple[Path, str]:
+    """The build's folder and the hash (hex) of everything it depends on but
+    Maxima's version (its results are cached by version anyway): the hash
+    remembered for the files' stat when none changed (max2code/filestate.py),
+    else computed from their bytes."""
     workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
-    key = hashlib.sha256(json.dumps([lang, list(effects), order, __version__]).encode())
+    head = json.dumps([lang, list(effects), order, __version__])
+    trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang)]
+    now = filestate.state([*map(str, EQUATIONS.values()), *(p for tree in trees for p in tree)], head)
+    memo = workdir / "inputs.state"
+    digest = filestate.recall(memo, now)
+    if digest is not None:
+        return workdir, digest
+    import hashlib      # only here: importing it (OpenSSL) costs more than a run of a small scene
+    key = hashlib.sha256(head.encode())
     for path in EQUATIONS.values():
         key.update(path.read_bytes())
-    for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang):
-        _hash_tree(tree, key)
-    return workdir, key
+    for tree in trees:
+        for p in tree:
+            key.update(p.encode())
+            with open(p, "rb") as fh:
+                key.update(fh.read())
+    digest = key.hexdigest()
+    if workdir.is_dir():
+        filestate.remember(memo, now, digest)
+    return workdir, digest
 
 
 def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild | None:
@@ -125,7 +144,7 @@ def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild
     generating, no building: a few milliseconds), else None."""
     workdir, key = _build_key(lang, effects, order)
     try:
-        if (workdir / "inputs.stamp").read_text() == key.hexdigest() and (workdir / "build.stamp").exists():
+        if (workdir / "inputs.stamp").read_text() == key and (workdir / "build.stamp").exists():
             saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
             if all(os.path.exists(g) for g in saved["generated"].values()) and _runnable(saved["run"]):
                 return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
@@ -156,6 +175,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     tgt = get_target(lang)
     generated = {}
     names: dict[str, list[str]] = {}
+    import hashlib
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
         fname = eq + tgt.extension
@@ -185,7 +205,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
         stamp.write_text(digest)
     names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
-    inputs_stamp.write_text(key.hexdigest())
+    inputs_stamp.write_text(key)
     return SimBuild(lang, str(workdir), run, names, generated)
 
 
