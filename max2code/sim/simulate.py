@@ -366,6 +366,7 @@ class TraceConverter:
         self.head: str | None = None    # the event being read: its JSON text without states
         self.states: list[str] = []     # and its states
         self.final: list[str] = []
+        self._final_started = False     # the final line's start and some bodies written (by _finals)
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
@@ -486,7 +487,8 @@ class TraceConverter:
                 self.feed_events(data[:at])
             end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
             block = data[at:end] if end else data[at:]
-            if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
+            # F lines only (the C code checks that itself, line by line, and says no otherwise)
+            if end and (self._c is not None or block.count(b"\n") == block.count(b"\nF ") + 1):
                 self._finals(block)
             else:
                 self.feed_chunk(block.decode("ascii", "replace"))
@@ -514,8 +516,15 @@ class TraceConverter:
             got = self._c.finals(block)
             if got is not None:
                 self._flush()           # the last event is whole
-                self.final.append(got)  # the bodies' JSON, comma-separated
                 self.line += block.count(b"\n")
+                if self.write_bytes is not None and not self.final:
+                    # streamed as they come (15 MB at 10^5 bodies: kept, it was decoded, joined and encoded
+                    # after the run, in series with nothing)
+                    self.write_bytes(b"," if self._final_started else self._final_head().encode("ascii"))
+                    self.write_bytes(got)
+                    self._final_started = True
+                else:
+                    self.final.append(got.decode("ascii"))  # the bodies' JSON, comma-separated
                 return
         text = block.decode("ascii", "replace")
         lines = text.split("\n")
@@ -685,6 +694,8 @@ class TraceConverter:
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
+        if self._final_started:
+            raise ValueError("the final states were written as they came (write_bytes): call _finish")
         stats = self._finish()
         return json.loads(f'{self._final_head()}{",".join(self.final)}]}}'), stats
 
@@ -696,9 +707,10 @@ class TraceConverter:
         written a block at a time (one line of 15 MB at 10^5 bodies, which
         made whole, with a newline, and encoded were four copies of it)."""
         self._flush()
-        self.write(self._final_head())
+        if not self._final_started:
+            self.write(self._final_head())
         for k in range(0, len(self.final), 1024):
-            self.write(("," if k else "") + ",".join(self.final[k:k + 1024]))
+            self.write(("," if k or self._final_started else "") + ",".join(self.final[k:k + 1024]))
         self.write("]}\n")
         stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
                  "predictions": dict(sorted(self.predictions.items()))}

@@ -74,16 +74,16 @@ class CTrace:
                 return None
             return ctypes.string_at(self.buf, n), self.events.value, self.lines.value
 
-    def finals(self, data: bytes) -> str | None:
-        """The JSON of complete F lines, comma-separated, or None when Python
-        must convert them."""
+    def finals(self, data: bytes) -> bytes | None:
+        """The JSON of complete F lines, comma-separated (ASCII), or None when
+        Python must convert them."""
         while True:
             n = self.lib.tj_finals(self.handle, data, len(data), self.buf, self.cap)
             if n == -2:
                 self.cap = max(2 * self.cap, 4 * len(data))
                 self.buf = ctypes.create_string_buffer(self.cap)
                 continue
-            return None if n < 0 else ctypes.string_at(self.buf, n).decode("ascii")
+            return None if n < 0 else ctypes.string_at(self.buf, n)
 
     def __del__(self):
         if getattr(self, "handle", None):
