@@ -59,7 +59,7 @@ def in_c_streamed(scene, build, text, cuts, **kw):
     in order with the rest."""
     out = []
     conv = TraceConverter(scene, build, out.append, accelerate=True,
-                          write_bytes=lambda b: out.append(b.decode("ascii")), **kw)
+                          write_bytes=lambda b: out.append(str(b, "ascii")), **kw)
     lines = text.splitlines(keepends=True)
     starts = sorted({k for k in cuts if not lines[k].startswith("S")})
     bounds = [0, *starts, len(lines)]

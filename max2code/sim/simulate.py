@@ -502,9 +502,9 @@ class TraceConverter:
                 self.events += got[1]
                 self.line += got[2]
                 if self.write_bytes is not None:
-                    self.write_bytes(got[0])
+                    self.write_bytes(got[0])        # written from the converter's buffer
                 else:
-                    self.write(got[0].decode("ascii"))
+                    self.write(str(got[0], "ascii"))
                 return
         self.feed_chunk(data.decode("ascii", "replace"))
 
@@ -800,7 +800,9 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
     from it stops the simulator and is raised as it is (and first, when
     compiling fails or a real build must run).  `write_bytes`, when given,
     writes ASCII bytes to the same stream as `write`, in order with it: the C
-    converter's output then goes there without a decoding and an encoding."""
+    converter's output then goes there without a decoding and an encoding
+    (a bytes-like view of the converter's buffer, which it must write or copy
+    before it returns, as a file's write does)."""
     if converter not in CONVERTERS:
         raise ValueError(f"converter {converter!r}")
     build = built_simulator(lang, scene.effects, scene.taylor_order)
