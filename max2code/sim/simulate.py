@@ -471,17 +471,21 @@ class TraceConverter:
             raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
                                 f"({exc})") from None
 
-    def feed_events(self, data: bytes) -> None:
-        """Whole events of the flat trace: `data` ends with a newline where a
-        line other than a state begins, or at the trace's end.  Converted in
-        C when the converter was made with `accelerate` and the C code takes
-        the chunk; else as feed_chunk.  The same bytes either way.  The
-        final states (F lines, one per body, after the last event: as many
-        lines as bodies) go to _finals."""
-        last = data.rfind(b"\n", 0, len(data) - 1) + 1          # the chunk's last line
+    def feed_events(self, data: bytes, size: int | None = None) -> None:
+        """Whole events of the flat trace: `data` (its first `size` bytes,
+        when given: the C converter takes them without a copy) ends with a
+        newline where a line other than a state begins, or at the trace's
+        end.  Converted in C when the converter was made with `accelerate`
+        and the C code takes the chunk; else as feed_chunk.  The same bytes
+        either way.  The final states (F lines, one per body, after the last
+        event: as many lines as bodies) go to _finals."""
+        n = len(data) if size is None else size
+        last = data.rfind(b"\n", 0, n - 1) + 1          # the chunk's last line
         at = -1             # where its F lines begin: they come after every event, so not before an E or S line
-        if data[last:last + 1] not in (b"E", b"S", b""):
-            at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1 or -1
+        if n and data[last:min(last + 1, n)] not in (b"E", b"S", b""):
+            at = 0 if data.startswith(b"F ", 0, n) else data.find(b"\nF ", 0, n) + 1 or -1
+        if at >= 0 or (n < len(data) and self._c is None):
+            data = data[:n]         # the Python paths: the chunk on its own
         if at >= 0:
             if at:
                 self.feed_events(data[:at])
@@ -495,8 +499,8 @@ class TraceConverter:
             if end and end < len(data):
                 self.feed_chunk(data[end:].decode("ascii", "replace"))
             return
-        if self._c is not None and data:
-            got = self._c.convert(data, self.frames)
+        if self._c is not None and n:
+            got = self._c.convert(data, self.frames, n)
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
                 self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
                 self.events += got[1]
@@ -506,7 +510,7 @@ class TraceConverter:
                 else:
                     self.write(str(got[0], "ascii"))
                 return
-        self.feed_chunk(data.decode("ascii", "replace"))
+        self.feed_chunk(data[:n].decode("ascii", "replace"))
 
     def _finals(self, block: bytes) -> None:
         """Complete F lines: in C when the converter was made with
@@ -861,7 +865,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             th.join(timeout=5)
         proc.stdout.close()
         raise
-    last, rest, fed = "", b"", b""
+    last, rest, fed, cut = "", b"", b"", 0
     try:
         # chunks of whole events: the converters' fast paths
         while True:
@@ -869,16 +873,16 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             if not data:
                 break
             data = rest + data
-            cut = _events_end(data)
-            if cut:
-                fed = data[:cut] if cut < len(data) else data
-                conv.feed_events(fed)
-            rest = data[cut:]
+            k = _events_end(data)
+            if k:
+                fed, cut = data, k
+                conv.feed_events(data, k)       # its first k bytes
+            rest = data[k:]
         if rest:
             last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
             conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
         elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
-            last = fed[fed.rfind(b"\n", 0, len(fed) - 1) + 1:].decode("ascii", "replace")
+            last = fed[fed.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
