@@ -64,7 +64,7 @@ def in_c_sized(scene, build, text, cuts, **kw):
     bounds = [0, *starts, len(lines)]
     for a, b in zip(bounds, bounds[1:]):
         chunk = "".join(lines[a:b]).encode()
-        conv.feed_events(chunk + b"F 0 1.0 2.0\nE coll", len(chunk))
+        conv.feed_events(chunk + b"E collision\nF 0 1.0 2.0", len(chunk))
     ends = conv.finish()
     return "".join(out), ends
 
