@@ -1,3 +1,3 @@
-from max2code.cli import main
+from max2code.cli import run
 
-raise SystemExit(main())
+run()

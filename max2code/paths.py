@@ -18,8 +18,8 @@ runtime sources>` (default cache `$XDG_CACHE_HOME/max2code` or
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
+import zlib
 from importlib import resources
 from pathlib import Path
 
@@ -65,17 +65,36 @@ def cache_dir() -> Path:
     return Path(base)
 
 
-def sources_digest() -> str:
-    """A digest of the runtime sources (names and bytes), which names an installed package's build folder."""
-    h = hashlib.sha256()
-    for base, dirs, files in sorted(os.walk(RUNTIMES)):
+def _runtime_files() -> list[str]:
+    """The runtime sources, in a fixed order (no build products nor caches)."""
+    out = []
+    for base, dirs, files in os.walk(RUNTIMES):     # top-down: the folders left out of dirs are not entered
         dirs[:] = sorted(d for d in dirs if d not in ("target", "__pycache__"))
-        for f in sorted(files):
-            p = os.path.join(base, f)
-            h.update(os.path.relpath(p, RUNTIMES).encode() + b"\0")
-            with open(p, "rb") as fh:
-                h.update(fh.read())
-    return h.hexdigest()
+        out += [os.path.join(base, f) for f in sorted(files)]
+    return out
+
+
+def sources_digest() -> str:
+    """A digest of the runtime sources (names and bytes), which names an
+    installed package's build folder: remembered for the files' stat in the
+    cache folder (max2code/filestate.py), so that a command reads and hashes
+    them only when they changed."""
+    from max2code import filestate
+    files = _runtime_files()
+    now = filestate.state(files, str(RUNTIMES))
+    memo = cache_dir() / f"sources-{zlib.crc32(str(RUNTIMES).encode()):08x}.state"
+    digest = filestate.recall(memo, now)
+    if digest is not None:
+        return digest
+    import hashlib      # only here: importing it (OpenSSL) costs more than a run of a small scene
+    h = hashlib.sha256()
+    for p in files:
+        h.update(os.path.relpath(p, RUNTIMES).encode() + b"\0")
+        with open(p, "rb") as fh:
+            h.update(fh.read())
+    digest = h.hexdigest()
+    filestate.remember(memo, now, digest)
+    return digest
 
 
 @functools.lru_cache(maxsize=None)

@@ -360,3 +360,21 @@ def test_examples_replay_to_their_final_state(path):
     err, who = rp.final_error()
     assert err <= 1e-9, (err, who)
     assert math.isfinite(sum(b["position"][0] for b in tr.final["bodies"]))
+
+
+def test_the_command_process_writes_everything_before_its_quick_exit(tmp_path):
+    """`python -m max2code simulate` ends with os._exit after flushing (cli.run, QUICK_EXIT): the trace on
+    standard output through a pipe is the whole of what -o FILE holds, the summary reaches standard error, and
+    the exit statuses are main()'s."""
+    ex = os.path.join(ROOT, "examples", "billiard-break.json")
+    cmd = [sys.executable, "-m", "max2code", "simulate", ex]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}     # the streams buffered, as usual
+    piped = subprocess.run(cmd, capture_output=True, cwd=ROOT, env=env)
+    to_file = subprocess.run([*cmd, "-o", str(tmp_path / "t.jsonl"), "-q"], capture_output=True, cwd=ROOT, env=env)
+    assert piped.returncode == 0 and to_file.returncode == 0, piped.stderr + to_file.stderr
+    assert piped.stdout == (tmp_path / "t.jsonl").read_bytes()
+    assert piped.stdout.endswith(b"\n") and b'"kind":"stats"' in piped.stdout.splitlines()[-1]
+    assert piped.stderr.decode().startswith("max2code simulate: ") and to_file.stderr == b""
+    missing = subprocess.run([*cmd[:-1], str(tmp_path / "none.json")], capture_output=True, text=True, cwd=ROOT,
+                             env=env)
+    assert missing.returncode == 1 and "Traceback" not in missing.stderr and "none.json" in missing.stderr

@@ -53,6 +53,38 @@ def in_c(scene, build, text, cuts, **kw):
     return "".join(out), ends
 
 
+def in_c_sized(scene, build, text, cuts, **kw):
+    """in_c, each chunk given as the first `size` bytes of a longer buffer
+    (as stream_scene gives them: no slice), the bytes after it the start of
+    a trace line that must not be read."""
+    out = []
+    conv = TraceConverter(scene, build, out.append, accelerate=True, **kw)
+    lines = text.splitlines(keepends=True)
+    starts = sorted({k for k in cuts if not lines[k].startswith("S")})
+    bounds = [0, *starts, len(lines)]
+    for a, b in zip(bounds, bounds[1:]):
+        chunk = "".join(lines[a:b]).encode()
+        conv.feed_events(chunk + b"E collision\nF 0 1.0 2.0", len(chunk))
+    ends = conv.finish()
+    return "".join(out), ends
+
+
+def in_c_streamed(scene, build, text, cuts, **kw):
+    """in_c as `max2code simulate` runs it: the C converter's output, the
+    final states included, written as bytes as they come (write_bytes),
+    in order with the rest."""
+    out = []
+    conv = TraceConverter(scene, build, out.append, accelerate=True,
+                          write_bytes=lambda b: out.append(str(b, "ascii")), **kw)
+    lines = text.splitlines(keepends=True)
+    starts = sorted({k for k in cuts if not lines[k].startswith("S")})
+    bounds = [0, *starts, len(lines)]
+    for a, b in zip(bounds, bounds[1:]):
+        conv.feed_events("".join(lines[a:b]).encode())
+    stats = conv._finish()
+    return "".join(out), stats
+
+
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_fast_path_writes_the_same_bytes_on_every_example(path):
     scene = load_scene(str(path))
@@ -70,6 +102,12 @@ def test_fast_path_writes_the_same_bytes_on_every_example(path):
         cuts = rng.sample(range(1, n), min(k, n - 1))
         assert in_c(scene, build, trace.raw, cuts) == want
     assert in_c(scene, build, trace.raw, [n // 2], frames=False) == slow(scene, build, trace.raw, frames=False)
+    for k in (0, 7, n // 3):
+        cuts = rng.sample(range(1, n), min(k, n - 1))
+        assert in_c_sized(scene, build, trace.raw, cuts) == want
+    f_lines = [k for k, x in enumerate(trace.raw.splitlines()) if x.startswith("F ")]
+    for cuts in ([], [n // 3], f_lines[1::2], rng.sample(range(1, n), min(7, n - 1))):     # F lines in pieces
+        assert in_c_streamed(scene, build, trace.raw, cuts) == (want[0], want[1][1])
 
 
 def test_the_c_converter_takes_collisions_and_states(monkeypatch):

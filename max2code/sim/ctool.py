@@ -6,12 +6,12 @@ why_not() says why; its caller then takes the Python path, which gives the
 same bytes."""
 from __future__ import annotations
 
-import hashlib
 import os
 import subprocess
 import tempfile
 from pathlib import Path
 
+from max2code import filestate
 from max2code.paths import BUILD
 
 
@@ -30,8 +30,14 @@ class CTool:
     def build(self) -> str:
         """The shared library's path, compiled when its source or flags
         changed; OSError or CalledProcessError when it cannot be."""
-        src = self.source.read_bytes()
-        digest = hashlib.sha256(src + "\0".join(self.flags).encode()).hexdigest()[:16]
+        memo = BUILD / self.folder / "source.state"     # the digest of the source as it was (filestate.py)
+        now = filestate.state([str(self.source)], "\0".join(self.flags))
+        digest = filestate.recall(memo, now)
+        if digest is None:
+            import hashlib      # only here: importing it (OpenSSL) costs more than a run of a small scene
+            src = self.source.read_bytes()
+            digest = hashlib.sha256(src + "\0".join(self.flags).encode()).hexdigest()[:16]
+            filestate.remember(memo, now, digest)
         folder = BUILD / self.folder / digest
         lib = folder / f"lib{self.source.stem}.so"
         if not lib.exists():

@@ -5,7 +5,6 @@ flat trace back into JSON events (docs/simulator.md)."""
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import operator
 import os
@@ -18,7 +17,12 @@ from dataclasses import dataclass, field
 from itertools import compress, repeat
 from pathlib import Path
 
-from max2code import __version__
+try:
+    import fcntl
+except ImportError:         # not on Windows
+    fcntl = None
+
+from max2code import __version__, filestate
 from max2code.errors import Max2CodeError
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
@@ -90,29 +94,49 @@ class Trace:
 COMMAND_TOOLS = frozenset({"m2c_trace_json.c", "m2c_scene_flat.c"})
 
 
+def _tree_files(path) -> list[str]:
+    """The files under `path` a simulator depends on, in a fixed order (no
+    build products, caches nor the command's own tools)."""
+    out = []
+    for base, dirs, files in os.walk(path):     # top-down: the folders left out of dirs are not entered
+        dirs[:] = sorted(d for d in dirs if d not in ("target", "__pycache__"))
+        out += [os.path.join(base, f) for f in sorted(files) if f not in COMMAND_TOOLS]
+    return out
+
+
 def _hash_tree(path, h) -> None:
-    for base, dirs, files in sorted(os.walk(path)):
-        dirs.sort()
-        dirs[:] = [d for d in dirs if d not in ("target", "__pycache__")]
-        for f in sorted(files):
-            if f in COMMAND_TOOLS:
-                continue
-            p = os.path.join(base, f)
-            h.update(p.encode())
-            with open(p, "rb") as fh:
-                h.update(fh.read())
+    for p in _tree_files(path):
+        h.update(p.encode())
+        with open(p, "rb") as fh:
+            h.update(fh.read())
 
 
-def _build_key(lang: str, effects: tuple[str, ...], order: int):
-    """The build's folder and the hash of everything it depends on but
-    Maxima's version (its results are cached by version anyway)."""
+def _build_key(lang: str, effects: tuple[str, ...], order: int) -> tuple[Path, str]:
+    """The build's folder and the hash (hex) of everything it depends on but
+    Maxima's version (its results are cached by version anyway): the hash
+    remembered for the files' stat when none changed (max2code/filestate.py),
+    else computed from their bytes."""
     workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
-    key = hashlib.sha256(json.dumps([lang, list(effects), order, __version__]).encode())
+    head = json.dumps([lang, list(effects), order, __version__])
+    trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang)]
+    now = filestate.state([*map(str, EQUATIONS.values()), *(p for tree in trees for p in tree)], head)
+    memo = workdir / "inputs.state"
+    digest = filestate.recall(memo, now)
+    if digest is not None:
+        return workdir, digest
+    import hashlib      # only here: importing it (OpenSSL) costs more than a run of a small scene
+    key = hashlib.sha256(head.encode())
     for path in EQUATIONS.values():
         key.update(path.read_bytes())
-    for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang):
-        _hash_tree(tree, key)
-    return workdir, key
+    for tree in trees:
+        for p in tree:
+            key.update(p.encode())
+            with open(p, "rb") as fh:
+                key.update(fh.read())
+    digest = key.hexdigest()
+    if workdir.is_dir():
+        filestate.remember(memo, now, digest)
+    return workdir, digest
 
 
 def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild | None:
@@ -120,7 +144,7 @@ def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild
     generating, no building: a few milliseconds), else None."""
     workdir, key = _build_key(lang, effects, order)
     try:
-        if (workdir / "inputs.stamp").read_text() == key.hexdigest() and (workdir / "build.stamp").exists():
+        if (workdir / "inputs.stamp").read_text() == key and (workdir / "build.stamp").exists():
             saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
             if all(os.path.exists(g) for g in saved["generated"].values()) and _runnable(saved["run"]):
                 return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
@@ -151,6 +175,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     tgt = get_target(lang)
     generated = {}
     names: dict[str, list[str]] = {}
+    import hashlib
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
         fname = eq + tgt.extension
@@ -180,7 +205,7 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
                                     f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
         stamp.write_text(digest)
     names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
-    inputs_stamp.write_text(key.hexdigest())
+    inputs_stamp.write_text(key)
     return SimBuild(lang, str(workdir), run, names, generated)
 
 
@@ -341,6 +366,7 @@ class TraceConverter:
         self.head: str | None = None    # the event being read: its JSON text without states
         self.states: list[str] = []     # and its states
         self.final: list[str] = []
+        self._final_started = False     # the final line's start and some bodies written (by _finals)
         self.counts: dict[str, int] = {}
         self.predictions: dict[str, int] = {}
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
@@ -445,41 +471,46 @@ class TraceConverter:
             raise SimulateError(f"{self.build.lang} simulator wrote a bad trace line {self.line}: {line[:120]!r} "
                                 f"({exc})") from None
 
-    def feed_events(self, data: bytes) -> None:
-        """Whole events of the flat trace: `data` ends with a newline where a
-        line other than a state begins, or at the trace's end.  Converted in
-        C when the converter was made with `accelerate` and the C code takes
-        the chunk; else as feed_chunk.  The same bytes either way.  The
-        final states (F lines, one per body, after the last event: as many
-        lines as bodies) go to _finals."""
-        last = data.rfind(b"\n", 0, len(data) - 1) + 1          # the chunk's last line
+    def feed_events(self, data: bytes, size: int | None = None) -> None:
+        """Whole events of the flat trace: `data` (its first `size` bytes,
+        when given: the C converter takes them without a copy) ends with a
+        newline where a line other than a state begins, or at the trace's
+        end.  Converted in C when the converter was made with `accelerate`
+        and the C code takes the chunk; else as feed_chunk.  The same bytes
+        either way.  The final states (F lines, one per body, after the last
+        event: as many lines as bodies) go to _finals."""
+        n = len(data) if size is None else size
+        last = data.rfind(b"\n", 0, n - 1) + 1          # the chunk's last line
         at = -1             # where its F lines begin: they come after every event, so not before an E or S line
-        if data[last:last + 1] not in (b"E", b"S", b""):
-            at = 0 if data.startswith(b"F ") else data.find(b"\nF ") + 1 or -1
+        if n and data[last:min(last + 1, n)] not in (b"E", b"S", b""):
+            at = 0 if data.startswith(b"F ", 0, n) else data.find(b"\nF ", 0, n) + 1 or -1
+        if at >= 0 or (n < len(data) and self._c is None):
+            data = data[:n]         # the Python paths: the chunk on its own
         if at >= 0:
             if at:
                 self.feed_events(data[:at])
             end = data.find(b"\n", data.rfind(b"\nF ") + 1 if data.rfind(b"\nF ") >= at else at) + 1
             block = data[at:end] if end else data[at:]
-            if end and block.count(b"\n") == block.count(b"\nF ") + 1:      # F lines only
+            # F lines only (the C code checks that itself, line by line, and says no otherwise)
+            if end and (self._c is not None or block.count(b"\n") == block.count(b"\nF ") + 1):
                 self._finals(block)
             else:
                 self.feed_chunk(block.decode("ascii", "replace"))
             if end and end < len(data):
                 self.feed_chunk(data[end:].decode("ascii", "replace"))
             return
-        if self._c is not None and data:
-            got = self._c.convert(data, self.frames)
+        if self._c is not None and n:
+            got = self._c.convert(data, self.frames, n)
             if got is not None and (self.max_events is None or self.events + got[1] <= self.max_events):
                 self._flush()           # the event an earlier chunk ended with is whole: this one starts anew
                 self.events += got[1]
                 self.line += got[2]
                 if self.write_bytes is not None:
-                    self.write_bytes(got[0])
+                    self.write_bytes(got[0])        # written from the converter's buffer
                 else:
-                    self.write(got[0].decode("ascii"))
+                    self.write(str(got[0], "ascii"))
                 return
-        self.feed_chunk(data.decode("ascii", "replace"))
+        self.feed_chunk(data[:n].decode("ascii", "replace"))
 
     def _finals(self, block: bytes) -> None:
         """Complete F lines: in C when the converter was made with
@@ -489,8 +520,15 @@ class TraceConverter:
             got = self._c.finals(block)
             if got is not None:
                 self._flush()           # the last event is whole
-                self.final.append(got)  # the bodies' JSON, comma-separated
                 self.line += block.count(b"\n")
+                if self.write_bytes is not None and not self.final:
+                    # streamed as they come (15 MB at 10^5 bodies: kept, it was decoded, joined and encoded
+                    # after the run, in series with nothing)
+                    self.write_bytes(b"," if self._final_started else self._final_head().encode("ascii"))
+                    self.write_bytes(got)
+                    self._final_started = True
+                else:
+                    self.final.append(got.decode("ascii"))  # the bodies' JSON, comma-separated
                 return
         text = block.decode("ascii", "replace")
         lines = text.split("\n")
@@ -660,6 +698,8 @@ class TraceConverter:
 
     def finish(self) -> tuple[dict, dict]:
         """Write the last event, the final states and the statistics; return (final, stats)."""
+        if self._final_started:
+            raise ValueError("the final states were written as they came (write_bytes): call _finish")
         stats = self._finish()
         return json.loads(f'{self._final_head()}{",".join(self.final)}]}}'), stats
 
@@ -671,9 +711,10 @@ class TraceConverter:
         written a block at a time (one line of 15 MB at 10^5 bodies, which
         made whole, with a newline, and encoded were four copies of it)."""
         self._flush()
-        self.write(self._final_head())
+        if not self._final_started:
+            self.write(self._final_head())
         for k in range(0, len(self.final), 1024):
-            self.write(("," if k else "") + ",".join(self.final[k:k + 1024]))
+            self.write(("," if k or self._final_started else "") + ",".join(self.final[k:k + 1024]))
         self.write("]}\n")
         stats = {"kind": "stats", "lang": self.build.lang, "events": self.counts,
                  "predictions": dict(sorted(self.predictions.items()))}
@@ -717,6 +758,25 @@ def _events_end(data: bytes) -> int:
 CONVERTERS = ("auto", "c", "python")
 
 
+PIPE_BYTES = 1 << 20    # the pipes to and from the simulator (Linux's most for an unprivileged process)
+
+
+def _wide_pipes(proc: subprocess.Popen) -> None:
+    """Widen the pipes to and from the simulator (Linux; 64 kB by default)
+    so that neither side waits on the other at every 64 kB: the simulator
+    writes its trace ahead while a chunk is converted, and reads the scene
+    ahead while the next piece is made.  Where it cannot be done, nothing
+    changes but the speed."""
+    op = getattr(fcntl, "F_SETPIPE_SZ", None) if fcntl is not None else None
+    if op is None:
+        return
+    for f in (proc.stdin, proc.stdout):
+        try:
+            fcntl.fcntl(f.fileno(), op, PIPE_BYTES)
+        except OSError:
+            pass        # over the system's limit (/proc/sys/fs/pipe-max-size) or not a pipe
+
+
 def _close_quietly(f) -> None:
     """Close a pipe whose reader may be gone (what was still buffered is dropped)."""
     try:
@@ -744,7 +804,9 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
     from it stops the simulator and is raised as it is (and first, when
     compiling fails or a real build must run).  `write_bytes`, when given,
     writes ASCII bytes to the same stream as `write`, in order with it: the C
-    converter's output then goes there without a decoding and an encoding."""
+    converter's output then goes there without a decoding and an encoding
+    (a bytes-like view of the converter's buffer, which it must write or copy
+    before it returns, as a file's write does)."""
     if converter not in CONVERTERS:
         raise ValueError(f"converter {converter!r}")
     build = built_simulator(lang, scene.effects, scene.taylor_order)
@@ -754,6 +816,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             check = None
         build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
     proc = start_simulator(build)
+    _wide_pipes(proc)
     err: list[bytes] = []
 
     def drain_errors():
@@ -802,7 +865,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             th.join(timeout=5)
         proc.stdout.close()
         raise
-    last, rest, fed = "", b"", b""
+    last, rest, fed, cut = "", b"", b"", 0
     try:
         # chunks of whole events: the converters' fast paths
         while True:
@@ -810,16 +873,16 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
             if not data:
                 break
             data = rest + data
-            cut = _events_end(data)
-            if cut:
-                fed = data[:cut] if cut < len(data) else data
-                conv.feed_events(fed)
-            rest = data[cut:]
+            k = _events_end(data)
+            if k:
+                fed, cut = data, k
+                conv.feed_events(data, k)       # its first k bytes
+            rest = data[k:]
         if rest:
             last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
             conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
         elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
-            last = fed[fed.rfind(b"\n", 0, len(fed) - 1) + 1:].decode("ascii", "replace")
+            last = fed[fed.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
     except TraceLimit as exc:
         raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
                             f"the run was stopped; raise max_events in the scene or --max-events, or shorten "

@@ -60,30 +60,34 @@ class CTrace:
         self.events = ctypes.c_long(0)
         self.lines = ctypes.c_long(0)
 
-    def convert(self, data: bytes, frames: bool) -> tuple[str, int] | None:
-        """The JSON lines of `data` (whole events, as ASCII bytes), its
-        number of events and of lines, or None when Python must convert it."""
+    def convert(self, data: bytes, frames: bool, size: int | None = None) -> tuple[memoryview, int, int] | None:
+        """The JSON lines of `data` (its first `size` bytes when given: whole
+        events, as ASCII bytes), its number of events and of lines, or None
+        when Python must convert it.
+        The lines are a view of this converter's buffer, not a copy (62 MB
+        on the 10^4-disk gas): valid until the next call."""
+        size = len(data) if size is None else size
         while True:
-            n = self.lib.tj_convert(self.handle, data, len(data), self.buf, self.cap, int(frames),
+            n = self.lib.tj_convert(self.handle, data, size, self.buf, self.cap, int(frames),
                                     ctypes.byref(self.events), ctypes.byref(self.lines))
             if n == -2:                  # room for a line's worth more than the trace's bytes, grown as needed
-                self.cap = max(2 * self.cap, 4 * len(data))
+                self.cap = max(2 * self.cap, 4 * size)
                 self.buf = ctypes.create_string_buffer(self.cap)
                 continue
             if n < 0:
                 return None
-            return ctypes.string_at(self.buf, n), self.events.value, self.lines.value
+            return memoryview(self.buf).cast("B")[:n], self.events.value, self.lines.value
 
-    def finals(self, data: bytes) -> str | None:
-        """The JSON of complete F lines, comma-separated, or None when Python
-        must convert them."""
+    def finals(self, data: bytes) -> bytes | None:
+        """The JSON of complete F lines, comma-separated (ASCII), or None when
+        Python must convert them."""
         while True:
             n = self.lib.tj_finals(self.handle, data, len(data), self.buf, self.cap)
             if n == -2:
                 self.cap = max(2 * self.cap, 4 * len(data))
                 self.buf = ctypes.create_string_buffer(self.cap)
                 continue
-            return None if n < 0 else ctypes.string_at(self.buf, n).decode("ascii")
+            return None if n < 0 else ctypes.string_at(self.buf, n)
 
     def __del__(self):
         if getattr(self, "handle", None):

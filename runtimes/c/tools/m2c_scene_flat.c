@@ -139,8 +139,11 @@ static int quick_double(uint64_t w, int p, double *out)
         return 1;
     }
     long double v = p < 0 ? (long double)w / tens[-p] : (long double)w * tens[p];
-    int ex;
-    uint64_t bits = (uint64_t)ldexpl(frexpl(v, &ex), 64);
+    /* its 64-bit significand: the x87 format stores it whole, leading 1 included, in its first 8 bytes (v is
+       normal here: 1 <= w < 2^64 and 10^-27 <= 10^p <= 10^27); it is what ldexpl(frexpl(v), 64) gives,
+       without two library calls per number */
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof bits);
     unsigned low = (unsigned)(bits & 0x7FF);
     if (low >= 0x3FF && low <= 0x401)
         return 0;
