@@ -45,27 +45,39 @@ int m2c_solve_entry(const double *c, int n, double lo, double hi, double *t);
 int m2c_x_general(const double *c, int degree, double lo, double hi, double *t);
 int m2c_x_quadratic_exact(double a, double b, double c, double lo, double hi, double *t);
 
-/* The degree-2 fast path's coefficients (docs/roots.md step 1): each zero
- * or |c_i| >= 2^-200, and |c0| + |c1| + |c2| < 2^200 (false for NaN and
- * infinities); such coefficients need no scaling.  The lower bound reads the
- * exponent field: (u << 1) - 1 wraps a zero (either sign) to the top, so one
- * unsigned comparison per coefficient accepts zero and |v| >= 2^-200. */
-M2C_X_INLINE int m2c_x_moderate3(double c0, double c1, double c2)
+/* The degree-2 fast path's admission (docs/roots.md step 1): c2 != 0, each
+ * coefficient zero or |c_i| >= 2^-200, |c0| + |c1| + |c2| < 2^200 (false
+ * for NaN and infinities), and w = hi - lo positive and finite.  The lower
+ * bounds read the exponent fields: (u << 1) - 1 wraps a zero (either sign)
+ * to the top, so one unsigned comparison accepts zero and |v| >= 2^-200;
+ * for c2, (u << 1) > k rejects zero as well.  w > 0 and finite is one
+ * unsigned comparison of its bits. */
+M2C_X_INLINE int m2c_x_admit2(double c0, double c1, double c2, double w)
 {
-    uint64_t u0, u1, u2;
+    uint64_t u0, u1, u2, uw;
     memcpy(&u0, &c0, sizeof u0);
     memcpy(&u1, &c1, sizeof u1);
     memcpy(&u2, &c2, sizeof u2);
+    memcpy(&uw, &w, sizeof uw);
     const uint64_t k = ((uint64_t)823 << 53) - 1; /* exponent field 823: 2^-200 */
-    int small = ((u0 << 1) - 1 >= k) & ((u1 << 1) - 1 >= k) & ((u2 << 1) - 1 >= k);
-    return small & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
+    int ok = ((u0 << 1) - 1 >= k) & ((u1 << 1) - 1 >= k) & ((u2 << 1) > k) &
+             (uw - 1 < 0x7fefffffffffffffu); /* 0 < w <= DBL_MAX */
+    return ok & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
+}
+
+/* sqrt(d) for d > 0 (where the callers use it): the select, which never
+ * changes d there, shows the compiler that errno cannot be set, so that it
+ * emits the instruction alone, without a library call for d < 0. */
+M2C_X_INLINE double m2c_x_sqrt(double d)
+{
+    return sqrt(d > 0.0 ? d : 0.0);
 }
 
 /* The roots of a x^2 + b x + c from d > 0, the discriminant computed so
  * that it is accurate (docs/roots.md step 6), ascending into r. */
 M2C_X_INLINE void m2c_x_quadratic_two(double a, double b, double c, double d, double r[2])
 {
-    double s = sqrt(d);
+    double s = m2c_x_sqrt(d);
     if (b < 0.0)
         s = -s;
     double qq = -0.5 * (b + s);
@@ -109,7 +121,7 @@ M2C_X_INLINE int m2c_x_quadratic_fast(double c0, double c1, double c2, double lo
     if (from0 & (q < 0.0)) {
         /* a c < 0: one root of each sign, and only the positive one can lie
          * in (lo, hi]; it is qq/a when b and a differ in sign, else c/qq */
-        double s = sqrt(d);
+        double s = m2c_x_sqrt(d);
         if (b < 0.0)
             s = -s;
         double qq = -0.5 * (b + s);
@@ -141,7 +153,7 @@ M2C_X_INLINE int m2c_x_entry(const double *c, int degree, double lo, double hi, 
         /* lo < hi, both finite: hi - lo is positive and finite (an overflow
          * only sends the call to the general path) */
         double w = hi - lo;
-        if ((c2 != 0.0) & m2c_x_moderate3(c0, c1, c2) & (w > 0.0) & (w <= DBL_MAX))
+        if (m2c_x_admit2(c0, c1, c2, w))
             return m2c_x_quadratic_fast(c0, c1, c2, lo, hi, t);
     }
     if (degree >= 3 && degree <= 8 && c != 0 && t != 0 && c[degree] != 0.0) {
