@@ -65,19 +65,11 @@ M2C_X_INLINE int m2c_x_admit2(double c0, double c1, double c2, double w)
     return ok & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
 }
 
-/* sqrt(d) for d > 0 (where the callers use it): the select, which never
- * changes d there, shows the compiler that errno cannot be set, so that it
- * emits the instruction alone, without a library call for d < 0. */
-M2C_X_INLINE double m2c_x_sqrt(double d)
-{
-    return sqrt(d > 0.0 ? d : 0.0);
-}
-
 /* The roots of a x^2 + b x + c from d > 0, the discriminant computed so
  * that it is accurate (docs/roots.md step 6), ascending into r. */
 M2C_X_INLINE void m2c_x_quadratic_two(double a, double b, double c, double d, double r[2])
 {
-    double s = m2c_x_sqrt(d);
+    double s = sqrt(d);
     if (b < 0.0)
         s = -s;
     double qq = -0.5 * (b + s);
@@ -121,7 +113,7 @@ M2C_X_INLINE int m2c_x_quadratic_fast(double c0, double c1, double c2, double lo
     if (from0 & (q < 0.0)) {
         /* a c < 0: one root of each sign, and only the positive one can lie
          * in (lo, hi]; it is qq/a when b and a differ in sign, else c/qq */
-        double s = m2c_x_sqrt(d);
+        double s = sqrt(d);
         if (b < 0.0)
             s = -s;
         double qq = -0.5 * (b + s);
