@@ -27,6 +27,7 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
  * GSL workspace per degree). */
 int m2c_smallest_root_gsl(const double *c, int degree, double lo, double hi, double *t);
 
+#ifndef __cplusplus /* C++ callers call the library (hex floats, memcpy on doubles) */
 /* ---- The entry's first steps, shared by the library and (GNU C, with
  * optimisation) inlined into callers.  Not part of the API: the m2c_x_
  * names may change with any version. ---- */
@@ -165,6 +166,7 @@ m2c_smallest_root(const double *c, int degree, double lo, double hi, double *t)
     return m2c_x_entry(c, degree, lo, hi, t);
 }
 #endif
+#endif /* __cplusplus */
 
 #ifdef __cplusplus
 }
