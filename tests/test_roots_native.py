@@ -50,11 +50,13 @@ def test_m2_gsl_baseline_answers():
 
 def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[float], float, float]]:
     """Quadratics aimed at the degree-2 fast path's shortcuts for lo >= 0
-    (docs/roots.md step 1): no sign change, c0 c2 < 0 with the positive root
+    (docs/roots.md step 1): no sign change (at any magnitude, zeros and
+    infinities among them), c0 c2 < 0 with the positive root
     at, just inside or just beyond hi or lo, both roots of one sign, double
     and near-double roots, b = +-0, and magnitudes at the admission's edges."""
     rng = random.Random(seed)
     edges = [1.0, 2.0 ** -200, 2.0 ** -199.5, 2.0 ** 198, 2.0 ** 199.9, 1e-30, 1e30]
+    wide = [0.0, 2.0 ** -1074, 1e-310, 1e-300, 1e300, 1.7e308, math.inf]
     cases = []
     for _ in range(count):
         lo = rng.choice([0.0, -0.0, 0.0, 0.25, 1e-300, 2.0 ** -1074, -0.5])
@@ -66,15 +68,16 @@ def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[flo
         kind = rng.random()
         if kind < 0.4:      # from the roots r and s
             c = [a * r * s, -a * (r + s), a]
-        elif kind < 0.6:    # no sign change
+        elif kind < 0.6:    # no sign change, at any magnitude (the entry's test comes before the admission)
             sg = rng.choice([1.0, -1.0])
-            c = [sg * abs(rng.gauss(0, 1)) * rng.choice(edges), sg * abs(rng.gauss(0, 1)) * rng.choice(edges), sg * abs(a)]
+            c = [sg * abs(rng.gauss(0, 1)) * rng.choice(edges + wide), sg * abs(rng.gauss(0, 1)) * rng.choice(edges + wide),
+                 sg * abs(a) * rng.choice([1.0, 1.0, 1e-300, 1e300])]
         elif kind < 0.8:    # c0 c2 < 0
             c = [-math.copysign(abs(rng.gauss(0, 1)) * rng.choice(edges), a), rng.choice([0.0, -0.0, rng.gauss(0, 1)]), a]
         else:               # near-double roots: b^2 close to 4ac
             b = -2 * a * r
             c = [math.nextafter(a * r * r, rng.choice([math.inf, -math.inf])), b, a]
-        if all(math.isfinite(v) for v in c):
+        if not any(math.isnan(v) for v in c):
             cases.append((c, lo, hi))
     return cases
 

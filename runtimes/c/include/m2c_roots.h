@@ -87,16 +87,14 @@ M2C_X_INLINE void m2c_x_quadratic_two(double a, double b, double c, double d, do
 
 /* The degree-2 fast path (step 1; c2 != 0, moderate coefficients, lo < hi
  * with hi - lo finite): the first root in (lo, hi] as m2c_quadratic_in
- * finds it (step 6), 1 and *t (never -0.0) or 0.  With lo >= 0 two
- * shortcuts, sure by the signs alone (docs/roots.md, "lo >= 0"): no sign
- * change in c0, c1, c2 (none zero) gives none before the discriminant, and
- * when c0 c2 < 0 only the positive root is computed. */
+ * finds it (step 6), 1 and *t (never -0.0) or 0.  With lo >= 0 and
+ * c0 c2 < 0 only the positive root is computed, which is sure by the signs
+ * alone (docs/roots.md step 1, "lo >= 0"; the entry has already answered
+ * none when c0, c1, c2 have no sign change). */
 M2C_X_INLINE int m2c_x_quadratic_fast(double c0, double c1, double c2, double lo, double hi, double *t)
 {
     const double a = c2, b = c1, c = c0;
     int from0 = lo >= 0.0;
-    if (from0 & (c * b > 0.0) & (b * a > 0.0))
-        return 0;
     double p = b * b;
     double q = (4.0 * a) * c;
     double d = p - q;
@@ -146,6 +144,8 @@ M2C_X_INLINE int m2c_x_entry(const double *c, int degree, double lo, double hi, 
         /* lo < hi, both finite: hi - lo is positive and finite (an overflow
          * only sends the call to the general path) */
         double w = hi - lo;
+        if ((lo >= 0.0) & (c0 * c1 > 0.0) & (c1 * c2 > 0.0))
+            return 0; /* no sign change, at any magnitude (docs/roots.md step 1) */
         if (m2c_x_admit2(c0, c1, c2, w))
             return m2c_x_quadratic_fast(c0, c1, c2, lo, hi, t);
     }

@@ -424,16 +424,13 @@ fn admit2(c0: f64, c1: f64, c2: f64, w: f64) -> bool {
 
 /// The degree-2 fast path (step 1; admitted by `admit2`): the first root in
 /// (lo, hi] as `quadratic_in` finds it (step 6), never -0.0.  With lo >= 0
-/// two shortcuts, sure by the signs alone (docs/roots.md, "lo >= 0"): no
-/// sign change in c0, c1, c2 (none zero) gives none before the discriminant,
-/// and when c0 c2 < 0 only the positive root is computed.
+/// (docs/roots.md step 1, "lo >= 0"; the entry has already answered none
+/// when c0, c1, c2 have no sign change), when c0 c2 < 0 only the positive
+/// root is computed.
 #[inline(always)]
 fn quadratic_fast(c0: f64, c1: f64, c2: f64, lo: f64, hi: f64) -> Option<f64> {
     let (a, b, c) = (c2, c1, c0);
     let from0 = lo >= 0.0;
-    if from0 & (c * b > 0.0) & (b * a > 0.0) {
-        return None; // no sign change: every root `quadratic` computes is <= 0
-    }
     let p = b * b;
     let q = (4.0 * a) * c;
     let d = p - q;
@@ -1002,6 +999,9 @@ fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize
 /// out-of-line call.
 #[inline]
 pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    if c.len() == 3 && (lo >= 0.0) & (c[0] * c[1] > 0.0) & (c[1] * c[2] > 0.0) {
+        return None; // no sign change, at any magnitude (docs/roots.md step 1)
+    }
     if c.len() == 3 && admit2(c[0], c[1], c[2], hi - lo) {
         // fast path: moderate coefficients give the same bits unscaled; lo < hi,
         // both finite, exactly when hi - lo is positive and finite (an overflow
