@@ -3,6 +3,8 @@ passes its API test, the Rust crate's unit tests pass with -Dwarnings, and the
 Modula-2 programs build (their answers are checked by test_conformance.py)."""
 from __future__ import annotations
 
+import math
+import random
 import subprocess
 
 from max2code.conformance import runner as R
@@ -44,3 +46,58 @@ def test_m2_gsl_baseline_answers():
     line = R.RootsOp().wire({"coeffs": [-0.375, 0.0, 0.0, 1.0], "lo": 0.0, "hi": 1.0}, 7)
     out = subprocess.run(cmd, input=line + "\n", stdout=subprocess.PIPE, text=True, check=True).stdout.split()
     assert out[0] == "7" and abs(R.float_of(out[1]) - 0.375 ** (1 / 3)) < 1e-12
+
+
+def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[float], float, float]]:
+    """Quadratics aimed at the degree-2 fast path's shortcuts for lo >= 0
+    (docs/roots.md step 1): no sign change (at any magnitude, zeros and
+    infinities among them), c0 c2 < 0 with the positive root
+    at, just inside or just beyond hi or lo, both roots of one sign, double
+    and near-double roots, b = +-0, and magnitudes at the admission's edges."""
+    rng = random.Random(seed)
+    edges = [1.0, 2.0 ** -200, 2.0 ** -199.5, 2.0 ** 198, 2.0 ** 199.9, 1e-30, 1e30]
+    wide = [0.0, 2.0 ** -1074, 1e-310, 1e-300, 1e300, 1.7e308, math.inf]
+    cases = []
+    for _ in range(count):
+        lo = rng.choice([0.0, -0.0, 0.0, 0.25, 1e-300, 2.0 ** -1074, -0.5])
+        hi = lo + rng.choice([1.0, 1.0, 0.5, 3.0, 1e-290, 2.0 ** -1074, 1e300])
+        r = rng.choice([hi, lo, 0.0, 0.5 * (lo + hi), math.nextafter(hi, math.inf), math.nextafter(hi, -math.inf),
+                        math.nextafter(lo, math.inf), hi * (1 + 2.0 ** -rng.randint(40, 52)), rng.uniform(-3.0, 3.0)])
+        s = rng.choice([r, -r, 2 * r, math.nextafter(r, math.inf), -rng.uniform(0.0, 3.0), rng.uniform(0.0, 3.0)])
+        a = rng.choice([1.0, -1.0, 0.75, -3.0]) * rng.choice(edges)
+        kind = rng.random()
+        if kind < 0.4:      # from the roots r and s
+            c = [a * r * s, -a * (r + s), a]
+        elif kind < 0.6:    # no sign change, at any magnitude (the entry's test comes before the admission)
+            sg = rng.choice([1.0, -1.0])
+            c = [sg * abs(rng.gauss(0, 1)) * rng.choice(edges + wide), sg * abs(rng.gauss(0, 1)) * rng.choice(edges + wide),
+                 sg * abs(a) * rng.choice([1.0, 1.0, 1e-300, 1e300])]
+        elif kind < 0.8:    # c0 c2 < 0
+            c = [-math.copysign(abs(rng.gauss(0, 1)) * rng.choice(edges), a), rng.choice([0.0, -0.0, rng.gauss(0, 1)]), a]
+        else:               # near-double roots: b^2 close to 4ac
+            b = -2 * a * r
+            c = [math.nextafter(a * r * r, rng.choice([math.inf, -math.inf])), b, a]
+        if not any(math.isnan(v) for v in c):
+            cases.append((c, lo, hi))
+    return cases
+
+
+def test_quadratic_shortcuts_same_bits(tmp_path):
+    """The degree-2 fast path's shortcuts (C inline and out of line, Rust)
+    return the bits of the Python reference, which takes the whole path."""
+    from max2code_rt.roots import smallest_root
+    cases = _quadratic_shortcut_cases(6000)
+    lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
+    expect = []
+    for k, (c, lo, hi) in enumerate(cases):
+        t = smallest_root(c, lo, hi)
+        expect.append(f"{k} none" if t is None else f"{k} {R.hex_of(t)}")
+    outline = tmp_path / "testee_outline"
+    run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
+         str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
+    for cmd in (R.build_testee("c"), R.build_testee("rust"), [str(outline)]):
+        out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
+        bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]
+        assert not bad, (cmd, len(bad), bad[:3])
+    answered = sum(e.split()[1] != "none" for e in expect)
+    assert 0.2 * len(cases) < answered < 0.8 * len(cases)  # both answers are well represented

@@ -3,6 +3,11 @@
 #ifndef M2C_ROOTS_H
 #define M2C_ROOTS_H
 
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -21,6 +26,147 @@ int m2c_smallest_root(const double *c, int degree, double lo, double hi, double 
  * real when |Im z| <= 1e-7 * max(1, |Re z|).  Not thread-safe (it caches one
  * GSL workspace per degree). */
 int m2c_smallest_root_gsl(const double *c, int degree, double lo, double hi, double *t);
+
+#ifndef __cplusplus /* C++ callers call the library (hex floats, memcpy on doubles) */
+/* ---- The entry's first steps, shared by the library and (GNU C, with
+ * optimisation) inlined into callers.  Not part of the API: the m2c_x_
+ * names may change with any version. ---- */
+
+/* GNU C with optimisation: the helpers below are only inlined (gnu_inline),
+ * never emitted, so that the inline m2c_smallest_root may call them. */
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && !defined(M2C_NO_INLINE_ENTRY)
+#define M2C_X_INLINE extern __inline__ __attribute__((gnu_inline, always_inline))
+#else
+#define M2C_X_INLINE static inline
+#endif
+
+/* Degrees 3 to 8 after the entry's checks; the rest of the entry; the
+ * degree-2 fast path's error-free discriminant (m2c_quadratic_in). */
+int m2c_solve_entry(const double *c, int n, double lo, double hi, double *t);
+int m2c_x_general(const double *c, int degree, double lo, double hi, double *t);
+int m2c_x_quadratic_exact(double a, double b, double c, double lo, double hi, double *t);
+
+/* The degree-2 fast path's admission (docs/roots.md step 1): c2 != 0, each
+ * coefficient zero or |c_i| >= 2^-200, |c0| + |c1| + |c2| < 2^200 (false
+ * for NaN and infinities), and w = hi - lo positive and finite.  The lower
+ * bounds read the exponent fields: (u << 1) - 1 wraps a zero (either sign)
+ * to the top, so one unsigned comparison accepts zero and |v| >= 2^-200;
+ * for c2, (u << 1) > k rejects zero as well.  w > 0 and finite is one
+ * unsigned comparison of its bits. */
+M2C_X_INLINE int m2c_x_admit2(double c0, double c1, double c2, double w)
+{
+    uint64_t u0, u1, u2, uw;
+    memcpy(&u0, &c0, sizeof u0);
+    memcpy(&u1, &c1, sizeof u1);
+    memcpy(&u2, &c2, sizeof u2);
+    memcpy(&uw, &w, sizeof uw);
+    const uint64_t k = ((uint64_t)823 << 53) - 1; /* exponent field 823: 2^-200 */
+    int ok = ((u0 << 1) - 1 >= k) & ((u1 << 1) - 1 >= k) & ((u2 << 1) > k) &
+             (uw - 1 < 0x7fefffffffffffffu); /* 0 < w <= DBL_MAX */
+    return ok & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
+}
+
+/* The roots of a x^2 + b x + c from d > 0, the discriminant computed so
+ * that it is accurate (docs/roots.md step 6), ascending into r. */
+M2C_X_INLINE void m2c_x_quadratic_two(double a, double b, double c, double d, double r[2])
+{
+    double s = sqrt(d);
+    if (b < 0.0)
+        s = -s;
+    double qq = -0.5 * (b + s);
+    double r1 = qq / a;
+    double r2 = c / qq;
+    if (r1 <= r2) {
+        r[0] = r1;
+        r[1] = r2;
+    } else {
+        r[0] = r2;
+        r[1] = r1;
+    }
+}
+
+/* The degree-2 fast path (step 1; c2 != 0, moderate coefficients, lo < hi
+ * with hi - lo finite): the first root in (lo, hi] as m2c_quadratic_in
+ * finds it (step 6), 1 and *t (never -0.0) or 0.  With lo >= 0 and
+ * c0 c2 < 0 only the positive root is computed, which is sure by the signs
+ * alone (docs/roots.md step 1, "lo >= 0"; the entry has already answered
+ * none when c0, c1, c2 have no sign change). */
+M2C_X_INLINE int m2c_x_quadratic_fast(double c0, double c1, double c2, double lo, double hi, double *t)
+{
+    const double a = c2, b = c1, c = c0;
+    int from0 = lo >= 0.0;
+    double p = b * b;
+    double q = (4.0 * a) * c;
+    double d = p - q;
+    double x;
+    if (q <= 0.5 * p) {
+        if (d == 0.0) { /* b == 0 and ac == 0: the double root */
+            x = -b / (2.0 * a);
+            goto one;
+        }
+    } else if (d < -0x1p-52 * (p + q)) {
+        return 0;
+    } else {
+        return m2c_x_quadratic_exact(a, b, c, lo, hi, t); /* cancellation possible */
+    }
+    if (from0 & (q < 0.0)) {
+        /* a c < 0: one root of each sign, and only the positive one can lie
+         * in (lo, hi]; it is qq/a when b and a differ in sign, else c/qq */
+        double s = sqrt(d);
+        if (b < 0.0)
+            s = -s;
+        double qq = -0.5 * (b + s);
+        x = (b < 0.0) != (a < 0.0) ? qq / a : c / qq;
+        goto one;
+    } else {
+        double r[2];
+        m2c_x_quadratic_two(a, b, c, d, r);
+        if (lo < r[0] && r[0] <= hi) {
+            *t = r[0] + 0.0;
+            return 1;
+        }
+        x = r[1];
+    }
+one:
+    if (!(lo < x && x <= hi))
+        return 0;
+    *t = x + 0.0;
+    return 1;
+}
+
+/* m2c_smallest_root up to its first call: the degree-2 fast path, degrees
+ * 3 to 8 with nothing to strip straight to their copy of the general
+ * method, the rest to m2c_x_general. */
+M2C_X_INLINE int m2c_x_entry(const double *c, int degree, double lo, double hi, double *t)
+{
+    if (degree == 2 && c != 0 && t != 0) {
+        double c0 = c[0], c1 = c[1], c2 = c[2];
+        /* lo < hi, both finite: hi - lo is positive and finite (an overflow
+         * only sends the call to the general path) */
+        double w = hi - lo;
+        if ((lo >= 0.0) & (c0 * c1 > 0.0) & (c1 * c2 > 0.0))
+            return 0; /* no sign change, at any magnitude (docs/roots.md step 1) */
+        if (m2c_x_admit2(c0, c1, c2, w))
+            return m2c_x_quadratic_fast(c0, c1, c2, lo, hi, t);
+    }
+    if (degree >= 3 && degree <= 8 && c != 0 && t != 0 && c[degree] != 0.0) {
+        double w = hi - lo;
+        if ((w > 0.0) & (w <= DBL_MAX))
+            return m2c_solve_entry(c, degree, lo, hi, t);
+    }
+    return m2c_x_general(c, degree, lo, hi, t);
+}
+
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && !defined(M2C_NO_INLINE_ENTRY)
+/* GNU C: this definition is only inlined (gnu_inline); the library's
+ * m2c_smallest_root is the same function out of line. */
+extern __inline__ __attribute__((gnu_inline, always_inline)) int
+m2c_smallest_root(const double *c, int degree, double lo, double hi, double *t)
+{
+    return m2c_x_entry(c, degree, lo, hi, t);
+}
+#endif
+#endif /* __cplusplus */
 
 #ifdef __cplusplus
 }

@@ -324,19 +324,7 @@ M2C_INLINE int m2c_quadratic(double a, double b, double c, double r[2])
             return 1;
         }
     }
-    double s = sqrt(disc);
-    if (b < 0.0)
-        s = -s;
-    double qq = -0.5 * (b + s);
-    double r1 = qq / a;
-    double r2 = c / qq;
-    if (r1 <= r2) {
-        r[0] = r1;
-        r[1] = r2;
-    } else {
-        r[0] = r2;
-        r[1] = r1;
-    }
+    m2c_x_quadratic_two(a, b, c, disc, r);
     return 2;
 }
 
@@ -354,22 +342,6 @@ M2C_INLINE int m2c_quadratic_in(double a, double b, double c, double lo, double 
         return 1;
     }
     return 0;
-}
-
-/* The degree-2 fast path's coefficients (docs/roots.md step 1): each zero or
- * |c_i| >= 2^-200, and |c0| + |c1| + |c2| < 2^200 (false for NaN and
- * infinities).  Such coefficients need no scaling.  The lower bound reads the
- * exponent field: (u << 1) - 1 wraps a zero (either sign) to the top, so one
- * unsigned comparison per coefficient accepts zero and |v| >= 2^-200. */
-M2C_INLINE int m2c_moderate3(double c0, double c1, double c2)
-{
-    uint64_t u0, u1, u2;
-    memcpy(&u0, &c0, sizeof u0);
-    memcpy(&u1, &c1, sizeof u1);
-    memcpy(&u2, &c2, sizeof u2);
-    const uint64_t k = ((uint64_t)823 << 53) - 1; /* exponent field 823: 2^-200 */
-    int small = ((u0 << 1) - 1 >= k) & ((u1 << 1) - 1 >= k) & ((u2 << 1) - 1 >= k);
-    return small & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
 }
 
 /* Binary exponent e of a finite nonzero x = f 2^e, 0.5 <= |f| < 1 (frexp). */

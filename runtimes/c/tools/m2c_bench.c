@@ -40,6 +40,31 @@ typedef struct {
 static poly polys[M2C_MAX_DEGREE + 1][MAXP / 8];
 static int counts[M2C_MAX_DEGREE + 1];
 
+/* One timed pass over the np polynomials of one degree: ns per solve; the
+ * number found and the sum of the roots into *found and *sum.  A function of
+ * its own: GCC compiles main, run once, for size (a library call for each
+ * inlined sqrt, say), which is not how a caller's hot loop is compiled. */
+__attribute__((noinline)) static double pass(int gsl, int deg, int np, int *found, double *sum)
+{
+    int nf = 0;
+    double s = 0.0;
+    double t0 = now_ns();
+    for (int i = 0; i < np; i++) {
+        double t;
+        const poly *p = &polys[deg][i];
+        int k = gsl ? m2c_smallest_root_gsl(p->c, deg, p->lo, p->hi, &t)
+                    : m2c_smallest_root(p->c, deg, p->lo, p->hi, &t);
+        if (k == 1) {
+            nf++;
+            s += t;
+        }
+    }
+    double t1 = now_ns();
+    *found = nf;
+    *sum = s;
+    return (t1 - t0) / np;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
@@ -82,22 +107,9 @@ int main(int argc, char **argv)
         int found = 0;
         double sum = 0.0;
         for (int r = -1; r < reps; r++) {
-            found = 0;
-            sum = 0.0;
-            double t0 = now_ns();
-            for (int i = 0; i < np; i++) {
-                double t;
-                const poly *p = &polys[deg][i];
-                int k = gsl ? m2c_smallest_root_gsl(p->c, deg, p->lo, p->hi, &t)
-                            : m2c_smallest_root(p->c, deg, p->lo, p->hi, &t);
-                if (k == 1) {
-                    found++;
-                    sum += t;
-                }
-            }
-            double t1 = now_ns();
+            double ns = pass(gsl, deg, np, &found, &sum);
             if (r >= 0)
-                times[r] = (t1 - t0) / np;
+                times[r] = ns;
         }
         qsort(times, (size_t)reps, sizeof times[0], cmp);
         printf("%d %.3f %d %.17g\n", deg, times[reps / 2], found, sum);

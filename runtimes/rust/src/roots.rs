@@ -406,17 +406,77 @@ fn quadratic_in(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
     None
 }
 
-/// The degree-2 fast path's coefficients (docs/roots.md step 1): each zero or
-/// |c_i| >= 2^-200, and |c0| + |c1| + |c2| < 2^200 (false for NaN and
-/// infinities).  Such coefficients need no scaling.  The lower bound reads the
-/// exponent field: (u << 1) - 1 wraps a zero (either sign) to the top, so one
-/// unsigned comparison per coefficient accepts zero and |v| >= 2^-200.
+/// The degree-2 fast path's admission (docs/roots.md step 1): c2 != 0, each
+/// coefficient zero or |c_i| >= 2^-200, |c0| + |c1| + |c2| < 2^200 (false for
+/// NaN and infinities), and w = hi - lo positive and finite.  The lower bounds
+/// read the exponent fields: (u << 1) - 1 wraps a zero (either sign) to the
+/// top, so one unsigned comparison accepts zero and |v| >= 2^-200; for c2,
+/// (u << 1) > K rejects zero as well.  w > 0 and finite is one unsigned
+/// comparison of its bits.
 #[inline(always)]
-fn moderate3(c0: f64, c1: f64, c2: f64) -> bool {
+fn admit2(c0: f64, c1: f64, c2: f64, w: f64) -> bool {
     const K: u64 = (823u64 << 53) - 1; // exponent field 823: 2^-200
     const TWO_200: f64 = 1.6069380442589903e60; // 2^200 exactly
     let small = |v: f64| (v.to_bits() << 1).wrapping_sub(1) >= K;
-    small(c0) & small(c1) & small(c2) & (c0.abs() + c1.abs() + c2.abs() < TWO_200)
+    let ok = small(c0) & small(c1) & ((c2.to_bits() << 1) > K) & (w.to_bits().wrapping_sub(1) < 0x7fef_ffff_ffff_ffff);
+    ok & (c0.abs() + c1.abs() + c2.abs() < TWO_200)
+}
+
+/// The degree-2 fast path (step 1; admitted by `admit2`): the first root in
+/// (lo, hi] as `quadratic_in` finds it (step 6), never -0.0.  With lo >= 0
+/// (docs/roots.md step 1, "lo >= 0"; the entry has already answered none
+/// when c0, c1, c2 have no sign change), when c0 c2 < 0 only the positive
+/// root is computed.
+#[inline(always)]
+fn quadratic_fast(c0: f64, c1: f64, c2: f64, lo: f64, hi: f64) -> Option<f64> {
+    let (a, b, c) = (c2, c1, c0);
+    let from0 = lo >= 0.0;
+    let p = b * b;
+    let q = (4.0 * a) * c;
+    let d = p - q;
+    let x;
+    if q <= 0.5 * p {
+        if d == 0.0 {
+            // b == 0 and ac == 0: the double root
+            x = -b / (2.0 * a);
+            return if lo < x && x <= hi { Some(x + 0.0) } else { None };
+        }
+    } else if d < -EPS * (p + q) {
+        return None;
+    } else {
+        return quadratic_exact(a, b, c, lo, hi); // cancellation possible
+    }
+    let mut s = d.sqrt();
+    if b < 0.0 {
+        s = -s;
+    }
+    let qq = -0.5 * (b + s);
+    if from0 & (q < 0.0) {
+        // a c < 0: one root of each sign, and only the positive one can lie
+        // in (lo, hi]; it is qq/a when b and a differ in sign, else c/qq
+        x = if (b < 0.0) != (a < 0.0) { qq / a } else { c / qq };
+    } else {
+        let r1 = qq / a;
+        let r2 = c / qq;
+        let (r0, r1) = if r1 <= r2 { (r1, r2) } else { (r2, r1) };
+        if lo < r0 && r0 <= hi {
+            return Some(r0 + 0.0);
+        }
+        x = r1;
+    }
+    if lo < x && x <= hi {
+        Some(x + 0.0)
+    } else {
+        None
+    }
+}
+
+/// The degree-2 fast path where the discriminant may cancel: the whole of
+/// `quadratic_in` (its error-free branch), out of line.
+#[inline(never)]
+fn quadratic_exact(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
+    let x = quadratic_in(a, b, c, lo, hi)?;
+    Some(x + 0.0)
 }
 
 /// x 2^k rounded once (C's ldexp; x finite): exact unless the result is
@@ -939,12 +999,14 @@ fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize
 /// out-of-line call.
 #[inline]
 pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
-    if c.len() == 3 && (c[2] != 0.0) & moderate3(c[0], c[1], c[2]) & (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+    if c.len() == 3 && (lo >= 0.0) & (c[0] * c[1] > 0.0) & (c[1] * c[2] > 0.0) {
+        return None; // no sign change, at any magnitude (docs/roots.md step 1)
+    }
+    if c.len() == 3 && admit2(c[0], c[1], c[2], hi - lo) {
         // fast path: moderate coefficients give the same bits unscaled; lo < hi,
         // both finite, exactly when hi - lo is positive and finite (an overflow
         // only sends the call to the general path)
-        let x = quadratic_in(c[2], c[1], c[0], lo, hi)?;
-        return Some(x + 0.0);
+        return quadratic_fast(c[0], c[1], c[2], lo, hi);
     }
     smallest_root_general(c, lo, hi)
 }
