@@ -125,6 +125,18 @@ fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
     Some((q, round_up))
 }
 
+/// `scaled` for the few numbers `scaled5` does not cover, kept out of
+/// line: inlined, its 128-bit shifts were prepared (about 25 instructions)
+/// before every number, also those that never need them.  A floor of
+/// 10^17 or more is given as 10^17 (the caller only compares it with
+/// 10^16 and 10^17), so that the caller's loop compares 64-bit words.
+#[cold]
+#[inline(never)]
+fn scaled_slow(m: u64, e: i32, p: i32) -> Option<(u64, bool)> {
+    let (q, up) = scaled(m, e, p)?;
+    Some((q.min(u128::from(D17)) as u64, up))
+}
+
 /// floor(m 5^p 2^s) and whether rounding to nearest (ties to even) goes
 /// up, for 0 <= p <= 27, from one 64 x 64 bit product: m 5^p 2^s =
 /// (m 2^11)(5^p 2^z) 2^(s - 11 - z) with both factors' top bits set, so the
@@ -170,15 +182,15 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
         let s = e + p; // x 10^p = m 5^p 2^s
         let fast = if (0..=27).contains(&p) { scaled5(m, p as usize, s) } else { None };
         let (q, up) = match fast {
-            Some((q, up)) => (u128::from(q), up),
-            None => scaled(m, e, p)?,
+            Some(v) => v,
+            None => scaled_slow(m, e, p)?,
         };
-        if q >= u128::from(D17) {
+        if q >= D17 {
             xe += 1;
-        } else if q < u128::from(D16) {
+        } else if q < D16 {
             xe -= 1;
         } else {
-            let d = q as u64 + u64::from(up);
+            let d = q + u64::from(up);
             // rounding up to 10^17 is 1.0000000000000000 10^(X + 1)
             return Some(if d == D17 { (D16, xe + 1) } else { (d, xe) });
         }
