@@ -1,11 +1,11 @@
 //! The flat trace (docs/simulator.md, "Flat trace"), buffered: one method
-//! per kind of line, numbers written as `%.17g` ([`push_g17`]).  A world
+//! per kind of line, numbers written as `%.17g` ([`push_spaced_g17`]).  A world
 //! without a trace has no sink: every method does nothing.
 
 use std::fmt;
 use std::io::{self, Write};
 
-use super::g17::push_g17;
+use super::g17::push_spaced_g17;
 use super::scene::Body;
 
 /// Why the simulator stopped or refused a call: a stuck or bad scene, or a
@@ -61,8 +61,7 @@ impl Out {
 
     #[inline]
     fn num(&mut self, x: f64) {
-        self.buf.push(b' ');
-        push_g17(&mut self.buf, x);
+        push_spaced_g17(&mut self.buf, x);
     }
 
     /// ` K` (an integer as `%d` writes it), built in a fixed buffer and
