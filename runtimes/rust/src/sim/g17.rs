@@ -232,7 +232,23 @@ pub fn push_g17(out: &mut Vec<u8>, x: f64) {
 /// Append a space and `x` formatted as `%.17g` to `out` (a trace's number
 /// field): one copy of constant size for both, where a push of the space
 /// and then the number each checked the capacity and moved the length.
+/// A zero (a third of a gas's numbers: the accelerations) is written here,
+/// inlined into the caller, as 4 constant bytes cut back to " 0" or " -0";
+/// through the whole writer it took about 45 instructions.
+#[inline(always)]
 pub fn push_spaced_g17(out: &mut Vec<u8>, x: f64) {
+    if x == 0.0 {
+        let neg = x.is_sign_negative();
+        let at = out.len();
+        out.extend_from_slice(if neg { b" -0 " } else { b" 0  " });
+        out.truncate(at + 2 + usize::from(neg));
+    } else {
+        push_spaced_g17_written(out, x);
+    }
+}
+
+#[inline(never)]
+fn push_spaced_g17_written(out: &mut Vec<u8>, x: f64) {
     push_g17_at(out, x, true, true);
 }
 
