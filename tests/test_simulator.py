@@ -378,3 +378,54 @@ def test_the_command_process_writes_everything_before_its_quick_exit(tmp_path):
     missing = subprocess.run([*cmd[:-1], str(tmp_path / "none.json")], capture_output=True, text=True, cwd=ROOT,
                              env=env)
     assert missing.returncode == 1 and "Traceback" not in missing.stderr and "none.json" in missing.stderr
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10**6))
+def test_grid_cells_leave_room_for_the_margin(seed):
+    """Bodies in cells that are not neighbours cannot touch while each moving
+    centre is at most the margin outside its cell: every small movable body
+    fits a cell with a margin on both sides, and the margin is what the
+    cell factor leaves (docs/simulator.md, "Hysteresis")."""
+    try:
+        scene = parse_scene(json.dumps(random_scene(seed)), "r.json")
+    except SceneError:
+        return
+    from max2code.sim.scene import CELL_FACTOR, make_grid
+    g = make_grid(scene)
+    cell = min(g.cw, g.ch)
+    assert 0.0 <= g.margin < cell / 2
+    small = [b for b, large in zip(scene.bodies, g.large) if not large]
+    for b in small:
+        assert 2.0 * b.bound + 2.0 * g.margin <= cell
+    if any(not b.fixed for b in small):
+        widest = max(2.0 * b.bound for b in small if not b.fixed)
+        assert g.margin >= 0.5 * (CELL_FACTOR - 1.0) * widest * (1 - 1e-9)
+
+
+def _thrown_up(apex_past_edge: float):
+    """A ball thrown straight up under gravity whose apex is `apex_past_edge`
+    margins past the upper edge of its cell (a fixed ball far off gives the
+    grid its extent); the end is when it is back where it started."""
+    from max2code.sim.scene import make_grid
+    raw = {"name": "thrown up", "end_time": 1.0, "gravity": [0.0, -9.81], "bodies": [
+        {"name": "ball", "shape": "circle", "radius": 0.01, "mass": 1.0, "position": [0.0, 0.0]},
+        {"name": "post", "shape": "circle", "radius": 0.01, "fixed": True, "position": [1.0, 1.0]}]}
+    g = make_grid(parse_scene(json.dumps(raw), "up.json"))
+    assert g.margin > 0.0
+    edge = g.y0 + (math.floor((0.0 - g.y0) / g.ch) + 1) * g.ch
+    rise = edge + apex_past_edge * g.margin
+    vy = math.sqrt(2.0 * 9.81 * rise)
+    raw["bodies"][0]["velocity"] = [0.0, vy]
+    raw["end_time"] = 2.0 * vy / 9.81 * (1 - 1e-9)
+    return parse_scene(json.dumps(raw), "up.json")
+
+
+@pytest.mark.parametrize("lang", ["python", "c", "rust", "m2"])
+def test_a_body_that_turns_within_the_margin_keeps_its_cell(lang):
+    """Hysteresis: a centre changes cell only a margin past the edge, so a
+    ball whose apex is half a margin past its cell's upper edge never
+    changes cell, and one whose apex is 1.5 margins past it changes cell
+    going up and again coming down."""
+    assert run_scene(_thrown_up(0.5), lang).stats["events"]["cells"] == 0
+    assert run_scene(_thrown_up(1.5), lang).stats["events"]["cells"] == 2

@@ -344,9 +344,13 @@ BEGIN
    Expect ("max_same_time") ; MaxSame := ReadLongInt () ;
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ; CellW := Num () ; CellH := Num () ;
-   GridNX := ReadInt () ; GridNY := ReadInt () ;
+   GridNX := ReadInt () ; GridNY := ReadInt () ; GridMargin := Num () ;
    IF Failed THEN RETURN END ;
    IF (GridNX < 1) OR (GridNY < 1) OR (GridNX > MaxItems DIV GridNY) THEN Error ("bad grid", "") ; RETURN END ;
+   IF CellH < CellW THEN HalfCell := 0.5 * CellH ELSE HalfCell := 0.5 * CellW END ;
+   IF NOT ((0.0 <= GridMargin) AND (GridMargin < HalfCell)) THEN
+      Error ("grid margin outside [0, half a cell)", "") ; RETURN
+   END ;
    Expect ("bodies") ;
    NBodies := ReadCount () ;
    IF Failed THEN RETURN END ;

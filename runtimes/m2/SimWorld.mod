@@ -51,7 +51,7 @@ FROM SimHeap IMPORT Event, Push, Pop, Top, Clear, KInput, KCollision, KStop, KLe
                     InputEvent, CollisionEvent, StopEvent, LeaveEvent, CellEvent, HorizonEvent, FrameEvent ;
 FROM SimOut IMPORT Str, Int, Real, SpReal, Ln, Flush, SetOn ;
 FROM SimScene IMPORT Vertex, Input, AddInput, BodyRef, Bodies, Verts, Inputs, NBodies, NVerts, NInputs,
-                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY,
+                     EndT, FrameDt, Tol, RestSpeed, Alpha, MaxSame, GridX0, GridY0, CellW, CellH, GridNX, GridNY, GridMargin, HalfCell,
                      ReadText, ReadFile, ReadStdin, ReadError, ReadBodyText, Grow, MaxItems ;
 FROM SimGrid IMPORT Cells, Walls, Large, NLarge, IntList, InitGrid, CellOf, CellAdd, CellRemove, WallAdd, WallRemove,
                     LargeAdd, LargeRemove ;
@@ -1307,10 +1307,10 @@ BEGIN
 END PredictBody ;
 
 
-(* Schedules the first crossing of b's centre over a boundary of its cell. *)
+(* Schedules the first crossing of b's centre over a line a margin past a boundary of its cell. *)
 PROCEDURE ScheduleCell (b: BodyRef; now: REAL) ;
 VAR
-   ulo, uhi, p, v, a, origin, size, bound, lo, u, bu: REAL ;
+   ulo, uhi, p, v, a, origin, size, bound, lo, u, bu, h, room: REAL ;
    c: ARRAY [0..2] OF REAL ;
    axis, dk, direction, i, n, it, baxis, bdir: INTEGER ;
    found, crossed: BOOLEAN ;
@@ -1321,6 +1321,11 @@ BEGIN
    END ;
    ulo := now - b^.tb ;
    uhi := EndT - b^.tb ;
+   (* the margin, or what the cell leaves a body added live that is wider
+      than the scene's widest (it must stay within half a cell of its cell) *)
+   h := GridMargin ;
+   room := HalfCell - b^.bound ;
+   IF room < h THEN h := room END ;
    found := FALSE ;
    bu := 0.0 ;
    baxis := 0 ;
@@ -1336,11 +1341,11 @@ BEGIN
          crossed := FALSE ;
          IF direction = 1 THEN
             IF i < n - 1 THEN
-               bound := origin + VAL (REAL, i + 1) * size ;
+               bound := origin + VAL (REAL, i + 1) * size + h ;
                crossed := TRUE
             END
          ELSIF i > 0 THEN
-            bound := origin + VAL (REAL, i) * size ;
+            bound := origin + VAL (REAL, i) * size - h ;
             crossed := TRUE
          END ;
          IF crossed AND (ulo = 0.0) AND ((p - bound) * VAL (REAL, direction) >= 0.0)
@@ -3539,8 +3544,8 @@ BEGIN
 END circle_separation ;
 
 
-(* The body's centre crossed into the next cell along an axis: it moves
-   there and is predicted against the row or column it now neighbours. *)
+(* The body's centre went the grid's margin past its cell's edge along an axis: it
+   moves to the next cell and is predicted against the row or column it now neighbours. *)
 PROCEDURE handle_cell (t: REAL; ev: CellEvent) ;
 VAR
    b: BodyRef ;

@@ -125,6 +125,8 @@ struct m2c_sim_scene {
     long long max_same;     /* events at one instant before "stuck" */
     double x0, y0, cw, ch;  /* m: grid origin and cell size */
     int32_t nx, ny;         /* grid cells per axis */
+    double margin;          /* m: a moving centre changes cell this far past the edge */
+    double half_cell;       /* m: half of min(cw, ch) */
     int32_t nbodies, ninputs;
     int32_t inputs_cap;     /* room in inputs (live inputs are appended: the recording) */
     int32_t bodies_cap;     /* room in bodies (add_body appends) */

@@ -1309,6 +1309,11 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         return;
     double ulo = now - b->tb;
     double uhi = s->end - b->tb;
+    /* the margin, or what the cell leaves a body added live that is wider
+     * than the scene's widest (it must stay within half a cell of its cell) */
+    double h = s->margin, room = s->half_cell - b->bound;
+    if (room < h)
+        h = room;
     int have = 0, baxis = 0, bdir = 0;
     double bu = 0.0;
     for (int axis = 0; axis < 2; axis++) {
@@ -1326,11 +1331,11 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
             if (dir == 1) {
                 if (i >= n - 1)
                     continue;
-                bound = origin + (double)(i + 1) * size;
+                bound = origin + (double)(i + 1) * size + h;
             } else {
                 if (i <= 0)
                     continue;
-                bound = origin + (double)i * size;
+                bound = origin + (double)i * size - h;
             }
             double c[3] = { p - bound, v, 0.5 * a };
             if (ulo == 0.0 && c[0] * (double)dir >= 0.0
@@ -3433,8 +3438,8 @@ static void handle_input(sim *m, const m2c_sim_event *ev)
     predict_released(m, &left, t);
 }
 
-/* The body's centre crossed into the next cell along an axis: it moves
- * there and is predicted against the row or column it now neighbours. */
+/* The body's centre went the grid's margin past its cell's edge along an axis: it moves
+ * to the next cell and is predicted against the row or column it now neighbours. */
 static void handle_cell(sim *m, const m2c_sim_event *ev)
 {
     m->stats.cells++;

@@ -372,8 +372,12 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     s->ch = num(r);
     s->nx = count(r, 1 << 30);
     s->ny = count(r, 1 << 30);
+    s->margin = num(r);
     if (!r->failed && (s->nx < 1 || s->ny < 1 || (long long)s->nx * s->ny > (1ll << 31)))
         fail(r, "bad grid");
+    s->half_cell = 0.5 * (s->ch < s->cw ? s->ch : s->cw);
+    if (!r->failed && !(0.0 <= s->margin && s->margin < s->half_cell))
+        fail(r, "grid margin outside [0, half a cell)");
     word(r, "bodies");
     s->nbodies = count(r, 1 << 28);
     if (!r->failed) {

@@ -49,6 +49,7 @@ extern void PyMem_Free(void *p);
 #define MARGIN 1e-6            /* relative margin of every check made here with other rounding than Python's */
 #define MAX_DEPTH 200          /* nesting of a skipped value (Python's json stops near 1000) */
 #define MAX_LARGE 64           /* large circles and polygons, each tested against every movable circle */
+#define SF_CELL_FACTOR 1.15    /* cells this many times the largest movable body (max2code/sim/scene.py CELL_FACTOR) */
 
 enum { MINE = 0, NOT_MINE = 1, NO_MEMORY = 2 };
 
@@ -1092,14 +1093,15 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
             hi_y = y > hi_y ? y : hi_y;
         }
     }
-    double x0 = 0.0, y0 = 0.0, cw = size, ch = size;
+    double x0 = 0.0, y0 = 0.0, cw = size, ch = size, margin = 0.0;
     long nx = 1, ny = 1;
     if (small) {
-        x0 = lo_x - size;
-        y0 = lo_y - size;
-        double w = hi_x - lo_x + 2.0 * size, hgt = hi_y - lo_y + 2.0 * size;
+        double cell = size * SF_CELL_FACTOR;
+        x0 = lo_x - cell;
+        y0 = lo_y - cell;
+        double w = hi_x - lo_x + 2.0 * cell, hgt = hi_y - lo_y + 2.0 * cell;
         long limit = 4 * small > 16 ? 4 * small : 16;
-        if (!floordiv(w, size, &nx) || !floordiv(hgt, size, &ny) || nx > (1L << 30) || ny > (1L << 30))
+        if (!floordiv(w, cell, &nx) || !floordiv(hgt, cell, &ny) || nx > (1L << 30) || ny > (1L << 30))
             return NOT_MINE;
         nx = nx > 1 ? nx : 1;
         ny = ny > 1 ? ny : 1;
@@ -1109,6 +1111,8 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
         }
         cw = w / (double)nx;
         ch = hgt / (double)ny;
+        margin = 0.5 * ((ch < cw ? ch : cw) - size);     /* the whole slack, as Python's max(0, ...) */
+        margin = margin > 0.0 ? margin : 0.0;
     }
     /* the text */
     sf_buf *b = &s->out;
@@ -1123,7 +1127,10 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
     if (puts_(b, tmp) || put_real(b, x0) || put(b, " ", 1) || put_real(b, y0) || put(b, " ", 1) || put_real(b, cw)
         || put(b, " ", 1) || put_real(b, ch))
         return NO_MEMORY;
-    snprintf(tmp, sizeof tmp, " %ld %ld\nbodies %ld\n", nx, ny, s->n);
+    snprintf(tmp, sizeof tmp, " %ld %ld ", nx, ny);
+    if (puts_(b, tmp) || put_real(b, margin))
+        return NO_MEMORY;
+    snprintf(tmp, sizeof tmp, "\nbodies %ld\n", s->n);
     if (puts_(b, tmp))
         return NO_MEMORY;
     return MINE;

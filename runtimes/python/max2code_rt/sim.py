@@ -103,7 +103,7 @@ class Body:
     # window         rad: its window angle when it turns and its partner does not (0: it never turns)
     # verts          list of Vertex (polygons), else empty
     # stamp          bumped when the motion changes (lazy invalidation)
-    # cx, cy         grid cell (small bodies)
+    # cx, cy         grid cell (small bodies; a moving centre may be up to the grid margin outside it)
     # sup            index of the body supporting it (fixed), or carrying it (movable), -1: free
     # sup_edge       the supporting edge (index into sup's vertices)
     # tx, ty         unit tangent of the supporting edge (along increasing S1..S2)
@@ -305,7 +305,10 @@ class Scene:
         word("window_angle"); self.alpha = num()
         word("max_same_time"); self.max_same = integer()
         word("grid"); self.x0 = num(); self.y0 = num(); self.cw = num(); self.ch = num()
-        self.nx = integer(); self.ny = integer()
+        self.nx = integer(); self.ny = integer(); self.margin = num()
+        self.half_cell = 0.5 * min(self.cw, self.ch)
+        if not 0.0 <= self.margin < self.half_cell:
+            raise SimError(f"scene: grid margin {_fmt(self.margin)} m outside [0, half a cell)")
         word("bodies"); n = integer()
         self.bodies: list[Body] = [read_body(tk, i) for i in range(n)]
         word("inputs"); k = integer()
@@ -998,6 +1001,12 @@ class World:
             return
         ulo = now - b.tb
         uhi = s.end - b.tb
+        # the margin, or what the cell leaves a body added live that is wider
+        # than the scene's widest (it must stay within half a cell of its cell)
+        h = s.margin
+        room = s.half_cell - b.bound
+        if room < h:
+            h = room
         best = None
         for axis in (0, 1):
             if axis == 0:
@@ -1008,11 +1017,11 @@ class World:
                 if direction == 1:
                     if i >= n - 1:
                         continue
-                    bound = origin + (i + 1) * size
+                    bound = origin + (i + 1) * size + h
                 else:
                     if i <= 0:
                         continue
-                    bound = origin + i * size
+                    bound = origin + i * size - h
                 c = [p - bound, v, 0.5 * a]
                 if (ulo == 0.0 and c[0] * direction >= 0.0
                         and (v * direction > 0.0 or (v == 0.0 and a * direction > 0.0))):
@@ -2394,8 +2403,9 @@ class World:
         return best
 
     def handle_cell(self, ev: CellEvent) -> None:
-        """The body's centre crossed into the next cell along an axis: move
-        it there and predict it against the row or column it now neighbours."""
+        """The body's centre went the grid's margin past its cell's edge along
+        an axis: move it to the next cell and predict it against the row or
+        column it now neighbours."""
         self.stats.cells += 1
         body = self.s.bodies[ev.body]
         d = ev.direction

@@ -852,6 +852,10 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     }
     let ulo = now - b.tb;
     let uhi = s.end - b.tb;
+    // the margin, or what the cell leaves a body added live that is wider
+    // than the scene's widest (it must stay within half a cell of its cell)
+    let room = s.half_cell - b.bound;
+    let h = if room < s.margin { room } else { s.margin };
     let mut best: Option<(f64, i32, i32)> = None;
     for axis in 0..2 {
         let (p, v, a, i, n, origin, size) =
@@ -864,12 +868,12 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
                 if i >= n - 1 {
                     continue;
                 }
-                origin + (i + 1) as f64 * size
+                origin + (i + 1) as f64 * size + h
             } else {
                 if i <= 0 {
                     continue;
                 }
-                origin + i as f64 * size
+                origin + i as f64 * size - h
             };
             let c = [p - bound, v, 0.5 * a];
             let dir = f64::from(direction);

@@ -3,6 +3,7 @@
 //! shortest round-trip decimals; Rust's parser reads them exactly.
 
 use std::cell::Cell;
+use super::g17::g17;
 
 /// One vertex of a polygon and the edge that starts at it (to the next
 /// vertex), in the body's frame: all precomputed by the scene compiler.
@@ -223,6 +224,10 @@ pub struct Scene {
     pub ch: f64,
     pub nx: i64,
     pub ny: i64,
+    /// m: a moving centre changes cell this far past the cell's edge
+    pub margin: f64,
+    /// m: half of min(cw, ch)
+    pub half_cell: f64,
     pub bodies: Vec<Body>,
     /// all polygons' vertices, body after body
     pub verts: Vec<Vertex>,
@@ -500,6 +505,11 @@ impl Scene {
         if nx < 1 || ny < 1 || nx > i64::from(i32::MAX) || ny > i64::from(i32::MAX) {
             return Err(format!("scene: a grid of {nx} x {ny} cells"));
         }
+        let margin = tk.num()?;
+        let half_cell = 0.5 * if ch < cw { ch } else { cw };
+        if !(0.0 <= margin && margin < half_cell) {
+            return Err(format!("scene: grid margin {} m outside [0, half a cell)", g17(margin)));
+        }
         tk.expect("bodies")?;
         let n = tk.int()?;
         if n < 0 || n > i64::from(i32::MAX) {
@@ -535,7 +545,7 @@ impl Scene {
             inputs.push(Input { t, body, mode, vx, vy });
         }
         tk.expect("end")?;
-        Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, bodies, verts, inputs })
+        Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, margin, half_cell, bodies, verts, inputs })
     }
 }
 

@@ -500,8 +500,8 @@ impl<E: Equations> World<E> {
         Ok(())
     }
 
-    /// The body's centre crossed into the next cell along an axis: move it
-    /// there and predict it against the row or column it now neighbours.
+    /// The body's centre went the grid's margin past its cell's edge along an axis:
+    /// move it to the next cell and predict it against the row or column it now neighbours.
     fn handle_cell(&mut self, t: f64, body: u32, axis: i32, direction: i32) -> Res<()> {
         self.q.stats.cells += 1;
         let a = body as usize;
