@@ -176,8 +176,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("max2code: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
-        return 0
+    except BrokenPipeError:     # the reader of standard output is gone (`| head`): quiet, as a Unix tool
+        return BROKEN_PIPE
     except Exception as exc:  # a bug: say so in one line, never a traceback
         print(f"max2code: internal error: {type(exc).__name__}: {exc} (please report this; "
               "set MAX2CODE_DEBUG=1 for the traceback)", file=sys.stderr)
@@ -186,6 +186,10 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
 
+# the exit status of a program whose reader of standard output went away: what a shell reports for a Unix tool
+# ended by SIGPIPE (128 + 13); Python ignores the signal, so the failed write raises BrokenPipeError instead
+BROKEN_PIPE = 141
+
 # subcommands that leave nothing to clean up when they return (every file closed and renamed, every child process
 # and thread waited for): their process ends at once after standard output and error are flushed, without the
 # interpreter's own shutdown, which takes longer than their work on a small scene (15-25 ms: freeing every module and
@@ -193,18 +197,50 @@ def main(argv: list[str] | None = None) -> int:
 QUICK_EXIT = frozenset({"simulate"})
 
 
+def _flush_output(status: int) -> int:
+    """Flush standard output and error after main() returned `status`; the
+    status to exit with.  What cannot be written any more (reader gone, disk
+    full) is dropped, with standard output pointed at the null device so that
+    the interpreter's own last flush finds nothing to complain of: a gone
+    reader ends quietly with BROKEN_PIPE, another failure says why on
+    standard error and exits 1 (unless main() already failed and said so)."""
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _drop(sys.stdout)
+        status = BROKEN_PIPE
+    except OSError as exc:
+        _drop(sys.stdout)
+        if status == 0:
+            print(f"max2code: error: standard output: cannot write: {exc.strerror or exc}", file=sys.stderr)
+            status = 1
+    except ValueError:
+        pass        # closed: nothing is left to write
+    try:
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        _drop(sys.stderr)
+    return status
+
+
+def _drop(stream) -> None:
+    """Point `stream`'s file descriptor at the null device (what is still
+    buffered in it then goes nowhere)."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, stream.fileno())
+        os.close(null)
+    except (OSError, ValueError):
+        pass
+
+
 def run() -> None:
     """The program (`python -m max2code`, the `max2code` script): main(),
     then the exit; a subcommand of QUICK_EXIT ends with os._exit once its
     output is flushed (main() itself returns, as tests call it)."""
     argv = sys.argv[1:]
-    status = main(argv)
+    status = _flush_output(main(argv))
     if argv and argv[0] in QUICK_EXIT and not os.environ.get("MAX2CODE_DEBUG"):
-        try:
-            sys.stdout.flush()
-            sys.stderr.flush()
-        except (OSError, ValueError):
-            raise SystemExit(status) from None      # the interpreter's shutdown reports it as it always did
         os._exit(status)
     raise SystemExit(status)
 

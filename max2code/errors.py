@@ -2,19 +2,20 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
+
+from max2code.record import FrozenRecord
 
 
 class Max2CodeError(Exception):
     """An error meant for the user; printed without a traceback."""
 
 
-@dataclass(frozen=True)
-class Span:
+class Span(FrozenRecord):
     """A place in a source file: 1-based line and column."""
-    file: str
-    line: int
-    column: int
+    _fields = ("file", "line", "column")
+
+    def __init__(self, file: str, line: int, column: int):
+        self._set(file=file, line=line, column=column)
 
     def __str__(self) -> str:
         return f"{self.file}:{self.line}:{self.column}"

@@ -3,14 +3,16 @@
 Inputs (.mxm, scenes, traces, case files) are UTF-8; a byte-order mark is
 dropped and CRLF or CR line ends read as LF.  A file that is missing, a
 folder, unreadable or not UTF-8 is a `FILE[:LINE:COL]: error: ...` naming
-that file.  Outputs: `-` is standard output; a missing folder, a folder as
-the file, or a file that cannot be written is an error naming the `-o`
-argument, raised before any work is lost where the caller checks first
+that file.  Outputs: `-` is standard output; a device or a named pipe is
+written in place; a missing folder, a folder as the file, or a file that
+cannot be written is an error naming the `-o` argument (or standard
+output), raised before any work is lost where the caller checks first
 (`check_output`).
 """
 from __future__ import annotations
 
 import os
+import stat
 import sys
 import tempfile
 from contextlib import contextmanager
@@ -77,10 +79,38 @@ def open_output(path: str | None, option: str = "-o") -> Iterator[IO[str]]:
     written under a temporary name and renamed when the block ends without an
     exception, so a failed run leaves no half-written file."""
     if path is None or path == "-":
-        yield sys.stdout
-        sys.stdout.flush()
+        try:
+            yield sys.stdout
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise           # the reader is gone: the caller ends quietly (cli.main)
+        except OSError as exc:
+            if exc.filename is not None:
+                raise       # another file's fault, as below
+            raise OutputError(f"standard output: error: cannot write: {exc.strerror or exc}") from None
         return
     check_output(path, option)
+    try:
+        special = not stat.S_ISREG(os.stat(path).st_mode)
+    except OSError:
+        special = False     # not there yet (or not to be seen): written under a temporary name, as any file
+    if special:
+        # a device or a named pipe (/dev/null, a FIFO): written in place; a file renamed over it would replace it
+        # (as root, even /dev/null)
+        try:
+            fh = open(path, "w", encoding="utf-8", newline="\n")
+        except OSError as exc:
+            raise OutputError(f"{option} {path}: error: cannot write: {exc.strerror or exc}") from None
+        try:
+            with fh:
+                yield fh
+        except BrokenPipeError:
+            raise           # the pipe's reader is gone: the caller ends quietly (cli.main)
+        except OSError as exc:
+            if exc.filename not in (None, path):
+                raise       # another file's fault, as below
+            raise OutputError(f"{option} {path}: error: cannot write: {exc.strerror or exc}") from None
+        return
     folder = os.path.dirname(path) or "."
     try:
         fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=folder)

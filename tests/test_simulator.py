@@ -429,3 +429,68 @@ def test_a_body_that_turns_within_the_margin_keeps_its_cell(lang):
     going up and again coming down."""
     assert run_scene(_thrown_up(0.5), lang).stats["events"]["cells"] == 0
     assert run_scene(_thrown_up(1.5), lang).stats["events"]["cells"] == 2
+
+
+def _simulate_cmd(scene="billiard-break.json"):
+    env = {k: v for k, v in os.environ.items() if k != "MAX2CODE_DEBUG"}
+    return [sys.executable, "-m", "max2code", "simulate", os.path.join(ROOT, "examples", scene), "-q"], env
+
+
+def test_an_output_that_cannot_be_written_is_one_plain_error():
+    """Standard output on a full disk (/dev/full): one line saying that the
+    output could not be written and the OS's reason, exit 1, no traceback."""
+    cmd, env = _simulate_cmd()
+    with open("/dev/full", "wb") as full:
+        r = subprocess.run(cmd, stdin=subprocess.DEVNULL, stdout=full, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+                           env=env)
+    assert r.returncode == 1, r.stderr
+    assert r.stderr == "standard output: error: cannot write: No space left on device\n", r.stderr
+
+
+def test_a_closed_pipe_ends_the_command_quietly():
+    """The reader of standard output gone before the trace is written (`| head -c 10`): no message, the exit
+    status a shell shows for a Unix tool ended by SIGPIPE (128 + 13)."""
+    cmd, env = _simulate_cmd("ball-pit.json")
+    rd, wr = os.pipe()
+    os.close(rd)
+    try:
+        r = subprocess.run(cmd, stdin=subprocess.DEVNULL, stdout=wr, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+                           env=env)
+    finally:
+        os.close(wr)
+    assert (r.returncode, r.stderr) == (141, "")
+
+
+def test_a_named_pipe_as_the_output_is_written_not_replaced(tmp_path):
+    """-o on a device or a named pipe writes into it: a file renamed over it would replace it (as root even
+    /dev/null), and its reader would get nothing."""
+    import select
+    import stat
+    import time
+    cmd, env = _simulate_cmd()
+    want = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, cwd=ROOT, env=env, check=True).stdout
+    fifo = tmp_path / "trace.fifo"
+    os.mkfifo(fifo)
+    rd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    got = bytearray()
+    try:
+        proc = subprocess.Popen([*cmd, "-o", str(fifo)], stdin=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=ROOT,
+                                env=env)
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            select.select([rd], [], [], 0.1)
+            try:
+                chunk = os.read(rd, 1 << 16)
+            except BlockingIOError:
+                continue
+            got += chunk
+            if not chunk:
+                if proc.poll() is not None:
+                    break
+                time.sleep(0.01)        # no writer yet (or between writes)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        os.close(rd)
+    assert proc.returncode == 0, err
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert bytes(got) == want

@@ -22,7 +22,6 @@ Two comparisons, because multi-body scenes are chaotic:
 """
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import os
@@ -473,7 +472,7 @@ def time_ours(scene: Scene, lang: str) -> OurResult:
     from max2code.sim.simulate import build_simulator, time_engine
     build = build_simulator(lang, scene.effects, scene.taylor_order)
     flat = compile_scene(scene)
-    first = compile_scene(dataclasses.replace(scene, end_time=min(START, scene.end_time)))
+    first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
     cpu, counts = best_cpu(lambda: time_engine(build, flat))
     start, _ = best_cpu(lambda: time_engine(build, first))
     return OurResult(lang, cpu, start, counts)

@@ -4,9 +4,9 @@ from __future__ import annotations
 import argparse
 import functools
 import sys
-from dataclasses import dataclass
 
 from max2code.errors import ArgumentParser, Max2CodeError
+from max2code.record import Record
 from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, check_scene, load_scene
 from max2code.sim.scene_c import read_scene
 from max2code.sim.simulate import CONVERTERS, LANGS, SimulateError, Trace, run_scene, stream_scene
@@ -90,10 +90,12 @@ def _count(text: str) -> int:
     return v
 
 
-@dataclass
-class Difference:
-    index: int          # event index, or -1 for the final state
-    what: str
+class Difference(Record):
+    _fields = ("index", "what")
+
+    def __init__(self, index: int, what: str):
+        self.index = index      # event index, or -1 for the final state
+        self.what = what
 
 
 def compare(a: Trace, b: Trace, rel: float = 1e-9) -> Difference | None:

@@ -3,16 +3,35 @@ each one source file under runtimes/c/tools/, built once with gcc into a
 shared library under BUILD/<folder>/<hash of source and flags>/ and loaded
 through ctypes.  A library that cannot be built or loaded is None, and
 why_not() says why; its caller then takes the Python path, which gives the
-same bytes."""
+same bytes.
+
+Each edit of a source leaves a new folder: past KEEP of them the oldest are
+removed, under a lock (BUILD/<folder>/lock) so that none goes while another
+run may still load from it.  A run holds the lock shared from finding its
+folder until its library is loaded; removing takes it exclusive without
+waiting, and leaves the pile for a later run when another holds it.  A
+library already loaded by a run stays mapped in that process when its file
+is removed (POSIX), so only loading needs the lock."""
 from __future__ import annotations
 
 import os
+import re
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
 
+try:
+    import fcntl
+except ImportError:         # not on Windows: nothing is ever removed there
+    fcntl = None
+
 from max2code import filestate
 from max2code.paths import BUILD
+
+KEEP = 3        # library folders kept per tool: the current one and the two newest others (a checkout that goes back
+                # and forth between two branches rebuilds neither)
+_DIGEST = re.compile(r"[0-9a-f]{16}")       # a library folder's name: nothing else in BUILD/<folder>/ is removed
 
 
 class CTool:
@@ -58,8 +77,11 @@ class CTool:
         cannot be built or loaded (then why_not() says why)."""
         if not self._tried:
             self._tried = True
+            lock = self._lock()
             try:
-                lib = self.loader(self.build())
+                path = self.build()
+                lib = self.loader(path)
+                self._prune(lock, os.path.basename(os.path.dirname(path)))
             except subprocess.CalledProcessError as exc:
                 err = (exc.stderr or b"").decode("ascii", "replace").strip().splitlines()
                 self._why = f"gcc failed on {self.source.name}" + (f": {err[0]}" if err else "")
@@ -70,6 +92,9 @@ class CTool:
             except (OSError, subprocess.SubprocessError) as exc:
                 self._why = f"{type(exc).__name__}: {exc}"
                 return None
+            finally:
+                if lock is not None:
+                    os.close(lock)      # releases it
             for name, res, args in self.signatures:
                 fn = getattr(lib, name)
                 fn.restype, fn.argtypes = res, args
@@ -79,3 +104,48 @@ class CTool:
     def why_not(self) -> str:
         """Why library() returned None (empty when it did not)."""
         return self._why
+
+    def _lock(self) -> int | None:
+        """A descriptor of BUILD/<folder>/lock holding a shared lock (waited
+        for while another run removes old folders: a few ms), or None where
+        there is no lock to be had (then nothing is removed)."""
+        if fcntl is None:
+            return None
+        try:
+            (BUILD / self.folder).mkdir(parents=True, exist_ok=True)
+            fd = os.open(BUILD / self.folder / "lock", os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError:
+            return None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_SH)
+        except OSError:
+            os.close(fd)
+            return None
+        return fd
+
+    def _prune(self, lock: int | None, current: str) -> None:
+        """Remove all but the newest KEEP library folders (never `current`,
+        the one this run loaded), when no other run holds the lock."""
+        if lock is None:
+            return
+        root = BUILD / self.folder
+        try:
+            old = [e for e in os.scandir(root) if e.name != current and _DIGEST.fullmatch(e.name) and e.is_dir()]
+        except OSError:
+            return
+        if len(old) < KEEP:
+            return
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return          # another run may be loading from one of them: left for a later run
+        old.sort(key=_mtime, reverse=True)
+        for e in old[KEEP - 1:]:
+            shutil.rmtree(e.path, ignore_errors=True)
+
+
+def _mtime(entry: os.DirEntry) -> int:
+    try:
+        return entry.stat().st_mtime_ns
+    except OSError:
+        return 0        # gone meanwhile: the first to go

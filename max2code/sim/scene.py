@@ -14,10 +14,10 @@ import gc
 import json
 import math
 import operator
-from dataclasses import dataclass, field
 from itertools import compress, repeat
 
 from max2code.errors import Max2CodeError
+from max2code.record import FrozenRecord, Record
 from max2code.textio import InputError, read_text
 
 SHAPES = ("circle", "polygon")
@@ -47,24 +47,24 @@ class SceneError(Max2CodeError):
     """A bad scene: the message names the file and the field."""
 
 
-@dataclass
-class Body:
-    name: str
-    polygon: bool
-    fixed: bool
-    mass: float               # inf when fixed
-    inertia: float            # about the centre of mass; inf when fixed; 0 for circles (they never turn by contact)
-    restitution: float
-    position: tuple[float, float]
-    velocity: tuple[float, float]
-    acceleration: tuple[float, float]   # gravity included for movable bodies
-    angle: float
-    angular_velocity: float
-    radius: float = 0.0
-    orbit_radius: float = 0.0
-    orbit_angle: float = 0.0
-    vertices: list[tuple[float, float]] = field(default_factory=list)   # about the centre of mass, counter-clockwise
-    friction: float = 0.0     # Coulomb coefficient; a contact uses the product of both bodies' values
+class Body(Record):
+    _fields = ("name", "polygon", "fixed", "mass", "inertia", "restitution", "position", "velocity", "acceleration",
+               "angle", "angular_velocity", "radius", "orbit_radius", "orbit_angle", "vertices", "friction")
+
+    def __init__(self, name: str, polygon: bool, fixed: bool, mass: float, inertia: float, restitution: float,
+                 position: tuple[float, float], velocity: tuple[float, float], acceleration: tuple[float, float],
+                 angle: float, angular_velocity: float, radius: float = 0.0, orbit_radius: float = 0.0,
+                 orbit_angle: float = 0.0, vertices: list[tuple[float, float]] | None = None, friction: float = 0.0):
+        self.name, self.polygon, self.fixed = name, polygon, fixed
+        self.mass = mass            # inf when fixed
+        self.inertia = inertia      # about the centre of mass; inf when fixed; 0 for circles (never turned by contact)
+        self.restitution = restitution
+        self.position, self.velocity = position, velocity
+        self.acceleration = acceleration    # gravity included for movable bodies
+        self.angle, self.angular_velocity = angle, angular_velocity
+        self.radius, self.orbit_radius, self.orbit_angle = radius, orbit_radius, orbit_angle
+        self.vertices = [] if vertices is None else vertices    # about the centre of mass, counter-clockwise
+        self.friction = friction    # Coulomb coefficient; a contact uses the product of both bodies' values
 
     @functools.cached_property
     def bound(self) -> float:
@@ -84,28 +84,32 @@ class Body:
         return self.turns or (self.polygon and not self.fixed)
 
 
-@dataclass
-class Input:
-    time: float
-    body: int
-    mode: int          # index in INPUT_KINDS: set/add velocity (m/s), impulse (N s), teleport (the new centre, m)
-    velocity: tuple[float, float]     # the mode's vector (named for the first two)
+class Input(Record):
+    _fields = ("time", "body", "mode", "velocity")
+
+    def __init__(self, time: float, body: int, mode: int, velocity: tuple[float, float]):
+        self.time, self.body = time, body
+        self.mode = mode    # index in INPUT_KINDS: set/add velocity (m/s), impulse (N s), teleport (the new centre, m)
+        self.velocity = velocity    # the mode's vector (named for the first two)
 
 
-@dataclass
-class Scene:
-    path: str
-    name: str
-    end_time: float
-    frame_rate: float
-    gravity: tuple[float, float]
-    tolerance: float
-    rest_speed: float
-    taylor_order: int
-    max_same: int
-    bodies: list[Body]
-    inputs: list[Input]
-    max_events: int = DEFAULT_MAX_EVENTS
+class Scene(Record):
+    _fields = ("path", "name", "end_time", "frame_rate", "gravity", "tolerance", "rest_speed", "taylor_order",
+               "max_same", "bodies", "inputs", "max_events")
+
+    def __init__(self, path: str, name: str, end_time: float, frame_rate: float, gravity: tuple[float, float],
+                 tolerance: float, rest_speed: float, taylor_order: int, max_same: int, bodies: list[Body],
+                 inputs: list[Input], max_events: int = DEFAULT_MAX_EVENTS):
+        self.path, self.name, self.end_time, self.frame_rate = path, name, end_time, frame_rate
+        self.gravity, self.tolerance, self.rest_speed = gravity, tolerance, rest_speed
+        self.taylor_order, self.max_same = taylor_order, max_same
+        self.bodies, self.inputs, self.max_events = bodies, inputs, max_events
+
+    def replace(self, **changes) -> "Scene":
+        """A copy with some fields changed (dataclasses.replace)."""
+        values = dict(zip(self._fields, self._values()))
+        values.update(changes)
+        return Scene(**values)
 
     @property
     def effects(self) -> tuple[str, ...]:
@@ -864,16 +868,13 @@ def body_window(b: Body, scene: Scene, circles: float) -> float:
     return _angle_for(b.bound + circles, scene.taylor_order, scene.tolerance)
 
 
-@dataclass(frozen=True)
-class Grid:
-    x0: float
-    y0: float
-    cw: float
-    ch: float
-    nx: int
-    ny: int
-    margin: float   # m: how far past a cell's edge a moving centre goes before it changes cell
-    large: tuple[bool, ...]
+class Grid(FrozenRecord):
+    # margin: m, how far past a cell's edge a moving centre goes before it changes cell
+    _fields = ("x0", "y0", "cw", "ch", "nx", "ny", "margin", "large")
+
+    def __init__(self, x0: float, y0: float, cw: float, ch: float, nx: int, ny: int, margin: float,
+                 large: tuple[bool, ...]):
+        self._set(x0=x0, y0=y0, cw=cw, ch=ch, nx=nx, ny=ny, margin=margin, large=large)
 
 
 # Cells are this many times as wide as the largest movable body, and the

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import ctypes
 import json
-from dataclasses import dataclass
 
 from max2code.paths import RUNTIMES
+from max2code.record import Record
 from max2code.sim.ctool import CTool
 from max2code.sim.scene import (Scene, SceneError, _body, _box, _check_body_magnitudes, _Reader, body_lines,
                                 covered_edges)
@@ -45,23 +45,24 @@ TOOL = CTool(SOURCE, FLAGS, "scene-flat", ctypes.PyDLL, [
 PART = 4096        # bodies' lines made at a time by parts()
 
 
-@dataclass
-class FlatScene:
+class FlatScene(Record):
     """A scene the C reader took: what `max2code simulate` needs of it, and
     its flat scene, made in pieces by parts() (a simulator reads one while
     the next is made) from the C reader's state, which it owns."""
-    path: str
-    end_time: float
-    taylor_order: int
-    effects: tuple[str, ...]
-    max_events: int
-    json_names: list[str]       # each body's name as JSON text, in index order
-    names_text: bytes           # the same, each followed by a newline
-    most: int                   # the largest body, input or vertex index a trace line may name
-    head: bytes                 # the flat scene up to the bodies' lines
-    polygon_lines: dict[int, bytes]     # by body index
-    _lib: ctypes.PyDLL
-    _handle: int
+    _fields = ("path", "end_time", "taylor_order", "effects", "max_events", "json_names", "names_text", "most", "head",
+               "polygon_lines", "_lib", "_handle")
+
+    def __init__(self, path: str, end_time: float, taylor_order: int, effects: tuple[str, ...], max_events: int,
+                 json_names: list[str], names_text: bytes, most: int, head: bytes, polygon_lines: dict[int, bytes],
+                 _lib: ctypes.PyDLL, _handle: int):
+        self.path, self.end_time, self.taylor_order = path, end_time, taylor_order
+        self.effects, self.max_events = effects, max_events
+        self.json_names = json_names    # each body's name as JSON text, in index order
+        self.names_text = names_text    # the same, each followed by a newline
+        self.most = most                # the largest body, input or vertex index a trace line may name
+        self.head = head                # the flat scene up to the bodies' lines
+        self.polygon_lines = polygon_lines      # by body index
+        self._lib, self._handle = _lib, _handle
 
     def parts(self):
         """The flat scene (compile_scene's text) in pieces of whole lines

@@ -13,7 +13,6 @@ import shutil
 import subprocess
 import threading
 import time
-from dataclasses import dataclass, field
 from itertools import compress, repeat
 from pathlib import Path
 
@@ -24,6 +23,7 @@ except ImportError:         # not on Windows
 
 from max2code import __version__, filestate
 from max2code.errors import Max2CodeError
+from max2code.record import Record
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
 from max2code.sim.scene_c import FlatScene
@@ -65,22 +65,22 @@ def start_simulator(build: "SimBuild", **kw) -> subprocess.Popen:
                             f"{exc.strerror or exc}; another max2code run may be rebuilding it: run the command again") from None
 
 
-@dataclass
-class SimBuild:
-    lang: str
-    workdir: str
-    run_cmd: list[str]
-    variant_names: dict[str, list[str]]     # equation -> variant names in the index order of NAME_variant
-    generated: dict[str, str] = field(default_factory=dict)     # equation -> the generated source file
+class SimBuild(Record):
+    _fields = ("lang", "workdir", "run_cmd", "variant_names", "generated")
+
+    def __init__(self, lang: str, workdir: str, run_cmd: list[str], variant_names: dict[str, list[str]],
+                 generated: dict[str, str] | None = None):
+        self.lang, self.workdir, self.run_cmd = lang, workdir, run_cmd
+        self.variant_names = variant_names      # equation -> variant names in the index order of NAME_variant
+        self.generated = {} if generated is None else generated     # equation -> the generated source file
 
 
-@dataclass
-class Trace:
-    lang: str
-    events: list[dict]
-    final: dict
-    stats: dict
-    raw: str = field(repr=False, default="")
+class Trace(Record):
+    _fields = ("lang", "events", "final", "stats", "raw")
+    _repr_fields = _fields[:-1]
+
+    def __init__(self, lang: str, events: list[dict], final: dict, stats: dict, raw: str = ""):
+        self.lang, self.events, self.final, self.stats, self.raw = lang, events, final, stats, raw
 
     def lines(self) -> list[str]:
         out = [json.dumps(e, separators=(",", ":")) for e in self.events]
