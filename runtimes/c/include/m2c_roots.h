@@ -52,7 +52,11 @@ int m2c_x_quadratic_exact(double a, double b, double c, double lo, double hi, do
  * bounds read the exponent fields: (u << 1) - 1 wraps a zero (either sign)
  * to the top, so one unsigned comparison accepts zero and |v| >= 2^-200;
  * for c2, (u << 1) > k rejects zero as well.  w > 0 and finite is one
- * unsigned comparison of its bits. */
+ * unsigned comparison of its bits.  The tests are branches taken in turn
+ * (&&), the sum first, as Rust's admit2 compiles: the fast path's calls
+ * pass them all, so each is predicted, and GCC needs fewer instructions
+ * than for all five combined with & (m2c_bench's degree-2 pass: 94.6 ->
+ * 91.2 per solve). */
 M2C_X_INLINE int m2c_x_admit2(double c0, double c1, double c2, double w)
 {
     uint64_t u0, u1, u2, uw;
@@ -61,9 +65,9 @@ M2C_X_INLINE int m2c_x_admit2(double c0, double c1, double c2, double w)
     memcpy(&u2, &c2, sizeof u2);
     memcpy(&uw, &w, sizeof uw);
     const uint64_t k = ((uint64_t)823 << 53) - 1; /* exponent field 823: 2^-200 */
-    int ok = ((u0 << 1) - 1 >= k) & ((u1 << 1) - 1 >= k) & ((u2 << 1) > k) &
-             (uw - 1 < 0x7fefffffffffffffu); /* 0 < w <= DBL_MAX */
-    return ok & (fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200);
+    return fabs(c0) + fabs(c1) + fabs(c2) < 0x1p200 &&
+           uw - 1 < 0x7fefffffffffffffu && /* 0 < w <= DBL_MAX */
+           (u2 << 1) > k && (u0 << 1) - 1 >= k && (u1 << 1) - 1 >= k;
 }
 
 /* The roots of a x^2 + b x + c from d > 0, the discriminant computed so

@@ -43,8 +43,11 @@ static int counts[M2C_MAX_DEGREE + 1];
 /* One timed pass over the np polynomials of one degree: ns per solve; the
  * number found and the sum of the roots into *found and *sum.  A function of
  * its own: GCC compiles main, run once, for size (a library call for each
- * inlined sqrt, say), which is not how a caller's hot loop is compiled. */
-__attribute__((noinline)) static double pass(int gsl, int deg, int np, int *found, double *sum)
+ * inlined sqrt, say), which is not how a caller's hot loop is compiled.  The
+ * solver is a constant in each copy (pass_m2c, pass_gsl): with it a variable,
+ * the loop tested it on every solve and, short of registers, kept its count
+ * of roots in memory. */
+__attribute__((always_inline)) static inline double pass(int gsl, int deg, int np, int *found, double *sum)
 {
     int nf = 0;
     double s = 0.0;
@@ -63,6 +66,16 @@ __attribute__((noinline)) static double pass(int gsl, int deg, int np, int *foun
     *found = nf;
     *sum = s;
     return (t1 - t0) / np;
+}
+
+__attribute__((noinline)) static double pass_m2c(int deg, int np, int *found, double *sum)
+{
+    return pass(0, deg, np, found, sum);
+}
+
+__attribute__((noinline)) static double pass_gsl(int deg, int np, int *found, double *sum)
+{
+    return pass(1, deg, np, found, sum);
 }
 
 int main(int argc, char **argv)
@@ -107,7 +120,7 @@ int main(int argc, char **argv)
         int found = 0;
         double sum = 0.0;
         for (int r = -1; r < reps; r++) {
-            double ns = pass(gsl, deg, np, &found, &sum);
+            double ns = gsl ? pass_gsl(deg, np, &found, &sum) : pass_m2c(deg, np, &found, &sum);
             if (r >= 0)
                 times[r] = ns;
         }
