@@ -215,7 +215,7 @@ int m2c_sim_parse_number(const char *w, size_t n, double *out)
 static inline void skip_spaces(reader *r)
 {
     const char *p = r->p;
-    while (*p && is_space(*p))
+    while ((unsigned char)(*p - 1) < ' ' && is_space(*p))     /* 1 .. ' ': one test for the digit after */
         p++;
     r->p = p;
 }
