@@ -294,10 +294,32 @@ static void push_frame(sim *m, double t, int32_t k)
  * first. */
 #define FETCH static inline __attribute__((always_inline))
 
+/* Fetching ahead pays where the bodies and cells miss the cache: at 10^4
+ * and 10^5 disks (3.5 and 42 MB) it took a fifth off the CPU time; where
+ * they stay in a core's second-level cache (10^3 disks: 0.4 MB) it is only
+ * its instructions, 9 % more per event.  So the helpers below (but the
+ * queue's and predict_cells' own few prefetches) work only above this many
+ * bytes of bodies and cells: about a core's second-level cache on the
+ * machines measured (docs/throughput.md, "Session 11, C"). */
+#ifndef M2C_SIM_FETCH_BYTES
+#define M2C_SIM_FETCH_BYTES ((size_t)1 << 20)
+#endif
+
+/* Whether to fetch ahead, from the bodies' and cells' bytes now (the scene
+ * opened, or a body added). */
+static void choose_fetch(sim *m)
+{
+    size_t bytes = ((size_t)m->s->nbodies + 1) * sizeof *m->bodies
+                   + (size_t)m->s->nx * (size_t)m->s->ny * sizeof *m->grid.cells;
+    m->fetch = bytes > M2C_SIM_FETCH_BYTES;
+}
+
 /* Fetches from memory the lines a body's own event reads: its prediction's
  * two and its handler's (cell, impulse). */
 FETCH void fetch_body(const sim *m, int32_t idx)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_body *b = &m->bodies[idx];
     __builtin_prefetch(&b->px);
     __builtin_prefetch(&b->ang);
@@ -322,6 +344,8 @@ FETCH void fetch_row(const sim *m, int32_t xa, int32_t xb, int32_t y)
  * its checks: a hint). */
 FETCH void fetch_cell_at(const sim *m, const m2c_sim_body *b)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_scene *s = m->s;
     double ix = floor((b->px - s->x0) / s->cw), iy = floor((b->py - s->y0) / s->ch);
     if (b->large || !(ix >= 0.0 && ix <= (double)(s->nx - 1) && iy >= 0.0 && iy <= (double)(s->ny - 1)))
@@ -333,6 +357,8 @@ FETCH void fetch_cell_at(const sim *m, const m2c_sim_body *b)
  * (what predict_body reads of the grid). */
 FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
 {
+    if (!m->fetch)
+        return;
     if (b->large)
         return;
     for (int32_t y = b->cy - 1; y <= b->cy + 1; y++)
@@ -345,6 +371,8 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
  * lists were fetched a while before. */
 FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_lo, int32_t y_hi)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
     int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
@@ -374,6 +402,8 @@ FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
  * asked of it. */
 FETCH void fetch_stamps(const sim *m)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
     if (e == NULL)
         return;
@@ -396,6 +426,8 @@ FETCH void fetch_stamps(const sim *m)
  * call it (it pops, so its calls are not dead code). */
 static __attribute__((noinline)) void fetch_next(sim *m)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
     for (int k = 0; e != NULL && k < 8 && is_stale(m, e); k++) {
         m2c_sim_event drop;
@@ -3707,6 +3739,7 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         die(m, "out of memory");
+    choose_fetch(m);
     m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
     m->wnear = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->wnear);
     if (m->walls == NULL || m->wnear == NULL)
@@ -3908,6 +3941,7 @@ int m2c_sim_add_body(sim *m, const char *text, int *idx)
     s->nbodies++;
     s->nverts_all += (size_t)b->nverts;
     m->added++;
+    choose_fetch(m);
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E add ");
     p = m2c_sim_put_num(p, t);
