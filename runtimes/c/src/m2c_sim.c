@@ -1420,15 +1420,55 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         push_cell(m, b->tb + bu, b, baxis, bdir);
 }
 
-/* Predicts the pairs of b with every body in the cells x_lo..x_hi,
- * y_lo..y_hi (clamped to the grid) other than b and skip, in the
- * reference's order: rows, then columns, then each cell's list.  first:
- * only bodies after b (the start, where every pair is predicted once).
- * The candidates are gathered first, their bodies fetched from memory
- * together, then predicted in that order. */
-static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *skip, int32_t x_lo, int32_t x_hi,
-                          int32_t y_lo, int32_t y_hi, double now, int first)
+static int among(m2c_sim_body *const *xs, int32_t n, const m2c_sim_body *x)
 {
+    for (int32_t k = 0; k < n; k++)
+        if (xs[k] == x)
+            return 1;
+    return 0;
+}
+
+/* Which of a body's neighbours it is predicted against: never itself, nor
+ * skip, nor a fixed one when it is fixed too; and by `only`:
+ * PAIRS_ALL every other, PAIRS_AFTER those of a higher index (the start,
+ * where each pair is predicted once), PAIRS_ISLAND all but the members of
+ * `island` of a lower index (a waking island: a pair of two members is
+ * predicted by the one with the smaller index), PAIRS_APART all but the
+ * solved cluster's bodies in done (predicted already). */
+enum { PAIRS_ALL, PAIRS_AFTER, PAIRS_ISLAND, PAIRS_APART };
+typedef struct pair_filter {
+    int only;
+    const m2c_sim_body *skip;
+    int32_t island;         /* PAIRS_ISLAND's */
+} pair_filter;
+
+static inline int keeps(const sim *m, const pair_filter *f, const m2c_sim_body *b, const m2c_sim_body *o)
+{
+    if (b->fixed && o->fixed)
+        return 0;
+    switch (f->only) {
+    case PAIRS_AFTER:
+        return o->idx > b->idx;
+    case PAIRS_ISLAND:
+        return !(o->island == f->island && o->idx < b->idx);
+    case PAIRS_APART:
+        return !among(m->clu.done, m->clu.ndone, o);
+    default:
+        return 1;
+    }
+}
+
+/* Predicts the pairs of b with every body in the cells x_lo..x_hi,
+ * y_lo..y_hi (clamped to the grid) that f keeps, in the reference's order:
+ * rows, then columns, then each cell's list.  The candidates are gathered
+ * first, their bodies fetched from memory together, then predicted in that
+ * order.  Inlined (with predict_near) where it is called with a filter
+ * known there, so that the filter costs no test per candidate. */
+static inline __attribute__((always_inline)) void predict_cells(sim *m, const m2c_sim_body *b, int32_t x_lo,
+                                                                 int32_t x_hi, int32_t y_lo, int32_t y_hi,
+                                                                 double now, const pair_filter *f)
+{
+    const m2c_sim_body *skip = f->skip;
     enum { CHUNK = 64 };
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
@@ -1451,7 +1491,7 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
                 __builtin_prefetch(&o->ang);
                 if (nc == CHUNK) {
                     for (int q = 0; q < nc; q++)
-                        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+                        if (keeps(m, f, b, cand[q]))
                             predict_pair(m, b, cand[q], now);
                     nc = 0;
                 }
@@ -1460,7 +1500,7 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
         }
     }
     for (int q = 0; q < nc; q++)
-        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+        if (keeps(m, f, b, cand[q]))
             predict_pair(m, b, cand[q], now);
 }
 
@@ -1516,16 +1556,27 @@ static void schedule_support(sim *m, const m2c_sim_body *b)
         push_leave(m, b->tb + s2, b);
 }
 
-static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
+/* A small body's pairs with its neighbours that f keeps (the bodies in
+ * its 3x3 cells, then the large ones near), and its next cell crossing. */
+static inline __attribute__((always_inline)) void predict_near(sim *m, const m2c_sim_body *b, double now,
+                                                                const pair_filter *f)
 {
-    predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
+    predict_cells(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, f);
     large_near(m, b);
     for (int32_t k = 0; k < m->nnear; k++) {
         const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (o != skip && !(b->fixed && o->fixed))
+        if (o != f->skip && keeps(m, f, b, o))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
+}
+
+/* Everything of b's future: its pairs with every neighbour but skip, its
+ * cell crossing, its stop and leave on a fixed support. */
+static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
+{
+    const pair_filter f = { PAIRS_ALL, skip, -1 };
+    predict_near(m, b, now, &f);
     if (b->sup >= 0 && m->bodies[b->sup].fixed)
         schedule_support(m, b);     /* a carried body moves with its base: no stop, no leave of its own */
 }
@@ -2294,32 +2345,13 @@ static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double 
 }
 
 /* predict_body for a member of a waking island: a pair of two members is
- * predicted by the one with the smaller index. */
+ * predicted by the one with the smaller index.  (A member moves, since no
+ * fixed body sleeps, so keeps' test of two fixed bodies never drops its
+ * pair with a large body.)  No stop or leave events here. */
 static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t island)
 {
-    const m2c_sim_scene *s = m->s;
-    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
-    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
-    for (int32_t jy = y0; jy <= y1; jy++) {
-        for (int32_t jx = x0; jx <= x1; jx++) {
-            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            const int32_t *items = m2c_sim_cell_items(c);
-            for (int32_t k = 0; k < c->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b)
-                    continue;
-                if (!(o->island == island && o->idx < b->idx) && !(b->fixed && o->fixed))
-                    predict_pair(m, b, o, now);
-            }
-        }
-    }
-    large_near(m, b);
-    for (int32_t k = 0; k < m->nnear; k++) {
-        const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (!(o->island == island && o->idx < b->idx))
-            predict_pair(m, b, o, now);
-    }
-    schedule_cell(m, b, now);
+    const pair_filter f = { PAIRS_ISLAND, NULL, island };
+    predict_near(m, b, now, &f);
 }
 
 /* S's island wakes at t: every member (by index) gets its free
@@ -2487,14 +2519,6 @@ static void cluster_free(m2c_sim_cluster *c)
 }
 
 static int listed(const int32_t *xs, int32_t n, int32_t x)
-{
-    for (int32_t k = 0; k < n; k++)
-        if (xs[k] == x)
-            return 1;
-    return 0;
-}
-
-static int among(m2c_sim_body *const *xs, int32_t n, const m2c_sim_body *x)
 {
     for (int32_t k = 0; k < n; k++)
         if (xs[k] == x)
@@ -2921,30 +2945,8 @@ static void settle(sim *m, m2c_sim_body *b)
  * handle_sleep). */
 static void predict_apart(sim *m, const m2c_sim_body *b, double now)
 {
-    const m2c_sim_cluster *c = &m->clu;
-    const m2c_sim_scene *s = m->s;
-    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
-    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
-    for (int32_t jy = y0; jy <= y1; jy++) {
-        for (int32_t jx = x0; jx <= x1; jx++) {
-            const m2c_sim_cell *cell = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            const int32_t *items = m2c_sim_cell_items(cell);
-            for (int32_t k = 0; k < cell->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b)
-                    continue;
-                if (!among(c->done, c->ndone, o) && !(b->fixed && o->fixed))
-                    predict_pair(m, b, o, now);
-            }
-        }
-    }
-    large_near(m, b);
-    for (int32_t k = 0; k < m->nnear; k++) {
-        const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (!among(c->done, c->ndone, o) && !(b->fixed && o->fixed))
-            predict_pair(m, b, o, now);
-    }
-    schedule_cell(m, b, now);
+    const pair_filter f = { PAIRS_APART, NULL, -1 };
+    predict_near(m, b, now, &f);
     if (b->sup >= 0 && m->bodies[b->sup].fixed)
         schedule_support(m, b);
 }
@@ -3492,7 +3494,8 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
         body->cy += d;
     cell_add(m, body);
     fetch_next(m);
-    predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    const pair_filter all = { PAIRS_ALL, NULL, -1 };
+    predict_cells(m, body, x_lo, x_hi, y_lo, y_hi, ev->t, &all);
     /* the walls of the new row or column but those also listed in the two
      * it shares with the old neighbourhood (predicted at its last change):
      * none when no wall is listed in the new 3x3 block */
@@ -3570,13 +3573,14 @@ static void start(sim *m)
         push_input(m, s->inputs[k].t, k);
     if (s->frame_dt > 0.0 && s->frame_dt <= s->end)
         push_frame(m, s->frame_dt, 1);
+    const pair_filter after = { PAIRS_AFTER, NULL, -1 };
     for (int32_t k = 0; k < s->nbodies; k++) {
         const m2c_sim_body *b = &bodies[k];
         if (k + AHEAD < s->nbodies)
             fetch_block(m, &bodies[k + AHEAD]);
         if (b->large)
             continue;
-        predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
+        predict_cells(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, &after);
         large_near(m, b);
         for (int32_t l = 0; l < m->nnear; l++) {
             const m2c_sim_body *o = &bodies[m->near[l]];
