@@ -24,7 +24,9 @@
  * The events themselves wait in slots of `rest`, reused once popped.  seq
  * has M2C_SIM_SEQ_BITS bits: when they run out, the queued events are
  * renumbered 0, 1, ... in their order, which changes no comparison.  The
- * arrays only grow, by doubling: no allocation per event. */
+ * arrays grow by doubling: no allocation per event; a bucket's array of
+ * more than KEEP entries is given back when the bucket empties (release),
+ * so that the memory does not grow with the run's length. */
 #include <stdlib.h>
 #include <string.h>
 
