@@ -295,12 +295,12 @@ static void push_frame(sim *m, double t, int32_t k)
 #define FETCH static inline __attribute__((always_inline))
 
 /* Fetching ahead pays where the bodies and cells miss the cache: at 10^4
- * and 10^5 disks (3.5 and 42 MB) it took a fifth off the CPU time; where
- * they stay in a core's second-level cache (10^3 disks: 0.4 MB) it is only
- * its instructions, 9 % more per event.  So the helpers below (but the
- * queue's and predict_cells' own few prefetches) work only above this many
- * bytes of bodies and cells: about a core's second-level cache on the
- * machines measured (docs/throughput.md, "Session 11, C"). */
+ * and 10^5 disks (3.5 and 42 MB) it takes a fifth to a quarter off the CPU
+ * time; where they stay in a core's second-level cache (10^3 disks: 0.4
+ * MB) it is only its instructions, 7 % more per event.  So the helpers
+ * below (but the queue's and predict_cells' own few prefetches) work only
+ * above this many bytes of bodies and cells: about a core's second-level
+ * cache on the machine measured (docs/throughput.md, "Session 11, C"). */
 #ifndef M2C_SIM_FETCH_BYTES
 #define M2C_SIM_FETCH_BYTES ((size_t)1 << 20)
 #endif
