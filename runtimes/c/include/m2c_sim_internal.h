@@ -375,6 +375,7 @@ struct m2c_world {
     int32_t nnear;
     size_t near_cap;
     size_t sweep_at;                    /* queue size that triggers a sweep of stale events */
+    int fetch;                          /* fetch ahead: the bodies and cells outgrow a core's cache (choose_fetch) */
     m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
     m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
     m2c_sim_out out;                    /* the trace (out.f NULL: none) */

@@ -294,10 +294,32 @@ static void push_frame(sim *m, double t, int32_t k)
  * first. */
 #define FETCH static inline __attribute__((always_inline))
 
+/* Fetching ahead pays where the bodies and cells miss the cache: at 10^4
+ * and 10^5 disks (3.5 and 42 MB) it takes 26 % and 30 % off the CPU
+ * time; where they stay in a core's second-level cache (10^3 disks: 0.4
+ * MB) it is only its instructions, 7 % more per event.  So the helpers
+ * below (but the queue's and predict_cells' own few prefetches) work only
+ * above this many bytes of bodies and cells: about a core's second-level
+ * cache on the machine measured (docs/throughput.md, "Session 11, C"). */
+#ifndef M2C_SIM_FETCH_BYTES
+#define M2C_SIM_FETCH_BYTES ((size_t)1 << 20)
+#endif
+
+/* Whether to fetch ahead, from the bodies' and cells' bytes now (the scene
+ * opened, or a body added). */
+static void choose_fetch(sim *m)
+{
+    size_t bytes = ((size_t)m->s->nbodies + 1) * sizeof *m->bodies
+                   + (size_t)m->s->nx * (size_t)m->s->ny * sizeof *m->grid.cells;
+    m->fetch = bytes > M2C_SIM_FETCH_BYTES;
+}
+
 /* Fetches from memory the lines a body's own event reads: its prediction's
  * two and its handler's (cell, impulse). */
 FETCH void fetch_body(const sim *m, int32_t idx)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_body *b = &m->bodies[idx];
     __builtin_prefetch(&b->px);
     __builtin_prefetch(&b->ang);
@@ -322,6 +344,8 @@ FETCH void fetch_row(const sim *m, int32_t xa, int32_t xb, int32_t y)
  * its checks: a hint). */
 FETCH void fetch_cell_at(const sim *m, const m2c_sim_body *b)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_scene *s = m->s;
     double ix = floor((b->px - s->x0) / s->cw), iy = floor((b->py - s->y0) / s->ch);
     if (b->large || !(ix >= 0.0 && ix <= (double)(s->nx - 1) && iy >= 0.0 && iy <= (double)(s->ny - 1)))
@@ -333,6 +357,8 @@ FETCH void fetch_cell_at(const sim *m, const m2c_sim_body *b)
  * (what predict_body reads of the grid). */
 FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
 {
+    if (!m->fetch)
+        return;
     if (b->large)
         return;
     for (int32_t y = b->cy - 1; y <= b->cy + 1; y++)
@@ -345,6 +371,8 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
  * lists were fetched a while before. */
 FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_lo, int32_t y_hi)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
     int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
@@ -374,6 +402,8 @@ FETCH void fetch_neighbours(const sim *m, const m2c_sim_body *b)
  * asked of it. */
 FETCH void fetch_stamps(const sim *m)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
     if (e == NULL)
         return;
@@ -396,6 +426,8 @@ FETCH void fetch_stamps(const sim *m)
  * call it (it pops, so its calls are not dead code). */
 static __attribute__((noinline)) void fetch_next(sim *m)
 {
+    if (!m->fetch)
+        return;
     const m2c_sim_event *e = m2c_sim_heap_peek(&m->heap);
     for (int k = 0; e != NULL && k < 8 && is_stale(m, e); k++) {
         m2c_sim_event drop;
@@ -1393,15 +1425,55 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         push_cell(m, b->tb + bu, b, baxis, bdir);
 }
 
-/* Predicts the pairs of b with every body in the cells x_lo..x_hi,
- * y_lo..y_hi (clamped to the grid) other than b and skip, in the
- * reference's order: rows, then columns, then each cell's list.  first:
- * only bodies after b (the start, where every pair is predicted once).
- * The candidates are gathered first, their bodies fetched from memory
- * together, then predicted in that order. */
-static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *skip, int32_t x_lo, int32_t x_hi,
-                          int32_t y_lo, int32_t y_hi, double now, int first)
+static int among(m2c_sim_body *const *xs, int32_t n, const m2c_sim_body *x)
 {
+    for (int32_t k = 0; k < n; k++)
+        if (xs[k] == x)
+            return 1;
+    return 0;
+}
+
+/* Which of a body's neighbours it is predicted against: never itself, nor
+ * skip, nor a fixed one when it is fixed too; and by `only`:
+ * PAIRS_ALL every other, PAIRS_AFTER those of a higher index (the start,
+ * where each pair is predicted once), PAIRS_ISLAND all but the members of
+ * `island` of a lower index (a waking island: a pair of two members is
+ * predicted by the one with the smaller index), PAIRS_APART all but the
+ * solved cluster's bodies in done (predicted already). */
+enum { PAIRS_ALL, PAIRS_AFTER, PAIRS_ISLAND, PAIRS_APART };
+typedef struct pair_filter {
+    int only;
+    const m2c_sim_body *skip;
+    int32_t island;         /* PAIRS_ISLAND's */
+} pair_filter;
+
+static inline int keeps(const sim *m, const pair_filter *f, const m2c_sim_body *b, const m2c_sim_body *o)
+{
+    if (b->fixed && o->fixed)
+        return 0;
+    switch (f->only) {
+    case PAIRS_AFTER:
+        return o->idx > b->idx;
+    case PAIRS_ISLAND:
+        return !(o->island == f->island && o->idx < b->idx);
+    case PAIRS_APART:
+        return !among(m->clu.done, m->clu.ndone, o);
+    default:
+        return 1;
+    }
+}
+
+/* Predicts the pairs of b with every body in the cells x_lo..x_hi,
+ * y_lo..y_hi (clamped to the grid) that f keeps, in the reference's order:
+ * rows, then columns, then each cell's list.  The candidates are gathered
+ * first, their bodies fetched from memory together, then predicted in that
+ * order.  Inlined (with predict_near) where it is called with a filter
+ * known there, so that the filter costs no test per candidate. */
+static inline __attribute__((always_inline)) void predict_cells(sim *m, const m2c_sim_body *b, int32_t x_lo,
+                                                                 int32_t x_hi, int32_t y_lo, int32_t y_hi,
+                                                                 double now, const pair_filter *f)
+{
+    const m2c_sim_body *skip = f->skip;
     enum { CHUNK = 64 };
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
@@ -1424,7 +1496,7 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
                 __builtin_prefetch(&o->ang);
                 if (nc == CHUNK) {
                     for (int q = 0; q < nc; q++)
-                        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+                        if (keeps(m, f, b, cand[q]))
                             predict_pair(m, b, cand[q], now);
                     nc = 0;
                 }
@@ -1433,7 +1505,7 @@ static void predict_cells(sim *m, const m2c_sim_body *b, const m2c_sim_body *ski
         }
     }
     for (int q = 0; q < nc; q++)
-        if (!(b->fixed && cand[q]->fixed) && !(first && cand[q]->idx <= b->idx))
+        if (keeps(m, f, b, cand[q]))
             predict_pair(m, b, cand[q], now);
 }
 
@@ -1489,16 +1561,27 @@ static void schedule_support(sim *m, const m2c_sim_body *b)
         push_leave(m, b->tb + s2, b);
 }
 
-static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
+/* A small body's pairs with its neighbours that f keeps (the bodies in
+ * its 3x3 cells, then the large ones near), and its next cell crossing. */
+static inline __attribute__((always_inline)) void predict_near(sim *m, const m2c_sim_body *b, double now,
+                                                                const pair_filter *f)
 {
-    predict_cells(m, b, skip, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, 0);
+    predict_cells(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, now, f);
     large_near(m, b);
     for (int32_t k = 0; k < m->nnear; k++) {
         const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (o != skip && !(b->fixed && o->fixed))
+        if (o != f->skip && keeps(m, f, b, o))
             predict_pair(m, b, o, now);
     }
     schedule_cell(m, b, now);
+}
+
+/* Everything of b's future: its pairs with every neighbour but skip, its
+ * cell crossing, its stop and leave on a fixed support. */
+static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
+{
+    const pair_filter f = { PAIRS_ALL, skip, -1 };
+    predict_near(m, b, now, &f);
     if (b->sup >= 0 && m->bodies[b->sup].fixed)
         schedule_support(m, b);     /* a carried body moves with its base: no stop, no leave of its own */
 }
@@ -2267,32 +2350,13 @@ static void handle_sleep(sim *m, m2c_sim_body *A, const m2c_sim_body *G, double 
 }
 
 /* predict_body for a member of a waking island: a pair of two members is
- * predicted by the one with the smaller index. */
+ * predicted by the one with the smaller index.  (A member moves, since no
+ * fixed body sleeps, so keeps' test of two fixed bodies never drops its
+ * pair with a large body.)  No stop or leave events here. */
 static void predict_woken(sim *m, const m2c_sim_body *b, double now, int32_t island)
 {
-    const m2c_sim_scene *s = m->s;
-    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
-    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
-    for (int32_t jy = y0; jy <= y1; jy++) {
-        for (int32_t jx = x0; jx <= x1; jx++) {
-            const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            const int32_t *items = m2c_sim_cell_items(c);
-            for (int32_t k = 0; k < c->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b)
-                    continue;
-                if (!(o->island == island && o->idx < b->idx) && !(b->fixed && o->fixed))
-                    predict_pair(m, b, o, now);
-            }
-        }
-    }
-    large_near(m, b);
-    for (int32_t k = 0; k < m->nnear; k++) {
-        const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (!(o->island == island && o->idx < b->idx))
-            predict_pair(m, b, o, now);
-    }
-    schedule_cell(m, b, now);
+    const pair_filter f = { PAIRS_ISLAND, NULL, island };
+    predict_near(m, b, now, &f);
 }
 
 /* S's island wakes at t: every member (by index) gets its free
@@ -2460,14 +2524,6 @@ static void cluster_free(m2c_sim_cluster *c)
 }
 
 static int listed(const int32_t *xs, int32_t n, int32_t x)
-{
-    for (int32_t k = 0; k < n; k++)
-        if (xs[k] == x)
-            return 1;
-    return 0;
-}
-
-static int among(m2c_sim_body *const *xs, int32_t n, const m2c_sim_body *x)
 {
     for (int32_t k = 0; k < n; k++)
         if (xs[k] == x)
@@ -2894,30 +2950,8 @@ static void settle(sim *m, m2c_sim_body *b)
  * handle_sleep). */
 static void predict_apart(sim *m, const m2c_sim_body *b, double now)
 {
-    const m2c_sim_cluster *c = &m->clu;
-    const m2c_sim_scene *s = m->s;
-    int32_t y0 = b->cy - 1 > 0 ? b->cy - 1 : 0, y1 = b->cy + 1 < s->ny - 1 ? b->cy + 1 : s->ny - 1;
-    int32_t x0 = b->cx - 1 > 0 ? b->cx - 1 : 0, x1 = b->cx + 1 < s->nx - 1 ? b->cx + 1 : s->nx - 1;
-    for (int32_t jy = y0; jy <= y1; jy++) {
-        for (int32_t jx = x0; jx <= x1; jx++) {
-            const m2c_sim_cell *cell = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            const int32_t *items = m2c_sim_cell_items(cell);
-            for (int32_t k = 0; k < cell->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b)
-                    continue;
-                if (!among(c->done, c->ndone, o) && !(b->fixed && o->fixed))
-                    predict_pair(m, b, o, now);
-            }
-        }
-    }
-    large_near(m, b);
-    for (int32_t k = 0; k < m->nnear; k++) {
-        const m2c_sim_body *o = &m->bodies[m->near[k]];
-        if (!among(c->done, c->ndone, o) && !(b->fixed && o->fixed))
-            predict_pair(m, b, o, now);
-    }
-    schedule_cell(m, b, now);
+    const pair_filter f = { PAIRS_APART, NULL, -1 };
+    predict_near(m, b, now, &f);
     if (b->sup >= 0 && m->bodies[b->sup].fixed)
         schedule_support(m, b);
 }
@@ -3465,7 +3499,8 @@ static void handle_cell(sim *m, const m2c_sim_event *ev)
         body->cy += d;
     cell_add(m, body);
     fetch_next(m);
-    predict_cells(m, body, NULL, x_lo, x_hi, y_lo, y_hi, ev->t, 0);
+    const pair_filter all = { PAIRS_ALL, NULL, -1 };
+    predict_cells(m, body, x_lo, x_hi, y_lo, y_hi, ev->t, &all);
     /* the walls of the new row or column but those also listed in the two
      * it shares with the old neighbourhood (predicted at its last change):
      * none when no wall is listed in the new 3x3 block */
@@ -3543,13 +3578,14 @@ static void start(sim *m)
         push_input(m, s->inputs[k].t, k);
     if (s->frame_dt > 0.0 && s->frame_dt <= s->end)
         push_frame(m, s->frame_dt, 1);
+    const pair_filter after = { PAIRS_AFTER, NULL, -1 };
     for (int32_t k = 0; k < s->nbodies; k++) {
         const m2c_sim_body *b = &bodies[k];
         if (k + AHEAD < s->nbodies)
             fetch_block(m, &bodies[k + AHEAD]);
         if (b->large)
             continue;
-        predict_cells(m, b, NULL, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, 1);
+        predict_cells(m, b, b->cx - 1, b->cx + 1, b->cy - 1, b->cy + 1, 0.0, &after);
         large_near(m, b);
         for (int32_t l = 0; l < m->nnear; l++) {
             const m2c_sim_body *o = &bodies[m->near[l]];
@@ -3712,6 +3748,7 @@ int m2c_sim_open(sim *m, m2c_sim_scene *scene, int cc_variants, int pe_variants,
     if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         die(m, "out of memory");
+    choose_fetch(m);
     m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
     m->wnear = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->wnear);
     if (m->walls == NULL || m->wnear == NULL)
@@ -3913,6 +3950,7 @@ int m2c_sim_add_body(sim *m, const char *text, int *idx)
     s->nbodies++;
     s->nverts_all += (size_t)b->nverts;
     m->added++;
+    choose_fetch(m);
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "E add ");
     p = m2c_sim_put_num(p, t);

@@ -24,7 +24,9 @@
  * The events themselves wait in slots of `rest`, reused once popped.  seq
  * has M2C_SIM_SEQ_BITS bits: when they run out, the queued events are
  * renumbered 0, 1, ... in their order, which changes no comparison.  The
- * arrays only grow, by doubling: no allocation per event. */
+ * arrays grow by doubling: no allocation per event; a bucket's array of
+ * more than KEEP entries is given back when the bucket empties (release),
+ * so that the memory does not grow with the run's length. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -60,6 +62,23 @@ static int append(m2c_sim_bucket *b, m2c_sim_entry x)
     }
     b->e[b->n++] = x;
     return 0;
+}
+
+/* An emptied bucket gives back an array of more than KEEP entries.  Each
+ * bucket's array grows to the most events it ever held at once, and over a
+ * long run most of the 256 buckets fill up in turn to about the whole
+ * queue: kept, the arrays' sum grows with the run (the 10^4-disk gas: 0.16
+ * M entries after 95 k events, 0.90 M after 2.8 M), given back, it stays
+ * under the queue's peak plus KEEP per bucket, whatever the run's length. */
+#define KEEP 1024
+
+static void release(m2c_sim_bucket *b)
+{
+    if (b->n == 0 && b->cap > KEEP) {
+        free(b->e);
+        b->e = NULL;
+        b->cap = 0;
+    }
 }
 
 /* ---- near: a 4-ary min-heap --------------------------------------------------- */
@@ -185,6 +204,7 @@ static int advance(m2c_sim_heap *h)
             h->full[j >> 6] |= UINT64_C(1) << (j & 63);
         }
     }
+    release(b);
     return 0;
 }
 
@@ -324,8 +344,10 @@ void m2c_sim_heap_sweep(m2c_sim_heap *h, int (*drop)(void *ctx, const m2c_sim_ev
             }
         }
         bk->n = w;
-        if (b >= 0 && w == 0)
+        if (b >= 0 && w == 0) {
             h->full[b >> 6] &= ~(UINT64_C(1) << (b & 63));
+            release(bk);
+        }
     }
     near_heapify(&h->near);
 }

@@ -67,23 +67,71 @@ static void word(reader *r, const char *expect)
 
 __extension__ typedef unsigned __int128 u128;
 
-/* The decimal w[0..n-1] ([-]digits[.digits][e[+-]digits], at most 19
+/* 10^0 .. 10^22 as exact integers */
+#define M2C_E19 ((u128)UINT64_C(10000000000000000000))
+static const u128 pow10_exact[23] = {
+    1u, 10u, 100u, 1000u, 10000u, 100000u, 1000000u, 10000000u, 100000000u, 1000000000u,
+    UINT64_C(10000000000), UINT64_C(100000000000), UINT64_C(1000000000000), UINT64_C(10000000000000),
+    UINT64_C(100000000000000), UINT64_C(1000000000000000), UINT64_C(10000000000000000),
+    UINT64_C(100000000000000000), UINT64_C(1000000000000000000), M2C_E19, M2C_E19 * 10u, M2C_E19 * 100u,
+    M2C_E19 * 1000u,
+};
+
+/* m 10^q (m >= 2^53 or q < -22, with q >= -22) as the nearest double:
+ * 1 with *x, or 0 (strtod then reads it); out of line, since few numbers
+ * come here. */
+static __attribute__((noinline)) int exact_quotient(uint64_t m, int q, double *x)
+{
+    u128 pw = pow10_exact[-q];
+    int bits_w = 64 - __builtin_clzll(m);
+    int bits_p = (pw >> 64) != 0 ? 128 - __builtin_clzll((uint64_t)(pw >> 64))
+                                 : 64 - __builtin_clzll((uint64_t)pw);
+    int sh = 53 + bits_p - bits_w;          /* w 2^sh / 10^-q in (2^52, 2^54) */
+    if (sh < 1)
+        return 0;                           /* w >= 2^57 with a small 10^-q */
+    u128 num = (u128)m << sh;
+    u128 mq = num / pw;
+    if (mq >> 53) {
+        sh--;
+        num >>= 1;                          /* exact: num had sh >= 1 zero bits at the bottom */
+        mq = num / pw;
+    }
+    u128 rem = num - mq * pw;
+    uint64_t mant = (uint64_t)mq;
+    if (2u * rem > pw || (2u * rem == pw && (mant & 1u)))
+        mant++;
+    if (mant >> 53) {                       /* rounded up to 2^53 */
+        mant >>= 1;
+        sh--;
+    }
+    /* mant 2^-sh, with 2^-sh a normal double (sh <= 128) */
+    uint64_t scale_bits = (uint64_t)(1023 - sh) << 52;
+    double scale;
+    memcpy(&scale, &scale_bits, sizeof scale);
+    *x = (double)mant * scale;
+    return 1;
+}
+
+/* The decimal at p ([-]digits[.digits][e[+-]digits], at most 19
  * significant digits) as the nearest double, ties to even, as strtod
- * rounds it: 1 with *out, or 0 when it is not of that form or not in the
- * range below (strtod then reads it).  With w the digits as an integer and
+ * rounds it: the end of its text (the first character that cannot continue
+ * it: the caller checks that it ends the token) with *out, or NULL when it
+ * is not of that form or not in the range below (strtod then reads it).
+ * The text must end in a character that is none of "0-9.eE+-" (a space or
+ * the NUL), which stops every loop.  With w the digits as an integer and
  * x = w 10^q: when w < 2^53 and |q| <= 22, x is one correctly rounded
  * product or quotient of two exact doubles; when q < 0 and 10^-q < 2^75
  * (q >= -22), m = floor(w 2^s / 10^-q) in [2^52, 2^53) and its remainder
  * are exact in 128 bits and give the rounding.  The scene's numbers are
  * shortest round-trip decimals (up to 17 digits): nearly all take one of
- * the two paths, about ten times faster than strtod. */
-int m2c_sim_parse_number(const char *w, size_t n, double *out)
+ * the two paths, about ten times faster than strtod.  Reading the token
+ * and its number in one pass halves the scene reader's work per number. */
+static inline __attribute__((always_inline)) const char *scan_decimal(const char *p, double *out)
 {
     static const double p10[23] = { 1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12,
                                     1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22 };
-    const char *p = w, *end = w + n;
     int neg = 0;
-    if (p < end && *p == '-') {
+    if (*p == '-') {
         neg = 1;
         p++;
     }
@@ -92,45 +140,43 @@ int m2c_sim_parse_number(const char *w, size_t n, double *out)
     const char *first = p;
     /* leading zeros, then the whole part's digits, then the fraction's
      * (its zeros before any other digit only move the point) */
-    while (p < end && *p == '0')
+    while (*p == '0')
         p++;
     const char *sig = p;
-    while (p < end && (unsigned)(*p - '0') < 10u)
+    while ((unsigned)(*p - '0') < 10u)
         m = 10u * m + (uint64_t)(*p++ - '0');
     int digits = (int)(p - first), nsig = (int)(p - sig);
-    if (p < end && *p == '.') {
+    if (*p == '.') {
         p++;
         const char *f = p;
         if (m == 0) {
-            while (p < end && *p == '0')
+            while (*p == '0')
                 p++;
             q -= (int)(p - f);
         }
         const char *g = p;
-        while (p < end && (unsigned)(*p - '0') < 10u)
+        while ((unsigned)(*p - '0') < 10u)
             m = 10u * m + (uint64_t)(*p++ - '0');
         q -= (int)(p - g);
         digits += (int)(p - f);
         nsig += (int)(p - g);
     }
     if (digits == 0 || nsig > 19)
-        return 0;           /* no digits, or m may have overflowed */
-    if (p < end) {
-        if (*p != 'e' && *p != 'E')
-            return 0;
+        return NULL;        /* no digits, or m may have overflowed */
+    if (*p == 'e' || *p == 'E') {
         p++;
         int eneg = 0, ed = 0, e = 0;
-        if (p < end && (*p == '+' || *p == '-')) {
+        if (*p == '+' || *p == '-') {
             eneg = *p == '-';
             p++;
         }
-        for (; p < end && *p >= '0' && *p <= '9'; p++) {
+        for (; *p >= '0' && *p <= '9'; p++) {
             if (++ed > 4)
-                return 0;
+                return NULL;
             e = 10 * e + (*p - '0');
         }
-        if (ed == 0 || p != end)
-            return 0;
+        if (ed == 0)
+            return NULL;
         q += eneg ? -e : e;
     }
     double x;
@@ -139,44 +185,45 @@ int m2c_sim_parse_number(const char *w, size_t n, double *out)
     } else if (m < (UINT64_C(1) << 53) && q >= -22 && q <= 22) {
         x = q >= 0 ? (double)m * p10[q] : (double)m / p10[-q];
     } else if (q < 0 && q >= -22) {
-        u128 pw = 1;
-        for (int k = 0; k < -q; k++)
-            pw *= 10u;
-        int bits_w = 64 - __builtin_clzll(m);
-        int bits_p = (pw >> 64) != 0 ? 128 - __builtin_clzll((uint64_t)(pw >> 64))
-                                     : 64 - __builtin_clzll((uint64_t)pw);
-        int sh = 53 + bits_p - bits_w;          /* w 2^sh / 10^-q in (2^52, 2^54) */
-        if (sh < 1)
-            return 0;                           /* w >= 2^57 with a small 10^-q */
-        u128 num = (u128)m << sh;
-        u128 mq = num / pw;
-        if (mq >> 53) {
-            sh--;
-            num >>= 1;                          /* exact: num had sh >= 1 zero bits at the bottom */
-            mq = num / pw;
-        }
-        u128 rem = num - mq * pw;
-        uint64_t mant = (uint64_t)mq;
-        if (2u * rem > pw || (2u * rem == pw && (mant & 1u)))
-            mant++;
-        if (mant >> 53) {                       /* rounded up to 2^53 */
-            mant >>= 1;
-            sh--;
-        }
-        /* mant 2^-sh, with 2^-sh a normal double (sh <= 128) */
-        uint64_t scale_bits = (uint64_t)(1023 - sh) << 52;
-        double scale;
-        memcpy(&scale, &scale_bits, sizeof scale);
-        x = (double)mant * scale;
+        if (!exact_quotient(m, q, &x))
+            return NULL;
     } else {
-        return 0;
+        return NULL;
     }
     *out = neg ? -x : x;
+    return p;
+}
+
+/* The decimal w[0..n-1] (no NUL needed): scan_decimal on a terminated
+ * copy; texts of 64 characters or more go to strtod. */
+int m2c_sim_parse_number(const char *w, size_t n, double *out)
+{
+    char buf[64];
+    if (n >= sizeof buf)
+        return 0;
+    memcpy(buf, w, n);
+    buf[n] = '\0';
+    double x;
+    const char *e = scan_decimal(buf, &x);
+    if (e != buf + n)
+        return 0;
+    *out = x;
     return 1;
 }
 
-static double num(reader *r)
+/* Past the spaces before the next token. */
+static inline void skip_spaces(reader *r)
 {
+    const char *p = r->p;
+    while ((unsigned char)(*p - 1) < ' ' && is_space(*p))     /* 1 .. ' ': one test for the digit after */
+        p++;
+    r->p = p;
+}
+
+/* A number token that scan_decimal does not read: strtod, or the message. */
+static __attribute__((noinline)) double num_slow(reader *r)
+{
+    double x;
     size_t n;
     const char *w = token(r, &n, NULL);
     if (r->failed)
@@ -186,9 +233,6 @@ static double num(reader *r)
         fail(r, "expected a number, found '%.*s'", 40, w);
         return 0.0;
     }
-    double x;
-    if (m2c_sim_parse_number(w, n, &x))
-        return x;
     memcpy(buf, w, n);
     buf[n] = '\0';
     char *end;
@@ -201,7 +245,23 @@ static double num(reader *r)
     return x;
 }
 
-static long long integer(reader *r)
+/* The next token as a number (inlined into the reader: a scene is mostly numbers). */
+static inline __attribute__((always_inline)) double num(reader *r)
+{
+    if (!r->failed) {
+        skip_spaces(r);
+        double x;
+        const char *e = scan_decimal(r->p, &x);
+        if (e != NULL && (*e == '\0' || is_space(*e)) && e - r->p < 64) {     /* longer: num_slow's message */
+            r->p = e;
+            return x;
+        }
+    }
+    return num_slow(r);
+}
+
+/* An integer token that integer does not read: strtoll, or the message. */
+static __attribute__((noinline)) long long integer_slow(reader *r)
 {
     size_t n;
     const char *w = token(r, &n, NULL);
@@ -222,6 +282,26 @@ static long long integer(reader *r)
         return 0;
     }
     return v;
+}
+
+/* The next token as an integer: [-]digits (up to 18: no overflow) without strtoll. */
+static inline __attribute__((always_inline)) long long integer(reader *r)
+{
+    if (!r->failed) {
+        skip_spaces(r);
+        const char *p = r->p;
+        int neg = *p == '-';
+        p += neg;
+        const char *d = p;
+        long long v = 0;
+        while ((unsigned)(*p - '0') < 10u && p - d < 18)
+            v = 10 * v + (*p++ - '0');
+        if (p > d && (*p == '\0' || is_space(*p))) {
+            r->p = p;
+            return neg ? -v : v;
+        }
+    }
+    return integer_slow(r);
 }
 
 static int32_t count(reader *r, long long limit)
