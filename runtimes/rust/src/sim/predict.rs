@@ -844,6 +844,45 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
     Ok(())
 }
 
+/// predict_pair of body b against every body near that `keep` lets
+/// through, then b's next cell crossing: the bodies listed in its 3x3
+/// cells but b itself and (for a fixed b) the fixed ones, then the large
+/// bodies near (`large_near`, b not among them; the fixed test is then
+/// `keep`'s to make, as the reference's callers differ there).  The walk
+/// of predict_woken (simulator.rs) and predict_apart (cluster.rs), which
+/// differ only in `keep`.
+#[inline]
+pub fn predict_near<E: Equations>(
+    w: &Space,
+    q: &mut Queue,
+    b: usize,
+    now: f64,
+    mut keep: impl FnMut(usize) -> bool,
+) -> Res<()> {
+    let s = &w.s;
+    let body = &s.bodies[b];
+    let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
+    for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
+        for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
+            let cell = w.grid.cell(jx, jy);
+            for k in 0..cell.len() {
+                let o = cell.get(k) as usize;
+                if o != b && !(fixed && s.bodies[o].fixed) && keep(o) {
+                    predict_pair::<E>(w, q, b, o, now)?;
+                }
+            }
+        }
+    }
+    for o in w.grid.large_near(b, body.cx, body.cy) {
+        let o = o as usize;
+        if keep(o) {
+            predict_pair::<E>(w, q, b, o, now)?;
+        }
+    }
+    schedule_cell(w, q, b, now);
+    Ok(())
+}
+
 pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     let s = &w.s;
     let b = &s.bodies[bi];
