@@ -98,8 +98,18 @@ pub fn simulate<E: Equations>(scene_text: &str, sink: Box<dyn Write>) -> io::Res
         Err(msg) => stop_status::<E>(Err((None, SimError::Msg(msg))), Some(sink)),
         Ok(scene) => {
             let mut world = World::<E>::unstarted(scene, Some(sink));
-            let res = world.start().and_then(|()| world.run());
-            stop_status(res.map_err(|e| (Some(world), e)), None)
+            match world.start().and_then(|()| world.run()) {
+                Ok(()) => {
+                    // the trace is written and flushed (finish), and the
+                    // program ends with this world: the system takes its
+                    // memory back whole, where dropping it freed the grid's
+                    // two lists per cell one by one (at 10^5 disks 0.3 M
+                    // cells, 15 MB walked after the last line)
+                    std::mem::forget(world);
+                    Ok(0)
+                }
+                Err(e) => stop_status(Err((Some(world), e)), None),
+            }
         }
     }
 }

@@ -11,7 +11,7 @@ use super::contact::{closing, contact_frame, normal_speed, pressed};
 use super::live::{Contact, World};
 use super::motion::{rebase, turn_rate};
 use super::out::Res;
-use super::predict::{predict_pair, schedule_cell};
+use super::predict::predict_near;
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
 use super::support::{end_support, schedule_support, slide_accel, support_frame, support_relative};
@@ -607,31 +607,11 @@ impl<E: Equations> World<E> {
     /// by handle_sleep).
     fn predict_apart(&mut self, b: usize, now: f64, done: &[usize]) -> Res<()> {
         let (w, q) = (&self.w, &mut self.q);
-        let s = &w.s;
-        let body = &s.bodies[b];
-        let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
-        for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
-            for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
-                let cell = w.grid.cell(jx, jy);
-                for k in 0..cell.len() {
-                    let o = cell.get(k) as usize;
-                    if o == b {
-                        continue;
-                    }
-                    if !done.contains(&o) && !(fixed && s.bodies[o].fixed) {
-                        predict_pair::<E>(w, q, b, o, now)?;
-                    }
-                }
-            }
-        }
-        for o in w.grid.large_near(b, body.cx, body.cy) {
-            let o = o as usize;
-            if !done.contains(&o) && !(fixed && s.bodies[o].fixed) {
-                predict_pair::<E>(w, q, b, o, now)?;
-            }
-        }
-        schedule_cell(w, q, b, now);
-        if body.sup >= 0 && s.bodies[body.sup as usize].fixed {
+        let bodies = &w.s.bodies;
+        let fixed = bodies[b].fixed;
+        predict_near::<E>(w, q, b, now, |o| !(done.contains(&o) || (fixed && bodies[o].fixed)))?;
+        let sup = bodies[b].sup;
+        if sup >= 0 && bodies[sup as usize].fixed {
             schedule_support(w, q, b);
         }
         Ok(())

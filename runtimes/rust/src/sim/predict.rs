@@ -844,6 +844,45 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
     Ok(())
 }
 
+/// predict_pair of body b against every body near that `keep` lets
+/// through, then b's next cell crossing: the bodies listed in its 3x3
+/// cells but b itself and (for a fixed b) the fixed ones, then the large
+/// bodies near (`large_near`, b not among them; the fixed test is then
+/// `keep`'s to make, as the reference's callers differ there).  The walk
+/// of predict_woken (simulator.rs) and predict_apart (cluster.rs), which
+/// differ only in `keep`.
+#[inline]
+pub fn predict_near<E: Equations>(
+    w: &Space,
+    q: &mut Queue,
+    b: usize,
+    now: f64,
+    mut keep: impl FnMut(usize) -> bool,
+) -> Res<()> {
+    let s = &w.s;
+    let body = &s.bodies[b];
+    let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
+    for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
+        for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
+            let cell = w.grid.cell(jx, jy);
+            for k in 0..cell.len() {
+                let o = cell.get(k) as usize;
+                if o != b && !(fixed && s.bodies[o].fixed) && keep(o) {
+                    predict_pair::<E>(w, q, b, o, now)?;
+                }
+            }
+        }
+    }
+    for o in w.grid.large_near(b, body.cx, body.cy) {
+        let o = o as usize;
+        if keep(o) {
+            predict_pair::<E>(w, q, b, o, now)?;
+        }
+    }
+    schedule_cell(w, q, b, now);
+    Ok(())
+}
+
 pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     let s = &w.s;
     let b = &s.bodies[bi];
@@ -860,63 +899,114 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     for axis in 0..2 {
         let (p, v, a, i, n, origin, size) =
             if axis == 0 { (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch) };
-        for direction in [1i32, -1] {
-            if a == 0.0 && !(v * f64::from(direction) > 0.0) {
-                continue; // no acceleration: every crossing found below moves the other way (v + a u = v)
+        if a != 0.0 {
+            cross_accelerated(&mut best, axis, [p, v, a], i, n, origin, size, h, ulo, uhi);
+            continue;
+        }
+        // no acceleration: only the boundary ahead in v's direction can be
+        // crossed (v + a u = v), once; the other direction is skipped as
+        // cross_accelerated's test `v dir > 0` would skip it
+        let direction = if v > 0.0 {
+            1
+        } else if v < 0.0 {
+            -1
+        } else {
+            continue;
+        };
+        let Some(bound) = cell_bound(i, n, origin, size, h, direction) else {
+            continue;
+        };
+        let c0 = p - bound;
+        if ulo == 0.0 && c0 * f64::from(direction) >= 0.0 {
+            // on the boundary now, or past it, and moving across it: at once
+            // (cross_accelerated says why)
+            if best.is_none_or(|bb| 0.0 < bb.0) {
+                best = Some((0.0, axis, direction));
             }
-            let bound = if direction == 1 {
-                if i >= n - 1 {
-                    continue;
-                }
-                origin + (i + 1) as f64 * size + h
-            } else {
-                if i <= 0 {
-                    continue;
-                }
-                origin + i as f64 * size - h
-            };
-            let c = [p - bound, v, 0.5 * a];
-            let dir = f64::from(direction);
-            if ulo == 0.0 && c[0] * dir >= 0.0 && (v * dir > 0.0 || (v == 0.0 && a * dir > 0.0)) {
-                // on the boundary now, or past it (cell_of's quotient and the
-                // boundary's sum origin + i size can round apart), and moving
-                // or accelerating across it: cross at once (the root finder
-                // reports no root at the interval's start, and none at all
-                // for a boundary already behind)
-                if best.is_none_or(|bb| 0.0 < bb.0) {
-                    best = Some((0.0, axis, direction));
-                }
-                continue;
-            }
-            if a == 0.0 {
-                // v moves across the boundary (tested above): one root, the
-                // root finder's degree-1 answer (one division, the same bits
-                // as smallest_root of c, whose c[2] is zero) without the call
-                let u = -c[0] / v;
-                if ulo.is_finite() && uhi.is_finite() && c[0].is_finite() && v.is_finite() && ulo < u && u <= uhi {
-                    let u = u + 0.0;
-                    if best.is_none_or(|bb| u < bb.0) {
-                        best = Some((u, axis, direction));
-                    }
-                }
-                continue;
-            }
-            let mut lo = ulo;
-            for _ in 0..3 {
-                let Some(u) = smallest_root(&c, lo, uhi) else {
-                    break;
-                };
-                if (v + a * u) * f64::from(direction) > 0.0 {
-                    if best.is_none_or(|bb| u < bb.0) {
-                        best = Some((u, axis, direction));
-                    }
-                    break;
-                }
-                lo = u;
+            continue;
+        }
+        // one root, the root finder's degree-1 answer (one division, the
+        // same bits as smallest_root of [c0, v, 0], whose c[2] is zero)
+        // without the call
+        let u = -c0 / v;
+        if ulo.is_finite() && uhi.is_finite() && c0.is_finite() && v.is_finite() && ulo < u && u <= uhi {
+            let u = u + 0.0;
+            if best.is_none_or(|bb| u < bb.0) {
+                best = Some((u, axis, direction));
             }
         }
     }
     if let Some((u, axis, direction)) = best {
         q.push_cell(w, b.tb + u, b, axis, direction);
+    }
+}
+
+/// The line, a margin h past a boundary of cell i (of n, from origin, each size wide), that a body
+/// moving in `direction` (+1 or -1) crosses to change cell; None at the grid's edge.
+#[inline(always)]
+fn cell_bound(i: i64, n: i64, origin: f64, size: f64, h: f64, direction: i32) -> Option<f64> {
+    if direction == 1 {
+        if i >= n - 1 {
+            return None;
+        }
+        Some(origin + (i + 1) as f64 * size + h)
+    } else {
+        if i <= 0 {
+            return None;
+        }
+        Some(origin + i as f64 * size - h)
+    }
+}
+
+/// schedule_cell along one axis of an accelerated body (pva: its position,
+/// speed and acceleration along the axis, a != 0): the earliest crossing
+/// of either boundary of cell i into `best` if earlier than what is there.
+/// Out of line: a gas has no acceleration, and this path's set-up of the
+/// root finder then cost every call.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn cross_accelerated(
+    best: &mut Option<(f64, i32, i32)>,
+    axis: i32,
+    pva: [f64; 3],
+    i: i64,
+    n: i64,
+    origin: f64,
+    size: f64,
+    h: f64,
+    ulo: f64,
+    uhi: f64,
+) {
+    let [p, v, a] = pva;
+    for direction in [1i32, -1] {
+        let Some(bound) = cell_bound(i, n, origin, size, h, direction) else {
+            continue;
+        };
+        let c = [p - bound, v, 0.5 * a];
+        let dir = f64::from(direction);
+        if ulo == 0.0 && c[0] * dir >= 0.0 && (v * dir > 0.0 || (v == 0.0 && a * dir > 0.0)) {
+            // on the boundary now, or past it (cell_of's quotient and the
+            // boundary's sum origin + i size can round apart), and moving
+            // or accelerating across it: cross at once (the root finder
+            // reports no root at the interval's start, and none at all
+            // for a boundary already behind)
+            if best.is_none_or(|bb| 0.0 < bb.0) {
+                *best = Some((0.0, axis, direction));
+            }
+            continue;
+        }
+        let mut lo = ulo;
+        for _ in 0..3 {
+            let Some(u) = smallest_root(&c, lo, uhi) else {
+                break;
+            };
+            if (v + a * u) * dir > 0.0 {
+                if best.is_none_or(|bb| u < bb.0) {
+                    *best = Some((u, axis, direction));
+                }
+                break;
+            }
+            lo = u;
+        }
     }
 }

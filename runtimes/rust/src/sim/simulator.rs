@@ -11,7 +11,7 @@ use super::live::{Contact, World};
 use super::motion::{rebase, state_at};
 use super::overlap::overlapping;
 use super::out::{Res, SimError};
-use super::predict::{predict_body, predict_cells, predict_pair, schedule_cell};
+use super::predict::{predict_body, predict_cells, predict_near, predict_pair, schedule_cell};
 use super::queue::{prefetch, Event};
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
@@ -297,32 +297,8 @@ impl<E: Equations> World<E> {
     /// is predicted by the one with the smaller index.
     fn predict_woken(&mut self, b: usize, now: f64, island: i64) -> Res<()> {
         let (w, q) = (&self.w, &mut self.q);
-        let s = &w.s;
-        let body = &s.bodies[b];
-        let (cx, cy, fixed) = (i64::from(body.cx), i64::from(body.cy), body.fixed);
-        for jy in (cy - 1).max(0)..=(cy + 1).min(s.ny - 1) {
-            for jx in (cx - 1).max(0)..=(cx + 1).min(s.nx - 1) {
-                let cell = w.grid.cell(jx, jy);
-                for k in 0..cell.len() {
-                    let o = cell.get(k) as usize;
-                    if o == b {
-                        continue;
-                    }
-                    let ob = &s.bodies[o];
-                    if !((ob.island == island && o < b) || (fixed && ob.fixed)) {
-                        predict_pair::<E>(w, q, b, o, now)?;
-                    }
-                }
-            }
-        }
-        for o in w.grid.large_near(b, body.cx, body.cy) {
-            let o = o as usize;
-            if !(s.bodies[o].island == island && o < b) {
-                predict_pair::<E>(w, q, b, o, now)?;
-            }
-        }
-        schedule_cell(w, q, b, now);
-        Ok(())
+        let bodies = &w.s.bodies;
+        predict_near::<E>(w, q, b, now, |o| !(bodies[o].island == island && o < b))
     }
 
     /// The support's edge ends under the body: free motion again.
