@@ -107,12 +107,16 @@ LEDGE_END = os.path.join(ROOT, "tests", "data", "game-stuck-keys.txt")
 def test_a_stuck_engine_is_one_line(tmp_path):
     """The engine's guard against a stuck scene (more than max_events_at_one_time
     events at one instant; here 1, so the first instant the guard counts two
-    events at trips it, at t = 19.63 s in the key script's session): the
-    game stops with one line naming the scene and the time, exit 1, no
-    traceback and no recording."""
+    events at trips it: a row of three touching balls added to the level and
+    struck end-on, as in Newton's cradle, passes the blow along in three
+    collisions at t = 0.15 s): the game stops with one line naming the scene
+    and the time, exit 1, no traceback and no recording."""
     with open(os.path.join(ROOT, "examples", "game", "level.json"), encoding="utf-8") as fh:
         level = json.load(fh)
     level["max_events_at_one_time"] = 1
+    for name, x, vx in (("striker", 14.0, 2.0), ("row0", 14.5, 0.0), ("row1", 14.7, 0.0), ("row2", 14.9, 0.0)):
+        level["bodies"].append({"name": name, "shape": "circle", "radius": 0.1, "mass": 1.0,
+                                "position": [x, 8.0], "velocity": [vx, 0.0]})
     scene = tmp_path / "level.json"
     scene.write_text(json.dumps(level))
     rec = tmp_path / "rec.json"
@@ -120,7 +124,7 @@ def test_a_stuck_engine_is_one_line(tmp_path):
     assert proc.returncode == 1
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"{scene}: error: the engine stopped before t = "), lines
-    assert lines[0].endswith(": the scene is stuck") and "more than 1 events at t = " in lines[0], lines
+    assert lines[0].endswith(": the scene is stuck") and "more than 1 events at t = 0.1499" in lines[0], lines
     assert not rec.exists()
 
 
