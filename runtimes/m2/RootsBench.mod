@@ -29,10 +29,9 @@ VAR
    counts: ARRAY [0..Roots.MaxDegree] OF INTEGER ;
    times: ARRAY [0..MaxReps - 1] OF REAL ;
    k: Case ;
-   gsl, found1: BOOLEAN ;
+   gsl: BOOLEAN ;
    reps, deg, i, r, j, found, np, line: INTEGER ;
-   t, sum, x: REAL ;
-   t0, t1: timespec ;
+   sum, x: REAL ;
 
 
 PROCEDURE WriteIntTo (v: INTEGER) ;
@@ -144,6 +143,38 @@ BEGIN
 END Elapsed ;
 
 
+(* One timed pass over the np polynomials of degree deg: ns per solve; the
+   number found and the sum of the roots into found and sum.  A procedure of
+   its own, as m2c_bench's pass: its counters are locals in registers, where
+   the module body's are global variables read and written on every call. *)
+PROCEDURE Pass (gsl: BOOLEAN; deg, np: INTEGER; VAR found: INTEGER; VAR sum: REAL) : REAL ;
+VAR
+   t0, t1: timespec ;
+   t, s: REAL ;
+   i, nf, rc: INTEGER ;
+BEGIN
+   nf := 0 ;
+   s := 0.0 ;
+   rc := clock_gettime (1, t0) ;
+   FOR i := 0 TO np - 1 DO
+      IF gsl
+      THEN
+         IF RootsGsl.SmallestRoot (polys[deg][i].c, deg, polys[deg][i].lo, polys[deg][i].hi, t) THEN
+            INC (nf) ;
+            s := s + t
+         END
+      ELSIF Roots.SmallestRoot (polys[deg][i].c, deg, polys[deg][i].lo, polys[deg][i].hi, t) THEN
+         INC (nf) ;
+         s := s + t
+      END
+   END ;
+   rc := clock_gettime (1, t1) ;
+   found := nf ;
+   sum := s ;
+   RETURN Elapsed (t0, t1) / VAL (REAL, np)
+END Pass ;
+
+
 BEGIN
    ReadHeader (gsl, reps) ;
    FOR deg := 0 TO Roots.MaxDegree DO counts[deg] := 0 END ;
@@ -170,22 +201,8 @@ BEGIN
          found := 0 ;
          sum := 0.0 ;
          FOR r := -1 TO reps - 1 DO
-            found := 0 ;
-            sum := 0.0 ;
-            i := clock_gettime (1, t0) ;
-            FOR i := 0 TO np - 1 DO
-               IF gsl THEN
-                  found1 := RootsGsl.SmallestRoot (polys[deg][i].c, deg, polys[deg][i].lo, polys[deg][i].hi, t)
-               ELSE
-                  found1 := Roots.SmallestRoot (polys[deg][i].c, deg, polys[deg][i].lo, polys[deg][i].hi, t)
-               END ;
-               IF found1 THEN
-                  INC (found) ;
-                  sum := sum + t
-               END
-            END ;
-            i := clock_gettime (1, t1) ;
-            IF r >= 0 THEN times[r] := Elapsed (t0, t1) / VAL (REAL, np) END
+            x := Pass (gsl, deg, np, found, sum) ;
+            IF r >= 0 THEN times[r] := x END
          END ;
          (* insertion sort for the median *)
          FOR i := 1 TO reps - 1 DO
