@@ -107,8 +107,10 @@ def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[flo
 
 
 def test_quadratic_shortcuts_same_bits(tmp_path):
-    """The degree-2 fast path's shortcuts (C inline and out of line, Rust)
-    return the bits of the Python reference, which takes the whole path."""
+    """The degree-2 fast path's shortcuts (C inline and out of line, Rust) and
+    Modula-2's fast path (its admission from the bits, the written-out
+    quadratic) return the bits of the Python reference, which takes the whole
+    path."""
     from max2code_rt.roots import smallest_root
     cases = _quadratic_shortcut_cases(6000)
     lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
@@ -119,7 +121,7 @@ def test_quadratic_shortcuts_same_bits(tmp_path):
     outline = tmp_path / "testee_outline"
     run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
          str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
-    for cmd in (R.build_testee("c"), R.build_testee("rust"), [str(outline)]):
+    for cmd in (R.build_testee("c"), R.build_testee("rust"), R.build_testee("m2"), [str(outline)]):
         out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
         bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]
         assert not bad, (cmd, len(bad), bad[:3])
