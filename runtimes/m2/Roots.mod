@@ -1071,6 +1071,10 @@ BEGIN
       a := c[2] ;
       b := c[1] ;
       cc := c[0] ;
+      (* lo >= 0 and no sign change: none, at any magnitude (docs/roots.md
+         step 1, "lo >= 0" (a)); a NaN that passes gm2's comparisons here
+         answers none, as the contract wants *)
+      IF (lo >= 0.0) AND (cc * b > 0.0) AND (b * a > 0.0) THEN RETURN FALSE END ;
       ua := CAST (LONGCARD, a) MOD SignBit ;
       ub := CAST (LONGCARD, b) MOD SignBit ;
       uc := CAST (LONGCARD, cc) MOD SignBit ;
