@@ -41,6 +41,30 @@ def test_m2_programs_build():
         assert (R.BUILD / "m2" / prog).exists()
 
 
+def test_bench_drivers_count_alike():
+    """The benchmark drivers of C and Modula-2 count the same found roots per
+    degree as the Python reference on the benchmark's own polynomials (a few per
+    degree), and the Modula-2 driver refuses a header without REPS instead of
+    reading the first case's "roots" as REPS and dropping that case."""
+    from max2code.conformance.bench import polynomials, wire
+    from max2code_rt.roots import smallest_root
+    polys = polynomials(40)
+    text = wire(polys)
+    runtimes.make_c(R.BUILD / "c" / "m2c_bench")
+    runtimes.make_m2(R.BUILD / "m2" / "roots_bench")
+    want = {d: sum(1 for c in ps if smallest_root(c, 0.0, 1.0) is not None) for d, ps in polys.items()}
+
+    def counts(cmd, stdin):
+        out = subprocess.run(cmd, input=stdin, stdout=subprocess.PIPE, text=True, check=True).stdout
+        return {int(f[0]): int(f[2]) for f in (ln.split() for ln in out.splitlines())}
+    assert counts([str(R.BUILD / "c" / "m2c_bench"), "m2c", "3"], text) == want
+    assert counts([str(R.BUILD / "m2" / "roots_bench")], "bench m2 3\n" + text) == want
+    for header in ("bench m2", "bench m2 3 4", "bench m2 0", "bench x 3"):
+        r = subprocess.run([str(R.BUILD / "m2" / "roots_bench")], input=header + "\n" + text,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        assert r.returncode == 2 and r.stdout == "" and "line 1: expected the header" in r.stderr, (header, r)
+
+
 def test_m2_gsl_baseline_answers():
     cmd = R.build_testee("gsl-m2")
     line = R.RootsOp().wire({"coeffs": [-0.375, 0.0, 0.0, 1.0], "lo": 0.0, "hi": 1.0}, 7)
@@ -83,8 +107,10 @@ def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[flo
 
 
 def test_quadratic_shortcuts_same_bits(tmp_path):
-    """The degree-2 fast path's shortcuts (C inline and out of line, Rust)
-    return the bits of the Python reference, which takes the whole path."""
+    """The degree-2 fast path's shortcuts (C inline and out of line, Rust) and
+    Modula-2's fast path (its admission from the bits, the written-out
+    quadratic) return the bits of the Python reference, which takes the whole
+    path."""
     from max2code_rt.roots import smallest_root
     cases = _quadratic_shortcut_cases(6000)
     lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
@@ -95,7 +121,7 @@ def test_quadratic_shortcuts_same_bits(tmp_path):
     outline = tmp_path / "testee_outline"
     run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
          str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
-    for cmd in (R.build_testee("c"), R.build_testee("rust"), [str(outline)]):
+    for cmd in (R.build_testee("c"), R.build_testee("rust"), R.build_testee("m2"), [str(outline)]):
         out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
         bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]
         assert not bad, (cmd, len(bad), bad[:3])

@@ -20,6 +20,9 @@ CONST
    Unit52 = VAL (LONGCARD, 4503599627370496) ;     (* 2^52: the exponent field's unit in a REAL's bits *)
    SignBit = VAL (LONGCARD, 9223372036854775808) ; (* 2^63: the sign bit *)
    InfBits = VAL (LONGCARD, 9218868437227405312) ; (* the bits of infinity; NaNs lie above *)
+   MaxRealBits = InfBits - 1 ;                     (* the bits of the largest finite REAL *)
+   ModerateLoBits = VAL (LONGCARD, 823) * Unit52 ; (* the bits of 2^-200 (ModerateLo) *)
+   ModerateHiBits = VAL (LONGCARD, 1223) * Unit52 ; (* the bits of 2^200 (ModerateHi) *)
 
 TYPE
    Coeffs = ARRAY [0..MaxDegree] OF REAL ;
@@ -997,8 +1000,10 @@ BEGIN
 END Solve ;
 
 
-PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
-                        VAR t: REAL) : BOOLEAN ;
+(* SmallestRoot's general entry (docs/roots.md steps 1-8): every call its
+   degree-2 fast path does not answer. *)
+PROCEDURE Entry (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
+                 VAR t: REAL) : BOOLEAN ;
 VAR
    n: INTEGER ;
    x: REAL ;
@@ -1008,22 +1013,6 @@ BEGIN
       RETURN FALSE
    END ;
    IF (NOT (IsFinite (lo) AND IsFinite (hi))) OR (NOT (lo < hi)) THEN RETURN FALSE END ;
-   (* Degree-2 fast path: every coefficient zero or 2^-200 <= |c_i| < 2^200.
-      Written out here (gm2 does not inline a procedure for it).  The sum is
-      finite when all three are (NaN and infinity propagate; a finite sum that
-      overflows only sends the call to the general path, which gives the same
-      answer), and NaN must be excluded before the comparisons: gm2 may
-      rewrite v >= lo as NOT (v < lo). *)
-   IF (degree = 2) AND (c[2] # 0.0) AND IsFinite (c[0] + c[1] + c[2])
-      AND ((c[0] = 0.0) OR (ABS (c[0]) >= ModerateLo) AND (ABS (c[0]) < ModerateHi))
-      AND ((c[1] = 0.0) OR (ABS (c[1]) >= ModerateLo) AND (ABS (c[1]) < ModerateHi))
-      AND (ABS (c[2]) >= ModerateLo) AND (ABS (c[2]) < ModerateHi)
-   THEN
-      (* fast path: moderate coefficients give the same bits unscaled *)
-      IF NOT QuadraticIn (c[2], c[1], c[0], lo, hi, x) THEN RETURN FALSE END ;
-      t := x + 0.0 ;
-      RETURN TRUE
-   END ;
    (* a NaN or infinity stops the search for the top nonzero coefficient, so
       it stays in c[0..n], whose finiteness Solve tests in its first pass *)
    n := degree ;
@@ -1043,6 +1032,107 @@ BEGIN
    END ;
    t := x + 0.0 ;
    RETURN TRUE
+END Entry ;
+
+
+(* QuadraticIn for the fast path, its root as SmallestRoot answers it (never
+   -0.0); a procedure of its own so that the fast path's call of it is its
+   last act (a jump, no frame). *)
+PROCEDURE QuadraticExact (a, b, c, lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
+VAR
+   x: REAL ;
+BEGIN
+   IF NOT QuadraticIn (a, b, c, lo, hi, x) THEN RETURN FALSE END ;
+   t := x + 0.0 ;
+   RETURN TRUE
+END QuadraticExact ;
+
+
+(* The degree-2 fast path (docs/roots.md step 1) is written out in the
+   exported entry, and everything else is left to Entry, called from two
+   places so that gcc does not inline it (it inlines a procedure called once
+   however large): the fast path then needs no stack frame and no saved
+   registers (with Entry inlined, every call pushed six registers and made a
+   frame of 232 bytes first), and the operations of QuadraticIn are copied
+   here up to its error-free branch, which it is called for.  The admission
+   reads only bits, no floating-point comparison, so that a NaN cannot pass it
+   (gm2 may compile x < y as NOT (x >= y), true for a NaN): lo < hi with both
+   finite as the bits of hi - lo in [1, MAX(REAL)'s] (positive and finite),
+   and every coefficient zero or 2^-200 <= |c_i| < 2^200 (c2 nonzero) as the
+   bits of its magnitude, exactly step 1's rule. *)
+PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
+                        VAR t: REAL) : BOOLEAN ;
+VAR
+   a, b, cc, p, q, d, s, qq, r1, r2, x: REAL ;
+   ua, ub, uc, uw: LONGCARD ;
+BEGIN
+   IF (degree = 2) AND (HIGH (c) >= 2)
+   THEN
+      a := c[2] ;
+      b := c[1] ;
+      cc := c[0] ;
+      (* lo >= 0 and no sign change: none, at any magnitude (docs/roots.md
+         step 1, "lo >= 0" (a)); a NaN that passes gm2's comparisons here
+         answers none, as the contract wants *)
+      IF (lo >= 0.0) AND (cc * b > 0.0) AND (b * a > 0.0) THEN RETURN FALSE END ;
+      ua := CAST (LONGCARD, a) MOD SignBit ;
+      ub := CAST (LONGCARD, b) MOD SignBit ;
+      uc := CAST (LONGCARD, cc) MOD SignBit ;
+      uw := CAST (LONGCARD, hi - lo) ;
+      IF (ua >= ModerateLoBits) AND (ua < ModerateHiBits)
+         AND ((ub = 0) OR (ub >= ModerateLoBits) AND (ub < ModerateHiBits))
+         AND ((uc = 0) OR (uc >= ModerateLoBits) AND (uc < ModerateHiBits))
+         AND (uw >= 1) AND (uw <= MaxRealBits)
+      THEN
+         p := b * b ;
+         q := (4.0 * a) * cc ;
+         d := p - q ;
+         IF q <= 0.5 * p
+         THEN
+            IF d = 0.0
+            THEN
+               (* b = 0 and ac = 0: the double root *)
+               x := -b / (2.0 * a) ;
+               IF (lo < x) AND (x <= hi)
+               THEN
+                  t := x + 0.0 ;
+                  RETURN TRUE
+               END ;
+               RETURN FALSE
+            END
+         ELSIF d < -Eps * (p + q)
+         THEN
+            RETURN FALSE
+         ELSE
+            (* cancellation possible: QuadraticIn's error-free discriminant *)
+            RETURN QuadraticExact (a, b, cc, lo, hi, t)
+         END ;
+         s := sqrt (d) ;
+         IF b < 0.0 THEN s := -s END ;
+         qq := -0.5 * (b + s) ;
+         r1 := qq / a ;
+         r2 := cc / qq ;
+         IF r2 < r1
+         THEN
+            x := r1 ;
+            r1 := r2 ;
+            r2 := x
+         END ;
+         IF (lo < r1) AND (r1 <= hi)
+         THEN
+            t := r1 + 0.0 ;
+            RETURN TRUE
+         END ;
+         IF (lo < r2) AND (r2 <= hi)
+         THEN
+            t := r2 + 0.0 ;
+            RETURN TRUE
+         END ;
+         RETURN FALSE
+      END ;
+      RETURN Entry (c, degree, lo, hi, t)
+   END ;
+   RETURN Entry (c, degree, lo, hi, t)
 END SmallestRoot ;
 
 
