@@ -74,7 +74,7 @@ def test_cycle_finder_finds_a_planted_cycle():
 def test_subpackages_by_job():
     top = sorted(p.name for p in PKG.iterdir() if p.suffix == ".py")
     assert top == ["__init__.py", "__main__.py", "cli.py", "errors.py", "filestate.py", "paths.py", "progress.py",
-                   "textio.py"], top
+                   "record.py", "textio.py"], top
     for sub in ("generate", "targets", "sim", "draw", "reports", "conformance", "harness"):
         assert (PKG / sub / "__init__.py").is_file(), sub
     assert not os.path.exists(PKG / "grammar"), "grammars live with the generator (max2code/generate/grammar)"

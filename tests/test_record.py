@@ -38,7 +38,7 @@ def test_frozen_records_hash_and_refuse_assignment():
     assert s == t and hash(s) == hash(t) and len({s, t, Span("f", 1, 3)}) == 2
     with pytest.raises(AttributeError):
         s.line = 5
-    g = Grid(0.0, 0.0, 1.0, 1.0, 2, 2, (False,))
+    g = Grid(0.0, 0.0, 1.0, 1.0, 2, 2, 0.25, (False,))
     with pytest.raises(AttributeError):
         del g.nx
     assert pickle.loads(pickle.dumps(g)) == g
