@@ -1,4 +1,4 @@
-"""Simulator benchmark: events per second of each runtime's simulator on
+"""Simulator benchmark: events (and collisions) per second of each runtime's simulator on
 gases of equal disks in a box, from 10^2 to 10^5 disks.
 
     python3 bench/sim.py [--langs c,rust,m2,python] [--sizes 100,1000,10000,100000]
@@ -16,8 +16,8 @@ feature prediction counts; a second table gives every counter per collision.  Ea
 runs the scene for 1 ns, which is nearly all start (reading the scene, the
 first prediction of every pair, the final states): "after" is the rate of
 the events past it.  The times are
-those of the simulator's process, CPU (user + system: the events per second
-reported) and wall: reading the scene, simulating and writing the whole
+those of the simulator's process, CPU (user + system: the events and collisions per
+second reported) and wall: reading the scene, simulating and writing the whole
 trace (into a pipe that this script drains).  Runtimes
 whose simulator does not build are skipped with a note.
 """
@@ -150,7 +150,8 @@ def main(argv: list[str]) -> int:
 
     head = f"{'bodies':>8} {'end (s)':>9} {'events':>9} {'collisions':>10} {'cells':>9} {'stale':>9}"
     for lang in order:
-        head += f" {lang + ' cpu s':>11} {lang + ' ev/s':>11} {lang + ' wall s':>11} {lang + ' start s':>11} {'after':>9}"
+        head += (f" {lang + ' cpu s':>11} {lang + ' ev/s':>11} {lang + ' coll/s':>11} {lang + ' wall s':>11}"
+                 f" {lang + ' start s':>11} {'after':>9}")
     print(head)
     for row in rows:
         c = row["counts"]
@@ -160,10 +161,12 @@ def main(argv: list[str]) -> int:
         for lang in order:
             wall, cpu, cpu0, ev0 = row["times"][lang]
             after = (ev - ev0) / (cpu - cpu0) if cpu > cpu0 else float("nan")
-            line += f" {cpu:>11.3f} {ev / max(cpu, 1e-9):>11.4g} {wall:>11.3f} {cpu0:>11.3f} {after:>9.4g}"
+            line += (f" {cpu:>11.3f} {ev / max(cpu, 1e-9):>11.4g} {c.get('collisions', 0) / max(cpu, 1e-9):>11.4g}"
+                     f" {wall:>11.3f} {cpu0:>11.3f} {after:>9.4g}")
         print(line)
-    print("ev/s: events per CPU second (user + system) of the simulator's process; wall s: its elapsed time, "
-          "which a loaded machine stretches;\nstart s: CPU seconds of the same scene run for 1 ns (reading it, "
+    print("ev/s: events per CPU second (user + system) of the simulator's process; coll/s: collisions per CPU "
+          "second (the work: fewer events per collision make each event dearer);\nwall s: its elapsed time, "
+          "which a loaded machine stretches; start s: CPU seconds of the same scene run for 1 ns (reading it, "
           "the first predictions, the final states); after: events per CPU second past the start")
     # every counter of the trace's N lines, by name, per collision
     names = list(dict.fromkeys(k for row in rows for k in row["counts"]))
