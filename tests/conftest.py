@@ -68,3 +68,23 @@ def installed(tmp_path_factory):
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MAX2CODE_BUILD", "VIRTUAL_ENV")}
     env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env['PATH']}"
     return venv, env
+
+
+def _null_is_device() -> bool:
+    import stat
+    try:
+        return stat.S_ISCHR(os.stat(os.devnull).st_mode)
+    except OSError:
+        return False
+
+
+@pytest.fixture(autouse=True)
+def null_device_kept():
+    """/dev/null stays the device: a tool that renames or links a file over
+    its output (as root) replaces it, and every later `> /dev/null` on the
+    machine then fills a file (it happened twice in session 11).  Fails the
+    test during which it changed, so the culprit is named."""
+    before = _null_is_device()
+    yield
+    if before and not _null_is_device():
+        pytest.fail(f"{os.devnull} is no longer a character device after this test (something wrote a file over it)")
