@@ -234,8 +234,42 @@ BEGIN
 END Newton ;
 
 
+(* c[0] + c[1] x + ... + c[m] x^m by Estrin's scheme (docs/roots.md step
+   7.3): pairs q_i = q_2i + q_2i+1 * p with p = x, then x^2, x^4, ... until
+   one value is left; an odd last entry is carried up unchanged.  About
+   log2(m + 1) multiply-adds deep where Horner is m (m <= 16). *)
+PROCEDURE Estrin (VAR c: Coeffs; m: INTEGER; x: REAL) : REAL ;
+VAR
+   q: Coeffs ;
+   p: REAL ;
+   i, k, h: INTEGER ;
+BEGIN
+   IF m = 0 THEN RETURN c[0] END ;
+   (* the first level straight from c, the next ones in place *)
+   k := m + 1 ;
+   h := k DIV 2 ;
+   FOR i := 0 TO h - 1 DO
+      q[i] := c[2 * i] + c[2 * i + 1] * x
+   END ;
+   IF ODD (k) THEN q[h] := c[k - 1] ; INC (h) END ;
+   k := h ;
+   p := x * x ;
+   WHILE k > 1 DO
+      h := k DIV 2 ;
+      FOR i := 0 TO h - 1 DO
+         q[i] := q[2 * i] + q[2 * i + 1] * p
+      END ;
+      IF ODD (k) THEN q[h] := q[k - 1] ; INC (h) END ;
+      k := h ;
+      p := p * p
+   END ;
+   RETURN q[0]
+END Estrin ;
+
 (* Bernstein's single simple root in (lo, hi): Newton with Halley's step,
-   h = p''/2; an accepted Halley step of at most HalleyTol |x| ends it, a
+   h = p''/2, and p, p', p''/2 by Estrin (shorter chains than Horner's: this
+   loop is latency-bound, and it only brings x within 2^-8; the polish
+   evaluates by Horner with its error bound); an accepted Halley step of at most HalleyTol |x| ends it, a
    Newton step of at most HandoffTol |x|.  The step from p(x) = v,
    p'(x) = d (nonzero), p''(x)/2 = h: Halley's v d / (d^2 - v h) when
    d^2 - v h > d^2 / 2 (at most twice the Newton step, same direction; false
@@ -246,6 +280,7 @@ PROCEDURE Halley (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; slo: INTEGER;
                   x0: REAL) : REAL ;
 VAR
    x, xa, xb, dx, dxold, v, d, h, step, xn, tol, dd, vd, den: REAL ;
+   da, ha: Coeffs ;
    neg, isHalley: BOOLEAN ;
    i, it: INTEGER ;
 BEGIN
@@ -256,15 +291,17 @@ BEGIN
    dxold := dx ;
    neg := slo < 0 ;
    tol := Eps ;
+   (* the coefficients of p' and p''/2 *)
+   FOR i := 0 TO n - 1 DO
+      da[i] := VAL (REAL, i + 1) * a[i + 1]
+   END ;
+   FOR i := 0 TO n - 2 DO
+      ha[i] := VAL (REAL, (i + 1) * (i + 2) DIV 2) * a[i + 2]
+   END ;
    FOR it := 1 TO MaxIt DO
-      v := a[n] ;
-      d := 0.0 ;
-      h := 0.0 ;
-      FOR i := n - 1 TO 0 BY -1 DO
-         h := h * x + d ;
-         d := d * x + v ;
-         v := v * x + a[i]
-      END ;
+      v := Estrin (a, n, x) ;
+      d := Estrin (da, n - 1, x) ;
+      h := Estrin (ha, n - 2, x) ;
       IF v = 0.0 THEN RETURN x END ;
       IF (v < 0.0) = neg THEN xa := x ELSE xb := x END ;
       IF (d # 0.0) AND (ABS (4.0 * v) < ABS (dxold * d))
@@ -638,8 +675,7 @@ BEGIN
             INC (i) ;
             negi := b[i + 1] < 0.0
          END ;
-         s := (VAL (REAL, i) + b[i] / (b[i] - b[i + 1])) / nf ;
-         x0 := xl + (xr - xl) * s ;
+         x0 := xl + ((xr - xl) / nf) * (VAL (REAL, i) + b[i] / (b[i] - b[i + 1])) ;
          IF NOT ((xl < x0) AND (x0 < xr)) THEN x0 := 0.5 * (xl + xr) END ;
          IF b[0] < 0.0 THEN sl := -1 ELSE sl := 1 END ;
          x := Halley (a, n, xl, xr, sl, x0) ;

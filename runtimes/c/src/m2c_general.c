@@ -185,8 +185,7 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
             int i = 0;
             while ((b[i + 1] < 0.0) == (b[i] < 0.0))
                 i++;
-            double s = ((double)i + b[i] / (b[i] - b[i + 1])) / (double)n;
-            double x0 = xl + (xr - xl) * s;
+            double x0 = xl + ((xr - xl) / (double)n) * ((double)i + b[i] / (b[i] - b[i + 1]));
             if (!(xl < x0 && x0 < xr))
                 x0 = 0.5 * (xl + xr);
             double x = m2c_halley_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_HALLEY_TOL);

@@ -140,10 +140,36 @@ M2C_INLINE int m2c_halley_step(double v, double d, double h, double *step)
     return 0;
 }
 
+/* c[0] + c[1] x + ... + c[m] x^m by Estrin's scheme (docs/roots.md step
+ * 7.3): pairs q_i = q_2i + q_2i+1 * p with p = x, then x^2, x^4, ... until
+ * one value is left; an odd last entry is carried up unchanged.  About
+ * log2(m + 1) multiply-adds deep where Horner is m (m <= 16). */
+M2C_INLINE double m2c_estrin(const double *c, int m, double x)
+{
+    double q[M2C_MAX_DEGREE + 1];
+    int k = m + 1;
+    M2C_UNROLL
+    for (int i = 0; i < k; i++)
+        q[i] = c[i];
+    double p = x;
+    M2C_UNROLL
+    for (int level = 0; level < 5 && k > 1; level++) {
+        int k2 = (k + 1) / 2;
+        M2C_UNROLL
+        for (int i = 0; i < k2; i++)
+            q[i] = 2 * i + 1 < k ? q[2 * i] + q[2 * i + 1] * p : q[2 * i];
+        k = k2;
+        p = p * p;
+    }
+    return q[0];
+}
+
 /* Bernstein's single simple root in (lo, hi): the bracketed method of
  * m2c_newton_impl with Halley's step (cubic convergence) where it is safe:
- * h = p''/2 comes from a third Horner chain, m2c_halley_step chooses the
- * step.  An accepted Halley step of at most tolhalley |x| ends it, a Newton
+ * p, p' and p''/2 by Estrin's scheme (shorter chains than Horner's: this
+ * loop is latency-bound, and its accuracy only needs to bring x within
+ * 2^-8; the polish evaluates by Horner with its error bound),
+ * m2c_halley_step chooses the step.  An accepted Halley step of at most tolhalley |x| ends it, a Newton
  * step of at most 2^-14 |x|. */
 M2C_INLINE double m2c_halley_impl(const double *a, int n, double lo, double hi, int slo,
                                   double x0, double tolhalley)
@@ -154,16 +180,18 @@ M2C_INLINE double m2c_halley_impl(const double *a, int n, double lo, double hi, 
     double dxold = dx;
     int neg = slo < 0;
     double tol = M2C_EPS;
+    /* the coefficients of p' and p''/2 (docs/roots.md step 7.3) */
+    double da[M2C_MAX_DEGREE], ha[M2C_MAX_DEGREE];
+    M2C_UNROLL
+    for (int i = 0; i < n; i++)
+        da[i] = (double)(i + 1) * a[i + 1];
+    M2C_UNROLL
+    for (int i = 0; i < n - 1; i++)
+        ha[i] = (double)((i + 1) * (i + 2) / 2) * a[i + 2];
     for (int it = 0; it < M2C_MAXIT; it++) {
-        double v = a[n];
-        double d = 0.0;
-        double h = 0.0;
-        M2C_UNROLL
-        for (int i = n - 1; i >= 0; i--) {
-            h = h * x + d;
-            d = d * x + v;
-            v = v * x + a[i];
-        }
+        double v = m2c_estrin(a, n, x);
+        double d = m2c_estrin(da, n - 1, x);
+        double h = m2c_estrin(ha, n - 2, x);
         if (v == 0.0)
             break;
         if ((v < 0.0) == neg)

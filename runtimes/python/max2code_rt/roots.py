@@ -190,10 +190,13 @@ def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
     dx = xb - xa
     dxold = dx
     neg = slo < 0
-    horner = _HORNER2[n]
+    estrin = _ESTRIN3[n]
     fabs = _fabs
+    # the coefficients of p' and p''/2
+    da = [(i + 1) * a[i + 1] for i in range(n)]
+    ha = [((i + 1) * (i + 2) // 2) * a[i + 2] for i in range(n - 1)]
     for _ in range(MAXIT):
-        v, d, h = horner(a, x)
+        v, d, h = estrin(a, da, ha, x)
         if v == 0.0:
             return x
         if (v < 0.0) == neg:
@@ -380,7 +383,46 @@ def _unrolled_horner(n: int, running_bound: bool):
     return env["horner"]
 
 
-_HORNER2 = [None] * 3 + [_unrolled_horner(n, False) for n in range(3, MAX_DEGREE + 1)]
+def _estrin_lines(c: str, m: int, out: str) -> list[str]:
+    """Straight-line Estrin's scheme for c[0..m] at x into `out` (step 7.3):
+    pairs q_i = q_2i + q_2i+1 * p with p = x, x^2, x^4, ... (p_k below), an
+    odd last entry carried up unchanged, until one value is left."""
+    q = [f"{c}[{i}]" for i in range(m + 1)]
+    lines = []
+    level = 0
+    while len(q) > 1:
+        nq = []
+        for i in range(0, len(q), 2):
+            if i + 1 < len(q):
+                name = f"{c}_{level}_{i // 2}"
+                lines.append(f"    {name} = {q[i]} + {q[i + 1]} * p{level}")
+                nq.append(name)
+            else:
+                nq.append(q[i])
+        q = nq
+        level += 1
+    lines.append(f"    {out} = {q[0]}")
+    return lines
+
+
+def _unrolled_estrin(n: int):
+    """p(x), p'(x) and p''(x)/2 by Estrin's scheme for degree n as
+    straight-line code: (a, da, ha, x) -> (v, d, h), da and ha the
+    coefficients of p' and p''/2 (Halley's loop, step 7.3).  The powers
+    p0 = x, p1 = x^2, p2 = x^4, ... are computed once (each the square of
+    the last, the same values as the loops of the other runtimes)."""
+    levels = max(1, (n).bit_length())
+    lines = ["def estrin(a, da, ha, x):", "    p0 = x"]
+    for k in range(1, levels):
+        lines.append(f"    p{k} = p{k - 1} * p{k - 1}")
+    lines += _estrin_lines("a", n, "v") + _estrin_lines("da", n - 1, "d") + _estrin_lines("ha", n - 2, "h")
+    lines.append("    return v, d, h")
+    env: dict = {}
+    exec("\n".join(lines), env)
+    return env["estrin"]
+
+
+_ESTRIN3 = [None] * 3 + [_unrolled_estrin(n) for n in range(3, MAX_DEGREE + 1)]
 _HORNER2_MU = [None] * 3 + [_unrolled_horner(n, True) for n in range(3, MAX_DEGREE + 1)]
 _BERN = [None] * 3 + [_unrolled_bernstein(n) for n in range(3, MAX_DEGREE + 1)]
 _SPLIT = [None] * 3 + [_unrolled_split(n) for n in range(3, MAX_DEGREE + 1)]
@@ -474,8 +516,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             i = 0
             while (b[i + 1] < 0.0) == (b[i] < 0.0):
                 i += 1
-            s = (i + b[i] / (b[i] - b[i + 1])) / nf
-            x0 = xl + (xr - xl) * s
+            x0 = xl + ((xr - xl) / nf) * (i + b[i] / (b[i] - b[i + 1]))
             if not (xl < x0 < xr):
                 x0 = 0.5 * (xl + xr)
             x = _halley(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
