@@ -364,20 +364,15 @@ def _unrolled_split(n: int):
     return env["split"]
 
 
-def _unrolled_horner(n: int, running_bound: bool):
-    """Horner for p(x), p'(x) and p''(x)/2 (and Higham's running bound mu
-    when running_bound) for degree n as straight-line code: (a, x) ->
-    (v, d, h[, mu]), the same operations as the loops of _halley and
-    _polish_halley."""
+def _unrolled_horner(n: int):
+    """Horner for p(x), p'(x) and p''(x)/2 with Higham's running bound mu for
+    degree n as straight-line code: (a, x) -> (v, d, h, mu), the same
+    operations as the loop of _polish_halley in the other runtimes."""
     lines = [f"def horner(a, x):", f"    {', '.join(f'a{i}' for i in range(n + 1))}, = a",
-             f"    v = a{n}", "    d = 0.0", "    h = 0.0"]
-    if running_bound:
-        lines += ["    ax = fabs(x)", "    mu = 0.5 * fabs(v)"]
+             f"    v = a{n}", "    d = 0.0", "    h = 0.0", "    ax = fabs(x)", "    mu = 0.5 * fabs(v)"]
     for i in range(n - 1, -1, -1):
-        lines += ["    h = h * x + d", "    d = d * x + v", f"    v = v * x + a{i}"]
-        if running_bound:
-            lines.append("    mu = mu * ax + fabs(v)")
-    lines.append("    return v, d, h, mu" if running_bound else "    return v, d, h")
+        lines += ["    h = h * x + d", "    d = d * x + v", f"    v = v * x + a{i}", "    mu = mu * ax + fabs(v)"]
+    lines.append("    return v, d, h, mu")
     env = {"fabs": _fabs}
     exec("\n".join(lines), env)
     return env["horner"]
@@ -423,7 +418,7 @@ def _unrolled_estrin(n: int):
 
 
 _ESTRIN3 = [None] * 3 + [_unrolled_estrin(n) for n in range(3, MAX_DEGREE + 1)]
-_HORNER2_MU = [None] * 3 + [_unrolled_horner(n, True) for n in range(3, MAX_DEGREE + 1)]
+_HORNER2_MU = [None] * 3 + [_unrolled_horner(n) for n in range(3, MAX_DEGREE + 1)]
 _BERN = [None] * 3 + [_unrolled_bernstein(n) for n in range(3, MAX_DEGREE + 1)]
 _SPLIT = [None] * 3 + [_unrolled_split(n) for n in range(3, MAX_DEGREE + 1)]
 
