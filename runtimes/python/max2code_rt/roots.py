@@ -180,23 +180,15 @@ def _halley_step(v: float, d: float, h: float) -> tuple[float, bool]:
     return v / d, False
 
 
-def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -> float:
-    """Bernstein's single simple root in (lo, hi): _newton with the step of
-    _halley_step, h = p''/2; an accepted Halley step of at most HALLEY_TOL |x|
-    ends it, a Newton step of at most HANDOFF_TOL |x|."""
+_HALLEY_BODY = """
     xa = lo
     xb = hi
     x = x0
     dx = xb - xa
     dxold = dx
     neg = slo < 0
-    estrin = _ESTRIN3[n]
-    fabs = _fabs
-    # the coefficients of p' and p''/2
-    da = [(i + 1) * a[i + 1] for i in range(n)]
-    ha = [((i + 1) * (i + 2) // 2) * a[i + 2] for i in range(n - 1)]
     for _ in range(MAXIT):
-        v, d, h = estrin(a, da, ha, x)
+{eval}
         if v == 0.0:
             return x
         if (v < 0.0) == neg:
@@ -220,12 +212,12 @@ def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
             else:
                 dxold = dx
                 dx = 0.5 * (xb - xa)
-                xn = _midpoint(xa, xb, dx)
+                xn = midpoint(xa, xb, dx)
                 tol = EPS
         else:
             dxold = dx
             dx = 0.5 * (xb - xa)
-            xn = _midpoint(xa, xb, dx)
+            xn = midpoint(xa, xb, dx)
             tol = EPS
         if not (xa < xn < xb):
             return x
@@ -233,6 +225,30 @@ def _halley(a: list[float], n: int, lo: float, hi: float, slo: int, x0: float) -
             return xn
         x = xn
     return x
+"""
+
+
+def _unrolled_halley(n: int):
+    """Bernstein's single simple root in (lo, hi) for degree n as
+    straight-line code: (a, lo, hi, slo, x0) -> x.  _newton with the step of
+    _halley_step (h = p''/2), p, p' and p''/2 by Estrin's scheme (step 7.3:
+    the coefficients of p' and p''/2 once, the powers x, x^2, x^4, ... once
+    per evaluation); an accepted Halley step of at most HALLEY_TOL |x| ends
+    it, a Newton step of at most HANDOFF_TOL |x|."""
+    levels = max(1, (n).bit_length())
+    pre = [f"    {', '.join(f'a{i}' for i in range(n + 1))}, = a"]
+    pre += [f"    da{i} = {float(i + 1)!r} * a{i + 1}" for i in range(n)]
+    pre += [f"    ha{i} = {float((i + 1) * (i + 2) // 2)!r} * a{i + 2}" for i in range(n - 1)]
+    ev = ["    p0 = x"] + [f"    p{k} = p{k - 1} * p{k - 1}" for k in range(1, levels)]
+    ev += _estrin_lines("a", n, "v") + _estrin_lines("da", n - 1, "d") + _estrin_lines("ha", n - 2, "h")
+    src = ("def halley(a, lo, hi, slo, x0):\n" + "\n".join(pre)
+           + _HALLEY_BODY.format(eval="\n".join("    " + line for line in ev)))
+    env = {"fabs": _fabs, "midpoint": _midpoint, "MAXIT": MAXIT, "HALLEY_MIN": HALLEY_MIN,
+           "HALLEY_TOL": HALLEY_TOL, "HANDOFF_TOL": HANDOFF_TOL, "EPS": EPS}
+    exec(src, env)
+    return env["halley"]
+
+
 
 
 def _quadratic(a: float, b: float, c: float) -> list[float]:
@@ -379,10 +395,11 @@ def _unrolled_horner(n: int):
 
 
 def _estrin_lines(c: str, m: int, out: str) -> list[str]:
-    """Straight-line Estrin's scheme for c[0..m] at x into `out` (step 7.3):
-    pairs q_i = q_2i + q_2i+1 * p with p = x, x^2, x^4, ... (p_k below), an
-    odd last entry carried up unchanged, until one value is left."""
-    q = [f"{c}[{i}]" for i in range(m + 1)]
+    """Straight-line Estrin's scheme for the locals c0..cm at x into `out`
+    (step 7.3): pairs q_i = q_2i + q_2i+1 * p with p = x, x^2, x^4, ... (the
+    locals p0, p1, p2, ...), an odd last entry carried up unchanged, until
+    one value is left."""
+    q = [f"{c}{i}" for i in range(m + 1)]
     lines = []
     level = 0
     while len(q) > 1:
@@ -400,24 +417,7 @@ def _estrin_lines(c: str, m: int, out: str) -> list[str]:
     return lines
 
 
-def _unrolled_estrin(n: int):
-    """p(x), p'(x) and p''(x)/2 by Estrin's scheme for degree n as
-    straight-line code: (a, da, ha, x) -> (v, d, h), da and ha the
-    coefficients of p' and p''/2 (Halley's loop, step 7.3).  The powers
-    p0 = x, p1 = x^2, p2 = x^4, ... are computed once (each the square of
-    the last, the same values as the loops of the other runtimes)."""
-    levels = max(1, (n).bit_length())
-    lines = ["def estrin(a, da, ha, x):", "    p0 = x"]
-    for k in range(1, levels):
-        lines.append(f"    p{k} = p{k - 1} * p{k - 1}")
-    lines += _estrin_lines("a", n, "v") + _estrin_lines("da", n - 1, "d") + _estrin_lines("ha", n - 2, "h")
-    lines.append("    return v, d, h")
-    env: dict = {}
-    exec("\n".join(lines), env)
-    return env["estrin"]
-
-
-_ESTRIN3 = [None] * 3 + [_unrolled_estrin(n) for n in range(3, MAX_DEGREE + 1)]
+_HALLEY = [None] * 3 + [_unrolled_halley(n) for n in range(3, MAX_DEGREE + 1)]
 _HORNER2_MU = [None] * 3 + [_unrolled_horner(n) for n in range(3, MAX_DEGREE + 1)]
 _BERN = [None] * 3 + [_unrolled_bernstein(n) for n in range(3, MAX_DEGREE + 1)]
 _SPLIT = [None] * 3 + [_unrolled_split(n) for n in range(3, MAX_DEGREE + 1)]
@@ -514,7 +514,7 @@ def _general(a: list[float], n: int, lo: float, hi: float) -> float | None:
             x0 = xl + ((xr - xl) / nf) * (i + b[i] / (b[i] - b[i + 1]))
             if not (xl < x0 < xr):
                 x0 = 0.5 * (xl + xr)
-            x = _halley(a, n, xl, xr, -1 if b0 < 0.0 else 1, x0)
+            x = _HALLEY[n](a, xl, xr, -1 if b0 < 0.0 else 1, x0)
             x = _polish_halley(a, n, x, xl, xr)
             if not (x > xl):
                 x = xr
