@@ -275,6 +275,8 @@ def scaled_cases(per_degree: int = 12) -> list[dict]:
         -1.0, 1e300, "t (t - 1e-50)(t - 2e-50)(t - 1e50)(t - 3e50): 0 first", 0)
     add("mag-d16-1e18", [float(v) for v in exact_poly([1e18 * (k + 1) for k in range(16)], 1.0)], 0.0, 1e300,
         "roots 1e18 .. 1.6e19, degree 16 (beyond 2^(900/16))", 19)
+    add("mag-quartic-pm-1e55", [2.6612249000050942e+110, 0.0, -3.3265311250063676, 0.0, 6.653062250012736e-111],
+        0.0, big, "roots +-1e55, +-2e55 (hypothesis): one scale, 4AC of p'' underflows unscaled", 55)
     for deg in range(1, 17):
         for k in range(per_degree):
             kind = k % 4

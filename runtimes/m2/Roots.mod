@@ -479,6 +479,39 @@ BEGIN
 END Quadratic ;
 
 
+(* Quadratic in x = 2^s u (docs/roots.md step 7.4): s balances a 2^(2s)
+   against c (or b 2^s when c = 0), a common power of two puts the largest
+   coefficient in [1, 2), the roots u come back as ldexp (u, s).  The same
+   bits as Quadratic where its products stay normal; where they underflow
+   (roots far from 1 with tiny coefficients) the roots are kept.  floor(d/2)
+   is written with nonnegative operands only. *)
+PROCEDURE QuadraticScaled (a, b, c: REAL; VAR r: ARRAY OF REAL) : INTEGER ;
+VAR
+   ea, d, s, m, k, i, nr: INTEGER ;
+BEGIN
+   ea := Exponent (a) ;
+   IF c # 0.0
+   THEN
+      d := Exponent (c) - ea ;
+      IF d >= 0 THEN s := d DIV 2 ELSE s := -((1 - d) DIV 2) END
+   ELSIF b # 0.0
+   THEN
+      s := Exponent (b) - ea
+   ELSE
+      s := 0
+   END ;
+   m := ea + 2 * s ;
+   IF (b # 0.0) AND (Exponent (b) + s > m) THEN m := Exponent (b) + s END ;
+   IF (c # 0.0) AND (Exponent (c) > m) THEN m := Exponent (c) END ;
+   k := 1 - m ;
+   nr := Quadratic (ldexp (a, 2 * s + k), ldexp (b, s + k), ldexp (c, k), r) ;
+   FOR i := 0 TO nr - 1 DO
+      r[i] := ldexp (r[i], s)
+   END ;
+   RETURN nr
+END QuadraticScaled ;
+
+
 (* All roots of p (degree n) in the open (lo, hi), ascending, given the m
    ascending roots crit of p' there; returns the count written to out. *)
 PROCEDURE RootsBetween (VAR a: Coeffs; n: INTEGER; VAR crit: Coeffs; m: INTEGER;
@@ -525,7 +558,7 @@ BEGIN
          ders[k][i] := ders[k - 1][i + 1] * VAL (REAL, i + 1)
       END
    END ;
-   nq := Quadratic (ders[n - 2][2], ders[n - 2][1], ders[n - 2][0], qr) ;
+   nq := QuadraticScaled (ders[n - 2][2], ders[n - 2][1], ders[n - 2][0], qr) ;
    m := 0 ;
    FOR i := 0 TO nq - 1 DO
       IF (lo < qr[i]) AND (qr[i] < hi)

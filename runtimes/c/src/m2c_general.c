@@ -35,6 +35,33 @@ static int roots_between(const double *a, int n, const double *crit, int m,
     return k;
 }
 
+/* floor(d / 2) for any int d (C's / truncates). */
+static int floor_half(int d)
+{
+    return d >= 0 ? d / 2 : -((1 - d) / 2);
+}
+
+/* m2c_quadratic in x = 2^s u (docs/roots.md step 7.4): s balances a 2^(2s)
+ * against c (or b 2^s when c = 0), a common power of two puts the largest
+ * coefficient in [1, 2), the roots u come back as ldexp(u, s).  The same
+ * bits as m2c_quadratic where its products stay normal; where they
+ * underflow (roots far from 1 with tiny coefficients) the roots are kept. */
+static int quadratic_scaled(double a, double b, double c, double r[2])
+{
+    int ea = m2c_frexp_exp(a);
+    int s = c != 0.0 ? floor_half(m2c_frexp_exp(c) - ea) : b != 0.0 ? m2c_frexp_exp(b) - ea : 0;
+    int m = ea + 2 * s;
+    if (b != 0.0 && m2c_frexp_exp(b) + s > m)
+        m = m2c_frexp_exp(b) + s;
+    if (c != 0.0 && m2c_frexp_exp(c) > m)
+        m = m2c_frexp_exp(c);
+    int k = 1 - m;
+    int nr = m2c_quadratic(ldexp(a, 2 * s + k), ldexp(b, s + k), ldexp(c, k), r);
+    for (int i = 0; i < nr; i++)
+        r[i] = ldexp(r[i], s);
+    return nr;
+}
+
 /* The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
  * derivatives bottom up, then the first root of p with careful signs. */
 static int by_derivatives(const double *a, int n, double lo, double hi, double *t)
@@ -49,7 +76,7 @@ static int by_derivatives(const double *a, int n, double lo, double hi, double *
             ders[k][i] = ders[k - 1][i + 1] * (double)(i + 1);
     double crit[M2C_MAX_DEGREE], next[M2C_MAX_DEGREE], qr[2];
     const double *d2 = ders[n - 2];
-    int nq = m2c_quadratic(d2[2], d2[1], d2[0], qr);
+    int nq = quadratic_scaled(d2[2], d2[1], d2[0], qr);
     int m = 0;
     for (int i = 0; i < nq; i++)
         if (lo < qr[i] && qr[i] < hi)

@@ -286,6 +286,34 @@ def _quadratic(a: float, b: float, c: float) -> list[float]:
     return [r2, r1]
 
 
+def _quadratic_scaled(a: float, b: float, c: float) -> list[float]:
+    """_quadratic in x = 2^s u (step 7.4): s balances a 2^(2s) against c (or
+    against b 2^s when c = 0), a common power of two puts the largest
+    coefficient in [1, 2), and the roots u come back as ldexp(u, s).  The
+    same bits as _quadratic where its products stay normal; where they
+    underflow (roots far from 1 with tiny coefficients) the roots are kept."""
+    ea = _frexp(a)[1]
+    if c != 0.0:
+        s = (_frexp(c)[1] - ea) // 2
+    elif b != 0.0:
+        s = _frexp(b)[1] - ea
+    else:
+        s = 0
+    m = ea + 2 * s
+    if b != 0.0:
+        m = max(m, _frexp(b)[1] + s)
+    if c != 0.0:
+        m = max(m, _frexp(c)[1])
+    k = 1 - m
+    out = []
+    for u in _quadratic(_ldexp(a, 2 * s + k), _ldexp(b, s + k), _ldexp(c, k)):
+        try:
+            out.append(_ldexp(u, s))
+        except OverflowError:         # C's ldexp: +-infinity
+            out.append(math.copysign(math.inf, u))
+    return out
+
+
 def _roots_between(a: list[float], n: int, crit: list[float], lo: float, hi: float) -> list[float]:
     """All roots of p (degree n >= 2) in the open interval (lo, hi), ascending,
     given the ascending roots `crit` of p' in (lo, hi).  Plain signs."""
@@ -431,7 +459,7 @@ def _by_derivatives(a: list[float], n: int, lo: float, hi: float) -> float | Non
         prev = ders[k - 1]
         ders.append([prev[i + 1] * (i + 1) for i in range(n - k + 1)])
     d2 = ders[n - 2]
-    crit = [x for x in _quadratic(d2[2], d2[1], d2[0]) if lo < x < hi]
+    crit = [x for x in _quadratic_scaled(d2[2], d2[1], d2[0]) if lo < x < hi]
     for k in range(n - 3, 0, -1):
         crit = _roots_between(ders[k], n - k, crit, lo, hi)
     xl = lo

@@ -370,6 +370,35 @@ fn polish_halley(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
     x
 }
 
+/// `quadratic` in x = 2^s u (docs/roots.md step 7.4): s balances a 2^(2s)
+/// against c (or b 2^s when c = 0), a common power of two puts the largest
+/// coefficient in [1, 2), the roots u come back as ldexp(u, s).  The same
+/// bits as `quadratic` where its products stay normal; where they underflow
+/// (roots far from 1 with tiny coefficients) the roots are kept.
+fn quadratic_scaled(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
+    let ea = frexp_exp(a);
+    let s = if c != 0.0 {
+        (frexp_exp(c) - ea).div_euclid(2)
+    } else if b != 0.0 {
+        frexp_exp(b) - ea
+    } else {
+        0
+    };
+    let mut m = ea + 2 * s;
+    if b != 0.0 {
+        m = m.max(frexp_exp(b) + s);
+    }
+    if c != 0.0 {
+        m = m.max(frexp_exp(c));
+    }
+    let k = 1 - m;
+    let nr = quadratic(ldexp(a, 2 * s + k), ldexp(b, s + k), ldexp(c, k), r);
+    for x in r.iter_mut().take(nr) {
+        *x = ldexp(*x, s);
+    }
+    nr
+}
+
 /// Real roots of a x^2 + b x + c (a != 0), ascending, into r; returns the
 /// count. The plain discriminant when it cannot cancel (4ac <= b*b/2), none
 /// when it is clearly negative, error-free products only in between.
@@ -696,7 +725,7 @@ fn by_derivatives(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
     let mut next = [0.0f64; MAX_DEGREE];
     let mut qr = [0.0f64; 2];
     let d2 = &ders[n - 2];
-    let nq = quadratic(d2[2], d2[1], d2[0], &mut qr);
+    let nq = quadratic_scaled(d2[2], d2[1], d2[0], &mut qr);
     let mut m = 0;
     for &x in &qr[..nq] {
         if lo < x && x < hi {
