@@ -14,8 +14,8 @@ const CELL_INLINE: usize = 3;
 /// the bodies.
 const WALLS_NEAR: u32 = 1 << 31;
 
-/// One grid cell's list of bodies: the first few inline (a cell one
-/// diameter wide rarely holds more), the rest in the grid's `more` list of
+/// One grid cell's list of bodies: the first few inline (a cell 1.15
+/// times the largest body wide rarely holds more), the rest in the grid's `more` list of
 /// the cell.  16 bytes, so that a row of a 3x3 block is one or two cache
 /// lines (at 10^5 disks the 3 x 10^5 cells do not fit the cache; the
 /// 48-byte cells with their own vector before took twice as many, and
