@@ -31,8 +31,11 @@ pub enum Event {
     /// A supported body's centre, projected on the support's edge, reaches its end.
     Leave { body: u32, stamp: u64 },
     /// The body's centre crosses into the neighbouring cell along `axis`
-    /// (0: x, 1: y) in `direction` (+1 or -1).
-    Cell { body: u32, axis: i32, direction: i32, stamp: u64 },
+    /// (0: x, 1: y) in `direction` (+1 or -1).  (cx, cy): the cell it
+    /// leaves (the body's own while the record is live), only a hint of
+    /// which cells to fetch ahead, never read otherwise (in what were
+    /// padding bytes: a collision's record is the largest).
+    Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u64 },
     /// Predict the pair again (bounding circles meet, or a Taylor window ends).
     Horizon { a: u32, b: u32, stamp_a: u64, stamp_b: u64 },
     /// Frame `k`, at k * frame_dt (never stale).
@@ -451,7 +454,7 @@ mod tests {
             1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k, stamp_b: 0 },
             2 => Event::Stop { body: k as u32, stamp: 0 },
             3 => Event::Leave { body: k as u32, stamp: 0 },
-            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, stamp: k },
+            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, cx: 0, cy: 0, stamp: k },
             5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k, stamp_b: 0 },
             _ => Event::Frame { k: k as i64 },
         };

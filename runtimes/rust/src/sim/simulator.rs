@@ -27,6 +27,9 @@ impl<E: Equations> World<E> {
         if self.repeated(t, (ai, bi, feature, i, j)) {
             return self.handle_cluster(t, (ai, bi, feature, i, j));
         }
+        // for predict_body, after the impulse and the trace lines
+        self.w.prefetch_block(ai);
+        self.w.prefetch_block(bi);
         {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             rebase(a_, t);
@@ -91,9 +94,12 @@ impl<E: Equations> World<E> {
         }
         let (a_fixed, b_fixed, a_asleep, b_asleep);
         {
+            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            // their cells have come by now; the state lines take a while
+            self.w.prefetch_neighbours(ai);
+            self.w.prefetch_neighbours(bi);
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
             // a sleeper still asleep (zero impulse: the bodies graze, the other
             // not pressed onto it) is unchanged; the other is predicted again
@@ -120,6 +126,7 @@ impl<E: Equations> World<E> {
                 }
             }
         }
+        self.fetch_next();
         if !a_fixed && !a_asleep {
             predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep && imp == 0.0 { Some(bi) } else { None })?;
         }
@@ -483,7 +490,6 @@ impl<E: Equations> World<E> {
         let a = body as usize;
         let d = i64::from(direction);
         let (cx0, cy0) = (self.w.s.bodies[a].cx, self.w.s.bodies[a].cy);
-        self.w.grid.remove(body, cx0, cy0);
         let (mut cx, mut cy) = (i64::from(cx0), i64::from(cy0));
         let (x_lo, x_hi, y_lo, y_hi);
         if axis == 0 {
@@ -495,11 +501,16 @@ impl<E: Equations> World<E> {
             let row = cy + d;
             (x_lo, x_hi, y_lo, y_hi) = (cx - 1, cx + 1, row, row);
         }
+        // the bodies of the row or column it will predict against (their
+        // cells were fetched with this event): fetched while it changes cells
+        self.w.prefetch_listed(x_lo, x_hi, y_lo, y_hi);
+        self.w.grid.remove(body, cx0, cy0);
         // a cell event moves to a neighbouring cell of the grid
         let b_ = &mut self.w.s.bodies[a];
         b_.cx = cx as i32;
         b_.cy = cy as i32;
         self.w.grid.add(body, cx as i32, cy as i32);
+        self.fetch_next();
         predict_cells::<E>(&self.w, &mut self.q, a, x_lo, x_hi, y_lo, y_hi, t, None, false)?;
         // the walls of the new row or column but those also listed in the
         // two it shares with the old neighbourhood (predicted at its last
@@ -633,6 +644,34 @@ impl<E: Equations> World<E> {
             Event::Cell { body, axis, direction, .. } => self.handle_cell(t, body, axis, direction),
             Event::Horizon { a, b, .. } => self.handle_horizon(t, a, b),
             Event::Frame { k } => self.handle_frame(t, k),
+        }
+    }
+
+    /// Have the next event's stamps, bodies and (a cell crossing's) cells
+    /// fetched while this one is handled ([`Space::prefetch_event`]), when
+    /// fetching pays.  Stale events at the head (up to 8) are dropped
+    /// first and counted, as the sweep does (a stale event stays stale:
+    /// the same count, the same order of what stays), so that what is
+    /// fetched is the event handled next; events this handler schedules
+    /// later may still come before it (then the fetch was only early).
+    #[inline(never)]
+    pub(super) fn fetch_next(&mut self) {
+        if !self.w.fetch {
+            return;
+        }
+        let end = self.w.s.end;
+        for _ in 0..8 {
+            match self.q.heap.peek() {
+                Some(e) if self.w.is_stale(&e.ev) => {}
+                _ => break,
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            if e.t <= end {
+                self.q.stats.stale += 1;
+            }
+        }
+        if let Some(e) = self.q.heap.peek() {
+            self.w.prefetch_event(&e.ev);
         }
     }
 
