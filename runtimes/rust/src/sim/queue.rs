@@ -382,14 +382,6 @@ impl Heap {
         Some(e)
     }
 
-    /// The first body of the event that is next as things stand (an event
-    /// scheduled before it meanwhile comes first), u32::MAX for none: to be
-    /// fetched ahead.  Reads its record (which `pop` has fetched).
-    #[inline(always)]
-    pub fn next_body(&self) -> u32 {
-        self.near.v.first().map_or(u32::MAX, |x| self.slab[x.slot()].ev.body())
-    }
-
     /// The earliest event, left queued.
     #[inline]
     pub fn peek(&mut self) -> Option<&Entry> {

@@ -684,7 +684,6 @@ impl<E: Equations> World<E> {
             }
             let e = self.q.heap.pop().expect("peeked");
             self.w.prefetch_bodies(&e.ev);
-            self.w.prefetch_next(self.q.heap.next_body());
             self.dispatch(e.t, e.ev)?;
             self.sweep_if_due();
         }

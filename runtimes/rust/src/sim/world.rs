@@ -105,20 +105,6 @@ impl Space {
 }
 
 impl Space {
-    /// Have body b's two hot lines and its stamp fetched (b: the next
-    /// event's first body, [`Heap::next_body`]; u32::MAX: none): an event
-    /// ahead, the fetch has the whole handling of the current one to
-    /// arrive.  A hint only: nothing is read.
-    #[inline(always)]
-    pub fn prefetch_next(&self, b: u32) {
-        if b != u32::MAX {
-            let p = self.s.bodies.as_ptr().wrapping_add(b as usize).cast::<u8>();
-            prefetch(p);
-            prefetch(p.wrapping_add(64));
-            prefetch(self.stamps.as_ptr().wrapping_add(b as usize));
-        }
-    }
-
     /// Have the cache lines of the event's bodies that its handler reads
     /// fetched while the stale check waits for their stamps (at 10^5
     /// bodies they are rarely still in the cache when their event comes):
