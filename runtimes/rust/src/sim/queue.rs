@@ -25,7 +25,9 @@ const _: () = assert!(std::mem::size_of::<Item>() == 16);
 
 /// What happens at a scheduled time.  Bodies are scene indices; a stamp is
 /// the body's stamp when the event was scheduled (the event is stale when
-/// the body's motion changed since).
+/// the body's motion changed since).  Stamps are 32 bits, as the C
+/// runtime's: a record 8 bytes smaller (a collision's 32, its `Entry` 40)
+/// and the stamps 4 bytes a body, which the stale check reads at random.
 #[derive(Clone, Copy, Debug)]
 pub enum Event {
     /// Scripted input `k` of the scene (never stale).
@@ -33,19 +35,19 @@ pub enum Event {
     /// Feature CC: the circle of `a` against the circle of `b` (j < 0) or
     /// vertex j of `b`; feature PE: the circle of `a` (i < 0) or vertex i of
     /// `a` against edge j of `b`.
-    Collision { a: u32, b: u32, feature: i32, i: i32, j: i32, stamp_a: u64, stamp_b: u64 },
+    Collision { a: u32, b: u32, feature: i32, i: i32, j: i32, stamp_a: u32, stamp_b: u32 },
     /// A sliding supported body's tangential speed reaches zero.
-    Stop { body: u32, stamp: u64 },
+    Stop { body: u32, stamp: u32 },
     /// A supported body's centre, projected on the support's edge, reaches its end.
-    Leave { body: u32, stamp: u64 },
+    Leave { body: u32, stamp: u32 },
     /// The body's centre crosses into the neighbouring cell along `axis`
     /// (0: x, 1: y) in `direction` (+1 or -1).  (cx, cy): the cell it
     /// leaves (the body's own while the record is live), only a hint of
     /// which cells to fetch ahead, never read otherwise (in what were
     /// padding bytes: a collision's record is the largest).
-    Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u64 },
+    Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u32 },
     /// Predict the pair again (bounding circles meet, or a Taylor window ends).
-    Horizon { a: u32, b: u32, stamp_a: u64, stamp_b: u64 },
+    Horizon { a: u32, b: u32, stamp_a: u32, stamp_b: u32 },
     /// Frame `k`, at k * frame_dt (never stale).
     Frame { k: i64 },
 }
@@ -84,6 +86,7 @@ pub struct Entry {
     pub t: f64,
     pub ev: Event,
 }
+const _: () = assert!(std::mem::size_of::<Entry>() == 40);
 
 /// What the queue orders and moves: 16 bytes (as the C runtime's) instead
 /// of a whole `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the
@@ -500,11 +503,11 @@ mod tests {
     fn event(kind: u64, k: u64) -> Event {
         let e = match kind {
             0 => Event::Input { k: k as u32 },
-            1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k, stamp_b: 0 },
+            1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k as u32, stamp_b: 0 },
             2 => Event::Stop { body: k as u32, stamp: 0 },
             3 => Event::Leave { body: k as u32, stamp: 0 },
-            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, cx: 0, cy: 0, stamp: k },
-            5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k, stamp_b: 0 },
+            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, cx: 0, cy: 0, stamp: k as u32 },
+            5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k as u32, stamp_b: 0 },
             _ => Event::Frame { k: k as i64 },
         };
         assert_eq!(e.kind(), kind);

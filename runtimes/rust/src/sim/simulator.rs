@@ -111,7 +111,8 @@ impl<E: Equations> World<E> {
             b_asleep = b_.asleep;
             for body in [a_, b_] {
                 if !body.fixed && !body.asleep {
-                    w.stamps[body.index()] += 1;
+                    let k = body.index();
+                    w.stamps[k] = w.stamps[k].wrapping_add(1); // Space::bump, the bodies borrowed
                     self.out.state(body)?;
                 }
             }
@@ -161,7 +162,7 @@ impl<E: Equations> World<E> {
         if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
-        self.w.stamps[ai] += 1;
+        self.w.bump(ai);
         self.out.state(&self.w.s.bodies[ai])?;
         self.predict_changed(ai, t)
     }
@@ -187,7 +188,7 @@ impl<E: Equations> World<E> {
         if at_rest(a_, b_, self.w.s.rest_speed) {
             return self.handle_sleep(ai, sup, t);
         }
-        self.w.stamps[ai] += 1;
+        self.w.bump(ai);
         self.out.state(&self.w.s.bodies[ai])?;
         self.predict_changed(ai, t)
     }
@@ -211,7 +212,7 @@ impl<E: Equations> World<E> {
         a_.ay = 0.0;
         a_.asleep = true;
         a_.island = g_island;
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         self.out.sleep(t, a as u32, g as u32, g_island)?;
         self.out.state(&self.w.s.bodies[a])?;
         self.predict_changed(a, t)
@@ -237,7 +238,7 @@ impl<E: Equations> World<E> {
         rebase(&mut self.w.s.bodies[a], t);
         let (sup, edge) = (self.w.s.bodies[a].sup, self.w.s.bodies[a].sup_edge);
         end_support(&mut self.w.s.bodies, a);
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         let a_ = &self.w.s.bodies[a];
         self.out.support_end("leave", t, a_.idx, sup, edge)?;
         self.out.state(a_)?;
@@ -283,7 +284,7 @@ impl<E: Equations> World<E> {
                 b_.asleep = false;
                 b_.ax = b_.fax;
                 b_.ay = b_.fay;
-                self.w.stamps[k] += 1;
+                self.w.bump(k);
                 self.out.state(&self.w.s.bodies[k])?;
             }
         }
@@ -373,7 +374,7 @@ impl<E: Equations> World<E> {
                 self.w.grid.add(a as u32, cx, cy);
             }
         }
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         let body = &self.w.s.bodies[a];
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
@@ -398,7 +399,7 @@ impl<E: Equations> World<E> {
         let body = &mut self.w.s.bodies[a];
         body.gone = true;
         let (large, cx, cy, wcells) = (body.large, body.cx, body.cy, body.wcells);
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         if large {
             self.w.grid.unplace_large(a as u32, wcells);
         } else {
@@ -429,7 +430,7 @@ impl<E: Equations> World<E> {
         let body = &mut self.w.s.bodies[b];
         body.vx = vx;
         body.vy = vy;
-        self.w.stamps[b] += 1;
+        self.w.stamps[b] = self.w.stamps[b].wrapping_add(1); // Space::bump, the body borrowed
         if let Some(cells) = body.wcells {
             self.w.grid.unplace_large(b as u32, Some(cells));
             body.wcells = None;

@@ -51,8 +51,11 @@ impl Stats {
 /// The scene, the bodies' states, the grid.
 pub struct Space {
     pub s: Scene,
-    /// per body, bumped whenever its motion changes (lazy invalidation)
-    pub stamps: Vec<u64>,
+    /// per body, bumped whenever its motion changes (lazy invalidation;
+    /// [`Space::bump`]: wraps after 2^32 changes, so a record would be
+    /// taken for live only if its body changed exactly a multiple of 2^32
+    /// times since it was scheduled)
+    pub stamps: Vec<u32>,
     pub grid: Grid,
     /// whether to fetch the next event's bodies and cells ahead ([`Space::choose_fetch`])
     pub fetch: bool,
@@ -79,6 +82,12 @@ impl Space {
         let mut w = Space { s, stamps, grid, fetch: false };
         w.choose_fetch();
         w
+    }
+
+    /// Body b's motion changed: its queued events are stale.
+    #[inline(always)]
+    pub fn bump(&mut self, b: usize) {
+        self.stamps[b] = self.stamps[b].wrapping_add(1);
     }
 
     /// Whether to fetch ahead, from the bodies' and cells' bytes now (the
