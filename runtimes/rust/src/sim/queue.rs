@@ -261,6 +261,9 @@ pub struct Heap {
 /// Buckets: 16 hex digits of 16 values.
 const BUCKETS: usize = 256;
 
+/// The most records a split fetches ahead at once.
+const SPLIT_AHEAD: usize = 32;
+
 /// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
 /// the highest digit where they differ.  That is at most 255 already; the
 /// mask tells the compiler so, and the buckets (a fixed array) are then
@@ -413,6 +416,16 @@ impl Heap {
         self.mask[w] &= !(1u64 << (k % 64));
         let mut items = std::mem::take(&mut self.buckets[k]);
         self.reached = items.iter().map(|x| x.tb).min().expect("a bucket in the mask has events");
+        // the lowest bucket holds the next events (but those pushed later):
+        // when they are few, have their records fetched now, so that the pops
+        // and peeks that follow (many of stale events, only looked at) do
+        // not wait for each in turn (the C runtime's `advance`)
+        if items.len() <= SPLIT_AHEAD {
+            for x in &items {
+                // wrapping: the address of a hint, never dereferenced
+                prefetch(self.slab.as_ptr().wrapping_add(x.slot()));
+            }
+        }
         // all of them now differ from the time reached in a lower digit
         for &x in &items {
             self.place(x);
