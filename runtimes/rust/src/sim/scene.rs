@@ -64,8 +64,8 @@ impl CosSin {
 /// cache line holds all that a pair of circles that do not orbit needs
 /// (motion at tb, radius), the second the rest of what every pair
 /// prediction and cell crossing reads (angle, orbit, index, cell,
-/// support, the flags), the third the rest of what a collision's handler
-/// reads; polygons, support and sleep read the others.  At 10^5 bodies
+/// support, the flags, how many it carries), the third the rest of what
+/// a collision's handler reads; polygons, support and sleep read the others.  At 10^5 bodies
 /// the records no longer fit the cache: a pair prediction read four lines
 /// of each partner before (docs/throughput.md, session 10).  (Its stamp,
 /// bumped when the motion changes, is in `Space::stamps`.)
@@ -113,6 +113,11 @@ pub struct Body {
     pub gone: bool,
     /// the supporting edge (index into sup's vertices), -1: free
     pub sup_edge: i32,
+    /// how many bodies it carries (their sup is this movable body): read
+    /// by every collision's handler with an impulse (`release`), so here in
+    /// what was line 1's padding (in line 4 it was a miss per body and
+    /// collision at 10^5 disks)
+    pub carry: i32,
     // line 2: what a collision's handler reads besides (contact impulse,
     // support and sleep tests)
     /// 1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -141,12 +146,11 @@ pub struct Body {
     /// m/s^2: free acceleration along the tangent
     pub at: f64,
     /// the island's number (the index of its first sleeper), -1: awake
-    pub island: i64,
+    /// (32 bits, as body indices: the record is then 4 lines, 256 bytes)
+    pub island: i32,
     /// a large body placed in the grid: the cells its box covers (x_lo,
     /// x_hi, y_lo, y_hi), else None (in the grid's `large` list)
     pub wcells: Option<[i32; 4]>,
-    /// how many bodies it carries (their sup is this movable body)
-    pub carry: i64,
 }
 
 /// The layout above: motion and radius in the first line, what every
@@ -154,8 +158,10 @@ pub struct Body {
 const _: () = {
     assert!(std::mem::offset_of!(Body, r) + 8 <= 64);
     assert!(std::mem::offset_of!(Body, sup_edge) + 4 <= 128);
+    assert!(std::mem::offset_of!(Body, carry) + 4 <= 128);
     assert!(std::mem::offset_of!(Body, gone) < 128);
     assert!(std::mem::offset_of!(Body, inv_m) == 128 && std::mem::offset_of!(Body, window) + 8 <= 192);
+    assert!(std::mem::size_of::<Body>() == 256);
 };
 
 impl Body {

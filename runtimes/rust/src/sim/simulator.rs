@@ -200,7 +200,7 @@ impl<E: Equations> World<E> {
     /// fixed.  Its awake neighbours are predicted against it again.
     pub(super) fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
         self.q.stats.sleeps += 1;
-        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
+        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i32 };
         if self.w.s.bodies[a].sup >= 0 {
             end_support(&mut self.w.s.bodies, a);
         }
@@ -303,7 +303,7 @@ impl<E: Equations> World<E> {
 
     /// predict_body for a member of a waking island: a pair of two members
     /// is predicted by the one with the smaller index.
-    fn predict_woken(&mut self, b: usize, now: f64, island: i64) -> Res<()> {
+    fn predict_woken(&mut self, b: usize, now: f64, island: i32) -> Res<()> {
         let (w, q) = (&self.w, &mut self.q);
         let bodies = &w.s.bodies;
         predict_near::<E>(w, q, b, now, |o| !(bodies[o].island == island && o < b))
