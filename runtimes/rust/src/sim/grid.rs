@@ -205,7 +205,7 @@ impl Grid {
         }
         for y in y_lo.max(0)..=y_hi.min(self.ny - 1) {
             let row = (y * self.nx) as usize;
-            for cell in &self.cells[row + x0 as usize..=row + x1 as usize] {
+            for cell in &self.cells[row + x0 as usize..row + x1 as usize + 1] {
                 for &o in &cell.inline[..cell.count().min(CELL_INLINE)] {
                     each(o);
                 }
