@@ -264,6 +264,13 @@ const BUCKETS: usize = 256;
 /// The most records a split fetches ahead at once.
 const SPLIT_AHEAD: usize = 32;
 
+/// An emptied bucket keeps its array only up to this many items (as the C
+/// runtime's queue).  Each bucket's array grows to the most items it ever
+/// held at once, and over a long run most of the 256 fill up in turn to
+/// about the whole queue: kept, the arrays' sum grows with the run's
+/// length; given back, it stays under the queue's peak plus KEEP a bucket.
+const KEEP: usize = 1024;
+
 /// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
 /// the highest digit where they differ.  That is at most 255 already; the
 /// mask tells the compiler so, and the buckets (a fixed array) are then
@@ -430,8 +437,10 @@ impl Heap {
         for &x in &items {
             self.place(x);
         }
-        items.clear();
-        self.buckets[k] = items;
+        if items.capacity() <= KEEP {
+            items.clear();
+            self.buckets[k] = items;
+        }
     }
 
     /// Remove every queued event for which `drop` is true (the stale ones:
@@ -458,6 +467,9 @@ impl Heap {
                 retain_ahead(b, slab, &mut ahead, &mut keep);
                 if b.is_empty() {
                     self.mask[k / 64] &= !(1u64 << (k % 64));
+                    if b.capacity() > KEEP {
+                        *b = Vec::new();
+                    }
                 }
             }
         }
@@ -619,6 +631,8 @@ mod tests {
         for &(t, kind, seq) in &all {
             heap.push(t, event(kind, seq));
         }
+        let widest = |h: &Heap| h.buckets.iter().map(Vec::capacity).max().expect("256 buckets");
+        assert!(widest(&heap) > super::KEEP, "a bucket holds more than KEEP items");
         let mut sorted = all.clone();
         sorted.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap().then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
         for &(t, kind, seq) in &sorted {
@@ -626,6 +640,8 @@ mod tests {
             assert_eq!((e.t, e.ev.kind(), carried(&e.ev)), (t, kind, seq));
         }
         assert!(heap.pop().is_none());
+        // the emptied buckets gave back their arrays of more than KEEP items
+        assert!(widest(&heap) <= super::KEEP, "a bucket keeps {} items' room", widest(&heap));
     }
 
     #[test]
