@@ -61,8 +61,8 @@ pub struct Space {
     pub fetch: bool,
 }
 
-/// Fetching ahead pays where the bodies and cells miss the cache (they
-/// are 3.5 MB at 10^4 disks, 36 MB at 10^5); where they stay in a core's
+/// Fetching ahead pays where the bodies and cells miss the cache (the
+/// gas's are 2.9 MB at 10^4 disks, 29 MB at 10^5); where they stay in a core's
 /// second-level cache it is only its instructions.  So the fetches of
 /// [`Space::prefetch_block`], [`Space::prefetch_neighbours`] and
 /// `World::fetch_next` are made only above this many bytes of bodies and
