@@ -597,7 +597,7 @@ impl<E: Equations> World<E> {
                 end_support(&mut self.w.s.bodies, b);
             }
         }
-        self.w.stamps[b] += 1;
+        self.w.bump(b);
         self.out.state(&self.w.s.bodies[b])?;
         Ok(())
     }

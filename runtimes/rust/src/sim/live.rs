@@ -345,6 +345,7 @@ impl<E: Equations> World<E> {
         let (large, fixed) = (b.large, b.fixed);
         self.w.s.bodies.push(b);
         self.w.stamps.push(0);
+        self.w.choose_fetch();
         self.added += 1;
         self.out.add(t, idx as u32)?;
         if large {

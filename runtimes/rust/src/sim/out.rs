@@ -178,7 +178,7 @@ impl Out {
     }
 
     /// `E sleep T A G -1 -1 ISLAND 0 0 0 0 0`: body a falls asleep on g.
-    pub fn sleep(&mut self, t: f64, a: u32, g: u32, island: i64) -> io::Result<()> {
+    pub fn sleep(&mut self, t: f64, a: u32, g: u32, island: i32) -> io::Result<()> {
         if self.off() {
             return Ok(());
         }
@@ -187,13 +187,13 @@ impl Out {
         self.int(i64::from(a));
         self.int(i64::from(g));
         self.s(" -1 -1");
-        self.int(island);
+        self.int(i64::from(island));
         self.s(" 0 0 0 0 0");
         self.end_line()
     }
 
     /// `E wake T S -1 -1 -1 ISLAND 0 0 0 0 0`: the island of sleeper s wakes.
-    pub fn wake(&mut self, t: f64, s: u32, island: i64) -> io::Result<()> {
+    pub fn wake(&mut self, t: f64, s: u32, island: i32) -> io::Result<()> {
         if self.off() {
             return Ok(());
         }
@@ -201,7 +201,7 @@ impl Out {
         self.num(t);
         self.int(i64::from(s));
         self.s(" -1 -1 -1");
-        self.int(island);
+        self.int(i64::from(island));
         self.s(" 0 0 0 0 0");
         self.end_line()
     }

@@ -799,9 +799,11 @@ pub fn predict_cells<E: Equations>(
     Ok(())
 }
 
-/// Room for the bodies of a 3x3 block of cells (one diameter wide, a
-/// block of disks holds at most about 20; [`predict_cells`] walks the cells
-/// again when they do not fit).
+/// Room for the bodies of a 3x3 block of cells (cells are 1.15 times the
+/// largest movable body wide, docs/simulator.md "Broad phase": the block
+/// is 3.45 diameters square, and equal disks, their centres in it at least
+/// a diameter apart, number about 23 at the densest packing;
+/// [`predict_cells`] walks the cells again when they do not fit).
 const GATHER: usize = 32;
 
 /// predict_cells' step for a body o of the cells.

@@ -12,12 +12,22 @@ pub const CELL: u64 = 4;
 pub const HORIZON: u64 = 5;
 pub const FRAME: u64 = 6;
 
-/// Bits of an entry's key below the kind: the scheduling counter.
-const SEQ_BITS: u32 = 60;
+/// An item's key (`Item`): the kind in its top bits, then SEQ_BITS of
+/// the scheduling counter, then SLOT_BITS of the record's slot.
+const SLOT_BITS: u32 = 28;
+const SEQ_BITS: u32 = 33;
+const KIND_SHIFT: u32 = SLOT_BITS + SEQ_BITS;
+const SLOT_MASK: u64 = (1 << SLOT_BITS) - 1;
+/// Slots: events queued at once.
+const SLOTS: usize = 1 << SLOT_BITS;
+const _: () = assert!(KIND_SHIFT + 3 <= 64, "kind, seq and slot must fit 64 bits");
+const _: () = assert!(std::mem::size_of::<Item>() == 16);
 
 /// What happens at a scheduled time.  Bodies are scene indices; a stamp is
 /// the body's stamp when the event was scheduled (the event is stale when
-/// the body's motion changed since).
+/// the body's motion changed since).  Stamps are 32 bits, as the C
+/// runtime's: a record 8 bytes smaller (a collision's 32, its `Entry` 40)
+/// and the stamps 4 bytes a body, which the stale check reads at random.
 #[derive(Clone, Copy, Debug)]
 pub enum Event {
     /// Scripted input `k` of the scene (never stale).
@@ -25,16 +35,19 @@ pub enum Event {
     /// Feature CC: the circle of `a` against the circle of `b` (j < 0) or
     /// vertex j of `b`; feature PE: the circle of `a` (i < 0) or vertex i of
     /// `a` against edge j of `b`.
-    Collision { a: u32, b: u32, feature: i32, i: i32, j: i32, stamp_a: u64, stamp_b: u64 },
+    Collision { a: u32, b: u32, feature: i32, i: i32, j: i32, stamp_a: u32, stamp_b: u32 },
     /// A sliding supported body's tangential speed reaches zero.
-    Stop { body: u32, stamp: u64 },
+    Stop { body: u32, stamp: u32 },
     /// A supported body's centre, projected on the support's edge, reaches its end.
-    Leave { body: u32, stamp: u64 },
+    Leave { body: u32, stamp: u32 },
     /// The body's centre crosses into the neighbouring cell along `axis`
-    /// (0: x, 1: y) in `direction` (+1 or -1).
-    Cell { body: u32, axis: i32, direction: i32, stamp: u64 },
+    /// (0: x, 1: y) in `direction` (+1 or -1).  (cx, cy): the cell it
+    /// leaves (the body's own while the record is live), only a hint of
+    /// which cells to fetch ahead, never read otherwise (in what were
+    /// padding bytes: a collision's record is the largest).
+    Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u32 },
     /// Predict the pair again (bounding circles meet, or a Taylor window ends).
-    Horizon { a: u32, b: u32, stamp_a: u64, stamp_b: u64 },
+    Horizon { a: u32, b: u32, stamp_a: u32, stamp_b: u32 },
     /// Frame `k`, at k * frame_dt (never stale).
     Frame { k: i64 },
 }
@@ -73,20 +86,20 @@ pub struct Entry {
     pub t: f64,
     pub ev: Event,
 }
+const _: () = assert!(std::mem::size_of::<Entry>() == 40);
 
-/// What the queue orders and moves: 24 bytes instead of a whole 56-byte
-/// `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the bits of t
-/// (`time_bits`), `key`: kind << 60 | seq, so that (tb, key) orders as
-/// Python's (t, kind, seq) tuples (seq is unique, so the order is total);
-/// `slot`: where the record waits; `body`: the event's first body
-/// ([`Event::body`]), in what were padding bytes, so that the next
-/// event's body can be fetched before its record is read.
+/// What the queue orders and moves: 16 bytes (as the C runtime's) instead
+/// of a whole `Entry`, which waits in `Heap::slab` meanwhile.  `tb`: the
+/// bits of t (`time_bits`); `key`: kind, seq and slot (where the record
+/// waits), highest first, so that (tb, key) orders as Python's (t, kind,
+/// seq) tuples (seq is unique, so the order is total and the slot never
+/// decides).  At 10^5 disks the queue holds millions of items, and its
+/// splits and appends were half the simulated last-level misses per event
+/// with 24-byte items.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     tb: u64,
     key: u64,
-    slot: u32,
-    body: u32,
 }
 
 impl Item {
@@ -94,6 +107,12 @@ impl Item {
     #[inline(always)]
     fn order(&self) -> u128 {
         (u128::from(self.tb) << 64) | u128::from(self.key)
+    }
+
+    /// Where the record waits in the slab.
+    #[inline(always)]
+    fn slot(&self) -> usize {
+        (self.key & SLOT_MASK) as usize
     }
 }
 
@@ -215,7 +234,7 @@ pub(super) fn prefetch<T>(p: *const T) {
 /// appended and scanned in order instead of sifted at random, and the pop
 /// order is Python's heapq order on (t, kind, seq) (unique keys: any
 /// correct priority queue gives it), also for an event scheduled a rounding
-/// error before the time reached.  What moves is a 24-byte `Item`; the
+/// error before the time reached.  What moves is a 16-byte `Item`; the
 /// record waits in a slot of `slab`, reused once popped (the C runtime's
 /// queue has the same structure).  `sweep` drops the stale events.
 pub struct Heap {
@@ -224,8 +243,9 @@ pub struct Heap {
     buckets: Box<[Vec<Item>; BUCKETS]>,
     /// bit k % 64 of word k / 64 set: bucket k is not empty
     mask: [u64; BUCKETS / 64],
-    /// the scheduling counter
+    /// the scheduling counter (below `seq_limit`: then renumbered)
     seq: u64,
+    seq_limit: u64,
     /// the records, by slot
     slab: Vec<Entry>,
     /// slots not in use (a stack: the last freed is reused first, while
@@ -233,10 +253,23 @@ pub struct Heap {
     free: Vec<u32>,
     /// events queued
     len: usize,
+    /// times `renumber` ran (the tests check that theirs ran)
+    #[cfg(test)]
+    renumbered: usize,
 }
 
 /// Buckets: 16 hex digits of 16 values.
 const BUCKETS: usize = 256;
+
+/// The most records a split fetches ahead at once.
+const SPLIT_AHEAD: usize = 32;
+
+/// An emptied bucket keeps its array only up to this many items (as the C
+/// runtime's queue).  Each bucket's array grows to the most items it ever
+/// held at once, and over a long run most of the 256 fill up in turn to
+/// about the whole queue: kept, the arrays' sum grows with the run's
+/// length; given back, it stays under the queue's peak plus KEEP a bucket.
+const KEEP: usize = 1024;
 
 /// The bucket of time bits o above `reached`: 16 i + o's hex digit i, i
 /// the highest digit where they differ.  That is at most 255 already; the
@@ -256,9 +289,12 @@ impl Heap {
             buckets: Box::new(std::array::from_fn(|_| Vec::new())),
             mask: [0; BUCKETS / 64],
             seq: 0,
+            seq_limit: 1 << SEQ_BITS,
             slab: Vec::new(),
             free: Vec::new(),
             len: 0,
+            #[cfg(test)]
+            renumbered: 0,
         }
     }
 
@@ -290,7 +326,8 @@ impl Heap {
                 s
             }
             None => {
-                let s = u32::try_from(self.slab.len()).expect("fewer than 2^32 events queued at once");
+                assert!(self.slab.len() < SLOTS, "more than 2^28 events queued at once");
+                let s = self.slab.len() as u32;
                 let grows = self.slab.len() == self.slab.capacity();
                 self.slab.push(e);
                 if grows {
@@ -299,10 +336,45 @@ impl Heap {
                 s
             }
         };
-        let key = (ev.kind() << SEQ_BITS) | self.seq;
+        if self.seq == self.seq_limit {
+            self.renumber();
+        }
+        let key = (ev.kind() << KIND_SHIFT) | (self.seq << SLOT_BITS) | u64::from(slot);
         self.seq += 1;
         self.len += 1;
-        self.place(Item { tb: time_bits(t), key, slot, body: ev.body() });
+        self.place(Item { tb: time_bits(t), key });
+    }
+
+    /// The scheduling counter has run out of its bits: number the queued
+    /// events 0, 1, ... in their order (tb, key).  Two items of the same
+    /// time and kind keep their seq order, and no comparison of time or
+    /// kind changes, so the pop order is the same; the small heap stays a
+    /// heap and each item stays in its bucket (both depend on the order
+    /// and the time only).  Once in 2^33 events.
+    #[cold]
+    #[inline(never)]
+    fn renumber(&mut self) {
+        #[cfg(test)]
+        {
+            self.renumbered += 1;
+        }
+        let mut all: Vec<(u128, u32, u32)> = Vec::with_capacity(self.len);
+        for (k, x) in self.near.v.iter().enumerate() {
+            all.push((x.order(), BUCKETS as u32, k as u32));
+        }
+        for (b, v) in self.buckets.iter().enumerate() {
+            for (k, x) in v.iter().enumerate() {
+                all.push((x.order(), b as u32, k as u32));
+            }
+        }
+        all.sort_unstable_by_key(|e| e.0);
+        for (seq, &(_, b, k)) in all.iter().enumerate() {
+            let x = if b as usize == BUCKETS { &mut self.near.v[k as usize] } else { &mut self.buckets[b as usize][k as usize] };
+            let kind = x.key >> KIND_SHIFT;
+            x.key = (kind << KIND_SHIFT) | ((seq as u64) << SLOT_BITS) | (x.key & SLOT_MASK);
+        }
+        self.seq = all.len() as u64;
+        assert!(self.seq < self.seq_limit, "fewer events queued than seq numbers");
     }
 
     /// The earliest event: smallest t, then kind, then scheduling order.
@@ -310,25 +382,17 @@ impl Heap {
     pub fn pop(&mut self) -> Option<Entry> {
         self.refill();
         let x = self.near.pop()?;
-        let e = self.slab[x.slot as usize];
-        self.free.push(x.slot);
+        let e = self.slab[x.slot()];
+        self.free.push(x.slot() as u32);
         self.len -= 1;
         // find the next event now (events scheduled meanwhile before it go
         // to the small heap, which orders them first) and have its record
         // fetched from memory while this one is handled
         self.refill();
         if let Some(next) = self.near.v.first() {
-            prefetch(&self.slab[next.slot as usize]);
+            prefetch(&self.slab[next.slot()]);
         }
         Some(e)
-    }
-
-    /// The first body of the event that is next as things stand (an event
-    /// scheduled before it meanwhile comes first), u32::MAX for none: to be
-    /// fetched ahead.
-    #[inline(always)]
-    pub fn next_body(&self) -> u32 {
-        self.near.v.first().map_or(u32::MAX, |x| x.body)
     }
 
     /// The earliest event, left queued.
@@ -336,7 +400,7 @@ impl Heap {
     pub fn peek(&mut self) -> Option<&Entry> {
         self.refill();
         let x = self.near.v.first()?;
-        Some(&self.slab[x.slot as usize])
+        Some(&self.slab[x.slot()])
     }
 
     /// When the small heap is empty, move the lowest bucket's events there
@@ -359,12 +423,24 @@ impl Heap {
         self.mask[w] &= !(1u64 << (k % 64));
         let mut items = std::mem::take(&mut self.buckets[k]);
         self.reached = items.iter().map(|x| x.tb).min().expect("a bucket in the mask has events");
+        // the lowest bucket holds the next events (but those pushed later):
+        // when they are few, have their records fetched now, so that the pops
+        // and peeks that follow (many of stale events, only looked at) do
+        // not wait for each in turn (the C runtime's `advance`)
+        if items.len() <= SPLIT_AHEAD {
+            for x in &items {
+                // wrapping: the address of a hint, never dereferenced
+                prefetch(self.slab.as_ptr().wrapping_add(x.slot()));
+            }
+        }
         // all of them now differ from the time reached in a lower digit
         for &x in &items {
             self.place(x);
         }
-        items.clear();
-        self.buckets[k] = items;
+        if items.capacity() <= KEEP {
+            items.clear();
+            self.buckets[k] = items;
+        }
     }
 
     /// Remove every queued event for which `drop` is true (the stale ones:
@@ -377,8 +453,8 @@ impl Heap {
         let (slab, free) = (&self.slab, &mut self.free);
         let mut removed = 0;
         let mut keep = |x: &Item| {
-            if drop(&slab[x.slot as usize]) {
-                free.push(x.slot);
+            if drop(&slab[x.slot()]) {
+                free.push(x.slot() as u32);
                 removed += 1;
                 false
             } else {
@@ -391,6 +467,9 @@ impl Heap {
                 retain_ahead(b, slab, &mut ahead, &mut keep);
                 if b.is_empty() {
                     self.mask[k / 64] &= !(1u64 << (k % 64));
+                    if b.capacity() > KEEP {
+                        *b = Vec::new();
+                    }
                 }
             }
         }
@@ -400,19 +479,20 @@ impl Heap {
 }
 
 /// Vec::retain of the items (`keep` asked about each in order, the kept
-/// ones in their order), with the record of the item AHEAD places on
-/// prefetched and its first body told to `ahead`: the items' records lie
-/// anywhere in the slab, and at 10^5 bodies a sweep otherwise waits for
-/// each in turn.
+/// ones in their order), with the record of the item 2 AHEAD places on
+/// prefetched and the first body of the record AHEAD places on (fetched
+/// AHEAD items before) told to `ahead`: the items' records lie anywhere
+/// in the slab, and at 10^5 bodies a sweep otherwise waits for each in turn.
 fn retain_ahead(v: &mut Vec<Item>, slab: &[Entry], ahead: &mut impl FnMut(u32), keep: &mut impl FnMut(&Item) -> bool) {
     const AHEAD: usize = 8;
     let n = v.len();
     let mut kept = 0;
     for r in 0..n {
+        if r + 2 * AHEAD < n {
+            prefetch(slab.as_ptr().wrapping_add(v[r + 2 * AHEAD].slot()));
+        }
         if r + AHEAD < n {
-            let y = v[r + AHEAD];
-            prefetch(slab.as_ptr().wrapping_add(y.slot as usize));
-            ahead(y.body);
+            ahead(slab[v[r + AHEAD].slot()].ev.body());
         }
         let x = v[r];
         if keep(&x) {
@@ -448,11 +528,11 @@ mod tests {
     fn event(kind: u64, k: u64) -> Event {
         let e = match kind {
             0 => Event::Input { k: k as u32 },
-            1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k, stamp_b: 0 },
+            1 => Event::Collision { a: k as u32, b: 0, feature: 0, i: -1, j: -1, stamp_a: k as u32, stamp_b: 0 },
             2 => Event::Stop { body: k as u32, stamp: 0 },
             3 => Event::Leave { body: k as u32, stamp: 0 },
-            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, stamp: k },
-            5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k, stamp_b: 0 },
+            4 => Event::Cell { body: k as u32, axis: 0, direction: 1, cx: 0, cy: 0, stamp: k as u32 },
+            5 => Event::Horizon { a: k as u32, b: 0, stamp_a: k as u32, stamp_b: 0 },
             _ => Event::Frame { k: k as i64 },
         };
         assert_eq!(e.kind(), kind);
@@ -471,10 +551,31 @@ mod tests {
         }
     }
 
+    /// A queue whose scheduling counter runs out after `limit` events (its
+    /// own: 2^33), so that the tests renumber it many times.
+    fn new_heap(limit: Option<u64>) -> Heap {
+        let mut h = Heap::new();
+        if let Some(l) = limit {
+            h.seq_limit = l;
+        }
+        h
+    }
+
     #[test]
     fn heap_pops_in_time_then_kind_then_seq_order() {
+        pops_in_time_then_kind_then_seq_order(None);
+    }
+
+    #[test]
+    fn renumbered_heap_pops_in_time_then_kind_then_seq_order() {
+        // the counter runs out after 8192 pushes, and again after each
+        // renumbering (of up to about 7000 events queued)
+        pops_in_time_then_kind_then_seq_order(Some(1 << 13));
+    }
+
+    fn pops_in_time_then_kind_then_seq_order(limit: Option<u64>) {
         let mut rng = Rng(12345);
-        let mut heap = Heap::new();
+        let mut heap = new_heap(limit);
         // (t, kind, seq)
         let mut all: Vec<(f64, u64, u64)> = Vec::new();
         let mut pending: Vec<(f64, u64, u64)> = Vec::new();
@@ -521,11 +622,17 @@ mod tests {
             count += 1;
         }
         assert_eq!(count, all.len());
-        // with everything pushed first, the pops are the sorted order
-        let mut heap = Heap::new();
+        if limit.is_some() {
+            assert!(heap.renumbered >= 2, "renumbered {} times", heap.renumbered);
+        }
+        // with everything pushed first, the pops are the sorted order (all
+        // 20,000 queued at once: a counter of 2^15 then, never renumbered)
+        let mut heap = new_heap(limit.map(|_| 1 << 15));
         for &(t, kind, seq) in &all {
             heap.push(t, event(kind, seq));
         }
+        let widest = |h: &Heap| h.buckets.iter().map(Vec::capacity).max().expect("256 buckets");
+        assert!(widest(&heap) > super::KEEP, "a bucket holds more than KEEP items");
         let mut sorted = all.clone();
         sorted.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap().then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
         for &(t, kind, seq) in &sorted {
@@ -533,12 +640,23 @@ mod tests {
             assert_eq!((e.t, e.ev.kind(), carried(&e.ev)), (t, kind, seq));
         }
         assert!(heap.pop().is_none());
+        // the emptied buckets gave back their arrays of more than KEEP items
+        assert!(widest(&heap) <= super::KEEP, "a bucket keeps {} items' room", widest(&heap));
     }
 
     #[test]
     fn sweep_drops_what_it_is_told_and_keeps_the_order_of_the_rest() {
+        sweep_drops_and_keeps_the_order(None);
+    }
+
+    #[test]
+    fn renumbered_sweep_drops_what_it_is_told_and_keeps_the_order_of_the_rest() {
+        sweep_drops_and_keeps_the_order(Some(1 << 14));
+    }
+
+    fn sweep_drops_and_keeps_the_order(limit: Option<u64>) {
         let mut rng = Rng(777);
-        let mut heap = Heap::new();
+        let mut heap = new_heap(limit);
         let mut pending: Vec<(f64, u64, u64)> = Vec::new();
         let mut now = 0.0;
         let mut swept = 0;
@@ -573,6 +691,9 @@ mod tests {
             }
         }
         assert!(swept > 1000, "the sweeps dropped {swept} events");
+        if limit.is_some() {
+            assert!(heap.renumbered >= 1, "renumbered {} times", heap.renumbered);
+        }
         pending.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap().then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
         for &(t, kind, seq) in &pending {
             let e = heap.pop().expect("not empty");

@@ -64,8 +64,8 @@ impl CosSin {
 /// cache line holds all that a pair of circles that do not orbit needs
 /// (motion at tb, radius), the second the rest of what every pair
 /// prediction and cell crossing reads (angle, orbit, index, cell,
-/// support, the flags), the third the rest of what a collision's handler
-/// reads; polygons, support and sleep read the others.  At 10^5 bodies
+/// support, the flags, how many it carries), the third the rest of what
+/// a collision's handler reads; polygons, support and sleep read the others.  At 10^5 bodies
 /// the records no longer fit the cache: a pair prediction read four lines
 /// of each partner before (docs/throughput.md, session 10).  (Its stamp,
 /// bumped when the motion changes, is in `Space::stamps`.)
@@ -113,6 +113,11 @@ pub struct Body {
     pub gone: bool,
     /// the supporting edge (index into sup's vertices), -1: free
     pub sup_edge: i32,
+    /// how many bodies it carries (their sup is this movable body): read
+    /// by every collision's handler with an impulse (`release`), so here in
+    /// what was line 1's padding (in line 4 it was a miss per body and
+    /// collision at 10^5 disks)
+    pub carry: i32,
     // line 2: what a collision's handler reads besides (contact impulse,
     // support and sleep tests)
     /// 1/kg, 1/(kg m^2); 0 for fixed bodies
@@ -141,12 +146,11 @@ pub struct Body {
     /// m/s^2: free acceleration along the tangent
     pub at: f64,
     /// the island's number (the index of its first sleeper), -1: awake
-    pub island: i64,
+    /// (32 bits, as body indices: the record is then 4 lines, 256 bytes)
+    pub island: i32,
     /// a large body placed in the grid: the cells its box covers (x_lo,
     /// x_hi, y_lo, y_hi), else None (in the grid's `large` list)
     pub wcells: Option<[i32; 4]>,
-    /// how many bodies it carries (their sup is this movable body)
-    pub carry: i64,
 }
 
 /// The layout above: motion and radius in the first line, what every
@@ -154,8 +158,10 @@ pub struct Body {
 const _: () = {
     assert!(std::mem::offset_of!(Body, r) + 8 <= 64);
     assert!(std::mem::offset_of!(Body, sup_edge) + 4 <= 128);
+    assert!(std::mem::offset_of!(Body, carry) + 4 <= 128);
     assert!(std::mem::offset_of!(Body, gone) < 128);
     assert!(std::mem::offset_of!(Body, inv_m) == 128 && std::mem::offset_of!(Body, window) + 8 <= 192);
+    assert!(std::mem::size_of::<Body>() == 256);
 };
 
 impl Body {
@@ -236,17 +242,24 @@ pub struct Scene {
 
 /// The whitespace-separated words of a flat text, read in order; `what`
 /// names the text in messages ("scene", "add_body").
-/// The decimal `w` ([-]digits[.digits][e[+-]digits], at most 19
-/// significant digits) as the nearest double, ties to even, as `parse`
-/// reads it; None when it is not of that form or not in the range below
-/// (`parse` then reads it).  With m the digits as an integer and x = m 10^q:
+/// The decimal at the start of `w` ([-]digits[.digits][e[+-]digits], at
+/// most 19 significant digits, read as far as that grammar goes) as the
+/// nearest double, ties to even, as `parse` reads it, and where it stops
+/// (the caller checks that a space or the end follows); None when it has
+/// no digits, more than 19 significant ones, an exponent mark without
+/// digits or with more than 4, or is not in the range below (`parse` then
+/// reads the word).  With m the digits as an integer and x = m 10^q:
 /// when m < 2^53 and |q| <= 22, x is one correctly rounded product or
 /// quotient of two exact doubles; when -22 <= q < 0, the 53-bit quotient
 /// floor(m 2^s / 10^-q) and its remainder are exact in 128 bits and give
 /// the rounding.  The scene's numbers are shortest round-trip decimals (up
 /// to 17 digits): nearly all take one of the two paths.  The C runtime's
-/// m2c_sim_parse_number, step for step.
-pub fn parse_decimal(w: &[u8]) -> Option<f64> {
+/// m2c_sim_parse_number, step for step, and like it in one pass (the
+/// number's end found by its grammar, not by finding the word's end first
+/// and reading the word again: at 10^5 disks the scene's numbers were
+/// half of the start's instructions).
+#[inline(always)]
+fn parse_decimal_prefix(w: &[u8]) -> Option<(f64, usize)> {
     const P10: [f64; 23] = [
         1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
         1e20, 1e21, 1e22,
@@ -292,10 +305,7 @@ pub fn parse_decimal(w: &[u8]) -> Option<f64> {
     if digits == 0 || nsig > 19 {
         return None; // no digits, or m may have wrapped
     }
-    if p < n {
-        if w[p] != b'e' && w[p] != b'E' {
-            return None;
-        }
+    if p < n && (w[p] == b'e' || w[p] == b'E') {
         p += 1;
         let mut eneg = false;
         if p < n && (w[p] == b'+' || w[p] == b'-') {
@@ -311,7 +321,7 @@ pub fn parse_decimal(w: &[u8]) -> Option<f64> {
             e = 10 * e + i32::from(w[p] - b'0');
             p += 1;
         }
-        if ed == 0 || p != n {
+        if ed == 0 {
             return None;
         }
         q += if eneg { -e } else { e };
@@ -353,21 +363,46 @@ pub fn parse_decimal(w: &[u8]) -> Option<f64> {
     } else {
         return None;
     };
-    Some(if neg { -x } else { x })
+    Some((if neg { -x } else { x }, p))
 }
 
+/// The words of `text` separated by ASCII whitespace (what
+/// `str::split_ascii_whitespace` splits on), read from the start.
 pub struct Tokens<'a> {
-    it: std::str::SplitAsciiWhitespace<'a>,
+    text: &'a str,
+    /// where the next word (or the whitespace before it) starts
+    pos: usize,
     what: &'static str,
 }
 
 impl<'a> Tokens<'a> {
     pub fn new(text: &'a str, what: &'static str) -> Tokens<'a> {
-        Tokens { it: text.split_ascii_whitespace(), what }
+        Tokens { text, pos: 0, what }
+    }
+
+    #[inline(always)]
+    fn skip_space(&mut self) {
+        let b = self.text.as_bytes();
+        while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+    }
+
+    /// The next word, None at the end.
+    #[inline]
+    fn word(&mut self) -> Option<&'a str> {
+        self.skip_space();
+        let b = self.text.as_bytes();
+        let start = self.pos;
+        while self.pos < b.len() && !b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        // ASCII bytes bound the word: char boundaries of the text
+        (self.pos > start).then(|| &self.text[start..self.pos])
     }
 
     fn next_word(&mut self, expect: Option<&str>) -> Result<&'a str, String> {
-        self.it.next().ok_or_else(|| match expect {
+        self.word().ok_or_else(|| match expect {
             Some(w) => format!("{}: ends early (expected '{w}')", self.what),
             None => format!("{}: ends early", self.what),
         })
@@ -382,10 +417,17 @@ impl<'a> Tokens<'a> {
     }
 
     fn num(&mut self) -> Result<f64, String> {
-        let w = self.next_word(None)?;
-        if let Some(x) = parse_decimal(w.as_bytes()) {
-            return Ok(x);
+        self.skip_space();
+        let b = &self.text.as_bytes()[self.pos..];
+        if let Some((x, p)) = parse_decimal_prefix(b) {
+            if p == b.len() || b[p].is_ascii_whitespace() {
+                self.pos += p;
+                return Ok(x);
+            }
         }
+        // not a decimal that parse_decimal reads (nor is the whole word,
+        // which starts as the number did and goes on): `parse` reads it
+        let w = self.next_word(None)?;
         w.parse::<f64>().map_err(|_| format!("{}: expected a number, found '{w}'", self.what))
     }
 
@@ -396,7 +438,7 @@ impl<'a> Tokens<'a> {
 
     /// The next word, if any (a text that should have ended).
     pub fn rest(&mut self) -> Option<&'a str> {
-        self.it.next()
+        self.word()
     }
 }
 
@@ -551,7 +593,15 @@ impl Scene {
 
 #[cfg(test)]
 mod tests {
-    use super::parse_decimal;
+    use super::{parse_decimal_prefix, Tokens};
+
+    /// The whole word `w` as parse_decimal_prefix reads it, or None.
+    fn parse_decimal(w: &[u8]) -> Option<f64> {
+        match parse_decimal_prefix(w) {
+            Some((x, p)) if p == w.len() => Some(x),
+            _ => None,
+        }
+    }
 
     /// xorshift64*: reproducible numbers without a dependency.
     struct Rng(u64);
@@ -605,5 +655,46 @@ mod tests {
             check(format!("{s}e{}", (rng.next() % 60) as i32 - 40));
         }
         assert!(fast > total / 4 && fast < total, "{fast} of {total} read without parse");
+    }
+
+    /// Tokens reads a text word by word as split_ascii_whitespace and
+    /// `parse` read it: every number to the same bits, every word that is
+    /// no number to the same error, whatever whitespace separates them
+    /// (numbers followed directly by other characters included).
+    #[test]
+    fn tokens_read_as_split_and_parse_read() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let odd = ["1.5x", "1e", "1e+", "-", ".", "-.e1", "abc", "nan", "inf", "-inf", "1_0", "0x10", "1e99999", "1.5e5e", "+1", "1..2", "9" ];
+        let space = [" ", "  ", "\t", "\n", "\r\n", "\x0c", " \n\t "];
+        for _ in 0..2_000 {
+            let mut text = String::new();
+            if rng.next() % 2 == 0 {
+                text.push_str(space[(rng.next() % space.len() as u64) as usize]);
+            }
+            for k in 0..(1 + rng.next() % 12) {
+                if k > 0 {
+                    text.push_str(space[(rng.next() % space.len() as u64) as usize]);
+                }
+                let u = rng.next();
+                let word = match u % 5 {
+                    0 => odd[(rng.next() % odd.len() as u64) as usize].to_string(),
+                    1 => format!("{:e}", f64::from_bits(rng.next() >> 2)),
+                    2 => format!("{}", (rng.next() % 100_000) as f64 / 64.0 - 700.0),
+                    3 => "9".repeat(1 + (rng.next() % 25) as usize),
+                    _ => format!("{:?}", f64::from_bits(rng.next()) * 0.0 + (rng.next() % 1000) as f64 * 1e-7),
+                };
+                text.push_str(&word);
+            }
+            if rng.next() % 2 == 0 {
+                text.push_str(space[(rng.next() % space.len() as u64) as usize]);
+            }
+            let mut tk = Tokens::new(&text, "t");
+            for w in text.split_ascii_whitespace() {
+                let want = w.parse::<f64>().map(f64::to_bits).map_err(|_| format!("t: expected a number, found '{w}'"));
+                assert_eq!(tk.num().map(f64::to_bits), want, "{text:?}");
+            }
+            assert_eq!(tk.num(), Err("t: ends early".to_string()), "{text:?}");
+            assert_eq!(tk.rest(), None);
+        }
     }
 }

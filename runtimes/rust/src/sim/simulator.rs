@@ -27,6 +27,9 @@ impl<E: Equations> World<E> {
         if self.repeated(t, (ai, bi, feature, i, j)) {
             return self.handle_cluster(t, (ai, bi, feature, i, j));
         }
+        // for predict_body, after the impulse and the trace lines
+        self.w.prefetch_block(ai);
+        self.w.prefetch_block(bi);
         {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             rebase(a_, t);
@@ -91,9 +94,12 @@ impl<E: Equations> World<E> {
         }
         let (a_fixed, b_fixed, a_asleep, b_asleep);
         {
+            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
+            // their cells have come by now; the state lines take a while
+            self.w.prefetch_neighbours(ai);
+            self.w.prefetch_neighbours(bi);
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            self.out.contact("collision", t, a, b, feature, i, j, (cx, cy), (nx, ny), imp)?;
             self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
             // a sleeper still asleep (zero impulse: the bodies graze, the other
             // not pressed onto it) is unchanged; the other is predicted again
@@ -105,7 +111,8 @@ impl<E: Equations> World<E> {
             b_asleep = b_.asleep;
             for body in [a_, b_] {
                 if !body.fixed && !body.asleep {
-                    w.stamps[body.index()] += 1;
+                    let k = body.index();
+                    w.stamps[k] = w.stamps[k].wrapping_add(1); // Space::bump, the bodies borrowed
                     self.out.state(body)?;
                 }
             }
@@ -120,6 +127,7 @@ impl<E: Equations> World<E> {
                 }
             }
         }
+        self.fetch_next();
         if !a_fixed && !a_asleep {
             predict_body::<E>(&self.w, &mut self.q, ai, t, if b_asleep && imp == 0.0 { Some(bi) } else { None })?;
         }
@@ -154,7 +162,7 @@ impl<E: Equations> World<E> {
         if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
             return self.handle_sleep(ai, bi, t);
         }
-        self.w.stamps[ai] += 1;
+        self.w.bump(ai);
         self.out.state(&self.w.s.bodies[ai])?;
         self.predict_changed(ai, t)
     }
@@ -180,7 +188,7 @@ impl<E: Equations> World<E> {
         if at_rest(a_, b_, self.w.s.rest_speed) {
             return self.handle_sleep(ai, sup, t);
         }
-        self.w.stamps[ai] += 1;
+        self.w.bump(ai);
         self.out.state(&self.w.s.bodies[ai])?;
         self.predict_changed(ai, t)
     }
@@ -192,7 +200,7 @@ impl<E: Equations> World<E> {
     /// fixed.  Its awake neighbours are predicted against it again.
     pub(super) fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
         self.q.stats.sleeps += 1;
-        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i64 };
+        let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i32 };
         if self.w.s.bodies[a].sup >= 0 {
             end_support(&mut self.w.s.bodies, a);
         }
@@ -204,7 +212,7 @@ impl<E: Equations> World<E> {
         a_.ay = 0.0;
         a_.asleep = true;
         a_.island = g_island;
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         self.out.sleep(t, a as u32, g as u32, g_island)?;
         self.out.state(&self.w.s.bodies[a])?;
         self.predict_changed(a, t)
@@ -230,7 +238,7 @@ impl<E: Equations> World<E> {
         rebase(&mut self.w.s.bodies[a], t);
         let (sup, edge) = (self.w.s.bodies[a].sup, self.w.s.bodies[a].sup_edge);
         end_support(&mut self.w.s.bodies, a);
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         let a_ = &self.w.s.bodies[a];
         self.out.support_end("leave", t, a_.idx, sup, edge)?;
         self.out.state(a_)?;
@@ -276,7 +284,7 @@ impl<E: Equations> World<E> {
                 b_.asleep = false;
                 b_.ax = b_.fax;
                 b_.ay = b_.fay;
-                self.w.stamps[k] += 1;
+                self.w.bump(k);
                 self.out.state(&self.w.s.bodies[k])?;
             }
         }
@@ -295,7 +303,7 @@ impl<E: Equations> World<E> {
 
     /// predict_body for a member of a waking island: a pair of two members
     /// is predicted by the one with the smaller index.
-    fn predict_woken(&mut self, b: usize, now: f64, island: i64) -> Res<()> {
+    fn predict_woken(&mut self, b: usize, now: f64, island: i32) -> Res<()> {
         let (w, q) = (&self.w, &mut self.q);
         let bodies = &w.s.bodies;
         predict_near::<E>(w, q, b, now, |o| !(bodies[o].island == island && o < b))
@@ -366,7 +374,7 @@ impl<E: Equations> World<E> {
                 self.w.grid.add(a as u32, cx, cy);
             }
         }
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         let body = &self.w.s.bodies[a];
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
@@ -391,7 +399,7 @@ impl<E: Equations> World<E> {
         let body = &mut self.w.s.bodies[a];
         body.gone = true;
         let (large, cx, cy, wcells) = (body.large, body.cx, body.cy, body.wcells);
-        self.w.stamps[a] += 1;
+        self.w.bump(a);
         if large {
             self.w.grid.unplace_large(a as u32, wcells);
         } else {
@@ -422,7 +430,7 @@ impl<E: Equations> World<E> {
         let body = &mut self.w.s.bodies[b];
         body.vx = vx;
         body.vy = vy;
-        self.w.stamps[b] += 1;
+        self.w.stamps[b] = self.w.stamps[b].wrapping_add(1); // Space::bump, the body borrowed
         if let Some(cells) = body.wcells {
             self.w.grid.unplace_large(b as u32, Some(cells));
             body.wcells = None;
@@ -483,7 +491,6 @@ impl<E: Equations> World<E> {
         let a = body as usize;
         let d = i64::from(direction);
         let (cx0, cy0) = (self.w.s.bodies[a].cx, self.w.s.bodies[a].cy);
-        self.w.grid.remove(body, cx0, cy0);
         let (mut cx, mut cy) = (i64::from(cx0), i64::from(cy0));
         let (x_lo, x_hi, y_lo, y_hi);
         if axis == 0 {
@@ -495,11 +502,16 @@ impl<E: Equations> World<E> {
             let row = cy + d;
             (x_lo, x_hi, y_lo, y_hi) = (cx - 1, cx + 1, row, row);
         }
+        // the bodies of the row or column it will predict against (their
+        // cells were fetched with this event): fetched while it changes cells
+        self.w.prefetch_listed(x_lo, x_hi, y_lo, y_hi);
+        self.w.grid.remove(body, cx0, cy0);
         // a cell event moves to a neighbouring cell of the grid
         let b_ = &mut self.w.s.bodies[a];
         b_.cx = cx as i32;
         b_.cy = cy as i32;
         self.w.grid.add(body, cx as i32, cy as i32);
+        self.fetch_next();
         predict_cells::<E>(&self.w, &mut self.q, a, x_lo, x_hi, y_lo, y_hi, t, None, false)?;
         // the walls of the new row or column but those also listed in the
         // two it shares with the old neighbourhood (predicted at its last
@@ -552,7 +564,16 @@ impl<E: Equations> World<E> {
     pub(super) fn start(&mut self) -> Res<()> {
         let (w, q) = (&mut self.w, &mut self.q);
         let n = w.s.bodies.len();
+        // the cells that body b + AHEAD will be added to, and then predicted
+        // against, are fetched while body b is (at 10^5 disks the bodies
+        // are read in order, the cells at random); hints only
+        const AHEAD: usize = 4;
         for b in 0..n {
+            if w.fetch && b + AHEAD < n {
+                let ahead = &w.s.bodies[b + AHEAD];
+                let (cx, cy) = cell_of(&w.s, ahead.px, ahead.py);
+                w.grid.prefetch_cells(i64::from(cx), i64::from(cx), i64::from(cy), i64::from(cy));
+            }
             if !w.s.bodies[b].large {
                 let (cx, cy) = cell_of(&w.s, w.s.bodies[b].px, w.s.bodies[b].py);
                 let body = &mut w.s.bodies[b];
@@ -568,6 +589,9 @@ impl<E: Equations> World<E> {
             q.heap.push(w.s.frame_dt, Event::Frame { k: 1 });
         }
         for b in 0..n {
+            if b + AHEAD < n {
+                w.prefetch_block(b + AHEAD);
+            }
             let body = &w.s.bodies[b];
             if body.large {
                 continue;
@@ -636,6 +660,34 @@ impl<E: Equations> World<E> {
         }
     }
 
+    /// Have the next event's stamps, bodies and (a cell crossing's) cells
+    /// fetched while this one is handled ([`Space::prefetch_event`]), when
+    /// fetching pays.  Stale events at the head (up to 8) are dropped
+    /// first and counted, as the sweep does (a stale event stays stale:
+    /// the same count, the same order of what stays), so that what is
+    /// fetched is the event handled next; events this handler schedules
+    /// later may still come before it (then the fetch was only early).
+    #[inline(never)]
+    pub(super) fn fetch_next(&mut self) {
+        if !self.w.fetch {
+            return;
+        }
+        let end = self.w.s.end;
+        for _ in 0..8 {
+            match self.q.heap.peek() {
+                Some(e) if self.w.is_stale(&e.ev) => {}
+                _ => break,
+            }
+            let e = self.q.heap.pop().expect("peeked");
+            if e.t <= end {
+                self.q.stats.stale += 1;
+            }
+        }
+        if let Some(e) = self.q.heap.peek() {
+            self.w.prefetch_event(&e.ev);
+        }
+    }
+
     /// Handle every queued event before t (inclusive: at t too), in
     /// (t, kind, seq) order, events that handling schedules included.
     pub(super) fn process(&mut self, t: f64, inclusive: bool) -> Res<()> {
@@ -645,7 +697,6 @@ impl<E: Equations> World<E> {
             }
             let e = self.q.heap.pop().expect("peeked");
             self.w.prefetch_bodies(&e.ev);
-            self.w.prefetch_next(self.q.heap.next_body());
             self.dispatch(e.t, e.ev)?;
             self.sweep_if_due();
         }

@@ -51,10 +51,24 @@ impl Stats {
 /// The scene, the bodies' states, the grid.
 pub struct Space {
     pub s: Scene,
-    /// per body, bumped whenever its motion changes (lazy invalidation)
-    pub stamps: Vec<u64>,
+    /// per body, bumped whenever its motion changes (lazy invalidation;
+    /// [`Space::bump`]: wraps after 2^32 changes, so a record would be
+    /// taken for live only if its body changed exactly a multiple of 2^32
+    /// times since it was scheduled)
+    pub stamps: Vec<u32>,
     pub grid: Grid,
+    /// whether to fetch the next event's bodies and cells ahead ([`Space::choose_fetch`])
+    pub fetch: bool,
 }
+
+/// Fetching ahead pays where the bodies and cells miss the cache (the
+/// gas's are 2.9 MB at 10^4 disks, 29 MB at 10^5); where they stay in a core's
+/// second-level cache it is only its instructions.  So the fetches of
+/// [`Space::prefetch_block`], [`Space::prefetch_neighbours`] and
+/// `World::fetch_next` are made only above this many bytes of bodies and
+/// cells (the C runtime's M2C_SIM_FETCH_BYTES, about a core's L2 on the
+/// machine measured).
+const FETCH_BYTES: usize = 1 << 20;
 
 impl Space {
     pub fn new(mut s: Scene) -> Space {
@@ -65,7 +79,22 @@ impl Space {
                 place_large(&mut grid, &mut s, b);
             }
         }
-        Space { s, stamps, grid }
+        let mut w = Space { s, stamps, grid, fetch: false };
+        w.choose_fetch();
+        w
+    }
+
+    /// Body b's motion changed: its queued events are stale.
+    #[inline(always)]
+    pub fn bump(&mut self, b: usize) {
+        self.stamps[b] = self.stamps[b].wrapping_add(1);
+    }
+
+    /// Whether to fetch ahead, from the bodies' and cells' bytes now (the
+    /// scene read, or a body added).
+    pub fn choose_fetch(&mut self) {
+        let bytes = (self.s.bodies.len() + 1) * std::mem::size_of::<Body>() + self.grid.cell_bytes();
+        self.fetch = bytes > FETCH_BYTES;
     }
 
     /// An event whose bodies' motion changed since it was scheduled.
@@ -85,20 +114,6 @@ impl Space {
 }
 
 impl Space {
-    /// Have body b's two hot lines and its stamp fetched (b: the next
-    /// event's first body, [`Heap::next_body`]; u32::MAX: none): an event
-    /// ahead, the fetch has the whole handling of the current one to
-    /// arrive.  A hint only: nothing is read.
-    #[inline(always)]
-    pub fn prefetch_next(&self, b: u32) {
-        if b != u32::MAX {
-            let p = self.s.bodies.as_ptr().wrapping_add(b as usize).cast::<u8>();
-            prefetch(p);
-            prefetch(p.wrapping_add(64));
-            prefetch(self.stamps.as_ptr().wrapping_add(b as usize));
-        }
-    }
-
     /// Have the cache lines of the event's bodies that its handler reads
     /// fetched while the stale check waits for their stamps (at 10^5
     /// bodies they are rarely still in the cache when their event comes):
@@ -125,6 +140,78 @@ impl Space {
             }
             Event::Cell { body, .. } => lines(body, 2),
             _ => {}
+        }
+    }
+
+    /// Have the 3x3 cells around small body b fetched (what predicting it
+    /// reads of the grid), when fetching pays.  A hint only.
+    #[inline(always)]
+    pub fn prefetch_block(&self, b: usize) {
+        let body = &self.s.bodies[b];
+        if self.fetch && !body.large {
+            self.grid.prefetch_block(i64::from(body.cx), i64::from(body.cy));
+        }
+    }
+
+    /// Have the two prediction lines of the bodies listed (inline) in the
+    /// 3x3 cells around small body b fetched, when fetching pays: to be
+    /// asked a while after [`Space::prefetch_block`], when those cells have
+    /// come (reading them is real).  A hint only for the bodies.
+    #[inline(always)]
+    pub fn prefetch_neighbours(&self, b: usize) {
+        let body = &self.s.bodies[b];
+        if self.fetch && !body.large {
+            let (cx, cy) = (i64::from(body.cx), i64::from(body.cy));
+            self.prefetch_listed(cx - 1, cx + 1, cy - 1, cy + 1);
+        }
+    }
+
+    /// The same for the cells x_lo..=x_hi, y_lo..=y_hi (clamped to the grid).
+    #[inline(always)]
+    pub fn prefetch_listed(&self, x_lo: i64, x_hi: i64, y_lo: i64, y_hi: i64) {
+        if self.fetch {
+            let bodies = self.s.bodies.as_ptr();
+            self.grid.each_inline(x_lo, x_hi, y_lo, y_hi, |o| {
+                // wrapping: the address of a hint, never dereferenced
+                let p = bodies.wrapping_add(o as usize).cast::<u8>();
+                prefetch(p);
+                prefetch(p.wrapping_add(64));
+            });
+        }
+    }
+
+    /// Have what the event `ev` (next in the queue) will read fetched: its
+    /// bodies' stamps (the stale check's), a collision's bodies' three
+    /// lines, a cell crossing's body and the cells it leaves, enters and
+    /// predicts against (from the cell its record says it leaves: a hint).
+    #[inline(always)]
+    pub fn prefetch_event(&self, ev: &Event) {
+        let stamps = self.stamps.as_ptr();
+        match *ev {
+            Event::Collision { a, b, .. } => {
+                prefetch(stamps.wrapping_add(a as usize));
+                prefetch(stamps.wrapping_add(b as usize));
+                self.prefetch_bodies(ev);
+            }
+            Event::Horizon { a, b, .. } => {
+                prefetch(stamps.wrapping_add(a as usize));
+                prefetch(stamps.wrapping_add(b as usize));
+            }
+            Event::Cell { body, axis, direction, cx, cy, .. } => {
+                prefetch(stamps.wrapping_add(body as usize));
+                self.prefetch_bodies(ev);
+                let (cx, cy, d) = (i64::from(cx), i64::from(cy), i64::from(direction));
+                let g = &self.grid;
+                if axis == 0 {
+                    g.prefetch_cells(cx, cx + 2 * d, cy, cy);
+                    g.prefetch_cells(cx + 2 * d, cx + 2 * d, cy - 1, cy + 1);
+                } else {
+                    g.prefetch_cells(cx, cx, cy, cy + d);
+                    g.prefetch_cells(cx - 1, cx + 1, cy + 2 * d, cy + 2 * d);
+                }
+            }
+            Event::Stop { body, .. } | Event::Leave { body, .. } => prefetch(stamps.wrapping_add(body as usize)),
+            Event::Input { .. } | Event::Frame { .. } => {}
         }
     }
 }
@@ -170,6 +257,7 @@ impl Queue {
 
     #[inline]
     pub fn push_cell(&mut self, w: &Space, t: f64, b: &Body, axis: i32, direction: i32) {
-        self.heap.push(t, Event::Cell { body: b.idx, axis, direction, stamp: w.stamps[b.index()] });
+        let (cx, cy) = (b.cx, b.cy);
+        self.heap.push(t, Event::Cell { body: b.idx, axis, direction, cx, cy, stamp: w.stamps[b.index()] });
     }
 }
