@@ -947,12 +947,10 @@ static int circles_apart(const double *g, double kappa)
 
 /* The first contact within [0, w] (1 with *out, else 0) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
-static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+static inline __attribute__((always_inline)) int circles_first_args(sim *m, const double *g, double w, double *out)
 {
-    double g[24];
-    cc_args(p1, ra, p2, rb, g);
     double tol = m->s->tol;
-    double kappa = tol * (2.0 * (ra + rb) + tol);
+    double kappa = tol * (2.0 * (g[22] + g[23]) + tol);
     if (circles_apart(g, kappa)) {
         cc_count(m, g);
         return 0;
@@ -960,6 +958,27 @@ static int circles_first(sim *m, const double *p1, double ra, const double *p2, 
     double coef[M2C_MAX_DEGREE + 1];
     int deg = cc_coefficients(m, g, coef);
     return first_contact(coef, deg, w, kappa, NULL, out);
+}
+
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
+    double g[24];
+    cc_args(p1, ra, p2, rb, g);
+    return circles_first_args(m, g, w, out);
+}
+
+/* predict_cc of two circles that do not orbit (orbit 0: neither turns),
+ * with circle_params' values written out: the same 24 parameters, bit for
+ * bit (d = 0 sets the turn and the phase to 0), without its branches and
+ * copies.  Most pairs of a gas are such. */
+static int circles_plain(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, double *out)
+{
+    motion qa = state_at(A, now), qb = state_at(B, now);
+    const double g[24] = { qa.x - qb.x, qa.vx - qb.vx, A->ax - B->ax, A->orbit, 0.0, HALF_PI,
+                           qa.y - qb.y, qa.vy - qb.vy, A->ay - B->ay, 0.0, 0.0,
+                           0.0, 0.0, 0.0, B->orbit, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0,
+                           A->r, B->r };
+    return circles_first_args(m, g, w, out);
 }
 
 /* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
@@ -1272,6 +1291,14 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
         return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
+    if (!A->polygon && !B->polygon && A->orbit == 0.0 && B->orbit == 0.0) {
+        /* two circles that do not turn (turn_rate 0): the loop below takes
+         * one stage, features' predict_cc */
+        double w = s->end - now, t = 0.0;
+        if (w > 0.0 && circles_plain(m, A, B, now, w, &t))
+            push_collision(m, now + t, CC, A, B, -1, -1);
+        return;
+    }
     double ta = turn_rate(A), tb = turn_rate(B);
     int windowed = 0;
     for (int stage = 0; stage < CHAIN; stage++) {
