@@ -1490,6 +1490,27 @@ static inline int keeps(const sim *m, const pair_filter *f, const m2c_sim_body *
     }
 }
 
+/* predict_cells' second step: the pairs of b with the bodies of the n
+ * gathered indices but b and skip that f keeps, in order (their two lines
+ * fetched from memory first, so that the misses overlap). */
+static inline __attribute__((always_inline)) void predict_gathered(sim *m, const m2c_sim_body *b,
+                                                                    const m2c_sim_body *skip, const int32_t *ids,
+                                                                    int n, const m2c_sim_body **cand, double now,
+                                                                    const pair_filter *f)
+{
+    int nc = 0;
+    for (int q = 0; q < n; q++) {
+        const m2c_sim_body *o = &m->bodies[ids[q]];
+        __builtin_prefetch(&o->px);
+        __builtin_prefetch(&o->ang);
+        cand[nc] = o;
+        nc += (o != b) & (o != skip);
+    }
+    for (int q = 0; q < nc; q++)
+        if (keeps(m, f, b, cand[q]))
+            predict_pair(m, b, cand[q], now);
+}
+
 /* Predicts the pairs of b with every body in the cells x_lo..x_hi,
  * y_lo..y_hi (clamped to the grid) that f keeps, in the reference's order:
  * rows, then columns, then each cell's list.  The candidates are gathered
@@ -1509,31 +1530,35 @@ static inline __attribute__((always_inline)) void predict_cells(sim *m, const m2
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x0]);
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x1]);
     }
+    /* A cell's count is a different small number every time, so a loop
+     * over each cell's list mispredicts its exit at nearly every cell: the
+     * indices of a cell that keeps its list inline are copied all six at
+     * once (those past its count are overwritten by the next cell's or
+     * never read), then the bodies are taken from the gathered indices in
+     * one loop, b and skip left out by the count, not by a branch.  The
+     * same candidates in the same order. */
+    int32_t ids[CHUNK];
     const m2c_sim_body *cand[CHUNK];
-    int nc = 0;
+    int ni = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            if (c->cap == 0 && ni + M2C_SIM_CELL_INLINE <= CHUNK) {
+                memcpy(&ids[ni], c->u.in, sizeof c->u.in);
+                ni += c->n;
+                continue;
+            }
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b || o == skip)
-                    continue;
-                __builtin_prefetch(&o->px);
-                __builtin_prefetch(&o->ang);
-                if (nc == CHUNK) {
-                    for (int q = 0; q < nc; q++)
-                        if (keeps(m, f, b, cand[q]))
-                            predict_pair(m, b, cand[q], now);
-                    nc = 0;
+                if (ni == CHUNK) {
+                    predict_gathered(m, b, skip, ids, ni, cand, now, f);
+                    ni = 0;
                 }
-                cand[nc++] = o;
+                ids[ni++] = items[k];
             }
         }
     }
-    for (int q = 0; q < nc; q++)
-        if (keeps(m, f, b, cand[q]))
-            predict_pair(m, b, cand[q], now);
+    predict_gathered(m, b, skip, ids, ni, cand, now, f);
 }
 
 /* The first u in [lo, hi] (s) where p + v u + a u^2 / 2 crosses zero
