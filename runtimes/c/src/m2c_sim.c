@@ -804,7 +804,7 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
 
 /* Counts a circle_circle prediction of these 24 parameters: its variant
  * and the features counter. */
-static void cc_count(sim *m, const double *g)
+static inline __attribute__((always_inline)) void cc_count(sim *m, const double *g)
 {
     int idx = circle_circle_variant(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                     g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21], g[22],
