@@ -379,6 +379,9 @@ struct m2c_world {
     m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
     m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
     m2c_sim_out out;                    /* the trace (out.f NULL: none) */
+    uint64_t time_bits;                 /* the last event time written (put_time), as bits */
+    int time_len;                       /* and its text's length (0: none yet) */
+    char time_text[M2C_SIM_NUMBER_MAX]; /* and its text */
     double now;                         /* s: the time reached */
     double last_t;                      /* s: time of the last event handled (-1 before any) */
     long long same;                     /* events handled at last_t after the first */

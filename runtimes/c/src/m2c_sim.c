@@ -1696,6 +1696,21 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
 
 /* ---- handling events: trace lines and contacts ---------------------------------------- */
 
+/* A time as m2c_sim_put_num writes it.  A collision's E line and its two
+ * S lines write the same time (the bodies' tb is the event's t): the text
+ * of the last one is kept and copied while the bits are the same. */
+static inline char *put_time(sim *m, char *p, double t)
+{
+    uint64_t bits;
+    memcpy(&bits, &t, sizeof bits);
+    if (m->time_len == 0 || bits != m->time_bits) {
+        m->time_len = m2c_sim_format_number(m->time_text, t);
+        m->time_bits = bits;
+    }
+    memcpy(p, m->time_text, M2C_SIM_NUMBER_MAX);      /* a line has room for whole numbers */
+    return p + m->time_len;
+}
+
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
     if (m->out.f == NULL)
@@ -1703,8 +1718,10 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
-    const double v[9] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
-    for (int k = 0; k < 9; k++) {
+    *p++ = ' ';
+    p = put_time(m, p, b->tb);
+    const double v[8] = { b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
+    for (int k = 0; k < 8; k++) {
         *p++ = ' ';
         p = m2c_sim_put_num(p, v[k]);
     }
@@ -2142,7 +2159,7 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
         return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
-    p = m2c_sim_put_num(p, t);
+    p = put_time(m, p, t);
     const long long ints[5] = { A->idx, B->idx, feature, i, j };
     for (int k = 0; k < 5; k++) {
         *p++ = ' ';
