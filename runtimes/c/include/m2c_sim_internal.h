@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "m2c_sim.h"
 #include "m2c_world.h"
@@ -309,8 +310,16 @@ static inline char *m2c_sim_put_str(char *p, const char *s)
     return p;
 }
 
+/* A number as m2c_sim_format_number writes it; +0 (a third of a gas's
+ * numbers: angles, spins, accelerations) written here without the call. */
 static inline char *m2c_sim_put_num(char *p, double x)
 {
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    if (bits == 0) {
+        *p = '0';
+        return p + 1;
+    }
     return p + m2c_sim_format_number(p, x);
 }
 
