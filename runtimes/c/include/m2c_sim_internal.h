@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "m2c_sim.h"
 #include "m2c_world.h"
@@ -309,8 +310,16 @@ static inline char *m2c_sim_put_str(char *p, const char *s)
     return p;
 }
 
+/* A number as m2c_sim_format_number writes it; +0 (a third of a gas's
+ * numbers: angles, spins, accelerations) written here without the call. */
 static inline char *m2c_sim_put_num(char *p, double x)
 {
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    if (bits == 0) {
+        *p = '0';
+        return p + 1;
+    }
     return p + m2c_sim_format_number(p, x);
 }
 
@@ -379,6 +388,9 @@ struct m2c_world {
     m2c_sim_trig *vtrig;                /* per vertex: cos, sin of its phase ang + beta */
     m2c_sim_trig *etrig;                /* per edge: cos, sin of its normal's angle ang + psi */
     m2c_sim_out out;                    /* the trace (out.f NULL: none) */
+    uint64_t time_bits;                 /* the last event time written (put_time), as bits */
+    int time_len;                       /* and its text's length (0: none yet) */
+    char time_text[M2C_SIM_NUMBER_MAX]; /* and its text */
     double now;                         /* s: the time reached */
     double last_t;                      /* s: time of the last event handled (-1 before any) */
     long long same;                     /* events handled at last_t after the first */

@@ -376,9 +376,20 @@ FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_l
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
     int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
+    /* the indices of inline lists gathered by whole copies first (a loop
+     * per cell mispredicts its exit at nearly every cell, as in
+     * predict_cells), then fetched in one loop */
+    enum { ROOM = 9 * M2C_SIM_CELL_INLINE };
+    int32_t ids[ROOM];
+    int ni = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            if (c->cap == 0 && ni + M2C_SIM_CELL_INLINE <= ROOM) {
+                memcpy(&ids[ni], c->u.in, sizeof c->u.in);
+                ni += c->n;
+                continue;
+            }
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n && k < 8; k++) {
                 const m2c_sim_body *o = &m->bodies[items[k]];
@@ -386,6 +397,11 @@ FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_l
                 __builtin_prefetch(&o->ang);
             }
         }
+    }
+    for (int q = 0; q < ni; q++) {
+        const m2c_sim_body *o = &m->bodies[ids[q]];
+        __builtin_prefetch(&o->px);
+        __builtin_prefetch(&o->ang);
     }
 }
 
@@ -788,7 +804,7 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
 
 /* Counts a circle_circle prediction of these 24 parameters: its variant
  * and the features counter. */
-static void cc_count(sim *m, const double *g)
+static inline __attribute__((always_inline)) void cc_count(sim *m, const double *g)
 {
     int idx = circle_circle_variant(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], g[9], g[10], g[11],
                                     g[12], g[13], g[14], g[15], g[16], g[17], g[18], g[19], g[20], g[21], g[22],
@@ -947,12 +963,10 @@ static int circles_apart(const double *g, double kappa)
 
 /* The first contact within [0, w] (1 with *out, else 0) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
-static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+static inline __attribute__((always_inline)) int circles_first_args(sim *m, const double *g, double w, double *out)
 {
-    double g[24];
-    cc_args(p1, ra, p2, rb, g);
     double tol = m->s->tol;
-    double kappa = tol * (2.0 * (ra + rb) + tol);
+    double kappa = tol * (2.0 * (g[22] + g[23]) + tol);
     if (circles_apart(g, kappa)) {
         cc_count(m, g);
         return 0;
@@ -960,6 +974,27 @@ static int circles_first(sim *m, const double *p1, double ra, const double *p2, 
     double coef[M2C_MAX_DEGREE + 1];
     int deg = cc_coefficients(m, g, coef);
     return first_contact(coef, deg, w, kappa, NULL, out);
+}
+
+static int circles_first(sim *m, const double *p1, double ra, const double *p2, double rb, double w, double *out)
+{
+    double g[24];
+    cc_args(p1, ra, p2, rb, g);
+    return circles_first_args(m, g, w, out);
+}
+
+/* predict_cc of two circles that do not orbit (orbit 0: neither turns),
+ * with circle_params' values written out: the same 24 parameters, bit for
+ * bit (d = 0 sets the turn and the phase to 0), without its branches and
+ * copies.  Most pairs of a gas are such. */
+static int circles_plain(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, double *out)
+{
+    motion qa = state_at(A, now), qb = state_at(B, now);
+    const double g[24] = { qa.x - qb.x, qa.vx - qb.vx, A->ax - B->ax, A->orbit, 0.0, HALF_PI,
+                           qa.y - qb.y, qa.vy - qb.vy, A->ay - B->ay, 0.0, 0.0,
+                           0.0, 0.0, 0.0, B->orbit, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0,
+                           A->r, B->r };
+    return circles_first_args(m, g, w, out);
 }
 
 /* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
@@ -1272,6 +1307,14 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
     if ((A->asleep && grounded(B)) || (B->asleep && grounded(A)))
         return;     /* a sleeper against a sleeper or an unmoving fixed body: nothing moves */
     m->stats.pairs++;
+    if (!A->polygon && !B->polygon && A->orbit == 0.0 && B->orbit == 0.0) {
+        /* two circles that do not turn (turn_rate 0): the loop below takes
+         * one stage, features' predict_cc */
+        double w = s->end - now, t = 0.0;
+        if (w > 0.0 && circles_plain(m, A, B, now, w, &t))
+            push_collision(m, now + t, CC, A, B, -1, -1);
+        return;
+    }
     double ta = turn_rate(A), tb = turn_rate(B);
     int windowed = 0;
     for (int stage = 0; stage < CHAIN; stage++) {
@@ -1332,6 +1375,33 @@ static void predict_pair(sim *m, const m2c_sim_body *A, const m2c_sim_body *B, d
 
 /* ---- per body ------------------------------------------------------------------------ */
 
+/* schedule_cell's crossing along one axis of a body without acceleration
+ * there (p, v: its coordinate and speed at tb; i: its cell, of n; the
+ * cells from origin, size wide; h: the margin; u in (ulo, uhi]): only the
+ * boundary ahead in v's direction can be crossed, so it is chosen by
+ * selects rather than by trying both (v's sign is a coin toss for the
+ * branch predictor).  1 with *u and *dir, or 0; the same values as the
+ * loop of schedule_cell. */
+static inline __attribute__((always_inline)) int plain_crossing(double p, double v, int32_t i, int32_t n,
+                                                                 double origin, double size, double h, double ulo,
+                                                                 double uhi, double *u, int *dir)
+{
+    int up = v > 0.0;
+    int ok = (up & (i < n - 1)) | ((v < 0.0) & (i > 0));
+    /* origin + (i + 1) size + h upward, origin + i size - h downward (x - h is x + -h) */
+    double bound = origin + (double)(i + up) * size + (up ? h : -h);
+    double c0 = p - bound;
+    *dir = up ? 1 : -1;
+    if (ulo == 0.0 && c0 * (double)*dir >= 0.0) {
+        *u = 0.0;       /* on the boundary or past it, moving across: at once */
+        return ok;
+    }
+    double r = -c0 / v;
+    *u = r + 0.0;
+    return ok & (fabs(ulo) <= DBL_MAX) & (fabs(uhi) <= DBL_MAX) & (fabs(c0) <= DBL_MAX) & (fabs(v) <= DBL_MAX)
+           & (ulo < r) & (r <= uhi);
+}
+
 /* Schedules b's next crossing of a cell boundary (a root of a quadratic in
  * the body's own time since tb). */
 static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
@@ -1348,6 +1418,19 @@ static void schedule_cell(sim *m, const m2c_sim_body *b, double now)
         h = room;
     int have = 0, baxis = 0, bdir = 0;
     double bu = 0.0;
+    if (b->ax == 0.0 && b->ay == 0.0) {
+        /* no acceleration (a gas): what the loop below does, one axis at a
+         * time, without its branches on the direction of v */
+        double ux = 0.0, uy = 0.0;
+        int dx = 0, dy = 0;
+        int hx = plain_crossing(b->px, b->vx, b->cx, s->nx, s->x0, s->cw, h, ulo, uhi, &ux, &dx);
+        int hy = plain_crossing(b->py, b->vy, b->cy, s->ny, s->y0, s->ch, h, ulo, uhi, &uy, &dy);
+        if (hy && (!hx || uy < ux))
+            push_cell(m, b->tb + uy, b, 1, dy);
+        else if (hx)
+            push_cell(m, b->tb + ux, b, 0, dx);
+        return;
+    }
     for (int axis = 0; axis < 2; axis++) {
         double p, v, a, origin, size;
         int32_t i, n;
@@ -1463,6 +1546,27 @@ static inline int keeps(const sim *m, const pair_filter *f, const m2c_sim_body *
     }
 }
 
+/* predict_cells' second step: the pairs of b with the bodies of the n
+ * gathered indices but b and skip that f keeps, in order (their two lines
+ * fetched from memory first, so that the misses overlap). */
+static inline __attribute__((always_inline)) void predict_gathered(sim *m, const m2c_sim_body *b,
+                                                                    const m2c_sim_body *skip, const int32_t *ids,
+                                                                    int n, const m2c_sim_body **cand, double now,
+                                                                    const pair_filter *f)
+{
+    int nc = 0;
+    for (int q = 0; q < n; q++) {
+        const m2c_sim_body *o = &m->bodies[ids[q]];
+        __builtin_prefetch(&o->px);
+        __builtin_prefetch(&o->ang);
+        cand[nc] = o;
+        nc += (o != b) & (o != skip);
+    }
+    for (int q = 0; q < nc; q++)
+        if (keeps(m, f, b, cand[q]))
+            predict_pair(m, b, cand[q], now);
+}
+
 /* Predicts the pairs of b with every body in the cells x_lo..x_hi,
  * y_lo..y_hi (clamped to the grid) that f keeps, in the reference's order:
  * rows, then columns, then each cell's list.  The candidates are gathered
@@ -1482,31 +1586,35 @@ static inline __attribute__((always_inline)) void predict_cells(sim *m, const m2
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x0]);
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x1]);
     }
+    /* A cell's count is a different small number every time, so a loop
+     * over each cell's list mispredicts its exit at nearly every cell: the
+     * indices of a cell that keeps its list inline are copied all six at
+     * once (those past its count are overwritten by the next cell's or
+     * never read), then the bodies are taken from the gathered indices in
+     * one loop, b and skip left out by the count, not by a branch.  The
+     * same candidates in the same order. */
+    int32_t ids[CHUNK];
     const m2c_sim_body *cand[CHUNK];
-    int nc = 0;
+    int ni = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
+            if (c->cap == 0 && ni + M2C_SIM_CELL_INLINE <= CHUNK) {
+                memcpy(&ids[ni], c->u.in, sizeof c->u.in);
+                ni += c->n;
+                continue;
+            }
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n; k++) {
-                const m2c_sim_body *o = &m->bodies[items[k]];
-                if (o == b || o == skip)
-                    continue;
-                __builtin_prefetch(&o->px);
-                __builtin_prefetch(&o->ang);
-                if (nc == CHUNK) {
-                    for (int q = 0; q < nc; q++)
-                        if (keeps(m, f, b, cand[q]))
-                            predict_pair(m, b, cand[q], now);
-                    nc = 0;
+                if (ni == CHUNK) {
+                    predict_gathered(m, b, skip, ids, ni, cand, now, f);
+                    ni = 0;
                 }
-                cand[nc++] = o;
+                ids[ni++] = items[k];
             }
         }
     }
-    for (int q = 0; q < nc; q++)
-        if (keeps(m, f, b, cand[q]))
-            predict_pair(m, b, cand[q], now);
+    predict_gathered(m, b, skip, ids, ni, cand, now, f);
 }
 
 /* The first u in [lo, hi] (s) where p + v u + a u^2 / 2 crosses zero
@@ -1588,6 +1696,21 @@ static void predict_body(sim *m, const m2c_sim_body *b, double now, const m2c_si
 
 /* ---- handling events: trace lines and contacts ---------------------------------------- */
 
+/* A time as m2c_sim_put_num writes it.  A collision's E line and its two
+ * S lines write the same time (the bodies' tb is the event's t): the text
+ * of the last one is kept and copied while the bits are the same. */
+static inline char *put_time(sim *m, char *p, double t)
+{
+    uint64_t bits;
+    memcpy(&bits, &t, sizeof bits);
+    if (m->time_len == 0 || bits != m->time_bits) {
+        m->time_len = m2c_sim_format_number(m->time_text, t);
+        m->time_bits = bits;
+    }
+    memcpy(p, m->time_text, M2C_SIM_NUMBER_MAX);      /* a line has room for whole numbers */
+    return p + m->time_len;
+}
+
 static void emit_state(sim *m, const m2c_sim_body *b)
 {
     if (m->out.f == NULL)
@@ -1595,8 +1718,10 @@ static void emit_state(sim *m, const m2c_sim_body *b)
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, "S ");
     p = m2c_sim_put_int(p, b->idx);
-    const double v[9] = { b->tb, b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
-    for (int k = 0; k < 9; k++) {
+    *p++ = ' ';
+    p = put_time(m, p, b->tb);
+    const double v[8] = { b->px, b->py, b->vx, b->vy, b->ang, b->om, b->ax, b->ay };
+    for (int k = 0; k < 8; k++) {
         *p++ = ' ';
         p = m2c_sim_put_num(p, v[k]);
     }
@@ -2034,7 +2159,7 @@ static void emit_contact(sim *m, const char *kind, double t, const m2c_sim_body 
         return;     /* no trace: nothing to format */
     char *start = m2c_sim_out_reserve(&m->out), *p = start;
     p = m2c_sim_put_str(p, kind);
-    p = m2c_sim_put_num(p, t);
+    p = put_time(m, p, t);
     const long long ints[5] = { A->idx, B->idx, feature, i, j };
     for (int k = 0; k < 5; k++) {
         *p++ = ' ';

@@ -37,6 +37,15 @@ void m2c_sim_out_free(m2c_sim_out *o)
 
 char *m2c_sim_put_int(char *p, long long v)
 {
+    /* a collision line's feature and vertex indices are 0, 1 or -1 */
+    if (v >= -9 && v <= 9) {
+        if (v < 0) {
+            *p++ = '-';
+            v = -v;
+        }
+        *p++ = (char)('0' + v);
+        return p;
+    }
     char tmp[24];
     int n = 0;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
