@@ -126,9 +126,13 @@ def test_property_known_roots(roots, lo, width, lead, sign):
         # digits); skipping that root would land >= 1e-3 further.
         import mpmath
         with mpmath.workdps(50):
-            exact = mpmath.findroot(lambda x: mpmath.polyval([mpmath.mpf(v) for v in reversed(c)], x),
-                                    mpmath.mpf(isolated[0]))
-        assert abs(exact - isolated[0]) < 1e-4   # the isolated root moved little
+            def p(x):
+                return mpmath.polyval([mpmath.mpf(v) for v in reversed(c)], x)
+            # the bracket of +-5e-4 holds that root alone (the others are
+            # >= 1e-3 away and the rounding moves them by far less)
+            a, b = mpmath.mpf(isolated[0]) - mpmath.mpf("5e-4"), mpmath.mpf(isolated[0]) + mpmath.mpf("5e-4")
+            assert p(a) * p(b) < 0
+            exact = mpmath.findroot(p, (a, b), solver="anderson")
         assert t <= float(exact) + 1e-12 * max(1.0, abs(float(exact)))
 
 
@@ -169,15 +173,22 @@ def test_any_magnitude_classic_quartic():
     assert abs(smallest_root(c, 2.0, 1.7976931348623157e308) - 1e300) <= 1e-12 * 1e300
 
 
+_signed = st.builds(lambda m, s: s * m, st.floats(1e-3, 1e3), st.sampled_from([1.0, -1.0]))
+_coef = st.one_of(st.just(0.0), _signed)
+
+
 @settings(max_examples=300, deadline=None)
-@given(c=st.lists(st.one_of(st.just(0.0), st.floats(-1e3, 1e3, allow_nan=False)), min_size=3, max_size=3),
+@given(c=st.tuples(_coef, _coef, _signed).map(list),
        k=st.integers(-180, 180), lo=st.floats(-4.0, 2.0), width=st.floats(0.01, 6.0))
 def test_property_degree2_fast_path_is_the_scaled_computation(c, k, lo, width):
     """The degree-2 fast path (coefficients between 2^-200 and 2^200, no
-    scaling) returns the bits of the general route (scaling first)."""
+    scaling) returns the bits of the general route (scaling first).  The
+    coefficients are drawn inside that range (1e-3 .. 1e3 in magnitude, or
+    zero, times 2^k; c2 nonzero): filtering a wider draw discarded so many
+    that hypothesis's health check failed on some seeds."""
     from max2code_rt import roots as R
     c = [math.ldexp(v, k) for v in c]
-    assume(c[2] != 0.0 and all(v == 0.0 or 2.0 ** -200 <= abs(v) < 2.0 ** 200 for v in c))
+    assert c[2] != 0.0 and all(v == 0.0 or 2.0 ** -200 <= abs(v) < 2.0 ** 200 for v in c)
     hi = lo + width
     slow = R._solve(c, 2, lo, hi)
     assert smallest_root(c, lo, hi) == (None if slow is None else slow + 0.0)
