@@ -487,22 +487,24 @@ END Quadratic ;
    is written with nonnegative operands only. *)
 PROCEDURE QuadraticScaled (a, b, c: REAL; VAR r: ARRAY OF REAL) : INTEGER ;
 VAR
-   ea, d, s, m, k, i, nr: INTEGER ;
+   ea, eb, ec, d, s, m, k, i, nr: INTEGER ;
 BEGIN
    ea := Exponent (a) ;
+   IF b # 0.0 THEN eb := Exponent (b) ELSE eb := 0 END ;
+   IF c # 0.0 THEN ec := Exponent (c) ELSE ec := 0 END ;
    IF c # 0.0
    THEN
-      d := Exponent (c) - ea ;
+      d := ec - ea ;
       IF d >= 0 THEN s := d DIV 2 ELSE s := -((1 - d) DIV 2) END
    ELSIF b # 0.0
    THEN
-      s := Exponent (b) - ea
+      s := eb - ea
    ELSE
       s := 0
    END ;
    m := ea + 2 * s ;
-   IF (b # 0.0) AND (Exponent (b) + s > m) THEN m := Exponent (b) + s END ;
-   IF (c # 0.0) AND (Exponent (c) > m) THEN m := Exponent (c) END ;
+   IF (b # 0.0) AND (eb + s > m) THEN m := eb + s END ;
+   IF (c # 0.0) AND (ec > m) THEN m := ec END ;
    k := 1 - m ;
    nr := Quadratic (ldexp (a, 2 * s + k), ldexp (b, s + k), ldexp (c, k), r) ;
    FOR i := 0 TO nr - 1 DO

@@ -49,12 +49,13 @@ static int floor_half(int d)
 static int quadratic_scaled(double a, double b, double c, double r[2])
 {
     int ea = m2c_frexp_exp(a);
-    int s = c != 0.0 ? floor_half(m2c_frexp_exp(c) - ea) : b != 0.0 ? m2c_frexp_exp(b) - ea : 0;
+    int eb = b != 0.0 ? m2c_frexp_exp(b) : 0, ec = c != 0.0 ? m2c_frexp_exp(c) : 0;
+    int s = c != 0.0 ? floor_half(ec - ea) : b != 0.0 ? eb - ea : 0;
     int m = ea + 2 * s;
-    if (b != 0.0 && m2c_frexp_exp(b) + s > m)
-        m = m2c_frexp_exp(b) + s;
-    if (c != 0.0 && m2c_frexp_exp(c) > m)
-        m = m2c_frexp_exp(c);
+    if (b != 0.0 && eb + s > m)
+        m = eb + s;
+    if (c != 0.0 && ec > m)
+        m = ec;
     int k = 1 - m;
     int nr = m2c_quadratic(ldexp(a, 2 * s + k), ldexp(b, s + k), ldexp(c, k), r);
     for (int i = 0; i < nr; i++)

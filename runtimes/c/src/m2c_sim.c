@@ -366,6 +366,20 @@ FETCH void fetch_block(const sim *m, const m2c_sim_body *b)
     __builtin_prefetch(&m->wnear[(size_t)b->cy * (size_t)m->s->nx + (size_t)b->cx]);
 }
 
+/* Appends the indices of cell c to ids[*ni] when the cell keeps its list
+ * inline and room is left: all M2C_SIM_CELL_INLINE slots are copied at
+ * once (a loop over the count mispredicts its exit at nearly every cell;
+ * the slots past the count are overwritten by the next cell's or never
+ * read).  1 when done, 0 when the caller walks the list itself. */
+static inline __attribute__((always_inline)) int gather_inline(const m2c_sim_cell *c, int32_t *ids, int *ni, int room)
+{
+    if (c->cap != 0 || *ni + M2C_SIM_CELL_INLINE > room)
+        return 0;
+    memcpy(&ids[*ni], c->u.in, sizeof c->u.in);
+    *ni += c->n;
+    return 1;
+}
+
 /* Fetches the two prediction lines of the bodies listed in the cells
  * x_lo..x_hi, y_lo..y_hi (clamped to the grid; the first 8 of each), whose
  * lists were fetched a while before. */
@@ -376,20 +390,16 @@ FETCH void fetch_bodies_in(const sim *m, int32_t x_lo, int32_t x_hi, int32_t y_l
     const m2c_sim_scene *s = m->s;
     int32_t y0 = y_lo > 0 ? y_lo : 0, y1 = y_hi < s->ny - 1 ? y_hi : s->ny - 1;
     int32_t x0 = x_lo > 0 ? x_lo : 0, x1 = x_hi < s->nx - 1 ? x_hi : s->nx - 1;
-    /* the indices of inline lists gathered by whole copies first (a loop
-     * per cell mispredicts its exit at nearly every cell, as in
-     * predict_cells), then fetched in one loop */
+    /* the indices of inline lists gathered first (gather_inline), then
+     * fetched in one loop */
     enum { ROOM = 9 * M2C_SIM_CELL_INLINE };
     int32_t ids[ROOM];
     int ni = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            if (c->cap == 0 && ni + M2C_SIM_CELL_INLINE <= ROOM) {
-                memcpy(&ids[ni], c->u.in, sizeof c->u.in);
-                ni += c->n;
+            if (gather_inline(c, ids, &ni, ROOM))
                 continue;
-            }
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n && k < 8; k++) {
                 const m2c_sim_body *o = &m->bodies[items[k]];
@@ -1586,24 +1596,18 @@ static inline __attribute__((always_inline)) void predict_cells(sim *m, const m2
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x0]);
         __builtin_prefetch(&m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)x1]);
     }
-    /* A cell's count is a different small number every time, so a loop
-     * over each cell's list mispredicts its exit at nearly every cell: the
-     * indices of a cell that keeps its list inline are copied all six at
-     * once (those past its count are overwritten by the next cell's or
-     * never read), then the bodies are taken from the gathered indices in
-     * one loop, b and skip left out by the count, not by a branch.  The
-     * same candidates in the same order. */
+    /* The indices of inline lists gathered by gather_inline, the others
+     * one by one, then the bodies taken from the gathered indices in one
+     * loop, b and skip left out by the count, not by a branch.  The same
+     * candidates in the same order. */
     int32_t ids[CHUNK];
     const m2c_sim_body *cand[CHUNK];
     int ni = 0;
     for (int32_t jy = y0; jy <= y1; jy++) {
         for (int32_t jx = x0; jx <= x1; jx++) {
             const m2c_sim_cell *c = &m->grid.cells[(size_t)jy * (size_t)s->nx + (size_t)jx];
-            if (c->cap == 0 && ni + M2C_SIM_CELL_INLINE <= CHUNK) {
-                memcpy(&ids[ni], c->u.in, sizeof c->u.in);
-                ni += c->n;
+            if (gather_inline(c, ids, &ni, CHUNK))
                 continue;
-            }
             const int32_t *items = m2c_sim_cell_items(c);
             for (int32_t k = 0; k < c->n; k++) {
                 if (ni == CHUNK) {

@@ -42,9 +42,7 @@ __extension__ typedef unsigned __int128 u128;
 #define SEQ_LIMIT (UINT64_C(1) << M2C_SIM_SEQ_BITS)
 #define KIND_SHIFT (M2C_SIM_SLOT_BITS + M2C_SIM_SEQ_BITS)
 #define AHEAD 32            /* the most records advance fetches at once */
-#ifndef POUR
 #define POUR 16             /* a lowest bucket of this many events or fewer goes to near whole */
-#endif
 
 _Static_assert(KIND_SHIFT + 3 <= 64, "kind, seq and slot must fit 64 bits");
 _Static_assert(M2C_SIM_KINDS <= 8, "the kind has 3 bits");

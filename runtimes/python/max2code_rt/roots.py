@@ -235,7 +235,7 @@ def _unrolled_halley(n: int):
     the coefficients of p' and p''/2 once, the powers x, x^2, x^4, ... once
     per evaluation); an accepted Halley step of at most HALLEY_TOL |x| ends
     it, a Newton step of at most HANDOFF_TOL |x|."""
-    levels = max(1, (n).bit_length())
+    levels = n.bit_length()           # n >= 3: at least two
     pre = [f"    {', '.join(f'a{i}' for i in range(n + 1))}, = a"]
     pre += [f"    da{i} = {float(i + 1)!r} * a{i + 1}" for i in range(n)]
     pre += [f"    ha{i} = {float((i + 1) * (i + 2) // 2)!r} * a{i + 2}" for i in range(n - 1)]
@@ -293,17 +293,19 @@ def _quadratic_scaled(a: float, b: float, c: float) -> list[float]:
     same bits as _quadratic where its products stay normal; where they
     underflow (roots far from 1 with tiny coefficients) the roots are kept."""
     ea = _frexp(a)[1]
+    eb = _frexp(b)[1] if b != 0.0 else 0
+    ec = _frexp(c)[1] if c != 0.0 else 0
     if c != 0.0:
-        s = (_frexp(c)[1] - ea) // 2
+        s = (ec - ea) // 2
     elif b != 0.0:
-        s = _frexp(b)[1] - ea
+        s = eb - ea
     else:
         s = 0
     m = ea + 2 * s
     if b != 0.0:
-        m = max(m, _frexp(b)[1] + s)
+        m = max(m, eb + s)
     if c != 0.0:
-        m = max(m, _frexp(c)[1])
+        m = max(m, ec)
     k = 1 - m
     out = []
     for u in _quadratic(_ldexp(a, 2 * s + k), _ldexp(b, s + k), _ldexp(c, k)):

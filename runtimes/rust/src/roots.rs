@@ -377,19 +377,21 @@ fn polish_halley(a: &[f64], n: usize, mut x: f64, xa: f64, xb: f64) -> f64 {
 /// (roots far from 1 with tiny coefficients) the roots are kept.
 fn quadratic_scaled(a: f64, b: f64, c: f64, r: &mut [f64; 2]) -> usize {
     let ea = frexp_exp(a);
+    let eb = if b != 0.0 { frexp_exp(b) } else { 0 };
+    let ec = if c != 0.0 { frexp_exp(c) } else { 0 };
     let s = if c != 0.0 {
-        (frexp_exp(c) - ea).div_euclid(2)
+        (ec - ea).div_euclid(2)
     } else if b != 0.0 {
-        frexp_exp(b) - ea
+        eb - ea
     } else {
         0
     };
     let mut m = ea + 2 * s;
     if b != 0.0 {
-        m = m.max(frexp_exp(b) + s);
+        m = m.max(eb + s);
     }
     if c != 0.0 {
-        m = m.max(frexp_exp(c));
+        m = m.max(ec);
     }
     let k = 1 - m;
     let nr = quadratic(ldexp(a, 2 * s + k), ldexp(b, s + k), ldexp(c, k), r);
