@@ -98,11 +98,6 @@ class FlatScene(Record):
     __del__ = release
 
 
-def build() -> str:
-    """The shared library's path (TOOL.build)."""
-    return TOOL.build()
-
-
 def library() -> ctypes.PyDLL | None:
     """The loaded library (a PyDLL: its calls keep the interpreter's lock, which
     the interpreter's number conversions it calls need), or None when it

@@ -27,11 +27,6 @@ TOOL = CTool(SOURCE, FLAGS, "trace-json", ctypes.CDLL, [
                                    ctypes.c_int, _long_p, _long_p])])
 
 
-def build() -> str:
-    """The shared library's path (TOOL.build)."""
-    return TOOL.build()
-
-
 def library() -> ctypes.CDLL | None:
     """The loaded library, or None when it cannot be built or loaded (then
     why_not() says why)."""
