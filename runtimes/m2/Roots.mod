@@ -639,7 +639,7 @@ END Variations ;
    the derivative method where the Bernstein signs are unsure. *)
 PROCEDURE General (VAR a: Coeffs; n: INTEGER; lo, hi: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
-   mx, r, cap, w, f, y, pt, e, nf, xl, xr, xm, bm, s, x0, x: REAL ;
+   mx, r, cap, w, f, y, pt, e, nf, xl, xr, xm, bm, x0, x: REAL ;
    b, c: Coeffs ;
    stb: ARRAY [0..BernDepth - 1] OF Coeffs ;
    ste, stl, stu: ARRAY [0..BernDepth - 1] OF REAL ;
