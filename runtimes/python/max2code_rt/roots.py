@@ -793,22 +793,59 @@ def _solve(c: list[float], n: int, lo: float, hi: float) -> float | None:
     return _banded(c, n, j, ue, le, lo, hi)
 
 
-def smallest_root(coeffs, lo: float, hi: float) -> float | None:
-    """Smallest real root t of sum(coeffs[i] * t**i) with lo < t <= hi, or None.
+def _one_scale_lines(n: int) -> list[str]:
+    """Steps 2-5 for degree n (3 <= n) as straight-line code on the locals c0..cn,
+    for the common case: the top coefficient nonzero, every coefficient finite,
+    one scale chosen by the spread (step 4) and a factor 2^(1-e) that is
+    representable (max |c_i| >= 2^-1000).  Its lines return the general
+    method's answer on the scaled coefficients a0..an; any other input falls
+    through to the lines that follow them.  Why it is exactly step 4's choice:
+    with M = max |c_i| = 2^e f and a_i = c_i 2^(1-e) (exact: |a_i| < 2, and a
+    nonzero a_i that underflows fails the test below, as it must), frexp's
+    exponent of c_i is e(c_i) = e(a_i) + e - 1, so spread <= lim - 2
+    (lim = 800 // n) holds iff every nonzero |a_i| >= 2^(2 - lim).  A NaN
+    fails that test (or makes M NaN) and an infinity makes M infinite; zeros
+    are read on c_i, since a tiny c_i can underflow to zero when scaled down."""
+    c = [f"c{i}" for i in range(n + 1)]
+    tl = _ldexp(1.0, 2 - ONE_SCALE_SPAN // n)
+    lines = [f"    if c{n} != 0.0:", "        mx = c0", "        mn = c0"]
+    for i in range(1, n + 1):
+        lines += [f"        if c{i} > mx:", f"            mx = c{i}",
+                  f"        elif c{i} < mn:", f"            mn = c{i}"]
+    lines += ["        if mx < -mn:", "            mx = -mn",
+              "        if SCALE_MIN <= mx < INF:",
+              "            f = POW2[frexp(mx)[1]]"]
+    lines += [f"            a{i} = c{i} * f" for i in range(n + 1)]
+    tests = " and ".join(f"(a{i} >= {tl!r} or a{i} <= {-tl!r} or c{i} == 0.0)" for i in range(n + 1))
+    lines += [f"            if {tests}:",
+              f"                return general([{', '.join(f'a{i}' for i in range(n + 1))}], {n}, lo, hi)"]
+    return lines
 
-    Coefficients ascending, degree 0..16 (see docs/roots.md for the contract)."""
-    lo = float(lo)
-    hi = float(hi)
-    c = [float(v) for v in coeffs]
-    if len(c) > MAX_DEGREE + 1:
-        raise ValueError(f"degree {len(c) - 1} exceeds {MAX_DEGREE}")
-    if not (_isfinite(lo) and _isfinite(hi)) or not (lo < hi):
-        return None
-    n = len(c) - 1
-    if n == 2 and c[2] != 0.0 and _moderate(c[0]) and _moderate(c[1]) and _moderate(c[2]):
-        # fast path: the same bits as scaling first (no intermediate leaves the normal range)
-        t = _quadratic_in(c[2], c[1], c[0], lo, hi)
-        return None if t is None else t + 0.0
+
+def _unrolled_entry(n: int):
+    """(c, lo, hi) -> steps 2-7 for a list c of n + 1 finite-or-not floats,
+    lo < hi finite: the one-scale case of _one_scale_lines, else _stripped."""
+    src = ("def entry(c, lo, hi):\n"
+           f"    {', '.join(f'c{i}' for i in range(n + 1))}, = c\n"
+           + "\n".join(_one_scale_lines(n))
+           + f"\n    return stripped(c, {n}, lo, hi)\n")
+    env = {"SCALE_MIN": _ldexp(1.0, -1000), "INF": math.inf, "POW2": _POW2, "frexp": _frexp,
+           "general": _general, "stripped": _stripped}
+    exec(src, env)
+    return env["entry"]
+
+
+# 2^(1-e) for the exponents e = frexp(M)[1] of step 5's single factor (e >= -999),
+# indexed by e (negative e from the end: the list has 2048 entries)
+_POW2 = [0.0] * 2048
+for _e in range(-999, 1025):
+    _POW2[_e] = _ldexp(1.0, 1 - _e)
+del _e
+
+
+def _stripped(c: list[float], n: int, lo: float, hi: float) -> float | None:
+    """Steps 2-8 for the list c of n + 1 floats (lo < hi finite): None for a
+    NaN or an infinity, the top zeros stripped, then degree 1, or _solve."""
     if not all(map(_isfinite, c)):
         return None
     while n >= 0 and c[n] == 0.0:
@@ -816,9 +853,34 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
     if n <= 0:
         return None
     if n == 1:
-        t = -c[0] / c[1]
+        return -c[0] / c[1]
+    return _solve(c, n, lo, hi)
+
+
+def smallest_root(coeffs, lo: float, hi: float) -> float | None:
+    """Smallest real root t of sum(coeffs[i] * t**i) with lo < t <= hi, or None.
+
+    Coefficients ascending, degree 0..16 (see docs/roots.md for the contract)."""
+    lo = float(lo)
+    hi = float(hi)
+    c = [*map(float, coeffs)]
+    n = len(c) - 1
+    if n > MAX_DEGREE:
+        raise ValueError(f"degree {n} exceeds {MAX_DEGREE}")
+    if not (-_INF < lo < hi < _INF):      # both finite and lo < hi (false for a NaN)
+        return None
+    if n >= 3:
+        t = _ENTRY[n](c, lo, hi)
+    elif n == 2 and c[2] != 0.0 and _moderate(c[0]) and _moderate(c[1]) and _moderate(c[2]):
+        # fast path: the same bits as scaling first (no intermediate leaves the normal range)
+        t = _quadratic_in(c[2], c[1], c[0], lo, hi)
+        return None if t is None else t + 0.0
     else:
-        t = _solve(c, n, lo, hi)
+        t = _stripped(c, n, lo, hi)
     if t is None or not (lo < t <= hi):
         return None
     return t + 0.0
+
+
+_INF = math.inf
+_ENTRY = [None] * 3 + [_unrolled_entry(n) for n in range(3, MAX_DEGREE + 1)]
