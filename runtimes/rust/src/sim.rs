@@ -282,7 +282,7 @@ macro_rules! sim_equations {
             const CC_VARIANTS: usize = $cc::CIRCLE_CIRCLE_VARIANT_NAMES.len();
             const PE_VARIANTS: usize = $pe::POINT_EDGE_VARIANT_NAMES.len();
 
-            #[inline]
+            #[inline(always)]
             fn cc_variant(p: &[f64; 24]) -> i32 {
                 $cc::circle_circle_variant(
                     p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14],
