@@ -138,26 +138,32 @@ impl Grid {
     /// number, or None when they might not fit (then `out` holds a part).
     #[inline]
     pub fn gather(&self, x0: i64, x1: i64, y0: i64, y1: i64, out: &mut [u32]) -> Option<usize> {
-        if x1 < x0 {
+        if x1 < x0 || y1 < y0 {
             return Some(0);
         }
+        // exclusive ranges and a row slice of the width: the inclusive
+        // ones cost a check of their end and of overflow per row
+        let (width, nx) = ((x1 - x0 + 1) as usize, self.nx as usize);
+        let mut lo = y0 as usize * nx + x0 as usize;
         let mut n = 0;
-        for jy in y0..=y1 {
-            let row = (jy * self.nx) as usize;
-            let (lo, hi) = (row + x0 as usize, row + x1 as usize);
-            for (c, cell) in self.cells[lo..=hi].iter().enumerate() {
-                let count = cell.count();
-                if n + count.max(CELL_INLINE) > out.len() {
+        for _ in y0..y1 + 1 {
+            for (c, cell) in self.cells[lo..lo + width].iter().enumerate() {
+                if n + CELL_INLINE > out.len() {
                     return None;
                 }
                 // all three inline words (those past the count are
                 // overwritten next or never read): no loop over the count
                 out[n..n + CELL_INLINE].copy_from_slice(&cell.inline);
+                let count = cell.count();
                 if count > CELL_INLINE {
+                    if n + count > out.len() {
+                        return None;
+                    }
                     out[n + CELL_INLINE..n + count].copy_from_slice(&self.more[lo + c]);
                 }
                 n += count;
             }
+            lo += nx;
         }
         Some(n)
     }
