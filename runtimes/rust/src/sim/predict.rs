@@ -840,15 +840,26 @@ pub fn predict_cells<E: Equations>(
     // a contact with it reads) fetched: at 10^5 bodies they are rarely in
     // the cache, and so their misses overlap instead of each waiting for
     // the pair before it (a hint only, nothing is read)
+    // (a hint only, nothing is read); b, skip and, with only_after, the
+    // bodies up to b are left out by the count, not by a branch (the list
+    // kept in place, in order: a candidate moves only to an earlier slot)
     let (bodies, stamps) = (s.bodies.as_ptr(), w.stamps.as_ptr());
-    for &o in &found[..n] {
+    let skip_o = skip.map_or(u32::MAX, |k| k as u32);
+    let (b_o, after) = (b as u32, if only_after { b as u32 } else { 0 });
+    let mut nc = 0;
+    for k in 0..n.min(GATHER) {
+        let o = found[k];
         let p = bodies.wrapping_add(o as usize).cast::<u8>();
         prefetch(p);
         prefetch(p.wrapping_add(64));
         prefetch(stamps.wrapping_add(o as usize));
+        found[nc & (GATHER - 1)] = o;
+        nc += usize::from((o != b_o) & (o != skip_o) & (!only_after | (o > after)));
     }
-    for &o in &found[..n] {
-        predict_one::<E>(w, q, b, fixed, o as usize, now, skip, only_after)?;
+    for &o in &found[..nc.min(GATHER)] {
+        if !(fixed && s.bodies[o as usize].fixed) {
+            predict_pair::<E>(w, q, b, o as usize, now)?;
+        }
     }
     Ok(())
 }
