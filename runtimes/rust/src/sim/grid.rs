@@ -149,7 +149,8 @@ impl Grid {
         let mut lo = y0 as usize * nx + x0 as usize;
         let mut n = 0;
         for _ in y0..y1 + 1 {
-            for (c, cell) in self.cells[lo..lo + width].iter().enumerate() {
+            for c in lo..lo + width {
+                let cell = &self.cells[c];
                 if n + CELL_INLINE > out.len() {
                     return None;
                 }
@@ -161,7 +162,7 @@ impl Grid {
                     if n + count > out.len() {
                         return None;
                     }
-                    out[n + CELL_INLINE..n + count].copy_from_slice(&self.more[lo + c]);
+                    out[n + CELL_INLINE..n + count].copy_from_slice(&self.more[c]);
                 }
                 n += count;
             }
