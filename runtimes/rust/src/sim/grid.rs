@@ -138,7 +138,7 @@ impl Grid {
     /// when x1 < x0 or y1 < y0) into `out`, in the order of a walk of the
     /// rows, their cells and each cell's list ([`Grid::cell`]); their
     /// number, or None when they might not fit (then `out` holds a part).
-    #[inline]
+    #[inline(always)]
     pub fn gather(&self, x0: i64, x1: i64, y0: i64, y1: i64, out: &mut [u32]) -> Option<usize> {
         if x1 < x0 || y1 < y0 {
             return Some(0);

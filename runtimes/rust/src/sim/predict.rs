@@ -808,6 +808,7 @@ fn clear_root(g: f64, r: f64, q: f64) -> f64 {
 /// Predict body b against the bodies of the cells x_lo..=x_hi, y_lo..=y_hi
 /// (b itself, `skip` and fixed pairs left out).
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn predict_cells<E: Equations>(
     w: &Space,
     q: &mut Queue,
