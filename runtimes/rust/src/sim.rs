@@ -302,7 +302,7 @@ macro_rules! sim_equations {
                 )
             }
 
-            #[inline]
+            #[inline(always)]
             fn cc_coefficients(p: &[f64; 24], c: &mut [f64; $crate::sim::MAX_COEF]) -> Option<usize> {
                 let (degree, k) = $cc::circle_circle_coefficients(
                     p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14],
