@@ -76,7 +76,7 @@ const POW10F: [f64; 121] = [1e-60, 1e-59, 1e-58, 1e-57, 1e-56, 1e-55, 1e-54, 1e-
 /// for v < 10^4, floor(v 103 / 2^10) = v / 10 for v < 100, and no lane's
 /// product reaches the next lane).
 #[inline(always)]
-fn eight_digit_values(x: u32) -> u64 {
+pub(super) fn eight_digit_values(x: u32) -> u64 {
     let v = u64::from(x / 10_000) | (u64::from(x % 10_000) << 32);
     let h = ((v * 10_486) >> 20) & 0x0000_007f_0000_007f;
     let v = h | ((v - h * 100) << 16);
@@ -85,7 +85,7 @@ fn eight_digit_values(x: u32) -> u64 {
 }
 
 /// '0' in every byte.
-const ZEROS: u64 = 0x3030_3030_3030_3030;
+pub(super) const ZEROS: u64 = 0x3030_3030_3030_3030;
 
 /// floor(m 2^e 10^p) and whether rounding to nearest (ties to even) goes
 /// up, exactly; None when the intermediate values would not fit 128 bits.
@@ -250,6 +250,14 @@ pub fn push_spaced_g17(out: &mut Vec<u8>, x: f64) {
 #[inline(never)]
 fn push_spaced_g17_written(out: &mut Vec<u8>, x: f64) {
     push_g17_at(out, x, true, true);
+}
+
+/// A space and `x` formatted as `%.17g` in `line` (at most 26 bytes); the
+/// length.
+#[inline(never)]
+pub fn spaced_g17(line: &mut [u8; 48], x: f64) -> usize {
+    line[0] = b' ';
+    write_g17(line, 1, x, true)
 }
 
 #[cfg(test)]

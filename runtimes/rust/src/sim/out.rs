@@ -5,7 +5,7 @@
 use std::fmt;
 use std::io::{self, Write};
 
-use super::g17::push_spaced_g17;
+use super::g17::{eight_digit_values, push_spaced_g17, spaced_g17, ZEROS};
 use super::scene::Body;
 
 /// Why the simulator stopped or refused a call: a stuck or bad scene, or a
@@ -40,12 +40,17 @@ pub type Res<T> = Result<T, SimError>;
 pub struct Out {
     buf: Vec<u8>,
     sink: Option<Box<dyn Write>>,
+    /// The last time written by `time` (its bits), as ` %.17g` in
+    /// `time_text[..time_len]` (`time_len` 0: none yet).
+    time_bits: u64,
+    time_len: usize,
+    time_text: [u8; 48],
 }
 
 impl Out {
     pub fn new(sink: Option<Box<dyn Write>>) -> Out {
         let cap = if sink.is_some() { 1 << 17 } else { 0 };
-        Out { buf: Vec::with_capacity(cap), sink }
+        Out { buf: Vec::with_capacity(cap), sink, time_bits: 0, time_len: 0, time_text: [0; 48] }
     }
 
     /// No sink: nothing is written.
@@ -64,11 +69,55 @@ impl Out {
         push_spaced_g17(&mut self.buf, x);
     }
 
+    /// ` T`, a time as `num` writes it.  A collision's E line and its two S
+    /// lines write the same time (the bodies' tb is the event's t): the
+    /// text of the last one is kept and copied while the bits are the same.
+    #[inline]
+    fn time(&mut self, t: f64) {
+        let bits = t.to_bits();
+        if self.time_len == 0 || bits != self.time_bits {
+            self.time_len = spaced_g17(&mut self.time_text, t);
+            self.time_bits = bits;
+        }
+        let at = self.buf.len();
+        self.buf.extend_from_slice(&self.time_text[..32]);
+        self.buf.truncate(at + self.time_len);
+    }
+
     /// ` K` (an integer as `%d` writes it), built in a fixed buffer and
     /// appended as 24 bytes cut back to its length: a copy of variable
-    /// length would be a call of memcpy (five per collision line).
-    #[inline]
+    /// length would be a call of memcpy (five per collision line).  From
+    /// -9 to 9 (a collision's feature and vertices, -1 without) as 4
+    /// constant bytes cut back, without the digit loop.
+    #[inline(always)]
     fn int(&mut self, k: i64) {
+        if (-9..=9).contains(&k) {
+            let neg = k < 0;
+            let digit = b'0' + k.unsigned_abs() as u8;
+            let at = self.buf.len();
+            self.buf.extend_from_slice(&if neg { [b' ', b'-', digit, b' '] } else { [b' ', digit, b' ', b' '] });
+            self.buf.truncate(at + 2 + usize::from(neg));
+        } else if k.unsigned_abs() < 100_000_000 {
+            // the eight digits in one word, the first in its lowest byte:
+            // the leading zeros shifted out, the rest cut off
+            let neg = k < 0;
+            let v = eight_digit_values(k.unsigned_abs() as u32);
+            let lead = (v.trailing_zeros() / 8) as usize;
+            let mut d = [b' '; 16];
+            d[1] = b'-';
+            let s = 1 + usize::from(neg);
+            d[s..s + 8].copy_from_slice(&((v >> (8 * lead)) + ZEROS).to_le_bytes());
+            let at = self.buf.len();
+            self.buf.extend_from_slice(&d);
+            self.buf.truncate(at + s + 8 - lead);
+        } else {
+            self.int_digits(k);
+        }
+    }
+
+    /// `int` of any k, by its digits.
+    #[inline(never)]
+    fn int_digits(&mut self, k: i64) {
         let mut u = k.unsigned_abs();
         let mut digits = 1;
         let mut p = 10u64;
@@ -132,7 +181,7 @@ impl Out {
         }
         self.s("E ");
         self.s(word);
-        self.num(t);
+        self.time(t);
         self.int(i64::from(a));
         self.int(i64::from(b));
         self.int(i64::from(feature));
@@ -237,7 +286,7 @@ impl Out {
         }
         self.s("S");
         self.int(i64::from(b.idx));
-        self.num(b.tb);
+        self.time(b.tb);
         self.num(b.px);
         self.num(b.py);
         self.num(b.vx);
@@ -308,7 +357,21 @@ impl Drop for Out {
 
 #[cfg(test)]
 mod tests {
+    use super::super::g17::push_spaced_g17;
     use super::Out;
+
+    #[test]
+    fn time_writes_what_num_writes_also_when_kept() {
+        let mut out = Out::new(None);
+        let mut want = Vec::new();
+        // repeats (kept text), a zero of either sign (the same as 0.0 in
+        // ==, not in bits), lengths that shrink and grow
+        for t in [0.5, 0.5, 0.0, -0.0, -0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0, 2.0, 1e-300, 1e-300, 0.5] {
+            out.time(t);
+            push_spaced_g17(&mut want, t);
+        }
+        assert_eq!(String::from_utf8_lossy(&out.buf), String::from_utf8_lossy(&want));
+    }
 
     #[test]
     fn int_writes_what_percent_d_writes() {

@@ -149,18 +149,61 @@ fn predict_cc<E: Equations>(
     circles_first::<E>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
 }
 
+/// predict_cc of two circles that do not orbit (orbit 0: neither turns),
+/// with circle_params' values written out: the same 24 parameters, bit for
+/// bit (d = 0 sets the turn and the phase to 0), without its branches and
+/// copies.  Most pairs of a gas are such.
+#[inline(always)]
+fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+    let (xa, ya, vxa, vya, _) = state_at(a_, now);
+    let (xb, yb, vxb, vyb, _) = state_at(b_, now);
+    let args = [
+        xa - xb,
+        vxa - vxb,
+        a_.ax - b_.ax,
+        a_.orbit,
+        0.0,
+        HALF_PI,
+        ya - yb,
+        vya - vyb,
+        a_.ay - b_.ay,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        b_.orbit,
+        0.0,
+        HALF_PI,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        a_.r,
+        b_.r,
+    ];
+    circles_first_args::<E>(w, q, &args, win)
+}
+
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
 fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
-    let args = cc_args(pa, ra, pb, rb);
+    circles_first_args::<E>(w, q, &cc_args(pa, ra, pb, rb), win)
+}
+
+/// circles_first of circle_circle's 24 parameters (cc_args).
+#[inline(always)]
+fn circles_first_args<E: Equations>(w: &Space, q: &mut Queue, args: &[f64; 24], win: f64) -> Res<Option<f64>> {
+    let (ra, rb) = (args[22], args[23]);
     let tol = w.s.tol;
     let kappa = tol * (2.0 * (ra + rb) + tol);
-    if circles_apart(&args, kappa) {
-        cc_count::<E>(q, &args)?;
+    if circles_apart(args, kappa) {
+        cc_count::<E>(q, args)?;
         return Ok(None);
     }
     let mut coef = [0.0; MAX_COEF];
-    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
+    let deg = cc_coefficients::<E>(q, args, &mut coef)?;
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
@@ -565,6 +608,17 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         return Ok(());
     }
     q.stats.pairs += 1;
+    if !a_.polygon && !b_.polygon && a_.orbit == 0.0 && b_.orbit == 0.0 {
+        // two circles that do not turn (turn_rate 0): the loop below takes
+        // one stage, features' predict_cc
+        let win = s.end - now;
+        if win > 0.0 {
+            if let Some(t) = circles_plain::<E>(w, q, a_, b_, now, win)? {
+                q.push_collision(w, now + t, CC, a_, b_, -1, -1);
+            }
+        }
+        return Ok(());
+    }
     let (ta, tb) = (turn_rate(a_), turn_rate(b_));
     let mut now = now;
     let mut windowed = false;
@@ -754,6 +808,7 @@ fn clear_root(g: f64, r: f64, q: f64) -> f64 {
 /// Predict body b against the bodies of the cells x_lo..=x_hi, y_lo..=y_hi
 /// (b itself, `skip` and fixed pairs left out).
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn predict_cells<E: Equations>(
     w: &Space,
     q: &mut Queue,
@@ -786,15 +841,26 @@ pub fn predict_cells<E: Equations>(
     // a contact with it reads) fetched: at 10^5 bodies they are rarely in
     // the cache, and so their misses overlap instead of each waiting for
     // the pair before it (a hint only, nothing is read)
+    // (a hint only, nothing is read); b, skip and, with only_after, the
+    // bodies up to b are left out by the count, not by a branch (the list
+    // kept in place, in order: a candidate moves only to an earlier slot)
     let (bodies, stamps) = (s.bodies.as_ptr(), w.stamps.as_ptr());
-    for &o in &found[..n] {
+    let skip_o = skip.map_or(u32::MAX, |k| k as u32);
+    let (b_o, after) = (b as u32, if only_after { b as u32 } else { 0 });
+    let mut nc = 0;
+    for k in 0..n.min(GATHER) {
+        let o = found[k];
         let p = bodies.wrapping_add(o as usize).cast::<u8>();
         prefetch(p);
         prefetch(p.wrapping_add(64));
         prefetch(stamps.wrapping_add(o as usize));
+        found[nc & (GATHER - 1)] = o;
+        nc += usize::from((o != b_o) & (o != skip_o) & (!only_after | (o > after)));
     }
-    for &o in &found[..n] {
-        predict_one::<E>(w, q, b, fixed, o as usize, now, skip, only_after)?;
+    for &o in &found[..nc.min(GATHER)] {
+        if !(fixed && s.bodies[o as usize].fixed) {
+            predict_pair::<E>(w, q, b, o as usize, now)?;
+        }
     }
     Ok(())
 }

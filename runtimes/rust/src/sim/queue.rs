@@ -264,6 +264,11 @@ const BUCKETS: usize = 256;
 /// The most records a split fetches ahead at once.
 const SPLIT_AHEAD: usize = 32;
 
+/// A lowest bucket of this many events or fewer goes to the small heap
+/// whole (as the C runtime's queue): a few events would otherwise go down
+/// the digits one split at a time.
+const POUR: usize = 16;
+
 /// An emptied bucket keeps its array only up to this many items (as the C
 /// runtime's queue).  Each bucket's array grows to the most items it ever
 /// held at once, and over a long run most of the 256 fill up in turn to
@@ -422,24 +427,48 @@ impl Heap {
         let k = 64 * w + self.mask[w].trailing_zeros() as usize;
         self.mask[w] &= !(1u64 << (k % 64));
         let mut items = std::mem::take(&mut self.buckets[k]);
-        self.reached = items.iter().map(|x| x.tb).min().expect("a bucket in the mask has events");
+        if items.len() <= POUR {
+            // few events: all of them to the small heap, and the time
+            // reached to the highest time the bucket can hold (its digits
+            // above i, then j, then all ones): every other bucket's events
+            // are later than that and stay where they are (their highest
+            // digit that differs from it, and their digit there, are those
+            // they had)
+            let i = k >> 4;
+            let below = (1u64 << (4 * i)) - 1;
+            let above = if i == 15 { 0 } else { !((16u64 << (4 * i)) - 1) };
+            self.reached = (self.reached & above) | (((k & 15) as u64) << (4 * i)) | below;
+            for &x in &items {
+                prefetch(self.slab.as_ptr().wrapping_add(x.slot()));
+                self.near.push(x);
+            }
+        } else {
+            self.reached = items.iter().map(|x| x.tb).min().expect("a bucket in the mask has events");
+            self.split(&items);
+        }
+        if items.capacity() <= KEEP {
+            items.clear();
+            self.buckets[k] = items;
+        }
+    }
+
+    /// split_lowest's move of the lowest bucket's items (more than POUR),
+    /// `reached` their earliest time: to the small heap or lower buckets.
+    #[inline(always)]
+    fn split(&mut self, items: &[Item]) {
         // the lowest bucket holds the next events (but those pushed later):
         // when they are few, have their records fetched now, so that the pops
         // and peeks that follow (many of stale events, only looked at) do
         // not wait for each in turn (the C runtime's `advance`)
         if items.len() <= SPLIT_AHEAD {
-            for x in &items {
+            for x in items {
                 // wrapping: the address of a hint, never dereferenced
                 prefetch(self.slab.as_ptr().wrapping_add(x.slot()));
             }
         }
         // all of them now differ from the time reached in a lower digit
-        for &x in &items {
+        for &x in items {
             self.place(x);
-        }
-        if items.capacity() <= KEEP {
-            items.clear();
-            self.buckets[k] = items;
         }
     }
 

@@ -2,7 +2,7 @@
 //! stamps, grid) and the queue a prediction writes (events, counters).
 //! Two values, so that a prediction borrows the world and the queue apart.
 
-use super::grid::{place_large, Grid};
+use super::grid::{place_large, Grid, INLINE_IDS};
 use super::queue::{prefetch, Event, Heap};
 use super::scene::{Body, Scene};
 
@@ -171,12 +171,14 @@ impl Space {
     pub fn prefetch_listed(&self, x_lo: i64, x_hi: i64, y_lo: i64, y_hi: i64) {
         if self.fetch {
             let bodies = self.s.bodies.as_ptr();
-            self.grid.each_inline(x_lo, x_hi, y_lo, y_hi, |o| {
+            let mut ids = [0u32; INLINE_IDS];
+            let n = self.grid.inline_ids(x_lo, x_hi, y_lo, y_hi, &mut ids);
+            for &o in &ids[..n] {
                 // wrapping: the address of a hint, never dereferenced
                 let p = bodies.wrapping_add(o as usize).cast::<u8>();
                 prefetch(p);
                 prefetch(p.wrapping_add(64));
-            });
+            }
         }
     }
 
