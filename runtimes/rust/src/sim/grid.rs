@@ -379,26 +379,37 @@ pub fn cell_of(s: &Scene, x: f64, y: f64) -> (i32, i32) {
 mod tests {
     use super::{CellList, Grid, CELL_INLINE, INLINE_IDS, WALLS_NEAR};
 
-    #[test]
-    fn cell_list_is_a_python_list_with_last_into_the_hole() {
-        // xorshift64*: reproducible numbers without a dependency
-        let mut state = 777u64;
-        let mut next = || {
+    /// A grid of nx x ny empty cells, no walls, no large bodies.
+    fn empty_grid(nx: i64, ny: i64) -> Grid {
+        let n = (nx * ny) as usize;
+        Grid {
+            cells: vec![CellList::default(); n],
+            more: vec![Vec::new(); n],
+            nx,
+            ny,
+            walls: vec![Vec::new(); n],
+            wnear: vec![0; n],
+            large: Vec::new(),
+        }
+    }
+
+    /// Marsaglia's xorshift64* from seed: the tests' reproducible numbers.
+    fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+        let mut state = seed;
+        move || {
             state ^= state >> 12;
             state ^= state << 25;
             state ^= state >> 27;
             state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        };
+        }
+    }
+
+    #[test]
+    fn cell_list_is_a_python_list_with_last_into_the_hole() {
+        // xorshift64*: reproducible numbers without a dependency
+        let mut next = xorshift(777);
         // a grid of one row of three cells; the middle one is exercised
-        let mut grid = Grid {
-            cells: vec![CellList::default(); 3],
-            more: vec![Vec::new(); 3],
-            nx: 3,
-            ny: 1,
-            walls: vec![Vec::new(); 3],
-            wnear: vec![0; 3],
-            large: Vec::new(),
-        };
+        let mut grid = empty_grid(3, 1);
         let mut model: Vec<u32> = Vec::new();
         let mut fresh = 0u32;
         for _ in 0..50_000 {
@@ -433,15 +444,7 @@ mod tests {
     fn inline_ids_are_the_first_bodies_of_each_cell_in_order() {
         let (nx, ny) = (4i64, 4i64);
         let n = (nx * ny) as usize;
-        let mut grid = Grid {
-            cells: vec![CellList::default(); n],
-            more: vec![Vec::new(); n],
-            nx,
-            ny,
-            walls: vec![Vec::new(); n],
-            wnear: vec![0; n],
-            large: Vec::new(),
-        };
+        let mut grid = empty_grid(nx, ny);
         // 0 to 5 bodies a cell (some past the inline ones), walls near some
         let mut fresh = 0u32;
         for k in 0..n {
@@ -473,24 +476,10 @@ mod tests {
 
     #[test]
     fn gather_walks_the_block_as_the_cells_do() {
-        let mut state = 4242u64;
-        let mut next = move || {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        };
+        let mut next = xorshift(4242);
         let (nx, ny) = (5i64, 4i64);
         let n = (nx * ny) as usize;
-        let mut grid = Grid {
-            cells: vec![CellList::default(); n],
-            more: vec![Vec::new(); n],
-            nx,
-            ny,
-            walls: vec![Vec::new(); n],
-            wnear: vec![0; n],
-            large: Vec::new(),
-        };
+        let mut grid = empty_grid(nx, ny);
         let mut fresh = 0u32;
         let (mut fitted, mut spilled, mut overflowed) = (0, 0, 0);
         for round in 0..2000 {

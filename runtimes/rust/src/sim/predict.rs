@@ -149,19 +149,19 @@ fn predict_cc<E: Equations>(
     circles_first::<E>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
 }
 
-/// predict_cc of two circles that do not orbit (orbit 0: neither turns),
-/// with circle_params' values written out: the same 24 parameters, bit for
-/// bit (d = 0 sets the turn and the phase to 0), without its branches and
-/// copies.  Most pairs of a gas are such.
+/// circle_circle's 24 parameters for two bodies that do not turn:
+/// circle_params' values written out (d = 0 sets the turn and the phase to
+/// 0), with (oa, ob) in the orbit-radius slots (the bodies' orbits, or 0.0
+/// for bounding circles) and (ra, rb) the circles' radii.
 #[inline(always)]
-fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+fn plain_args(a_: &Body, b_: &Body, now: f64, (oa, ob): (f64, f64), (ra, rb): (f64, f64)) -> [f64; 24] {
     let (xa, ya, vxa, vya, _) = state_at(a_, now);
     let (xb, yb, vxb, vyb, _) = state_at(b_, now);
-    let args = [
+    [
         xa - xb,
         vxa - vxb,
         a_.ax - b_.ax,
-        a_.orbit,
+        oa,
         0.0,
         HALF_PI,
         ya - yb,
@@ -172,7 +172,7 @@ fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, n
         0.0,
         0.0,
         0.0,
-        b_.orbit,
+        ob,
         0.0,
         HALF_PI,
         0.0,
@@ -180,9 +180,18 @@ fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, n
         0.0,
         0.0,
         0.0,
-        a_.r,
-        b_.r,
-    ];
+        ra,
+        rb,
+    ]
+}
+
+/// predict_cc of two circles that do not orbit (orbit 0: neither turns),
+/// with circle_params' values written out: the same 24 parameters, bit for
+/// bit (d = 0 sets the turn and the phase to 0), without its branches and
+/// copies.  Most pairs of a gas are such.
+#[inline(always)]
+fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+    let args = plain_args(a_, b_, now, (a_.orbit, b_.orbit), (a_.r, b_.r));
     circles_first_args::<E>(w, q, &args, win)
 }
 
@@ -469,34 +478,7 @@ fn better(best: Option<Best>, t: Option<f64>, feat: i32, a: usize, b: usize, i: 
 /// overlap or touch now (within the tolerance), None when they do not meet
 /// (exact: bounding circles do not turn).
 fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
-    let (x1, y1, u1, v1, _) = state_at(a_, now);
-    let (x2, y2, u2, v2, _) = state_at(b_, now);
-    let args = [
-        x1 - x2,
-        u1 - u2,
-        a_.ax - b_.ax,
-        0.0,
-        0.0,
-        HALF_PI,
-        y1 - y2,
-        v1 - v2,
-        a_.ay - b_.ay,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        HALF_PI,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        a_.bound,
-        b_.bound,
-    ];
+    let args = plain_args(a_, b_, now, (0.0, 0.0), (a_.bound, b_.bound));
     let mut coef = [0.0; MAX_COEF];
     let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
     let tol = w.s.tol;
