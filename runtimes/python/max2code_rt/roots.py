@@ -806,7 +806,6 @@ def _one_scale_lines(n: int) -> list[str]:
     (lim = 800 // n) holds iff every nonzero |a_i| >= 2^(2 - lim).  A NaN
     fails that test (or makes M NaN) and an infinity makes M infinite; zeros
     are read on c_i, since a tiny c_i can underflow to zero when scaled down."""
-    c = [f"c{i}" for i in range(n + 1)]
     tl = _ldexp(1.0, 2 - ONE_SCALE_SPAN // n)
     lines = [f"    if c{n} != 0.0:", "        mx = c0", "        mn = c0"]
     for i in range(1, n + 1):

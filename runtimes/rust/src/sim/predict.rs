@@ -822,10 +822,11 @@ pub fn predict_cells<E: Equations>(
     // first have every partner's two lines and its stamp (which scheduling
     // a contact with it reads) fetched: at 10^5 bodies they are rarely in
     // the cache, and so their misses overlap instead of each waiting for
-    // the pair before it (a hint only, nothing is read)
-    // (a hint only, nothing is read); b, skip and, with only_after, the
-    // bodies up to b are left out by the count, not by a branch (the list
-    // kept in place, in order: a candidate moves only to an earlier slot)
+    // the pair before it (a hint only, nothing is read); b, skip and, with
+    // only_after, the bodies up to b are left out by the count, not by a
+    // branch (the list kept in place, in order: a candidate moves only to
+    // an earlier slot).  n <= GATHER (gather's room) and nc <= k: the
+    // `min`s and the mask only let the compiler drop the bounds checks.
     let (bodies, stamps) = (s.bodies.as_ptr(), w.stamps.as_ptr());
     let skip_o = skip.map_or(u32::MAX, |k| k as u32);
     let (b_o, after) = (b as u32, if only_after { b as u32 } else { 0 });
@@ -853,6 +854,7 @@ pub fn predict_cells<E: Equations>(
 /// a diameter apart, number about 23 at the densest packing;
 /// [`predict_cells`] walks the cells again when they do not fit).
 const GATHER: usize = 32;
+const _: () = assert!(GATHER.is_power_of_two(), "predict_cells masks with GATHER - 1");
 
 /// predict_cells' step for a body o of the cells.
 #[allow(clippy::too_many_arguments)]
