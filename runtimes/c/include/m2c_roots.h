@@ -138,9 +138,49 @@ one:
     return 1;
 }
 
+/* Degrees 3 and 4 with lo >= 0 and hi >= 2^-250 (docs/roots.md step 1,
+ * "lo >= 0" (c)): 1 when p has no root in [0, hi], shown by its Bernstein
+ * coefficients there (weighted sums of t_i = c_i hi^i) all beyond
+ * m = 2^-46 (|t_0| + ... + |t_n|) + 2^-900 with one sign: m is 16 times
+ * their rounding error, so the exact ones share that sign (hi >= 2^-250
+ * keeps hi^n normal: an underflowed power would lose c_i hi^n whole).
+ * Steps 2-8 answer none for each such p; this answers it sooner (half the
+ * benchmark's cubics: 36 -> 15 cycles).  0 when not shown (also for a NaN,
+ * an infinity or an overflow: a comparison with NaN or with an infinite m
+ * is false).  p(0) and p(hi) of opposite signs, the usual case when there
+ * is a root, are tested first, so that those calls pay little. */
+M2C_X_INLINE int m2c_x_no_root3(const double *c, double hi)
+{
+    double h2 = hi * hi;
+    double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi);
+    double b3 = (t0 + t1) + (t2 + t3);
+    if ((t0 < 0.0) != (b3 < 0.0))
+        return 0;
+    double m = 0x1p-46 * ((fabs(t0) + fabs(t1)) + (fabs(t2) + fabs(t3))) + 0x1p-900;
+    double b1 = t0 + t1 * (1.0 / 3.0);
+    double b2 = (t0 + t1 * (2.0 / 3.0)) + t2 * (1.0 / 3.0);
+    return ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m)) | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m));
+}
+
+M2C_X_INLINE int m2c_x_no_root4(const double *c, double hi)
+{
+    double h2 = hi * hi;
+    double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi), t4 = c[4] * (h2 * h2);
+    double b4 = ((t0 + t1) + (t2 + t3)) + t4;
+    if ((t0 < 0.0) != (b4 < 0.0))
+        return 0;
+    double m = 0x1p-46 * (((fabs(t0) + fabs(t1)) + (fabs(t2) + fabs(t3))) + fabs(t4)) + 0x1p-900;
+    double b1 = t0 + t1 * 0.25;
+    double b2 = (t0 + t1 * 0.5) + t2 * (1.0 / 6.0);
+    double b3 = (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25);
+    return ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m) & (b4 > m)) |
+           ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m) & (b4 < -m));
+}
+
 /* m2c_smallest_root up to its first call: the degree-2 fast path, degrees
- * 3 to 8 with nothing to strip straight to their copy of the general
- * method, the rest to m2c_x_general. */
+ * 3 and 4 with lo >= 0 and no root in [0, hi] answered at once, degrees 3
+ * to 8 with nothing to strip straight to their copy of the general method,
+ * the rest to m2c_x_general. */
 M2C_X_INLINE int m2c_x_entry(const double *c, int degree, double lo, double hi, double *t)
 {
     if (degree == 2 && c != 0 && t != 0) {
@@ -153,6 +193,10 @@ M2C_X_INLINE int m2c_x_entry(const double *c, int degree, double lo, double hi, 
         if (m2c_x_admit2(c0, c1, c2, w))
             return m2c_x_quadratic_fast(c0, c1, c2, lo, hi, t);
     }
+    if (degree == 3 && c != 0 && t != 0 && lo >= 0.0 && hi >= 0x1p-250 && m2c_x_no_root3(c, hi))
+        return 0;
+    if (degree == 4 && c != 0 && t != 0 && lo >= 0.0 && hi >= 0x1p-250 && m2c_x_no_root4(c, hi))
+        return 0;
     if (degree >= 3 && degree <= 8 && c != 0 && t != 0 && c[degree] != 0.0) {
         double w = hi - lo;
         if ((w > 0.0) & (w <= DBL_MAX))

@@ -480,6 +480,51 @@ fn admit2(c0: f64, c1: f64, c2: f64, w: f64) -> bool {
     ok & (c0.abs() + c1.abs() + c2.abs() < TWO_200)
 }
 
+/// Degrees 3 and 4 with lo >= 0 and hi >= 2^-250 (docs/roots.md step 1,
+/// "lo >= 0" (c)): true when p has no root in [0, hi], shown by its Bernstein
+/// coefficients there (weighted sums of t_i = c_i hi^i) all beyond
+/// m = 2^-46 (|t_0| + ... + |t_n|) + 2^-900 with one sign: m is 16 times their
+/// rounding error, so the exact ones share that sign (hi >= 2^-250 keeps hi^n
+/// normal: an underflowed power would lose c_i hi^n whole).  Steps 2-8 answer
+/// none for each such p; this answers it sooner.  False when not shown (also
+/// for a NaN, an infinity or an overflow: a comparison with NaN or with an
+/// infinite m is false).  p(0) and p(hi) of opposite signs, the usual case
+/// when there is a root, are tested first, so that those calls pay little.
+#[inline(always)]
+fn no_root3(c: &[f64], hi: f64) -> bool {
+    let h2 = hi * hi;
+    let (t0, t1, t2, t3) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi));
+    let b3 = (t0 + t1) + (t2 + t3);
+    if (t0 < 0.0) != (b3 < 0.0) {
+        return false;
+    }
+    let m = TWO_M46 * ((t0.abs() + t1.abs()) + (t2.abs() + t3.abs())) + TWO_M900;
+    let b1 = t0 + t1 * (1.0 / 3.0);
+    let b2 = (t0 + t1 * (2.0 / 3.0)) + t2 * (1.0 / 3.0);
+    ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m)) | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m))
+}
+
+/// `no_root3` for degree 4.
+#[inline(always)]
+fn no_root4(c: &[f64], hi: f64) -> bool {
+    let h2 = hi * hi;
+    let (t0, t1, t2, t3, t4) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi), c[4] * (h2 * h2));
+    let b4 = ((t0 + t1) + (t2 + t3)) + t4;
+    if (t0 < 0.0) != (b4 < 0.0) {
+        return false;
+    }
+    let m = TWO_M46 * (((t0.abs() + t1.abs()) + (t2.abs() + t3.abs())) + t4.abs()) + TWO_M900;
+    let b1 = t0 + t1 * 0.25;
+    let b2 = (t0 + t1 * 0.5) + t2 * (1.0 / 6.0);
+    let b3 = (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25);
+    ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m) & (b4 > m))
+        | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m) & (b4 < -m))
+}
+
+const TWO_M46: f64 = 1.4210854715202004e-14; // 2^-46 exactly
+const TWO_M250: f64 = 5.527147875260445e-76; // 2^-250 exactly
+const TWO_M900: f64 = 1.1830521861667747e-271; // 2^-900 exactly
+
 /// The degree-2 fast path (step 1; admitted by `admit2`): the first root in
 /// (lo, hi] as `quadratic_in` finds it (step 6), never -0.0.  With lo >= 0
 /// (docs/roots.md step 1, "lo >= 0"; the entry has already answered none
@@ -1064,6 +1109,12 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
         // both finite, exactly when hi - lo is positive and finite (an overflow
         // only sends the call to the general path)
         return quadratic_fast(c[0], c[1], c[2], lo, hi);
+    }
+    if c.len() == 4 && (lo >= 0.0) & (hi >= TWO_M250) && no_root3(c, hi) {
+        return None; // no root in [0, hi] (docs/roots.md step 1, "lo >= 0" (c))
+    }
+    if c.len() == 5 && (lo >= 0.0) & (hi >= TWO_M250) && no_root4(c, hi) {
+        return None;
     }
     smallest_root_general(c, lo, hi)
 }
