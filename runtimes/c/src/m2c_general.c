@@ -305,10 +305,11 @@ M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *
         uint64_t u;
         memcpy(&u, &c[i], sizeof u);
         u &= 0x7fffffffffffffffu;
-        uint64_t uz = u == 0 ? UINT64_MAX : u;
+        uint64_t uz = u - 1; /* a zero wraps to the top: the minimum skips it */
         umax = u > umax ? u : umax;
         umin = uz < umin ? uz : umin;
     }
+    umin += 1; /* c[n] != 0: some u is nonzero */
     if (umax >= 0x7ff0000000000000u)
         return 0;
     double mx, mn;

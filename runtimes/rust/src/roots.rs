@@ -985,10 +985,11 @@ fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     let mut umin = u64::MAX;
     for i in 0..n + 1 {
         let u = c[i].to_bits() & 0x7fff_ffff_ffff_ffff;
-        let uz = if u == 0 { u64::MAX } else { u };
+        let uz = u.wrapping_sub(1); // a zero wraps to the top: the minimum skips it
         umax = if u > umax { u } else { umax };
         umin = if uz < umin { uz } else { umin };
     }
+    let umin = umin.wrapping_add(1); // c[N] != 0: some u is nonzero
     if umax >= 0x7ff0_0000_0000_0000 {
         return None;
     }
