@@ -325,11 +325,17 @@ M2C_INLINE int solve_impl(const double *c, int n, double lo, double hi, double *
         int lim = M2C_ONE_SCALE_SPAN / n;
         if (n == 2 || !(ue <= lim && le >= -lim))
             return m2c_banded(c, n, j, ue, le, lo, hi, t);
+        /* one scale for a wide spread: top coefficients may underflow */
+        double a[M2C_MAX_DEGREE + 1];
+        int n2 = m2c_scale_max(c, n, mx, a);
+        if (n2 != n)
+            return n2 > 0 && m2c_scaled_any(a, n2, lo, hi, t);
+        return scaled_impl(a, n, lo, hi, t);
     }
+    /* the spread bounds every nonzero |a_i| below by 2^-(spread + 1) >= 2^-901:
+     * nothing underflows */
     double a[M2C_MAX_DEGREE + 1];
-    int n2 = m2c_scale_max(c, n, mx, a);
-    if (n2 != n) /* top coefficients underflowed in the scaling (not with these spreads) */
-        return n2 > 0 && m2c_scaled_any(a, n2, lo, hi, t);
+    m2c_scale_pow2(c, n, mx, a);
     return scaled_impl(a, n, lo, hi, t);
 }
 

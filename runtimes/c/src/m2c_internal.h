@@ -386,10 +386,9 @@ M2C_INLINE int m2c_frexp_exp(double x)
     return field - 1022;
 }
 
-/* a[0..] = c[0..n] times the power of two that puts m = max |c_i| in
- * [1, 2); returns the degree left after dropping top coefficients that
- * underflowed. */
-M2C_INLINE int m2c_scale_max(const double *c, int n, double m, double *a)
+/* a[0..n] = c[0..n] times the power of two that puts m = max |c_i| in
+ * [1, 2) (exact while the products stay normal). */
+M2C_INLINE void m2c_scale_pow2(const double *c, int n, double m, double *a)
 {
     int k = 1 - m2c_frexp_exp(m);
     if (k > 1000) {
@@ -408,6 +407,13 @@ M2C_INLINE int m2c_scale_max(const double *c, int n, double m, double *a)
     M2C_UNROLL
     for (int i = 0; i <= n; i++)
         a[i] = a[i] * f;
+}
+
+/* m2c_scale_pow2; returns the degree left after dropping top coefficients
+ * that underflowed. */
+M2C_INLINE int m2c_scale_max(const double *c, int n, double m, double *a)
+{
+    m2c_scale_pow2(c, n, m, a);
     while (n >= 0 && a[n] == 0.0) /* underflowed to zero in the scaling */
         n--;
     return n;
