@@ -149,8 +149,20 @@ one:
  * an infinity or an overflow: a comparison with NaN or with an infinite m
  * is false).  p(0) and p(hi) of opposite signs, the usual case when there
  * is a root, are tested first, so that those calls pay little. */
+/* GCC 12 (-O3 with LTO) warns that c[1..4] may be uninitialised when a
+ * caller fills c up to a degree it computes (m2c_sim.c's bounds_meet), and
+ * a diagnostic pragma does not reach LTO's inlining: the empty asm hides
+ * where c points (no instruction; the entry reads only c[0..degree], which
+ * the contract requires set). */
+#if defined(__GNUC__)
+#define M2C_X_OPAQUE(p) __asm__("" : "+r"(p))
+#else
+#define M2C_X_OPAQUE(p) ((void)0)
+#endif
+
 M2C_X_INLINE int m2c_x_no_root3(const double *c, double hi)
 {
+    M2C_X_OPAQUE(c);
     double h2 = hi * hi;
     double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi);
     double b3 = (t0 + t1) + (t2 + t3);
@@ -164,6 +176,7 @@ M2C_X_INLINE int m2c_x_no_root3(const double *c, double hi)
 
 M2C_X_INLINE int m2c_x_no_root4(const double *c, double hi)
 {
+    M2C_X_OPAQUE(c);
     double h2 = hi * hi;
     double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi), t4 = c[4] * (h2 * h2);
     double b4 = ((t0 + t1) + (t2 + t3)) + t4;
