@@ -1140,8 +1140,9 @@ END QuadraticExact ;
    [0, hi] (docs/roots.md step 1, "lo >= 0" (c)). FALSE says nothing.
    The t_i are c_i hi^i, the b_j the Bernstein coefficients (weights C(j,i)/C(3,i));
    their rounding is below 2^-50 sum |t_i|, m is 16 times that (NoneRel).
-   The sum's bits below infinity's: every t_i and b_j finite, so gm2's
-   comparisons (x > m may be NOT (x <= m), true for a NaN) see no NaN. *)
+   gm2 may compile x > m as NOT (x <= m), true for a NaN; harmless: with finite
+   c_i and hi >= 2^-250 no t_i is NaN, so m is finite or inf, and t0 = c0
+   (finite) is never beyond inf; a NaN or infinite input answers none anyway. *)
 PROCEDURE NoRoot3 (t0, c1, c2, c3, hi: REAL) : BOOLEAN ;
 VAR
    h2, t1, t2, t3, b1, b2, b3, s, m: REAL ;
@@ -1154,7 +1155,6 @@ BEGIN
    (* p(0), p(hi) of opposite signs: the usual case with a root, tested first *)
    IF (t0 < 0.0) # (b3 < 0.0) THEN RETURN FALSE END ;
    s := (ABS (t0) + ABS (t1)) + (ABS (t2) + ABS (t3)) ;
-   IF CAST (LONGCARD, s) >= InfBits THEN RETURN FALSE END ;
    m := NoneRel * s + NoneAbs ;
    b1 := t0 + t1 * Third ;
    b2 := (t0 + t1 * TwoThirds) + t2 * Third ;
@@ -1179,7 +1179,6 @@ BEGIN
    b4 := ((t0 + t1) + (t2 + t3)) + t4 ;
    IF (t0 < 0.0) # (b4 < 0.0) THEN RETURN FALSE END ;
    s := ((ABS (t0) + ABS (t1)) + (ABS (t2) + ABS (t3))) + ABS (t4) ;
-   IF CAST (LONGCARD, s) >= InfBits THEN RETURN FALSE END ;
    m := NoneRel * s + NoneAbs ;
    b1 := t0 + t1 * 0.25 ;
    b2 := (t0 + t1 * 0.5) + t2 * Sixth ;
