@@ -869,12 +869,11 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
     if not (-_INF < lo < hi < _INF):      # both finite and lo < hi (false for a NaN)
         return None
     if n >= 3:
-        if n == 3:
-            if lo >= 0.0 and hi >= _HI_MIN and _no_root3(c[0], c[1], c[2], c[3], hi):
-                return None
-        elif n == 4:
-            if lo >= 0.0 and hi >= _HI_MIN and _no_root4(c[0], c[1], c[2], c[3], c[4], hi):
-                return None
+        # degrees 3, 4 with lo >= 0: most windows without a root answer none here
+        # (docs/roots.md step 1, "lo >= 0" (c)); n < 5 first: degrees 6, 8 pay one test
+        if n < 5 and lo >= 0.0 and hi >= _HI_MIN and (
+                _no_root3(c[0], c[1], c[2], c[3], hi) if n == 3 else _no_root4(c[0], c[1], c[2], c[3], c[4], hi)):
+            return None
         t = _ENTRY[n](c, lo, hi)
     elif n == 2 and c[2] != 0.0 and _moderate(c[0]) and _moderate(c[1]) and _moderate(c[2]):
         # fast path: the same bits as scaling first (no intermediate leaves the normal range)
