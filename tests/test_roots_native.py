@@ -127,3 +127,87 @@ def test_quadratic_shortcuts_same_bits(tmp_path):
         assert not bad, (cmd, len(bad), bad[:3])
     answered = sum(e.split()[1] != "none" for e in expect)
     assert 0.2 * len(cases) < answered < 0.8 * len(cases)  # both answers are well represented
+
+
+def _poly_from_roots(roots, quad, scale):
+    """Ascending coefficients of scale * prod(t - r) * (t^2 + quad[0] t + quad[1] if quad)."""
+    c = [scale]
+    for r in roots:
+        c = [(c[i - 1] if i else 0.0) - r * (c[i] if i < len(c) else 0.0) for i in range(len(c) + 1)]
+    if quad:
+        p, q = quad
+        c = [(c[i - 2] if i >= 2 else 0.0) + p * (c[i - 1] if 1 <= i <= len(c) else 0.0)
+             + q * (c[i] if i < len(c) else 0.0) for i in range(len(c) + 2)]
+    return c
+
+
+def _no_root_test_cases(count: int, seed: int = 15) -> list[tuple[list[float], float, float]]:
+    """Cubics and quartics aimed at the edge of degrees 3 and 4's no-root test
+    (docs/roots.md step 1, "lo >= 0" (c)): a root just below 0 or just above hi,
+    double roots inside, roots at -0.0, 0 and hi, complex pairs near the window,
+    magnitudes 2^-500..2^500, hi 2^-40..2^40 (and below 2^-250, where hi^n
+    underflows), lo = 0, -0.0 and inside, overflowing c_i hi^i, zero coefficients."""
+    rng = random.Random(seed)
+    cases = []
+    for k in range(count):
+        n = 3 + k % 2
+        hi = rng.uniform(1.0, 2.0) * 2.0 ** rng.randint(-40, 40)
+        kind = rng.randrange(9)
+        eps = 2.0 ** -rng.randint(1, 52)
+        near = [-hi * eps, hi * (1.0 + eps), -hi * rng.uniform(0.0, 3.0), hi * rng.uniform(1.0, 5.0)]
+        roots = [rng.choice(near) for _ in range(n)]
+        quad = None
+        if kind == 0:            # a double root inside the window, the rest outside
+            r = hi * rng.uniform(0.01, 0.99)
+            roots[:2] = [r, r]
+        elif kind == 1:          # a root at 0, -0.0 or hi
+            roots[0] = rng.choice([0.0, -0.0, hi])
+        elif kind == 2:          # a complex pair near the window (no real root there)
+            roots = roots[:n - 2]
+            x = hi * rng.uniform(-0.5, 1.5)
+            quad = (-2.0 * x, x * x + (hi * rng.choice([eps, 0.1, 1.0])) ** 2)
+        elif kind == 3:          # one root just inside
+            roots[0] = hi * rng.choice([eps, 1.0 - eps, 0.5])
+        c = _poly_from_roots(roots, quad, rng.choice([1.0, -1.0]) * 2.0 ** rng.randint(-500, 500))
+        if kind == 4:            # zero coefficients
+            for i in rng.sample(range(1, n + 1), rng.randint(1, n - 1)):
+                c[i] = 0.0
+        elif kind == 5:          # c_i hi^i overflows (or the sum of |t_i| does)
+            hi = 2.0 ** rng.randint(20, 40)
+            c[rng.randint(1, n)] = rng.choice([1.0, -1.0]) * 2.0 ** rng.randint(900, 1023)
+        elif kind == 6:          # hi so small that hi^2..hi^4 underflow while some c_i is huge
+            hi = rng.uniform(1.0, 2.0) * 2.0 ** rng.randint(-700, -240)
+            c = [rng.choice([1.0, -1.0]) * 2.0 ** rng.randint(-800, -600)] + [0.0] * n
+            c[rng.randint(1, n)] = -math.copysign(2.0 ** rng.randint(500, 1020), c[0])
+        lo = rng.choice([0.0, 0.0, -0.0, hi * rng.uniform(0.0, 0.9), -hi * 0.5])
+        cases.append((c, lo, hi))
+    return cases
+
+
+def test_no_root_test_same_bits(tmp_path):
+    """Degrees 3 and 4's no-root test at the entry (lo >= 0, hi >= 2^-250; C,
+    Rust, Modula-2, Python) changes no answer: every runtime prints the bits of
+    the Python reference's path without the test (the per-degree entry and
+    smallest_root's final checks), and the test answers a good share."""
+    from max2code_rt import roots as py
+    cases = _no_root_test_cases(6000)
+    lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
+    expect, fired = [], 0
+    for k, (c, lo, hi) in enumerate(cases):
+        t = py._ENTRY[len(c) - 1](list(c), lo, hi)
+        t = None if t is None or not (lo < t <= hi) else t + 0.0
+        expect.append(f"{k} none" if t is None else f"{k} {R.hex_of(t)}")
+        got = py.smallest_root(c, lo, hi)
+        assert expect[-1] == (f"{k} none" if got is None else f"{k} {R.hex_of(got)}"), (c, lo, hi)
+        no_root = py._no_root3 if len(c) == 4 else py._no_root4
+        fired += lo >= 0.0 and hi >= py._HI_MIN and no_root(*c, hi)
+    outline = tmp_path / "testee_outline"
+    run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
+         str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
+    for cmd in (R.build_testee("c"), R.build_testee("rust"), R.build_testee("m2"), [str(outline)]):
+        out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
+        bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]
+        assert not bad, (cmd, len(bad), bad[:3])
+    answered = sum(e.split()[1] != "none" for e in expect)
+    assert 0.2 * len(cases) < answered < 0.8 * len(cases)  # both answers are well represented
+    assert fired > 0.15 * len(cases), fired               # the test answers a good share

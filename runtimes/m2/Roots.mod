@@ -38,6 +38,10 @@ VAR
    HandoffTol,                (* 2^-14: ... or an accepted Newton step (Halley refused) this small *)
    PolishTol,                 (* 2^-22: a polishing Halley step this small ends the polish *)
    ModerateLo, ModerateHi,    (* 2^-200, 2^200: the degree-2 fast path's coefficient range *)
+   NoneRel,                   (* 2^-46: degrees 3, 4's no-root test, 16 times the rounding bound *)
+   NoneAbs,                   (* 2^-900: keeps its m above 0 when every t_i is 0 or subnormal *)
+   HiMin,                     (* 2^-250: below it the test's hi^2..hi^4 may underflow *)
+   Third, TwoThirds, Sixth,   (* the doubles nearest 1/3, 2/3, 1/6 *)
    Inf: REAL ;                (* infinity *)
    Init: INTEGER ;
 
@@ -1131,6 +1135,62 @@ END QuadraticExact ;
    finite as the bits of hi - lo in [1, MAX(REAL)'s] (positive and finite),
    and every coefficient zero or 2^-200 <= |c_i| < 2^200 (c2 nonzero) as the
    bits of its magnitude, exactly step 1's rule. *)
+(* True when the cubic c0 + c1 t + c2 t^2 + c3 t^3 has its Bernstein
+   coefficients on [0, hi] all of one sign beyond their rounding: no root in
+   [0, hi] (docs/roots.md step 1, "lo >= 0" (c)). FALSE says nothing.
+   The t_i are c_i hi^i, the b_j the Bernstein coefficients (weights C(j,i)/C(3,i));
+   their rounding is below 2^-50 sum |t_i|, m is 16 times that (NoneRel).
+   gm2 may compile x > m as NOT (x <= m), true for a NaN; harmless: with finite
+   c_i and hi >= 2^-250 no t_i is NaN, so m is finite or inf, and t0 = c0
+   (finite) is never beyond inf; a NaN or infinite input answers none anyway. *)
+PROCEDURE NoRoot3 (t0, c1, c2, c3, hi: REAL) : BOOLEAN ;
+VAR
+   h2, t1, t2, t3, b1, b2, b3, s, m: REAL ;
+BEGIN
+   h2 := hi * hi ;
+   t1 := c1 * hi ;
+   t2 := c2 * h2 ;
+   t3 := c3 * (h2 * hi) ;
+   b3 := (t0 + t1) + (t2 + t3) ;
+   (* p(0), p(hi) of opposite signs: the usual case with a root, tested first *)
+   IF (t0 < 0.0) # (b3 < 0.0) THEN RETURN FALSE END ;
+   s := (ABS (t0) + ABS (t1)) + (ABS (t2) + ABS (t3)) ;
+   m := NoneRel * s + NoneAbs ;
+   b1 := t0 + t1 * Third ;
+   b2 := (t0 + t1 * TwoThirds) + t2 * Third ;
+   IF t0 > m
+   THEN
+      RETURN (b1 > m) AND (b2 > m) AND (b3 > m)
+   END ;
+   RETURN (t0 < -m) AND (b1 < -m) AND (b2 < -m) AND (b3 < -m)
+END NoRoot3 ;
+
+
+(* The quartic's counterpart of NoRoot3 (the same reasoning, weights C(j,i)/C(4,i)). *)
+PROCEDURE NoRoot4 (t0, c1, c2, c3, c4, hi: REAL) : BOOLEAN ;
+VAR
+   h2, t1, t2, t3, t4, b1, b2, b3, b4, s, m: REAL ;
+BEGIN
+   h2 := hi * hi ;
+   t1 := c1 * hi ;
+   t2 := c2 * h2 ;
+   t3 := c3 * (h2 * hi) ;
+   t4 := c4 * (h2 * h2) ;
+   b4 := ((t0 + t1) + (t2 + t3)) + t4 ;
+   IF (t0 < 0.0) # (b4 < 0.0) THEN RETURN FALSE END ;
+   s := ((ABS (t0) + ABS (t1)) + (ABS (t2) + ABS (t3))) + ABS (t4) ;
+   m := NoneRel * s + NoneAbs ;
+   b1 := t0 + t1 * 0.25 ;
+   b2 := (t0 + t1 * 0.5) + t2 * Sixth ;
+   b3 := (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25) ;
+   IF t0 > m
+   THEN
+      RETURN (b1 > m) AND (b2 > m) AND (b3 > m) AND (b4 > m)
+   END ;
+   RETURN (t0 < -m) AND (b1 < -m) AND (b2 < -m) AND (b3 < -m) AND (b4 < -m)
+END NoRoot4 ;
+
+
 PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR
@@ -1203,6 +1263,15 @@ BEGIN
       END ;
       RETURN Entry (c, degree, lo, hi, t)
    END ;
+   (* lo >= 0: most windows without a root answer none here (docs/roots.md
+      step 1, "lo >= 0" (c)); hi >= 2^-250 keeps hi^2..hi^4 from underflowing *)
+   IF (degree = 3) AND (HIGH (c) >= 3)
+   THEN
+      IF (lo >= 0.0) AND (hi >= HiMin) AND NoRoot3 (c[0], c[1], c[2], c[3], hi) THEN RETURN FALSE END
+   ELSIF (degree = 4) AND (HIGH (c) >= 4)
+   THEN
+      IF (lo >= 0.0) AND (hi >= HiMin) AND NoRoot4 (c[0], c[1], c[2], c[3], c[4], hi) THEN RETURN FALSE END
+   END ;
    RETURN Entry (c, degree, lo, hi, t)
 END SmallestRoot ;
 
@@ -1222,6 +1291,12 @@ BEGIN
    PolishTol := ldexp (1.0, -22) ;
    ModerateLo := ldexp (1.0, -200) ;
    ModerateHi := ldexp (1.0, 200) ;
+   NoneRel := ldexp (1.0, -46) ;
+   NoneAbs := ldexp (1.0, -900) ;
+   HiMin := ldexp (1.0, -250) ;
+   Third := 1.0 / 3.0 ;
+   TwoThirds := 2.0 / 3.0 ;
+   Sixth := 1.0 / 6.0 ;
    Inf := ldexp (1.0, 1023) ;
    Inf := Inf * 2.0
 END Roots.

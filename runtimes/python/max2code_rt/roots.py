@@ -869,6 +869,11 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
     if not (-_INF < lo < hi < _INF):      # both finite and lo < hi (false for a NaN)
         return None
     if n >= 3:
+        # degrees 3, 4 with lo >= 0: most windows without a root answer none here
+        # (docs/roots.md step 1, "lo >= 0" (c)); n < 5 first: degrees 6, 8 pay one test
+        if n < 5 and lo >= 0.0 and hi >= _HI_MIN and (
+                _no_root3(c[0], c[1], c[2], c[3], hi) if n == 3 else _no_root4(c[0], c[1], c[2], c[3], c[4], hi)):
+            return None
         t = _ENTRY[n](c, lo, hi)
     elif n == 2 and c[2] != 0.0 and _moderate(c[0]) and _moderate(c[1]) and _moderate(c[2]):
         # fast path: the same bits as scaling first (no intermediate leaves the normal range)
@@ -881,5 +886,50 @@ def smallest_root(coeffs, lo: float, hi: float) -> float | None:
     return t + 0.0
 
 
+def _no_root3(t0, c1, c2, c3, hi):
+    """True when the cubic's Bernstein coefficients on [0, hi] all have one
+    sign beyond their rounding (docs/roots.md step 1, "lo >= 0" (c)): no root
+    in [0, hi]. False says nothing; inf or NaN never answers (m = inf or a
+    comparison with NaN is false)."""
+    h2 = hi * hi
+    t1 = c1 * hi
+    t2 = c2 * h2
+    t3 = c3 * (h2 * hi)
+    b3 = (t0 + t1) + (t2 + t3)
+    if (t0 < 0.0) != (b3 < 0.0):          # p(0), p(hi) of opposite signs: the usual root
+        return False
+    m = _NONE_REL * ((abs(t0) + abs(t1)) + (abs(t2) + abs(t3))) + _NONE_ABS
+    b1 = t0 + t1 * _THIRD
+    b2 = (t0 + t1 * _TWO_THIRDS) + t2 * _THIRD
+    if t0 > m:
+        return b1 > m and b2 > m and b3 > m
+    return t0 < -m and b1 < -m and b2 < -m and b3 < -m
+
+
+def _no_root4(t0, c1, c2, c3, c4, hi):
+    """The quartic's counterpart of _no_root3 (the same reasoning)."""
+    h2 = hi * hi
+    t1 = c1 * hi
+    t2 = c2 * h2
+    t3 = c3 * (h2 * hi)
+    t4 = c4 * (h2 * h2)
+    b4 = ((t0 + t1) + (t2 + t3)) + t4
+    if (t0 < 0.0) != (b4 < 0.0):
+        return False
+    m = _NONE_REL * (((abs(t0) + abs(t1)) + (abs(t2) + abs(t3))) + abs(t4)) + _NONE_ABS
+    b1 = t0 + t1 * 0.25
+    b2 = (t0 + t1 * 0.5) + t2 * _SIXTH
+    b3 = (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25)
+    if t0 > m:
+        return b1 > m and b2 > m and b3 > m and b4 > m
+    return t0 < -m and b1 < -m and b2 < -m and b3 < -m and b4 < -m
+
+
+_NONE_REL = 2.0 ** -46   # 16x the coefficients' rounding bound 2^-50 * sum |t_i|
+_NONE_ABS = 2.0 ** -900  # keeps m > 0 when every t_i is zero or subnormal
+_HI_MIN = 2.0 ** -250    # below it hi^2..hi^4 may underflow and lose a huge c_i * hi^i
+_THIRD = 1.0 / 3.0
+_TWO_THIRDS = 2.0 / 3.0
+_SIXTH = 1.0 / 6.0
 _INF = math.inf
 _ENTRY = [None] * 3 + [_unrolled_entry(n) for n in range(3, MAX_DEGREE + 1)]
