@@ -106,18 +106,11 @@ def _quadratic_shortcut_cases(count: int, seed: int = 12) -> list[tuple[list[flo
     return cases
 
 
-def test_quadratic_shortcuts_same_bits(tmp_path):
-    """The degree-2 fast path's shortcuts (C inline and out of line, Rust) and
-    Modula-2's fast path (its admission from the bits, the written-out
-    quadratic) return the bits of the Python reference, which takes the whole
-    path."""
-    from max2code_rt.roots import smallest_root
-    cases = _quadratic_shortcut_cases(6000)
+def _every_runtime_answers(tmp_path, cases, expect):
+    """C (inline entry and out of line), Rust and Modula-2 print expect's
+    lines for cases (coefficients, lo, hi), and both answers, a root and
+    none, are well represented."""
     lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
-    expect = []
-    for k, (c, lo, hi) in enumerate(cases):
-        t = smallest_root(c, lo, hi)
-        expect.append(f"{k} none" if t is None else f"{k} {R.hex_of(t)}")
     outline = tmp_path / "testee_outline"
     run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
          str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
@@ -127,6 +120,20 @@ def test_quadratic_shortcuts_same_bits(tmp_path):
         assert not bad, (cmd, len(bad), bad[:3])
     answered = sum(e.split()[1] != "none" for e in expect)
     assert 0.2 * len(cases) < answered < 0.8 * len(cases)  # both answers are well represented
+
+
+def test_quadratic_shortcuts_same_bits(tmp_path):
+    """The degree-2 fast path's shortcuts (C inline and out of line, Rust) and
+    Modula-2's fast path (its admission from the bits, the written-out
+    quadratic) return the bits of the Python reference, which takes the whole
+    path."""
+    from max2code_rt.roots import smallest_root
+    cases = _quadratic_shortcut_cases(6000)
+    expect = []
+    for k, (c, lo, hi) in enumerate(cases):
+        t = smallest_root(c, lo, hi)
+        expect.append(f"{k} none" if t is None else f"{k} {R.hex_of(t)}")
+    _every_runtime_answers(tmp_path, cases, expect)
 
 
 def _poly_from_roots(roots, quad, scale):
@@ -191,7 +198,6 @@ def test_no_root_test_same_bits(tmp_path):
     smallest_root's final checks), and the test answers a good share."""
     from max2code_rt import roots as py
     cases = _no_root_test_cases(6000)
-    lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
     expect, fired = [], 0
     for k, (c, lo, hi) in enumerate(cases):
         t = py._ENTRY[len(c) - 1](list(c), lo, hi)
@@ -201,13 +207,5 @@ def test_no_root_test_same_bits(tmp_path):
         assert expect[-1] == (f"{k} none" if got is None else f"{k} {R.hex_of(got)}"), (c, lo, hi)
         no_root = py._no_root3 if len(c) == 4 else py._no_root4
         fired += lo >= 0.0 and hi >= py._HI_MIN and no_root(*c, hi)
-    outline = tmp_path / "testee_outline"
-    run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
-         str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
-    for cmd in (R.build_testee("c"), R.build_testee("rust"), R.build_testee("m2"), [str(outline)]):
-        out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
-        bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]
-        assert not bad, (cmd, len(bad), bad[:3])
-    answered = sum(e.split()[1] != "none" for e in expect)
-    assert 0.2 * len(cases) < answered < 0.8 * len(cases)  # both answers are well represented
+    _every_runtime_answers(tmp_path, cases, expect)
     assert fired > 0.15 * len(cases), fired               # the test answers a good share
