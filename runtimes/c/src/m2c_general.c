@@ -210,10 +210,21 @@ M2C_INLINE int general_impl(const double *a, int n, double lo, double hi, double
         int v = variations(b, n, e, &bm);
         if (v == 1) {
             /* one simple root in (xl, xr): start where the control polygon crosses */
-            int i = 0;
-            while ((b[i + 1] < 0.0) == (b[i] < 0.0))
-                i++;
-            double x0 = xl + ((xr - xl) / (double)n) * ((double)i + b[i] / (b[i] - b[i + 1]));
+            double x0, wn = (xr - xl) / (double)n;
+            if (n == 3) {
+                /* the same sums with b in registers: the segment by branches */
+                if ((b[1] < 0.0) != (b[0] < 0.0))
+                    x0 = xl + wn * (0.0 + b[0] / (b[0] - b[1]));
+                else if ((b[2] < 0.0) != (b[1] < 0.0))
+                    x0 = xl + wn * (1.0 + b[1] / (b[1] - b[2]));
+                else
+                    x0 = xl + wn * (2.0 + b[2] / (b[2] - b[3]));
+            } else {
+                int i = 0;
+                while ((b[i + 1] < 0.0) == (b[i] < 0.0))
+                    i++;
+                x0 = xl + wn * ((double)i + b[i] / (b[i] - b[i + 1]));
+            }
             if (!(xl < x0 && x0 < xr))
                 x0 = 0.5 * (xl + xr);
             double x = m2c_halley_impl(a, n, xl, xr, b[0] < 0.0 ? -1 : 1, x0, M2C_HALLEY_TOL);

@@ -910,11 +910,23 @@ fn subdivide_impl<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64,
     let (v, bm) = variations(b, n, e);
     if v == 1 {
         // one simple root in (xl, xr): start where the control polygon crosses
-        let mut i = 0;
-        while (b[i + 1] < 0.0) == (b[i] < 0.0) {
-            i += 1;
-        }
-        let mut x0 = xl + ((xr - xl) / nf) * (i as f64 + b[i] / (b[i] - b[i + 1]));
+        let wn = (xr - xl) / nf;
+        let mut x0 = if N == 3 {
+            // the same sums with b in registers: the segment by branches
+            if (b[1] < 0.0) != (b[0] < 0.0) {
+                xl + wn * (0.0 + b[0] / (b[0] - b[1]))
+            } else if (b[2] < 0.0) != (b[1] < 0.0) {
+                xl + wn * (1.0 + b[1] / (b[1] - b[2]))
+            } else {
+                xl + wn * (2.0 + b[2] / (b[2] - b[3]))
+            }
+        } else {
+            let mut i = 0;
+            while (b[i + 1] < 0.0) == (b[i] < 0.0) {
+                i += 1;
+            }
+            xl + wn * (i as f64 + b[i] / (b[i] - b[i + 1]))
+        };
         if !(xl < x0 && x0 < xr) {
             x0 = 0.5 * (xl + xr);
         }
