@@ -1123,18 +1123,6 @@ BEGIN
 END QuadraticExact ;
 
 
-(* The degree-2 fast path (docs/roots.md step 1) is written out in the
-   exported entry, and everything else is left to Entry, called from two
-   places so that gcc does not inline it (it inlines a procedure called once
-   however large): the fast path then needs no stack frame and no saved
-   registers (with Entry inlined, every call pushed six registers and made a
-   frame of 232 bytes first), and the operations of QuadraticIn are copied
-   here up to its error-free branch, which it is called for.  The admission
-   reads only bits, no floating-point comparison, so that a NaN cannot pass it
-   (gm2 may compile x < y as NOT (x >= y), true for a NaN): lo < hi with both
-   finite as the bits of hi - lo in [1, MAX(REAL)'s] (positive and finite),
-   and every coefficient zero or 2^-200 <= |c_i| < 2^200 (c2 nonzero) as the
-   bits of its magnitude, exactly step 1's rule. *)
 (* True when the cubic c0 + c1 t + c2 t^2 + c3 t^3 has its Bernstein
    coefficients on [0, hi] all of one sign beyond their rounding: no root in
    [0, hi] (docs/roots.md step 1, "lo >= 0" (c)). FALSE says nothing.
@@ -1191,6 +1179,19 @@ BEGIN
 END NoRoot4 ;
 
 
+(* The degree-2 fast path (docs/roots.md step 1) is written out in the
+   exported entry, and everything else is left to Entry, called from two
+   places so that gcc does not inline it (it inlines a procedure called once
+   however large): the fast path then needs no stack frame and no saved
+   registers (with Entry inlined, every call pushed six registers and made a
+   frame of 232 bytes first), and the operations of QuadraticIn are copied
+   here up to its error-free branch, which it is called for.  The admission
+   reads only bits, no floating-point comparison, so that a NaN cannot pass it
+   (gm2 may compile x < y as NOT (x >= y), true for a NaN): lo < hi with both
+   finite as the bits of hi - lo in [1, MAX(REAL)'s] (positive and finite),
+   and every coefficient zero or 2^-200 <= |c_i| < 2^200 (c2 nonzero) as the
+   bits of its magnitude, exactly step 1's rule.  Degrees 3 and 4 with lo >= 0
+   first ask NoRoot3 / NoRoot4. *)
 PROCEDURE SmallestRoot (VAR c: ARRAY OF REAL; degree: INTEGER; lo, hi: REAL;
                         VAR t: REAL) : BOOLEAN ;
 VAR

@@ -138,17 +138,6 @@ one:
     return 1;
 }
 
-/* Degrees 3 and 4 with lo >= 0 and hi >= 2^-250 (docs/roots.md step 1,
- * "lo >= 0" (c)): 1 when p has no root in [0, hi], shown by its Bernstein
- * coefficients there (weighted sums of t_i = c_i hi^i) all beyond
- * m = 2^-46 (|t_0| + ... + |t_n|) + 2^-900 with one sign: m is 16 times
- * their rounding error, so the exact ones share that sign (hi >= 2^-250
- * keeps hi^n normal: an underflowed power would lose c_i hi^n whole).
- * Steps 2-8 answer none for each such p; this answers it sooner (half the
- * benchmark's cubics: 36 -> 15 cycles).  0 when not shown (also for a NaN,
- * an infinity or an overflow: a comparison with NaN or with an infinite m
- * is false).  p(0) and p(hi) of opposite signs, the usual case when there
- * is a root, are tested first, so that those calls pay little. */
 /* GCC 12 (-O3 with LTO) warns that c[1..4] may be uninitialised when a
  * caller fills c up to a degree it computes (m2c_sim.c's bounds_meet), and
  * a diagnostic pragma does not reach LTO's inlining: the empty asm hides
@@ -160,6 +149,17 @@ one:
 #define M2C_X_OPAQUE(p) ((void)0)
 #endif
 
+/* Degrees 3 and 4 with lo >= 0 and hi >= 2^-250 (docs/roots.md step 1,
+ * "lo >= 0" (c)): 1 when p has no root in [0, hi], shown by its Bernstein
+ * coefficients there (weighted sums of t_i = c_i hi^i) all beyond
+ * m = 2^-46 (|t_0| + ... + |t_n|) + 2^-900 with one sign: m is 16 times
+ * their rounding error, so the exact ones share that sign (hi >= 2^-250
+ * keeps hi^n normal: an underflowed power would lose c_i hi^n whole).
+ * Steps 2-8 answer none for each such p; this answers it sooner (half the
+ * benchmark's cubics: 36 -> 15 cycles).  0 when not shown (also for a NaN,
+ * an infinity or an overflow: a comparison with NaN or with an infinite m
+ * is false).  p(0) and p(hi) of opposite signs, the usual case when there
+ * is a root, are tested first, so that those calls pay little. */
 M2C_X_INLINE int m2c_x_no_root3(const double *c, double hi)
 {
     M2C_X_OPAQUE(c);

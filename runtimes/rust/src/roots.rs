@@ -1110,8 +1110,8 @@ fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize
 /// constant polynomials, and more than `MAX_DEGREE + 1` coefficients).
 ///
 /// Inlined into the caller (also across crates: the simulator, generated
-/// code, the benchmark) as far as the degree-2 fast path; the rest is one
-/// out-of-line call.
+/// code, the benchmark) as far as the degree-2 fast path and the no-root test
+/// of degrees 3 and 4; the rest is one out-of-line call.
 #[inline]
 pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if c.len() == 3 && (lo >= 0.0) & (c[0] * c[1] > 0.0) & (c[1] * c[2] > 0.0) {
