@@ -495,13 +495,31 @@ fn no_root3(c: &[f64], hi: f64) -> bool {
     let h2 = hi * hi;
     let (t0, t1, t2, t3) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi));
     let b3 = (t0 + t1) + (t2 + t3);
-    if (t0 < 0.0) != (b3 < 0.0) {
+    if signs_differ(t0, b3) {
         return false;
     }
     let m = TWO_M46 * ((t0.abs() + t1.abs()) + (t2.abs() + t3.abs())) + TWO_M900;
     let b1 = t0 + t1 * (1.0 / 3.0);
     let b2 = (t0 + t1 * (2.0 / 3.0)) + t2 * (1.0 / 3.0);
-    ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m)) | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m))
+    let f = |b: f64| flip(b, t0) > m;
+    f(t0) & f(b1) & f(b2) & f(b3)
+}
+
+/// Whether the sign bits of x and y differ.  In `no_root3` and `no_root4`
+/// this stands for (x < 0) != (y < 0): the two differ only when x or y is
+/// zero or NaN, and then the test answers false either way.
+#[inline(always)]
+fn signs_differ(x: f64, y: f64) -> bool {
+    ((x.to_bits() ^ y.to_bits()) as i64) < 0
+}
+
+/// b with its sign bit flipped when s's is set: flip(b, s) > m for m > 0 is
+/// b > m when s >= +0 and b < -m when s <= -0 (false for NaN either way).
+/// In `no_root3` and `no_root4`, s = t0: "all b_i > m or all b_i < -m"
+/// (t0 among them) is "all flip(b_i, t0) > m" (t0 = +-0 fails both).
+#[inline(always)]
+fn flip(b: f64, s: f64) -> f64 {
+    f64::from_bits(b.to_bits() ^ (s.to_bits() & 0x8000_0000_0000_0000))
 }
 
 /// `no_root3` for degree 4.
@@ -510,15 +528,15 @@ fn no_root4(c: &[f64], hi: f64) -> bool {
     let h2 = hi * hi;
     let (t0, t1, t2, t3, t4) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi), c[4] * (h2 * h2));
     let b4 = ((t0 + t1) + (t2 + t3)) + t4;
-    if (t0 < 0.0) != (b4 < 0.0) {
+    if signs_differ(t0, b4) {
         return false;
     }
     let m = TWO_M46 * (((t0.abs() + t1.abs()) + (t2.abs() + t3.abs())) + t4.abs()) + TWO_M900;
     let b1 = t0 + t1 * 0.25;
     let b2 = (t0 + t1 * 0.5) + t2 * (1.0 / 6.0);
     let b3 = (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25);
-    ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m) & (b4 > m))
-        | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m) & (b4 < -m))
+    let f = |b: f64| flip(b, t0) > m;
+    f(t0) & f(b1) & f(b2) & f(b3) & f(b4)
 }
 
 const TWO_M46: f64 = 1.4210854715202004e-14; // 2^-46 exactly
@@ -760,9 +778,9 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
 
 /// The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
 /// derivatives bottom up, then the first root of p with careful signs.
-fn by_derivatives(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
+fn by_derivatives(a: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     let mut ders = [[0.0f64; N1]; MAX_DEGREE - 1];
-    ders[0] = *a;
+    ders[0][..=n].copy_from_slice(&a[..=n]);
     for k in 1..n - 1 {
         for i in 0..=n - k {
             ders[k][i] = ders[k - 1][i + 1] * (i + 1) as f64;
@@ -816,7 +834,7 @@ fn by_derivatives(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
 /// Sign variations of b[0..=n], or -1 when one of them is within e of zero;
 /// also max |b_i|.
 #[inline(always)]
-fn variations(b: &[f64; N1], n: usize, e: f64) -> (i32, f64) {
+fn variations(b: &[f64], n: usize, e: f64) -> (i32, f64) {
     let mut m = b[0].abs();
     let mut unsure = m <= e;
     let mut v = 0;
@@ -833,7 +851,7 @@ fn variations(b: &[f64; N1], n: usize, e: f64) -> (i32, f64) {
 /// so the loops unroll): clip to the root bound, Bernstein subdivision left
 /// to right, the derivative method where the Bernstein signs are unsure.
 #[inline(always)]
-fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f64> {
+fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f64) -> Option<f64> {
     let n = N;
     // 1. clip to the root bound (r >= 2: nothing to clip in [-2, 2], and no
     // division on the way)
@@ -862,10 +880,7 @@ fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f6
         }
     }
     // 2. n! times the Bernstein coefficients of p on [lo, hi], error bound e
-    let mut b = [0.0f64; N1];
-    for i in 0..n + 1 {
-        b[i] = a[i];
-    }
+    let mut b = *a;
     if lo != 0.0 {
         for i in 0..n {
             for j in (i..n).rev() {
@@ -892,19 +907,19 @@ fn general<const N: usize>(a: &[f64; N1], mut lo: f64, mut hi: f64) -> Option<f6
     let nf = n as f64;
     let e = 8.0 * (nf + 1.0) * EPS * pt * FACT[n] + TINY;
     // 3. subdivision, left to right
-    subdivide_impl::<N>(a, &b, e, lo, hi, 0)
+    subdivide_impl::<N, M>(a, &b, e, lo, hi, 0)
 }
 
 /// `subdivide_impl` out of line, for the halves.
 #[inline(never)]
-fn subdivide<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
-    subdivide_impl::<N>(a, b, e, xl, xr, depth)
+fn subdivide<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+    subdivide_impl::<N, M>(a, b, e, xl, xr, depth)
 }
 
 /// Step 3 on [xl, xr] with the n!-scaled Bernstein coefficients b and their
 /// error bound e: the root in (xl, xr], or None (the caller goes on right).
 #[inline(always)]
-fn subdivide_impl<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+fn subdivide_impl<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
     let n = N;
     let nf = n as f64;
     let (v, bm) = variations(b, n, e);
@@ -947,12 +962,9 @@ fn subdivide_impl<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64,
         return by_derivatives(a, n, xl, xr);
     }
     // de Casteljau at 1/2: left half, then right half
-    let mut c = [0.0f64; N1];
-    let mut lb = [0.0f64; N1];
-    let mut rb = [0.0f64; N1];
-    for i in 0..n + 1 {
-        c[i] = b[i];
-    }
+    let mut c = *b;
+    let mut lb = [0.0f64; M];
+    let mut rb = [0.0f64; M];
     lb[0] = c[0];
     rb[n] = c[n];
     for k in 1..n + 1 {
@@ -964,16 +976,16 @@ fn subdivide_impl<const N: usize>(a: &[f64; N1], b: &[f64; N1], e: f64, xl: f64,
     }
     let xm = 0.5 * (xl + xr);
     let e2 = e + nf * EPS * bm;
-    if let Some(t) = subdivide::<N>(a, &lb, e2, xl, xm, depth + 1) {
+    if let Some(t) = subdivide::<N, M>(a, &lb, e2, xl, xm, depth + 1) {
         return Some(t);
     }
-    subdivide::<N>(a, &rb, e2, xm, xr, depth + 1)
+    subdivide::<N, M>(a, &rb, e2, xm, xr, depth + 1)
 }
 
 /// Scaled coefficients (max |a_i| in [1, 2), a[N] != 0): closed forms for
 /// degrees 1 and 2, the general method (one copy per degree).
 #[inline(always)]
-fn scaled<const N: usize>(a: &[f64; N1], lo: f64, hi: f64) -> Option<f64> {
+fn scaled<const N: usize, const M: usize>(a: &[f64; M], lo: f64, hi: f64) -> Option<f64> {
     if N == 1 {
         let x = -a[0] / a[1];
         if !(lo < x && x <= hi) {
@@ -983,13 +995,16 @@ fn scaled<const N: usize>(a: &[f64; N1], lo: f64, hi: f64) -> Option<f64> {
     } else if N == 2 {
         quadratic_in(a[2], a[1], a[0], lo, hi)
     } else {
-        general::<N>(a, lo, hi)
+        general::<N, M>(a, lo, hi)
     }
 }
 
 /// Degree n = N >= 2 (c[N] != 0; a NaN or infinity answers none): one power-of-two scale of the coefficients
-/// when the roots allow it, else bands (one copy per degree).
-fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
+/// when the roots allow it, else bands (one copy per degree).  M = N + 1 (a
+/// const generic cannot be N + 1 on stable Rust): the arrays of this copy
+/// hold exactly its coefficients, so there are no unused entries to zero.
+fn solve<const N: usize, const M: usize>(c: &[f64; M], lo: f64, hi: f64) -> Option<f64> {
+    const { assert!(M == N + 1) };
     let n = N;
     // max and smallest nonzero |c_i| from their bit patterns (ordered like the
     // values); a NaN or infinity shows as the largest: answer none
@@ -1007,7 +1022,14 @@ fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     }
     let mx = f64::from_bits(umax);
     let mn = f64::from_bits(umin);
-    let spread = frexp_exp(mx) - frexp_exp(mn);
+    // frexp exponents: of normal numbers, their exponent fields less 1022
+    // (mn normal: so is mx)
+    let (ex, en) = if umin >= 1 << 52 {
+        ((umax >> 52) as i32 - 1022, (umin >> 52) as i32 - 1022)
+    } else {
+        (frexp_exp(mx), frexp_exp(mn))
+    };
+    let spread = ex - en;
     let lim = ONE_SCALE_SPAN / n as i32;
     if if n == 2 { spread > QUAD_SPREAD } else { spread > lim - 2 } {
         let mut j = 0;
@@ -1018,82 +1040,98 @@ fn solve<const N: usize>(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
         if n == 2 || !(ue <= lim && le >= -lim) {
             return banded(c, n, j, ue, le, lo, hi);
         }
+        // one scale for a wide spread: top coefficients may underflow
+        let mut a = [0.0f64; M];
+        let n2 = scale_max(c, N, ex, &mut a)?;
+        if n2 != N {
+            return scaled_any(&a, n2, lo, hi);
+        }
+        return scaled::<N, M>(&a, lo, hi);
     }
-    let mut a = [0.0f64; N1];
-    let n2 = scale_max(c, N, mx, &mut a)?;
-    if n2 != N {
-        // top coefficients underflowed in the scaling (not with these spreads)
-        return scaled_any(&a, n2, lo, hi);
-    }
-    scaled::<N>(&a, lo, hi)
+    // the spread bounds every nonzero |a_i| below by 2^-(spread + 1) >= 2^-901:
+    // nothing underflows
+    let mut a = [0.0f64; M];
+    scale_pow2(c, N, ex, &mut a);
+    scaled::<N, M>(&a, lo, hi)
 }
 
 fn dispatch(c: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     match n {
-        2 => solve::<2>(c, lo, hi),
-        3 => solve::<3>(c, lo, hi),
-        4 => solve::<4>(c, lo, hi),
-        5 => solve::<5>(c, lo, hi),
-        6 => solve::<6>(c, lo, hi),
-        7 => solve::<7>(c, lo, hi),
-        8 => solve::<8>(c, lo, hi),
-        9 => solve::<9>(c, lo, hi),
-        10 => solve::<10>(c, lo, hi),
-        11 => solve::<11>(c, lo, hi),
-        12 => solve::<12>(c, lo, hi),
-        13 => solve::<13>(c, lo, hi),
-        14 => solve::<14>(c, lo, hi),
-        15 => solve::<15>(c, lo, hi),
-        16 => solve::<16>(c, lo, hi),
+        2 => solve::<2, 3>(head(c), lo, hi),
+        3 => solve::<3, 4>(head(c), lo, hi),
+        4 => solve::<4, 5>(head(c), lo, hi),
+        5 => solve::<5, 6>(head(c), lo, hi),
+        6 => solve::<6, 7>(head(c), lo, hi),
+        7 => solve::<7, 8>(head(c), lo, hi),
+        8 => solve::<8, 9>(head(c), lo, hi),
+        9 => solve::<9, 10>(head(c), lo, hi),
+        10 => solve::<10, 11>(head(c), lo, hi),
+        11 => solve::<11, 12>(head(c), lo, hi),
+        12 => solve::<12, 13>(head(c), lo, hi),
+        13 => solve::<13, 14>(head(c), lo, hi),
+        14 => solve::<14, 15>(head(c), lo, hi),
+        15 => solve::<15, 16>(head(c), lo, hi),
+        16 => solve::<16, 17>(head(c), lo, hi),
         _ => None,
     }
+}
+
+/// The first K entries of `a` as an array (K <= a.len()).
+#[inline(always)]
+fn head<const K: usize>(a: &[f64]) -> &[f64; K] {
+    a[..K].try_into().expect("K <= a.len()")
 }
 
 /// Scaled coefficients a[0..=n], n >= 1: the first root in (lo, hi].
-fn scaled_any(a: &[f64; N1], n: usize, lo: f64, hi: f64) -> Option<f64> {
+fn scaled_any(a: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     match n {
-        1 => scaled::<1>(a, lo, hi),
-        2 => scaled::<2>(a, lo, hi),
-        3 => scaled::<3>(a, lo, hi),
-        4 => scaled::<4>(a, lo, hi),
-        5 => scaled::<5>(a, lo, hi),
-        6 => scaled::<6>(a, lo, hi),
-        7 => scaled::<7>(a, lo, hi),
-        8 => scaled::<8>(a, lo, hi),
-        9 => scaled::<9>(a, lo, hi),
-        10 => scaled::<10>(a, lo, hi),
-        11 => scaled::<11>(a, lo, hi),
-        12 => scaled::<12>(a, lo, hi),
-        13 => scaled::<13>(a, lo, hi),
-        14 => scaled::<14>(a, lo, hi),
-        15 => scaled::<15>(a, lo, hi),
-        16 => scaled::<16>(a, lo, hi),
+        1 => scaled::<1, 2>(head(a), lo, hi),
+        2 => scaled::<2, 3>(head(a), lo, hi),
+        3 => scaled::<3, 4>(head(a), lo, hi),
+        4 => scaled::<4, 5>(head(a), lo, hi),
+        5 => scaled::<5, 6>(head(a), lo, hi),
+        6 => scaled::<6, 7>(head(a), lo, hi),
+        7 => scaled::<7, 8>(head(a), lo, hi),
+        8 => scaled::<8, 9>(head(a), lo, hi),
+        9 => scaled::<9, 10>(head(a), lo, hi),
+        10 => scaled::<10, 11>(head(a), lo, hi),
+        11 => scaled::<11, 12>(head(a), lo, hi),
+        12 => scaled::<12, 13>(head(a), lo, hi),
+        13 => scaled::<13, 14>(head(a), lo, hi),
+        14 => scaled::<14, 15>(head(a), lo, hi),
+        15 => scaled::<15, 16>(head(a), lo, hi),
+        16 => scaled::<16, 17>(head(a), lo, hi),
         _ => None,
     }
 }
 
-/// `a[0..=n]` = `c[0..=n]` times the power of two putting m = max |c_i| in [1, 2);
-/// returns the degree left after dropping top coefficients that underflowed.
+/// `a[0..=n]` = `c[0..=n]` times the power of two putting m = max |c_i| in
+/// [1, 2), given e = frexp_exp(m) (exact while the products stay normal).
 #[inline(always)]
-fn scale_max(c: &[f64], mut n: usize, m: f64, a: &mut [f64; N1]) -> Option<usize> {
+fn scale_pow2(c: &[f64], n: usize, e: i32, a: &mut [f64]) {
     let c = &c[..n + 1];
-    let mut k = 1 - frexp_exp(m);
+    let a = &mut a[..n + 1];
+    let k = 1 - e;
     if k > 1000 {
-        let f = pow2(600);
+        // two steps (2^k would overflow); k - 600 > 400 is normal
+        let (g, f) = (pow2(600), pow2(k - 600));
+        for i in 0..c.len() {
+            a[i] = (c[i] * g) * f;
+        }
+    } else {
+        // 2^k for k = -1023 is subnormal: build it as 2^-1022 / 2 (exact)
+        let f = if k < -1022 { pow2(-1022) * 0.5 } else { pow2(k) };
         for i in 0..c.len() {
             a[i] = c[i] * f;
         }
-        k -= 600;
-    } else {
-        for i in 0..c.len() {
-            a[i] = c[i];
-        }
     }
-    // 2^k for k = -1023 is subnormal: build it as 2^-1022 / 2 (exact)
-    let f = if k < -1022 { pow2(-1022) * 0.5 } else { pow2(k) };
-    for v in a[..c.len()].iter_mut() {
-        *v = *v * f;
-    }
+}
+
+/// `scale_pow2`; returns the degree left after dropping top coefficients
+/// that underflowed.
+#[inline(always)]
+fn scale_max(c: &[f64], mut n: usize, e: i32, a: &mut [f64]) -> Option<usize> {
+    scale_pow2(c, n, e, a);
     loop {
         if a[n] != 0.0 {
             return Some(n);
@@ -1136,17 +1174,18 @@ pub fn smallest_root(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
 #[inline(never)]
 fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     let len = c.len();
-    if (4..=9).contains(&len) && c[len - 1] != 0.0 && (hi - lo > 0.0) & (hi - lo <= f64::MAX) {
+    // hi - lo positive and finite: one unsigned comparison of its bits
+    if (4..=9).contains(&len) && c[len - 1] != 0.0 && (hi - lo).to_bits().wrapping_sub(1) < 0x7fef_ffff_ffff_ffff {
         // degrees 3 to 8 (docs/roots.md step 1): nothing to strip, lo < hi
         // with both finite; that degree's copy of steps 4-7 at once (a NaN or
         // infinite coefficient answers none there)
         let x = match len {
-            4 => solve::<3>(c, lo, hi),
-            5 => solve::<4>(c, lo, hi),
-            6 => solve::<5>(c, lo, hi),
-            7 => solve::<6>(c, lo, hi),
-            8 => solve::<7>(c, lo, hi),
-            _ => solve::<8>(c, lo, hi),
+            4 => solve::<3, 4>(head(c), lo, hi),
+            5 => solve::<4, 5>(head(c), lo, hi),
+            6 => solve::<5, 6>(head(c), lo, hi),
+            7 => solve::<6, 7>(head(c), lo, hi),
+            8 => solve::<7, 8>(head(c), lo, hi),
+            _ => solve::<8, 9>(head(c), lo, hi),
         }?;
         return Some(x + 0.0);
     }
