@@ -149,6 +149,31 @@ one:
 #define M2C_X_OPAQUE(p) ((void)0)
 #endif
 
+/* Whether the sign bits of x and y differ.  In the no-root tests this
+ * stands for (x < 0) != (y < 0): the two differ only when x or y is zero or
+ * NaN, and then the test answers 0 either way. */
+M2C_X_INLINE int m2c_x_signs_differ(double x, double y)
+{
+    uint64_t u, v;
+    memcpy(&u, &x, 8);
+    memcpy(&v, &y, 8);
+    return (int64_t)(u ^ v) < 0;
+}
+
+/* b with its sign bit flipped when s's is set: flip(b, s) > m for m > 0 is
+ * b > m when s >= +0 and b < -m when s <= -0 (0 for NaN either way).  In
+ * the no-root tests, s = t0: "all b_i > m or all b_i < -m" (t0 among them)
+ * is "all flip(b_i, t0) > m" (t0 = +-0 fails both). */
+M2C_X_INLINE double m2c_x_flip(double b, double s)
+{
+    uint64_t u, v;
+    memcpy(&u, &b, 8);
+    memcpy(&v, &s, 8);
+    u ^= v & 0x8000000000000000u;
+    memcpy(&b, &u, 8);
+    return b;
+}
+
 /* Degrees 3 and 4 with lo >= 0 and hi >= 2^-250 (docs/roots.md step 1,
  * "lo >= 0" (c)): 1 when p has no root in [0, hi], shown by its Bernstein
  * coefficients there (weighted sums of t_i = c_i hi^i) all beyond
@@ -166,12 +191,12 @@ M2C_X_INLINE int m2c_x_no_root3(const double *c, double hi)
     double h2 = hi * hi;
     double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi);
     double b3 = (t0 + t1) + (t2 + t3);
-    if ((t0 < 0.0) != (b3 < 0.0))
+    if (m2c_x_signs_differ(t0, b3))
         return 0;
     double m = 0x1p-46 * ((fabs(t0) + fabs(t1)) + (fabs(t2) + fabs(t3))) + 0x1p-900;
     double b1 = t0 + t1 * (1.0 / 3.0);
     double b2 = (t0 + t1 * (2.0 / 3.0)) + t2 * (1.0 / 3.0);
-    return ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m)) | ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m));
+    return (m2c_x_flip(t0, t0) > m) & (m2c_x_flip(b1, t0) > m) & (m2c_x_flip(b2, t0) > m) & (m2c_x_flip(b3, t0) > m);
 }
 
 M2C_X_INLINE int m2c_x_no_root4(const double *c, double hi)
@@ -180,14 +205,14 @@ M2C_X_INLINE int m2c_x_no_root4(const double *c, double hi)
     double h2 = hi * hi;
     double t0 = c[0], t1 = c[1] * hi, t2 = c[2] * h2, t3 = c[3] * (h2 * hi), t4 = c[4] * (h2 * h2);
     double b4 = ((t0 + t1) + (t2 + t3)) + t4;
-    if ((t0 < 0.0) != (b4 < 0.0))
+    if (m2c_x_signs_differ(t0, b4))
         return 0;
     double m = 0x1p-46 * (((fabs(t0) + fabs(t1)) + (fabs(t2) + fabs(t3))) + fabs(t4)) + 0x1p-900;
     double b1 = t0 + t1 * 0.25;
     double b2 = (t0 + t1 * 0.5) + t2 * (1.0 / 6.0);
     double b3 = (t0 + t1 * 0.75) + (t2 * 0.5 + t3 * 0.25);
-    return ((t0 > m) & (b1 > m) & (b2 > m) & (b3 > m) & (b4 > m)) |
-           ((t0 < -m) & (b1 < -m) & (b2 < -m) & (b3 < -m) & (b4 < -m));
+    return (m2c_x_flip(t0, t0) > m) & (m2c_x_flip(b1, t0) > m) & (m2c_x_flip(b2, t0) > m) &
+           (m2c_x_flip(b3, t0) > m) & (m2c_x_flip(b4, t0) > m);
 }
 
 /* m2c_smallest_root up to its first call: the degree-2 fast path, degrees
