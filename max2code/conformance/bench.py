@@ -9,7 +9,12 @@ some complex pairs) and polynomials with Gaussian coefficients, all asked for
 the smallest root in (0, 1].  Native runtimes are built with -O2 and timed
 in-process with a monotonic clock around a pass over all polynomials of a
 degree; the median is over passes.  Python and numpy.roots are timed in CPU time
-(time_python says why).  Figures, not tests.
+(time_python says why).  With `--rounds N` every column is measured N times,
+the columns taking turns, and each figure is the smallest of its N medians:
+on a host whose speed swings between phases for seconds or minutes at a
+time, a single run catches some columns in a slow phase and others in a
+fast one, while the minimum over interleaved rounds compares them all in
+the fast phase.  Figures, not tests.
 """
 from __future__ import annotations
 
@@ -112,17 +117,19 @@ def _fig(v: float) -> str:
     return f"{v:,.0f}" if v >= 1000 else f"{v:.1f}"
 
 
-def print_markdown(cols: dict[str, dict[int, float]], names: list[str]) -> None:
+def print_markdown(cols: dict[str, dict[int, float]], names: list[str], rounds: int = 1) -> None:
     """The README's table: one row per degree, ns per solve, and the load average."""
     print("| degree | " + " | ".join(names) + " |")
     print("|---" * (len(names) + 1) + "|")
     for deg in DEGREES:
         print(f"| {deg} | " + " | ".join(_fig(cols[n].get(deg, float("nan"))) for n in names) + " |")
+    how = f"the smallest of {rounds} interleaved rounds' medians; " if rounds > 1 else ""
     try:
         import os
-        print(f"\n(load average {os.getloadavg()[0]:.1f} at the end of the run)")
+        print(f"\n({how}load average {os.getloadavg()[0]:.1f} at the end of the run)")
     except OSError:
-        pass
+        if how:
+            print(f"\n({how[:-2]})")
 
 
 def main(argv=None) -> int:
@@ -130,51 +137,62 @@ def main(argv=None) -> int:
     ap.add_argument("--per-degree", type=int, default=1000, help="polynomials per degree (default 1000)")
     ap.add_argument("--reps", type=int, default=41, help="timed passes for native runtimes (default 41)")
     ap.add_argument("--py-reps", type=int, default=5, help="timed passes for Python and numpy (default 5)")
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="measure every column this many times, taking turns, and report the smallest "
+                         "median of each (default 1)")
     ap.add_argument("--markdown", action="store_true",
                     help="print the table as Markdown (the README's table) with the load average")
     args = ap.parse_args(argv)
+    if args.rounds < 1 or args.reps < 1 or args.py_reps < 1 or args.per_degree < 1:
+        ap.error("--rounds, --reps, --py-reps and --per-degree must be at least 1")
     polys = polynomials(args.per_degree)
     text = wire(polys)
-    steps = ["build C", "build Rust", "build Modula-2", "C", "GSL (C)", "Rust", "Modula-2", "GSL (M2)",
-             "Python", "numpy.roots"]
-    cols: dict[str, dict[int, float]] = {}
+    builds = ["build C", "build Rust", "build Modula-2"]
+    reps = str(args.reps)
+    from max2code_rt.roots import smallest_root
+
+    def python_col(fn):
+        return lambda: {deg: time_python(fn, polys[deg], args.py_reps) for deg in DEGREES}
+
+    columns = {
+        "C": lambda: native([str(R.BUILD / "c" / "m2c_bench"), "m2c", reps], text),
+        "GSL (C)": lambda: native([str(R.BUILD / "c" / "m2c_bench"), "gsl", reps], text),
+        "Rust": lambda: native([str(R.BUILD / "rust" / "release" / "max2code_rt_bench"), reps], text),
+        "Modula-2": lambda: native([str(R.BUILD / "m2" / "roots_bench")], f"bench m2 {reps}\n" + text),
+        "GSL (M2)": lambda: native([str(R.BUILD / "m2" / "roots_bench")], f"bench gsl {reps}\n" + text),
+        "Python": python_col(lambda c: smallest_root(c, 0.0, 1.0)),
+        "numpy.roots": python_col(numpy_smallest),
+    }
+    total = len(builds) + args.rounds * len(columns)
 
     def progress(i: int, what: str) -> None:
-        bar = "#" * (i + 1) + "." * (len(steps) - i - 1)
-        print(f"\r[{bar}] {i + 1}/{len(steps)} {what:<16s}", end="", file=sys.stderr, flush=True)
+        width = 20
+        done = (i + 1) * width // total
+        bar = "#" * done + "." * (width - done)
+        print(f"\r[{bar}] {i + 1}/{total} {what:<24s}", end="", file=sys.stderr, flush=True)
 
-    progress(0, steps[0])
+    progress(0, builds[0])
     R.build_testee("c")
     runtimes.make_c(R.BUILD / "c" / "m2c_bench")
-    progress(1, steps[1])
+    progress(1, builds[1])
     runtimes.cargo("build", "--release", "--quiet", "--bin", "max2code_rt_bench")
-    progress(2, steps[2])
+    progress(2, builds[2])
     runtimes.make_m2(R.BUILD / "m2" / "roots_bench")
-    reps = str(args.reps)
-    progress(3, steps[3])
-    cols["C"] = native([str(R.BUILD / "c" / "m2c_bench"), "m2c", reps], text)
-    progress(4, steps[4])
-    cols["GSL (C)"] = native([str(R.BUILD / "c" / "m2c_bench"), "gsl", reps], text)
-    progress(5, steps[5])
-    cols["Rust"] = native([str(R.BUILD / "rust" / "release" / "max2code_rt_bench"), reps], text)
-    progress(6, steps[6])
-    cols["Modula-2"] = native([str(R.BUILD / "m2" / "roots_bench")], f"bench m2 {reps}\n" + text)
-    progress(7, steps[7])
-    cols["GSL (M2)"] = native([str(R.BUILD / "m2" / "roots_bench")], f"bench gsl {reps}\n" + text)
-    from max2code_rt.roots import smallest_root
-    cols["Python"], cols["numpy.roots"] = {}, {}
-    for deg in DEGREES:
-        progress(8, f"{steps[8]} d{deg}")
-        cols["Python"][deg] = time_python(lambda c: smallest_root(c, 0.0, 1.0), polys[deg], args.py_reps)
-    for deg in DEGREES:
-        progress(9, f"{steps[9]} d{deg}")
-        cols["numpy.roots"][deg] = time_python(numpy_smallest, polys[deg], args.py_reps)
+    cols: dict[str, dict[int, float]] = {name: {} for name in columns}
+    step = len(builds)
+    for r in range(args.rounds):
+        for name, measure in columns.items():
+            progress(step, f"{name}" + (f", round {r + 1}" if args.rounds > 1 else ""))
+            step += 1
+            for deg, ns in measure().items():
+                cols[name][deg] = min(ns, cols[name].get(deg, ns))
     print(file=sys.stderr)
     names = list(cols)
     if args.markdown:
-        print_markdown(cols, names)
+        print_markdown(cols, names, args.rounds)
         return 0
-    print(f"median ns per solve, smallest root in (0, 1], {args.per_degree} polynomials per degree")
+    what = f"smallest of {args.rounds} rounds' median" if args.rounds > 1 else "median"
+    print(f"{what} ns per solve, smallest root in (0, 1], {args.per_degree} polynomials per degree")
     print("degree " + "".join(f"{n:>13s}" for n in names))
     for deg in DEGREES:
         print(f"{deg:6d} " + "".join(f"{cols[n].get(deg, float('nan')):13.1f}" for n in names))
