@@ -19,7 +19,12 @@ the events past it.  The times are
 those of the simulator's process, CPU (user + system: the events and collisions per
 second reported) and wall: reading the scene, simulating and writing the whole
 trace (into a pipe that this script drains).  Runtimes
-whose simulator does not build are skipped with a note.
+whose simulator does not build are skipped with a note.  With `--rounds N`
+each runtime runs each scene (and its start) N times, the runtimes taking
+turns, and the smallest CPU and wall times are reported: the host's speed
+swings between phases for seconds to minutes, and the smallest of
+interleaved rounds compares every runtime in the fast phase (bench/roots.py
+has the same option).
 """
 from __future__ import annotations
 
@@ -100,7 +105,11 @@ def main(argv: list[str]) -> int:
     p.add_argument("--events", type=float, default=5e5, help="events per run (about; default 5e5)")
     p.add_argument("--fraction", type=float, default=0.25, help="area fraction of the disks (default 0.25)")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--rounds", type=int, default=1,
+                   help="runs of each scene per runtime, taking turns; the smallest times are reported (default 1)")
     args = p.parse_args(argv)
+    if args.rounds < 1:
+        p.error("--rounds must be at least 1")
     langs = [x for x in args.langs.split(",") if x]
     for lang in langs:
         if lang not in LANGS:
@@ -120,7 +129,7 @@ def main(argv: list[str]) -> int:
         return 1
     order = list(builds)
 
-    steps = len(sizes) * (len(order) + 1)
+    steps = len(sizes) * (len(order) * args.rounds + 1)
     step = 0
     rows = []
     for n in sizes:
@@ -136,15 +145,21 @@ def main(argv: list[str]) -> int:
         start = compile_scene(parse_scene(json.dumps(gas(n, args.fraction, START, args.seed)), f"gas-{n}"))
         step += 1
         row = {"bodies": n, "end": end, "times": {}, "counts": None}
-        for lang in order:
-            bar(step, steps, f"{n} disks: {lang}", "bench/sim.py")
-            _, cpu0, counts0 = run(builds[lang], start)
-            elapsed, cpu, counts = run(builds[lang], flat)
-            row["times"][lang] = (elapsed, cpu, cpu0, handled(counts0))
-            if row["counts"] is not None and counts != row["counts"]:
-                print(f"bench/sim.py: {n} disks: {lang} counts {counts}, {order[0]} {row['counts']}", file=sys.stderr)
-            row["counts"] = counts
-            step += 1
+        for r in range(args.rounds):
+            for lang in order:
+                bar(step, steps, f"{n} disks: {lang}" + (f", round {r + 1}" if args.rounds > 1 else ""),
+                    "bench/sim.py")
+                _, cpu0, counts0 = run(builds[lang], start)
+                elapsed, cpu, counts = run(builds[lang], flat)
+                if lang in row["times"]:
+                    w, c, c0, _ = row["times"][lang]
+                    elapsed, cpu, cpu0 = min(elapsed, w), min(cpu, c), min(cpu0, c0)
+                row["times"][lang] = (elapsed, cpu, cpu0, handled(counts0))
+                if row["counts"] is not None and counts != row["counts"]:
+                    print(f"bench/sim.py: {n} disks: {lang} counts {counts}, {order[0]} {row['counts']}",
+                          file=sys.stderr)
+                row["counts"] = counts
+                step += 1
         rows.append(row)
     bar(steps, steps, "done", "bench/sim.py")
 
@@ -167,7 +182,8 @@ def main(argv: list[str]) -> int:
     print("ev/s: events per CPU second (user + system) of the simulator's process; coll/s: collisions per CPU "
           "second (the work: fewer events per collision make each event dearer);\nwall s: its elapsed time, "
           "which a loaded machine stretches; start s: CPU seconds of the same scene run for 1 ns (reading it, "
-          "the first predictions, the final states); after: events per CPU second past the start")
+          "the first predictions, the final states); after: events per CPU second past the start"
+          + (f"\n(times: the smallest of {args.rounds} interleaved rounds)" if args.rounds > 1 else ""))
     # every counter of the trace's N lines, by name, per collision
     names = list(dict.fromkeys(k for row in rows for k in row["counts"]))
     print()
