@@ -7,8 +7,6 @@ import math
 import random
 import subprocess
 
-import pytest
-
 from max2code.conformance import runner as R
 from max2code.harness import runtimes
 
@@ -65,47 +63,6 @@ def test_bench_drivers_count_alike():
         r = subprocess.run([str(R.BUILD / "m2" / "roots_bench")], input=header + "\n" + text,
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         assert r.returncode == 2 and r.stdout == "" and "line 1: expected the header" in r.stderr, (header, r)
-
-
-def test_bench_rounds_take_the_smallest_median(monkeypatch, capsys):
-    """`bench/roots.py --rounds N` measures every column N times, the columns
-    taking turns, and prints the smallest of each figure's N medians (builds
-    and timings stubbed: this checks the bookkeeping, not the speed)."""
-    from max2code.conformance import bench
-    for name in ("make_c", "make_m2", "cargo"):
-        monkeypatch.setattr(bench.runtimes, name, lambda *a, **k: None)
-    monkeypatch.setattr(bench.R, "build_testee", lambda *a, **k: None)
-    order = []
-    # native columns: round r gives 10 + degree, except round 1, which is 1 less
-    # (later rounds are slower again: the minimum is not simply the last)
-    def native(cmd, text):
-        order.append("native")
-        r = order.count("native") // 5 + (order.count("native") % 5 != 0)
-        return {d: 10.0 + d - (1.0 if r == 2 else 0.0) for d in bench.DEGREES}
-    calls = {"n": 0}
-    def time_python(fn, polys, reps):
-        order.append("python")
-        calls["n"] += 1
-        return 1000.0 + 10 * calls["n"]
-    monkeypatch.setattr(bench, "native", native)
-    monkeypatch.setattr(bench, "time_python", time_python)
-    assert bench.main(["--rounds", "3", "--per-degree", "2", "--markdown"]) == 0
-    out = capsys.readouterr().out
-    rows = [ln for ln in out.splitlines() if ln.startswith("| ") and not ln.startswith("| degree")]
-    assert len(rows) == len(bench.DEGREES)
-    for deg, row in zip(bench.DEGREES, rows):
-        cells = [c.strip() for c in row.strip("|").split("|")]
-        assert cells[0] == str(deg)
-        assert cells[1:6] == [f"{10.0 + deg - 1.0:.1f}"] * 5, row  # round 2's, the smallest
-        # Python then numpy per round, degree by degree: round 1's are the smallest
-        i = bench.DEGREES.index(deg)
-        assert cells[6] == f"{1000 + 10 * (i + 1):,.0f}" and cells[7] == f"{1000 + 10 * (i + 6):,.0f}", row
-    assert "smallest of 3 interleaved rounds" in out
-    # the columns take turns: 5 native runs and 10 Python timings per round, 3 rounds
-    assert order == (["native"] * 5 + ["python"] * 10) * 3
-    with pytest.raises(SystemExit) as e:
-        bench.main(["--rounds", "0"])
-    assert e.value.code == 2
 
 
 def test_m2_gsl_baseline_answers():
