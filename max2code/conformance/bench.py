@@ -22,11 +22,11 @@ import argparse
 import random
 import statistics
 import subprocess
-import sys
 import time
 
 from max2code.conformance import runner as R
 from max2code.harness import runtimes
+from max2code.progress import bar
 
 DEGREES = (2, 3, 4, 6, 8)
 
@@ -123,13 +123,14 @@ def print_markdown(cols: dict[str, dict[int, float]], names: list[str], rounds: 
     print("|---" * (len(names) + 1) + "|")
     for deg in DEGREES:
         print(f"| {deg} | " + " | ".join(_fig(cols[n].get(deg, float("nan"))) for n in names) + " |")
-    how = f"the smallest of {rounds} interleaved rounds' medians; " if rounds > 1 else ""
+    notes = [f"the smallest of {rounds} interleaved rounds' medians"] if rounds > 1 else []
     try:
         import os
-        print(f"\n({how}load average {os.getloadavg()[0]:.1f} at the end of the run)")
+        notes.append(f"load average {os.getloadavg()[0]:.1f} at the end of the run")
     except OSError:
-        if how:
-            print(f"\n({how[:-2]})")
+        pass
+    if notes:
+        print(f"\n({'; '.join(notes)})")
 
 
 def main(argv=None) -> int:
@@ -166,10 +167,7 @@ def main(argv=None) -> int:
     total = len(builds) + args.rounds * len(columns)
 
     def progress(i: int, what: str) -> None:
-        width = 20
-        done = (i + 1) * width // total
-        bar = "#" * done + "." * (width - done)
-        print(f"\r[{bar}] {i + 1}/{total} {what:<24s}", end="", file=sys.stderr, flush=True)
+        bar(i, total, what, "bench/roots.py")
 
     progress(0, builds[0])
     R.build_testee("c")
@@ -186,7 +184,7 @@ def main(argv=None) -> int:
             step += 1
             for deg, ns in measure().items():
                 cols[name][deg] = min(ns, cols[name].get(deg, ns))
-    print(file=sys.stderr)
+    progress(total, "done")
     names = list(cols)
     if args.markdown:
         print_markdown(cols, names, args.rounds)

@@ -1020,14 +1020,12 @@ fn solve<const N: usize, const M: usize>(c: &[f64; M], lo: f64, hi: f64) -> Opti
     if umax >= 0x7ff0_0000_0000_0000 {
         return None;
     }
-    let mx = f64::from_bits(umax);
-    let mn = f64::from_bits(umin);
-    // frexp exponents: of normal numbers, their exponent fields less 1022
-    // (mn normal: so is mx)
+    // frexp exponents of the largest and smallest: of normal numbers, their
+    // exponent fields less 1022 (the smallest normal: so is the largest)
     let (ex, en) = if umin >= 1 << 52 {
         ((umax >> 52) as i32 - 1022, (umin >> 52) as i32 - 1022)
     } else {
-        (frexp_exp(mx), frexp_exp(mn))
+        (frexp_exp(f64::from_bits(umax)), frexp_exp(f64::from_bits(umin)))
     };
     let spread = ex - en;
     let lim = ONE_SCALE_SPAN / n as i32;
