@@ -160,3 +160,34 @@ def test_slug_follows_github():
     assert slug("Why advance stops *before* t") == "why-advance-stops-before-t"
     assert slug("The game: examples/game/") == "the-game-examplesgame"
     assert slug("Checking a port: `sim --step DT`") == "checking-a-port-sim---step-dt"
+
+
+# ---- the command reference against the parsers ---------------------------------------------------
+
+def _help(*argv: str) -> str:
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-m", "max2code", *argv, "--help"], capture_output=True, text=True,
+                       timeout=120, cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def test_command_reference_names_every_command_and_option():
+    """README.md's command summary and docs/command-line.md name every
+    subcommand and every long option that `--help` prints."""
+    from max2code.cli import SUBCOMMANDS
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    reference = (ROOT / "docs" / "command-line.md").read_text(encoding="utf-8")
+    missing = []
+    for sub in ["", *sorted(SUBCOMMANDS)]:
+        text = _help(sub) if sub else _help()
+        usage = text.split("\n\n", 1)[0] if sub else text[text.index("options:"):]
+        options = set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", usage)) - {"--help"}
+        for doc_name, doc in (("README.md", readme), ("docs/command-line.md", reference)):
+            if sub and f"max2code {sub}" not in doc:
+                missing.append(f"{doc_name}: no `max2code {sub}`")
+            missing += [f"{doc_name}: {sub or 'the generator'} {o}" for o in sorted(options)
+                        if not re.search(re.escape(o) + r"(?![a-z0-9-])", doc)]
+    assert not missing, "\n".join(missing)
