@@ -25,9 +25,9 @@ SUBCOMMANDS: dict[str, str] = {
     "crosscheck": "max2code.sim.commands:crosscheck_main",
     "event-vs-frame": "max2code.reports.event_vs_frame:main",
     "render": "max2code.draw.render:render_main",
-    "runtime": "max2code.harness.install:runtime_main",
+    "runtime": "max2code.toolchain.install:runtime_main",
     "choose-language": "max2code.reports.choose_language:main",
-    "bundled": "max2code.harness.install:bundled_main",
+    "bundled": "max2code.toolchain.install:bundled_main",
 }
 
 

@@ -43,7 +43,7 @@ def row(case: dict, names) -> list[float]:
 
 
 def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
-    from max2code.harness.exact import build_exact_harness
+    from max2code.toolchain.exact import build_exact_harness
     from max2code.generate.pipeline import GenerateRequest, generate_file
 
     answers: dict[int, str] = {}

@@ -126,7 +126,7 @@ class TocOp:
         return None
 
     def batch(self, lang: str, cases: dict[int, dict]) -> dict[int, str]:
-        from max2code.harness.toc import build_harness
+        from max2code.toolchain.harness import build_harness
         from max2code.generate.pipeline import GenerateRequest, generate_file
 
         if lang not in self.testee_langs:

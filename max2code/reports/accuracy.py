@@ -132,7 +132,7 @@ def _generate(kind: str, lang: str, order: int, real: str):
 def build(kind: str, lang: str, order: int, real: str, workdir: str):
     """A harness for `kind` (paper and single: one polynomial; plain and exact:
     the exact-motion driver) and the parameter names in its order."""
-    from max2code.harness.exact import build_exact_harness, build_poly_harness
+    from max2code.toolchain.exact import build_exact_harness, build_poly_harness
 
     g = _generate(kind, lang, order, real)
     if kind == "paper":

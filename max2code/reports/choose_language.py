@@ -63,7 +63,7 @@ def _rows(names: list[str], n: int, seed: int) -> list[dict]:
 
 def measure(langs, n: int = 400, reps: int = 20, seed: int = 13, progress: bool = True) -> list[dict]:
     from max2code.generate.pipeline import GenerateRequest, generate_file
-    from max2code.harness.exact import build_exact_harness, build_poly_harness
+    from max2code.toolchain.exact import build_exact_harness, build_poly_harness
     from max2code.sim.scene import compile_scene
     from max2code.sim.simulate import build_simulator, parse_trace
     from max2code.targets import target

@@ -27,7 +27,8 @@ from max2code.record import Record
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
 from max2code.sim.scene_c import FlatScene
-from max2code.targets import simulator_languages
+from max2code.targets import LANGUAGES, simulator_languages
+from max2code.toolchain import toolchain
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
@@ -170,15 +171,15 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     # the generator is imported only when something must be generated (it is most of the start-up)
     from max2code.generate.mxm import read_mxm
     from max2code.generate.pipeline import GenerateRequest, derive, generate
-    from max2code.targets import target as get_target
 
-    tgt = get_target(lang)
+    extension = LANGUAGES[lang].extension
+    tc = toolchain(lang)
     generated = {}
     names: dict[str, list[str]] = {}
     import hashlib
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
-        fname = eq + tgt.extension
+        fname = eq + extension
         req = GenerateRequest(str(path), lang, options={"order": str(order)}, effects=effects,
                               out_name=fname, progress=progress)
         # generated headers name the .mxm as the bundle does, wherever it is installed
@@ -192,10 +193,10 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         generated[eq] = str(target_file)
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
-    cmds = tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
+    cmds = tc.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
     h.update(json.dumps(cmds).encode())     # new flags rebuild too
     digest = h.hexdigest()
-    run = tgt.sim_run(str(workdir), generated)
+    run = tc.sim_run(str(workdir), generated)
     if not stamp.exists() or stamp.read_text() != digest or not _runnable(run):     # a deleted program too
         for cmd in cmds:
             proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
@@ -214,8 +215,7 @@ def world_library(scene: Scene, lang: str = "c", *, progress: bool = False) -> P
     built with the equations of the scene's effects (beside its simulator,
     built when needed): for ctypes and other programs.  SimulateError when
     `lang` makes none."""
-    from max2code.targets import target as get_target
-    name = get_target(lang).world_library
+    name = toolchain(lang).world_library
     if name is None:
         raise SimulateError(f"the {lang} simulator has no shared library of the world API")
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
