@@ -20,6 +20,7 @@ from fractions import Fraction
 from multiprocessing import Pool
 from pathlib import Path
 
+from max2code.conformance.ops import num
 from max2code.conformance.reference import reference
 from max2code.paths import CASES
 
@@ -331,7 +332,6 @@ def scaled_cases(per_degree: int = 12) -> list[dict]:
 
 
 def _with_reference(c: dict) -> dict:
-    from max2code.conformance.ops import num
     coeffs = [num(v) for v in c["coeffs"]]
     if c["id"].startswith("mag-"):
         e = c.pop("scale10")

@@ -26,6 +26,7 @@ from max2code.errors import Max2CodeError
 from max2code.record import Record
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
+from max2code.sim import trace_json
 from max2code.sim.scene_c import FlatScene
 from max2code.targets import LANGUAGES, simulator_languages
 from max2code.toolchain import toolchain
@@ -371,7 +372,6 @@ class TraceConverter:
         self.predictions: dict[str, int] = {}
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
-            from max2code.sim import trace_json
             lib = trace_json.library()
             if lib is not None:
                 self._c = trace_json.CTrace(lib, self.names, self.most, getattr(scene, "names_text", None))
@@ -850,7 +850,6 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, write_bytes=write_bytes,
                               accelerate=converter != "python")
         if converter != "python" and conv._c is None:
-            from max2code.sim import trace_json
             why = f"the C trace converter cannot be built ({trace_json.why_not()})"
             if converter == "c":
                 raise SimulateError(f"max2code simulate: error: --converter c: {why}")
