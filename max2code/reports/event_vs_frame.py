@@ -1,10 +1,9 @@
-"""Event versus frame (issue 6 item 5, issue 10 item 6): every example scene
-in our discrete-event simulator and in pymunk (Chipmunk 2D) stepped at fixed
-steps; collision-time error against our exact events, collisions missed
-(tunnelling) or doubled, CPU time per simulated second (ours less the
-start-up), and our events by kind.  `max2code event-vs-frame` writes
-docs/event-vs-frame.md, .png and .svg (the design is explained there, in
-DESIGN below).
+"""Event versus frame: every example scene in our discrete-event simulator
+and in pymunk (Chipmunk 2D) stepped at fixed steps; collision-time error
+against our exact events, collisions missed (tunnelling) or doubled, CPU
+time per simulated second (ours less the start-up), and our events by kind.
+`max2code event-vs-frame` writes docs/event-vs-frame.md, .png and .svg (the
+design is explained there, in DESIGN below).
 
 Two comparisons, because multi-body scenes are chaotic:
 

@@ -522,8 +522,8 @@ class TraceConverter:
                 self._flush()           # the last event is whole
                 self.line += block.count(b"\n")
                 if self.write_bytes is not None and not self.final:
-                    # streamed as they come (15 MB at 10^5 bodies: kept, it was decoded, joined and encoded
-                    # after the run, in series with nothing)
+                    # streamed as they come (15 MB at 10^5 bodies: kept for the end, they would be decoded,
+                    # joined and encoded after the run, in series with nothing)
                     self.write_bytes(b"," if self._final_started else self._final_head().encode("ascii"))
                     self.write_bytes(got)
                     self._final_started = True
@@ -709,7 +709,7 @@ class TraceConverter:
     def _finish(self) -> dict:
         """As finish, returning the statistics only: the final states are
         written a block at a time (one line of 15 MB at 10^5 bodies, which
-        made whole, with a newline, and encoded were four copies of it)."""
+        made whole, with a newline, and encoded would be four copies of it)."""
         self._flush()
         if not self._final_started:
             self.write(self._final_head())
