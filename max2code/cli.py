@@ -13,6 +13,7 @@ import importlib
 import sys
 
 from max2code.errors import ArgumentParser, Max2CodeError
+from max2code.targets import LANGUAGES
 from max2code.textio import check_output, write_output
 
 # name -> "module:function(argv) -> int"
@@ -25,16 +26,15 @@ SUBCOMMANDS: dict[str, str] = {
     "crosscheck": "max2code.sim.commands:crosscheck_main",
     "event-vs-frame": "max2code.reports.event_vs_frame:main",
     "render": "max2code.draw.render:render_main",
-    "runtime": "max2code.harness.install:runtime_main",
+    "runtime": "max2code.toolchain.install:runtime_main",
     "choose-language": "max2code.reports.choose_language:main",
-    "bundled": "max2code.harness.install:bundled_main",
+    "bundled": "max2code.toolchain.install:bundled_main",
 }
 
 
 def _generate_parser() -> argparse.ArgumentParser:
     # imported here: a subcommand (simulate, above all) starts without the generator's modules
     from max2code.generate.maxima import DEFAULT_TIMEOUT
-    from max2code.targets import LANGUAGES
 
     p = ArgumentParser(
         prog="max2code",
@@ -103,7 +103,7 @@ def _parse_options(items: list[str]) -> dict[str, str]:
 
 
 def generate_main(argv: list[str]) -> int:
-    from max2code.generate.pipeline import GenerateRequest, generate_file
+    from max2code.generate.pipeline import GenerateRequest, generate_file  # here: subcommands start without it
 
     parser = _generate_parser()
     args = parser.parse_args(argv)
@@ -114,7 +114,6 @@ def generate_main(argv: list[str]) -> int:
         return list_variants(args, effects)
     if not args.lang:
         parser.error("--lang is required (c, m2, python or rust)")
-    from max2code.targets import LANGUAGES
     header = args.header if args.header is not None else (
         args.output != "-" and LANGUAGES[args.lang].header_extension is not None)
     if header and args.output == "-":
@@ -146,6 +145,7 @@ def generate_main(argv: list[str]) -> int:
 def list_variants(args, effects) -> int:
     import json
 
+    # imported here: subcommands start without the generator's modules
     from max2code.generate.mxm import read_mxm
     from max2code.generate.names import check_names
     from max2code.generate.pipeline import derive

@@ -23,7 +23,7 @@ import zlib
 from importlib import resources
 from pathlib import Path
 
-from max2code import __version__
+from max2code import __version__, filestate
 
 # the top-level folders of the repository that the package carries
 DATA_FOLDERS = ("templates", "equations", "examples", "runtimes/c", "runtimes/m2", "runtimes/python",
@@ -79,7 +79,6 @@ def sources_digest() -> str:
     installed package's build folder: remembered for the files' stat in the
     cache folder (max2code/filestate.py), so that a command reads and hashes
     them only when they changed."""
-    from max2code import filestate
     files = _runtime_files()
     now = filestate.state(files, str(RUNTIMES))
     memo = cache_dir() / f"sources-{zlib.crc32(str(RUNTIMES).encode()):08x}.state"

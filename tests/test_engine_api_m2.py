@@ -13,7 +13,7 @@ import subprocess
 from max2code.sim.live import python_world
 from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import build_simulator
-from max2code.targets.m2 import Modula2
+from max2code.toolchain.m2 import Modula2Toolchain
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STRIKER = 4
@@ -50,7 +50,7 @@ def _build_and_run(tmp_path, scene, module: str, source: str, scene_file: str, e
     (tmp_path / scene_file).write_text(compile_scene(scene), encoding="ascii")
     build = build_simulator("m2", scene.effects, scene.taylor_order)
     exe = str(tmp_path / exe_name)
-    made = subprocess.run(Modula2().sim_program_build(build.workdir, str(tmp_path / f"{module}.mod"), exe),
+    made = subprocess.run(Modula2Toolchain().sim_program_build(build.workdir, str(tmp_path / f"{module}.mod"), exe),
                           cwd=str(tmp_path), capture_output=True, text=True, timeout=600)
     assert made.returncode == 0, made.stderr[-3000:]
     return subprocess.run([exe], cwd=str(tmp_path), capture_output=True, text=True, timeout=60)

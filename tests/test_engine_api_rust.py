@@ -13,7 +13,7 @@ from max2code import paths
 from max2code.sim.live import python_world
 from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import build_simulator
-from max2code.targets import target
+from max2code.toolchain import toolchain
 
 DOC = paths.ROOT / "docs" / "engine-api.md"
 
@@ -55,7 +55,7 @@ def _build_and_run(tmp_path, scene, source: str, exe: str):
     shutil.copy(build.generated["point_edge"], tmp_path / "point_edge.rs")
     (tmp_path / "scene.flat").write_text(compile_scene(scene), encoding="ascii")
     (tmp_path / "main.rs").write_text(source, encoding="utf-8")
-    rust = target("rust")
+    rust = toolchain("rust")
     subprocess.run(["rustc", "--edition", "2021", "-D", "warnings", *rust.runtime_flags(), "main.rs", "-o", exe],
                    cwd=tmp_path, check=True, capture_output=True, timeout=600)
     return subprocess.run([str(tmp_path / exe)], cwd=tmp_path, capture_output=True, text=True, timeout=60)

@@ -18,7 +18,7 @@ import pytest
 from max2code.conformance import exact_op
 from max2code.conformance.exact_ref import Gap, reference
 from max2code.errors import Max2CodeError, SourceError
-from max2code.harness.exact import build_exact_harness
+from max2code.toolchain.exact import build_exact_harness
 from max2code.generate.pipeline import GenerateRequest, generate_file
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -6,7 +6,7 @@ import mpmath
 import pytest
 
 from conftest import EQUATIONS, LANGS
-from max2code.harness.toc import build_harness
+from max2code.toolchain.harness import build_harness
 from max2code.conformance.motion_ref import EQUATIONS as REFERENCE
 from max2code.conformance.motion_ref import scale as reference_scale
 

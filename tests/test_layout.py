@@ -75,6 +75,18 @@ def test_subpackages_by_job():
     top = sorted(p.name for p in PKG.iterdir() if p.suffix == ".py")
     assert top == ["__init__.py", "__main__.py", "cli.py", "errors.py", "filestate.py", "paths.py", "progress.py",
                    "record.py", "textio.py"], top
-    for sub in ("generate", "targets", "sim", "draw", "reports", "conformance", "harness"):
+    for sub in ("generate", "targets", "toolchain", "sim", "draw", "reports", "conformance"):
         assert (PKG / sub / "__init__.py").is_file(), sub
+    assert not os.path.exists(PKG / "harness"), "harness programs are built by max2code/toolchain"
     assert not os.path.exists(PKG / "grammar"), "grammars live with the generator (max2code/generate/grammar)"
+
+
+def test_every_language_has_a_toolchain():
+    """The printers and the toolchains cover the same languages, in the same
+    order, and the printers import nothing that builds or runs."""
+    from max2code.targets import LANGUAGES
+    from max2code.toolchain import TOOLCHAINS
+    assert list(TOOLCHAINS) == list(LANGUAGES)
+    graph = import_graph()
+    printers = [m for m in graph if m == "max2code.targets" or m.startswith("max2code.targets.")]
+    assert printers and all(not n.startswith("max2code.toolchain") for m in printers for n in graph[m])

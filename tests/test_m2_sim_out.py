@@ -11,7 +11,7 @@ import subprocess
 
 import pytest
 
-from max2code.targets.m2 import SIM_FLAGS
+from max2code.toolchain.m2 import SIM_FLAGS
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 M2 = os.path.join(ROOT, "runtimes", "m2")

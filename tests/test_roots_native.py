@@ -8,7 +8,9 @@ import random
 import subprocess
 
 from max2code.conformance import runner as R
-from max2code.harness import runtimes
+from max2code.toolchain.c import C_RUNTIME, make_c
+from max2code.toolchain.m2 import M2_RUNTIME, make_m2
+from max2code.toolchain.rust import RUST_RUNTIME
 
 
 def run(cmd, cwd, env=None):
@@ -18,25 +20,25 @@ def run(cmd, cwd, env=None):
 
 
 def test_c_library_and_api():
-    out = run(["make", "-s", f"BUILD={R.BUILD / 'c'}", "WERROR=-Werror", "check"], runtimes.C_RUNTIME)
+    out = run(["make", "-s", f"BUILD={R.BUILD / 'c'}", "WERROR=-Werror", "check"], C_RUNTIME)
     assert "15 passed, 0 failed" in out
 
 
 def test_c_library_builds_with_user_flags(tmp_path):
     """A user's optimisation flags build the library (no -Werror outside our CI),
     here without a single warning."""
-    out = run(["make", f"BUILD={tmp_path}", "CFLAGS=-O3 -march=native", "lib"], runtimes.C_RUNTIME)
+    out = run(["make", f"BUILD={tmp_path}", "CFLAGS=-O3 -march=native", "lib"], C_RUNTIME)
     assert (tmp_path / "libm2c.a").exists() and (tmp_path / "libm2c.so").exists()
     assert "warning" not in out, out
 
 
 def test_rust_unit_tests():
-    out = run(["cargo", "test", "--release", "--quiet", "--lib"], runtimes.RUST_RUNTIME, R.rust_env())
+    out = run(["cargo", "test", "--release", "--quiet", "--lib"], RUST_RUNTIME, R.rust_env())
     assert "test result: ok" in out
 
 
 def test_m2_programs_build():
-    run(["make", "-s", f"BUILD={R.BUILD / 'm2'}"], runtimes.M2_RUNTIME)
+    run(["make", "-s", f"BUILD={R.BUILD / 'm2'}"], M2_RUNTIME)
     for prog in ("roots_testee", "roots_gsl_testee", "roots_bench"):
         assert (R.BUILD / "m2" / prog).exists()
 
@@ -50,8 +52,8 @@ def test_bench_drivers_count_alike():
     from max2code_rt.roots import smallest_root
     polys = polynomials(40)
     text = wire(polys)
-    runtimes.make_c(R.BUILD / "c" / "m2c_bench")
-    runtimes.make_m2(R.BUILD / "m2" / "roots_bench")
+    make_c(R.BUILD / "c" / "m2c_bench")
+    make_m2(R.BUILD / "m2" / "roots_bench")
     want = {d: sum(1 for c in ps if smallest_root(c, 0.0, 1.0) is not None) for d, ps in polys.items()}
 
     def counts(cmd, stdin):
@@ -113,7 +115,7 @@ def _every_runtime_answers(tmp_path, cases, expect):
     lines = "".join(R.RootsOp().wire({"coeffs": c, "lo": lo, "hi": hi}, k) + "\n" for k, (c, lo, hi) in enumerate(cases))
     outline = tmp_path / "testee_outline"
     run(["cc", "-std=c11", "-O2", "-ffp-contract=off", "-DM2C_NO_INLINE_ENTRY", "-Iinclude", "tools/m2c_testee.c",
-         str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], runtimes.C_RUNTIME)
+         str(R.BUILD / "c" / "libm2c.a"), "-lgsl", "-lgslcblas", "-lm", "-o", str(outline)], C_RUNTIME)
     for cmd in (R.build_testee("c"), R.build_testee("rust"), R.build_testee("m2"), [str(outline)]):
         out = subprocess.run(cmd, input=lines, stdout=subprocess.PIPE, text=True, check=True).stdout.split("\n")
         bad = [(cases[k], out[k], expect[k]) for k in range(len(cases)) if out[k] != expect[k]]

@@ -9,7 +9,7 @@ import mpmath
 import pytest
 
 from conftest import LANGS, ROOT
-from max2code.harness.toc import build_harness
+from max2code.toolchain.harness import build_harness
 from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code_rt.roots import smallest_root
 from max2code.conformance.motion_ref import EQUATIONS as REFERENCE

@@ -13,7 +13,7 @@ import pytest
 
 from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import run_scene, world_library
-from max2code.targets.c import FLAGS
+from max2code.toolchain.c import FLAGS
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")

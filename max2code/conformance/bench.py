@@ -25,7 +25,9 @@ import subprocess
 import time
 
 from max2code.conformance import runner as R
-from max2code.harness import runtimes
+from max2code.toolchain.c import make_c
+from max2code.toolchain.m2 import make_m2
+from max2code.toolchain.rust import cargo
 from max2code.progress import bar
 
 DEGREES = (2, 3, 4, 6, 8)
@@ -171,11 +173,11 @@ def main(argv=None) -> int:
 
     progress(0, builds[0])
     R.build_testee("c")
-    runtimes.make_c(R.BUILD / "c" / "m2c_bench")
+    make_c(R.BUILD / "c" / "m2c_bench")
     progress(1, builds[1])
-    runtimes.cargo("build", "--release", "--quiet", "--bin", "max2code_rt_bench")
+    cargo("build", "--release", "--quiet", "--bin", "max2code_rt_bench")
     progress(2, builds[2])
-    runtimes.make_m2(R.BUILD / "m2" / "roots_bench")
+    make_m2(R.BUILD / "m2" / "roots_bench")
     cols: dict[str, dict[int, float]] = {name: {} for name in columns}
     step = len(builds)
     for r in range(args.rounds):

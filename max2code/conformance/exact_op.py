@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import tempfile
 
+from max2code.conformance.ops import Verdict
 from max2code.paths import equation as mxm_path
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
 DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
@@ -43,8 +44,9 @@ def row(case: dict, names) -> list[float]:
 
 
 def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
-    from max2code.harness.exact import build_exact_harness
+    # imported here: the runner loads this module, and roots-only runs need no generator
     from max2code.generate.pipeline import GenerateRequest, generate_file
+    from max2code.toolchain.exact import build_exact_harness
 
     answers: dict[int, str] = {}
     by_eq: dict[str, list[int]] = {}
@@ -66,8 +68,6 @@ def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
 
 
 def judge(case: dict, answer: str):
-    from max2code.conformance.ops import Verdict
-
     expect = case.get("expect")
     if answer.startswith("error"):
         return Verdict(False, "-", why=answer[len("error: "):])

@@ -20,6 +20,7 @@ from fractions import Fraction
 from multiprocessing import Pool
 from pathlib import Path
 
+from max2code.conformance.ops import num
 from max2code.conformance.reference import reference
 from max2code.paths import CASES
 
@@ -236,7 +237,7 @@ def _doubles(c, rng, window=307.0):
 
 
 def scaled_cases(per_degree: int = 12) -> list[dict]:
-    """Any magnitude (issue 11): hand-picked classics, then per degree 1..16
+    """Any magnitude: hand-picked classics, then per degree 1..16
     polynomials with roots of one magnitude from 1e-300 to 1e300 or of
     magnitudes spread as far as the coefficients allow, moderate roots with t
     scaled by a power of ten (coefficients across the double range), and for
@@ -331,7 +332,6 @@ def scaled_cases(per_degree: int = 12) -> list[dict]:
 
 
 def _with_reference(c: dict) -> dict:
-    from max2code.conformance.ops import num
     coeffs = [num(v) for v in c["coeffs"]]
     if c["id"].startswith("mag-"):
         e = c.pop("scale10")

@@ -27,9 +27,10 @@ from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
 from max2code.conformance.toc import TocOp
 from max2code.errors import ArgumentParser, Max2CodeError
-from max2code.harness.runtimes import rust_env  # noqa: F401  (the runner's API)
 from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
 from max2code.targets import LANGUAGES, gsl_baselines
+from max2code.toolchain import toolchain
+from max2code.toolchain.rust import rust_env  # noqa: F401  (the runner's API)
 from max2code.textio import read_text
 
 ALL_LANGS = tuple(LANGUAGES)
@@ -46,12 +47,11 @@ OPS: dict[str, object] = _ops()
 # ------------------------------------------------------------------ testees
 def build_testee(lang: str) -> list[str]:
     """Build the testee of `lang` (a language or a GSL baseline) if needed and return its command."""
-    from max2code.targets import target
     if lang in LANGUAGES:
-        return target(lang).testee()
+        return toolchain(lang).testee()
     for name, t in LANGUAGES.items():
         if t.gsl_baseline == lang:
-            return target(name).testee(baseline=True)
+            return toolchain(name).testee(baseline=True)
     raise ValueError(f"unknown language {lang!r}")
 
 

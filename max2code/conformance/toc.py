@@ -20,7 +20,9 @@ import tempfile
 
 import mpmath
 
+from max2code.conformance import exact_op
 from max2code.conformance.motion_ref import EQUATIONS, scale
+from max2code.conformance.ops import Verdict
 
 from max2code.paths import CASES, equation as mxm_path
 from max2code.targets import LANGUAGES
@@ -126,15 +128,15 @@ class TocOp:
         return None
 
     def batch(self, lang: str, cases: dict[int, dict]) -> dict[int, str]:
-        from max2code.harness.toc import build_harness
+        # imported here: the runner loads this module, and roots-only runs need no generator
         from max2code.generate.pipeline import GenerateRequest, generate_file
+        from max2code.toolchain.harness import build_harness
 
         if lang not in self.testee_langs:
             raise ValueError(f"the toc op has no testee for {lang}")
         answers: dict[int, str] = {}
         exact = {s: c for s, c in cases.items() if c.get("motion") == "exact"}
         if exact:   # the exact motion (sin, cos): max2code/conformance/exact_op.py
-            from max2code.conformance import exact_op
             answers.update(exact_op.batch(lang, exact))
         by_eq: dict[str, list[int]] = {}
         for seq, case in cases.items():
@@ -165,10 +167,7 @@ class TocOp:
         return answers
 
     def judge(self, case: dict, answer: str):
-        from max2code.conformance.ops import Verdict
-
         if case.get("motion") == "exact":
-            from max2code.conformance import exact_op
             return exact_op.judge(case, answer)
         expect, tol = case.get("expect"), float(case.get("tol", 0.0))
         if answer.startswith("error"):

@@ -23,11 +23,17 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from max2code.conformance import exact_cases, exact_ref
+from max2code.conformance.exact_cases import _aim, _circle_random
+from max2code.conformance.exact_ref import reference
 from max2code.errors import ArgumentParser
+from max2code.generate.mxm import read_mxm
+from max2code.generate.pipeline import GenerateRequest, derive, generate, generate_file
 from max2code.progress import bar
 
 from max2code.paths import BUILD, EQUATIONS, ROOT, equation
 from max2code.targets import LANGUAGES
+from max2code.toolchain.exact import build_exact_harness, build_poly_harness
 # the compiled languages first (the table's order)
 LANGS = tuple(sorted(LANGUAGES, key=lambda lang: not LANGUAGES[lang].compiled))
 LETTERS = "abcdefmnopqghijklrsuvwxz"
@@ -84,10 +90,6 @@ QUICK = ("paper", "single o4", "plain o4 a0.25", "exact o4 a1")
 def make_cases(n: int, seed: int, progress: bool = True) -> list[dict]:
     """Two-circle motions aimed to meet (70 %), orbits up to 5 rad/s, horizons
     1 to 10 s, with mpmath references of the exact motion."""
-    from max2code.conformance.exact_cases import _aim, _circle_random
-    from max2code.conformance.exact_ref import reference
-
-    from max2code.conformance import exact_cases, exact_ref
     src = Path(exact_ref.__file__).read_bytes() + Path(exact_cases.__file__).read_bytes()
     key = hashlib.sha256(src + f"{n} {seed}".encode()).hexdigest()[:16]
     cache = BUILD / "accuracy" / f"cases-{key}.json"
@@ -116,24 +118,18 @@ def make_cases(n: int, seed: int, progress: bool = True) -> list[dict]:
 
 # ---------------------------------------------------------------- harnesses
 def _generate(kind: str, lang: str, order: int, real: str):
-    from max2code.generate.mxm import read_mxm
-    from max2code.generate.pipeline import GenerateRequest, derive, generate
-
     req = GenerateRequest(path=str(equation("circle-circle")), lang=lang, out_name="generated",
                           options={"order": str(order)}, exact=kind in ("plain", "exact"), real=real)
     if kind == "paper":
         mod = read_mxm(str(EQUATIONS / "paper" / "circle-circle.mxm"))
         mod = dataclasses.replace(mod, blocks=(), terms=None, terms_span=None, equation="paper_circle_circle")
         return generate(derive(mod), dataclasses.replace(req, path=mod.path, options={}, variants=False))
-    from max2code.generate.pipeline import generate_file
     return generate_file(req)
 
 
 def build(kind: str, lang: str, order: int, real: str, workdir: str):
     """A harness for `kind` (paper and single: one polynomial; plain and exact:
     the exact-motion driver) and the parameter names in its order."""
-    from max2code.harness.exact import build_exact_harness, build_poly_harness
-
     g = _generate(kind, lang, order, real)
     if kind == "paper":
         return build_poly_harness(lang, g.text, g.function.params, g.function.name, False, g.function.degree,

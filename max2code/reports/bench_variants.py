@@ -18,13 +18,14 @@ from max2code.paths import equation
 from max2code.progress import bar
 from max2code.generate.render import environment
 from max2code.targets import target as get_target
+from max2code.toolchain import toolchain
 
-# optimised builds; each target adds how to link its runtime (generated files call its solver)
+# optimised builds; each toolchain adds how to link its runtime (generated files call its solver)
 BUILD = {
-    "c": lambda tgt, src, exe: ["gcc", "-std=c11", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
-                                src, "-o", exe, *tgt.runtime_flags(), "-lm"],
-    "rust": lambda tgt, src, exe: ["rustc", "--edition", "2021", "-C", "opt-level=3", "-D", "warnings",
-                                   *tgt.runtime_flags(), src, "-o", exe],
+    "c": lambda tc, src, exe: ["gcc", "-std=c11", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+                               src, "-o", exe, *tc.runtime_flags(), "-lm"],
+    "rust": lambda tc, src, exe: ["rustc", "--edition", "2021", "-C", "opt-level=3", "-D", "warnings",
+                                  *tc.runtime_flags(), src, "-o", exe],
 }
 SOURCE = {"c": "bench.c", "rust": "bench.rs"}
 
@@ -63,7 +64,7 @@ def run(path: str, n: int, reps: int, trials: int, progress) -> list[dict]:
                     reps=reps, trials=trials))
             exe = os.path.join(tmp, "bench")
             progress(f"{eq}: compiling the {lang} benchmark")
-            proc = subprocess.run(BUILD[lang](tgt, src, exe), capture_output=True, text=True)
+            proc = subprocess.run(BUILD[lang](toolchain(lang), src, exe), capture_output=True, text=True)
             if proc.returncode != 0:
                 raise Max2CodeError(f"max2code bench: the {lang} benchmark did not compile:\n{proc.stderr[-3000:]}")
             progress(f"{eq}: timing {len(vs) + 2} functions in {lang}")

@@ -24,9 +24,15 @@ import sys
 import tempfile
 import time
 
+from max2code.conformance.exact_cases import _circle_random
 from max2code.errors import Max2CodeError
+from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code.paths import EXAMPLES, equation
 from max2code.progress import bar
+from max2code.sim.scene import compile_scene, load_scene
+from max2code.sim.simulate import build_simulator, parse_trace
+from max2code.targets import LANGUAGES, target
+from max2code.toolchain.exact import build_exact_harness, build_poly_harness
 
 BEGIN = "<!-- choose-language:begin (written by max2code choose-language) -->"
 END = "<!-- choose-language:end -->"
@@ -42,7 +48,6 @@ def _scenes(folder: str):
     """The example, elastic, for SIM_SHORT and SIM_SECONDS simulated seconds, without frames."""
     import json
 
-    from max2code.sim.scene import load_scene
     with open(EXAMPLES / SCENE, encoding="utf-8") as fh:
         raw = json.load(fh)
     out = []
@@ -56,18 +61,11 @@ def _scenes(folder: str):
 
 
 def _rows(names: list[str], n: int, seed: int) -> list[dict]:
-    from max2code.conformance.exact_cases import _circle_random
     rng = random.Random(seed)
     return [_circle_random(rng) for _ in range(n)]
 
 
 def measure(langs, n: int = 400, reps: int = 20, seed: int = 13, progress: bool = True) -> list[dict]:
-    from max2code.generate.pipeline import GenerateRequest, generate_file
-    from max2code.harness.exact import build_exact_harness, build_poly_harness
-    from max2code.sim.scene import compile_scene
-    from max2code.sim.simulate import build_simulator, parse_trace
-    from max2code.targets import target
-
     out = []
     steps, step = 3 * len(langs), 0
     with tempfile.TemporaryDirectory(prefix="choose-language-") as tmp:
@@ -143,8 +141,6 @@ def write(path: str, text: str) -> None:
 
 
 def main(argv: list[str]) -> int:
-    from max2code.targets import LANGUAGES
-
     ap = argparse.ArgumentParser(prog="max2code choose-language", description=__doc__.split("\n\n")[0])
     ap.add_argument("--write", metavar="FILE", help="replace the table between the choose-language markers of FILE "
                                                      "(docs/using-generated-code.md)")

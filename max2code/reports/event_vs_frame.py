@@ -1,10 +1,9 @@
-"""Event versus frame (issue 6 item 5, issue 10 item 6): every example scene
-in our discrete-event simulator and in pymunk (Chipmunk 2D) stepped at fixed
-steps; collision-time error against our exact events, collisions missed
-(tunnelling) or doubled, CPU time per simulated second (ours less the
-start-up), and our events by kind.  `max2code event-vs-frame` writes
-docs/event-vs-frame.md, .png and .svg (the design is explained there, in
-DESIGN below).
+"""Event versus frame: every example scene in our discrete-event simulator
+and in pymunk (Chipmunk 2D) stepped at fixed steps; collision-time error
+against our exact events, collisions missed (tunnelling) or doubled, CPU
+time per simulated second (ours less the start-up), and our events by kind.
+`max2code event-vs-frame` writes docs/event-vs-frame.md, .png and .svg (the
+design is explained there, in DESIGN below).
 
 Two comparisons, because multi-body scenes are chaotic:
 
@@ -37,7 +36,8 @@ from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.progress import bar
 from max2code.paths import ROOT
 from max2code.sim.scene import Scene, compile_scene, load_scene, parse_scene
-from max2code.sim.simulate import LANGS, WORK_COUNTERS, handled_events
+from max2code.sim.commands import compare
+from max2code.sim.simulate import LANGS, WORK_COUNTERS, build_simulator, handled_events, run_scene, time_engine
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)
 STEP_NAMES = {1.0 / 60.0: "1/60", 1.0 / 240.0: "1/240", 1.0 / 1000.0: "1/1000"}
@@ -469,7 +469,6 @@ def time_ours(scene: Scene, lang: str) -> OurResult:
     scene, every pair's first prediction, the final states), best of up to
     10 each (fewer when they take more than 2 s together); the build is
     done before (cached)."""
-    from max2code.sim.simulate import build_simulator, time_engine
     build = build_simulator(lang, scene.effects, scene.taylor_order)
     flat = compile_scene(scene)
     first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
@@ -480,7 +479,6 @@ def time_ours(scene: Scene, lang: str) -> OurResult:
 
 def ours_available(lang: str) -> str:
     """'' when this runtime's simulator builds and runs, else why not."""
-    from max2code.sim.simulate import run_scene
     try:
         probe = parse_scene(json.dumps({"end_time": 1e-6, "bodies": [
             {"shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]}]}), "<probe>")
@@ -500,8 +498,6 @@ def example_scenes() -> list[tuple[str, str, Scene]]:
 
 # ------------------------------------------------------------------ the sweep
 def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool = True, scenes=None):
-    from max2code.sim.commands import compare
-    from max2code.sim.simulate import run_scene
     scenes = list(example_scenes() if scenes is None else scenes)
     scenes.append(("tunnelling", "(built in: event_vs_frame.tunnel_scene)", tunnel_scene()))
     avail = {lang: ours_available(lang) for lang in langs}

@@ -20,7 +20,8 @@ import json
 import os
 
 from max2code.paths import RUNTIMES
-from max2code.sim.scene import Scene, SceneError, compile_scene, load_scene, parse_scene
+from max2code.sim.scene import (Scene, SceneError, body_lines, body_window, circle_lever, compile_scene, load_scene,
+                                parse_scene)
 from max2code.sim.simulate import build_simulator, world_library
 
 ENGINES = ("c", "python")
@@ -63,7 +64,6 @@ def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:
     """The flat lines add_body takes for a body given as in a JSON scene
     (checked as in one: the scene's gravity applies; position and velocity
     are the state at the world's time of the add)."""
-    from max2code.sim.scene import body_lines, body_window, circle_lever
     one = parse_scene(json.dumps({"end_time": scene.end_time, "gravity": list(scene.gravity), "bodies": [raw]}), path)
     b = one.bodies[0]
     return "\n".join(body_lines(b, False, body_window(b, scene, circle_lever(scene)))) + "\n"
@@ -91,7 +91,7 @@ def open_world(scene, engine: str = "c", *, out=None):
     sc = as_scene(scene)
     if engine == "python":
         return python_world(sc, out)
-    from max2code.sim.cworld import CWorld
+    from max2code.sim.cworld import CWorld   # here: it imports max2code_rt, which need not be on the path (_runtime)
     return CWorld(str(world_library(sc, "c")), compile_scene(sc), out)
 
 

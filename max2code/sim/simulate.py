@@ -26,8 +26,10 @@ from max2code.errors import Max2CodeError
 from max2code.record import Record
 from max2code.paths import BUILD, RUNTIMES, TEMPLATES, equation
 from max2code.sim.scene import Scene, compile_parts, compile_scene
+from max2code.sim import trace_json
 from max2code.sim.scene_c import FlatScene
-from max2code.targets import simulator_languages
+from max2code.targets import LANGUAGES, simulator_languages
+from max2code.toolchain import toolchain
 
 PKG = Path(__file__).resolve().parent.parent     # the max2code package
 EQUATIONS = {"circle_circle": equation("circle-circle"), "point_edge": equation("point-edge")}
@@ -170,15 +172,15 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     # the generator is imported only when something must be generated (it is most of the start-up)
     from max2code.generate.mxm import read_mxm
     from max2code.generate.pipeline import GenerateRequest, derive, generate
-    from max2code.targets import target as get_target
 
-    tgt = get_target(lang)
+    extension = LANGUAGES[lang].extension
+    tc = toolchain(lang)
     generated = {}
     names: dict[str, list[str]] = {}
     import hashlib
     h = hashlib.sha256()
     for eq, path in EQUATIONS.items():
-        fname = eq + tgt.extension
+        fname = eq + extension
         req = GenerateRequest(str(path), lang, options={"order": str(order)}, effects=effects,
                               out_name=fname, progress=progress)
         # generated headers name the .mxm as the bundle does, wherever it is installed
@@ -192,10 +194,10 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
         generated[eq] = str(target_file)
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
-    cmds = tgt.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
+    cmds = tc.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
     h.update(json.dumps(cmds).encode())     # new flags rebuild too
     digest = h.hexdigest()
-    run = tgt.sim_run(str(workdir), generated)
+    run = tc.sim_run(str(workdir), generated)
     if not stamp.exists() or stamp.read_text() != digest or not _runnable(run):     # a deleted program too
         for cmd in cmds:
             proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
@@ -214,8 +216,7 @@ def world_library(scene: Scene, lang: str = "c", *, progress: bool = False) -> P
     built with the equations of the scene's effects (beside its simulator,
     built when needed): for ctypes and other programs.  SimulateError when
     `lang` makes none."""
-    from max2code.targets import target as get_target
-    name = get_target(lang).world_library
+    name = toolchain(lang).world_library
     if name is None:
         raise SimulateError(f"the {lang} simulator has no shared library of the world API")
     build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
@@ -371,7 +372,6 @@ class TraceConverter:
         self.predictions: dict[str, int] = {}
         self._c = None           # the C converter of feed_events (max2code/sim/trace_json.py)
         if accelerate:
-            from max2code.sim import trace_json
             lib = trace_json.library()
             if lib is not None:
                 self._c = trace_json.CTrace(lib, self.names, self.most, getattr(scene, "names_text", None))
@@ -522,8 +522,8 @@ class TraceConverter:
                 self._flush()           # the last event is whole
                 self.line += block.count(b"\n")
                 if self.write_bytes is not None and not self.final:
-                    # streamed as they come (15 MB at 10^5 bodies: kept, it was decoded, joined and encoded
-                    # after the run, in series with nothing)
+                    # streamed as they come (15 MB at 10^5 bodies: kept for the end, they would be decoded,
+                    # joined and encoded after the run, in series with nothing)
                     self.write_bytes(b"," if self._final_started else self._final_head().encode("ascii"))
                     self.write_bytes(got)
                     self._final_started = True
@@ -709,7 +709,7 @@ class TraceConverter:
     def _finish(self) -> dict:
         """As finish, returning the statistics only: the final states are
         written a block at a time (one line of 15 MB at 10^5 bodies, which
-        made whole, with a newline, and encoded were four copies of it)."""
+        made whole, with a newline, and encoded would be four copies of it)."""
         self._flush()
         if not self._final_started:
             self.write(self._final_head())
@@ -850,7 +850,6 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         conv = TraceConverter(scene, build, write, frames=frames, max_events=max_events, write_bytes=write_bytes,
                               accelerate=converter != "python")
         if converter != "python" and conv._c is None:
-            from max2code.sim import trace_json
             why = f"the C trace converter cannot be built ({trace_json.why_not()})"
             if converter == "c":
                 raise SimulateError(f"max2code simulate: error: --converter c: {why}")

@@ -4,8 +4,10 @@ LANGUAGES is the only list of languages: the simulator, the conformance
 runner, the reports and the tests loop over it and ask each target's
 capability properties (simulator, gsl_baseline, compiled, header_extension,
 single_type).  Its order is the reference runtime (Python) first, then the
-compiled ones.  Adding a language means adding a module here and
-templates/<lang>/; nothing else changes.
+compiled ones.  Printing only: building and running a language's code is
+its toolchain's job (max2code/toolchain/).  Adding a language means adding
+a module here, one in max2code/toolchain/ and templates/<lang>/; nothing
+else changes.
 """
 from __future__ import annotations
 

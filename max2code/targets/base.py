@@ -68,67 +68,6 @@ class Target:
         """The type of the generated arithmetic, when it is single precision."""
         return self.single_type if self.single else None
 
-    # ---- evaluation harness (templates/<lang>/harness.j2) ---------------
-    harness_source: ClassVar[str]
-
-    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
-        """Commands that compile the harness at `src` into `exe`."""
-        raise NotImplementedError(type(self).__name__)
-
-    harness_rows_fixed: ClassVar[bool] = False   # the exact harness holds at most harness.exact.MAX_ROWS rows
-
-    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
-        """Commands that compile an exact-motion or polynomial harness (with the
-        generated file in `workdir`) against the runtime, GSL baseline included."""
-        raise NotImplementedError(type(self).__name__)
-
-    def harness_run(self, src: str, exe: str) -> list[str]:
-        """The command that runs the built harness."""
-        raise NotImplementedError(type(self).__name__)
-
-    # The methods below that raise NotImplementedError are abstract: every
-    # target in LANGUAGES defines them (tests build and run each one); the
-    # simulator pair only for targets whose `simulator` capability is True,
-    # the only ones `simulate` and `crosscheck` accept.
-
-    # ---- the simulator (docs/simulator.md) ------------------------------
-    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
-        """Commands that build this language's simulator in `workdir` from the
-        generated files (equation name -> file name in workdir); `variants`:
-        how many variants each equation's NAME_variant counts (from the
-        generator's selection, GeneratedFile.selection)."""
-        raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
-
-    def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
-        """The command that runs the built simulator (compiled scene on stdin)."""
-        raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
-
-    # the file name of the shared library of the live world API (docs/engine-api.md)
-    # that sim_build also makes in workdir, or None when it makes none
-    world_library: str | None = None
-
-    # ---- conformance testee (docs/roots.md, "Conformance suite") -------
-    def testee(self, baseline: bool = False) -> list[str]:
-        """Build this runtime's conformance testee if needed (the GSL baseline's
-        with `baseline`) and return the command that runs it."""
-        raise NotImplementedError(f"{type(self).__name__} must define testee")
-
-    # ---- the runtime as a library (max2code runtime LANG [--install PREFIX]) ----
-    def runtime_dir(self):
-        """The folder of this language's runtime sources."""
-        from max2code.paths import RUNTIMES
-        return RUNTIMES / self.name
-
-    def install_runtime(self, prefix: str) -> str:
-        """Build and install the runtime under `prefix`; returns how to use it."""
-        from max2code.errors import Max2CodeError
-        raise Max2CodeError(f"max2code runtime: error: {self.name}: no install step; the sources are in {self.runtime_dir()}")
-
-    def runtime_flags(self) -> list[str]:
-        """Compiler arguments that make this checkout's runtime (its root
-        solver) available to generated code; builds the runtime if needed."""
-        return []
-
     # ---- expressions --------------------------------------------------
     def expr(self, n: Node) -> str:
         return getattr(self, "_print_" + {"+": "add", "-": "sub", "*": "mul", "/": "div"}.get(n[0], n[0]))(n)

@@ -1,13 +1,5 @@
 """ISO Modula-2 (gm2 -fiso -fcpp): REAL is a C double; sin/cos from RealMath."""
-import os
-
 from max2code.targets.base import Target
-
-# flags of every simulator build: ISO dialect, warnings are errors, no FMA
-# contraction (the same operations as the Python reference, docs/simulator.md)
-SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
-# the simulator's library modules (runtimes/m2), compiled into the workdir
-SIM_MODULES = ("SimOut", "SimScene", "SimGrid", "SimHeap")
 
 
 class Modula2(Target):
@@ -39,84 +31,3 @@ class Modula2(Target):
     single_copies = True          # REAL parameters, SHORTREAL copies (no implicit conversion in Modula-2)
     single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",
                     "sqrt": "VAL(SHORTREAL, sqrt(VAL(REAL, {})))", "abs": "ABS({})"}
-
-    harness_source = "harness.mod"
-    def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
-        """Commands that compile the harness: gm2 -fiso -fcpp, warnings are errors."""
-        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2",
-                 *[f"-I{d}" for d in include_dirs], *self.runtime_flags(), src, "-o", exe, "-lm"]]
-
-    def runtime_flags(self) -> list[str]:
-        from max2code.harness import runtimes
-        objs = runtimes.m2_objects()
-        return [f"-I{runtimes.M2_RUNTIME}", *map(str, objs)]
-
-    def testee(self, baseline: bool = False) -> list[str]:
-        from max2code.harness import runtimes
-        exe = runtimes.BUILD / "m2" / ("roots_gsl_testee" if baseline else "roots_testee")
-        runtimes.make_m2(exe)
-        return [str(exe)]
-
-    def install_runtime(self, prefix: str) -> str:
-        from max2code.harness import runtimes
-        prefix = os.path.abspath(prefix)
-        runtimes.run(["make", "-s", "-C", str(runtimes.M2_RUNTIME), f"BUILD={runtimes.BUILD / 'm2-install'}",
-                      f"PREFIX={prefix}", "install"], runtimes.M2_RUNTIME)
-        d = f"{prefix}/lib/max2code/m2"
-        return (f"installed Roots, ExactToc (and RootsGsl, Wire) .def/.mod/.o in {d}; build with\n"
-                f"  gm2 -fiso -fcpp -I{d} prog.mod {d}/Roots.o {d}/ExactToc.o -o prog -lm")
-
-    harness_rows_fixed = True     # the exact harness reads its rows into a static array
-
-    def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
-        from max2code.harness import runtimes
-        m2 = runtimes.M2_RUNTIME
-        objs = runtimes.m2_objects("Roots", "RootsGsl", "ExactToc")
-        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
-                 *map(str, objs), src, "-o", exe, *runtimes.gsl_libs(), "-lm"]]
-
-    def harness_run(self, src: str, exe: str) -> list[str]:
-        return [exe]
-
-    def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
-        """Compile the simulator's library modules (SIM_MODULES: trace
-        writer, scene, grid, event queue), the live world (SimWorld, which
-        #includes the generated circle_circle.mxd and point_edge.mxd from
-        workdir) and the batch simulator (SimMain, its thin user), and link
-        them with the Roots runtime into workdir/sim.
-        The commands run in workdir: gm2 writes SimMain.o to the current
-        directory and its linking step looks the program module's object up
-        along the -I path, where workdir comes first, so it finds this one."""
-        return [*self.sim_world_build(workdir, variants),
-                self.sim_program_build(workdir, os.path.join(str(self._m2()), "SimMain.mod"),
-                                       os.path.join(workdir, "sim"))]
-
-    @staticmethod
-    def _m2():
-        from max2code.harness import runtimes
-        return runtimes.M2_RUNTIME
-
-    def sim_world_build(self, workdir: str, variants: dict[str, int]) -> list[list[str]]:
-        """Commands (run in workdir) that compile SIM_MODULES and SimWorld
-        into workdir/NAME.o, with the generated .mxd files from workdir."""
-        m2 = self._m2()
-        libs = [os.path.join(workdir, f"{m}.o") for m in SIM_MODULES]
-        counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
-                  f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
-        incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
-        return [*[["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / f"{m}.mod"), "-o", o] for m, o in zip(SIM_MODULES, libs)],
-                ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / "SimWorld.mod"),
-                 "-o", os.path.join(workdir, "SimWorld.o")]]
-
-    def sim_program_build(self, workdir: str, program: str, exe: str) -> list[str]:
-        """The command (run in workdir) that compiles a program module using
-        SimWorld and links it with the objects sim_world_build made."""
-        from max2code.harness import runtimes
-        m2 = self._m2()
-        objs = runtimes.m2_objects()
-        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, "SimWorld")]
-        incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
-        return ["gm2", *SIM_FLAGS, *incs, program, *libs, *map(str, objs), "-o", exe, "-lm"]
-
-    def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:
-        return [os.path.join(workdir, "sim")]

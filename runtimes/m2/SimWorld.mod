@@ -39,8 +39,8 @@ IMPLEMENTATION MODULE SimWorld ;
    equations/circle-circle.mxm and equations/point-edge.mxm, included below
    from the build directory, and through Roots.SmallestRoot.  The build
    defines SIM_CC_VARIANTS and SIM_PE_VARIANTS, the number of variants each
-   NAME_variant counts (max2code/targets/m2.py reads them from the generated
-   files). *)
+   NAME_variant counts (max2code/toolchain/m2.py, from the generator's
+   selection). *)
 
 FROM SYSTEM IMPORT ADR, ADDRESS ;
 FROM RealMath IMPORT sin, cos ;

@@ -1,7 +1,7 @@
 /* The C simulator's program (docs/simulator.md): reads a compiled scene on
  * stdin and writes the flat trace on stdout; on a stuck or bad scene it
  * writes `X message` and exits 1.  Built by `max2code simulate --lang c`
- * (max2code/targets/c.py) with the generated circle_circle.c and
+ * (max2code/toolchain/c.py) with the generated circle_circle.c and
  * point_edge.c, and with the numbers of variants their NAME_variant
  * functions index:
  *

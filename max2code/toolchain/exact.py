@@ -6,8 +6,8 @@ from __future__ import annotations
 import subprocess
 from dataclasses import dataclass
 
-from max2code.targets import target as get_target
-from max2code.harness.toc import compile_harness, write_harness
+from max2code.toolchain import toolchain
+from max2code.toolchain.harness import compile_harness, write_harness
 
 MAX_ROWS = 20000      # rows the Modula-2 harness holds (a static array)
 
@@ -22,7 +22,7 @@ class ExactHarness:
     def run(self, rows: list[list[float]], reps: int = 0, timeout: float = 1800) -> tuple[list[tuple[int, float]], float | None]:
         """Each row: parameters, horizon, window_angle, refine, zero_tol, solver.
         Returns (status, t) per row and the median ns per call (reps > 0)."""
-        if get_target(self.lang).harness_rows_fixed and len(rows) > MAX_ROWS:
+        if toolchain(self.lang).harness_rows_fixed and len(rows) > MAX_ROWS:
             raise ValueError(f"the {self.lang} harness holds at most {MAX_ROWS} rows")
         text = f"{reps}\n" + "\n".join(" ".join(repr(float(v)) for v in r) for r in rows) + "\n"
         proc = subprocess.run(self.cmd, input=text, capture_output=True, text=True, timeout=timeout, cwd=self.workdir)
@@ -59,8 +59,8 @@ def build_poly_harness(lang: str, generated_text: str, params, coef: str, select
 
 
 def _build(lang: str, generated_text: str, workdir: str, template: str, nparams: int, **ctx) -> ExactHarness:
-    tgt = get_target(lang)
+    tc = toolchain(lang)
     src, exe = write_harness(lang, generated_text, workdir, template, nparams=nparams, max_rows=MAX_ROWS, **ctx)
-    compile_harness(tgt.exact_harness_build(src, exe, workdir), workdir, timeout=900)
-    cmd = tgt.harness_run(src, exe)
+    compile_harness(tc.exact_harness_build(src, exe, workdir), workdir, timeout=900)
+    cmd = tc.harness_run(src, exe)
     return ExactHarness(lang, workdir, cmd, nparams)

@@ -8,28 +8,27 @@ import argparse
 
 from max2code import paths
 from max2code.errors import Max2CodeError
+from max2code.toolchain import TOOLCHAINS, toolchain
 
 BUNDLED = {"equations": paths.EQUATIONS, "examples": paths.EXAMPLES, "cases": paths.CASES,
            "templates": paths.TEMPLATES, "runtimes": paths.RUNTIMES}
 
 
 def runtime_main(argv: list[str]) -> int:
-    from max2code.targets import LANGUAGES, target
-
     ap = argparse.ArgumentParser(prog="max2code runtime",
                                  description="Print the folder of a runtime's sources, or build and install it "
                                              "as a library for your programs (docs/using-generated-code.md).")
-    ap.add_argument("lang", choices=list(LANGUAGES))
+    ap.add_argument("lang", choices=list(TOOLCHAINS))
     ap.add_argument("--install", metavar="PREFIX",
                     help="install the runtime under PREFIX (C: lib/libm2c.{a,so}, include/, lib/pkgconfig/m2c.pc; "
                          "Modula-2: lib/max2code/m2; Rust: lib/max2code/rust/max2code_rt, a crate to depend on "
                          "by path; Python: lib/max2code/python/max2code-rt, to pip install); prints how to use it")
     args = ap.parse_args(argv)
-    tgt = target(args.lang)
+    tc = toolchain(args.lang)
     if args.install is None:
-        print(tgt.runtime_dir())
+        print(tc.runtime_dir())
         return 0
-    print(tgt.install_runtime(args.install))
+    print(tc.install_runtime(args.install))
     return 0
 
 

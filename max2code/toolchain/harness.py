@@ -1,6 +1,8 @@
 """Compile generated coefficient code into a small program per language
 (templates/<lang>/harness.j2) that reads parameter sets on stdin and prints
-the coefficients exactly; used by the tests and the benchmarks."""
+the coefficients exactly; used by the tests and the benchmarks.  Also the
+two steps every harness shares (exact.py's too): writing the generated file
+and the harness source into a workdir, and running the build commands."""
 from __future__ import annotations
 
 import os
@@ -9,11 +11,9 @@ from dataclasses import dataclass
 
 from max2code.errors import Max2CodeError
 from max2code.generate.lower import FunctionIR
-from max2code.paths import RUNTIMES
 from max2code.generate.render import environment
-from max2code.targets import target as get_target
-
-RUNTIME_M2_SRC = str(RUNTIMES / "m2" / "src")
+from max2code.targets import LANGUAGES
+from max2code.toolchain import toolchain
 
 
 class HarnessBuildError(Max2CodeError):
@@ -43,24 +43,23 @@ def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, 
     the selected degree, then that many + 1 coefficients (-1 when unsupported).
     With `toc` (a time-of-contact entry's name) each input line is the
     parameters then lo and hi, and the harness prints `status t`."""
-    tgt = get_target(lang)
+    tc = toolchain(lang)
     src, exe = write_harness(lang, generated_text, workdir, "harness.j2", name=entry or fn.name,
                              nparams=len(fn.params), nterms=(max_degree if entry else fn.degree) + 1,
                              entry=bool(entry), toc=toc)
-    compile_harness(tgt.harness_build(src, exe, [workdir, RUNTIME_M2_SRC]), workdir, timeout=600)
-    return Harness(lang, workdir, tgt.harness_run(src, exe), len(fn.params))
+    compile_harness(tc.harness_build(src, exe, [workdir]), workdir, timeout=600)
+    return Harness(lang, workdir, tc.harness_run(src, exe), len(fn.params))
 
 
 def write_harness(lang: str, generated_text: str, workdir: str, template: str, **ctx) -> tuple[str, str]:
     """Write the generated file and the harness made from LANG's `template`
     (given `generated`, the generated file's name, and `ctx`) into `workdir`;
     return the harness source's and executable's paths."""
-    tgt = get_target(lang)
     os.makedirs(workdir, exist_ok=True)
-    gen = "generated" + tgt.extension
+    gen = "generated" + LANGUAGES[lang].extension
     with open(os.path.join(workdir, gen), "w", encoding="utf-8") as fh:
         fh.write(generated_text)
-    src = os.path.join(workdir, tgt.harness_source)
+    src = os.path.join(workdir, toolchain(lang).harness_source)
     text = environment().get_template(f"{lang}/{template}").render(generated=gen, **ctx)
     with open(src, "w", encoding="utf-8") as fh:
         fh.write(text)

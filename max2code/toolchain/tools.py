@@ -1,0 +1,30 @@
+"""Running the build tools of the bundled runtime libraries (make, cargo),
+with the tool's output kept for the error, and GSL's link flags.  Our own
+builds deny warnings (the C Makefile's WERROR, cargo's RUSTFLAGS); a user's
+`make` does not."""
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+from max2code.errors import Max2CodeError
+
+
+class RuntimeBuildError(Max2CodeError):
+    """A runtime library did not build; the message holds the tool's output."""
+
+
+def run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
+    try:
+        r = subprocess.run(cmd, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
+    except FileNotFoundError:
+        raise RuntimeBuildError(f"max2code: error: {cmd[0]} is needed to build the runtime and was not found") from None
+    if r.returncode != 0:
+        raise RuntimeBuildError(f"max2code: error: the runtime did not build: {' '.join(map(str, cmd))}\n{r.stdout[-3000:]}")
+
+
+def gsl_libs() -> list[str]:
+    """GSL's link flags (pkg-config, else the usual three)."""
+    out = subprocess.run(["pkg-config", "--libs", "gsl"], stdin=subprocess.DEVNULL, capture_output=True, text=True)
+    return out.stdout.split() if out.returncode == 0 else ["-lgsl", "-lgslcblas", "-lm"]
