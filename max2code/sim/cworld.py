@@ -1,6 +1,6 @@
 """The compiled C world (runtimes/c/include/m2c_world.h) driven from Python
 through ctypes, with the methods of the pure-Python reference's World
-(runtimes/python/max2code_rt/sim.py, docs/engine-api.md): a Python program
+(runtimes/python/max2code_rt/sim/, docs/engine-api.md): a Python program
 runs the engine at C speed and can switch to the reference by changing one
 argument of max2code.sim.live.open_world.
 

@@ -1,0 +1,137 @@
+"""Sleeping islands (docs/simulator.md, "Contact model: sleeping
+islands"): when a body falls asleep on a grounded one, the island it
+joins, and how an island wakes (a jolt, an input, a body removed or
+driven next to it)."""
+from __future__ import annotations
+
+import math
+
+from max2code_rt.sim.predict import PE
+from max2code_rt.sim.queue import CollisionEvent
+from max2code_rt.sim.scene import Body
+
+
+class SleepMixin:
+    """Falling asleep and waking."""
+
+    def grounded(self, G: Body) -> bool:
+        """A body others can fall asleep on: asleep, or fixed and unmoving."""
+        return G.asleep or (G.fixed and self.static(G))
+
+    def at_rest(self, A: Body) -> bool:
+        """A body supported by an unmoving body, slower than rest_speed along
+        its edge, that static friction would hold there (|at| <= mu load, as
+        in slide_accel at u = 0; on a level frictionless edge at = 0): it
+        stays where it is.  On a moving support: never (it does not sleep);
+        nor on a movable one (carried: grounded is false while it carries)."""
+        B = self.s.bodies[A.sup]
+        if not self.grounded(B):
+            return False
+        u = A.vx * A.tx + A.vy * A.ty
+        if not (u * u < self.s.rest_speed * self.s.rest_speed):
+            return False
+        f = A.mu * B.mu * A.load
+        return not (A.at > f) and not (A.at < -f)
+
+    def can_sleep(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
+        """Awake movable M, one body of the collision ev with grounded G (both
+        advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
+        normal speed), falls asleep on G: M's free acceleration presses it
+        onto G (load > 0), the contact is slow (vn < rest_speed and
+        eM eG (-vn) < rest_speed), M's speed across the normal is below
+        rest_speed, and a polygon M turns slower than rest_speed / bound and
+        lies on a face: a vertex-edge contact with a neighbour of the vertex
+        on the edge's line (`flat`, whichever body has the vertex)."""
+        if M.fixed or M.asleep or not self.grounded(G):
+            return False
+        if M.idx == ev.a:
+            mx, my = nx, ny
+        else:
+            mx, my = -nx, -ny
+        rest = self.s.rest_speed
+        load = M.fax * mx + M.fay * my
+        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
+            return False
+        ut = M.vy * mx - M.vx * my
+        if ut * ut >= rest * rest:
+            return False
+        if M.polygon:
+            if math.fabs(M.om) * M.bound >= rest or ev.feature != PE or ev.i < 0:
+                return False
+            bodies = self.s.bodies
+            return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
+        return True
+
+    @staticmethod
+    def jolted(S: Body) -> bool:
+        """A sleeper an impulse has set moving."""
+        return S.vx != 0.0 or S.vy != 0.0 or S.om != 0.0
+
+    def handle_sleep(self, A: Body, G: Body, t: float) -> None:
+        """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
+        in G's island, or in a new one numbered A's index when G is fixed.
+        Its awake neighbours are predicted against it again."""
+        self.stats.sleeps += 1
+        if A.sup >= 0:
+            self.end_support(A)
+        A.vx = 0.0
+        A.vy = 0.0
+        A.om = 0.0
+        A.ax = 0.0
+        A.ay = 0.0
+        A.asleep = True
+        A.island = G.island if G.asleep else A.idx
+        A.stamp += 1
+        self.emit_sleep(t, A.idx, G.idx, A.island)
+        self.emit_state(A)
+        left = []
+        self.release(A, t, left)
+        self.predict_body(A, t, None)
+        self.predict_released(left, t)
+
+    def handle_wake(self, S: Body, t: float) -> None:
+        """S's island wakes at t: every member (by index) gets its free
+        acceleration back, then fresh predictions (a pair of members once)."""
+        self.stats.wakes += 1
+        island = S.island
+        self.emit_wake(t, S.idx, island)
+        bodies = self.s.bodies
+        for b in bodies:
+            if b.asleep and b.island == island:
+                self.rebase(b, t)
+                b.asleep = False
+                b.ax = b.fax
+                b.ay = b.fay
+                b.stamp += 1
+                self.emit_state(b)
+        for b in bodies:
+            if b.island == island:
+                self.predict_woken(b, t, island)
+        for b in bodies:
+            if b.island == island:
+                b.island = -1
+
+    def predict_woken(self, b: Body, now: float, island: int) -> None:
+        """predict_body for a member of a waking island: a pair of two
+        members is predicted by the one with the smaller index."""
+        for o in self.candidates(b, b.cx - 1, b.cx + 1, b.cy - 1, b.cy + 1):
+            if not (o.island == island and o.idx < b.idx) and not (b.fixed and o.fixed):
+                self.predict_pair(b, o, now)
+        for o in self.large_near(b):
+            if not (o.island == island and o.idx < b.idx):
+                self.predict_pair(b, o, now)
+        self.schedule_cell(b, now)
+
+    def wake_touching(self, body: Body, t: float) -> None:
+        """The islands of the sleepers whose bounding circles reach the
+        body's (within the tolerance; a body removed, or a fixed one whose
+        velocity an input set) wake: it may have held them (by index; a
+        woken island's other members are awake already)."""
+        tol = self.s.tol
+        for o in self.s.bodies:
+            if o.asleep:
+                dx = o.px - body.px
+                dy = o.py - body.py
+                reach = o.bound + body.bound + tol
+                if dx * dx + dy * dy <= reach * reach:
+                    self.handle_wake(o, t)
