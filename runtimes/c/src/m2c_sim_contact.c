@@ -111,9 +111,10 @@ static int pay_floor(m2c_sim_body *A, m2c_sim_body *B, double need)
  * sqrt(kn Q), but at least rest_speed / 32 (the energy that adds is paid
  * from the pair's common motion, pay_floor, else the hop sets unpaid).
  * u = (vn, vt) the relative velocity of the material points in the frame
- * (n, t), t = (-ny, nx), K the contact's 2x2 inverse mass matrix (kn, knt; knt, kt), Q = u . K^-1 u; the
- * new relative velocity is (hop, x) with the same Q, through the impulse
- * P = K^-1 (u' - u).  Returns its normal part jn (kg m/s). */
+ * (n, t), t = (-ny, nx), K the contact's 2x2 inverse mass matrix (kn, knt;
+ * knt, kt), Q = u . K^-1 u; the new relative velocity is (hop, x) with the
+ * same Q, through the impulse P = K^-1 (u' - u).  Returns its normal part
+ * jn (kg m/s). */
 static double hop(m2c_world *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx, double ny,
                   double vn)
 {
@@ -270,16 +271,15 @@ double m2c_sim_held_impulse(const m2c_world *m, m2c_sim_body *A, m2c_sim_body *B
     return imp;
 }
 
-/* The impulse of a contact of A and B, one of them (S) asleep: first with
- * S held as if fixed (its 1/m and 1/I zero); when that impulse would change
- * the normal speed of S's material point by less than rest_speed and no
- * hop of it was unpaid, it
- * stands (S stays asleep, unchanged: a gentle touch); else the other
- * body's velocity is restored and the full impulse is applied (S moves:
- * jolted, its island wakes).  When the other body is fixed (it moves or
- * turns: a sleeper is never predicted against an unmoving one) S cannot be
- * held (the pair would have no mass): the full impulse at once.  Returns
- * the impulse applied. */
+/* The impulse (kg m/s) of a contact of A and B, one of them (S) asleep:
+ * first with S held as if fixed (its 1/m and 1/I zero); when that impulse
+ * would change the normal speed of S's material point by less than
+ * rest_speed and no hop of it was unpaid, it stands (S stays asleep,
+ * unchanged: a gentle touch); else the other body's velocity is restored
+ * and the full impulse is applied (S moves: jolted, its island wakes).
+ * When the other body is fixed (it moves or turns: a sleeper is never
+ * predicted against an unmoving one) S cannot be held (the pair would have
+ * no mass): the full impulse at once.  Returns the impulse applied. */
 double m2c_sim_sleeper_impulse(m2c_world *m, m2c_sim_body *A, m2c_sim_body *B, double cx, double cy, double nx,
                                double ny, int32_t feature, int32_t i, int32_t j)
 {
