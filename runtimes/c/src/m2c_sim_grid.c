@@ -83,6 +83,8 @@ void m2c_sim_grid_remove(m2c_sim_grid *g, m2c_sim_body *bodies, m2c_sim_body *b)
     b->slot = -1;
 }
 
+/* ---- the world's grid: a body's cell, walls, large bodies near ---------------- */
+
 /* The cell of point (x, y) (m), clamped to the grid. */
 void m2c_sim_cell_of(m2c_world *m, double x, double y, int32_t *cx, int32_t *cy)
 {

@@ -65,6 +65,8 @@ char *m2c_sim_put_int(char *p, long long v)
     return p;
 }
 
+/* ---- the lines ------------------------------------------------------------------ */
+
 /* The N lines, in their order: each counter's name and place in m2c_sim_stats. */
 static const struct {
     const char *name;
