@@ -85,28 +85,28 @@ class CToolchain(Toolchain):
         objects into workdir/libm2c_world.so."""
         c = C_RUNTIME
         lib = c_library()
-        inc = c / "include"
+        inc, src = c / "include", c / "src"
         cmds, objs = [], []
         for eq in ("circle_circle", "point_edge"):
             obj = os.path.join(workdir, eq + ".o")
             # the generated coef[N] has this build's largest degree as its
             # bound, which the header cannot know (the bound is no part of the type)
-            cmds.append([*SIM_FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(inc / "m2c_sim_equations.h"),
+            cmds.append([*SIM_FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(src / "m2c_sim_equations.h"),
                          "-c", generated[eq], "-o", obj])
             objs.append(obj)
         counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
-        sources = sorted(str(p) for p in (c / "src").glob("m2c_sim*.c"))
-        cmds.append([*SIM_FLAGS, f"-I{inc}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"), *objs,
-                     "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
+        sources = sorted(str(p) for p in src.glob("m2c_sim*.c"))
+        cmds.append([*SIM_FLAGS, f"-I{inc}", f"-I{src}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"),
+                     *objs, "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
         # the same world as a shared library, for ctypes and other programs (m2c_world.h)
         pic_objs = []
         for eq in ("circle_circle", "point_edge"):
             obj = os.path.join(workdir, eq + ".pic.o")
             cmds.append([*SIM_FLAGS, "-fPIC", "-Wno-array-parameter", f"-I{inc}", "-include",
-                         str(inc / "m2c_sim_equations.h"), "-c", generated[eq], "-o", obj])
+                         str(src / "m2c_sim_equations.h"), "-c", generated[eq], "-o", obj])
             pic_objs.append(obj)
-        cmds.append([*SIM_FLAGS, "-fPIC", "-shared", f"-I{inc}", *counts, *sources, *pic_objs, "-o",
+        cmds.append([*SIM_FLAGS, "-fPIC", "-shared", f"-I{inc}", f"-I{src}", *counts, *sources, *pic_objs, "-o",
                      os.path.join(workdir, WORLD_LIBRARY), str(c_pic_library()), "-lm"])
         return cmds
 

@@ -139,10 +139,10 @@ one:
 }
 
 /* GCC 12 (-O3 with LTO) warns that c[1..4] may be uninitialised when a
- * caller fills c up to a degree it computes (m2c_sim.c's bounds_meet), and
- * a diagnostic pragma does not reach LTO's inlining: the empty asm hides
- * where c points (no instruction; the entry reads only c[0..degree], which
- * the contract requires set). */
+ * caller fills c up to a degree it computes (m2c_sim_predict.c's
+ * bounds_meet), and a diagnostic pragma does not reach LTO's inlining: the
+ * empty asm hides where c points (no instruction; the entry reads only
+ * c[0..degree], which the contract requires set). */
 #if defined(__GNUC__)
 #define M2C_X_OPAQUE(p) __asm__("" : "+r"(p))
 #else

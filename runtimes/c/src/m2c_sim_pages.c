@@ -26,7 +26,7 @@ void m2c_sim_huge_pages(void *p, size_t bytes)
     uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1);
     uintptr_t hi = ((uintptr_t)p + bytes) & ~(huge - 1);
     if (p != NULL && hi > lo)
-        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);     /* refused: 4 KB pages, as before */
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);     /* refused: 4 KB pages */
 #else
     (void)p;
     (void)bytes;

@@ -14,11 +14,11 @@
  * POUR events or fewer goes to `near` whole instead, `last` then the
  * highest time that bucket can hold (a few events would otherwise go down
  * the digits one advance at a time).  An event moves at most
- * once per digit (with one bucket per bit, as before, it moved about 26
- * times on the 10^4-disk gas; 27 % fewer instructions in the queue's
- * splits).  So the simulator's queue, thousands of future
- * events per body, is only ever scanned in order, never sifted through at
- * random (a binary heap's pop missed the cache at every level).  An event
+ * once per digit (with one bucket per bit it would move about 26 times on
+ * the 10^4-disk gas; per hex digit the queue's splits take 27 % fewer
+ * instructions).  So the simulator's queue, thousands of future events per
+ * body, is only ever scanned in order, never sifted through at random (a
+ * binary heap's pop misses the cache at every level).  An event
  * scheduled before `last` (a cell crossing rounded an ulp early) goes to
  * `near`, which orders it first, as heapq would.  For the same reason the
  * next `last` may be found right after a pop, so that the next event can be

@@ -1,277 +1,212 @@
-/* The live world API (m2c_world.h, docs/engine-api.md): creation, time,
- * queries and inputs, on the engine of m2c_sim.c.  Built with the
- * generated equations and the numbers of variants their NAME_variant
- * functions index:  -DM2C_SIM_CC_VARIANTS=N -DM2C_SIM_PE_VARIANTS=M. */
-#include <errno.h>
-#include <math.h>
+/* The world: the state a prediction reads and writes (struct m2c_world in
+ * m2c_sim_internal.h: bodies, stamps, grid, queue, counters), its
+ * allocation and freeing, the error exit (m2c_sim_die) and the scheduling
+ * of event records, each stamped with its bodies' stamps now (lazy
+ * invalidation: a record whose stamps differ from its bodies' is stale).
+ * Times in s. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "m2c_sim_internal.h"
-#include "m2c_world.h"
 
-#ifndef M2C_SIM_CC_VARIANTS
-#error "build with -DM2C_SIM_CC_VARIANTS=N (the variants circle_circle_variant indexes)"
-#endif
-#ifndef M2C_SIM_PE_VARIANTS
-#error "build with -DM2C_SIM_PE_VARIANTS=N (the variants point_edge_variant indexes)"
-#endif
-
-/* The message of the last failed m2c_world_new or m2c_world_load: per
- * thread, since no world exists to hold it. */
-static _Thread_local char last_error[M2C_WORLD_ERROR_MAX];
-
-const char *m2c_world_last_error(void)
+_Noreturn void m2c_sim_die(m2c_world *m, const char *format, ...)
 {
-    return last_error;
+    va_list ap;
+    va_start(ap, format);
+    vsnprintf(m->err, sizeof m->err, format, ap);
+    va_end(ap);
+    m->broken = 1;
+    longjmp(m->fail, 1);
 }
 
-m2c_world *m2c_world_new(const char *scene_text, FILE *trace)
+/* The reference pops a stale event and counts it when its time comes (if
+ * it is not after the end).  A stale event stays stale (stamps only grow),
+ * so the queue may drop it earlier and count it then: the same count, and
+ * a queue that holds mostly live events. */
+static int drop_stale(void *ctx, const m2c_sim_event *e)
 {
-    last_error[0] = '\0';
-    if (scene_text == NULL) {
-        snprintf(last_error, sizeof last_error, "no scene text");
-        return NULL;
-    }
-    m2c_sim_scene *scene = m2c_sim_scene_read(scene_text, last_error, sizeof last_error);
-    if (scene == NULL)
-        return NULL;
-    m2c_world *w = calloc(1, sizeof *w);
-    if (w == NULL) {
-        m2c_sim_scene_free(scene);
-        snprintf(last_error, sizeof last_error, "out of memory");
-        return NULL;
-    }
-    if (m2c_sim_open(w, scene, M2C_SIM_CC_VARIANTS, M2C_SIM_PE_VARIANTS, trace) != 0) {
-        snprintf(last_error, sizeof last_error, "%s", w->err);
-        m2c_world_free(w);
-        return NULL;
-    }
-    return w;
-}
-
-m2c_world *m2c_world_load(const char *path, FILE *trace)
-{
-    last_error[0] = '\0';
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        snprintf(last_error, sizeof last_error, "%s: %s", path, strerror(errno));
-        return NULL;
-    }
-    size_t n = 0, cap = 1 << 16;
-    char *buf = malloc(cap);
-    while (buf != NULL) {
-        if (cap - n < 2) {
-            char *b = realloc(buf, 2 * cap);
-            if (b == NULL) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = b;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n - 1, f);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (buf == NULL || bad) {
-        free(buf);
-        snprintf(last_error, sizeof last_error, "%s: %s", path, buf == NULL ? "out of memory" : "cannot read");
-        return NULL;
-    }
-    buf[n] = '\0';
-    m2c_world *w = m2c_world_new(buf, trace);
-    free(buf);
-    return w;
-}
-
-void m2c_world_free(m2c_world *w)
-{
-    if (w == NULL)
-        return;
-    m2c_sim_close(w);
-    free(w);
-}
-
-double m2c_world_time(const m2c_world *w)
-{
-    return w->now;
-}
-
-double m2c_world_end_time(const m2c_world *w)
-{
-    return w->s->end;
-}
-
-int m2c_world_body_count(const m2c_world *w)
-{
-    return (int)w->s->nbodies;
-}
-
-const char *m2c_world_error(const m2c_world *w)
-{
-    return w->err;
-}
-
-/* %.17g of x, as the reference writes numbers in its messages. */
-static const char *num(char *buf, double x)
-{
-    buf[m2c_sim_format_number(buf, x)] = '\0';
-    return buf;
-}
-
-int m2c_world_advance(m2c_world *w, double t, m2c_contact_fn fn, void *user)
-{
-    if (w->broken)
-        return -1;
-    if (!(t >= w->now && t <= w->s->end)) {
-        /* the world is unchanged: the caller may go on */
-        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
-        snprintf(w->err, sizeof w->err, "advance: t = %s is outside [%s, %s] (the world's time .. the scene's end)",
-                 num(a, t), num(b, w->now), num(c, w->s->end));
-        return -1;
-    }
-    w->fn = fn;
-    w->user = user;
-    int status = m2c_sim_advance(w, t);
-    w->fn = NULL;
-    w->user = NULL;
-    return status;
-}
-
-double m2c_world_next_event_time(m2c_world *w)
-{
-    double t;
-    if (m2c_sim_next_time(w, &t) != 0)
-        return INFINITY;
-    return t;
-}
-
-int m2c_world_state(m2c_world *w, int body, double t, m2c_body_state *s)
-{
-    if (w->broken)
-        return -1;
-    if (body < 0 || body >= w->s->nbodies) {
-        snprintf(w->err, sizeof w->err, "no body %d (the world has %d)", body, (int)w->s->nbodies);
-        return -1;
-    }
-    double nxt = m2c_world_next_event_time(w);
-    if (w->broken)
-        return -1;
-    if (!(t >= w->now && t <= nxt && t <= w->s->end)) {
-        char a[M2C_SIM_NUMBER_MAX + 1], b[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
-        snprintf(w->err, sizeof w->err, "state: t = %s is outside [%s, %s] (the world's time .. the next event)",
-                 num(a, t), num(b, w->now), num(c, nxt));
-        return -1;
-    }
-    m2c_sim_body_state(&w->bodies[body], t, s);
-    return 0;
-}
-
-int m2c_world_states(m2c_world *w, double t, m2c_body_state *s, int room)
-{
-    if (w->broken)
-        return -1;
-    int n = (int)w->s->nbodies;
-    if (room < n) {
-        snprintf(w->err, sizeof w->err, "states: room for %d bodies, the world has %d", room, n);
-        return -1;
-    }
-    if (n == 0)
+    m2c_world *m = ctx;
+    if (!m2c_sim_is_stale(m, e))
         return 0;
-    if (m2c_world_state(w, 0, t, &s[0]) != 0)
-        return -1;          /* t outside: the message is state's */
-    for (int k = 1; k < n; k++)
-        m2c_sim_body_state(&w->bodies[k], t, &s[k]);
+    if (e->t <= m->s->end)
+        m->stats.stale++;
+    return 1;
+}
+
+/* Drops the stale events once the queue has doubled since the last sweep. */
+static void sweep(m2c_world *m)
+{
+    m2c_sim_heap_sweep(&m->heap, drop_stale, m);
+    size_t live = m->heap.n;
+    m->sweep_at = 2 * live > 4096 ? 2 * live : 4096;
+}
+
+/* Queues an event record (its t and kind set, and the fields of its kind);
+ * sweeps the stale ones out when the queue has doubled. */
+void m2c_sim_push(m2c_world *m, const m2c_sim_event *e)
+{
+    if (!(e->t >= 0.0))     /* never: every time is now or later, and now >= 0 */
+        m2c_sim_die(m, "an event at a time that is not a number or negative");
+    if (m2c_sim_heap_push(&m->heap, e) != 0)
+        m2c_sim_die(m, "out of memory (event queue of %zu events)", m->heap.n);
+    if (m->heap.n >= m->sweep_at)
+        sweep(m);
+}
+
+void m2c_sim_push_collision(m2c_world *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
+                            int32_t i, int32_t j)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_COLLISION };
+    e.u.collision.a = A->idx;
+    e.u.collision.b = B->idx;
+    e.u.collision.feature = feature;
+    e.u.collision.i = i;
+    e.u.collision.j = j;
+    e.u.collision.stamp_a = m->stamp[A->idx];
+    e.u.collision.stamp_b = m->stamp[B->idx];
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_horizon(m2c_world *m, double t, const m2c_sim_body *A, const m2c_sim_body *B)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_HORIZON };
+    e.u.horizon.a = A->idx;
+    e.u.horizon.b = B->idx;
+    e.u.horizon.stamp_a = m->stamp[A->idx];
+    e.u.horizon.stamp_b = m->stamp[B->idx];
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_cell(m2c_world *m, double t, const m2c_sim_body *b, int32_t axis, int32_t direction)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_CELL };
+    e.u.cell.body = b->idx;
+    e.u.cell.axis = axis;
+    e.u.cell.direction = direction;
+    e.u.cell.stamp = m->stamp[b->idx];
+    e.u.cell.cx = b->cx;
+    e.u.cell.cy = b->cy;
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_stop(m2c_world *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_STOP };
+    e.u.stop.body = b->idx;
+    e.u.stop.stamp = m->stamp[b->idx];
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_leave(m2c_world *m, double t, const m2c_sim_body *b)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_LEAVE };
+    e.u.leave.body = b->idx;
+    e.u.leave.stamp = m->stamp[b->idx];
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_input(m2c_world *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_INPUT };
+    e.u.input.k = k;
+    m2c_sim_push(m, &e);
+}
+
+void m2c_sim_push_frame(m2c_world *m, double t, int32_t k)
+{
+    m2c_sim_event e = { .t = t, .kind = M2C_SIM_FRAME };
+    e.u.frame.k = k;
+    m2c_sim_push(m, &e);
+}
+
+/* Fetching ahead pays where the bodies and cells miss the cache: at 10^4
+ * and 10^5 disks (3.5 and 42 MB) it takes 26 % and 30 % off the CPU
+ * time; where they stay in a core's second-level cache (10^3 disks: 0.4
+ * MB) it is only its instructions, 7 % more per event.  So the fetch-ahead
+ * helpers of m2c_sim_handlers.c (but the queue's and predict_cells' own
+ * few prefetches) work only above this many bytes of bodies and cells: about a core's second-level
+ * cache on the machine measured (docs/throughput.md). */
+#ifndef M2C_SIM_FETCH_BYTES
+#define M2C_SIM_FETCH_BYTES ((size_t)1 << 20)
+#endif
+
+/* Whether to fetch ahead, from the bodies' and cells' bytes now (the scene
+ * opened, or a body added). */
+void m2c_sim_choose_fetch(m2c_world *m)
+{
+    size_t bytes = ((size_t)m->s->nbodies + 1) * sizeof *m->bodies
+                   + (size_t)m->s->nx * (size_t)m->s->ny * sizeof *m->grid.cells;
+    m->fetch = bytes > M2C_SIM_FETCH_BYTES;
+}
+
+/* Takes scene, allocates the world's state, places the large bodies and
+ * starts (m2c_sim_start). */
+int m2c_sim_open(m2c_world *m, m2c_sim_scene *scene, int cc_variants, int pe_variants, FILE *trace)
+{
+    m->s = scene;
+    m->bodies = scene->bodies;
+    m->n_cc = cc_variants;
+    m->n_pe = pe_variants;
+    m->sweep_at = 4096;
+    m->last_t = -1.0;
+    m->unpaid = 0;
+    m->touched_t = -1.0;
+    M2C_SIM_CATCH(m);
+    if (m2c_sim_out_init(&m->out, trace) != 0)
+        m2c_sim_die(m, "out of memory");
+    if (cc_variants < 1 || pe_variants < 1)
+        m2c_sim_die(m, "no variants to count (circle_circle %d, point_edge %d)", cc_variants, pe_variants);
+    m->cc_counts = calloc((size_t)cc_variants, sizeof *m->cc_counts);
+    m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
+    m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
+    m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
+    size_t nv = scene->verts_cap + 1;
+    m->trig_cap = nv;
+    m->vtrig = calloc(nv, sizeof *m->vtrig);
+    m->etrig = calloc(nv, sizeof *m->etrig);
+    if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
+        || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
+        m2c_sim_die(m, "out of memory");
+    m2c_sim_choose_fetch(m);
+    m->walls = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->walls);
+    m->wnear = calloc((size_t)scene->nx * (size_t)scene->ny, sizeof *m->wnear);
+    if (m->walls == NULL || m->wnear == NULL)
+        m2c_sim_die(m, "out of memory");
+    m2c_sim_huge_pages(m->walls, (size_t)scene->nx * (size_t)scene->ny * sizeof *m->walls);
+    m2c_sim_huge_pages(m->wnear, (size_t)scene->nx * (size_t)scene->ny * sizeof *m->wnear);
+    for (int32_t k = 0; k < scene->nbodies; k++)
+        if (scene->bodies[k].large)
+            m2c_sim_place_large(m, &scene->bodies[k]);
+    m2c_sim_start(m);
     return 0;
 }
 
-int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user)
+/* Frees everything the world holds, the scene too. */
+void m2c_sim_close(m2c_world *m)
 {
-    if (w->broken)
-        return -1;
-    w->fn = fn;
-    w->user = user;
-    int status = m2c_sim_finish(w);
-    w->fn = NULL;
-    w->user = NULL;
-    return status;
-}
-
-/* A live input: 0, or -1 with the message (a refused teleport is 0 with
- * *done 0). */
-static int live(m2c_world *w, int body, int mode, double x, double y, int *done)
-{
-    return m2c_sim_live_input(w, body, mode, x, y, done);
-}
-
-int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy)
-{
-    int done;
-    return live(w, body, M2C_SIM_SET_VELOCITY, vx, vy, &done);
-}
-
-int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy)
-{
-    int done;
-    return live(w, body, M2C_SIM_ADD_VELOCITY, dvx, dvy, &done);
-}
-
-int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy)
-{
-    int done;
-    return live(w, body, M2C_SIM_IMPULSE, jx, jy, &done);
-}
-
-int m2c_world_teleport(m2c_world *w, int body, double x, double y)
-{
-    int done;
-    if (live(w, body, M2C_SIM_TELEPORT, x, y, &done) != 0)
-        return -1;
-    return done;
-}
-
-int m2c_world_remove_body(m2c_world *w, int body)
-{
-    int done;
-    return live(w, body, M2C_SIM_REMOVE, 0.0, 0.0, &done);
-}
-
-int m2c_world_add_body(m2c_world *w, const char *body_text)
-{
-    int idx;
-    if (body_text == NULL) {
-        snprintf(w->err, sizeof w->err, "add_body: no text");
-        return -2;
-    }
-    if (m2c_sim_add_body(w, body_text, &idx) != 0)
-        return -2;
-    return idx;
-}
-
-int m2c_world_input_count(const m2c_world *w)
-{
-    return (int)w->s->ninputs;
-}
-
-int m2c_world_input(const m2c_world *w, int k, m2c_input *in)
-{
-    if (k < 0 || k >= w->s->ninputs)
-        return -1;
-    const m2c_sim_input *e = &w->s->inputs[k];
-    in->t = e->t;
-    in->body = (int)e->body;
-    in->mode = (int)e->mode;
-    in->x = e->vx;
-    in->y = e->vy;
-    return 0;
-}
-
-long long m2c_world_added(const m2c_world *w)
-{
-    return w->added;
+    if (m->out.buf != NULL)
+        m2c_sim_out_flush(&m->out);
+    m2c_sim_out_free(&m->out);
+    m2c_sim_grid_free(&m->grid);
+    m2c_sim_heap_free(&m->heap);
+    free(m->cc_counts);
+    free(m->pe_counts);
+    free(m->large);
+    if (m->walls != NULL && m->s != NULL)
+        for (size_t k = 0; k < (size_t)m->s->nx * (size_t)m->s->ny; k++)
+            free(m->walls[k].items);
+    free(m->walls);
+    free(m->wnear);
+    free(m->near);
+    free(m->stamp);
+    free(m->vtrig);
+    free(m->etrig);
+    free(m->scratch);
+    free(m->scratch_deg);
+    free(m->touched);
+    m2c_sim_cluster_free(&m->clu);
+    m2c_sim_scene_free(m->s);
+    m->s = NULL;
 }

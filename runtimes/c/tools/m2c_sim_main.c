@@ -2,8 +2,9 @@
  * stdin and writes the flat trace on stdout; on a stuck or bad scene it
  * writes `X message` and exits 1.  Built by `max2code simulate --lang c`
  * (max2code/toolchain/c.py) with the generated circle_circle.c and
- * point_edge.c, and with the numbers of variants their NAME_variant
- * functions index:
+ * point_edge.c, the simulator's sources (src/m2c_sim*.c; -Iinclude for
+ * m2c_world.h, -Isrc for m2c_sim.h) and the numbers of variants their
+ * NAME_variant functions index:
  *
  *   -DM2C_SIM_CC_VARIANTS=N -DM2C_SIM_PE_VARIANTS=M
  *

@@ -1,8 +1,9 @@
 /* The generated entries the simulator calls (docs/simulator.md).  The
  * generated circle_circle.c and point_edge.c have no header of their own;
- * the simulator build compiles them with `-include m2c_sim_equations.h`, so
- * that a generated definition that does not match these declarations fails
- * to compile instead of being called wrongly.
+ * the simulator build (max2code/toolchain/c.py) compiles them with
+ * `-include src/m2c_sim_equations.h`, so that a generated definition that
+ * does not match these declarations fails to compile instead of being
+ * called wrongly.
  *
  * NAME_coefficients fills coef[0..degree] (coef[k] multiplies t^k, t in
  * seconds) from the cheapest variant exact for these parameters and returns

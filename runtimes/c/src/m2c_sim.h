@@ -1,7 +1,10 @@
 /* max2code C runtime: the discrete-event 2D collision simulator
  * (docs/simulator.md), a port of the Python reference
- * runtimes/python/max2code_rt/sim.py that performs the same IEEE double
- * operations in the same order and so writes the same bytes.
+ * (runtimes/python/max2code_rt) that performs the same IEEE double
+ * operations in the same order and so writes the same bytes.  This header
+ * is what the simulator's program (tools/m2c_sim_main.c) uses besides the
+ * world API: the scene reader and the trace's number writer.  Programs of
+ * one's own include m2c_world.h (include/) instead.
  *
  * It reads a compiled scene (the flat text of max2code/sim/scene.py) and writes
  * the flat trace.  Every prediction goes through the generated entries of

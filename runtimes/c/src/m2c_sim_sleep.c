@@ -1,0 +1,129 @@
+/* Sleeping islands (docs/simulator.md, "Contact model: sleeping islands"):
+ * a slow body pressed onto a grounded one (asleep, or fixed and unmoving)
+ * falls asleep in its island, frozen (v = a = w = 0, no events of its
+ * own); an impulse that would move it, or a body removed or driven next to
+ * it, wakes the whole island.  Speeds in m/s. */
+#include <math.h>
+
+#include "m2c_sim_internal.h"
+
+/* A body supported by an unmoving body, slower than rest_speed along its
+ * edge, that static friction would hold there (|at| <= mu load, as in
+ * slide_accel at u = 0; on a level frictionless edge at = 0): it stays
+ * where it is.  On a moving support: never (it does not sleep); nor on a
+ * movable one (carried: grounded is false while it carries). */
+int m2c_sim_at_rest(const m2c_world *m, const m2c_sim_body *A)
+{
+    const m2c_sim_body *B = &m->bodies[A->sup];
+    if (!m2c_sim_grounded(B))
+        return 0;
+    double u = A->vx * A->tx + A->vy * A->ty;
+    double rest = m->s->rest_speed;
+    if (!(u * u < rest * rest))
+        return 0;
+    double f = A->mu * B->mu * A->load;
+    return !(A->at > f) && !(A->at < -f);
+}
+
+/* Awake movable M, one body of the collision ev with grounded G (both
+ * advanced; (nx, ny) the contact's unit normal from a to b, vn its normal
+ * speed), falls asleep on G: M's free acceleration presses it onto G, the
+ * contact is slow, M's speed across the normal is below rest_speed, and a
+ * polygon M turns slowly and lies on a face (docs/simulator.md). */
+int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
+                      double ny, double vn)
+{
+    if (M->fixed || M->asleep || !m2c_sim_grounded(G))
+        return 0;
+    double mx, my;
+    if (M->idx == ev->u.collision.a) {
+        mx = nx;
+        my = ny;
+    } else {
+        mx = -nx;
+        my = -ny;
+    }
+    double rest = m->s->rest_speed;
+    double load = M->fax * mx + M->fay * my;
+    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
+        return 0;
+    double ut = M->vy * mx - M->vx * my;
+    if (ut * ut >= rest * rest)
+        return 0;
+    if (M->polygon) {
+        if (fabs(M->om) * M->bound >= rest || ev->u.collision.feature != M2C_SIM_PE || ev->u.collision.i < 0)
+            return 0;
+        return m2c_sim_flat(m, &m->bodies[ev->u.collision.a], &m->bodies[ev->u.collision.b], ev->u.collision.i,
+                            ev->u.collision.j, -nx, -ny, load);
+    }
+    return 1;
+}
+
+/* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
+ * G's island, or in a new one numbered A's index when G is fixed.  Its
+ * awake neighbours are predicted against it again. */
+void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
+{
+    m->stats.sleeps++;
+    if (A->sup >= 0)
+        m2c_sim_end_support(m, A);
+    A->vx = 0.0;
+    A->vy = 0.0;
+    A->om = 0.0;
+    A->ax = 0.0;
+    A->ay = 0.0;
+    A->asleep = 1;
+    A->island = G->asleep ? G->island : A->idx;
+    m->stamp[A->idx]++;
+    m2c_sim_emit_island(m, "E sleep ", t, A->idx, G->idx, A->island);
+    m2c_sim_emit_state(m, A);
+    m2c_sim_left left = { 0 };
+    m2c_sim_release(m, A, t, &left);
+    m2c_sim_predict_body(m, A, t, NULL);
+    m2c_sim_predict_released(m, &left, t);
+}
+
+/* S's island wakes at t: every member (by index) gets its free
+ * acceleration back, then fresh predictions (a pair of members once). */
+void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t)
+{
+    m->stats.wakes++;
+    int32_t island = S->island;
+    m2c_sim_emit_island(m, "E wake ", t, S->idx, -1, island);
+    int32_t n = m->s->nbodies;
+    for (int32_t k = 0; k < n; k++) {
+        m2c_sim_body *b = &m->bodies[k];
+        if (b->asleep && b->island == island) {
+            m2c_sim_rebase(b, t);
+            b->asleep = 0;
+            b->ax = b->fax;
+            b->ay = b->fay;
+            m->stamp[b->idx]++;
+            m2c_sim_emit_state(m, b);
+        }
+    }
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            m2c_sim_predict_woken(m, &m->bodies[k], t, island);
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            m->bodies[k].island = -1;
+}
+
+/* The islands of the sleepers whose bounding circles reach the removed
+ * body's (within the tolerance) wake: it may have held them (by index; a
+ * woken island's other members are awake already). */
+void m2c_sim_wake_touching(m2c_world *m, const m2c_sim_body *body, double t)
+{
+    double tol = m->s->tol;
+    for (int32_t k = 0; k < m->s->nbodies; k++) {
+        const m2c_sim_body *o = &m->bodies[k];
+        if (o->asleep) {
+            double dx = o->px - body->px;
+            double dy = o->py - body->py;
+            double reach = o->bound + body->bound + tol;
+            if (dx * dx + dy * dy <= reach * reach)
+                m2c_sim_handle_wake(m, o, t);
+        }
+    }
+}
