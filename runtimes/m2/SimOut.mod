@@ -1,6 +1,9 @@
 IMPLEMENTATION MODULE SimOut ;
 
-(* The fast path of Real, for a finite nonzero x: with X = floor(log10 |x|),
+(* The trace writer (SimOut.def): one output buffer, the numbers and the
+   lines of contacts, support ends and counters.
+
+   The fast path of Real, for a finite nonzero x: with X = floor(log10 |x|),
    y = |x| 10^(16 - X) lies in [10^16, 10^17) and "%.17g" writes the
    integer nearest to y (ties to even) as 17 digits, then drops trailing
    zeros.  y is computed in LONGREAL (x87 extended, 64-bit significand) with
