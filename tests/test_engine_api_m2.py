@@ -1,4 +1,4 @@
-"""The Modula-2 example of docs/engine-api.md ("Modula-2: SimWorld"): the
+"""The Modula-2 example of docs/engine-api.md ("Modula-2: SimLive"): the
 program on that page, built against the world compiled for the scene's
 effects, drives examples/newtons-cradle.json frame by frame with two live
 inputs, and prints what the Python world (the reference) gives when driven
@@ -74,7 +74,7 @@ def test_the_modula2_example_runs_as_the_reference(tmp_path):
 ADD_PROGRAM = """MODULE AddDemo ;
 FROM SYSTEM IMPORT ADR ;
 FROM SimC IMPORT write, snprintf ;
-FROM SimWorld IMPORT Contact, FromFile, Advance, AddBody, Finish, Error ;
+FROM SimLive IMPORT Contact, FromFile, Advance, AddBody, Finish, Error ;
 
 VAR
    text: ARRAY [0..4095] OF CHAR ;
@@ -113,7 +113,7 @@ END AddDemo.
 
 
 def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
-    """SimWorld.AddBody: refused where it overlaps (-1), a movable body too
+    """SimLive.AddBody: refused where it overlaps (-1), a movable body too
     large for the cells is an error (the reference's message), a good one
     joins with the next index and lands on the floor: the trace is the
     Python world's byte for byte."""
@@ -156,8 +156,8 @@ def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
 SESSION_PROGRAM = """MODULE Session ;
 FROM SYSTEM IMPORT ADR ;
 FROM SimC IMPORT write, snprintf ;
-FROM SimWorld IMPORT Contact, FromFile, Advance, SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody,
-                     Finish, InputLogLength, InputLog, Added ;
+FROM SimLive IMPORT Contact, FromFile, Advance, SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody,
+                    Finish, InputLogLength, InputLog, Added ;
 
 VAR
    k, body, mode, n: INTEGER ;

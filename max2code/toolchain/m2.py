@@ -1,5 +1,5 @@
 """Modula-2's toolchain: gm2 builds of the harnesses and of the simulator
-(its library modules, the live world SimWorld and programs using it), and
+(its library modules, one per concept, and programs using the live world SimLive), and
 make in runtimes/m2 for the runtime's objects, the testees and the install."""
 from __future__ import annotations
 
@@ -15,8 +15,11 @@ M2_RUNTIME = RUNTIMES / "m2"
 # flags of every simulator build: ISO dialect, warnings are errors, no FMA
 # contraction (the same operations as the Python reference, docs/simulator.md)
 SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
-# the simulator's library modules (runtimes/m2), compiled into the workdir
-SIM_MODULES = ("SimOut", "SimScene", "SimGrid", "SimHeap")
+# the simulator's library modules (runtimes/m2, one per concept), compiled into the workdir;
+# SIM_GENERATED includes the generated code (compiled with the variant counts defined)
+SIM_MODULES = ("SimOut", "SimScene", "SimQueue", "SimGrid", "SimMotion", "SimWorld", "SimContact", "SimSupport",
+               "SimSleep", "SimOverlap", "SimCluster", "SimHandlers", "SimLive")
+SIM_GENERATED = "SimPredict"
 
 
 def make_m2(*targets: str | Path) -> None:
@@ -73,10 +76,10 @@ class Modula2Toolchain(Toolchain):
         return [exe]
 
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
-        """Compile the simulator's library modules (SIM_MODULES: trace
-        writer, scene, grid, event queue), the live world (SimWorld, which
-        #includes the generated circle_circle.mxd and point_edge.mxd from
-        workdir) and the batch simulator (SimMain, its thin user), and link
+        """Compile the simulator's library modules (SIM_MODULES, and
+        SIM_GENERATED, which #includes the generated circle_circle.mxd and
+        point_edge.mxd from workdir) and the batch simulator (SimMain, a thin
+        user of the live world SimLive), and link
         them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
         directory and its linking step looks the program module's object up
@@ -90,7 +93,7 @@ class Modula2Toolchain(Toolchain):
         return M2_RUNTIME
 
     def sim_world_build(self, workdir: str, variants: dict[str, int]) -> list[list[str]]:
-        """Commands (run in workdir) that compile SIM_MODULES and SimWorld
+        """Commands (run in workdir) that compile SIM_MODULES and SIM_GENERATED
         into workdir/NAME.o, with the generated .mxd files from workdir."""
         m2 = self._m2()
         libs = [os.path.join(workdir, f"{m}.o") for m in SIM_MODULES]
@@ -98,15 +101,15 @@ class Modula2Toolchain(Toolchain):
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return [*[["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / f"{m}.mod"), "-o", o] for m, o in zip(SIM_MODULES, libs)],
-                ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / "SimWorld.mod"),
-                 "-o", os.path.join(workdir, "SimWorld.o")]]
+                ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / f"{SIM_GENERATED}.mod"),
+                 "-o", os.path.join(workdir, f"{SIM_GENERATED}.o")]]
 
     def sim_program_build(self, workdir: str, program: str, exe: str) -> list[str]:
         """The command (run in workdir) that compiles a program module using
-        SimWorld and links it with the objects sim_world_build made."""
+        the live world SimLive and links it with the objects sim_world_build made."""
         m2 = self._m2()
         objs = m2_objects()
-        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, "SimWorld")]
+        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, SIM_GENERATED)]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return ["gm2", *SIM_FLAGS, *incs, program, *libs, *map(str, objs), "-o", exe, "-lm"]
 

@@ -2,7 +2,7 @@ MODULE SimMain ;
 
 (* The batch simulator (docs/simulator.md): reads a compiled scene on
    standard input and writes the flat trace on standard output; a thin
-   user of the live world SimWorld.  On a stuck or bad scene it writes
+   user of the live world SimLive.  On a stuck or bad scene it writes
    "X message" and ends with status 1.
 
    sim --step DT [--live] drives the world in steps instead
@@ -21,8 +21,8 @@ FROM SYSTEM IMPORT ADDRESS, ADR ;
 FROM UnixArgs IMPORT ArgC, ArgV ;
 FROM CMath IMPORT getchar ;
 FROM SimC IMPORT strtod, snprintf, write, exit, realloc ;
-FROM SimWorld IMPORT Contact, New, FromStdin, Run, Advance, State, States, Finish, EndTime, BodyCount, Error,
-                     SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody ;
+FROM SimLive IMPORT Contact, New, FromStdin, Run, Advance, State, States, Finish, EndTime, BodyCount, Error,
+                    SetVelocity, AddVelocity, ApplyImpulse, Teleport, RemoveBody ;
 FROM SimOut IMPORT SetOn, Str, Ln, Fail, FailMsg ;
 
 CONST

@@ -1,6 +1,9 @@
 IMPLEMENTATION MODULE SimOut ;
 
-(* The fast path of Real, for a finite nonzero x: with X = floor(log10 |x|),
+(* The trace writer (SimOut.def): one output buffer, the numbers and the
+   lines of contacts, support ends and counters.
+
+   The fast path of Real, for a finite nonzero x: with X = floor(log10 |x|),
    y = |x| 10^(16 - X) lies in [10^16, 10^17) and "%.17g" writes the
    integer nearest to y (ties to even) as 17 digits, then drops trailing
    zeros.  y is computed in LONGREAL (x87 extended, 64-bit significand) with
@@ -299,15 +302,62 @@ BEGIN
    s[k] := 0C ;
    pos := 0
 END Take ;
+(* The contact line of a collision, support or the like: "E KIND t a b
+   feature i j cx cy nx ny impulse". *)
+PROCEDURE EmitContact (kind: ARRAY OF CHAR; t: REAL; a, b, feature, i, j: INTEGER; cx, cy, nx, ny, imp: REAL) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (a) ;
+   Str (" ") ; Int (b) ;
+   Str (" ") ; Int (feature) ;
+   Str (" ") ; Int (i) ;
+   Str (" ") ; Int (j) ;
+   SpReal (cx) ;
+   SpReal (cy) ;
+   SpReal (nx) ;
+   SpReal (ny) ;
+   SpReal (imp) ;
+   Ln
+END EmitContact ;
+
+
+(* The line of a stop or leave event: "E KIND t body sup -1 -1 edge 0 0 0 0 0". *)
+PROCEDURE EmitSupportEnd (kind: ARRAY OF CHAR; t: REAL; body, sup, edge: INTEGER) ;
+BEGIN
+   Str ("E ") ;
+   Str (kind) ;
+   Str (" ") ;
+   Real (t) ;
+   Str (" ") ; Int (body) ;
+   Str (" ") ; Int (sup) ;
+   Str (" -1 -1 ") ; Int (edge) ;
+   Str (" 0 0 0 0 0") ;
+   Ln
+END EmitSupportEnd ;
+
+
+PROCEDURE Stat (name: ARRAY OF CHAR; count: LONGINT) ;
+BEGIN
+   Str ("N ") ;
+   Str (name) ;
+   Str (" ") ;
+   Int (count) ;
+   Ln
+END Stat ;
+
+
 
 
 VAR
-   i: INTEGER ;
+   p10: INTEGER ;
 BEGIN
    pos := 0 ;
    on := TRUE ;
    pow[0] := 1.0 ;
-   FOR i := 1 TO MaxP DO pow[i] := pow[i - 1] * 10.0 END ;
+   FOR p10 := 1 TO MaxP DO pow[p10] := pow[p10 - 1] * 10.0 END ;
    lo := pow[16] + 2.0 ;
    hi := pow[16] * 10.0 - 2.0
 END SimOut.

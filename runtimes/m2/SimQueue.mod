@@ -1,6 +1,7 @@
-IMPLEMENTATION MODULE SimHeap ;
+IMPLEMENTATION MODULE SimQueue ;
 
-(* Binary heap in a growing array: children of k at 2k+1 and 2k+2. *)
+(* The event queue: a binary heap in a growing array, children of k at
+   2k+1 and 2k+2. *)
 
 FROM SYSTEM IMPORT ADDRESS ;
 FROM SimC IMPORT realloc ;
@@ -115,4 +116,4 @@ BEGIN
    heap := NIL ;
    n := 0 ;
    cap := 0
-END SimHeap.
+END SimQueue.

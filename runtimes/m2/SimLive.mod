@@ -1,0 +1,464 @@
+IMPLEMENTATION MODULE SimLive ;
+
+(* The live world's API (SimLive.def, docs/engine-api.md) over the
+   world's state (SimWorld, SimScene) and its handlers (SimHandlers). *)
+
+FROM SYSTEM IMPORT ADR ;
+FROM SimScene IMPORT AddInput, Bodies, BodyRef, CellH, CellW, EndT, Inputs, NBodies, NInputs, NVerts,
+                     ReadBodyText, ReadError, ReadFile, ReadStdin, ReadText ;
+FROM SimQueue IMPORT Event, KInput, Pop, Top ;
+FROM SimGrid IMPORT CellAdd, CellOf, place_large ;
+FROM SimOut IMPORT Flush, Int, Ln, Real, SetOn, Str ;
+FROM SimWorld IMPORT AddVelocityMode, Append, AppendInt, AppendReal, Contacts, EmitState, ErrMsg, Failed,
+                     ImpulseMode, Inf, is_stale, Loaded, MsgLen, NAdded, NContacts, NLeft, push, RemoveMode,
+                     SetVelocityMode, Stats, TeleportMode, WorldT ;
+FROM SimMotion IMPORT StateAt ;
+FROM SimPredict IMPORT PredictBody, PredictPair ;
+FROM SimOverlap IMPORT overlapping ;
+FROM SimHandlers IMPORT dispatch, process, start, WriteFinal ;
+
+VAR
+   Reporting: BOOLEAN ;        (* a ContactProc is being called *)
+
+
+(* A call that is refused (the reference raises SimError): FALSE with msg
+   as the message; the world goes on. *)
+PROCEDURE Refuse (msg: ARRAY OF CHAR) : BOOLEAN ;
+BEGIN
+   ErrMsg[0] := 0C ;
+   Append (ErrMsg, msg) ;
+   RETURN FALSE
+END Refuse ;
+
+
+(* FALSE (with the message) when there is no world or it failed. *)
+PROCEDURE Usable () : BOOLEAN ;
+BEGIN
+   IF Failed THEN RETURN FALSE END ;   (* the failure's message stays *)
+   IF NOT Loaded THEN RETURN Refuse ("no world: call New, FromFile or FromStdin first") END ;
+   IF Reporting THEN RETURN Refuse ("the world cannot be driven from inside its ContactProc") END ;
+   RETURN TRUE
+END Usable ;
+
+
+PROCEDURE Error (VAR msg: ARRAY OF CHAR) ;
+BEGIN
+   msg[0] := 0C ;
+   Append (msg, ErrMsg)
+END Error ;
+
+
+(* Calls report with each contact kept since the last report, in order. *)
+PROCEDURE TakeContacts (report: ContactProc) ;
+VAR
+   k, n: INTEGER ;
+BEGIN
+   n := NContacts ;
+   NContacts := 0 ;
+   Reporting := TRUE ;
+   FOR k := 0 TO n - 1 DO report (Contacts^[k]) END ;
+   Reporting := FALSE
+END TakeContacts ;
+
+
+(* A world from the scene just read (ok), or the reading's failure. *)
+PROCEDURE Begin (ok, trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   Loaded := FALSE ;
+   Failed := FALSE ;
+   Reporting := FALSE ;
+   NLeft := 0 ;                (* a world that failed in a handler may have left some listed *)
+   IF NOT ok THEN
+      ReadError (ErrMsg) ;
+      RETURN FALSE
+   END ;
+   ErrMsg[0] := 0C ;
+   SetOn (trace) ;
+   start ;
+   Loaded := NOT Failed ;
+   RETURN Loaded
+END Begin ;
+
+
+PROCEDURE New (VAR text: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadText (ADR (text), HIGH (text) + 1), trace)
+END New ;
+
+
+PROCEDURE FromFile (path: ARRAY OF CHAR; trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadFile (path), trace)
+END FromFile ;
+
+
+PROCEDURE FromStdin (trace: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN Begin (ReadStdin (), trace)
+END FromStdin ;
+
+
+PROCEDURE Time () : REAL ;
+BEGIN
+   RETURN WorldT
+END Time ;
+
+
+PROCEDURE EndTime () : REAL ;
+BEGIN
+   RETURN EndT
+END EndTime ;
+
+
+PROCEDURE BodyCount () : INTEGER ;
+BEGIN
+   RETURN NBodies
+END BodyCount ;
+
+
+PROCEDURE Advance (t: REAL; report: ContactProc) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT ((t >= WorldT) AND (t <= EndT)) THEN
+      m := "advance: t = " ;
+      AppendReal (m, t) ;
+      Append (m, " is outside [") ;
+      AppendReal (m, WorldT) ;
+      Append (m, ", ") ;
+      AppendReal (m, EndT) ;
+      Append (m, "] (the world's time .. the scene's end)") ;
+      RETURN Refuse (m)
+   END ;
+   process (t, FALSE) ;
+   IF Failed THEN RETURN FALSE END ;
+   WorldT := t ;
+   TakeContacts (report) ;
+   RETURN TRUE
+END Advance ;
+
+
+PROCEDURE NextEventTime () : REAL ;
+VAR
+   ev: Event ;
+BEGIN
+   IF NOT Usable () THEN RETURN Inf END ;
+   WHILE Top (ev) AND (ev.t <= EndT) DO
+      IF NOT is_stale (ev) THEN RETURN ev.t END ;
+      IF Pop (ev) THEN INC (Stats.stale) END
+   END ;
+   RETURN Inf
+END NextEventTime ;
+
+
+PROCEDURE State (body: INTEGER; t: REAL; VAR px, py, vx, vy, ang, om: REAL) : BOOLEAN ;
+VAR
+   nxt: REAL ;
+   b: BodyRef ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT BodyOk (body) THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   nxt := NextEventTime () ;
+   IF NOT ((t >= WorldT) AND (t <= nxt) AND (t <= EndT)) THEN
+      m := "state: t = " ;
+      AppendReal (m, t) ;
+      Append (m, " is outside [") ;
+      AppendReal (m, WorldT) ;
+      Append (m, ", ") ;
+      AppendReal (m, nxt) ;
+      Append (m, "] (the world's time .. the next event)") ;
+      RETURN Refuse (m)
+   END ;
+   StateAt (b, t, px, py, vx, vy, ang) ;
+   om := b^.om ;
+   RETURN TRUE
+END State ;
+
+
+PROCEDURE States (t: REAL; VAR px, py, vx, vy, ang, om: ARRAY OF REAL) : BOOLEAN ;
+VAR
+   k: INTEGER ;
+   room: CARDINAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   room := HIGH (px) ;
+   IF HIGH (py) < room THEN room := HIGH (py) END ;
+   IF HIGH (vx) < room THEN room := HIGH (vx) END ;
+   IF HIGH (vy) < room THEN room := HIGH (vy) END ;
+   IF HIGH (ang) < room THEN room := HIGH (ang) END ;
+   IF HIGH (om) < room THEN room := HIGH (om) END ;
+   IF VAL (INTEGER, room) + 1 < NBodies THEN
+      m := "states: room for " ;
+      AppendInt (m, VAL (INTEGER, room) + 1) ;
+      Append (m, " bodies, the world has ") ;
+      AppendInt (m, NBodies) ;
+      RETURN Refuse (m)
+   END ;
+   IF NBodies = 0 THEN RETURN TRUE END ;
+   (* body 0 through State: its checks of t and its message *)
+   IF NOT State (0, t, px[0], py[0], vx[0], vy[0], ang[0], om[0]) THEN RETURN FALSE END ;
+   FOR k := 1 TO NBodies - 1 DO
+      StateAt (ADR (Bodies^[k]), t, px[k], py[k], vx[k], vy[k], ang[k]) ;
+      om[k] := Bodies^[k].om
+   END ;
+   RETURN TRUE
+END States ;
+
+
+(* FALSE (refused) when k is not a body of the world. *)
+PROCEDURE BodyOk (k: INTEGER) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF (k >= 0) AND (k < NBodies) THEN RETURN TRUE END ;
+   m := "no body " ;
+   AppendInt (m, k) ;
+   Append (m, " (the world has ") ;
+   AppendInt (m, NBodies) ;
+   Append (m, ")") ;
+   RETURN Refuse (m)
+END BodyOk ;
+
+
+(* Handles the input events queued at exactly the world's time. *)
+PROCEDURE inputs_now ;
+VAR
+   ev: Event ;
+BEGIN
+   WHILE (NOT Failed) AND Top (ev) AND (ev.t = WorldT) AND (ev.kind = KInput) DO
+      IF Pop (ev) THEN dispatch (ev) END
+   END
+END inputs_now ;
+
+
+(* An input at the world's time T, handled as the same input scripted at T
+   and listed after the scene's would be: the scene's inputs at T first,
+   then this one, before any other event at T (docs/engine-api.md, "Live
+   inputs").  It is appended to the input list, which is the recording.
+   done: FALSE when a teleport is refused (nothing changed). *)
+(* An input of this mode may act on b: any on a movable body; on a fixed
+   one, removal, or set_velocity when it is a polygon that does not turn
+   (its edges then translate: docs/simulator.md, Contact model). *)
+PROCEDURE drivable (b: BodyRef; mode: INTEGER) : BOOLEAN ;
+BEGIN
+   IF (NOT b^.fixed) OR (mode = RemoveMode) THEN RETURN TRUE END ;
+   RETURN (mode = SetVelocityMode) AND b^.polygon AND (b^.om = 0.0)
+END drivable ;
+
+
+PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
+VAR
+   b: BodyRef ;
+   ev: Event ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   done := FALSE ;
+   IF (NOT Usable ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   IF b^.gone THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " was removed") ;
+      RETURN Refuse (m)
+   END ;
+   IF NOT drivable (b, mode) THEN
+      m := "body " ;
+      AppendInt (m, body) ;
+      Append (m, " is fixed: inputs move movable bodies only (or set the velocity of a fixed polygon that does ") ;
+      Append (m, "not turn, or remove a fixed body)") ;
+      RETURN Refuse (m)
+   END ;
+   IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
+      m := "input on body " ;
+      AppendInt (m, body) ;
+      Append (m, ": (") ;
+      AppendReal (m, x) ;
+      Append (m, ", ") ;
+      AppendReal (m, y) ;
+      Append (m, ") is not finite") ;
+      RETURN Refuse (m)
+   END ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   IF (mode = TeleportMode) AND (overlapping (b, x, y, WorldT) >= 0) THEN RETURN TRUE END ;
+   ev.t := WorldT ;
+   ev.kind := KInput ;
+   ev.input.k := AddInput (WorldT, body, mode, x, y) ;
+   push (ev) ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   done := TRUE ;
+   RETURN TRUE
+END live_input ;
+
+
+PROCEDURE SetVelocity (body: INTEGER; vx, vy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, SetVelocityMode, vx, vy, done)
+END SetVelocity ;
+
+
+PROCEDURE AddVelocity (body: INTEGER; dvx, dvy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, AddVelocityMode, dvx, dvy, done)
+END AddVelocity ;
+
+
+PROCEDURE ApplyImpulse (body: INTEGER; jx, jy: REAL) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, ImpulseMode, jx, jy, done)
+END ApplyImpulse ;
+
+
+PROCEDURE Teleport (body: INTEGER; x, y: REAL; VAR moved: BOOLEAN) : BOOLEAN ;
+BEGIN
+   RETURN live_input (body, TeleportMode, x, y, moved)
+END Teleport ;
+
+
+PROCEDURE RemoveBody (body: INTEGER) : BOOLEAN ;
+VAR
+   done: BOOLEAN ;
+BEGIN
+   RETURN live_input (body, RemoveMode, 0.0, 0.0, done)
+END RemoveBody ;
+
+
+PROCEDURE AddBody (VAR text: ARRAY OF CHAR; VAR index: INTEGER) : BOOLEAN ;
+VAR
+   b, o: BodyRef ;
+   nv, i: INTEGER ;
+   t, lim: REAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   index := -1 ;
+   IF NOT Usable () THEN RETURN FALSE END ;
+   IF NOT ReadBodyText (ADR (text), HIGH (text) + 1, NBodies, NVerts, nv) THEN
+      ReadError (ErrMsg) ;
+      RETURN FALSE
+   END ;
+   b := ADR (Bodies^[NBodies]) ;      (* read, not yet in the world *)
+   b^.idx := NBodies ;
+   lim := CellW ;
+   IF CellH < lim THEN lim := CellH END ;     (* Python's min (cw, ch) *)
+   b^.large := 2.0 * b^.bound > lim ;
+   IF b^.large AND NOT b^.fixed THEN
+      m := "add_body: a movable body of bound " ;
+      AppendReal (m, b^.bound) ;
+      Append (m, " m does not fit the grid's cells (") ;
+      AppendReal (m, CellW) ;
+      Append (m, " x ") ;
+      AppendReal (m, CellH) ;
+      Append (m, " m): put such a body in the scene") ;
+      RETURN Refuse (m)
+   END ;
+   t := WorldT ;
+   b^.tb := t ;
+   inputs_now ;
+   IF Failed THEN RETURN FALSE END ;
+   b := ADR (Bodies^[NBodies]) ;
+   IF overlapping (b, b^.px, b^.py, t) >= 0 THEN RETURN TRUE END ;
+   INC (NBodies) ;
+   NVerts := NVerts + nv ;
+   INC (NAdded) ;
+   index := b^.idx ;
+   Str ("E add ") ;
+   Real (t) ;
+   Str (" ") ;
+   Int (b^.idx) ;
+   Str (" -1 -1 -1 -1 0 0 0 0 0") ;
+   Ln ;
+   IF b^.large THEN
+      place_large (b) ;
+      FOR i := 0 TO NBodies - 1 DO
+         o := ADR (Bodies^[i]) ;
+         IF (NOT o^.large) AND (NOT o^.gone) AND NOT (o^.fixed AND b^.fixed) THEN
+            PredictPair (o, b, t)
+         END
+      END
+   ELSE
+      CellOf (b^.px, b^.py, b^.cx, b^.cy) ;
+      CellAdd (b) ;
+      IF NOT b^.fixed THEN EmitState (b) END ;
+      PredictBody (b, t, -1)
+   END ;
+   IF Failed THEN RETURN FALSE END ;
+   RETURN TRUE
+END AddBody ;
+
+
+PROCEDURE InputLogLength () : INTEGER ;
+BEGIN
+   RETURN NInputs
+END InputLogLength ;
+
+
+PROCEDURE InputLog (k: INTEGER; VAR t: REAL; VAR body, mode: INTEGER; VAR x, y: REAL) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF (k < 0) OR (k >= NInputs) THEN
+      m := "no input " ;
+      AppendInt (m, k) ;
+      Append (m, " (the log has ") ;
+      AppendInt (m, NInputs) ;
+      Append (m, ")") ;
+      RETURN Refuse (m)
+   END ;
+   t := Inputs^[k].t ;
+   body := Inputs^[k].body ;
+   mode := Inputs^[k].mode ;
+   x := Inputs^[k].vx ;
+   y := Inputs^[k].vy ;
+   RETURN TRUE
+END InputLog ;
+
+
+PROCEDURE Added () : INTEGER ;
+BEGIN
+   RETURN NAdded
+END Added ;
+
+
+PROCEDURE Finish (report: ContactProc) : BOOLEAN ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   process (EndT, TRUE) ;
+   IF Failed THEN RETURN FALSE END ;
+   WorldT := EndT ;
+   WriteFinal ;
+   Flush ;
+   TakeContacts (report) ;
+   RETURN TRUE
+END Finish ;
+
+
+PROCEDURE Run () : BOOLEAN ;
+BEGIN
+   IF NOT Usable () THEN RETURN FALSE END ;
+   process (EndT, FALSE) ;     (* Advance (EndT) and Finish, without the reports *)
+   IF NOT Failed THEN
+      WorldT := EndT ;
+      process (EndT, TRUE)
+   END ;
+   IF Failed THEN RETURN FALSE END ;
+   WriteFinal ;
+   Flush ;
+   NContacts := 0 ;
+   RETURN TRUE
+END Run ;
+
+
+BEGIN
+   Reporting := FALSE
+END SimLive.
