@@ -14,7 +14,7 @@ IMPLEMENTATION MODULE SimPredict ;
    equations/point-edge.mxm are included below from the build directory
    (gm2 -fcpp, the build directory on the include path).  The build defines
    SIM_CC_VARIANTS and SIM_PE_VARIANTS, the number of variants each
-   NAME_variant counts (max2code/targets/m2.py reads them from the
+   NAME_variant counts (max2code/toolchain/m2.py reads them from the
    generated files). *)
 
 FROM SYSTEM IMPORT ADR ;
