@@ -96,12 +96,15 @@ def add(a: Node, b: Node) -> Node:
 
 
 def mul(a: Node, b: Node) -> Node:
+    """a * b, with a negation of either factor moved outside the product: the
+    signs multiply, so two negated factors give a product without one."""
     if a == ("lit", 1.0):
         return b
     if b == ("lit", 1.0):
         return a
     if a[0] == "neg" or b[0] == "neg":
-        return neg(mul(a[1] if a[0] == "neg" else a, b[1] if b[0] == "neg" else b))
+        product = mul(a[1] if a[0] == "neg" else a, b[1] if b[0] == "neg" else b)
+        return product if a[0] == "neg" and b[0] == "neg" else neg(product)
     return ("*", a, b)
 
 
