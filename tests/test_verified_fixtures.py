@@ -96,10 +96,11 @@ def test_every_variant_matches_an_independent_expansion(name, order):
 
 
 def test_the_spinning_segment_variants_agree_with_the_full_equation_at_orders_6_to_8():
-    """The user's report: with zero acceleration segment_end_no_accel1 printed
-    the t^6 coefficient with the opposite sign of segment_end's (and of its own
-    --naive form).  Every variant, at every order, must give the full
-    equation's coefficients where its conditions hold."""
+    """With zero acceleration, segment_end_no_accel1's t^6 coefficient is a
+    product of two negated factors in its Horner form; it must equal
+    segment_end's (and its own --naive form's).  Every variant, at every
+    order, must give the full equation's coefficients where its conditions
+    hold."""
     for order in (6, 7, 8):
         out = generate("segment-end", order)
         naive = run_python(generate("segment-end", order, shared=False).text)

@@ -41,7 +41,8 @@ _mul = lower_mod.mul
 
 
 def old_mul(a, b):
-    """mul as it was when a negation of either factor negated the product."""
+    """A faulty mul: a negation of either factor negates the product, so
+    (-a)*(-b) gives -(a*b)."""
     if a[0] == "neg" or b[0] == "neg":
         return lower_mod.neg(_mul(a[1] if a[0] == "neg" else a, b[1] if b[0] == "neg" else b))
     return _mul(a, b)
