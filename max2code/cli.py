@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
         return generate_main(argv)
     except Max2CodeError as exc:
         print(str(exc), file=sys.stderr)
-        return 1
+        return getattr(exc, "exit_status", 1)
     except KeyboardInterrupt:
         print("max2code: interrupted", file=sys.stderr)
         return 130

@@ -30,6 +30,14 @@ class SourceError(Max2CodeError):
         super().__init__(f"{span}: error: {message}")
 
 
+class InternalError(Max2CodeError):
+    """A bug in max2code caught by one of its own checks (e.g. generated code
+    that differs from Maxima's polynomial): printed in one line, without a
+    traceback, with exit status 2 (kept for bugs)."""
+
+    exit_status = 2
+
+
 class UsageError(Max2CodeError):
     """A bad command line: an unknown option, a missing or malformed value."""
 

@@ -29,7 +29,7 @@ from fractions import Fraction
 from max2code.generate.collect import collect
 from max2code.errors import SourceError, Span
 from max2code.generate.expr import Add, Call, Eq, Expr, Mul, Num, Poly, Pow, Sym, NotPolynomial, to_maxima
-from max2code.generate.lower import Assign, Lowering, Node, add, horner, lit, mul, neg, refs, share
+from max2code.generate.lower import PI, Assign, Lowering, Node, add, horner, lit, mul, neg, refs, share
 from max2code.generate.maxima import DEFAULT_TIMEOUT, Statement, run_maxima
 from max2code.generate.reader import MaximaOutputError, read_expr
 
@@ -67,6 +67,11 @@ class ExactSection:
     truncation: ScalarFn
     approximations: tuple[str, ...]   # one line per approximation, for the header
     origin: Span
+    # Maxima's expressions behind gap, gap_dt and shift (one per parameter, None
+    # where the parameter does not move), which verify.py checks them against
+    gap_expr: Expr | None = None
+    gap_dt_expr: Expr | None = None
+    shift_exprs: tuple = ()
 
 
 # ---------------------------------------------------------------- Maxima
@@ -289,7 +294,7 @@ def lower_expr(e: Expr, t: str) -> Node:
         return lit(e.value)
     if isinstance(e, Sym):
         if e.name == "%pi":
-            return lit(math.pi)
+            return lit(PI)
         return ("ref", e.name)
     if isinstance(e, Call):
         return ("call", e.func, lower_expr(e.args[0], t))
@@ -360,7 +365,7 @@ def rounding_scale(e: Expr, t: str) -> Node:
     if isinstance(e, Num):
         return lit(abs(e.value))
     if isinstance(e, Sym):
-        return lit(math.pi) if e.name == "%pi" else _abs(("ref", e.name))
+        return lit(PI) if e.name == "%pi" else _abs(("ref", e.name))
     if isinstance(e, Call):
         return add(lit(1), rounding_scale(e.args[0], t))
     if isinstance(e, (Add, Mul)):       # a sum's scale adds its terms', a product's multiplies its factors'
@@ -549,7 +554,8 @@ def _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin) -> Exa
                       "max", params, (), rate_roots, derived)
     lines = tuple(f"{a.name}(...) is the degree-{a.degree} Taylor polynomial in {t} of "
                   f"{next(x.text.strip() for x in mod.approximations if x.name == a.name)}" for a in approx)
-    return ExactSection(name, tuple(params), t, gap_fn, dt_fn, scale_fn, shift_fn, rate_fn, trunc_fn, lines, origin)
+    return ExactSection(name, tuple(params), t, gap_fn, dt_fn, scale_fn, shift_fn, rate_fn, trunc_fn, lines, origin,
+                        gap, gap_dt, tuple(shifts.get(p) for p in params))
 
 
 def _refs_outside_abs(n: Node, out: set[str]) -> None:

@@ -19,9 +19,40 @@ from max2code.errors import Span
 from max2code.generate.expr import Call, Expr, Poly, Sym, to_maxima
 
 # Nodes are plain tuples, so equal subexpressions are equal values:
-#   ("lit", float)  ("ref", name)  ("neg", a)  ("call", func, a)
+#   ("lit", float, exact)  ("ref", name)  ("neg", a)  ("call", func, a)
 #   ("+", a, b)  ("-", a, b)  ("*", a, b)  ("/", a, b)
+# A literal carries the double that is printed and the exact constant it was
+# rounded from (a Fraction, or a PiSum when %pi was folded in), so that the
+# printed code can be checked in exact arithmetic (verify.py).
 Node = tuple
+
+# an element of Q[pi]: ((power of %pi, rational factor), ...), powers ascending
+PiSum = tuple
+
+
+class Folded(float):
+    """A double folded from an exact constant that involves %pi, carrying that
+    constant (a PiSum) for the checker; arithmetic on it gives plain floats."""
+    exact: PiSum
+
+    def __new__(cls, value: float, exact: PiSum):
+        self = super().__new__(cls, value)
+        self.exact = exact
+        return self
+
+
+PI = Folded(math.pi, ((1, Fraction(1)),))
+
+
+def exact_value(v) -> "Fraction | PiSum":
+    """The exact constant a number passed to lit() stands for."""
+    if isinstance(v, Folded):
+        return v.exact
+    return Fraction(v)
+
+
+def _negated(e: "Fraction | PiSum") -> "Fraction | PiSum":
+    return tuple((k, -c) for k, c in e) if isinstance(e, tuple) else -e
 
 
 @dataclass(frozen=True)
@@ -70,23 +101,32 @@ def refs(n: Node, out: set[str]) -> None:
 
 # ---- node constructors with local simplification -----------------------
 def lit(v: Fraction | float) -> Node:
-    """A constant, rounded once to the nearest double."""
-    v = float(v)
-    return ("neg", ("lit", -v)) if v < 0 else ("lit", v)
+    """A constant, rounded once to the nearest double (a Folded one is rounded
+    already), with the exact value it stands for."""
+    exact, v = exact_value(v), float(v)
+    return ("neg", ("lit", -v, _negated(exact))) if v < 0 else ("lit", v, exact)
+
+
+ZERO = lit(0)
+ONE = lit(1)
+
+
+def is_lit(n: Node, v: float) -> bool:
+    return n[0] == "lit" and n[1] == v
 
 
 def neg(a: Node) -> Node:
     if a[0] == "neg":
         return a[1]
-    if a == ("lit", 0.0):
+    if is_lit(a, 0.0):
         return a
     return ("neg", a)
 
 
 def add(a: Node, b: Node) -> Node:
-    if a == ("lit", 0.0):
+    if is_lit(a, 0.0):
         return b
-    if b == ("lit", 0.0):
+    if is_lit(b, 0.0):
         return a
     if b[0] == "neg":
         return ("-", a, b[1])
@@ -96,12 +136,15 @@ def add(a: Node, b: Node) -> Node:
 
 
 def mul(a: Node, b: Node) -> Node:
-    if a == ("lit", 1.0):
+    """a * b, with a negation of either factor moved outside the product: the
+    signs multiply, so two negated factors give a product without one."""
+    if is_lit(a, 1.0):
         return b
-    if b == ("lit", 1.0):
+    if is_lit(b, 1.0):
         return a
     if a[0] == "neg" or b[0] == "neg":
-        return neg(mul(a[1] if a[0] == "neg" else a, b[1] if b[0] == "neg" else b))
+        product = mul(a[1] if a[0] == "neg" else a, b[1] if b[0] == "neg" else b)
+        return product if a[0] == "neg" and b[0] == "neg" else neg(product)
     return ("*", a, b)
 
 
@@ -111,7 +154,19 @@ def _const_value(c: Fraction, pi_power: int) -> Fraction | float:
     if pi_power == 0:
         return c
     with mpmath.workdps(50):
-        return float(mpmath.mpf(c.numerator) / c.denominator * mpmath.pi ** pi_power)
+        return Folded(float(mpmath.mpf(c.numerator) / c.denominator * mpmath.pi ** pi_power), ((pi_power, c),))
+
+
+def _const_sum(a: Fraction | float, b: Fraction | float) -> Fraction | float:
+    """a + b: exact for two rationals; with %pi in either, the double sum of
+    their doubles, carrying the exact sum."""
+    if not isinstance(a, Folded) and not isinstance(b, Folded):
+        return a + b
+    terms: dict[int, Fraction] = {}
+    for x in (a, b):
+        for k, c in (x.exact if isinstance(x, Folded) else ((0, x),)):
+            terms[k] = terms.get(k, Fraction(0)) + c
+    return Folded(float(a) + float(b), tuple(sorted((k, c) for k, c in terms.items() if c != 0)))
 
 
 def _safe(name: str) -> str:
@@ -158,7 +213,7 @@ class Lowering:
             if power > 0:
                 return atom.name, power
             if key + "^-1" not in self.derived:
-                self.derived[key + "^-1"] = (self._fresh("inv_" + _safe(atom.name)), ("/", ("lit", 1.0), ("ref", atom.name)))
+                self.derived[key + "^-1"] = (self._fresh("inv_" + _safe(atom.name)), ("/", ONE, ("ref", atom.name)))
             return self.derived[key + "^-1"][0], -power
         if isinstance(atom, Call) and len(atom.args) == 1 and isinstance(atom.args[0], Sym):
             if key not in self.derived:
@@ -168,7 +223,7 @@ class Lowering:
             if power > 0:
                 return name, power
             if key + "^-1" not in self.derived:
-                self.derived[key + "^-1"] = (self._fresh("inv_" + name), ("/", ("lit", 1.0), ("ref", name)))
+                self.derived[key + "^-1"] = (self._fresh("inv_" + name), ("/", ONE, ("ref", name)))
             return self.derived[key + "^-1"][0], -power
         raise ValueError(f"cannot lower the atom {to_maxima(atom)}: only symbols and calls of a symbol are supported")
 
@@ -186,7 +241,7 @@ class Lowering:
                 vs[v] = vs.get(v, 0) + k
             m = tuple(sorted(vs.items()))
             val = _const_value(c, pi_power)
-            out[m] = out.get(m, Fraction(0)) + val
+            out[m] = _const_sum(out[m], val) if m in out else val
         return {m: v for m, v in out.items() if v != 0}
 
 
@@ -203,7 +258,7 @@ def _monomial_node(mono, c: Fraction | float) -> Node:
 def horner(p: NumPoly, order: dict[str, int]) -> Node:
     """Greedy multivariate Horner: factor out the variable in most terms."""
     if not p:
-        return ("lit", 0.0)
+        return ZERO
     if len(p) == 1:
         (m, c), = p.items()
         return _monomial_node(m, c)
@@ -215,7 +270,7 @@ def horner(p: NumPoly, order: dict[str, int]) -> Node:
         for v, _ in m:
             counts[v] = counts.get(v, 0) + 1
     if not counts:
-        return lit(sum(p.values()))
+        return lit(next(iter(p.values())))   # the constant term alone
     v = min(counts, key=lambda x: (-counts[x], order.get(x, 0), x))
     if counts[v] == 1:   # no sharing left: print the terms as they are
         node = None
@@ -310,7 +365,7 @@ def lower(poly: Polynomial, name: str, doc: str, params: tuple[str, ...], param_
     else:
         roots = []
         for p in nums:
-            node: Node = ("lit", 0.0)
+            node: Node = ZERO
             for m, c in sorted(p.items()):
                 node = add(node, _monomial_node(m, c))
             roots.append(node)

@@ -1,7 +1,7 @@
 """The generator, stage by stage:
 
   .mxm text -> MxmModule -> Maxima result -> Expr -> Polynomial (checked)
-            -> FunctionIR -> rendered text
+            -> FunctionIR (checked against the Polynomial: verify.py) -> rendered text
 """
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from max2code.generate.names import check_names, check_symbols
 from max2code.generate.exact import derive_exact, render_context
 from max2code.generate.render import FragmentItem, Selection, SelectionCase, inline_derived, render_fragment, render_module
 from max2code.generate.variants import WORLD_EFFECTS, derive_variants, switches_of
+from max2code.generate.verify import Verifier
 from max2code.targets import target as get_target
 
 
@@ -38,6 +39,7 @@ class GenerateRequest:
     exact: bool = False             # also the exact-motion entries (the file's `exact`/`shift`; docs/exact-motion.md)
     real: str = "double"            # "float": the generated arithmetic in single precision (not Python)
     header: bool = False            # also the declarations file (C: NAME.h), where the target has one
+    verify: bool = True             # check every printed function against Maxima's polynomial (verify.py)
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,7 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
         check_symbols(params, d.origin)
     # temporaries must not shadow the function's own name
     fn = lower(d.polynomial, mod.equation, mod.doc, params, docs, d.origin, shared=req.shared)
+    check = Verifier(d.polynomial, params, mod.variable, d.origin) if req.verify else None
     header = header_lines(d, fn)
     mxm_name = mod.path
     out_name = req.out_name or (os.path.splitext(os.path.basename(mod.path))[0] + tgt.extension)
@@ -89,10 +92,14 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
         if req.exact or tgt.single or req.header:
             raise SourceError(next(b for b in blocks if b.kind == "term").span,
                               "--exact, --real=float and --header need the function form (a file without 'term' blocks)")
-        text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives)
+        text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives, check)
         return GeneratedFile(text, d, fn)
     if not (req.variants and any(p.body is not None for p in mod.parameters)):
         section, ectx = _exact(d, req, tgt, mod.equation, False, fn.degree)
+        if check:
+            check.coefficient_functions([(fn, (), None)])
+            if section is not None:
+                check.exact_section(section)
         args = (tgt, [(fn, "")], None, header, mod.variable, mxm_name, out_name, req.line_directives)
         text = render_module(*args, exact=ectx)
         decls = render_module(*args, exact=ectx, declarations=header_name) if header_name else None
@@ -107,6 +114,11 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
     section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree)
+    if check:
+        check.coefficient_functions([(v.function, v.zeros, v.polynomial) for v in ordered])
+        check.selection(selection, vs)
+        if section is not None:
+            check.exact_section(section)
     args = (tgt, functions, selection, header, mod.variable, mxm_name, out_name, req.line_directives)
     text = render_module(*args, exact=ectx)
     decls = render_module(*args, exact=ectx, declarations=header_name) if header_name else None
@@ -122,7 +134,8 @@ def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection:
     return section, render_context(tgt, section, coef_entry, selection, degree)
 
 
-def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives) -> str:
+def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives,
+              check: Verifier | None) -> str:
     """The paper's form: initialise text, `term k` text + coefficient k, finalise text."""
     terms = [b for b in blocks if b.kind == "term"]
     if len(terms) != fn.degree + 1:
@@ -135,6 +148,8 @@ def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_
     nums = [lw.numeric(c) for c in d.polynomial.coefficients]
     derived = dict(lw.derived.values())
     lw_coeffs = [inline_derived(horner(p, order), derived) for p in nums]
+    if check:
+        check.fragment(lw_coeffs)
     items: list[FragmentItem] = []
 
     def origin(b):
