@@ -1,7 +1,8 @@
 """ISO Modula-2 (gm2 -fiso -fcpp): REAL is a C double; sin/cos from RealMath."""
 import os
+import re
 
-from max2code.targets.base import Target
+from max2code.targets.base import Target, c_string, code_point, visible
 
 # flags of every simulator build: ISO dialect, warnings are errors, no FMA
 # contraction (the same operations as the Python reference, docs/simulator.md)
@@ -25,20 +26,36 @@ class Modula2(Target):
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
 
     calls = {"sin": "sin({})", "cos": "cos({})", "sqrt": "sqrt({})", "abs": "ABS({})"}
-    reserved = frozenset("""
-        AND ARRAY BEGIN BY CASE CONST DEFINITION DIV DO ELSE ELSIF END EXIT EXPORT FOR FROM IF IMPLEMENTATION IMPORT
-        IN LOOP MOD MODULE NOT OF OR POINTER PROCEDURE QUALIFIED RECORD REPEAT RETURN SET THEN TO TYPE UNTIL VAR
-        WHILE WITH EXCEPT FINALLY FORWARD PACKEDSET REM RETRY ABSTRACT AS CLASS GENERIC GUARD INHERIT OVERRIDE
-        READONLY REVEAL TRACED UNSAFEGUARDED
-        ABS BITSET BOOLEAN CAP CARDINAL CHAR CHR CMPLX COMPLEX DEC DISPOSE EXCL FALSE FLOAT HALT HIGH IM INC INCL
-        INT INTEGER LENGTH LFLOAT LONGCOMPLEX LONGREAL MAX MIN NEW NIL ODD ORD PROC PROTECTION RE REAL SIZE TRUE
-        TRUNC VAL SHORTREAL LONGINT LONGCARD SHORTINT SHORTCARD
-        sin cos sqrt RealMath Roots SmallestRoot ExactToc FirstContact Options Motion Defaults
-        coef degree mask lo hi t horizon options out rate pv scale md mo nparams maxDegree gapDt""".split())
+    words = (
+        ("a reserved word of Modula-2 (ISO, with its generic and object-oriented extensions)", frozenset("""
+            AND ARRAY BEGIN BY CASE CONST DEFINITION DIV DO ELSE ELSIF END EXIT EXPORT FOR FROM IF IMPLEMENTATION
+            IMPORT IN LOOP MOD MODULE NOT OF OR POINTER PROCEDURE QUALIFIED RECORD REPEAT RETURN SET THEN TO TYPE
+            UNTIL VAR WHILE WITH EXCEPT FINALLY FORWARD PACKEDSET REM RETRY ABSTRACT AS CLASS GENERIC GUARD INHERIT
+            OVERRIDE READONLY REVEAL TRACED UNSAFEGUARDED""".split())),
+        ("a pervasive identifier of Modula-2", frozenset("""
+            ABS BITSET BOOLEAN CAP CARDINAL CHAR CHR CMPLX COMPLEX DEC DISPOSE EXCL FALSE FLOAT HALT HIGH IM INC INCL
+            INT INTEGER LENGTH LFLOAT LONGCOMPLEX LONGREAL MAX MIN NEW NIL ODD ORD PROC PROTECTION RE REAL SIZE TRUE
+            TRUNC VAL SHORTREAL LONGINT LONGCARD SHORTINT SHORTCARD SHORTCOMPLEX LOC BYTE WORD ADDRESS
+            ADR SYSTEM""".split())),
+        ("a name the module that includes the generated Modula-2 imports (RealMath, Roots, ExactToc)",
+         frozenset("sin cos sqrt RealMath Roots SmallestRoot ExactToc FirstContact Options Motion Defaults".split())),
+        ("a macro of the C preprocessor that gm2 -fcpp runs", frozenset({"linux", "unix"})),
+        ("a name the generated Modula-2 uses", frozenset("""
+            coef degree mask lo hi t horizon options out rate pv scale md mo nparams maxDegree gapDt""".split())),
+    )
     single_type = "SHORTREAL"     # gm2 12 has no ShortMath: sin and cos of REAL, rounded
     single_copies = True          # REAL parameters, SHORTREAL copies (no implicit conversion in Modula-2)
     single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",
                     "sqrt": "VAL(SHORTREAL, sqrt(VAL(REAL, {})))", "abs": "ABS({})"}
+
+    def escape(self, text: str, where: str) -> str:
+        """Modula-2's comments nest and have no escape, so '(*' and '*)' are
+        split by a space; gm2 -fcpp runs the C preprocessor first, which would
+        take '/*' for a C comment (split too), and reads #line's file name as a
+        C string literal."""
+        if where == "string":
+            return c_string(text)
+        return re.sub(r"(?<=\()(?=\*)|(?<=\*)(?=\))|(?<=/)(?=\*)", " ", visible(text, code_point))
 
     harness_source = "harness.mod"
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:
