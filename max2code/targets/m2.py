@@ -37,16 +37,18 @@ class Modula2(Target):
             INT INTEGER LENGTH LFLOAT LONGCOMPLEX LONGREAL MAX MIN NEW NIL ODD ORD PROC PROTECTION RE REAL SIZE TRUE
             TRUNC VAL SHORTREAL LONGINT LONGCARD SHORTINT SHORTCARD SHORTCOMPLEX LOC BYTE WORD ADDRESS
             ADR SYSTEM""".split())),
-        ("a name the module that includes the generated Modula-2 imports (RealMath, Roots, ExactToc)",
-         frozenset("sin cos sqrt RealMath Roots SmallestRoot ExactToc FirstContact Options Motion Defaults".split())),
+        ("a name the module that includes the generated Modula-2 imports (RealMath, Roots, ExactToc, ShortMath)",
+         frozenset("""sin cos sqrt RealMath Roots SmallestRoot ExactToc FirstContact Options Motion Defaults
+                      ShortMath sinf cosf sqrtf""".split())),
         ("a macro of the C preprocessor that gm2 -fcpp runs", frozenset({"linux", "unix"})),
         ("a name the generated Modula-2 uses", frozenset("""
             coef degree mask lo hi t horizon options out rate pv scale md mo nparams maxDegree gapDt""".split())),
     )
-    single_type = "SHORTREAL"     # gm2 12 has no ShortMath: sin and cos of REAL, rounded
+    single_type = "SHORTREAL"
     single_copies = True          # REAL parameters, SHORTREAL copies (no implicit conversion in Modula-2)
-    single_calls = {"sin": "VAL(SHORTREAL, sin(VAL(REAL, {})))", "cos": "VAL(SHORTREAL, cos(VAL(REAL, {})))",
-                    "sqrt": "VAL(SHORTREAL, sqrt(VAL(REAL, {})))", "abs": "ABS({})"}
+    # the C library's sinf, cosf, sqrtf (runtimes/m2/ShortMath.def), which C and Rust call too: the
+    # same bits in all three (sin and cos of the REAL value, rounded, differ in about one case in 200)
+    single_calls = {"sin": "sinf({})", "cos": "cosf({})", "sqrt": "sqrtf({})", "abs": "ABS({})"}
 
     def escape(self, text: str, where: str) -> str:
         """Modula-2's comments nest and have no escape, so '(*' and '*)' are
