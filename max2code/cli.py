@@ -34,6 +34,7 @@ SUBCOMMANDS: dict[str, str] = {
 
 def _generate_parser() -> argparse.ArgumentParser:
     # imported here: a subcommand (simulate, above all) starts without the generator's modules
+    from max2code import __version__
     from max2code.generate.maxima import DEFAULT_TIMEOUT
 
     p = ArgumentParser(
@@ -47,6 +48,8 @@ def _generate_parser() -> argparse.ArgumentParser:
         ),
         epilog="example: max2code --lang=m2 point-line.mxm -o point-line.mxd",
     )
+    p.add_argument("--version", action="version", version=f"max2code {__version__}",
+                   help="print the version of max2code and exit")
     p.add_argument("--lang", "-l", choices=sorted(LANGUAGES),
                    help="target language")
     p.add_argument("file", help="the .mxm file")
@@ -67,7 +70,9 @@ def _generate_parser() -> argparse.ArgumentParser:
                         "NAME_gap, NAME_gap_dt, NAME_shift, ... and NAME_toc_exact (docs/exact-motion.md)")
     p.add_argument("--real", choices=["double", "float"], default="double",
                    help="arithmetic of the generated code: double (default) or float (C float, Rust f32, "
-                        "Modula-2 SHORTREAL; interfaces stay double; Python has no float)")
+                        "Modula-2 SHORTREAL: the same bits in all three, sin and cos being the C library's sinf and "
+                        "cosf, which Modula-2 imports from runtimes/m2/ShortMath.def; interfaces stay double; "
+                        "Python has no float)")
     p.add_argument("--no-variants", action="store_true",
                    help="only the full equation, no variants and no selection logic")
     p.add_argument("--list-variants", action="store_true",

@@ -9,11 +9,12 @@ import sys
 from dataclasses import dataclass
 from fractions import Fraction
 
-from max2code.errors import SourceError, Span
+from max2code.errors import SourceError, Span, UsageError
 from max2code.generate.collect import Polynomial, collect
 from max2code.generate.expr import Call, NotPolynomial, Sym, to_maxima
 from max2code.generate.maxima import DEFAULT_TIMEOUT, MaximaResult, Statement, _advance, is_quit, run_maxima, split_statements
 from max2code.generate.mxm import MxmModule
+from max2code.generate.names import check_symbols, use_of
 from max2code.generate.reader import MaximaOutputError, read_expr
 
 
@@ -37,7 +38,8 @@ def _options(mod: MxmModule, overrides: dict[str, str]) -> dict[str, Fraction]:
     for name, raw in overrides.items():
         if name not in values:
             known = ", ".join(sorted(values)) or "none"
-            raise SourceError(mod.maxima_span, f"--option {name}: the file declares no option '{name}' (declared: {known})")
+            raise UsageError(f"max2code: error: -D {name}={raw}: {mod.path} declares no option '{name}' "
+                             f"(its options: {known})")
         opt = declared[name]
         try:
             v = Fraction(raw)
@@ -153,12 +155,16 @@ def parameters_of(d: Derivation) -> tuple[tuple[str, ...], tuple[str, ...]]:
     found.discard("%pi")
     if not mod.parameters:
         names = tuple(sorted(found))
+        check_symbols(names, d.origin, mod)
         return names, tuple("" for _ in names)
     declared = [p.name for p in mod.parameters]
     missing = sorted(found - set(declared))
     if missing:
-        raise SourceError(mod.parameters[0].span, f"the polynomial uses {', '.join(repr(m) for m in missing)}, "
-                                                  "not declared as parameters")
+        # at the first use in the text of the first undeclared name used
+        uses = sorted((s.line, s.column, m) for m in missing if (s := use_of(mod, m)) is not None)
+        where = Span(mod.maxima_span.file, uses[0][0], uses[0][1]) if uses else d.origin
+        raise SourceError(where, f"the polynomial uses {', '.join(repr(m) for m in missing)}, "
+                                 "not declared as parameters")
     return tuple(declared), tuple(p.doc for p in mod.parameters)
 
 

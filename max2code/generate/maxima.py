@@ -15,6 +15,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -23,7 +24,7 @@ from pathlib import Path
 
 from max2code.errors import Max2CodeError, SourceError, Span
 
-DRIVER_VERSION = "1"   # bump when the script layout changes: it is part of the cache key
+DRIVER_VERSION = "2"   # bump when the script layout or the cache entry changes: it is part of the cache key
 INSTALL_HINT = ("Maxima was not found on PATH. Install it with 'apt-get install maxima' "
                 "(Debian/Ubuntu; 'bash scripts/setup' does it), or set MAX2CODE_MAXIMA to its path.")
 _QUESTION = re.compile(r"^(Is .*\?|.*(positive, negative|positive or negative|or zero\?|integer\?).*)$", re.M)
@@ -149,6 +150,108 @@ def maxima_version(exe: str | None = None) -> str:
     return out.strip() or "unknown"
 
 
+# Maxima functions that read a file named by their first argument: the file's
+# content is part of the cache key (a Maxima-language file's own reads too)
+_READERS = ("load", "batch", "batchload", "loadfile", "demo", "printfile", "restore", "setup_autoload",
+            "read_list", "read_matrix", "read_array", "read_hashed_array", "read_nested_list",
+            "read_binary_list", "read_binary_matrix", "read_binary_array", "openr", "openr_binary", "file_search")
+# what makes a result depend on more than the text and the files it names: never cached
+_OPAQUE = ("system", "eval_string", "parse_string", "getenv", "run_testsuite", "batch_string")
+_MAXIMA_FILES = (".mac", ".mc", ".wxm", ".max", ".dem")
+_LOAD_EXTENSIONS = ("", ".mac", ".mc", ".wxm", ".max", ".lisp", ".lsp")
+_CALL = re.compile(r"/\*.*?\*/|\"(?:[^\"\\]|\\.)*\"|\?[A-Za-z_%\-]|(?<![A-Za-z0-9_%])([A-Za-z_%][A-Za-z0-9_%]*)\s*\(",
+                   re.S)
+_LITERAL_ARG = re.compile(r'\s*"((?:[^"\\]|\\.)*)"\s*[,)]')
+
+
+def _user_dir() -> Path:
+    """Maxima's user folder (maxima-init.mac lives there): $MAXIMA_USERDIR, else ~/.maxima."""
+    return Path(os.environ.get("MAXIMA_USERDIR") or os.path.expanduser("~/.maxima"))
+
+
+def _file_digest(path: Path) -> str:
+    with open(path, "rb") as fh:
+        return hashlib.sha256(fh.read()).hexdigest()
+
+
+def _resolve(name: str, loader: bool) -> Path | None:
+    """The file Maxima would open for `name` (a loader also tries Maxima's
+    extensions, in the current folder and the user folder), or None."""
+    bases = [Path(name)] if os.path.isabs(name) else [Path(name), _user_dir() / name]
+    for base in bases:
+        for ext in (_LOAD_EXTENSIONS if loader else ("",)):
+            cand = Path(str(base) + ext)
+            if cand.is_file():
+                return cand.resolve()
+    return None
+
+
+def inputs_of(texts: list[str], seen: dict[str, str] | None = None) -> dict[str, str] | str:
+    """The files the Maxima `texts` read (path -> sha256 of the content, a
+    Maxima-language file's own reads included), or, when what they read
+    cannot be known (a file name that is not a string literal, a file that
+    cannot be found, Lisp, system(...), eval_string(...), getenv(...)), why."""
+    seen = {} if seen is None else seen
+    for text in texts:
+        if text.lstrip().startswith(":lisp"):
+            return "it runs Lisp (:lisp)"
+        for m in _CALL.finditer(text):
+            tok = m.group(0)
+            if tok.startswith("?"):
+                return "it calls Lisp (?name)"
+            func = m.group(1)
+            if func is None:
+                continue
+            if func in _OPAQUE:
+                return f"it calls {func}(...)"
+            if func not in _READERS:
+                continue
+            arg = _LITERAL_ARG.match(text, m.end())
+            if not arg:
+                return f"{func}(...) names its file by an expression, not a string"
+            name = arg.group(1).replace('\\"', '"').replace("\\\\", "\\")
+            path = _resolve(name, func in ("load", "batch", "batchload", "loadfile", "demo", "setup_autoload"))
+            if path is None:
+                return f'{func}("{name}"): no such file here or in {_user_dir()}'
+            if path.suffix in (".lisp", ".lsp"):
+                return f'{func}("{name}") loads Lisp'
+            key = str(path)
+            if key in seen:
+                continue
+            try:
+                seen[key] = _file_digest(path)
+                if path.suffix in _MAXIMA_FILES:
+                    with open(path, encoding="utf-8", errors="replace") as fh:
+                        inner = inputs_of([fh.read()], seen)
+                    if isinstance(inner, str):
+                        return f"{path.name}: {inner}"
+            except OSError as exc:
+                return f"{path}: {exc.strerror or exc}"
+    return seen
+
+
+def _environment() -> dict:
+    """What besides the text and the files it names can change Maxima's
+    answer: the program itself, its MAXIMA_* environment, its init files
+    (maxima-init.mac and .lisp, in the user folder and the current folder)."""
+    out: dict = {k: v for k, v in sorted(os.environ.items()) if k.startswith("MAXIMA_")}
+    init = {}
+    names = [os.environ.get("MAXIMA_INITMAC") or "maxima-init.mac", os.environ.get("MAXIMA_INITLISP") or "maxima-init.lisp"]
+    for folder in (_user_dir(), Path.cwd()):     # Maxima finds its init files in either
+        for name in names:
+            path = (folder / name).absolute()
+            try:
+                init[str(path)] = _file_digest(path)
+            except OSError:
+                init[str(path)] = None
+    out["init files"] = init
+    return out
+
+
+def _entry_digest(items: dict, output_lines: int) -> str:
+    return hashlib.sha256(json.dumps({"items": items, "output_lines": output_lines}, sort_keys=True).encode()).hexdigest()
+
+
 def _cache_dir() -> Path:
     base = os.environ.get("MAX2CODE_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "max2code")
@@ -255,16 +358,27 @@ def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str,
     stmts = [s for s in statements if not is_quit(s)]
     if not stmts:
         raise SourceError(fallback, "the Maxima text has no statement besides quit()")
-    key_src = json.dumps({"driver": DRIVER_VERSION, "maxima": version, "prelude": prelude,
-                          "statements": [s.text for s in stmts], "items": items}, sort_keys=True)
-    key = hashlib.sha256(key_src.encode()).hexdigest()
-    cache_file = _cache_dir() / (key + ".json")
-    if use_cache and cache_file.exists():
+    cache_file = None
+    if use_cache:
+        files = inputs_of(prelude + [s.text for s in stmts])
+        if isinstance(files, dict):     # else the result depends on what cannot be known here: not cached
+            try:
+                program = _file_digest(Path(exe))
+            except OSError:
+                program = exe
+            key_src = json.dumps({"driver": DRIVER_VERSION, "maxima": version, "program": program,
+                                  "environment": _environment(), "files": files, "prelude": prelude,
+                                  "statements": [s.text for s in stmts], "items": items}, sort_keys=True)
+            cache_file = _cache_dir() / (hashlib.sha256(key_src.encode()).hexdigest() + ".json")
+    if cache_file is not None and cache_file.exists():
         try:
-            data = json.loads(cache_file.read_text())
+            data = json.loads(cache_file.read_text(encoding="utf-8"))
+            if data["digest"] != _entry_digest(data["items"], data["output_lines"]):
+                raise ValueError("digest")
             return MaximaResult(data["items"], 0.0, True, version, data["output_lines"])
-        except (ValueError, KeyError, OSError):
-            pass
+        except (ValueError, KeyError, TypeError, OSError):
+            print(f"max2code: note: the Maxima cache entry {cache_file} is damaged; Maxima runs again "
+                  "and replaces it", file=sys.stderr, flush=True)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="max2code-") as tmp:
         script = os.path.join(tmp, "job.mac")
@@ -285,11 +399,12 @@ def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str,
                 raise SourceError(fallback, f"Maxima wrote no result for '{name}'") from None
     seconds = time.perf_counter() - t0
     out_lines = output.count("\n")
-    if use_cache:
+    if cache_file is not None:
         try:
             cache_file.parent.mkdir(parents=True, exist_ok=True)
             tmpf = cache_file.with_suffix(f".{os.getpid()}.tmp")
-            tmpf.write_text(json.dumps({"items": got, "output_lines": out_lines}))
+            tmpf.write_text(json.dumps({"items": got, "output_lines": out_lines,
+                                        "digest": _entry_digest(got, out_lines)}), encoding="utf-8")
             os.replace(tmpf, cache_file)
         except OSError:
             pass

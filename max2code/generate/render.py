@@ -46,7 +46,7 @@ def _finish(text: str, target: Target, out_name: str) -> str:
     for i, line in enumerate(lines):
         if line == "@@RESET@@" and target.line_directive:
             # the line after the directive is line i + 2 of this file
-            lines[i] = target.line_directive.format(line=i + 2 + target.line_offset, file=out_name)
+            lines[i] = target.origin_line(i + 2, out_name)
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
@@ -112,10 +112,16 @@ def render_module(target: Target, functions: list[tuple[FunctionIR, str]], selec
                       variant_unused=[] if selection is None else
                       [p for p in first.params if all(p not in zs for _, zs in selection.switches)],
                       header=header, variable=variable, exact=exact, decl=bool(declarations), source=out_name,
-                      guard=re.sub(r"\W", "_", declarations or "").upper(),
+                      guard=_guard(declarations or ""),
                       params=list(zip(first.params, first.param_docs)),
                       reset=bool(line_directives and target.line_directive))
     return _finish(text, target, out_name)
+
+
+def _guard(file_name: str) -> str:
+    """The include guard of a header named `file_name`: an ASCII C identifier."""
+    guard = re.sub(r"[^A-Za-z0-9]", "_", file_name).upper()
+    return guard if guard[:1].isalpha() else "M2C_GENERATED_" + guard
 
 
 def render_fragment(target: Target, items: list[FragmentItem], header: list[str], out_name: str,

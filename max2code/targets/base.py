@@ -30,10 +30,23 @@ class Target:
     gsl_baseline: ClassVar[str | None] = None  # the conformance name of its GSL baseline testee, if any
     requires: ClassVar[str] = ""               # what must be installed to build and run its code
     links: ClassVar[str] = ""                  # how generated code and the runtime link into a program
-    # names a parameter or equation may not take (max2code/generate/names.py):
-    # the language's keywords, the names the printer and templates use, and prefixes of the runtime's names
-    reserved: ClassVar[frozenset[str]] = frozenset()
-    reserved_prefixes: ClassVar[tuple[str, ...]] = ()
+    # names a parameter or equation may not take (max2code/generate/names.py asks every target
+    # through reserved_as): (what they are, the names), e.g. the language's keywords, the library
+    # names the generated file can see, the names the printer and templates use
+    words: ClassVar[tuple[tuple[str, frozenset[str]], ...]] = ()
+    reserved_prefixes: ClassVar[tuple[str, ...]] = ()   # prefixes of the runtime's and the printer's names
+
+    @classmethod
+    def reserved_as(cls, name: str) -> str | None:
+        """What `name` is in this language when the generated code cannot take it
+        as an identifier (e.g. "a keyword of C"), or None."""
+        for what, names in cls.words:
+            if name in names:
+                return what
+        for prefix in cls.reserved_prefixes:
+            if name.startswith(prefix):
+                return f"a name starting with '{prefix}' (reserved for the runtime and the generated code)"
+        return None
 
     # ---- single precision (max2code --real=float) ------------------------
     single_type: ClassVar[str | None] = None          # the language's float type; None: it has none
@@ -149,8 +162,51 @@ class Target:
     def origin_line(self, line: int, file: str) -> str:
         """A #line directive, or an origin comment where the language has none."""
         if self.line_directive is not None:
-            return self.line_directive.format(line=line + self.line_offset, file=file)
-        return f"{self.comment[0]}from {file}:{line}{self.comment[1]}"
+            return self.line_directive.format(line=line + self.line_offset, file=self.escape(file, "string"))
+        return self.comment_line(f"from {file}:{line}")
 
     def comment_line(self, text: str) -> str:
-        return f"{self.comment[0]}{text}{self.comment[1]}"
+        """A comment of one line holding `text` (escaped: it may carry user text)."""
+        return f"{self.comment[0]}{self.escape(text, 'comment')}{self.comment[1]}"
+
+    # ---- user text ------------------------------------------------------
+    def escape(self, text: str, where: str) -> str:
+        """User text (a doc string, a file name) as it may stand in this
+        language's `where`: "comment" (inside a one-line comment), "doc" (a
+        function's or parameter's documentation) or "string" (inside a string
+        literal: a #line directive's file name).  The result is one line that
+        cannot end the comment, doc or string early.  Every target prints
+        every piece of user text through this method, and only through it."""
+        raise NotImplementedError(type(self).__name__)
+
+
+def visible(text: str, form) -> str:
+    """`text` with every character that is not printable (line ends, controls,
+    format characters such as bidirectional overrides, unpaired surrogates,
+    unassigned code points) replaced by form(code point)."""
+    return "".join(ch if ch.isprintable() else form(ord(ch)) for ch in text)
+
+
+def c_string(text: str) -> str:
+    """The contents of a C string literal (as the C preprocessor reads a #line
+    directive's file name) that means `text`: backslash, quote and '?' (no
+    trigraph) escaped, what is not printable as octal escapes of its bytes
+    (UTF-8; a file name's undecodable bytes as they were)."""
+    out = []
+    for ch in text:
+        if ch in '\\"?':
+            out.append("\\" + ch)
+        elif ch.isprintable():
+            out.append(ch)
+        else:
+            try:
+                data = ch.encode("utf-8", "surrogateescape")
+            except UnicodeEncodeError:
+                data = ch.encode("utf-8", "surrogatepass")
+            out.append("".join(f"\\{b:03o}" for b in data))
+    return "".join(out)
+
+
+def code_point(c: int) -> str:
+    """A readable name of a character that comments cannot show: \\uXXXX."""
+    return f"\\u{c:04x}" if c <= 0xFFFF else f"\\U{c:08x}"
