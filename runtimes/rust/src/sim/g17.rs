@@ -52,9 +52,11 @@ const fn pow5_table() -> ([u64; 28], [u32; 28]) {
     let mut p = 1u64;
     let mut k = 0;
     while k < 28 {
+        if k > 0 {
+            p *= 5; // 5^k, at most 5^27: no overflow
+        }
         z[k] = p.leading_zeros();
         f[k] = p << z[k];
-        p *= 5;
         k += 1;
     }
     (f, z)
