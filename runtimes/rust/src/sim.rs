@@ -215,9 +215,12 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
             }
             let got = world.advance(t)?;
             let every = world.states(t)?; // every body at once, checked against one by one
-            for b in 0..world.bodies() {
+            if every.len() != world.bodies() {
+                return Err(SimError::Msg(format!("states(t) gives {} states for {} bodies", every.len(), world.bodies())));
+            }
+            for (b, want) in every.iter().enumerate() {
                 let s = world.state(b, t)?;
-                if s != every[b] {
+                if s != *want {
                     return Err(SimError::Msg(format!("states(t) gives body {b} another state than state({b}, t)")));
                 }
                 writeln!(

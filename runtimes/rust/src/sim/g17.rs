@@ -435,7 +435,7 @@ mod tests {
         let mut buf = [0u8; 64];
         // SAFETY: buf has 64 bytes and snprintf writes at most that many, its
         // NUL included; the format is a NUL-terminated literal taking one double.
-        let n = unsafe { snprintf(buf.as_mut_ptr().cast(), buf.len(), b"%.17g\0".as_ptr().cast(), x) };
+        let n = unsafe { snprintf(buf.as_mut_ptr().cast(), buf.len(), c"%.17g".as_ptr(), x) };
         buf[..usize::try_from(n).expect("snprintf formats a double")].to_vec()
     }
 
@@ -548,7 +548,7 @@ mod tests {
             (5e-324, "4.9406564584124654e-324"),
             (2f64.powi(-25), "2.9802322387695312e-08"),
             (3.0 * 2f64.powi(-25), "8.9406967163085938e-08"),
-            (9.999999999999999e22, "9.9999999999999992e+22"),
+            (1e23, "9.9999999999999992e+22"),
             (0.5, "0.5"),
             (100.0, "100"),
             (-1.0 / 3.0, "-0.33333333333333331"),

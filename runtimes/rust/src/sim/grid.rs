@@ -414,10 +414,10 @@ mod tests {
         let mut fresh = 0u32;
         for _ in 0..50_000 {
             // the walls' bit comes and goes: it never changes the list
-            if next() % 7 == 0 {
+            if next().is_multiple_of(7) {
                 grid.cells[1].n ^= WALLS_NEAR;
             }
-            if model.is_empty() || (model.len() < 3 * CELL_INLINE && next() % 2 == 0) {
+            if model.is_empty() || (model.len() < 3 * CELL_INLINE && next().is_multiple_of(2)) {
                 grid.add(fresh, 1, 0);
                 model.push(fresh);
                 fresh += 1;
@@ -485,7 +485,7 @@ mod tests {
         for round in 0..2000 {
             // up to 7 bodies in a cell (some past the inline ones), some taken out
             let (cx, cy) = ((next() % nx as u64) as i32, (next() % ny as u64) as i32);
-            if grid.cell(i64::from(cx), i64::from(cy)).len() < 7 && next() % 3 != 0 {
+            if grid.cell(i64::from(cx), i64::from(cy)).len() < 7 && !next().is_multiple_of(3) {
                 grid.add(fresh, cx, cy);
                 fresh += 1;
             } else if grid.cell(i64::from(cx), i64::from(cy)).len() > 0 {

@@ -230,6 +230,8 @@ fn circles_first_args<E: Equations>(w: &Space, q: &mut Queue, args: &[f64; 24], 
 /// which the coefficients can be off, and the sizes are bounded so that
 /// nothing underflows (where rounding is no longer relative: a speed of
 /// 1e-162 m/s squares to 0) or overflows.  The prediction is still counted.
+// the bounds as comparisons: `contains` compiles to more instructions per prediction here
+#[allow(clippy::manual_range_contains)]
 #[inline(always)]
 fn circles_apart(g: &[f64; 24], kappa: f64) -> bool {
     if g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0 {

@@ -668,7 +668,7 @@ mod tests {
         let space = [" ", "  ", "\t", "\n", "\r\n", "\x0c", " \n\t "];
         for _ in 0..2_000 {
             let mut text = String::new();
-            if rng.next() % 2 == 0 {
+            if rng.next().is_multiple_of(2) {
                 text.push_str(space[(rng.next() % space.len() as u64) as usize]);
             }
             for k in 0..(1 + rng.next() % 12) {
@@ -685,7 +685,7 @@ mod tests {
                 };
                 text.push_str(&word);
             }
-            if rng.next() % 2 == 0 {
+            if rng.next().is_multiple_of(2) {
                 text.push_str(space[(rng.next() % space.len() as u64) as usize]);
             }
             let mut tk = Tokens::new(&text, "t");
