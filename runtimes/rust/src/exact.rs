@@ -314,4 +314,3 @@ pub enum Toc {
     /// No contact in (0, horizon].
     NoContact,
 }
-

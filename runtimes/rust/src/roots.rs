@@ -23,6 +23,7 @@ const QUAD_SPREAD: i32 = 900; // degree 2: one scale when coefficient exponents 
 const ONE_SCALE_SPAN: i32 = 800; // degree n >= 3: one scale when all roots lie in 2^(+-800/n)
 const BAND_SPAN: i32 = 800; // otherwise bands of magnitude 2^(800/n)
 /// i! for 0 <= i <= 16 (exact).
+#[rustfmt::skip]
 const FACT: [f64; N1] = [
     1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362880.0, 3628800.0, 39916800.0,
     479001600.0, 6227020800.0, 87178291200.0, 1307674368000.0, 20922789888000.0,
@@ -919,14 +920,28 @@ fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f6
 
 /// `subdivide_impl` out of line, for the halves.
 #[inline(never)]
-fn subdivide<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+fn subdivide<const N: usize, const M: usize>(
+    a: &[f64; M],
+    b: &[f64; M],
+    e: f64,
+    xl: f64,
+    xr: f64,
+    depth: usize,
+) -> Option<f64> {
     subdivide_impl::<N, M>(a, b, e, xl, xr, depth)
 }
 
 /// Step 3 on [xl, xr] with the n!-scaled Bernstein coefficients b and their
 /// error bound e: the root in (xl, xr], or None (the caller goes on right).
 #[inline(always)]
-fn subdivide_impl<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+fn subdivide_impl<const N: usize, const M: usize>(
+    a: &[f64; M],
+    b: &[f64; M],
+    e: f64,
+    xl: f64,
+    xr: f64,
+    depth: usize,
+) -> Option<f64> {
     let n = N;
     let nf = n as f64;
     let (v, bm) = variations(b, n, e);

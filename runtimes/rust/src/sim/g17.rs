@@ -177,6 +177,7 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
     let l2 = 63 - m.leading_zeros() as i32 + e;
     let mut xe = (((i64::from(l2) + 1) * 78913) >> 18) as i32; // floor((l2 + 1) log10 2)
+
     // which of the two: a guess from the powers of ten (the digits decide exactly)
     if (-POW10F_MIN + 1..=POW10F_MIN).contains(&xe) && x.abs() < POW10F[(xe + POW10F_MIN) as usize] {
         xe -= 1;
@@ -488,7 +489,12 @@ mod tests {
             let want = printf_g17(x);
             if mine != want {
                 if bad < 10 {
-                    eprintln!("{x:e} ({:#x}): {} printf {}", x.to_bits(), String::from_utf8_lossy(&mine), String::from_utf8_lossy(&want));
+                    eprintln!(
+                        "{x:e} ({:#x}): {} printf {}",
+                        x.to_bits(),
+                        String::from_utf8_lossy(&mine),
+                        String::from_utf8_lossy(&want)
+                    );
                 }
                 bad += 1;
             }

@@ -370,8 +370,20 @@ pub fn place_large(grid: &mut Grid, s: &mut Scene, bi: usize) {
 pub fn cell_of(s: &Scene, x: f64, y: f64) -> (i32, i32) {
     let fx = ((x - s.x0) / s.cw).floor();
     let fy = ((y - s.y0) / s.ch).floor();
-    let ix = if fx < 0.0 { 0 } else if fx > (s.nx - 1) as f64 { s.nx - 1 } else { fx as i64 };
-    let iy = if fy < 0.0 { 0 } else if fy > (s.ny - 1) as f64 { s.ny - 1 } else { fy as i64 };
+    let ix = if fx < 0.0 {
+        0
+    } else if fx > (s.nx - 1) as f64 {
+        s.nx - 1
+    } else {
+        fx as i64
+    };
+    let iy = if fy < 0.0 {
+        0
+    } else if fy > (s.ny - 1) as f64 {
+        s.ny - 1
+    } else {
+        fy as i64
+    };
     (ix as i32, iy as i32)
 }
 
@@ -457,7 +469,9 @@ mod tests {
             }
         }
         for (cx, cy) in [(0i64, 0i64), (1, 1), (2, 2), (3, 3), (1, 3), (3, 0)] {
-            for (x_lo, x_hi, y_lo, y_hi) in [(cx - 1, cx + 1, cy - 1, cy + 1), (cx, cx, cy - 1, cy + 1), (cx - 1, cx + 1, cy, cy)] {
+            for (x_lo, x_hi, y_lo, y_hi) in
+                [(cx - 1, cx + 1, cy - 1, cy + 1), (cx, cx, cy - 1, cy + 1), (cx - 1, cx + 1, cy, cy)]
+            {
                 let mut want = Vec::new();
                 for jy in y_lo.max(0)..=y_hi.min(ny - 1) {
                     for jx in x_lo.max(0)..=x_hi.min(nx - 1) {
@@ -512,7 +526,8 @@ mod tests {
                 Some(m) => {
                     assert_eq!(&out[..m], &walked[..]);
                     fitted += 1;
-                    if m > CELL_INLINE && (y0..=y1).any(|jy| (x0..=x1).any(|jx| grid.cell(jx, jy).len() > CELL_INLINE)) {
+                    if m > CELL_INLINE && (y0..=y1).any(|jy| (x0..=x1).any(|jx| grid.cell(jx, jy).len() > CELL_INLINE))
+                    {
                         spilled += 1;
                     }
                 }

@@ -376,7 +376,11 @@ impl Heap {
         }
         all.sort_unstable_by_key(|e| e.0);
         for (seq, &(_, b, k)) in all.iter().enumerate() {
-            let x = if b as usize == BUCKETS { &mut self.near.v[k as usize] } else { &mut self.buckets[b as usize][k as usize] };
+            let x = if b as usize == BUCKETS {
+                &mut self.near.v[k as usize]
+            } else {
+                &mut self.buckets[b as usize][k as usize]
+            };
             let kind = x.key >> KIND_SHIFT;
             x.key = (kind << KIND_SHIFT) | ((seq as u64) << SLOT_BITS) | (x.key & SLOT_MASK);
         }
@@ -640,7 +644,10 @@ mod tests {
                 let e = heap.pop().expect("not empty");
                 assert_eq!(peeked, (e.t.to_bits(), e.ev.kind(), carried(&e.ev)));
                 let m = first(&pending);
-                assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+                assert_eq!(
+                    (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                    (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+                );
                 pending.swap_remove(m);
                 now = e.t;
                 count += 1;
@@ -648,7 +655,10 @@ mod tests {
         }
         while let Some(e) = heap.pop() {
             let m = first(&pending);
-            assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+            assert_eq!(
+                (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+            );
             pending.swap_remove(m);
             count += 1;
         }
@@ -714,7 +724,10 @@ mod tests {
                             a.0.partial_cmp(&b.0).unwrap().then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
                         })
                         .expect("not empty");
-                    assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+                    assert_eq!(
+                        (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                        (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+                    );
                     pending.swap_remove(m);
                     now = e.t;
                 }

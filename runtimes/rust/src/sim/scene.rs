@@ -2,8 +2,8 @@
 //! `Scene` in runtimes/python/max2code_rt/sim.py reads it.  Numbers are
 //! shortest round-trip decimals; Rust's parser reads them exactly.
 
-use std::cell::Cell;
 use super::g17::g17;
+use std::cell::Cell;
 
 /// One vertex of a polygon and the edge that starts at it (to the next
 /// vertex), in the body's frame: all precomputed by the scene compiler.
@@ -587,7 +587,25 @@ impl Scene {
             inputs.push(Input { t, body, mode, vx, vy });
         }
         tk.expect("end")?;
-        Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, margin, half_cell, bodies, verts, inputs })
+        Ok(Scene {
+            end,
+            frame_dt,
+            tol,
+            rest_speed,
+            alpha,
+            max_same,
+            x0,
+            y0,
+            cw,
+            ch,
+            nx,
+            ny,
+            margin,
+            half_cell,
+            bodies,
+            verts,
+            inputs,
+        })
     }
 }
 
@@ -664,7 +682,10 @@ mod tests {
     #[test]
     fn tokens_read_as_split_and_parse_read() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        let odd = ["1.5x", "1e", "1e+", "-", ".", "-.e1", "abc", "nan", "inf", "-inf", "1_0", "0x10", "1e99999", "1.5e5e", "+1", "1..2", "9" ];
+        let odd = [
+            "1.5x", "1e", "1e+", "-", ".", "-.e1", "abc", "nan", "inf", "-inf", "1_0", "0x10", "1e99999", "1.5e5e",
+            "+1", "1..2", "9",
+        ];
         let space = [" ", "  ", "\t", "\n", "\r\n", "\x0c", " \n\t "];
         for _ in 0..2_000 {
             let mut text = String::new();
