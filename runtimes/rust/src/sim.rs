@@ -21,7 +21,7 @@
 //! `support` (resting and sliding, when a body is carried), `sleep` (when
 //! a body falls asleep), `overlap` (a teleport's or an added body's
 //! check), `world` (what a prediction reads and writes), `live` (the
-//! world's API), `simulator` (one handler per event kind and their
+//! world's API), `handlers` (one handler per event kind and their
 //! dispatch, carried bodies leaving), `out` and `g17`
 //! (the trace and its numbers).
 //!
@@ -44,6 +44,7 @@ mod cluster;
 mod contact;
 mod g17;
 mod grid;
+mod handlers;
 mod huge;
 mod live;
 mod motion;
@@ -52,7 +53,6 @@ mod overlap;
 mod predict;
 mod queue;
 mod scene;
-mod simulator;
 mod sleep;
 mod support;
 mod world;

@@ -899,7 +899,7 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
 /// cells but b itself and (for a fixed b) the fixed ones, then the large
 /// bodies near (`large_near`, b not among them; the fixed test is then
 /// `keep`'s to make, as the reference's callers differ there).  The walk
-/// of predict_woken (simulator.rs) and predict_apart (cluster.rs), which
+/// of predict_woken (handlers.rs) and predict_apart (cluster.rs), which
 /// differ only in `keep`.
 #[inline]
 pub fn predict_near<E: Equations>(
