@@ -128,8 +128,8 @@ fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
 }
 
 /// `scaled` for the few numbers `scaled5` does not cover, kept out of
-/// line: inlined, its 128-bit shifts were prepared (about 25 instructions)
-/// before every number, also those that never need them.  A floor of
+/// line: inlined, its 128-bit shifts would be prepared (about 25
+/// instructions) before every number, also those that never need them.  A floor of
 /// 10^17 or more is given as 10^17 (the caller only compares it with
 /// 10^16 and 10^17), so that the caller's loop compares 64-bit words.
 #[cold]
@@ -163,8 +163,8 @@ fn scaled5(m: u64, p: usize, s: i32) -> Option<(u64, bool)> {
 /// The 17 correctly rounded significant digits of finite nonzero |x| as an
 /// integer in [10^16, 10^17), and the decimal exponent X of the first
 /// digit; None when outside the range the 128-bit arithmetic covers.
-/// Always inlined: as a call of its own it cost about 20 instructions per
-/// number (saved registers, the result through memory).
+/// Always inlined: as a call of its own it would cost about 20 instructions
+/// per number (saved registers, the result through memory).
 #[inline(always)]
 fn digits_fast(x: f64) -> Option<(u64, i32)> {
     let bits = x.to_bits();
@@ -233,11 +233,11 @@ pub fn push_g17(out: &mut Vec<u8>, x: f64) {
 }
 
 /// Append a space and `x` formatted as `%.17g` to `out` (a trace's number
-/// field): one copy of constant size for both, where a push of the space
-/// and then the number each checked the capacity and moved the length.
+/// field): one copy of constant size for both, where pushing the space
+/// and then the number would each check the capacity and move the length.
 /// A zero (a third of a gas's numbers: the accelerations) is written here,
 /// inlined into the caller, as 4 constant bytes cut back to " 0" or " -0";
-/// through the whole writer it took about 45 instructions.
+/// through the whole writer it would take about 45 instructions.
 #[inline(always)]
 pub fn push_spaced_g17(out: &mut Vec<u8>, x: f64) {
     if x == 0.0 {
@@ -476,7 +476,7 @@ mod tests {
 
     /// The written bytes are printf's on random doubles of every class;
     /// `M2C_G17_CHECK=N` checks N numbers instead of the default 10^6
-    /// (the check of the fast writer was run on 2 10^7 and more).
+    /// (docs/throughput.md names runs of 2 10^7).
     #[test]
     fn writes_what_printf_writes() {
         let n: u64 = std::env::var("M2C_G17_CHECK").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);

@@ -20,9 +20,9 @@ const WALLS_NEAR: u32 = 1 << 31;
 /// One grid cell's list of bodies: the first few inline (a cell 1.15
 /// times the largest body wide rarely holds more), the rest in the grid's `more` list of
 /// the cell.  16 bytes, so that a row of a 3x3 block is one or two cache
-/// lines (at 10^5 disks the 3 x 10^5 cells do not fit the cache; the
-/// 48-byte cells with their own vector before took twice as many, and
-/// `walls_near` a line of its own).  Python's list operations: append at
+/// lines (at 10^5 disks the 3 x 10^5 cells do not fit the cache; a
+/// 48-byte cell with a vector of its own would take twice as many lines,
+/// and `walls_near` kept apart a line more).  Python's list operations: append at
 /// the end, remove by moving the last element into the hole.
 #[derive(Clone, Copy, Default)]
 #[repr(C, align(16))]

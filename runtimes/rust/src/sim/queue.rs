@@ -43,8 +43,8 @@ pub enum Event {
     /// The body's centre crosses into the neighbouring cell along `axis`
     /// (0: x, 1: y) in `direction` (+1 or -1).  (cx, cy): the cell it
     /// leaves (the body's own while the record is live), only a hint of
-    /// which cells to fetch ahead, never read otherwise (in what were
-    /// padding bytes: a collision's record is the largest).
+    /// which cells to fetch ahead, never read otherwise (in bytes that
+    /// would be padding: a collision's record is the largest).
     Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u32 },
     /// Predict the pair again (bounding circles meet, or a Taylor window ends).
     Horizon { a: u32, b: u32, stamp_a: u32, stamp_b: u32 },
@@ -93,9 +93,9 @@ const _: () = assert!(std::mem::size_of::<Entry>() == 40);
 /// bits of t (`time_bits`); `key`: kind, seq and slot (where the record
 /// waits), highest first, so that (tb, key) orders as Python's (t, kind,
 /// seq) tuples (seq is unique, so the order is total and the slot never
-/// decides).  At 10^5 disks the queue holds millions of items, and its
-/// splits and appends were half the simulated last-level misses per event
-/// with 24-byte items.
+/// decides).  At 10^5 disks the queue holds millions of items; with
+/// 24-byte items its splits and appends would be half the simulated
+/// last-level misses per event.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     tb: u64,

@@ -65,10 +65,10 @@ impl CosSin {
 /// (motion at tb, radius), the second the rest of what every pair
 /// prediction and cell crossing reads (angle, orbit, index, cell,
 /// support, the flags, how many it carries), the third the rest of what
-/// a collision's handler reads; polygons, support and sleep read the others.  At 10^5 bodies
-/// the records no longer fit the cache: a pair prediction read four lines
-/// of each partner before (docs/throughput.md, session 10).  (Its stamp,
-/// bumped when the motion changes, is in `Space::stamps`.)
+/// a collision's handler reads; polygons, support and sleep read the
+/// others.  At 10^5 bodies the records do not fit the cache, and a pair
+/// prediction reads at most two lines of each partner (docs/throughput.md).
+/// (Its stamp, bumped when the motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
@@ -115,8 +115,8 @@ pub struct Body {
     pub sup_edge: i32,
     /// how many bodies it carries (their sup is this movable body): read
     /// by every collision's handler with an impulse (`release`), so here in
-    /// what was line 1's padding (in line 4 it was a miss per body and
-    /// collision at 10^5 disks)
+    /// line 1 (in line 4 it would cost a cache miss per body and collision
+    /// at 10^5 disks)
     pub carry: i32,
     // line 2: what a collision's handler reads besides (contact impulse,
     // support and sleep tests)
@@ -256,8 +256,8 @@ pub struct Scene {
 /// to 17 digits): nearly all take one of the two paths.  The C runtime's
 /// m2c_sim_parse_number, step for step, and like it in one pass (the
 /// number's end found by its grammar, not by finding the word's end first
-/// and reading the word again: at 10^5 disks the scene's numbers were
-/// half of the start's instructions).
+/// and reading the word again: read twice, the numbers would be half of
+/// the start's instructions at 10^5 disks).
 #[inline(always)]
 fn parse_decimal_prefix(w: &[u8]) -> Option<(f64, usize)> {
     const P10: [f64; 23] = [
