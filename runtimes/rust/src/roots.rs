@@ -1,6 +1,9 @@
 //! Smallest real root of `c[0] + c[1] t + ... + c[n] t^n` with `lo < t <= hi`.
 //! Contract and algorithm: docs/roots.md. `t` is in the caller's time unit.
 
+// `!(x < y)` is true for NaN, as `not (x < y)` in the other runtimes
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 /// Largest supported degree.
 pub const MAX_DEGREE: usize = 16;
 
@@ -20,6 +23,7 @@ const QUAD_SPREAD: i32 = 900; // degree 2: one scale when coefficient exponents 
 const ONE_SCALE_SPAN: i32 = 800; // degree n >= 3: one scale when all roots lie in 2^(+-800/n)
 const BAND_SPAN: i32 = 800; // otherwise bands of magnitude 2^(800/n)
 /// i! for 0 <= i <= 16 (exact).
+#[rustfmt::skip]
 const FACT: [f64; N1] = [
     1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362880.0, 3628800.0, 39916800.0,
     479001600.0, 6227020800.0, 87178291200.0, 1307674368000.0, 20922789888000.0,
@@ -214,7 +218,7 @@ fn estrin(c: &[f64], m: usize, x: f64) -> f64 {
     q[..k].copy_from_slice(&c[..k]);
     let mut p = x;
     while k > 1 {
-        let k2 = (k + 1) / 2;
+        let k2 = k.div_ceil(2);
         for i in 0..k2 {
             q[i] = if 2 * i + 1 < k { q[2 * i] + q[2 * i + 1] * p } else { q[2 * i] };
         }
@@ -647,17 +651,17 @@ fn root_exponents(c: &[f64], n: usize, j: usize) -> (i32, i32) {
     let ej = frexp_exp(c[j]);
     let mut u = -(1 << 30);
     let mut lx = -(1 << 30);
-    for i in j..n {
-        if c[i] != 0.0 {
-            let v = ceil_div(frexp_exp(c[i]) - en + 1, (n - i) as i32);
+    for (i, &ci) in c[..n].iter().enumerate().skip(j) {
+        if ci != 0.0 {
+            let v = ceil_div(frexp_exp(ci) - en + 1, (n - i) as i32);
             if v > u {
                 u = v;
             }
         }
     }
-    for i in j + 1..n + 1 {
-        if c[i] != 0.0 {
-            let v = ceil_div(frexp_exp(c[i]) - ej + 1, (i - j) as i32);
+    for (i, &ci) in c[..=n].iter().enumerate().skip(j + 1) {
+        if ci != 0.0 {
+            let v = ceil_div(frexp_exp(ci) - ej + 1, (i - j) as i32);
             if v > lx {
                 lx = v;
             }
@@ -679,9 +683,9 @@ fn edge(e: i32) -> f64 {
 /// largest lies in [1, 2) (those far below underflow: negligible in the band).
 fn band(c: &[f64], n: usize, s: i32, xl: f64, xr: f64) -> Option<f64> {
     let mut m = -(1 << 30);
-    for i in 0..n + 1 {
-        if c[i] != 0.0 {
-            let f = frexp_exp(c[i]) + s * i as i32;
+    for (i, &ci) in c[..=n].iter().enumerate() {
+        if ci != 0.0 {
+            let f = frexp_exp(ci) + s * i as i32;
             if f > m {
                 m = f;
             }
@@ -761,7 +765,7 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
     let mut sl = sign_plain(a, n, lo);
     let m = crit.len();
     for i in 0..=m {
-        let xr = if i < m { crit[i] } else { hi };
+        let xr = crit.get(i).copied().unwrap_or(hi); // the critical points, then hi
         let sr = sign_plain(a, n, xr);
         if sl == 0 && i > 0 {
             out[k] = xl;
@@ -778,6 +782,8 @@ fn roots_between(a: &[f64], n: usize, crit: &[f64], lo: f64, hi: f64, out: &mut 
 
 /// The derivative method on [lo, hi] (answers in (lo, hi]): roots of the
 /// derivatives bottom up, then the first root of p with careful signs.
+// `crit[i]` indexed: its `get` forms compile to more instructions (the simulator calls this often)
+#[allow(clippy::needless_range_loop)]
 fn by_derivatives(a: &[f64], n: usize, lo: f64, hi: f64) -> Option<f64> {
     let mut ders = [[0.0f64; N1]; MAX_DEGREE - 1];
     ders[0][..=n].copy_from_slice(&a[..=n]);
@@ -850,6 +856,8 @@ fn variations(b: &[f64], n: usize, e: f64) -> (i32, f64) {
 /// The general method for degree n = N >= 3 (a scaled; one copy per degree,
 /// so the loops unroll): clip to the root bound, Bernstein subdivision left
 /// to right, the derivative method where the Bernstein signs are unsure.
+// `b[j] = b[j] + x`: `+=` evaluates x before the place, which reorders the bounds checks (other code)
+#[allow(clippy::assign_op_pattern)]
 #[inline(always)]
 fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f64) -> Option<f64> {
     let n = N;
@@ -863,7 +871,7 @@ fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f6
                 mx = v;
             }
         }
-        mx = mx / a[n].abs(); // = max |a_i|/|a_n| (rounding is monotone)
+        mx /= a[n].abs(); // = max |a_i|/|a_n| (rounding is monotone)
         let mut r = 2.0 * (1.0 + mx);
         let cap = pow2(900 / n as i32);
         if r > cap {
@@ -892,7 +900,7 @@ fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f6
     let mut f = 1.0;
     for j in 0..n + 1 {
         b[j] = b[j] * f * (FACT[j] * FACT[n - j]);
-        f = f * w;
+        f *= w;
     }
     for k in 1..n + 1 {
         for j in (k..n + 1).rev() {
@@ -912,14 +920,28 @@ fn general<const N: usize, const M: usize>(a: &[f64; M], mut lo: f64, mut hi: f6
 
 /// `subdivide_impl` out of line, for the halves.
 #[inline(never)]
-fn subdivide<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+fn subdivide<const N: usize, const M: usize>(
+    a: &[f64; M],
+    b: &[f64; M],
+    e: f64,
+    xl: f64,
+    xr: f64,
+    depth: usize,
+) -> Option<f64> {
     subdivide_impl::<N, M>(a, b, e, xl, xr, depth)
 }
 
 /// Step 3 on [xl, xr] with the n!-scaled Bernstein coefficients b and their
 /// error bound e: the root in (xl, xr], or None (the caller goes on right).
 #[inline(always)]
-fn subdivide_impl<const N: usize, const M: usize>(a: &[f64; M], b: &[f64; M], e: f64, xl: f64, xr: f64, depth: usize) -> Option<f64> {
+fn subdivide_impl<const N: usize, const M: usize>(
+    a: &[f64; M],
+    b: &[f64; M],
+    e: f64,
+    xl: f64,
+    xr: f64,
+    depth: usize,
+) -> Option<f64> {
     let n = N;
     let nf = n as f64;
     let (v, bm) = variations(b, n, e);
@@ -1010,8 +1032,8 @@ fn solve<const N: usize, const M: usize>(c: &[f64; M], lo: f64, hi: f64) -> Opti
     // values); a NaN or infinity shows as the largest: answer none
     let mut umax = 0u64;
     let mut umin = u64::MAX;
-    for i in 0..n + 1 {
-        let u = c[i].to_bits() & 0x7fff_ffff_ffff_ffff;
+    for ci in c {
+        let u = ci.to_bits() & 0x7fff_ffff_ffff_ffff;
         let uz = u.wrapping_sub(1); // a zero wraps to the top: the minimum skips it
         umax = if u > umax { u } else { umax };
         umin = if uz < umin { uz } else { umin };
@@ -1190,7 +1212,7 @@ fn smallest_root_general(c: &[f64], lo: f64, hi: f64) -> Option<f64> {
     if c.len() > N1 {
         return None;
     }
-    if !(lo.is_finite() && hi.is_finite()) || !(lo < hi) {
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
         return None;
     }
     // a NaN or infinity stops the search for the top nonzero coefficient, so it

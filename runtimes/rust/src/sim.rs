@@ -21,7 +21,7 @@
 //! `support` (resting and sliding, when a body is carried), `sleep` (when
 //! a body falls asleep), `overlap` (a teleport's or an added body's
 //! check), `world` (what a prediction reads and writes), `live` (the
-//! world's API), `simulator` (one handler per event kind and their
+//! world's API), `handlers` (one handler per event kind and their
 //! dispatch, carried bodies leaving), `out` and `g17`
 //! (the trace and its numbers).
 //!
@@ -44,15 +44,15 @@ mod cluster;
 mod contact;
 mod g17;
 mod grid;
+mod handlers;
 mod huge;
 mod live;
 mod motion;
-mod overlap;
 mod out;
+mod overlap;
 mod predict;
 mod queue;
 mod scene;
-mod simulator;
 mod sleep;
 mod support;
 mod world;
@@ -124,7 +124,10 @@ fn simulate_parsed<E: Equations>(parsed: Result<Scene, String>, sink: Box<dyn Wr
 
 /// 0 after a run, or 1 after the `X message` line of a stuck or bad scene
 /// (written to the world's trace, or to `sink` when no world was made).
-fn stop_status<E: Equations>(res: Result<(), (Option<World<E>>, SimError)>, sink: Option<Box<dyn Write>>) -> io::Result<i32> {
+fn stop_status<E: Equations>(
+    res: Result<(), (Option<World<E>>, SimError)>,
+    sink: Option<Box<dyn Write>>,
+) -> io::Result<i32> {
     match res {
         Ok(()) => Ok(0),
         Err((_, SimError::Io(e))) => Err(e),
@@ -180,7 +183,13 @@ fn live_op<E: Equations>(world: &mut World<E>, inp: &Input) -> Result<bool, SimE
 /// (the contacts advance returned) on `probe` (the reference's `stepped`).
 /// With `live`, the scene's inputs are taken out of it and made as live
 /// inputs instead: advance to each input's time, then its operation.
-pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut dyn Write, dt: f64, live: bool) -> io::Result<i32> {
+pub fn stepped<E: Equations>(
+    scene_text: &str,
+    sink: Box<dyn Write>,
+    probe: &mut dyn Write,
+    dt: f64,
+    live: bool,
+) -> io::Result<i32> {
     let mut sink = Some(sink);
     let (text, inputs) = if live {
         match split_inputs(scene_text) {
@@ -206,7 +215,9 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
             while nxt < inputs.len() && (!(t < end) || inputs[nxt].t <= t) {
                 world.advance(inputs[nxt].t)?;
                 if !live_op(&mut world, &inputs[nxt])? {
-                    return Err(SimError::Msg(format!("live input {nxt}: teleport refused (the body would overlap another)")));
+                    return Err(SimError::Msg(format!(
+                        "live input {nxt}: teleport refused (the body would overlap another)"
+                    )));
                 }
                 nxt += 1;
             }
@@ -215,9 +226,16 @@ pub fn stepped<E: Equations>(scene_text: &str, sink: Box<dyn Write>, probe: &mut
             }
             let got = world.advance(t)?;
             let every = world.states(t)?; // every body at once, checked against one by one
-            for b in 0..world.bodies() {
+            if every.len() != world.bodies() {
+                return Err(SimError::Msg(format!(
+                    "states(t) gives {} states for {} bodies",
+                    every.len(),
+                    world.bodies()
+                )));
+            }
+            for (b, want) in every.iter().enumerate() {
                 let s = world.state(b, t)?;
-                if s != every[b] {
+                if s != *want {
                     return Err(SimError::Msg(format!("states(t) gives body {b} another state than state({b}, t)")));
                 }
                 writeln!(
@@ -319,8 +337,9 @@ macro_rules! sim_equations {
 
             #[inline]
             fn pe_coefficients(p: &[f64; 12], c: &mut [f64; $crate::sim::MAX_COEF]) -> Option<usize> {
-                let (degree, k) =
-                    $pe::point_edge_coefficients(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11])?;
+                let (degree, k) = $pe::point_edge_coefficients(
+                    p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11],
+                )?;
                 c[..k.len()].copy_from_slice(&k);
                 Some(degree)
             }

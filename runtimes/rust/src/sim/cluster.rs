@@ -529,7 +529,18 @@ impl<E: Equations> World<E> {
         for (k, r) in rows.iter().enumerate() {
             let (_, _, feature, i, j) = cs[k];
             self.q.stats.collisions += 1;
-            self.out.contact("collision", t, r.a as u32, r.b as u32, feature, i, j, (r.cx, r.cy), (r.nx, r.ny), acc[k])?;
+            self.out.contact(
+                "collision",
+                t,
+                r.a as u32,
+                r.b as u32,
+                feature,
+                i,
+                j,
+                (r.cx, r.cy),
+                (r.nx, r.ny),
+                acc[k],
+            )?;
             self.contacts.push(Contact {
                 t,
                 a: r.a,

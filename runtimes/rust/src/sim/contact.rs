@@ -12,7 +12,15 @@ use super::{Equations, CC, MAX_COEF};
 /// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
 /// feature at t (both bodies advanced to t); `verts` is the scene's.
 #[allow(clippy::too_many_arguments)]
-pub fn contact_frame(verts: &[Vertex], t: f64, feature: i32, a_: &Body, b_: &Body, i: i32, j: i32) -> (f64, f64, f64, f64) {
+pub fn contact_frame(
+    verts: &[Vertex],
+    t: f64,
+    feature: i32,
+    a_: &Body,
+    b_: &Body,
+    i: i32,
+    j: i32,
+) -> (f64, f64, f64, f64) {
     let va = if i >= 0 { Some(&verts[a_.vert(i as usize)]) } else { None };
     let (nx, ny, cx, cy);
     if feature == CC {
@@ -61,7 +69,16 @@ pub fn pressed(a_: &Body, b_: &Body, nx: f64, ny: f64) -> bool {
 /// terms of a turn, which `pressed` leaves out.  `verts` is the scene's,
 /// `tol` its tolerance; the polynomial is counted as a prediction's is.
 #[allow(clippy::too_many_arguments)]
-pub fn closing<E: Equations>(verts: &[Vertex], tol: f64, q: &mut Queue, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32) -> Res<bool> {
+pub fn closing<E: Equations>(
+    verts: &[Vertex],
+    tol: f64,
+    q: &mut Queue,
+    a_: &Body,
+    b_: &Body,
+    feature: i32,
+    i: i32,
+    j: i32,
+) -> Res<bool> {
     let now = a_.tb;
     let mut c = [0.0; MAX_COEF];
     let (deg, kappa);
@@ -121,7 +138,15 @@ pub struct ImpulseCtx<'a> {
 /// would otherwise predict the same contact again at once).  Never adds
 /// energy (docs/simulator.md, Impulse).
 #[allow(clippy::too_many_arguments)]
-pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64) -> Res<f64> {
+pub fn contact_impulse<E: Equations>(
+    ctx: &mut ImpulseCtx,
+    a_: &mut Body,
+    b_: &mut Body,
+    cx: f64,
+    cy: f64,
+    nx: f64,
+    ny: f64,
+) -> Res<f64> {
     let vn = normal_speed(a_, b_, cx, cy, nx, ny);
     let rest = ctx.rest_speed;
     let mut press = pressed(a_, b_, nx, ny);
@@ -165,7 +190,17 @@ pub fn contact_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &m
 /// on vt's side of knt hop / kn), through the impulse P = K^-1 (u' - u)
 /// (normal part jn, tangential jt).  Returns jn.
 #[allow(clippy::too_many_arguments)]
-pub fn hop(a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64, rest_speed: f64, unpaid: &mut bool) -> f64 {
+pub fn hop(
+    a_: &mut Body,
+    b_: &mut Body,
+    cx: f64,
+    cy: f64,
+    nx: f64,
+    ny: f64,
+    vn: f64,
+    rest_speed: f64,
+    unpaid: &mut bool,
+) -> f64 {
     let (tx, ty) = (-ny, nx);
     let uax = a_.vx - a_.om * (cy - a_.py);
     let uay = a_.vy + a_.om * (cx - a_.px);
@@ -280,7 +315,16 @@ pub fn held(bodies: &[Body], a_: &Body, b_: &Body, nx: f64, ny: f64, vn: f64, re
 /// its support (slide_accel; support_relative: the support may move), the
 /// supports `sup_a` / `sup_b` (None for a fixed body).
 #[allow(clippy::too_many_arguments)]
-pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: Option<&Body>, nx: f64, ny: f64, vn: f64, rest_speed: f64) -> f64 {
+pub fn held_impulse(
+    a_: &mut Body,
+    b_: &mut Body,
+    sup_a: Option<&Body>,
+    sup_b: Option<&Body>,
+    nx: f64,
+    ny: f64,
+    vn: f64,
+    rest_speed: f64,
+) -> f64 {
     let ka = along(a_, nx, ny);
     let kb = along(b_, nx, ny);
     let k = a_.inv_m * ka * ka + b_.inv_m * kb * kb;
@@ -318,7 +362,15 @@ pub fn held_impulse(a_: &mut Body, b_: &mut Body, sup_a: Option<&Body>, sup_b: O
 /// When the other body is fixed (it moves or turns: a sleeper is never
 /// predicted against an unmoving one) S cannot be held (the pair would
 /// have no mass): the full impulse at once.  Returns the impulse applied.
-pub fn sleeper_impulse<E: Equations>(ctx: &mut ImpulseCtx, a_: &mut Body, b_: &mut Body, cx: f64, cy: f64, nx: f64, ny: f64) -> Res<f64> {
+pub fn sleeper_impulse<E: Equations>(
+    ctx: &mut ImpulseCtx,
+    a_: &mut Body,
+    b_: &mut Body,
+    cx: f64,
+    cy: f64,
+    nx: f64,
+    ny: f64,
+) -> Res<f64> {
     let a_sleeps = a_.asleep;
     let other_fixed = if a_sleeps { b_.fixed } else { a_.fixed };
     if other_fixed {

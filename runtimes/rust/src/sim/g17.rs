@@ -52,9 +52,11 @@ const fn pow5_table() -> ([u64; 28], [u32; 28]) {
     let mut p = 1u64;
     let mut k = 0;
     while k < 28 {
+        if k > 0 {
+            p *= 5; // 5^k, at most 5^27: no overflow
+        }
         z[k] = p.leading_zeros();
         f[k] = p << z[k];
-        p *= 5;
         k += 1;
     }
     (f, z)
@@ -126,8 +128,8 @@ fn scaled(m: u64, e: i32, p: i32) -> Option<(u128, bool)> {
 }
 
 /// `scaled` for the few numbers `scaled5` does not cover, kept out of
-/// line: inlined, its 128-bit shifts were prepared (about 25 instructions)
-/// before every number, also those that never need them.  A floor of
+/// line: inlined, its 128-bit shifts would be prepared (about 25
+/// instructions) before every number, also those that never need them.  A floor of
 /// 10^17 or more is given as 10^17 (the caller only compares it with
 /// 10^16 and 10^17), so that the caller's loop compares 64-bit words.
 #[cold]
@@ -161,8 +163,8 @@ fn scaled5(m: u64, p: usize, s: i32) -> Option<(u64, bool)> {
 /// The 17 correctly rounded significant digits of finite nonzero |x| as an
 /// integer in [10^16, 10^17), and the decimal exponent X of the first
 /// digit; None when outside the range the 128-bit arithmetic covers.
-/// Always inlined: as a call of its own it cost about 20 instructions per
-/// number (saved registers, the result through memory).
+/// Always inlined: as a call of its own it would cost about 20 instructions
+/// per number (saved registers, the result through memory).
 #[inline(always)]
 fn digits_fast(x: f64) -> Option<(u64, i32)> {
     let bits = x.to_bits();
@@ -175,6 +177,7 @@ fn digits_fast(x: f64) -> Option<(u64, i32)> {
     // floor(log2 |x|), then a decimal exponent estimate that is X or X + 1
     let l2 = 63 - m.leading_zeros() as i32 + e;
     let mut xe = (((i64::from(l2) + 1) * 78913) >> 18) as i32; // floor((l2 + 1) log10 2)
+
     // which of the two: a guess from the powers of ten (the digits decide exactly)
     if (-POW10F_MIN + 1..=POW10F_MIN).contains(&xe) && x.abs() < POW10F[(xe + POW10F_MIN) as usize] {
         xe -= 1;
@@ -230,11 +233,11 @@ pub fn push_g17(out: &mut Vec<u8>, x: f64) {
 }
 
 /// Append a space and `x` formatted as `%.17g` to `out` (a trace's number
-/// field): one copy of constant size for both, where a push of the space
-/// and then the number each checked the capacity and moved the length.
+/// field): one copy of constant size for both, where pushing the space
+/// and then the number would each check the capacity and move the length.
 /// A zero (a third of a gas's numbers: the accelerations) is written here,
 /// inlined into the caller, as 4 constant bytes cut back to " 0" or " -0";
-/// through the whole writer it took about 45 instructions.
+/// through the whole writer it would take about 45 instructions.
 #[inline(always)]
 pub fn push_spaced_g17(out: &mut Vec<u8>, x: f64) {
     if x == 0.0 {
@@ -433,7 +436,7 @@ mod tests {
         let mut buf = [0u8; 64];
         // SAFETY: buf has 64 bytes and snprintf writes at most that many, its
         // NUL included; the format is a NUL-terminated literal taking one double.
-        let n = unsafe { snprintf(buf.as_mut_ptr().cast(), buf.len(), b"%.17g\0".as_ptr().cast(), x) };
+        let n = unsafe { snprintf(buf.as_mut_ptr().cast(), buf.len(), c"%.17g".as_ptr(), x) };
         buf[..usize::try_from(n).expect("snprintf formats a double")].to_vec()
     }
 
@@ -473,7 +476,7 @@ mod tests {
 
     /// The written bytes are printf's on random doubles of every class;
     /// `M2C_G17_CHECK=N` checks N numbers instead of the default 10^6
-    /// (the check of the fast writer was run on 2 10^7 and more).
+    /// (docs/throughput.md names runs of 2 10^7).
     #[test]
     fn writes_what_printf_writes() {
         let n: u64 = std::env::var("M2C_G17_CHECK").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
@@ -486,7 +489,12 @@ mod tests {
             let want = printf_g17(x);
             if mine != want {
                 if bad < 10 {
-                    eprintln!("{x:e} ({:#x}): {} printf {}", x.to_bits(), String::from_utf8_lossy(&mine), String::from_utf8_lossy(&want));
+                    eprintln!(
+                        "{x:e} ({:#x}): {} printf {}",
+                        x.to_bits(),
+                        String::from_utf8_lossy(&mine),
+                        String::from_utf8_lossy(&want)
+                    );
                 }
                 bad += 1;
             }
@@ -546,7 +554,7 @@ mod tests {
             (5e-324, "4.9406564584124654e-324"),
             (2f64.powi(-25), "2.9802322387695312e-08"),
             (3.0 * 2f64.powi(-25), "8.9406967163085938e-08"),
-            (9.999999999999999e22, "9.9999999999999992e+22"),
+            (1e23, "9.9999999999999992e+22"),
             (0.5, "0.5"),
             (100.0, "100"),
             (-1.0 / 3.0, "-0.33333333333333331"),

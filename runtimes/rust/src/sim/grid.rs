@@ -20,9 +20,9 @@ const WALLS_NEAR: u32 = 1 << 31;
 /// One grid cell's list of bodies: the first few inline (a cell 1.15
 /// times the largest body wide rarely holds more), the rest in the grid's `more` list of
 /// the cell.  16 bytes, so that a row of a 3x3 block is one or two cache
-/// lines (at 10^5 disks the 3 x 10^5 cells do not fit the cache; the
-/// 48-byte cells with their own vector before took twice as many, and
-/// `walls_near` a line of its own).  Python's list operations: append at
+/// lines (at 10^5 disks the 3 x 10^5 cells do not fit the cache; a
+/// 48-byte cell with a vector of its own would take twice as many lines,
+/// and `walls_near` kept apart a line more).  Python's list operations: append at
 /// the end, remove by moving the last element into the hole.
 #[derive(Clone, Copy, Default)]
 #[repr(C, align(16))]
@@ -370,8 +370,20 @@ pub fn place_large(grid: &mut Grid, s: &mut Scene, bi: usize) {
 pub fn cell_of(s: &Scene, x: f64, y: f64) -> (i32, i32) {
     let fx = ((x - s.x0) / s.cw).floor();
     let fy = ((y - s.y0) / s.ch).floor();
-    let ix = if fx < 0.0 { 0 } else if fx > (s.nx - 1) as f64 { s.nx - 1 } else { fx as i64 };
-    let iy = if fy < 0.0 { 0 } else if fy > (s.ny - 1) as f64 { s.ny - 1 } else { fy as i64 };
+    let ix = if fx < 0.0 {
+        0
+    } else if fx > (s.nx - 1) as f64 {
+        s.nx - 1
+    } else {
+        fx as i64
+    };
+    let iy = if fy < 0.0 {
+        0
+    } else if fy > (s.ny - 1) as f64 {
+        s.ny - 1
+    } else {
+        fy as i64
+    };
     (ix as i32, iy as i32)
 }
 
@@ -414,10 +426,10 @@ mod tests {
         let mut fresh = 0u32;
         for _ in 0..50_000 {
             // the walls' bit comes and goes: it never changes the list
-            if next() % 7 == 0 {
+            if next().is_multiple_of(7) {
                 grid.cells[1].n ^= WALLS_NEAR;
             }
-            if model.is_empty() || (model.len() < 3 * CELL_INLINE && next() % 2 == 0) {
+            if model.is_empty() || (model.len() < 3 * CELL_INLINE && next().is_multiple_of(2)) {
                 grid.add(fresh, 1, 0);
                 model.push(fresh);
                 fresh += 1;
@@ -457,7 +469,9 @@ mod tests {
             }
         }
         for (cx, cy) in [(0i64, 0i64), (1, 1), (2, 2), (3, 3), (1, 3), (3, 0)] {
-            for (x_lo, x_hi, y_lo, y_hi) in [(cx - 1, cx + 1, cy - 1, cy + 1), (cx, cx, cy - 1, cy + 1), (cx - 1, cx + 1, cy, cy)] {
+            for (x_lo, x_hi, y_lo, y_hi) in
+                [(cx - 1, cx + 1, cy - 1, cy + 1), (cx, cx, cy - 1, cy + 1), (cx - 1, cx + 1, cy, cy)]
+            {
                 let mut want = Vec::new();
                 for jy in y_lo.max(0)..=y_hi.min(ny - 1) {
                     for jx in x_lo.max(0)..=x_hi.min(nx - 1) {
@@ -485,7 +499,7 @@ mod tests {
         for round in 0..2000 {
             // up to 7 bodies in a cell (some past the inline ones), some taken out
             let (cx, cy) = ((next() % nx as u64) as i32, (next() % ny as u64) as i32);
-            if grid.cell(i64::from(cx), i64::from(cy)).len() < 7 && next() % 3 != 0 {
+            if grid.cell(i64::from(cx), i64::from(cy)).len() < 7 && !next().is_multiple_of(3) {
                 grid.add(fresh, cx, cy);
                 fresh += 1;
             } else if grid.cell(i64::from(cx), i64::from(cy)).len() > 0 {
@@ -512,7 +526,8 @@ mod tests {
                 Some(m) => {
                     assert_eq!(&out[..m], &walked[..]);
                     fitted += 1;
-                    if m > CELL_INLINE && (y0..=y1).any(|jy| (x0..=x1).any(|jx| grid.cell(jx, jy).len() > CELL_INLINE)) {
+                    if m > CELL_INLINE && (y0..=y1).any(|jy| (x0..=x1).any(|jx| grid.cell(jx, jy).len() > CELL_INLINE))
+                    {
                         spilled += 1;
                     }
                 }

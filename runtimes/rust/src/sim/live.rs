@@ -8,13 +8,15 @@ use std::marker::PhantomData;
 
 use super::cluster::Touched;
 use super::g17::g17;
+use super::grid::{cell_of, place_large};
 use super::motion::state_at;
 use super::out::{Out, SimError};
 use super::overlap::overlapping;
-use super::queue::{Event, INPUT};
-use super::grid::{cell_of, place_large};
 use super::predict::{predict_body, predict_pair};
-use super::scene::{drivable, read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+use super::queue::{Event, INPUT};
+use super::scene::{
+    drivable, read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT,
+};
 use super::world::{Queue, Space};
 use super::Equations;
 

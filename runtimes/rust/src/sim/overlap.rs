@@ -31,7 +31,16 @@ fn min(a: f64, b: f64) -> f64 {
 /// overlap by more than the tolerance; None when none.  Removed bodies
 /// are not there.
 #[allow(clippy::too_many_arguments)]
-pub fn overlapping(bodies: &[Body], verts: &[Vertex], tol: f64, a: &Body, skip: Option<usize>, x: f64, y: f64, t: f64) -> Option<usize> {
+pub fn overlapping(
+    bodies: &[Body],
+    verts: &[Vertex],
+    tol: f64,
+    a: &Body,
+    skip: Option<usize>,
+    x: f64,
+    y: f64,
+    t: f64,
+) -> Option<usize> {
     // A at t, moved (a copy: the world is not changed)
     let mut a_ = a.clone();
     let (_, _, vx, vy, ang) = state_at(&a_, t);

@@ -4,12 +4,12 @@
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
 use super::motion::{point_at, state_at, turn_rate};
-use super::overlap::{edge_line, separation};
 use super::out::{Res, SimError};
+use super::overlap::{edge_line, separation};
+use super::queue::prefetch;
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
 use super::support::schedule_support;
-use super::queue::prefetch;
 use super::world::{Queue, Space};
 use super::{Equations, CC, HALF_PI, MAX_COEF, PE};
 use crate::roots::smallest_root;
@@ -18,7 +18,6 @@ use crate::roots::smallest_root;
 /// window) one prediction of a pair goes through before it leaves the rest
 /// to a horizon.
 const CHAIN: usize = 8;
-
 
 /// At a zero of the gap c: approaching (first derivative d < 0), or
 /// resting and pressed together (d == 0, second derivative < 0).
@@ -58,7 +57,13 @@ pub fn touching_now(c: &[f64; MAX_COEF], deg: usize, kappa: f64) -> bool {
 /// within kappa: approaching or pressed (touching_now) means contact now,
 /// separating or merely touching never.
 #[inline(always)]
-pub fn first_contact<F: FnMut(f64) -> bool>(c: &[f64; MAX_COEF], deg: usize, w: f64, kappa: f64, mut check: F) -> Option<f64> {
+pub fn first_contact<F: FnMut(f64) -> bool>(
+    c: &[f64; MAX_COEF],
+    deg: usize,
+    w: f64,
+    kappa: f64,
+    mut check: F,
+) -> Option<f64> {
     if deg >= 1 && c[0].abs() <= kappa && touching_now(c, deg, kappa) && check(0.0) {
         return Some(0.0);
     }
@@ -197,7 +202,15 @@ fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, n
 
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
-fn circles_first<E: Equations>(w: &Space, q: &mut Queue, pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64, win: f64) -> Res<Option<f64>> {
+fn circles_first<E: Equations>(
+    w: &Space,
+    q: &mut Queue,
+    pa: &[f64; 11],
+    ra: f64,
+    pb: &[f64; 11],
+    rb: f64,
+    win: f64,
+) -> Res<Option<f64>> {
     circles_first_args::<E>(w, q, &cc_args(pa, ra, pb, rb), win)
 }
 
@@ -230,6 +243,8 @@ fn circles_first_args<E: Equations>(w: &Space, q: &mut Queue, args: &[f64; 24], 
 /// which the coefficients can be off, and the sizes are bounded so that
 /// nothing underflows (where rounding is no longer relative: a speed of
 /// 1e-162 m/s squares to 0) or overflows.  The prediction is still counted.
+// the bounds as comparisons: `contains` compiles to more instructions per prediction here
+#[allow(clippy::manual_range_contains)]
 #[inline(always)]
 fn circles_apart(g: &[f64; 24], kappa: f64) -> bool {
     if g[2] != 0.0 || g[8] != 0.0 || g[3] != 0.0 || g[14] != 0.0 {
@@ -284,32 +299,7 @@ fn cc_args(pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64) -> [f64; 24] {
     let [g, h, i, j, k, l, r, s, u, v, ww] = *pb;
     // only differences of the centres' motions matter: circle 1 moves
     // relative to circle 2's centre of rotation
-    [
-        a - g,
-        b - h,
-        c - i,
-        d,
-        e,
-        f,
-        m - r,
-        n - s,
-        o - u,
-        p,
-        qq,
-        0.0,
-        0.0,
-        0.0,
-        j,
-        k,
-        l,
-        0.0,
-        0.0,
-        0.0,
-        v,
-        ww,
-        ra,
-        rb,
-    ]
+    [a - g, b - h, c - i, d, e, f, m - r, n - s, o - u, p, qq, 0.0, 0.0, 0.0, j, k, l, 0.0, 0.0, 0.0, v, ww, ra, rb]
 }
 
 /// Point of X (circle centre with radius, or vertex vx_, X's vertex i;
@@ -730,7 +720,11 @@ fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
     let lo = -reach(w, b_, -nx, -ny, now);
     let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
     let tol = w.s.tol;
-    let along = clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)), (nx * (b_.ax - a_.ax) + ny * (b_.ay - a_.ay)).abs());
+    let along = clear_root(
+        lo - hi - tol,
+        spin - (nx * (u2 - u1) + ny * (v2 - v1)),
+        (nx * (b_.ax - a_.ax) + ny * (b_.ay - a_.ay)).abs(),
+    );
     // and along the best separating axis, which may turn: the norms, |x| + |y|
     let anyway = clear_root(
         separation(&w.s.verts, a_, b_, now) - tol,
@@ -763,7 +757,11 @@ fn clear_axes(w: &Space, t_: &Body, p_: &Body, now: f64) -> f64 {
     let mut best = 0.0;
     for j in 0..p_.nverts() {
         let (ox, oy, off) = edge_line(&w.s.verts, p_, j, now);
-        let c = clear_root(-reach(w, t_, -ox, -oy, now) - off - w.s.tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs());
+        let c = clear_root(
+            -reach(w, t_, -ox, -oy, now) - off - w.s.tol,
+            spin - (ox * du + oy * dv),
+            (ox * dax + oy * day).abs(),
+        );
         best = max(best, c);
     }
     best
@@ -901,7 +899,7 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
 /// cells but b itself and (for a fixed b) the fixed ones, then the large
 /// bodies near (`large_near`, b not among them; the fixed test is then
 /// `keep`'s to make, as the reference's callers differ there).  The walk
-/// of predict_woken (simulator.rs) and predict_apart (cluster.rs), which
+/// of predict_woken (handlers.rs) and predict_apart (cluster.rs), which
 /// differ only in `keep`.
 #[inline]
 pub fn predict_near<E: Equations>(
@@ -949,8 +947,11 @@ pub fn schedule_cell(w: &Space, q: &mut Queue, bi: usize, now: f64) {
     let h = if room < s.margin { room } else { s.margin };
     let mut best: Option<(f64, i32, i32)> = None;
     for axis in 0..2 {
-        let (p, v, a, i, n, origin, size) =
-            if axis == 0 { (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw) } else { (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch) };
+        let (p, v, a, i, n, origin, size) = if axis == 0 {
+            (b.px, b.vx, b.ax, i64::from(b.cx), s.nx, s.x0, s.cw)
+        } else {
+            (b.py, b.vy, b.ay, i64::from(b.cy), s.ny, s.y0, s.ch)
+        };
         if a != 0.0 {
             cross_accelerated(&mut best, axis, [p, v, a], i, n, origin, size, h, ulo, uhi);
             continue;

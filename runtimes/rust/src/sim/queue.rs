@@ -43,8 +43,8 @@ pub enum Event {
     /// The body's centre crosses into the neighbouring cell along `axis`
     /// (0: x, 1: y) in `direction` (+1 or -1).  (cx, cy): the cell it
     /// leaves (the body's own while the record is live), only a hint of
-    /// which cells to fetch ahead, never read otherwise (in what were
-    /// padding bytes: a collision's record is the largest).
+    /// which cells to fetch ahead, never read otherwise (in bytes that
+    /// would be padding: a collision's record is the largest).
     Cell { body: u32, axis: i32, direction: i32, cx: i32, cy: i32, stamp: u32 },
     /// Predict the pair again (bounding circles meet, or a Taylor window ends).
     Horizon { a: u32, b: u32, stamp_a: u32, stamp_b: u32 },
@@ -93,9 +93,9 @@ const _: () = assert!(std::mem::size_of::<Entry>() == 40);
 /// bits of t (`time_bits`); `key`: kind, seq and slot (where the record
 /// waits), highest first, so that (tb, key) orders as Python's (t, kind,
 /// seq) tuples (seq is unique, so the order is total and the slot never
-/// decides).  At 10^5 disks the queue holds millions of items, and its
-/// splits and appends were half the simulated last-level misses per event
-/// with 24-byte items.
+/// decides).  At 10^5 disks the queue holds millions of items; with
+/// 24-byte items its splits and appends would be half the simulated
+/// last-level misses per event.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     tb: u64,
@@ -120,6 +120,8 @@ const ARITY: usize = 4;
 
 /// Moves v[pos] down to its place among its descendants (a 4-ary min-heap
 /// on `order`).
+// indexed: every iterator form of the children's loop compiles to more instructions in Heap::pop
+#[allow(clippy::needless_range_loop)]
 #[inline]
 fn sift_down(v: &mut [Item], mut pos: usize) {
     let n = v.len();
@@ -374,7 +376,11 @@ impl Heap {
         }
         all.sort_unstable_by_key(|e| e.0);
         for (seq, &(_, b, k)) in all.iter().enumerate() {
-            let x = if b as usize == BUCKETS { &mut self.near.v[k as usize] } else { &mut self.buckets[b as usize][k as usize] };
+            let x = if b as usize == BUCKETS {
+                &mut self.near.v[k as usize]
+            } else {
+                &mut self.buckets[b as usize][k as usize]
+            };
             let kind = x.key >> KIND_SHIFT;
             x.key = (kind << KIND_SHIFT) | ((seq as u64) << SLOT_BITS) | (x.key & SLOT_MASK);
         }
@@ -632,13 +638,16 @@ mod tests {
             heap.push(t, event(kind, seq));
             all.push((t, kind, seq));
             pending.push((t, kind, seq));
-            if rng.next() % 3 != 0 {
+            if !rng.next().is_multiple_of(3) {
                 // peek leaves the earliest queued: the pop that follows takes it
                 let peeked = heap.peek().map(|e| (e.t.to_bits(), e.ev.kind(), carried(&e.ev))).expect("not empty");
                 let e = heap.pop().expect("not empty");
                 assert_eq!(peeked, (e.t.to_bits(), e.ev.kind(), carried(&e.ev)));
                 let m = first(&pending);
-                assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+                assert_eq!(
+                    (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                    (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+                );
                 pending.swap_remove(m);
                 now = e.t;
                 count += 1;
@@ -646,7 +655,10 @@ mod tests {
         }
         while let Some(e) = heap.pop() {
             let m = first(&pending);
-            assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+            assert_eq!(
+                (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+            );
             pending.swap_remove(m);
             count += 1;
         }
@@ -699,7 +711,7 @@ mod tests {
                     // drop the events carrying a multiple of a random divisor
                     let d = 2 + rng.next() % 5;
                     let before = heap.len();
-                    heap.sweep(|_| {}, |e| carried(&e.ev) % d == 0);
+                    heap.sweep(|_| {}, |e| carried(&e.ev).is_multiple_of(d));
                     pending.retain(|p| p.2 % d != 0);
                     assert_eq!(heap.len(), pending.len());
                     swept += before - heap.len();
@@ -712,7 +724,10 @@ mod tests {
                             a.0.partial_cmp(&b.0).unwrap().then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
                         })
                         .expect("not empty");
-                    assert_eq!((e.t.to_bits(), e.ev.kind(), carried(&e.ev)), (pending[m].0.to_bits(), pending[m].1, pending[m].2));
+                    assert_eq!(
+                        (e.t.to_bits(), e.ev.kind(), carried(&e.ev)),
+                        (pending[m].0.to_bits(), pending[m].1, pending[m].2)
+                    );
                     pending.swap_remove(m);
                     now = e.t;
                 }

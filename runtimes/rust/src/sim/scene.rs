@@ -2,8 +2,8 @@
 //! `Scene` in runtimes/python/max2code_rt/sim.py reads it.  Numbers are
 //! shortest round-trip decimals; Rust's parser reads them exactly.
 
-use std::cell::Cell;
 use super::g17::g17;
+use std::cell::Cell;
 
 /// One vertex of a polygon and the edge that starts at it (to the next
 /// vertex), in the body's frame: all precomputed by the scene compiler.
@@ -65,10 +65,10 @@ impl CosSin {
 /// (motion at tb, radius), the second the rest of what every pair
 /// prediction and cell crossing reads (angle, orbit, index, cell,
 /// support, the flags, how many it carries), the third the rest of what
-/// a collision's handler reads; polygons, support and sleep read the others.  At 10^5 bodies
-/// the records no longer fit the cache: a pair prediction read four lines
-/// of each partner before (docs/throughput.md, session 10).  (Its stamp,
-/// bumped when the motion changes, is in `Space::stamps`.)
+/// a collision's handler reads; polygons, support and sleep read the
+/// others.  At 10^5 bodies the records do not fit the cache, and a pair
+/// prediction reads at most two lines of each partner (docs/throughput.md).
+/// (Its stamp, bumped when the motion changes, is in `Space::stamps`.)
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub struct Body {
@@ -115,8 +115,8 @@ pub struct Body {
     pub sup_edge: i32,
     /// how many bodies it carries (their sup is this movable body): read
     /// by every collision's handler with an impulse (`release`), so here in
-    /// what was line 1's padding (in line 4 it was a miss per body and
-    /// collision at 10^5 disks)
+    /// line 1 (in line 4 it would cost a cache miss per body and collision
+    /// at 10^5 disks)
     pub carry: i32,
     // line 2: what a collision's handler reads besides (contact impulse,
     // support and sleep tests)
@@ -256,8 +256,8 @@ pub struct Scene {
 /// to 17 digits): nearly all take one of the two paths.  The C runtime's
 /// m2c_sim_parse_number, step for step, and like it in one pass (the
 /// number's end found by its grammar, not by finding the word's end first
-/// and reading the word again: at 10^5 disks the scene's numbers were
-/// half of the start's instructions).
+/// and reading the word again: read twice, the numbers would be half of
+/// the start's instructions at 10^5 disks).
 #[inline(always)]
 fn parse_decimal_prefix(w: &[u8]) -> Option<(f64, usize)> {
     const P10: [f64; 23] = [
@@ -587,7 +587,25 @@ impl Scene {
             inputs.push(Input { t, body, mode, vx, vy });
         }
         tk.expect("end")?;
-        Ok(Scene { end, frame_dt, tol, rest_speed, alpha, max_same, x0, y0, cw, ch, nx, ny, margin, half_cell, bodies, verts, inputs })
+        Ok(Scene {
+            end,
+            frame_dt,
+            tol,
+            rest_speed,
+            alpha,
+            max_same,
+            x0,
+            y0,
+            cw,
+            ch,
+            nx,
+            ny,
+            margin,
+            half_cell,
+            bodies,
+            verts,
+            inputs,
+        })
     }
 }
 
@@ -664,11 +682,14 @@ mod tests {
     #[test]
     fn tokens_read_as_split_and_parse_read() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        let odd = ["1.5x", "1e", "1e+", "-", ".", "-.e1", "abc", "nan", "inf", "-inf", "1_0", "0x10", "1e99999", "1.5e5e", "+1", "1..2", "9" ];
+        let odd = [
+            "1.5x", "1e", "1e+", "-", ".", "-.e1", "abc", "nan", "inf", "-inf", "1_0", "0x10", "1e99999", "1.5e5e",
+            "+1", "1..2", "9",
+        ];
         let space = [" ", "  ", "\t", "\n", "\r\n", "\x0c", " \n\t "];
         for _ in 0..2_000 {
             let mut text = String::new();
-            if rng.next() % 2 == 0 {
+            if rng.next().is_multiple_of(2) {
                 text.push_str(space[(rng.next() % space.len() as u64) as usize]);
             }
             for k in 0..(1 + rng.next() % 12) {
@@ -685,7 +706,7 @@ mod tests {
                 };
                 text.push_str(&word);
             }
-            if rng.next() % 2 == 0 {
+            if rng.next().is_multiple_of(2) {
                 text.push_str(space[(rng.next() % space.len() as u64) as usize]);
             }
             let mut tk = Tokens::new(&text, "t");

@@ -1,7 +1,7 @@
 //! Sleeping islands (docs/simulator.md, "Contact model: sleeping
 //! islands"): when a body falls asleep.  The reference's `grounded`,
 //! `at_rest`, `can_sleep`; the handlers (`handle_sleep`, `handle_wake`,
-//! `predict_woken`) are the world's (simulator.rs).
+//! `predict_woken`) are the world's (handlers.rs).
 
 use super::scene::Body;
 use super::support::{flat, is_static};

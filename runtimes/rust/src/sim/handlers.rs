@@ -4,17 +4,19 @@
 //! `handle_frame`), the dispatch over them, the first predictions and the
 //! end of the trace.
 
-use super::contact::{contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut, ImpulseCtx};
+use super::contact::{
+    contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse, two_mut, ImpulseCtx,
+};
 use super::g17::g17;
 use super::grid::cell_of;
 use super::live::{Contact, World};
 use super::motion::{rebase, state_at};
-use super::overlap::overlapping;
 use super::out::{Res, SimError};
+use super::overlap::overlapping;
 use super::predict::{predict_body, predict_cells, predict_near, predict_pair, schedule_cell};
 use super::queue::{prefetch, Event};
-use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::support::{can_carry, can_support, end_support, enter_carried, enter_support, is_static, slide_accel};
 use super::world::SWEEP_FIRST;
 use super::Equations;
@@ -40,7 +42,8 @@ impl<E: Equations> World<E> {
             let (a_, b_) = (&s.bodies[ai], &s.bodies[bi]);
             let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j);
             let vn = normal_speed(a_, b_, cx, cy, nx, ny);
-            let support = can_support(&self.w, a_, b_, feature, i, j, vn) || can_carry(&self.w, a_, b_, feature, i, j, vn);
+            let support =
+                can_support(&self.w, a_, b_, feature, i, j, vn) || can_carry(&self.w, a_, b_, feature, i, j, vn);
             (cx, cy, nx, ny, vn, support)
         };
         if support {
@@ -71,7 +74,8 @@ impl<E: Equations> World<E> {
             held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
         } else {
             let s = &mut self.w.s;
-            let mut ctx = ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j, unpaid: false };
+            let mut ctx =
+                ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j, unpaid: false };
             let (a_, b_) = two_mut(&mut s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
                 sleeper_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
@@ -100,7 +104,20 @@ impl<E: Equations> World<E> {
             self.w.prefetch_neighbours(bi);
             let w = &mut self.w;
             let (a_, b_) = two_mut(&mut w.s.bodies, ai, bi);
-            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px: cx, py: cy, nx, ny, impulse: imp, support: false });
+            self.contacts.push(Contact {
+                t,
+                a: a as usize,
+                b: b as usize,
+                feature,
+                i,
+                j,
+                px: cx,
+                py: cy,
+                nx,
+                ny,
+                impulse: imp,
+                support: false,
+            });
             // a sleeper still asleep (zero impulse: the bodies graze, the other
             // not pressed onto it) is unchanged; the other is predicted again
             // without it (so the graze is not found again at once): only a
@@ -141,7 +158,14 @@ impl<E: Equations> World<E> {
     /// A collision that ends in support (called by handle_collision):
     /// `contact` is (a, b, feature, i, j) of the collision record.  When
     /// the support leaves the body at rest, it falls asleep.
-    fn handle_support(&mut self, t: f64, contact: (u32, u32, i32, i32, i32), c: (f64, f64), n: (f64, f64), vn: f64) -> Res<()> {
+    fn handle_support(
+        &mut self,
+        t: f64,
+        contact: (u32, u32, i32, i32, i32),
+        c: (f64, f64),
+        n: (f64, f64),
+        vn: f64,
+    ) -> Res<()> {
         self.q.stats.supports += 1;
         let (a, b, feature, i, j) = contact;
         let (ai, bi) = (a as usize, b as usize);
@@ -156,7 +180,20 @@ impl<E: Equations> World<E> {
             }
             self.out.contact("support", t, a, b, feature, i, j, c, n, imp)?;
             let (px, py, nx, ny) = (c.0, c.1, n.0, n.1);
-            self.contacts.push(Contact { t, a: a as usize, b: b as usize, feature, i, j, px, py, nx, ny, impulse: imp, support: true });
+            self.contacts.push(Contact {
+                t,
+                a: a as usize,
+                b: b as usize,
+                feature,
+                i,
+                j,
+                px,
+                py,
+                nx,
+                ny,
+                impulse: imp,
+                support: true,
+            });
         }
         self.touch(t, (ai, bi, feature, i, j));
         if at_rest(&self.w.s.bodies[ai], &self.w.s.bodies[bi], self.w.s.rest_speed) {
