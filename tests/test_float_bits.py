@@ -8,7 +8,7 @@ import random
 import pytest
 
 from max2code.generate.pipeline import GenerateRequest, generate_file
-from max2code.harness.toc import build_harness
+from max2code.toolchain.harness import build_harness
 from max2code.targets import LANGUAGES
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -21,7 +21,7 @@ from max2code.generate.derive import derive
 from max2code.generate.mxm import parse_mxm
 from max2code.generate.pipeline import GenerateRequest, generate
 from max2code.targets import target
-from max2code.targets.c import FLAGS
+from max2code.toolchain.c import FLAGS
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

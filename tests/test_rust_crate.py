@@ -4,14 +4,14 @@ and built and tested in cargo's default debug profile (overflow checks and
 debug assertions on), where the rest of the suite builds it in release.
 
 The target folder is the one the runtime's own builds use (BUILD/rust,
-max2code/harness/runtimes.py, with its RUSTFLAGS=-Dwarnings), so that a
+max2code/toolchain/rust.py, with its RUSTFLAGS=-Dwarnings), so that a
 second run rebuilds nothing.  clippy and rustfmt come with rustup's default
 profile; scripts/setup adds them when they are missing."""
 from __future__ import annotations
 
 import subprocess
 
-from max2code.harness import runtimes
+from max2code.toolchain import rust as runtimes
 
 
 def cargo(*args: str, timeout: float = 1800) -> subprocess.CompletedProcess:
