@@ -1,4 +1,4 @@
-"""`max2code simulate` against the engine it runs (issue 12, item 3): wall
+"""`max2code simulate` against the engine it runs: wall
 time, CPU time and peak memory of the command and of the simulator's process
 alone, on bench/sim.py's gases of equal disks or on the example scenes.
 

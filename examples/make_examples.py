@@ -81,7 +81,7 @@ write("resting-ball.json", {"name": "a ball coming to rest on a floor", "end_tim
                                                              "position": [0.5, 0.6]}]})
 
 
-# ---- game scenes (issue 10): resting, sliding and friction --------------------
+# ---- game scenes: resting, sliding and friction --------------------
 def plank(name, cx, cy, hw, hh, angle=0.0, **kw):
     """A fixed box: a floor, a ledge, a wall or (turned) a ramp."""
     b = {"name": name, "shape": "polygon", "fixed": True, "position": [cx, cy], "angle": angle,
@@ -129,7 +129,7 @@ write("pinball.json", {
                {"name": "ball3", "shape": "circle", "radius": 0.03, "mass": 0.08, "restitution": 0.8,
                 "friction": 0.1, "position": [1.0, 1.25], "velocity": [-1.0, 2.0]}]})
 
-# a ball pit (issue 10): 42 balls (restitution 0.8, a little friction) rain
+# a ball pit: 42 balls (restitution 0.8, a little friction) rain
 # into a bin and settle as sleeping islands; one more ball rests asleep on a
 # shelf beside the bin until a scripted push at t = 5 s rolls it off: it
 # drops into the settled pile and wakes the islands it hits
@@ -150,7 +150,7 @@ write("ball-pit.json", {
                   "friction": 0.3, "position": [-0.45, 1.58]}],
     "inputs": [{"time": 5.0, "body": "dropper", "set_velocity": [1.2, 0.0]}]})
 
-# a moving platform (issue 10): a short level of two ledges with a gap; a
+# a moving platform: a short level of two ledges with a gap; a
 # platform (fixed, friction) goes back and forth across the gap at 0.5 m/s
 # (scripted set_velocity inputs reverse it at each end), carrying a box that
 # rests on it; a ball dropped into the gap lands on the platform, bounces,

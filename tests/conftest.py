@@ -82,7 +82,7 @@ def _null_is_device() -> bool:
 def null_device_kept():
     """/dev/null stays the device: a tool that renames or links a file over
     its output (as root) replaces it, and every later `> /dev/null` on the
-    machine then fills a file (it happened twice in session 11).  Fails the
+    machine then fills a file.  Fails the
     test during which it changed, so the culprit is named."""
     before = _null_is_device()
     yield

@@ -1,4 +1,4 @@
-"""Issue 11: every input gets a clear answer.  One test (or parameter) per
+"""Every input gets a clear answer.  One test (or parameter) per
 case the issue lists: a correct result, or one line
 `FILE[:LINE[:COL]]: error: ...` naming the input, exit status 1; never a
 traceback, an "internal error", a hang or a silently wrong answer."""

@@ -1,6 +1,6 @@
-"""The contact model of the reference simulator (issue 10,
+"""The contact model of the reference simulator (
 docs/simulator.md "Contact model"): resting contact, support, sliding,
-friction.  The issue's proofs (resting ball and box, the slope, friction,
+friction.  The proofs (resting ball and box, the slope, friction,
 the dropped ball, the sleeping island) run in every runtime, each checked
 on its own trace; the rest run the Python runtime, and the others are held
 to the same bytes by tests/test_crosscheck.py."""
@@ -296,7 +296,7 @@ def stuck_at_once(raw: dict) -> dict:
 @pytest.mark.parametrize("lang", runtimes("stuck"))
 @pytest.mark.parametrize("seed", [12345, 31689])
 def test_random_resting_boxes_whose_bottom_corners_meet_finish(seed, lang):
-    """Found by the port helpers of session 5 (stuck at one instant in every
+    """Found by porting to the other runtimes (stuck at one instant in every
     runtime): two boxes standing on the floor with their bottom corners
     touching at one point; each corner was accepted against the other box's
     bottom face (docs/simulator.md, "Corners").  They finish, with no
@@ -329,7 +329,7 @@ def test_boxes_meeting_slowly_on_a_floor_stay_on_it(lang):
 
 @pytest.mark.parametrize("lang", runtimes("stuck", "cells"))
 def test_a_box_woken_on_a_cell_boundary_leaves_its_cell(lang):
-    """Found by the seed hunt of session 6 (resting_scene(165) with boxes):
+    """Found by a seed hunt (resting_scene(165) with boxes):
     a box asleep at x = 0.6, in cell 2 by cell_of, while that cell's lower
     boundary X0 + 2 CW rounds to 0.6000000000000001; woken and sliding
     left, it got no cell event (the boundary was already behind it), stayed
@@ -459,7 +459,7 @@ def test_entering_carried_never_raises_kinetic_energy(lang, dv):
 
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
 def test_a_ball_resting_on_a_sliding_box_never_gains_energy(lang):
-    """Found by the seed hunt of session 6: 0.7 s of resting_scene(128) with
+    """Found by a seed hunt: 0.7 s of resting_scene(128) with
     boxes.  A body resting on a movable box that is supported and slides on
     the floor can be neither supported nor put to sleep, nor carried
     (nothing holds a frictionless body on a box that decelerates: that needs
@@ -475,7 +475,7 @@ def test_a_ball_resting_on_a_sliding_box_never_gains_energy(lang):
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
 @pytest.mark.parametrize("seed", [244, 47, 33])
 def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed, lang):
-    """Found by the seed hunt of session 7: 2 s of resting_scene(seed) with
+    """Found by a seed hunt: 2 s of resting_scene(seed) with
     boxes.  Boxes that slide side by side (244) or against a sleeper (47,
     33: a gentle touch, the sleeper held as if fixed) meet gently while
     nearly at rest relative to each other; their slow pressed contacts
@@ -489,7 +489,7 @@ def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed, lang):
 
 @pytest.mark.parametrize("lang", runtimes("wedged"))
 def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck(lang):
-    """Found by the seed hunt of session 7 (stuck at one instant in every
+    """Found by a seed hunt (stuck at one instant in every
     runtime): resting_scene(993908) with boxes; at t = 1.3776 s a ball (r0)
     on the floor is wedged between the left wall and a smaller sleeping ball
     (r1) whose contact normal points down-right: the wall's slow contact
@@ -504,7 +504,7 @@ def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck(lang):
 @pytest.mark.parametrize("lang", runtimes("wedged"))
 @pytest.mark.parametrize("seed", [15095, 788526])
 def test_random_box_scenes_found_stuck_finish(seed, lang):
-    """Found by the seed hunt of session 8 (400 random box scenes, 2 stuck at
+    """Found by a seed hunt (400 random box scenes, 2 stuck at
     one instant in every runtime).  15095: a box (r0) wedged between the left
     wall (both its left corners on it) and a sleeping ball (r1), a
     three-cycle of impulses at one instant (corner 0 on the wall, corner 3 on
@@ -558,7 +558,7 @@ def test_a_ball_dropped_into_a_v_comes_to_rest_and_sleeps_in_it(x0, lang):
 
 
 @pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known (the Rust porter's seed hunt of session 9, bench/hunt.py --count 1000 --seed 9 "
+                   reason="known (a seed hunt, bench/hunt.py --count 1000 --seed 9 "
                           "--start 9000, 1 of 1000 box scenes): resting_scene 108926 with boxes stuck at "
                           "t = 0.97680 s (before the cluster rule at t = 1.4409 s): a cluster of balls r7, r8, r9, "
                           "r11, box r10, the right wall and the floor is solved again and again at one instant, "
@@ -569,9 +569,9 @@ def test_random_box_scene_108926_finishes():
 
 
 @pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="known (seed hunt of session 8; the same on main before this session's steps): "
+                   reason="known (a seed hunt): "
                           "resting_scene 346758 with boxes gains 2.6e-8 relative at t = 1.853 s, overlap "
-                          "2.5e-10 within the tolerance.  Cause (session 9): the floor hop of a movable body "
+                          "2.5e-10 within the tolerance.  Cause: the floor hop of a movable body "
                           "on a FIXED one, which pay_floor cannot pay (docs/simulator.md 'Hop': the one case "
                           "that still adds energy): box r1 leans on its corner on the floor (0.0102 rad), "
                           "pinched between ball r0 and box r2 and chattering every 1e-4 s; at t = 1.819 s its "
@@ -586,7 +586,7 @@ def test_random_box_scene_346758_never_gains_energy():
 
 @pytest.mark.parametrize("lang", runtimes("pressed"))
 def test_a_ball_grazing_a_turning_box_is_not_stuck(lang):
-    """Found by the seed hunt of session 6 (stuck at one instant in every
+    """Found by a seed hunt (stuck at one instant in every
     runtime): a ball against the side face of a free box that turns.  The
     gap's polynomial closes by the turn (its second derivative has the
     centripetal terms) and predicted a contact now, while contact_impulse

@@ -3,8 +3,8 @@ and does, not how it came to be: no development history ("session 12",
 "issue 14", "the fifth attempt", commit hashes), and every relative link
 points at a file (and heading) that exists.
 
-`narration(text)` is the check itself, reusable for other kinds of files
-(code comments, build files): it returns the offending matches."""
+`narration(text)` is the check itself: it returns the offending matches.
+Code, comments and build files are held to the same words."""
 from __future__ import annotations
 
 import re
@@ -58,6 +58,40 @@ def narration(text: str, hashes_in_code: bool = False) -> list[tuple[int, str]]:
 def test_no_development_history(path):
     hits = narration(path.read_text(encoding="utf-8"))
     assert not hits, "\n".join(f"{path.relative_to(ROOT)}:{line}: {word!r}" for line, word in hits)
+
+
+# Code, comments and build files held to the same words (hashes are left out
+# there: hex constants and digests are common in code).
+SOURCE_SUFFIXES = {".py", ".c", ".h", ".rs", ".mod", ".def", ".j2", ".toml", ".lark", ".cfg", ".in", ".sh",
+                   ".mxm", ".mac"}
+
+
+def source_files() -> list[Path]:
+    """The project's code and build files (tracked by git when it is a checkout)."""
+    import subprocess
+    try:
+        listed = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+        paths = [ROOT / f for f in listed.split()]
+    except (OSError, subprocess.CalledProcessError):
+        paths = [p for p in ROOT.rglob("*") if p.is_file() and ".git" not in p.parts and "build" not in p.parts]
+    keep = []
+    for p in paths:
+        rel = p.relative_to(ROOT).as_posix()
+        if rel == "tests/test_docs.py" or not p.is_file():
+            continue
+        if p.suffix in SOURCE_SUFFIXES or p.name == "Makefile" or rel.startswith(("scripts/", ".ci/")):
+            keep.append(p)
+    return keep
+
+
+def test_no_development_history_in_code_and_build_files():
+    hits = []
+    for path in source_files():
+        text = path.read_text(encoding="utf-8", errors="replace")
+        for rx in HISTORY_WORDS:
+            hits += [f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, m.start()) + 1}: {m.group(0)!r}"
+                     for m in rx.finditer(text)]
+    assert not hits, "comments and build files say what the code is, not its history:\n" + "\n".join(hits)
 
 
 @pytest.mark.parametrize("text, expected", [

@@ -1,4 +1,4 @@
-"""Fuzzing the command line in this process (issue 11, item 4): random
+"""Fuzzing the command line in this process: random
 argument lists and random or mutated .mxm, scene, trace and case files
 (valid files with one mutation, random bytes, huge and tiny numbers, wrong
 encodings).  Every run must end with exit status 0 or 1 (never an internal

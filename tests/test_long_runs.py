@@ -1,4 +1,4 @@
-"""Long runs (issue 5's invariants): at every collision and every frame of
+"""Long runs (the simulator's invariants): at every collision and every frame of
 runs with more than 10,000 such events, no two bodies overlap beyond the
 scene's tolerance, and with restitution 1 the kinetic plus potential energy
 stays within 1e-9 relative; a second run writes the same trace.  The C

@@ -1,4 +1,4 @@
-"""Turning bodies cost few predictions and stay exact (issue 10, item 4):
+"""Turning bodies cost few predictions and stay exact:
 a spinning polygon against a body that does not turn is bounded by its
 bounding circle against that body itself, so windows open only near it."""
 from __future__ import annotations
@@ -128,7 +128,7 @@ def test_corner_meets_corner_in_a_spinning_scene(lang):
 
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
 def test_a_polygon_resting_on_a_sliding_polygon_never_gains_energy(lang):
-    """Found by the seed hunt of session 6: a spinning hexagon comes to rest
+    """Found by a seed hunt: a spinning hexagon comes to rest
     on a square that is supported and slides on the floor; the pair hops and
     the square meets the floor again at once.  The hops at the floor speed
     added 1.4e-9 relative; now paid from the pair's common motion
@@ -144,7 +144,7 @@ def test_a_polygon_resting_on_a_sliding_polygon_never_gains_energy(lang):
 
 @pytest.mark.parametrize("lang", runtimes("wedged"))
 def test_random_spinning_scene_64739_finishes(lang):
-    """Found by the seed hunt of session 8 (200 random spinning scenes, 1
+    """Found by a seed hunt (200 random spinning scenes, 1
     stuck at one instant in every runtime): polygon p6 wedged between the
     right wall and polygon p1, which sleeps on the floor; each hit woke p1,
     which was supported and fell asleep again at once, a cycle at one

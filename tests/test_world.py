@@ -1,4 +1,4 @@
-"""The live world API (docs/engine-api.md, issue 14): driven in small steps
+"""The live world API (docs/engine-api.md): driven in small steps
 it handles the same events as one advance to the end and writes the batch
 simulator's bytes; state(body, t) is the replayed exact motion.
 
