@@ -248,3 +248,19 @@ def test_a_teleport_beyond_the_safe_range_names_the_input():
     s["bodies"][0]["velocity"] = [0, 0]
     s["inputs"].append({"time": 0.6, "body": "a", "set_velocity": [1e151, 0]})
     assert refused(s).startswith("inputs[2].set_velocity: takes the speed of bodies[0] (a) to 1e+151 m/s")
+
+
+# ------------------------------------------------------------------ titles are text
+@pytest.mark.parametrize("name", ["$\\frac{1}{$", "$x_$ and $\\sqrt{$"])
+def test_render_draws_any_scene_name_as_text(tmp_path, capsys, name):
+    """matplotlib reads text between dollars as mathematics: a scene named
+    `$\\frac{1}{$` was an internal error of `render`; it is drawn as written."""
+    pytest.importorskip("PIL")
+    p = write(tmp_path, "s.json", {"name": name, "end_time": 0.5, "bodies": [
+        ball(velocity=[1.0, 0.0]), ball("b", position=[0.5, 0.0])]})
+    trace = tmp_path / "s.jsonl"
+    assert run(capsys, "simulate", "--lang", "python", p, "-o", trace, "-q")[0] == 0
+    out = tmp_path / "pics"
+    code, _, err = run(capsys, "render", p, trace, "-o", out, "--gif", "--gif-fps", "4", "--gif-width", "160")
+    assert code == 0, err
+    assert os.path.getsize(f"{out}-overview.png") > 1000 and os.path.getsize(f"{out}.gif") > 100
