@@ -264,3 +264,62 @@ def test_render_draws_any_scene_name_as_text(tmp_path, capsys, name):
     code, _, err = run(capsys, "render", p, trace, "-o", out, "--gif", "--gif-fps", "4", "--gif-width", "160")
     assert code == 0, err
     assert os.path.getsize(f"{out}-overview.png") > 1000 and os.path.getsize(f"{out}.gif") > 100
+
+
+# ------------------------------------------------------------------ signals during `simulate -o`
+def _children(pid: int) -> list[int]:
+    """The processes whose parent is pid (from /proc)."""
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat", encoding="ascii", errors="replace") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                out.append(int(entry))
+    return out
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="reads /proc for the child process")
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_during_simulate_removes_the_temporary_output_and_stops_the_simulator(tmp_path, signum):
+    """A run that would write gigabytes of frames, stopped by a signal once its
+    temporary output holds some: exit status 128 + the signal, one line on
+    standard error, no file left in the output's folder, the simulator gone."""
+    wall = {"shape": "polygon", "fixed": True}
+    p = write(tmp_path, "long.json", {"end_time": 1e5, "frame_rate": 1000, "max_events": 10 ** 9, "bodies": [
+        ball(velocity=[1.3, 0.7]), ball("b", position=[0.5, 0.5], velocity=[-0.4, 0.9]),
+        {**wall, "name": "floor", "position": [0, -2], "vertices": [[-3, -0.5], [3, -0.5], [3, 0.5], [-3, 0.5]]},
+        {**wall, "name": "top", "position": [0, 2], "vertices": [[-3, -0.5], [3, -0.5], [3, 0.5], [-3, 0.5]]},
+        {**wall, "name": "left", "position": [-2, 0], "vertices": [[-0.5, -1.5], [0.5, -1.5], [0.5, 1.5], [-0.5, 1.5]]},
+        {**wall, "name": "right", "position": [2, 0], "vertices": [[-0.5, -1.5], [0.5, -1.5], [0.5, 1.5], [-0.5, 1.5]]}]})
+    outdir = tmp_path / "out"
+    outdir.mkdir()
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python")]))
+    proc = subprocess.Popen([sys.executable, "-m", "max2code", "simulate", str(p), "-o", str(outdir / "trace.jsonl"),
+                             "-q"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 600       # a first build of the simulator may take minutes
+        children = []
+        while time.monotonic() < deadline:
+            temps = list(outdir.iterdir())
+            if temps and temps[0].stat().st_size > 1 << 20:
+                children = _children(proc.pid)
+                if children:
+                    break
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.05)
+        assert children and temps, "the run did not start writing"
+        proc.send_signal(signum)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 128 + signum, err
+    assert err == ("max2code: terminated\n" if signum == signal.SIGTERM else "max2code: interrupted\n")
+    assert list(outdir.iterdir()) == []
+    for pid in children:
+        assert not os.path.exists(f"/proc/{pid}"), f"the simulator {pid} still runs"
