@@ -323,3 +323,115 @@ def test_a_signal_during_simulate_removes_the_temporary_output_and_stops_the_sim
     assert list(outdir.iterdir()) == []
     for pid in children:
         assert not os.path.exists(f"/proc/{pid}"), f"the simulator {pid} still runs"
+
+
+# ------------------------------------------------------------------ the C world's binding
+TWO = {"end_time": 2.0, "bodies": [ball(velocity=[1.0, 0.0]), ball("b", position=[1.0, 0.0]),
+                                   {"name": "wall", "shape": "polygon", "fixed": True, "position": [3.0, 0.0],
+                                    "vertices": [[-0.1, -1], [0.1, -1], [0.1, 1], [-0.1, 1]]}]}
+
+
+@pytest.fixture(scope="module")
+def c_world():
+    """(library, flat text) of TWO: CWorld(library, text, out) makes a world."""
+    from max2code.sim.scene import compile_scene
+    from max2code.sim.simulate import world_library
+    scene = parse_scene(json.dumps(TWO))
+    return str(world_library(scene, "c")), compile_scene(scene)
+
+
+def open_fds() -> int:
+    return len(os.listdir("/proc/self/fd"))
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="counts the open descriptors in /proc")
+def test_worlds_dropped_without_close_free_their_trace_files(c_world):
+    """3,000 worlds with a trace, dropped without close() while the cyclic
+    collector is off: each is freed as its last reference goes (no cycle
+    keeps it), so the descriptors do not grow ("Too many open files" after
+    10^4 before)."""
+    import io
+    from max2code.sim.cworld import CWorld
+    lib, text = c_world
+    gc.collect()
+    before = open_fds()
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        for _ in range(3000):
+            w = CWorld(lib, text, io.StringIO())
+            w.advance(0.1)
+            del w
+        grown = open_fds() - before
+    finally:
+        if was:
+            gc.enable()
+    assert grown <= 2, f"{grown} descriptors more after 3,000 worlds"
+
+
+def test_a_dropped_world_passes_its_whole_trace_on_and_close_is_idempotent(c_world):
+    import io
+    from max2code.sim.cworld import CWorld
+    lib, text = c_world
+    closed, dropped = io.StringIO(), io.StringIO()
+    w = CWorld(lib, text, closed)
+    w.advance(1.0)
+    w.finish()
+    w.close()
+    w.close()
+    with pytest.raises(Exception, match="the world is closed"):
+        w.advance(1.5)
+    w = CWorld(lib, text, dropped)
+    w.advance(1.0)
+    w.finish()
+    del w
+    assert dropped.getvalue() == closed.getvalue() and "\nN " in closed.getvalue()
+
+
+def test_integer_arguments_outside_the_c_range_are_refused_not_wrapped(c_world):
+    """ctypes passes 2^32 on as the C int 0: state(2**32, t) gave body 0."""
+    from max2code.sim.cworld import CWorld
+    from max2code_rt.sim import SimError
+    lib, text = c_world
+    with CWorld(lib, text) as w:
+        assert w.state(0, 0.0)[:2] == (0.0, 0.0)
+        for body in (2 ** 32, 2 ** 31, -1, 3, -2 ** 32):
+            with pytest.raises(SimError, match=re.escape(f"no body {body} (the world has 3)")):
+                w.state(body, 0.0)
+            with pytest.raises(SimError, match=re.escape(f"no body {body} (the world has 3)")):
+                w.set_velocity(body, 1.0, 0.0)
+        for body in (1.0, "0", None):
+            with pytest.raises(SimError, match="a body is an index"):
+                w.add_velocity(body, 1.0, 0.0)
+        with pytest.raises(SimError, match="vx: expected a number"):
+            w.set_velocity(0, "fast", 0.0)
+        with pytest.raises(SimError, match="x: expected a number"):
+            w.teleport(0, 10 ** 400, 0.0)
+        with pytest.raises(SimError, match="add_body: the body's text: the flat text is ASCII"):
+            w.add_body("body 0 0 1.0\u00e9")
+        assert w.input_log() == [] and w.state(0, 0.0)[2:4] == (1.0, 0.0)
+
+
+@pytest.mark.parametrize("engine", ["c", "python"])
+def test_live_inputs_after_finish_or_with_a_velocity_that_is_not_finite_are_refused(engine):
+    from max2code.sim.live import open_world
+    from max2code_rt.sim import SimError
+    w = open_world(TWO, engine)
+    w.advance(0.1)
+    w.add_velocity(0, 1e308, 0.0)
+    before = (w.input_log(), w.state(0, w.time))
+    with pytest.raises(SimError, match=re.escape("add_velocity: body 0's velocity would be (inf, 0), not finite: "
+                                                 "the input is refused")):
+        w.add_velocity(0, 1e308, 0.0)
+    with pytest.raises(SimError, match=r"apply_impulse: body 0's velocity would be \(inf, 0\), not finite"):
+        w.apply_impulse(0, 1e308, 0.0)           # mass 1 kg
+    w.add_velocity(0, -1e308, 0.0)               # finite: made
+    assert (w.input_log()[:-1], w.state(0, w.time)) != before and w.input_log()[:-1] == before[0]
+    w.finish()
+    for call in (lambda: w.set_velocity(0, 1.0, 0.0), lambda: w.add_velocity(0, 1.0, 0.0),
+                 lambda: w.apply_impulse(0, 1.0, 0.0), lambda: w.teleport(0, 0.0, 5.0), lambda: w.remove_body(1),
+                 w.finish):
+        with pytest.raises(SimError, match="the world is finished: finish\\(\\) wrote the trace's final lines"):
+            call()
+    if engine == "c":
+        w.close()
