@@ -10,7 +10,9 @@ import argparse
 import math
 import os
 import importlib
+import signal
 import sys
+import threading
 
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.targets import LANGUAGES
@@ -167,8 +169,45 @@ def list_variants(args, effects) -> int:
     return 0
 
 
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGINT, raised wherever the program is, so that every
+    `finally` and `except BaseException` on the way out runs: a temporary
+    output is removed (textio.open_output) and a child process stopped
+    (simulate.stream_scene), which the default action of SIGTERM (the
+    process ends at once) skipped."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT)
+
+
+def _stop(signum: int, _frame) -> None:
+    for s in STOP_SIGNALS:          # the cleanup on the way out is not cut short by a second signal
+        signal.signal(s, signal.SIG_IGN)
+    raise Interrupted(signum)
+
+
+def _catch_signals() -> dict:
+    """Handle STOP_SIGNALS with _stop (only the main thread may); the handlers they had."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {s: signal.signal(s, _stop) for s in STOP_SIGNALS}
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    previous = _catch_signals()
+    try:
+        return _main(argv)
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+def _main(argv: list[str]) -> int:
     try:
         if argv and argv[0] in SUBCOMMANDS:
             mod_name, func_name = SUBCOMMANDS[argv[0]].split(":")
@@ -178,9 +217,10 @@ def main(argv: list[str] | None = None) -> int:
     except Max2CodeError as exc:
         print(str(exc), file=sys.stderr)
         return getattr(exc, "exit_status", 1)
-    except KeyboardInterrupt:
-        print("max2code: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:        # Ctrl-C, SIGINT or SIGTERM (Interrupted): 128 + the signal, as a shell says
+        signum = getattr(exc, "signum", signal.SIGINT)
+        print(f"max2code: {'terminated' if signum == signal.SIGTERM else 'interrupted'}", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:     # the reader of standard output is gone (`| head`): quiet, as a Unix tool
         return BROKEN_PIPE
     except Exception as exc:  # a bug: say so in one line, never a traceback

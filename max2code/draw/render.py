@@ -395,7 +395,7 @@ def overview(rp: Replay, png: str | None, svg: str | None, *, colour_by: str = "
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
         ax.set_title(f"{title if title is not None else sc.name}: 0 to {end:g} s, {len(collisions)} collisions "
-                     "(faint: start, solid: end)", fontsize=10)
+                     "(faint: start, solid: end)", fontsize=10, parse_math=False)     # a name is text, never TeX
         fig.tight_layout()
         if png:
             fig.savefig(png, dpi=150, bbox_inches="tight")
@@ -430,7 +430,7 @@ def frames(rp: Replay, *, gif: str | None, png_dir: str | None, fps: float, widt
     ax.set_aspect("equal")
     ax.set_axis_off()
     fig.text(0.01, 1.0 - 15.0 / (fh * dpi), title if title is not None else sc.name,
-                          va="center", fontsize=10)
+             va="center", fontsize=10, parse_math=False)         # a name is text, never TeX
     clock = fig.text(0.99, 1.0 - 15.0 / (fh * dpi), "", va="center", ha="right", fontsize=10, family="monospace")
     patches = []
     for k, b in enumerate(sc.bodies):

@@ -20,7 +20,11 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import functools
+import math
+import operator
 import os
+import weakref
 
 from max2code_rt.sim import Contact, SimError
 
@@ -102,97 +106,148 @@ def _c_library():
     return _libc
 
 
+class _Handles:
+    """What a CWorld owns in C: the world, its trace file, and what the trace
+    goes to.  The CWorld's finalizer frees them through this object (it
+    never refers to the CWorld), so a world dropped without close() frees
+    them when it is collected."""
+    __slots__ = ("lib", "w", "file", "out", "sent", "contacts", "error")
+
+    def __init__(self, lib, out):
+        self.lib, self.w, self.file, self.out, self.sent = lib, None, None, out, 0
+        self.contacts: list[Contact] = []
+        self.error: BaseException | None = None
+
+
+def _collect(h: _Handles, c, _user) -> None:
+    """The contact callback (bound to the handles, not the world: no cycle)."""
+    try:
+        k = c.contents
+        h.contacts.append(Contact(k.t, k.a, k.b, k.feature, k.i, k.j, k.px, k.py, k.nx, k.ny, k.impulse,
+                                  k.support != 0))
+    except BaseException as exc:       # never let an exception cross the C frames
+        h.error = exc
+
+
+def _pass_trace(h: _Handles) -> None:
+    """Hand the trace bytes written since the last call to out.write."""
+    if h.file is None:
+        return
+    libc = _c_library()
+    libc.fflush(h.file)
+    fd = libc.fileno(h.file)
+    while True:
+        chunk = os.pread(fd, 1 << 20, h.sent)
+        if not chunk:
+            break
+        h.sent += len(chunk)
+        h.out.write(chunk.decode("ascii"))
+
+
+def _release(h: _Handles) -> None:
+    """Free the world (its last trace bytes passed on), then close the trace
+    file; again, nothing happens."""
+    try:
+        if h.w is not None:
+            w, h.w = h.w, None
+            h.lib.m2c_world_free(w)      # writes out what the world still buffers
+            _pass_trace(h)
+    finally:
+        if h.file is not None:
+            f, h.file = h.file, None
+            _c_library().fclose(f)
+
+
+def _release_quietly(h: _Handles) -> None:
+    """_release for the finalizer: a sink that fails then has no one to tell."""
+    try:
+        _release(h)
+    except Exception:       # noqa: BLE001
+        pass
+
+
+INT_MIN, INT_MAX = -2 ** 31, 2 ** 31 - 1        # the C parameters' int
+
+
 class CWorld:
     """A live world in C.  `out`: None (no trace) or an object with write(str),
     as the reference's World takes: the C world writes its flat trace to a
     temporary file whose new bytes are passed on after every call that may
     write (advance, the inputs, finish) and at close() (the C world buffers
-    its trace: the last bytes come when it is freed)."""
+    its trace: the last bytes come when it is freed).  A world dropped
+    without close() is freed when it is collected (its trace passed on as
+    at close()); close() again does nothing."""
 
     def __init__(self, library: str, scene_text: str, out=None):
         self._lib = load_library(library)
-        self._w = None
+        self._h = h = _Handles(self._lib, out)
+        self._finalizer = weakref.finalize(self, _release_quietly, h)
         self._states_buf = None
-        self._out = out
-        self._file = None
-        self._sent = 0
+        self._scene_text = scene_text
+        self._inverse_mass: list[float] | None = None     # per body, read from the flat text when an impulse needs it
+        self._finished = False
         if out is not None:
-            libc = _c_library()
-            self._file = libc.tmpfile()
-            if not self._file:
+            h.file = _c_library().tmpfile()
+            if not h.file:
+                self._finalizer()
                 raise OSError("tmpfile() failed: no trace file for the C world")
-        w = self._lib.m2c_world_new(scene_text.encode("ascii"), self._file)
+        w = self._lib.m2c_world_new(_ascii(scene_text, "the scene"), h.file)
         if not w:
             msg = (self._lib.m2c_world_last_error() or b"").decode("utf-8", "replace")
-            self._close_trace()
+            self._finalizer()
             raise SimError(msg)
-        self._w = w
-        self._contacts: list[Contact] = []
-        self._error: BaseException | None = None
-        self._callback = _CONTACT_FN(self._collect)
+        h.w = w
+        self._callback = _CONTACT_FN(functools.partial(_collect, h))
 
     # ---- plumbing ----------------------------------------------------------------
-    def _collect(self, c, _user) -> None:
-        try:
-            k = c.contents
-            self._contacts.append(Contact(k.t, k.a, k.b, k.feature, k.i, k.j, k.px, k.py, k.nx, k.ny, k.impulse,
-                                          k.support != 0))
-        except BaseException as exc:       # never let an exception cross the C frames
-            self._error = exc
-
     def _handle(self):
-        if self._w is None:
+        if self._h.w is None:
             raise SimError("the world is closed")
-        return self._w
+        return self._h.w
 
     def _fail(self) -> SimError:
-        return SimError(self._lib.m2c_world_error(self._w).decode("utf-8", "replace"))
+        return SimError(self._lib.m2c_world_error(self._h.w).decode("utf-8", "replace"))
 
     def _pass_trace(self) -> None:
-        """Hand the trace bytes written since the last call to out.write."""
-        if self._file is None:
-            return
-        libc = _c_library()
-        libc.fflush(self._file)
-        fd = libc.fileno(self._file)
-        while True:
-            chunk = os.pread(fd, 1 << 20, self._sent)
-            if not chunk:
-                break
-            self._sent += len(chunk)
-            self._out.write(chunk.decode("ascii"))
+        _pass_trace(self._h)
 
     def _take(self) -> list[Contact]:
-        got, self._contacts = self._contacts, []
-        if self._error is not None:
-            err, self._error = self._error, None
+        h = self._h
+        got, h.contacts = h.contacts, []
+        if h.error is not None:
+            err, h.error = h.error, None
             raise err
         return got
 
-    def _close_trace(self) -> None:
-        if self._file is not None:
-            _c_library().fclose(self._file)
-            self._file = None
+    def _body(self, body) -> int:
+        """body as the C int of an index of the world, or SimError (ctypes
+        would pass 2^32 on as body 0)."""
+        try:
+            k = operator.index(body)
+        except TypeError:
+            raise SimError(f"a body is an index (an int), not {type(body).__name__} {body!r}") from None
+        n = self.body_count()
+        if not 0 <= k < n:
+            raise SimError(f"no body {k} (the world has {n})")
+        return k
+
+    def _live(self) -> None:
+        """SimError once finish() has run: the trace has its final lines."""
+        self._handle()
+        if self._finished:
+            raise SimError(FINISHED)
 
     def close(self) -> None:
-        """Free the C world (its trace passed on first); the object is then unusable."""
-        if self._w is not None:
-            self._lib.m2c_world_free(self._w)      # writes out what the world still buffers
-            self._w = None
-            self._pass_trace()
-        self._close_trace()
+        """Free the C world (its trace passed on first); the object is then
+        unusable.  Again: nothing happens."""
+        if self._finalizer.detach() is not None:
+            _release(self._h)
 
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
         self.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
 
     # ---- the live API (docs/engine-api.md) ------------------------------------------
     @property
@@ -210,10 +265,10 @@ class CWorld:
     def advance(self, t: float) -> list[Contact]:
         """Every event before t handled, the world's time moved to t; the contacts handled."""
         w = self._handle()
-        rc = self._lib.m2c_world_advance(w, t, self._callback, None)
+        rc = self._lib.m2c_world_advance(w, _real(t, "advance: t"), self._callback, None)
         self._pass_trace()
         if rc != 0:
-            self._contacts = []
+            self._h.contacts = []
             raise self._fail()
         return self._take()
 
@@ -225,7 +280,7 @@ class CWorld:
         """(px, py, vx, vy, angle, omega) of a body at t, from the world's time to the next event's."""
         w = self._handle()
         s = _State()
-        if self._lib.m2c_world_state(w, body, t, ctypes.byref(s)) != 0:
+        if self._lib.m2c_world_state(w, self._body(body), _real(t, "state: t"), ctypes.byref(s)) != 0:
             raise self._fail()
         return s.x, s.y, s.vx, s.vy, s.angle, s.omega
 
@@ -238,33 +293,43 @@ class CWorld:
         buf = self._states_buf
         if buf is None or len(buf) < 6 * n:
             buf = self._states_buf = (ctypes.c_double * (6 * max(n, 1)))()
-        if self._lib.m2c_world_states(w, t, buf, n) != 0:
+        if self._lib.m2c_world_states(w, _real(t, "states: t"), buf, n) != 0:
             raise self._fail()
         v = buf[:6 * n]
         return list(zip(v[0::6], v[1::6], v[2::6], v[3::6], v[4::6], v[5::6]))
 
     # ---- live inputs at the world's time (recorded in the world's input list) ----------
-    def _input(self, fn, *args) -> int:
-        rc = fn(self._handle(), *args)
+    def _input(self, fn, body, *args) -> int:
+        self._live()
+        k = self._body(body)
+        rc = fn(self._handle(), k, *args)
         self._pass_trace()
         if rc < 0:
             raise self._fail()
         return rc
 
     def set_velocity(self, body: int, vx: float, vy: float) -> None:
-        self._input(self._lib.m2c_world_set_velocity, body, vx, vy)
+        self._input(self._lib.m2c_world_set_velocity, body, _real(vx, "vx"), _real(vy, "vy"))
 
     def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
+        self._live()
+        dvx, dvy = _real(dvx, "dvx"), _real(dvy, "dvy")
+        self._finite_velocity(body, dvx, dvy, "add_velocity")
         self._input(self._lib.m2c_world_add_velocity, body, dvx, dvy)
 
     def apply_impulse(self, body: int, jx: float, jy: float) -> None:
         """An impulse (N s) through the centre: dv = J inv_mass."""
+        self._live()
+        jx, jy = _real(jx, "jx"), _real(jy, "jy")
+        if math.isfinite(jx) and math.isfinite(jy):         # else the C world names the input
+            inv_m = self._inverse_masses()[self._body(body)]
+            self._finite_velocity(body, jx * inv_m, jy * inv_m, "apply_impulse")
         self._input(self._lib.m2c_world_apply_impulse, body, jx, jy)
 
     def teleport(self, body: int, x: float, y: float) -> bool:
         """Move the body's centre to (x, y) now, keeping its velocity; False
         (the world unchanged, nothing recorded) when it would overlap another body there."""
-        return self._input(self._lib.m2c_world_teleport, body, x, y) == 1
+        return self._input(self._lib.m2c_world_teleport, body, _real(x, "x"), _real(y, "y")) == 1
 
     def remove_body(self, body: int) -> None:
         """Take a body (movable or fixed) out of the world now (input MODE 4)."""
@@ -273,11 +338,32 @@ class CWorld:
     def add_body(self, text: str) -> int:
         """A body from its flat lines (the state at the world's time) added now:
         its index, or -1 (the world unchanged) when it would overlap a body."""
-        k = self._lib.m2c_world_add_body(self._handle(), text.encode("ascii"))
+        self._live()
+        k = self._lib.m2c_world_add_body(self._handle(), _ascii(text, "add_body: the body's text"))
         self._pass_trace()
         if k == -2:
             raise self._fail()
+        if k >= 0 and self._inverse_mass is not None:
+            self._inverse_mass.append(_inverse_mass(text.split("\n", 1)[0]))
         return k
+
+    def _finite_velocity(self, body, dvx: float, dvy: float, what: str) -> None:
+        """SimError, before anything changes, when adding (dvx, dvy) to the
+        body's velocity now would not give a finite velocity (1e308 added
+        twice is inf; the world's position would become NaN)."""
+        if not (math.isfinite(dvx) and math.isfinite(dvy)):
+            return          # the C world refuses it, naming the input
+        k = self._body(body)
+        _, _, vx, vy, _, _ = self.state(k, self.time)
+        check_finite_velocity(what, k, vx + dvx, vy + dvy)
+
+    def _inverse_masses(self) -> list[float]:
+        """1/mass of every body (0 for fixed ones), from the flat scene's body
+        lines (read once, when an impulse first needs them)."""
+        if self._inverse_mass is None:
+            self._inverse_mass = [_inverse_mass(line) for line in self._scene_text.splitlines()
+                                  if line.startswith("body ")]
+        return self._inverse_mass
 
     @property
     def added(self) -> int:
@@ -297,11 +383,48 @@ class CWorld:
         return out
 
     def finish(self) -> list[Contact]:
-        """The events at the end time, then the trace's final lines; the last contacts."""
+        """The events at the end time, then the trace's final lines; the last
+        contacts.  No input may follow (SimError)."""
+        self._live()
         w = self._handle()
         rc = self._lib.m2c_world_finish(w, self._callback, None)
+        self._finished = True
         self._pass_trace()
         if rc != 0:
-            self._contacts = []
+            self._h.contacts = []
             raise self._fail()
         return self._take()
+
+
+FINISHED = "the world is finished: finish() wrote the trace's final lines, no input may follow"
+
+
+def check_finite_velocity(what: str, body: int, vx: float, vy: float) -> None:
+    """SimError when the velocity an input would give a body is not finite
+    (the live API checks this before the input changes anything, in both
+    engines: max2code/sim/live.py)."""
+    if not (math.isfinite(vx) and math.isfinite(vy)):
+        raise SimError(f"{what}: body {body}'s velocity would be ({_fmt(vx)}, {_fmt(vy)}), not finite: "
+                       "the input is refused")
+
+
+def _real(x, what: str) -> float:
+    """x as the C double, or SimError naming it (a string, an int beyond the doubles)."""
+    try:
+        return float(x)
+    except (TypeError, ValueError, OverflowError):
+        raise SimError(f"{what}: expected a number, got {x!r:.60}") from None
+
+
+def _ascii(text, what: str) -> bytes:
+    """text as the C string (ASCII, no NUL), or SimError naming it."""
+    if not isinstance(text, str):
+        raise SimError(f"{what}: expected a str, got {type(text).__name__}")
+    if not text.isascii() or "\0" in text:
+        raise SimError(f"{what}: the flat text is ASCII without NUL characters")
+    return text.encode("ascii")
+
+
+def _inverse_mass(line: str) -> float:
+    """1/mass from a flat `body` line (its third field: docs/simulator.md)."""
+    return float(line.split()[3])

@@ -8,15 +8,18 @@ effects (cached, as `max2code simulate` builds them) and returns a world:
 * engine="c": the compiled C world through ctypes (max2code/sim/cworld.py,
   libm2c_world.so of the scene's build), at C speed;
 * engine="python": the pure-Python reference, `max2code_rt.sim.World`
-  (`python_world`): the contact equations generated for the scene's
+  (`python_world`, with the input checks the C binding makes:
+  `checked_world`): the contact equations generated for the scene's
   effects, loaded as modules, and the world made from the compiled scene.
 
 Both take the same calls and give the same contacts, states and trace bytes
 (tests/test_live.py)."""
 from __future__ import annotations
 
+import functools
 import importlib.util
 import json
+import math
 import os
 
 from max2code.paths import RUNTIMES
@@ -54,10 +57,47 @@ def equations(scene: Scene):
 
 
 def python_world(scene: Scene, out=None):
-    """A max2code_rt.sim.World of the scene; `out` is the flat trace's sink
-    (anything with write(str)), None for no trace."""
+    """A max2code_rt.sim.World of the scene, with the checks of the C
+    binding (checked_world); `out` is the flat trace's sink (anything with
+    write(str)), None for no trace."""
     cc, pe = equations(scene)
-    return _runtime().World(compile_scene(scene), cc, pe, out)
+    return checked_world()(compile_scene(scene), cc, pe, out)
+
+
+@functools.cache
+def checked_world():
+    """max2code_rt.sim.World with the live API's checks that the C binding
+    (max2code/sim/cworld.py) makes before it calls the engine: no input after
+    finish(), and none whose velocity would not be finite (1e308 added twice);
+    the same errors in both engines."""
+    sim = _runtime()
+    from max2code.sim.cworld import FINISHED, check_finite_velocity
+
+    class CheckedWorld(sim.World):
+        finished = False
+
+        def live_input(self, body: int, mode: int, x: float, y: float) -> bool:
+            if self.finished:
+                raise sim.SimError(FINISHED)
+            if mode in (sim.ADD_VELOCITY, sim.IMPULSE) and math.isfinite(x) and math.isfinite(y):
+                scale = 1.0 if mode == sim.ADD_VELOCITY else self.body(body).inv_m
+                _, _, vx, vy, _, _ = self.state(body, self.time)
+                check_finite_velocity("add_velocity" if mode == sim.ADD_VELOCITY else "apply_impulse", body,
+                                      vx + x * scale, vy + y * scale)
+            return super().live_input(body, mode, x, y)
+
+        def add_body(self, text: str) -> int:
+            if self.finished:
+                raise sim.SimError(FINISHED)
+            return super().add_body(text)
+
+        def finish(self):
+            if self.finished:
+                raise sim.SimError(FINISHED)
+            self.finished = True
+            return super().finish()
+
+    return CheckedWorld
 
 
 def flat_body(scene: Scene, raw: dict, path: str = "<body>") -> str:

@@ -14,7 +14,8 @@ import gc
 import json
 import math
 import operator
-from itertools import compress, repeat
+import os
+from itertools import accumulate, compress, repeat
 
 from max2code.errors import Max2CodeError
 from max2code.record import FrozenRecord, Record
@@ -28,6 +29,21 @@ DEFAULT_MAX_FRAME_RATE = 1000.0      # frames per simulated second
 # LENGTH_MIN keep their squares from underflowing to zero.
 LENGTH_MAX = 1e150
 LENGTH_MIN = 1e-150
+# How big a scene may be (docs/simulator.md, "Limits"), checked before its lists are built.
+MAX_BODIES = 1_000_000
+MAX_VERTICES = 1024             # per polygon
+MAX_INPUTS = 10_000_000
+MAX_NESTING = 256               # brackets inside brackets in the JSON text (a scene needs 5; the C reader,
+                                # scene_c.py, takes at most 201, so it needs no check of its own)
+COUNT_LIMIT = 10 ** 18          # max_events and max_events_at_one_time stay below: the flat scene's integers
+                                # have at most 18 digits
+# The C engine's memory for a scene, measured as its peak resident size
+# (gases of 5*10^4 to 2*10^5 disks, 200 and 400 polygons of 1024 vertices,
+# 2*10^5 and 4*10^5 inputs), rounded up: the estimate is refused past
+# MAX2CODE_MAX_MEMORY bytes (default DEFAULT_MAX_MEMORY).
+BYTES_PER_BODY, BYTES_PER_VERTEX, BYTES_PER_INPUT, BYTES_BASE = 450, 320, 140, 16_000_000
+DEFAULT_MAX_MEMORY = 1_000_000_000
+MEMORY_ENV = "MAX2CODE_MAX_MEMORY"
 SCENE_KEYS = {"name": "a title", "end_time": "seconds simulated", "frame_rate": "frames per second (0: none)",
               "gravity": "[x, y] acceleration of every movable body (m/s^2)",
               "tolerance": "distance tolerance (m)", "rest_speed": "smallest separation speed of a contact (m/s)",
@@ -212,6 +228,8 @@ def _polygon(rd: _Reader, raw, where: str):
     the second moment of area about the centroid."""
     if not isinstance(raw, list) or len(raw) < 3:
         rd.fail(f"{where}.vertices", "a polygon needs a list of at least 3 [x, y] vertices")
+    if len(raw) > MAX_VERTICES:
+        rd.fail(f"{where}.vertices", f"{len(raw):,} vertices is more than {MAX_VERTICES:,}, the most a polygon may have")
     pts = []
     for i, p in enumerate(raw):
         pts.append(rd.vec({"vertices[%d]" % i: p}, "vertices[%d]" % i, where, None))
@@ -228,6 +246,13 @@ def _polygon(rd: _Reader, raw, where: str):
         cross = (x1 - x0) * (y2 - y1) - (y1 - y0) * (x2 - x1)
         if cross <= 1e-12 * scale * scale:
             rd.fail(f"{where}.vertices", f"the polygon is not strictly convex at vertex {i} ({x1}, {y1})")
+    # Left turns alone allow a star that winds round more than once (a pentagram: twice); a convex polygon's
+    # edges go up once and down once, so the signs of their y components change exactly twice round it.
+    rising = [y1 > y0 for (_, y0), (_, y1) in zip(pts, pts[1:] + pts[:1]) if y1 != y0]
+    turns = sum(map(operator.ne, rising, rising[-1:] + rising[:-1])) // 2
+    if turns != 1:
+        rd.fail(f"{where}.vertices", f"the polygon is not convex: its edges wind {turns} times around it "
+                                     "(it crosses itself)")
     cx = cy = 0.0
     for i in range(n):
         (x0, y0), (x1, y1) = pts[i], pts[(i + 1) % n]
@@ -408,6 +433,42 @@ def _circle(b, k: int, gravity: tuple[float, float], names: dict[str, int]) -> B
                 radius=radius, friction=friction)
 
 
+_BRACKETS = bytes(sorted(set(range(256)) - set(b'"[]{}')))     # translate's delete: all but quotes and brackets
+_PARENS = bytes.maketrans(b"[{]}", b"(())")
+_STEP = [0] * 256
+_STEP[40], _STEP[41] = 1, -1        # '(' and ')'
+
+
+def nesting(data: bytes, limit: int = MAX_NESTING) -> int:
+    """How deep the brackets of a JSON text nest outside its strings, exactly
+    up to limit + 1 (a deeper text gives limit + 1), made without parsing:
+    the decoders recurse once per level (orjson crashed at 10^6), so the
+    reader refuses a deep text before it decodes it.  Escapes go first
+    (an escaped backslash, then an escaped quote), then everything but
+    quotes and brackets; two quotes side by side close one string and open
+    the next, or make an empty one: either way nothing between them was
+    outside a string, so they go too, and only a text with brackets inside
+    its strings is split at its quotes.  Then every innermost pair of
+    brackets goes, one level a pass; a text whose brackets do not pair up
+    (not JSON: the decoder says where) is measured by its running count."""
+    if b"\\" in data:
+        data = data.replace(b"\\\\", b"").replace(b'\\"', b"")
+    s = data.translate(None, _BRACKETS).replace(b'""', b"")
+    if b'"' in s:
+        s = b"".join(s.split(b'"')[::2])
+    s = s.translate(_PARENS)
+    depth = 0
+    while s and depth <= limit:
+        if b"(" * (limit + 1 - depth) in s:
+            return limit + 1
+        shorter = s.replace(b"()", b"")
+        if len(shorter) == len(s):
+            return depth + max(0, max(accumulate(map(_STEP.__getitem__, s))))
+        s = shorter
+        depth += 1
+    return depth
+
+
 FAST_JSON_BYTES = 1 << 20          # scenes at least this long are decoded by orjson, when it is installed
 _DIGITS = bytes.maketrans(b"123456789", b"000000000")
 _LONG = b"0" * 19       # orjson keeps ints from -2^63 to 2^64 - 1: 19 digits and more may be beyond
@@ -495,6 +556,9 @@ def _check_scene(scene: Scene) -> None:
 
 def _parse_scene(text: str, path: str) -> Scene:
     rd = _Reader(path)
+    if nesting(text.encode("utf-8", "surrogatepass")) > MAX_NESTING:
+        raise SceneError(f"{path}: error: nested too deeply (more than {MAX_NESTING} levels of brackets; "
+                         "a scene needs 5)")
     try:
         raw = _decode(text)
     except json.JSONDecodeError as exc:
@@ -513,11 +577,11 @@ def _parse_scene(text: str, path: str) -> Scene:
     if order != int(order) or not 1 <= order <= 7:
         rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree 16 at most), got {order}")
     max_same = rd.number(raw, "max_events_at_one_time", "", 100000, positive=True)
-    if max_same != int(max_same) or max_same >= 2.0 ** 63:
-        rd.fail("max_events_at_one_time", f"must be a whole number below 2^63, got {max_same:g}")
+    if max_same != int(max_same) or max_same >= COUNT_LIMIT:
+        rd.fail("max_events_at_one_time", f"must be a whole number below 10^18, got {max_same:g}")
     max_events = rd.number(raw, "max_events", "", DEFAULT_MAX_EVENTS, positive=True)
-    if max_events != int(max_events) or max_events >= 2.0 ** 63:
-        rd.fail("max_events", f"must be a whole number below 2^63, got {max_events:g}")
+    if max_events != int(max_events) or max_events >= COUNT_LIMIT:
+        rd.fail("max_events", f"must be a whole number below 10^18, got {max_events:g}")
     max_fps = rd.number(raw, "max_frame_rate", "", DEFAULT_MAX_FRAME_RATE, positive=True)
     if fps > max_fps:
         rd.fail("frame_rate", f"{fps:g} frames per simulated second is above max_frame_rate ({max_fps:g}); "
@@ -531,6 +595,10 @@ def _parse_scene(text: str, path: str) -> Scene:
         rd.fail("tolerance", f"{tol:g} m is outside {LENGTH_MIN:g}..{LENGTH_MAX:g} m (its square under- or overflows)")
     if not isinstance(raw["bodies"], list) or not raw["bodies"]:
         rd.fail("bodies", "expected a non-empty list of bodies")
+    raw_inputs = raw.get("inputs", [])
+    if not isinstance(raw_inputs, list):
+        rd.fail("inputs", "expected a list")
+    _check_size(rd, raw["bodies"], raw_inputs)
 
     bodies: list[Body] = []
     names: dict[str, int] = {}
@@ -542,9 +610,6 @@ def _parse_scene(text: str, path: str) -> Scene:
 
     inputs: list[Input] = []
     removed: dict[int, int] = {}        # body -> the input that removes it
-    raw_inputs = raw.get("inputs", [])
-    if not isinstance(raw_inputs, list):
-        rd.fail("inputs", "expected a list")
     for k, e in enumerate(raw_inputs):
         where = f"inputs[{k}]"
         rd.keys(e, INPUT_KEYS, where, required=("time", "body"))
@@ -581,12 +646,64 @@ def _parse_scene(text: str, path: str) -> Scene:
     return scene
 
 
+def max_memory() -> int:
+    """Bytes of engine memory a scene may need (estimate_memory): MEMORY_ENV
+    when set, else DEFAULT_MAX_MEMORY."""
+    text = os.environ.get(MEMORY_ENV, "").strip()
+    if not text:
+        return DEFAULT_MAX_MEMORY
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not (v > 0.0 and math.isfinite(v)):
+        raise SceneError(f"{MEMORY_ENV}: error: expected a positive number of bytes (such as 4e9), got {text!r}")
+    return int(v)
+
+
+def estimate_memory(bodies: int, vertices: int, inputs: int) -> int:
+    """Bytes the C engine needs for a scene of this size (its measured peak,
+    rounded up: BYTES_PER_BODY and the others)."""
+    return BYTES_BASE + BYTES_PER_BODY * bodies + BYTES_PER_VERTEX * vertices + BYTES_PER_INPUT * inputs
+
+
+def check_memory(path: str, bodies: int, vertices: int, inputs: int) -> None:
+    """SceneError when the scene's estimate is above max_memory()."""
+    need, limit = estimate_memory(bodies, vertices, inputs), max_memory()
+    if need > limit:
+        raise SceneError(
+            f"{path}: error: scene: needs about {need / 1e6:,.0f} MB in the engine ({bodies:,} bodies x "
+            f"{BYTES_PER_BODY} B + {vertices:,} vertices x {BYTES_PER_VERTEX} B + {inputs:,} inputs x "
+            f"{BYTES_PER_INPUT} B + {BYTES_BASE / 1e6:g} MB), more than the limit of {limit / 1e6:,.0f} MB; "
+            f"set {MEMORY_ENV}=BYTES to raise it")
+
+
+def _check_size(rd: _Reader, raw_bodies: list, raw_inputs: list) -> None:
+    """The counts of docs/simulator.md's "Limits" and the memory estimate,
+    before any body or input is read."""
+    if len(raw_bodies) > MAX_BODIES:
+        rd.fail("bodies", f"{len(raw_bodies):,} bodies is more than {MAX_BODIES:,}, the most a scene may have")
+    if len(raw_inputs) > MAX_INPUTS:
+        rd.fail("inputs", f"{len(raw_inputs):,} inputs is more than {MAX_INPUTS:,}, the most a scene may have")
+    vertices = 0
+    for k, b in enumerate(raw_bodies):
+        if type(b) is dict:
+            v = b.get("vertices")
+            if type(v) is list:
+                if len(v) > MAX_VERTICES:
+                    rd.fail(f"bodies[{k}].vertices", f"{len(v):,} vertices is more than {MAX_VERTICES:,}, "
+                                                     "the most a polygon may have")
+                vertices += len(v)
+    check_memory(rd.path, len(raw_bodies), vertices, len(raw_inputs))
+
+
 def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
     """Refuse what a double cannot carry through the contact polynomials:
     a body that reaches farther than LENGTH_MAX from the origin by the end
     time (position + |velocity| T + |acceleration| T^2/2 + its size, inputs
-    included), a size below LENGTH_MIN, a mass or moment of inertia whose
-    inverse overflows.  Everything else is simulated."""
+    included), a size below the tolerance (a radius, an orbit's radius, a
+    polygon's edge) or LENGTH_MIN, a mass or moment of inertia whose inverse
+    overflows.  Everything else is simulated."""
     T = scene.end_time
     kick = [0.0] * len(scene.bodies)
     jump = [0.0] * len(scene.bodies)
@@ -602,23 +719,28 @@ def _check_magnitudes(scene: Scene, rd: _Reader) -> None:
             kick[e.body] += math.hypot(*e.velocity) / scene.bodies[e.body].mass
     lim_v, lim_a = LENGTH_MAX / T, LENGTH_MAX / T / T
     hypot = math.hypot
+    tol = scene.tolerance
     for k, b in enumerate(scene.bodies):
         if not b.polygon:       # the common case, the same tests without the messages
             r, o = b.radius, b.orbit_radius
             speed = hypot(*b.velocity) + kick[k]
             accel = hypot(*b.acceleration)
             far = max(hypot(*b.position), jump[k])
-            if (not r > LENGTH_MAX and not 0.0 < r < LENGTH_MIN and not o > LENGTH_MAX and not 0.0 < o < LENGTH_MIN
+            if (not r > LENGTH_MAX and not r < tol and not o > LENGTH_MAX and not 0.0 < o < tol
                     and not far > LENGTH_MAX and not speed > lim_v and not accel > lim_a
                     and not abs(b.angular_velocity) > lim_v
                     and far + speed * T + accel * T * T / 2.0 + b.bound <= LENGTH_MAX
                     and (b.fixed or math.isfinite(1.0 / b.mass))):
                 continue
-        _check_body_magnitudes(rd, T, k, b, kick[k], jump[k])
+        _check_body_magnitudes(rd, T, k, b, kick[k], jump[k], tol, scene.inputs)
 
 
-def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, jump: float) -> None:
-    """_check_magnitudes for one body, reporting its first fault."""
+def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, jump: float, tol: float = 0.0,
+                           inputs: list[Input] = ()) -> None:
+    """_check_magnitudes for one body, reporting its first fault: its own
+    field, or the input (of `inputs`, the scene's) that takes it past a
+    limit.  Sizes are refused below the tolerance `tol` (0: not checked):
+    a contact is found only to within it."""
     where = f"bodies[{k}] ({b.name})"
     sizes = [("radius", b.radius)] if not b.polygon else [("vertices", math.hypot(x, y)) for x, y in b.vertices]
     if b.orbit_radius:
@@ -628,15 +750,36 @@ def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, 
             rd.fail(f"{where}.{field_name}", f"{v:g} m is more than {LENGTH_MAX:g} m (its square overflows)")
         if 0.0 < v < LENGTH_MIN:
             rd.fail(f"{where}.{field_name}", f"{v:g} m is less than {LENGTH_MIN:g} m (its square underflows to 0)")
-    speed = math.hypot(*b.velocity) + kick
+        if field_name != "vertices" and v < tol:
+            rd.fail(f"{where}.{field_name}", f"{v:g} m is less than the tolerance ({tol:g} m), within which "
+                                             "contacts are found; scale the scene or lower the tolerance")
+    n = len(b.vertices)
+    for i in range(n):
+        (x0, y0), (x1, y1) = b.vertices[i], b.vertices[(i + 1) % n]
+        edge = math.hypot(x1 - x0, y1 - y0)
+        if edge < tol:
+            rd.fail(f"{where}.vertices", f"the edge from vertex {i} is {edge:g} m long, less than the tolerance "
+                                         f"({tol:g} m), within which contacts are found; scale the scene or lower "
+                                         "the tolerance")
+    own_speed, own_far = math.hypot(*b.velocity), math.hypot(*b.position)
+    speed = own_speed + kick
     accel = math.hypot(*b.acceleration)
-    far = max(math.hypot(*b.position), jump)       # teleports included
-    for field_name, v, limit in (("position", far, LENGTH_MAX),
-                                 ("velocity", speed, LENGTH_MAX / T), ("acceleration", accel, LENGTH_MAX / T / T),
+    far = max(own_far, jump)       # teleports included
+    too_far = f"is too large for end_time ({T:g} s): the motion would pass {LENGTH_MAX:g}, where squares overflow; " \
+              "scale the scene"
+    for field_name, v, limit in (("position", own_far, LENGTH_MAX), ("velocity", own_speed, LENGTH_MAX / T),
+                                 ("acceleration", accel, LENGTH_MAX / T / T),
                                  ("angular_velocity", abs(b.angular_velocity), LENGTH_MAX / T)):
         if v > limit:
-            rd.fail(f"{where}.{field_name}", f"{v:g} is too large for end_time ({T:g} s): the motion would pass "
-                                             f"{LENGTH_MAX:g}, where squares overflow; scale the scene")
+            rd.fail(f"{where}.{field_name}", f"{v:g} {too_far}")
+    if jump > LENGTH_MAX:
+        j = _teleport_to(inputs, k, jump)
+        rd.fail(f"inputs[{j}].teleport", f"{jump:g} m from the origin is more than {LENGTH_MAX:g} m, where squares "
+                                         "overflow; scale the scene")
+    if speed > LENGTH_MAX / T:
+        j = _kicked_past(inputs, k, b, lambda kicks: own_speed + kicks > LENGTH_MAX / T)
+        rd.fail(f"inputs[{j}].{INPUT_KINDS[inputs[j].mode]}", f"takes the speed of {where} to {speed:g} m/s, which "
+                                                              f"{too_far}")
     if b.polygon:
         pts = world_vertices(b)
         n = len(pts)
@@ -644,19 +787,57 @@ def _check_body_magnitudes(rd: _Reader, T: float, k: int, b: Body, kick: float, 
         twice_area = sum((pts[i][0] - x0) * (pts[i + 1][1] - y0) - (pts[i + 1][0] - x0) * (pts[i][1] - y0)
                          for i in range(1, n - 1))
         if any(pts[i] == pts[(i + 1) % n] for i in range(n)) or not twice_area > 0.0:
-            rd.fail(f"{where}.position", f"at {far:g} m from the origin the polygon's vertices round together in "
+            rd.fail(f"{where}.position", f"at {own_far:g} m from the origin the polygon's vertices round together in "
                                          "doubles (an edge vanishes or the polygon turns inside out); move the "
                                          "scene nearer the origin or scale it")
-    reach = far + speed * T + accel * T * T / 2.0 + b.bound
+    rest = accel * T * T / 2.0 + b.bound
+    reach = far + speed * T + rest
     if not reach <= LENGTH_MAX:
-        rd.fail(where, f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m "
-                       "where squares overflow; scale the scene")
+        fault = f"reaches {reach:g} m from the origin within end_time ({T:g} s), beyond {LENGTH_MAX:g} m where " \
+                "squares overflow; scale the scene"
+        if own_far + own_speed * T + rest <= LENGTH_MAX:      # an input takes it there
+            if far + own_speed * T + rest > LENGTH_MAX:
+                j = _teleport_to(inputs, k, jump)
+            else:
+                j = _kicked_past(inputs, k, b, lambda kicks: far + (own_speed + kicks) * T + rest > LENGTH_MAX)
+            rd.fail(f"inputs[{j}].{INPUT_KINDS[inputs[j].mode]}", f"with it {where} {fault}")
+        rd.fail(where, fault)
     if not b.fixed:
         if not math.isfinite(1.0 / b.mass):
             rd.fail(f"{where}.mass", f"{b.mass:g} kg is too small: 1/mass overflows")
         if b.polygon and not (b.inertia > 0.0 and math.isfinite(1.0 / b.inertia)):
             rd.fail(f"{where}.mass", f"the moment of inertia ({b.inertia:g}) of this mass and shape cannot be "
                                      "inverted in doubles; scale the scene")
+
+
+def _teleport_to(inputs: list[Input], k: int, jump: float) -> int:
+    """The index of body k's teleport farthest from the origin (`jump` m)."""
+    return next(j for j, e in enumerate(inputs) if e.body == k and e.mode == TELEPORT
+                and math.hypot(*e.velocity) == jump)
+
+
+def _kicked_past(inputs: list[Input], k: int, b: Body, past) -> int:
+    """The index of body k's first input after which past(kicks) holds:
+    kicks is the speed its inputs may add so far, as _check_magnitudes adds
+    it (the largest set velocity plus every added velocity and impulse;
+    the last such input when none does, the sums having rounded apart)."""
+    most = added = 0.0
+    last = -1
+    for j, e in enumerate(inputs):
+        if e.body != k:
+            continue
+        if e.mode == SET_VELOCITY:
+            most = max(most, math.hypot(*e.velocity))
+        elif e.mode == ADD_VELOCITY:
+            added += math.hypot(*e.velocity)
+        elif e.mode == IMPULSE:
+            added += math.hypot(*e.velocity) / b.mass
+        else:
+            continue
+        last = j
+        if past(most + added):
+            return j
+    return last         # the sum rounded otherwise than _check_magnitudes's: the last input that adds
 
 
 # ---------------------------------------------------------------- geometry

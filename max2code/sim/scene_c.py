@@ -21,8 +21,8 @@ import json
 from max2code.paths import RUNTIMES
 from max2code.record import Record
 from max2code.sim.ctool import CTool
-from max2code.sim.scene import (Scene, SceneError, _body, _box, _check_body_magnitudes, _Reader, body_lines,
-                                covered_edges)
+from max2code.sim.scene import (COUNT_LIMIT, MAX_BODIES, Scene, SceneError, _body, _box, _check_body_magnitudes,
+                                _Reader, body_lines, check_memory, covered_edges)
 
 SOURCE = RUNTIMES / "c" / "tools" / "m2c_scene_flat.c"
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", "-shared", "-fPIC"]
@@ -140,6 +140,8 @@ def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
     facts = (ctypes.c_double * FACTS)()
     lib.sf_facts(h, facts)
     end, fps, gx, gy, tol, rest, order, max_same, max_events, n, accelerates = facts
+    if n > MAX_BODIES or max_same >= COUNT_LIMIT or max_events >= COUNT_LIMIT:
+        return None                     # Python names the fault
     rd = _Reader(path)
     index, start, stop = ctypes.c_long(), ctypes.c_long(), ctypes.c_long()
     at: list[int] = []
@@ -151,9 +153,10 @@ def _read(lib, h, path: str, data: bytes) -> FlatScene | None:
             b = _body(rd, json.loads(data[start.value:stop.value]), k, (gx, gy), {})
             if not b.fixed or b.angular_velocity != 0.0:
                 return None             # a polygon that turns or may: the window angles are Python's
-            _check_body_magnitudes(rd, end, k, b, 0.0, 0.0)
+            _check_body_magnitudes(rd, end, k, b, 0.0, 0.0, tol)
             at.append(k)
             polygons.append(b)
+        check_memory(path, int(n), sum(len(b.vertices) for b in polygons), 0)
     except SceneError:
         return None                     # Python reads the whole scene and reports its first fault
     given = (ctypes.c_double * (7 * len(polygons) + 1))()

@@ -911,7 +911,7 @@ def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float
     proc = start_simulator(build, text=True)
     try:
         out, errs = proc.communicate(flat, timeout=timeout)
-    except subprocess.TimeoutExpired:
+    except BaseException:           # timed out, or interrupted (cli.Interrupted): the simulator stops too
         proc.kill()
         proc.communicate()
         raise

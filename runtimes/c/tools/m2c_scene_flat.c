@@ -17,10 +17,10 @@
      interpreter's own PyOS_string_to_double for the rest);
    - bodies: circles whose keys are the circle's (no orbit, no vertices),
      each at most once, with a name of printable ASCII without escapes (its
-     JSON is then the name in quotes), every field in range; polygons are
-     left for Python to read (sf_polygon gives each one's text), and must be
-     fixed and not turning (scene_c.py checks), so that no body turns and
-     the window angles are 0.5 and 0;
+     JSON is then the name in quotes), every field in range (a radius at least
+     the tolerance); polygons are left for Python to read (sf_polygon gives
+     each one's text), and must be fixed and not turning (scene_c.py
+     checks), so that no body turns and the window angles are 0.5 and 0;
    - checks: names unique; a circle's magnitudes (hypot here is libm's, not
      Python's math.hypot, so each bound must hold with a relative margin of
      1e-6); overlaps at t = 0 of a movable circle with any circle (grid of
@@ -630,7 +630,8 @@ static int body(sf_scene *s, long k)
         return NOT_MINE;
     if (fixed ? (seen & K_MASS) != 0 : !((seen & K_MASS) && mass > 0.0))
         return NOT_MINE;
-    if (!(restitution >= 0.0 && restitution <= 1.0) || !(friction >= 0.0) || !(radius > 0.0) || omega != 0.0)
+    if (!(restitution >= 0.0 && restitution <= 1.0) || !(friction >= 0.0) || !(radius >= s->tolerance)
+        || omega != 0.0)
         return NOT_MINE;
     if (!fixed) {
         ax = ax + s->gx;
