@@ -74,6 +74,10 @@ _libs: dict[str, ctypes.CDLL] = {}
 _libc = None
 
 
+# the range of the C API's int parameters (body indices)
+_INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1
+
+
 def _fmt(x: float) -> str:
     return "%.17g" % x
 
@@ -225,6 +229,8 @@ class CWorld:
         """(px, py, vx, vy, angle, omega) of a body at t, from the world's time to the next event's."""
         w = self._handle()
         s = _State()
+        if not _INT_MIN <= body <= _INT_MAX:        # ctypes would cut it to 32 bits: checked here
+            raise SimError(f"no body {body} (the world has {self.body_count()})")
         if self._lib.m2c_world_state(w, body, t, ctypes.byref(s)) != 0:
             raise self._fail()
         return s.x, s.y, s.vx, s.vy, s.angle, s.omega
@@ -244,8 +250,11 @@ class CWorld:
         return list(zip(v[0::6], v[1::6], v[2::6], v[3::6], v[4::6], v[5::6]))
 
     # ---- live inputs at the world's time (recorded in the world's input list) ----------
-    def _input(self, fn, *args) -> int:
-        rc = fn(self._handle(), *args)
+    def _input(self, fn, body: int, *args) -> int:
+        w = self._handle()
+        if not _INT_MIN <= body <= _INT_MAX:        # ctypes would cut it to 32 bits: checked here
+            raise SimError(f"live input: body {body} does not exist")
+        rc = fn(w, body, *args)
         self._pass_trace()
         if rc < 0:
             raise self._fail()
