@@ -359,3 +359,73 @@ def test_random_c_sessions_replay_from_their_recordings(tmp_path):
             assert run_scene(load_scene(rec), lang).raw == trace.read_text(), (seed, lang)
         done += 1
     assert done == 4
+
+
+def test_add_body_text_and_live_inputs_are_checked_in_c():
+    """add_body's text gets the scene's body checks (WHAT add_body, the new
+    body's index, covers among the world's bodies); a live input whose
+    velocity or position would not be finite, a teleport beyond 1e150 m, a
+    body index that does not exist (also one beyond 32 bits) and anything
+    after finish are refused, each leaving the world unchanged."""
+    import json
+    from max2code.sim.cworld import CWorld
+    from max2code.sim.live import flat_body
+    from max2code_rt.sim import SimError
+    from max2code.sim.scene import parse_scene
+    raw = {"end_time": 2.0, "gravity": [0, -9.81], "bodies": [
+        {"name": "floor", "shape": "polygon", "fixed": True, "position": [0, -1],
+         "vertices": [[-3, -0.5], [3, -0.5], [3, 0.5], [-3, 0.5]]},
+        {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 0.5, "position": [0.0, 0.0]},
+        {"name": "box", "shape": "polygon", "mass": 2.0, "position": [1, 0],
+         "vertices": [[-0.05, -0.05], [0.05, -0.05], [0.05, 0.05], [-0.05, 0.05]]}]}
+    scene = parse_scene(json.dumps(raw))
+    box = flat_body(scene, raw["bodies"][2] | {"name": "box2", "position": [2, 0]})
+    lines = box.splitlines()
+
+    def body_with(**fields):
+        words = lines[0].split()
+        names = ("poly fixed inv_mass inv_inertia restitution friction px py vx vy ax ay angle omega radius "
+                 "orbit orbit_angle bound window large nverts").split()
+        for name, v in fields.items():
+            words[1 + names.index(name)] = v
+        return "\n".join([" ".join(words), *lines[1:]]) + "\n"
+
+    def vertex_with(j, k, v):
+        words = lines[1 + j].split()
+        words[k] = v
+        return "\n".join([lines[0], *lines[1:1 + j], " ".join(words), *lines[2 + j:]]) + "\n"
+
+    def refused(call, *args):
+        with pytest.raises(SimError) as exc:
+            call(*args)
+        return str(exc.value)
+
+    w = CWorld(str(world_library(scene)), compile_scene(scene))
+    try:
+        w.advance(0.1)
+        log = w.input_log()
+        assert refused(w.add_body, body_with(restitution="5")) == "add_body: body 3: restitution 5 outside [0, 1]"
+        assert refused(w.add_body, body_with(inv_mass="nan")) == "add_body: expected a number, found 'nan'"
+        assert refused(w.add_body, body_with(nverts="5000")) == "add_body: body 3: 5000 vertices (3 to 1024)"
+        assert refused(w.add_body, body_with(vx="1e300")) == (
+            "add_body: body 3: reaches more than 2e150 m from the origin by the end")
+        assert refused(w.add_body, vertex_with(0, 11, "3")) == "add_body: body 3 vertex 0: cover 3 is not a body"
+        assert refused(w.add_body, vertex_with(1, 9, "2")) == (
+            "add_body: body 3 vertex 1: the normal is not a unit vector")
+        assert refused(w.add_body, box + "x\n") == "add_body: unexpected 'x' after the body"
+        assert refused(w.add_body, box.replace("body", "body\x01", 1)) == "add_body: byte 4: not printable ASCII"
+        assert w.body_count() == 3 and w.added == 0
+        assert refused(w.apply_impulse, 1, 1e308, 0.0) == "live input: body 1: velocity would not be finite"
+        assert refused(w.add_velocity, 1, 1e308, 0.0) == "live input: body 1: position would not be finite"
+        assert refused(w.teleport, 1, 1e200, 0.0) == "live input: body 1: teleport beyond 1e150 m"
+        assert refused(w.set_velocity, 7, 1.0, 0.0) == "live input: body 7 does not exist"
+        assert refused(w.set_velocity, 2 ** 32 + 1, 1.0, 0.0) == f"live input: body {2 ** 32 + 1} does not exist"
+        assert w.input_log() == log
+        assert w.add_body(box) == 3
+        w.set_velocity(1, 0.5, 0.0)
+        w.advance(w.end_time())
+        w.finish()
+        assert refused(w.set_velocity, 1, 1.0, 0.0) == "live input: the world is finished"
+        assert refused(w.add_body, box) == "live input: the world is finished"
+    finally:
+        w.close()

@@ -78,6 +78,9 @@ _libs: dict[str, ctypes.CDLL] = {}
 _libc = None
 
 
+# the range of the C API's int parameters (body indices)
+
+
 def _fmt(x: float) -> str:
     return "%.17g" % x
 
@@ -219,16 +222,16 @@ class CWorld:
             raise err
         return got
 
-    def _body(self, body) -> int:
+    def _body(self, body, missing: str = "no body {k} (the world has {n})") -> int:
         """body as the C int of an index of the world, or SimError (ctypes
-        would pass 2^32 on as body 0)."""
+        would pass 2^32 on as body 0) with the message `missing`."""
         try:
             k = operator.index(body)
         except TypeError:
             raise SimError(f"a body is an index (an int), not {type(body).__name__} {body!r}") from None
         n = self.body_count()
         if not 0 <= k < n:
-            raise SimError(f"no body {k} (the world has {n})")
+            raise SimError(missing.format(k=k, n=n))
         return k
 
     def _live(self) -> None:
@@ -301,7 +304,7 @@ class CWorld:
     # ---- live inputs at the world's time (recorded in the world's input list) ----------
     def _input(self, fn, body, *args) -> int:
         self._live()
-        k = self._body(body)
+        k = self._body(body, "live input: body {k} does not exist")      # as the engines say it
         rc = fn(self._handle(), k, *args)
         self._pass_trace()
         if rc < 0:

@@ -43,7 +43,9 @@ typedef struct m2c_body_state {
 /* A world from a compiled scene (the flat text of max2code/sim/scene.py,
  * NUL-terminated) at t = 0; trace NULL: no trace, else the flat trace is
  * written there as events happen.  NULL on a bad scene or out of memory:
- * the message is then m2c_world_last_error()'s. */
+ * the message is then m2c_world_last_error()'s.  The text is checked as it
+ * is read (docs/simulator.md, "Flat scene checks"): the first fault gives
+ * "scene: ...", the same message as every runtime's. */
 m2c_world *m2c_world_new(const char *scene_text, FILE *trace);
 /* The same from a file holding the compiled scene. */
 m2c_world *m2c_world_load(const char *path, FILE *trace);
@@ -93,8 +95,12 @@ int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
  * event at T), and appended to the world's input list: the recording.
  * Movable bodies only, but set_velocity also on a fixed polygon that does
  * not turn (a moving platform: docs/engine-api.md).  0, or -1 with
- * m2c_world_error(w): no such body, another input on a fixed body, a
- * coordinate that is not finite (the world unchanged), or a
+ * m2c_world_error(w), the world unchanged: "live input: the world is
+ * finished" (after m2c_world_finish), "live input: body N does not exist",
+ * a removed body, another input on a fixed body, a coordinate that is not
+ * finite, "live input: body N: velocity would not be finite" (the body's
+ * velocity after the input) or "... position would not be finite" (its
+ * centre carried with that velocity to the scene's end); or -1 on a
  * failure (the world unusable).  Velocities in m/s; an impulse in N s
  * through the centre (dv = J / mass). */
 int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy);
@@ -102,7 +108,8 @@ int m2c_world_add_velocity(m2c_world *w, int body, double dvx, double dvy);
 int m2c_world_apply_impulse(m2c_world *w, int body, double jx, double jy);
 /* Moves the body's centre to (x, y) now, keeping its velocity: 1; 0 (the
  * world unchanged) when it would overlap another body there by more than
- * the tolerance; -1 as above. */
+ * the tolerance; -1 as above, and (the world unchanged) "live input: body
+ * N: teleport beyond 1e150 m" when |x| + |y| > 1e150. */
 int m2c_world_teleport(m2c_world *w, int body, double x, double y);
 
 /* Takes a body (movable or fixed) out of the world now: an input (MODE 4)
@@ -113,8 +120,11 @@ int m2c_world_remove_body(m2c_world *w, int body);
  * `body ...` and its `v` lines, the state at the world's time) now.  Its
  * index (the next one); -1 when it would overlap a body by more than the
  * tolerance (the world unchanged); -2 with m2c_world_error(w) on a bad text
- * (the world unchanged) or a failure.  Not an input: a recording refuses a
- * session that added bodies. */
+ * (the world unchanged: the scene's checks of a body, "add_body: ...",
+ * with the scene's tolerance and end time, an edge's cover one of the
+ * world's bodies), after m2c_world_finish ("live input: the world is
+ * finished", the world unchanged) or on a failure.  Not an input: a
+ * recording refuses a session that added bodies. */
 int m2c_world_add_body(m2c_world *w, const char *body_text);
 
 /* Recordings (docs/engine-api.md): the world's input log, the scene's

@@ -22,6 +22,18 @@
 extern "C" {
 #endif
 
+/* The limits of flat text (docs/simulator.md, "Flat scene checks"), the
+ * same names and values in every runtime: bodies in a scene, vertices of
+ * one polygon, scripted inputs, the largest and smallest length (m) and
+ * the longest text (bytes).  Every count is checked against its limit
+ * before anything is allocated for it. */
+#define MAX_BODIES 1000000
+#define MAX_VERTICES 1024
+#define MAX_INPUTS 10000000
+#define LENGTH_MAX 1e150
+#define LENGTH_MIN 1e-150
+#define TEXT_MAX 1073741824
+
 /* A compiled scene: the bodies' state at t = 0 and the settings. */
 typedef struct m2c_sim_scene m2c_sim_scene;
 
@@ -31,6 +43,13 @@ typedef struct m2c_sim_scene m2c_sim_scene;
 m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen);
 
 void m2c_sim_scene_free(m2c_sim_scene *scene);
+
+/* The check of flat text's bytes (n of them at text): 0, or -1 with
+ * "WHAT: longer than 1073741824 bytes" or "WHAT: byte N: not printable
+ * ASCII" in err (what: "scene", "add_body").  The scene reader runs it on
+ * its NUL-terminated text; a program that read n bytes (a NUL among them)
+ * runs it on all n. */
+int m2c_sim_text_check(const char *text, size_t n, const char *what, char *err, size_t errlen);
 
 /* Running a scene: the world API of m2c_world.h. */
 

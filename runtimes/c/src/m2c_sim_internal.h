@@ -160,10 +160,12 @@ struct m2c_sim_scene {
 };
 
 /* A `body ...` line and its `v` lines (the whole text) into b, index idx,
- * its vertices into a new *verts (b->verts left NULL): 0, or -1 with the
- * message ("add_body: ..."). */
-int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_vertex **verts, char *err,
-                      size_t errlen);
+ * checked as a scene's body (docs/simulator.md, "Flat scene checks") with
+ * the scene's tolerance tol (m) and end time (s), an edge's cover one of
+ * the idx bodies before it; its vertices into a new *verts (b->verts left
+ * NULL): 0, or -1 with the message ("add_body: ..."). */
+int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, double tol, double end, m2c_sim_vertex **verts,
+                      char *err, size_t errlen);
 
 /* ---- event queue: ordered by (t, kind, seq) ---------------------------------- */
 
@@ -492,6 +494,7 @@ struct m2c_world {
     int *scratch_deg;                   /* and their degrees */
     size_t scratch_cap;
     int broken;                         /* an error stopped the world */
+    int finished;                       /* m2c_world_finish ran: no more inputs or bodies */
     jmp_buf fail;                       /* where the current API call catches an error */
     char err[M2C_WORLD_ERROR_MAX];
 };

@@ -320,13 +320,58 @@ int m2c_sim_next_time(m2c_world *m, double *t)
     }
 }
 
+/* A live input whose result would not be finite (docs/simulator.md,
+ * "Flat scene checks", Live API): the body's velocity at the world's time
+ * after a set, an added velocity or an impulse, and its position carried
+ * with that velocity to the scene's end; a teleport beyond LENGTH_MAX
+ * (|x| + |y|).  1 with the message (nothing changed), else 0. */
+static int refused_as_not_finite(m2c_world *m, const m2c_sim_body *b, int mode, double x, double y)
+{
+    int body = (int)b->idx;
+    if (mode == M2C_SIM_TELEPORT) {
+        if (fabs(x) + fabs(y) <= LENGTH_MAX)
+            return 0;
+        snprintf(m->err, sizeof m->err, "live input: body %d: teleport beyond 1e150 m", body);
+        return 1;
+    }
+    if (mode == M2C_SIM_REMOVE || b->fixed)
+        return 0;
+    m2c_body_state st;
+    m2c_sim_body_state(b, m->now, &st);
+    double vx = x, vy = y;
+    if (mode == M2C_SIM_ADD_VELOCITY) {
+        vx = st.vx + x;
+        vy = st.vy + y;
+    } else if (mode == M2C_SIM_IMPULSE) {
+        vx = st.vx + x * b->inv_m;
+        vy = st.vy + y * b->inv_m;
+    }
+    const char *what = NULL;
+    if (!isfinite(vx) || !isfinite(vy)) {
+        what = "velocity";
+    } else {
+        double d = m->s->end - m->now;
+        double px = st.x + (vx + 0.5 * b->ax * d) * d, py = st.y + (vy + 0.5 * b->ay * d) * d;
+        if (!isfinite(px) || !isfinite(py))
+            what = "position";
+    }
+    if (what == NULL)
+        return 0;
+    snprintf(m->err, sizeof m->err, "live input: body %d: %s would not be finite", body, what);
+    return 1;
+}
+
 int m2c_sim_live_input(m2c_world *m, int body, int mode, double x, double y, int *done)
 {
     *done = 0;
     if (m->broken)
         return -1;
+    if (m->finished) {
+        snprintf(m->err, sizeof m->err, "live input: the world is finished");
+        return -1;
+    }
     if (body < 0 || body >= m->s->nbodies) {
-        snprintf(m->err, sizeof m->err, "no body %d (the world has %d)", body, (int)m->s->nbodies);
+        snprintf(m->err, sizeof m->err, "live input: body %d does not exist", body);
         return -1;
     }
     m2c_sim_body *b = &m->bodies[body];
@@ -345,6 +390,8 @@ int m2c_sim_live_input(m2c_world *m, int body, int mode, double x, double y, int
                  m2c_sim_text(c, y));
         return -1;
     }
+    if (refused_as_not_finite(m, b, mode, x, y))
+        return -1;
     M2C_SIM_CATCH(m);
     double t = m->now;
     inputs_now(m);
@@ -441,11 +488,15 @@ int m2c_sim_add_body(m2c_world *m, const char *text, int *idx)
     *idx = -1;
     if (m->broken)
         return -1;
+    if (m->finished) {
+        snprintf(m->err, sizeof m->err, "live input: the world is finished");
+        return -1;
+    }
     m2c_sim_scene *s = m->s;
     m2c_sim_body nb;
     memset(&nb, 0, sizeof nb);
     m2c_sim_vertex *nv = NULL;
-    if (m2c_sim_body_read(text, &nb, s->nbodies, &nv, m->err, sizeof m->err) != 0)
+    if (m2c_sim_body_read(text, &nb, s->nbodies, s->tol, s->end, &nv, m->err, sizeof m->err) != 0)
         return -1;
     nb.large = 2.0 * nb.bound > m2c_sim_min(s->cw, s->ch);
     if (nb.large && !nb.fixed) {
@@ -503,6 +554,7 @@ int m2c_sim_add_body(m2c_world *m, const char *text, int *idx)
 int m2c_sim_finish(m2c_world *m)
 {
     M2C_SIM_CATCH(m);
+    m->finished = 1;
     m2c_sim_run_until(m, m->s->end, 1);
     m->now = m->s->end;
     for (int32_t k = 0; k < m->s->nbodies; k++)

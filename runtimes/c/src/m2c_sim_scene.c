@@ -1,7 +1,10 @@
-/* Reading the flat scene (docs/simulator.md, written by max2code/sim/scene.py):
- * whitespace-separated tokens; the numbers are shortest round-trip decimals,
- * which strtod reads exactly.  The messages are the reference's. */
+/* Reading the flat scene (docs/simulator.md, written by max2code/sim/scene.py)
+ * and checking it as it is read ("Flat scene checks"): whitespace-separated
+ * words; the numbers are shortest round-trip decimals, which strtod reads
+ * exactly.  The first fault stops the reading with its message, the same
+ * in every runtime.  The limits are m2c_sim.h's. */
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,10 +19,14 @@ typedef struct reader {
     int failed;
 } reader;
 
+/* Space, tab, newline or carriage return: what separates words (the text
+ * check refuses the other control bytes first). */
 static inline int is_space(char c)
 {
     return c == ' ' || (unsigned char)(c - '\t') <= (unsigned char)('\r' - '\t');     /* \t \n \v \f \r */
 }
+
+static void fail(reader *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 static void fail(reader *r, const char *fmt, ...)
 {
@@ -32,6 +39,27 @@ static void fail(reader *r, const char *fmt, ...)
         va_end(ap);
     }
     r->failed = 1;
+}
+
+/* A word as messages show it: its first 32 characters, then "..." when
+ * it is longer (printf "%.*s%s" with WORD_ARGS). */
+#define WORD_SHOWN 32
+#define WORD_ARGS(w, n) (int)((n) > WORD_SHOWN ? WORD_SHOWN : (n)), (w), ((n) > WORD_SHOWN ? "..." : "")
+
+int m2c_sim_text_check(const char *text, size_t n, const char *what, char *err, size_t errlen)
+{
+    if (n > TEXT_MAX) {
+        snprintf(err, errlen, "%s: longer than %d bytes", what, TEXT_MAX);
+        return -1;
+    }
+    for (size_t k = 0; k < n; k++) {
+        unsigned char c = (unsigned char)text[k];
+        if (!((c >= 0x21 && c <= 0x7e) || c == ' ' || c == '\t' || c == '\n' || c == '\r')) {
+            snprintf(err, errlen, "%s: byte %zu: not printable ASCII", what, k);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 /* The next token: *len characters at the returned pointer (0: none left;
@@ -57,12 +85,14 @@ static const char *token(reader *r, size_t *len, const char *expect)
 
 static void word(reader *r, const char *expect)
 {
+    if (r->failed)
+        return;
     size_t n;
     const char *w = token(r, &n, expect);
     if (r->failed)
         return;
     if (n != strlen(expect) || memcmp(w, expect, n) != 0)
-        fail(r, "expected '%s', found '%.*s'", expect, (int)(n > 40 ? 40 : n), w);
+        fail(r, "expected '%s', found '%.*s%s'", expect, WORD_ARGS(w, n));
 }
 
 __extension__ typedef unsigned __int128 u128;
@@ -220,39 +250,71 @@ static inline void skip_spaces(reader *r)
     r->p = p;
 }
 
-/* A number token that scan_decimal does not read: strtod, or the message. */
+/* w[0..n-1] is a number's text: [+-](digits[.digits]|.digits)[(e|E)[+-]digits],
+ * at most 64 characters (no inf, nan, hex, '_'). */
+static int number_text(const char *w, size_t n)
+{
+    if (n > 64)
+        return 0;
+    size_t k = 0, d = 0;
+    if (k < n && (w[k] == '+' || w[k] == '-'))
+        k++;
+    while (k < n && (unsigned)(w[k] - '0') < 10u)
+        k++, d++;
+    if (k < n && w[k] == '.') {
+        k++;
+        while (k < n && (unsigned)(w[k] - '0') < 10u)
+            k++, d++;
+    }
+    if (d == 0)
+        return 0;
+    if (k < n && (w[k] == 'e' || w[k] == 'E')) {
+        k++;
+        if (k < n && (w[k] == '+' || w[k] == '-'))
+            k++;
+        size_t e = 0;
+        while (k < n && (unsigned)(w[k] - '0') < 10u)
+            k++, e++;
+        if (e == 0)
+            return 0;
+    }
+    return k == n;
+}
+
+/* A number token that scan_decimal does not read: checked, then strtod
+ * (correctly rounded), or the message. */
 static __attribute__((noinline)) double num_slow(reader *r)
 {
-    double x;
+    if (r->failed)
+        return 0.0;
     size_t n;
     const char *w = token(r, &n, NULL);
     if (r->failed)
         return 0.0;
-    char buf[64];
-    if (n >= sizeof buf) {
-        fail(r, "expected a number, found '%.*s'", 40, w);
+    if (!number_text(w, n)) {
+        fail(r, "expected a number, found '%.*s%s'", WORD_ARGS(w, n));
         return 0.0;
     }
+    char buf[66];
     memcpy(buf, w, n);
     buf[n] = '\0';
-    char *end;
-    errno = 0;
-    x = strtod(buf, &end);
-    if (end != buf + n) {
-        fail(r, "expected a number, found '%.*s'", (int)n, w);
+    double x = strtod(buf, NULL);
+    if (!isfinite(x)) {
+        fail(r, "number '%.*s%s' is beyond a double's range", WORD_ARGS(w, n));
         return 0.0;
     }
     return x;
 }
 
-/* The next token as a number (inlined into the reader: a scene is mostly numbers). */
+/* The next token as a number (inlined into the reader: a scene is mostly
+ * numbers); what scan_decimal reads is a number of that form, finite. */
 static inline __attribute__((always_inline)) double num(reader *r)
 {
     if (!r->failed) {
         skip_spaces(r);
         double x;
         const char *e = scan_decimal(r->p, &x);
-        if (e != NULL && (*e == '\0' || is_space(*e)) && e - r->p < 64) {     /* longer: num_slow's message */
+        if (e != NULL && (*e == '\0' || is_space(*e)) && e - r->p <= 64) {     /* longer: num_slow's message */
             r->p = e;
             return x;
         }
@@ -260,31 +322,19 @@ static inline __attribute__((always_inline)) double num(reader *r)
     return num_slow(r);
 }
 
-/* An integer token that integer does not read: strtoll, or the message. */
+/* An integer token that integer does not read: the message. */
 static __attribute__((noinline)) long long integer_slow(reader *r)
 {
-    size_t n;
-    const char *w = token(r, &n, NULL);
     if (r->failed)
         return 0;
-    char buf[32];
-    if (n >= sizeof buf) {
-        fail(r, "expected an integer, found '%.*s'", 20, w);
-        return 0;
-    }
-    memcpy(buf, w, n);
-    buf[n] = '\0';
-    char *end;
-    errno = 0;
-    long long v = strtoll(buf, &end, 10);
-    if (end != buf + n || errno != 0) {
-        fail(r, "expected an integer, found '%.*s'", (int)n, w);
-        return 0;
-    }
-    return v;
+    size_t n;
+    const char *w = token(r, &n, NULL);
+    if (!r->failed)
+        fail(r, "expected an integer, found '%.*s%s'", WORD_ARGS(w, n));
+    return 0;
 }
 
-/* The next token as an integer: [-]digits (up to 18: no overflow) without strtoll. */
+/* The next token as an integer: -?[0-9]{1,18} (no overflow). */
 static inline __attribute__((always_inline)) long long integer(reader *r)
 {
     if (!r->failed) {
@@ -304,14 +354,6 @@ static inline __attribute__((always_inline)) long long integer(reader *r)
     return integer_slow(r);
 }
 
-static int32_t count(reader *r, long long limit)
-{
-    long long v = integer(r);
-    if (!r->failed && (v < 0 || v > limit))
-        fail(r, "a count out of range");
-    return r->failed ? 0 : (int32_t)v;
-}
-
 void m2c_sim_scene_free(m2c_sim_scene *s)
 {
     if (s == NULL)
@@ -322,16 +364,131 @@ void m2c_sim_scene_free(m2c_sim_scene *s)
     free(s);
 }
 
-/* A `body ...` line and its `v` lines into b (index i; b->verts is left
- * NULL), the vertices appended to *verts (*n of them, room for *cap); an
- * edge's COVER is -1 or a body index below nbodies. */
-static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2c_sim_vertex **verts, size_t *n,
-                      size_t *cap)
+/* What a body's checks need of its scene: the tolerance (m), the end
+ * time (s) and the number of bodies an edge's cover may name. */
+typedef struct body_context {
+    double tol, end;
+    long long nbodies;
+} body_context;
+
+/* The reach of a body by the end time T (docs/simulator.md, "Flat scene
+ * checks", rule 8): (|px| + |py|) + (|vx| + |vy|) T + (|ax| + |ay|) T T / 2
+ * + bound, left to right in doubles (no contraction: -ffp-contract=off). */
+static double reach(const m2c_sim_body *b, double T)
+{
+    double r = fabs(b->px) + fabs(b->py);
+    r = r + (fabs(b->vx) + fabs(b->vy)) * T;
+    r = r + (fabs(b->ax) + fabs(b->ay)) * T * T / 2.0;
+    return r + b->bound;
+}
+
+/* The rules of a body line (1 to 8) on b, its POLY, FIXED and LARGE as
+ * read, body k. */
+static void check_body(reader *r, const m2c_sim_body *b, long long poly, long long fixed, long long large,
+                       long long nverts, int32_t k, const body_context *c)
+{
+    char v[M2C_SIM_NUMBER_MAX + 1];
+    if (poly != 0 && poly != 1)
+        fail(r, "body %d: poly must be 0 or 1", (int)k);
+    else if (fixed != 0 && fixed != 1)
+        fail(r, "body %d: fixed must be 0 or 1", (int)k);
+    else if (large != 0 && large != 1)
+        fail(r, "body %d: large must be 0 or 1", (int)k);
+    else if (fixed && !(b->inv_m == 0.0 && b->inv_i == 0.0))
+        fail(r, "body %d: a fixed body has inverse mass 0", (int)k);
+    else if (!fixed && !(b->inv_m > 0.0))
+        fail(r, "body %d: inverse mass %s must be positive", (int)k, m2c_sim_text(v, b->inv_m));
+    else if (!fixed && poly && !(b->inv_i > 0.0))
+        fail(r, "body %d: inverse inertia %s must be positive", (int)k, m2c_sim_text(v, b->inv_i));
+    else if (!fixed && !poly && b->inv_i != 0.0)
+        fail(r, "body %d: a circle has inverse inertia 0", (int)k);
+    else if (!(b->e >= 0.0 && b->e <= 1.0))
+        fail(r, "body %d: restitution %s outside [0, 1]", (int)k, m2c_sim_text(v, b->e));
+    else if (!(b->mu >= 0.0))
+        fail(r, "body %d: friction %s is negative", (int)k, m2c_sim_text(v, b->mu));
+    if (r->failed)
+        return;
+    if (!poly) {
+        if (!(b->r >= c->tol && b->r <= LENGTH_MAX))
+            fail(r, "body %d: radius %s outside [tolerance, 1e150]", (int)k, m2c_sim_text(v, b->r));
+        else if (nverts != 0)
+            fail(r, "body %d: a circle has no vertices", (int)k);
+        else if (b->orbit != 0.0 && !(b->orbit >= c->tol && b->orbit <= LENGTH_MAX))
+            fail(r, "body %d: orbit radius %s outside [tolerance, 1e150]", (int)k, m2c_sim_text(v, b->orbit));
+        else if (b->orbit != 0.0 && !fixed)
+            fail(r, "body %d: an orbiting circle must be fixed", (int)k);
+        else if (b->om != 0.0 && !(b->orbit > 0.0))
+            fail(r, "body %d: a circle turns only about an orbit", (int)k);
+    } else {
+        if (b->r != 0.0 || b->orbit != 0.0)
+            fail(r, "body %d: a polygon has no radius or orbit", (int)k);
+        else if (nverts < 3 || nverts > MAX_VERTICES)
+            fail(r, "body %d: %lld vertices (3 to %d)", (int)k, nverts, MAX_VERTICES);
+    }
+    if (r->failed)
+        return;
+    if (!(b->window >= 0.0 && b->window <= 0.5))
+        fail(r, "body %d: window %s outside [0, 0.5]", (int)k, m2c_sim_text(v, b->window));
+    else if (!((poly || b->bound >= b->r + b->orbit) && b->bound <= LENGTH_MAX))
+        fail(r, "body %d: bound %s is too small or too large", (int)k, m2c_sim_text(v, b->bound));
+    else if (!(reach(b, c->end) <= 2.0 * LENGTH_MAX))
+        fail(r, "body %d: reaches more than 2e150 m from the origin by the end", (int)k);
+}
+
+/* The rules of a whole polygon (12 to 15) on its n vertices v, body k. */
+static void check_polygon(reader *r, const m2c_sim_vertex *v, int32_t n, int32_t k, double tol)
+{
+#define EX(j) (v[((j) + 1) % n].lx - v[(j)].lx)
+#define EY(j) (v[((j) + 1) % n].ly - v[(j)].ly)
+    for (int32_t j = 0; j < n; j++)
+        if (!(fabs(EX(j)) + fabs(EY(j)) >= tol)) {
+            fail(r, "body %d vertex %d: edge shorter than the tolerance", (int)k, (int)j);
+            return;
+        }
+    for (int32_t j = 0; j < n; j++) {
+        int32_t i = (j + n - 1) % n;
+        if (!(EX(i) * EY(j) - EY(i) * EX(j) > 0.0)) {
+            fail(r, "body %d vertex %d: not strictly convex (counter-clockwise)", (int)k, (int)j);
+            return;
+        }
+    }
+    int first = 0, last = 0, changes = 0;
+    for (int32_t j = 0; j < n; j++) {
+        double ey = EY(j);
+        int sign = ey > 0.0 ? 1 : ey < 0.0 ? -1 : 0;
+        if (sign == 0)
+            continue;
+        if (first == 0)
+            first = sign;
+        else if (sign != last)
+            changes++;
+        last = sign;
+    }
+    if (first != 0 && last != first)
+        changes++;          /* cyclic: the last sign against the first */
+    if (changes != 2) {
+        fail(r, "body %d: the polygon winds %d times", (int)k, changes / 2);
+        return;
+    }
+    for (int32_t j = 0; j < n; j++)
+        if (!(v[j].nx * EY(j) - v[j].ny * EX(j) > 0.0)) {
+            fail(r, "body %d vertex %d: the normal does not point outward", (int)k, (int)j);
+            return;
+        }
+#undef EX
+#undef EY
+}
+
+/* A `body ...` line and its `v` lines into b (body k; b->verts is left
+ * NULL), checked; the vertices appended to *verts (*n of them, room for
+ * *cap). */
+static void read_body(reader *r, m2c_sim_body *b, int32_t k, const body_context *c, m2c_sim_vertex **verts,
+                      size_t *n, size_t *cap)
 {
     word(r, "body");
-    b->idx = i;
-    b->polygon = integer(r) == 1;
-    b->fixed = integer(r) == 1;
+    b->idx = k;
+    long long poly = integer(r);
+    long long fixed = integer(r);
     b->inv_m = num(r);
     b->inv_i = num(r);
     b->e = num(r);
@@ -353,8 +510,17 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2
     b->ophase = num(r);
     b->bound = num(r);
     b->window = num(r);
-    b->large = integer(r) == 1;
-    b->nverts = count(r, 1 << 20);
+    long long large = integer(r);
+    long long nverts = integer(r);
+    if (r->failed)
+        return;
+    check_body(r, b, poly, fixed, large, nverts, k, c);
+    if (r->failed)
+        return;
+    b->polygon = (unsigned char)poly;
+    b->fixed = (unsigned char)fixed;
+    b->large = (unsigned char)large;
+    b->nverts = (int32_t)nverts;        /* at most MAX_VERTICES */
     b->tb = 0.0;
     b->cx = b->cy = 0;
     b->slot = -1;
@@ -363,18 +529,21 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2
     b->island = -1;
     b->carry = 0;
     b->verts = NULL;
-    for (int32_t k = 0; k < b->nverts && !r->failed; k++) {
-        if (*n == *cap) {
-            size_t c = *cap ? 2 * *cap : 64;
-            m2c_sim_vertex *v = realloc(*verts, c * sizeof *v);
-            if (v == NULL) {
-                fail(r, "out of memory");
-                break;
-            }
-            *verts = v;
-            *cap = c;
+    if (*cap - *n < (size_t)b->nverts) {
+        size_t want = *cap ? 2 * *cap : 64;
+        if (want < *n + (size_t)b->nverts)
+            want = *n + (size_t)b->nverts;
+        m2c_sim_vertex *more = realloc(*verts, want * sizeof *more);
+        if (more == NULL) {
+            fail(r, "out of memory");
+            return;
         }
-        m2c_sim_vertex *v = &(*verts)[(*n)++];
+        *verts = more;
+        *cap = want;
+    }
+    m2c_sim_vertex *v0 = *verts + *n;
+    for (int32_t j = 0; j < b->nverts && !r->failed; j++) {
+        m2c_sim_vertex *v = &v0[j];
         word(r, "v");
         v->lx = num(r);
         v->ly = num(r);
@@ -387,30 +556,51 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t i, int32_t nbodies, m2
         v->nx = num(r);
         v->ny = num(r);
         long long cover = integer(r);
-        if (!r->failed && (cover < -1 || cover >= nbodies))
-            fail(r, "an edge's cover names no body");
+        if (r->failed)
+            return;
+        if (!(fabs(v->lx) <= b->bound && fabs(v->ly) <= b->bound))
+            fail(r, "body %d vertex %d: outside the bound", (int)k, (int)j);
+        else if (!(fabs(v->nx * v->nx + v->ny * v->ny - 1.0) <= 1e-9))
+            fail(r, "body %d vertex %d: the normal is not a unit vector", (int)k, (int)j);
+        else if (!(cover == -1 || (cover >= 0 && cover < c->nbodies && cover != k)))
+            fail(r, "body %d vertex %d: cover %lld is not a body", (int)k, (int)j, cover);
         v->cover = (int32_t)cover;
+    }
+    if (r->failed)
+        return;
+    if (b->polygon)
+        check_polygon(r, v0, b->nverts, k, c->tol);
+    *n += (size_t)b->nverts;
+}
+
+/* After the body (add_body) or the scene's final `end`: nothing more. */
+static void nothing_after(reader *r, const char *after)
+{
+    if (r->failed)
+        return;
+    const char *p = r->p;
+    while (*p && is_space(*p))
+        p++;
+    if (*p) {
+        const char *e = p;
+        while (*e && !is_space(*e))
+            e++;
+        size_t n = (size_t)(e - p);
+        fail(r, "unexpected '%.*s%s' after the %s", WORD_ARGS(p, n), after);
     }
 }
 
-int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_vertex **verts, char *err,
-                      size_t errlen)
+int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, double tol, double end, m2c_sim_vertex **verts,
+                      char *err, size_t errlen)
 {
     reader rd = { text, "add_body", err, errlen, 0 };
     size_t n = 0, cap = 0;
     *verts = NULL;
-    read_body(&rd, b, idx, idx, verts, &n, &cap);
-    if (!rd.failed) {
-        const char *p = rd.p;
-        while (*p && is_space(*p))
-            p++;
-        if (*p) {
-            const char *e = p;
-            while (*e && !is_space(*e))
-                e++;
-            fail(&rd, "unexpected '%.*s' after the body", (int)(e - p > 40 ? 40 : e - p), p);
-        }
-    }
+    if (m2c_sim_text_check(text, strlen(text), "add_body", err, errlen) != 0)
+        return -1;
+    body_context c = { tol, end, idx };
+    read_body(&rd, b, idx, &c, verts, &n, &cap);
+    nothing_after(&rd, "body");
     if (rd.failed) {
         free(*verts);
         *verts = NULL;
@@ -421,6 +611,8 @@ int m2c_sim_body_read(const char *text, m2c_sim_body *b, int32_t idx, m2c_sim_ve
 
 m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
 {
+    if (m2c_sim_text_check(text, strlen(text), "scene", err, errlen) != 0)
+        return NULL;
     reader rd = { text, "scene", err, errlen, 0 };
     reader *r = &rd;
     m2c_sim_scene *s = calloc(1, sizeof *s);
@@ -428,39 +620,75 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
+    char v[M2C_SIM_NUMBER_MAX + 1];
     size_t *first = NULL;               /* each body's first vertex in s->verts */
+    int32_t *removed = NULL;            /* per body: the input that removed it, -1 none */
     size_t nverts = 0, capverts = 0;
     word(r, "m2c-scene");
-    if (!r->failed && integer(r) != 1 && !r->failed)
-        fail(r, "unknown version");
+    long long version = integer(r);
+    if (!r->failed && version != 1)
+        fail(r, "unknown version %lld", version);
     word(r, "end");
     s->end = num(r);
+    if (!r->failed && !(s->end > 0.0 && s->end <= LENGTH_MAX))
+        fail(r, "end %s outside (0, 1e150]", m2c_sim_text(v, s->end));
     word(r, "frame");
     s->frame_dt = num(r);
+    if (!r->failed && !(s->frame_dt == 0.0 || (s->frame_dt > 0.0 && s->end / s->frame_dt <= 1e12))) {
+        if (s->frame_dt > 0.0)
+            fail(r, "frame %s gives more than 1e12 frames", m2c_sim_text(v, s->frame_dt));
+        else
+            fail(r, "frame %s is negative", m2c_sim_text(v, s->frame_dt));
+    }
     word(r, "tolerance");
     s->tol = num(r);
+    if (!r->failed && !(s->tol >= LENGTH_MIN && s->tol <= LENGTH_MAX))
+        fail(r, "tolerance %s outside [1e-150, 1e150]", m2c_sim_text(v, s->tol));
     word(r, "rest_speed");
     s->rest_speed = num(r);
+    if (!r->failed && !(s->rest_speed >= 0.0))
+        fail(r, "rest_speed %s is negative", m2c_sim_text(v, s->rest_speed));
     word(r, "window_angle");
     s->alpha = num(r);
+    if (!r->failed && !(s->alpha > 0.0 && s->alpha <= 0.5))
+        fail(r, "window_angle %s outside (0, 0.5]", m2c_sim_text(v, s->alpha));
     word(r, "max_same_time");
     s->max_same = integer(r);
+    if (!r->failed && s->max_same < 1)
+        fail(r, "max_same_time %lld is less than 1", s->max_same);
     word(r, "grid");
     s->x0 = num(r);
     s->y0 = num(r);
     s->cw = num(r);
     s->ch = num(r);
-    s->nx = count(r, 1 << 30);
-    s->ny = count(r, 1 << 30);
+    long long gnx = integer(r), gny = integer(r);
     s->margin = num(r);
-    if (!r->failed && (s->nx < 1 || s->ny < 1 || (long long)s->nx * s->ny > (1ll << 31)))
-        fail(r, "bad grid");
+    if (!r->failed) {
+        if (!(fabs(s->x0) <= LENGTH_MAX && fabs(s->y0) <= LENGTH_MAX))
+            fail(r, "grid origin beyond 1e150");
+        else if (!(s->cw >= LENGTH_MIN && s->cw <= LENGTH_MAX))
+            fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->cw));
+        else if (!(s->ch >= LENGTH_MIN && s->ch <= LENGTH_MAX))
+            fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->ch));
+        else if (gnx < 1 || gny < 1)
+            fail(r, "grid of %lld x %lld cells", gnx, gny);
+    }
     s->half_cell = 0.5 * (s->ch < s->cw ? s->ch : s->cw);
     if (!r->failed && !(0.0 <= s->margin && s->margin < s->half_cell))
-        fail(r, "grid margin outside [0, half a cell)");
+        fail(r, "grid margin %s m outside [0, half a cell)", m2c_sim_text(v, s->margin));
     word(r, "bodies");
-    s->nbodies = count(r, 1 << 28);
+    long long nb = integer(r);
+    if (!r->failed && (nb < 1 || nb > MAX_BODIES))
+        fail(r, "%lld bodies (1 to %d)", nb, MAX_BODIES);
     if (!r->failed) {
+        long long cells = 4 * nb > 16 ? 4 * nb : 16;      /* NX NY <= cells, without overflow */
+        if (gnx > cells || gny > cells / gnx)
+            fail(r, "grid of %lld x %lld cells for %lld bodies (at most max(16, 4 x bodies) cells)", gnx, gny, nb);
+    }
+    if (!r->failed) {
+        s->nx = (int32_t)gnx;
+        s->ny = (int32_t)gny;
+        s->nbodies = (int32_t)nb;
         s->bodies_cap = s->nbodies + 1;
         size_t bytes = ((size_t)s->nbodies + 1) * sizeof *s->bodies;      /* a multiple of 64 */
         s->bodies = aligned_alloc(64, bytes);
@@ -474,37 +702,71 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
         if (s->bodies == NULL || first == NULL)
             fail(r, "out of memory");
     }
+    body_context c = { s->tol, s->end, s->nbodies };
     for (int32_t i = 0; i < s->nbodies && !r->failed; i++) {
         first[i] = nverts;
         memset(&s->bodies[i], 0, sizeof *s->bodies);
-        read_body(r, &s->bodies[i], i, s->nbodies, &s->verts, &nverts, &capverts);
+        read_body(r, &s->bodies[i], i, &c, &s->verts, &nverts, &capverts);
+    }
+    /* an edge's cover is a fixed body (known once every body is read) */
+    for (int32_t i = 0; i < s->nbodies && !r->failed; i++) {
+        const m2c_sim_body *b = &s->bodies[i];
+        for (int32_t j = 0; j < b->nverts && !r->failed; j++) {
+            int32_t cv = s->verts[first[i] + (size_t)j].cover;
+            if (cv >= 0 && !s->bodies[cv].fixed)
+                fail(r, "body %d vertex %d: cover %d is not a fixed body", (int)i, (int)j, (int)cv);
+        }
     }
     word(r, "inputs");
-    s->ninputs = count(r, 1 << 28);
+    long long ni = integer(r);
+    if (!r->failed && (ni < 0 || ni > MAX_INPUTS))
+        fail(r, "%lld inputs (0 to %d)", ni, MAX_INPUTS);
     if (!r->failed) {
+        s->ninputs = (int32_t)ni;
         s->inputs_cap = s->ninputs + 1;
         s->inputs = calloc((size_t)s->inputs_cap, sizeof *s->inputs);
-        if (s->inputs == NULL)
+        removed = malloc((size_t)s->nbodies * sizeof *removed);
+        if (s->inputs == NULL || removed == NULL)
             fail(r, "out of memory");
+        else
+            for (int32_t i = 0; i < s->nbodies; i++)
+                removed[i] = -1;
     }
     for (int32_t k = 0; k < s->ninputs && !r->failed; k++) {
         m2c_sim_input *in = &s->inputs[k];
         word(r, "input");
         in->t = num(r);
         long long body = integer(r);
-        in->mode = (int32_t)integer(r);
+        long long mode = integer(r);
         in->vx = num(r);
         in->vy = num(r);
-        if (!r->failed && (body < 0 || body >= s->nbodies))
+        if (r->failed)
+            break;
+        if (!(in->t >= 0.0 && in->t <= s->end))
+            fail(r, "input %d: time %s outside [0, end]", (int)k, m2c_sim_text(v, in->t));
+        else if (body < 0 || body >= s->nbodies)
             fail(r, "input on body %lld, which does not exist", body);
-        else if (!r->failed && (in->mode < 0 || in->mode > 4))
-            fail(r, "unknown input mode %d", (int)in->mode);
-        else if (!r->failed && !m2c_sim_drivable(&s->bodies[body], in->mode))
+        else if (mode < 0 || mode > 4)
+            fail(r, "unknown input mode %lld", mode);
+        else if (!m2c_sim_drivable(&s->bodies[body], (int32_t)mode))
             fail(r, "input %d on fixed body %lld: only set_velocity (on a polygon that does not turn) or remove",
                  (int)k, body);
+        else if (removed[body] >= 0)
+            fail(r, "input %d: body %lld was removed by input %d", (int)k, body, (int)removed[body]);
+        else if (mode == M2C_SIM_REMOVE && !(in->vx == 0.0 && in->vy == 0.0))
+            fail(r, "input %d: a removal has no vector", (int)k);
+        else if (mode == M2C_SIM_TELEPORT && !(fabs(in->vx) + fabs(in->vy) <= LENGTH_MAX))
+            fail(r, "input %d: teleport beyond 1e150 m", (int)k);
+        if (r->failed)
+            break;
         in->body = (int32_t)body;
+        in->mode = (int32_t)mode;
+        if (mode == M2C_SIM_REMOVE)
+            removed[body] = k;
     }
     word(r, "end");
+    nothing_after(r, "end");
+    free(removed);
     if (r->failed) {
         free(first);
         m2c_sim_scene_free(s);

@@ -37,7 +37,10 @@ enum { M2C_WORLD_ERROR_MAX_COPY = 512 };
 #error "build with -DM2C_SIM_PE_VARIANTS=N (the variants point_edge_variant indexes)"
 #endif
 
-static char *read_all(FILE *f)
+/* All of f (at most TEXT_MAX + 1 bytes: a longer text is refused by its
+ * length) with a NUL after it, its length in *len; NULL when it cannot be
+ * read. */
+static char *read_all(FILE *f, size_t *len)
 {
     size_t n = 0, cap = 1 << 16;
     char *buf = malloc(cap);
@@ -53,9 +56,12 @@ static char *read_all(FILE *f)
             buf = b;
             cap *= 2;
         }
-        size_t got = fread(buf + n, 1, cap - n - 1, f);
+        size_t want = cap - n - 1;
+        if (want > (size_t)TEXT_MAX + 1 - n)
+            want = (size_t)TEXT_MAX + 1 - n;
+        size_t got = fread(buf + n, 1, want, f);
         n += got;
-        if (got == 0)
+        if (got == 0 || n > (size_t)TEXT_MAX)
             break;
     }
     if (ferror(f)) {
@@ -63,6 +69,7 @@ static char *read_all(FILE *f)
         return NULL;
     }
     buf[n] = '\0';
+    *len = n;
     return buf;
 }
 
@@ -230,8 +237,12 @@ static int split_inputs(char *text, live_input **inputs, long *n, char *err, siz
     }
     char *p = at + 8, *q;
     long k = strtol(p, &q, 10);
-    if (q == p || k < 0) {
-        snprintf(err, errlen, "scene: a count out of range");
+    if (q == p) {
+        snprintf(err, errlen, "scene: expected an integer after 'inputs'");
+        return -1;
+    }
+    if (k < 0 || k > MAX_INPUTS) {      /* before the allocation */
+        snprintf(err, errlen, "scene: %ld inputs (0 to %d)", k, MAX_INPUTS);
         return -1;
     }
     p = q;
@@ -380,9 +391,16 @@ int main(int argc, char **argv)
         return 2;
     }
     char err[M2C_WORLD_ERROR_MAX_COPY];
-    char *text = read_all(stdin);
+    size_t len = 0;
+    char *text = read_all(stdin, &len);
     if (text == NULL) {
         printf("X cannot read the scene\n");
+        return 1;
+    }
+    /* the bytes the scene reader cannot see: a NUL, or past TEXT_MAX */
+    if (strlen(text) != len && m2c_sim_text_check(text, len, "scene", err, sizeof err) != 0) {
+        free(text);
+        printf("X %s\n", err);
         return 1;
     }
     live_input *inputs = NULL;
