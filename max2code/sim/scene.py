@@ -513,11 +513,11 @@ def _parse_scene(text: str, path: str) -> Scene:
     if order != int(order) or not 1 <= order <= 7:
         rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree 16 at most), got {order}")
     max_same = rd.number(raw, "max_events_at_one_time", "", 100000, positive=True)
-    if max_same != int(max_same) or max_same >= 2.0 ** 63:
-        rd.fail("max_events_at_one_time", f"must be a whole number below 2^63, got {max_same:g}")
+    if max_same != int(max_same) or max_same >= 1e18:
+        rd.fail("max_events_at_one_time", f"must be a whole number below 10^18, got {max_same:g}")
     max_events = rd.number(raw, "max_events", "", DEFAULT_MAX_EVENTS, positive=True)
-    if max_events != int(max_events) or max_events >= 2.0 ** 63:
-        rd.fail("max_events", f"must be a whole number below 2^63, got {max_events:g}")
+    if max_events != int(max_events) or max_events >= 1e18:
+        rd.fail("max_events", f"must be a whole number below 10^18, got {max_events:g}")
     max_fps = rd.number(raw, "max_frame_rate", "", DEFAULT_MAX_FRAME_RATE, positive=True)
     if fps > max_fps:
         rd.fail("frame_rate", f"{fps:g} frames per simulated second is above max_frame_rate ({max_fps:g}); "
