@@ -8,6 +8,7 @@ specification's message for the first fault."""
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 
 import pytest
@@ -234,3 +235,116 @@ def test_every_runtime_refuses_each_fault_with_the_same_line(lang):
             wrong.append(f"{name}: expected exit 1 and 'X {msg}', got exit {proc.returncode}: "
                          f"{proc.stdout[-200:]!r} {proc.stderr[-200:]!r}")
     assert not wrong, f"{len(wrong)} of {len(CASES)} cases:\n" + "\n".join(wrong)
+
+
+# The Python runtime's live API (docs/simulator.md, "Flat scene checks", "Live API").
+
+def _python_world():
+    from max2code.sim.live import python_world
+    sc, _ = base()
+    return sc, python_world(sc)
+
+
+def _ball_text(sc) -> str:
+    from max2code.sim.live import flat_body
+    return flat_body(sc, {"shape": "circle", "radius": 0.1, "mass": 1.0, "position": [-2.0, 0.0]})
+
+
+def _set_body(text: str, **fields) -> str:
+    words = text.split("\n")[0].split()
+    for name, v in fields.items():
+        words[1 + BODY_FIELDS.index(name)] = str(v)
+    return " ".join(words) + "\n" + "\n".join(text.split("\n")[1:])
+
+
+ADD_BODY_CASES = [
+    ("restitution", lambda t: _set_body(t, restitution="5"), "add_body: body 3: restitution 5 outside [0, 1]"),
+    ("nan", lambda t: _set_body(t, px="nan"), "add_body: expected a number, found 'nan'"),
+    ("overflow", lambda t: _set_body(t, vy="1e400"), "add_body: number '1e400' is beyond a double's range"),
+    ("reach", lambda t: _set_body(t, vx="1e200"),
+     "add_body: body 3: reaches more than 2e150 m from the origin by the end"),
+    ("vertices", lambda t: _set_body(t, nverts="2"), "add_body: body 3: a circle has no vertices"),
+    ("trailing", lambda t: t + "body\n", "add_body: unexpected 'body' after the body"),
+    ("non-ascii", lambda t: "b\u00e9" + t, "add_body: byte 1: not printable ASCII"),
+    ("keyword", lambda t: "bodies" + t[4:], "add_body: expected 'body', found 'bodies'"),
+]
+
+
+@pytest.mark.parametrize("name,make,msg", ADD_BODY_CASES, ids=[c[0] for c in ADD_BODY_CASES])
+def test_python_add_body_checks_its_text_as_a_scene_body(name, make, msg):
+    from max2code_rt.sim import SimError
+    sc, w = _python_world()
+    text = _ball_text(sc)
+    assert text.startswith("body ") and make(text) != text
+    with pytest.raises(SimError) as err:
+        w.add_body(make(text))
+    assert str(err.value) == msg
+    assert len(w.s.bodies) == 3
+    assert w.add_body(text) == 3          # the good text still joins
+
+
+def test_python_add_body_cover_counts_the_bodies_in_the_world():
+    from max2code_rt.sim import SimError
+    from max2code.sim.live import flat_body
+    sc, w = _python_world()
+    box = flat_body(sc, {"shape": "polygon", "mass": 1.0, "position": [-2.0, 1.0],
+                         "vertices": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]})
+    lines = box.split("\n")
+    assert lines[1].startswith("v ") and lines[1].split()[-1] == "-1"
+    bad = "\n".join([lines[0], lines[1][:lines[1].rindex(" ")] + " 3", *lines[2:]])
+    with pytest.raises(SimError) as err:
+        w.add_body(bad)
+    assert str(err.value) == "add_body: body 3 vertex 0: cover 3 is not a body"
+    assert w.add_body(box) == 3
+
+
+def test_python_live_inputs_refuse_results_that_are_not_finite():
+    from max2code_rt.sim import SimError
+    sc, w = _python_world()
+    w.advance(0.1)
+    before = w.state(1, 0.1)
+    cases = [(lambda: w.set_velocity(1, math.inf, 0.0), "live input: body 1: velocity would not be finite"),
+             (lambda: w.add_velocity(1, 1.7e308, 0.0), None),
+             (lambda: w.add_velocity(1, 1.7e308, 0.0), "live input: body 1: velocity would not be finite"),
+             (lambda: w.apply_impulse(1, 1.7e308, 0.0), "live input: body 1: velocity would not be finite"),
+             (lambda: w.teleport(1, math.nan, 0.0), "live input: body 1: position would not be finite"),
+             (lambda: w.teleport(1, 1e150, 1e150), "live input: body 1: teleport beyond 1e150 m"),
+             (lambda: w.set_velocity(3, 0.0, 0.0), "live input: body 3 does not exist"),
+             (lambda: w.remove_body(2 ** 64 + 1), f"live input: body {2 ** 64 + 1} does not exist"),
+             (lambda: w.add_velocity(-1, 0.0, 0.0), "live input: body -1 does not exist")]
+    for make, msg in cases:
+        if msg is None:                 # an accepted input: 1.7e308 m/s is finite
+            make()
+            continue
+        n = len(w.s.inputs)
+        with pytest.raises(SimError) as err:
+            make()
+        assert str(err.value) == msg
+        assert len(w.s.inputs) == n     # nothing recorded
+    assert w.state(1, 0.1)[0] == before[0]
+
+
+def test_python_world_refuses_inputs_and_bodies_after_finish():
+    from max2code_rt.sim import SimError
+    sc, w = _python_world()
+    text = _ball_text(sc)
+    w.advance(sc.end_time)
+    w.finish()
+    for call in (lambda: w.set_velocity(1, 1.0, 0.0), lambda: w.teleport(1, 0.0, 0.0), lambda: w.remove_body(1),
+                 lambda: w.add_body(text)):
+        with pytest.raises(SimError) as err:
+            call()
+        assert str(err.value) == "live input: the world is finished"
+
+
+def test_the_json_check_bounds_the_event_counts_as_the_flat_check_does():
+    """Every JSON-compiled scene passes the flat check: max_events_at_one_time
+    (the flat scene's max_same_time, an integer of at most 18 digits) and
+    max_events are whole numbers below 10^18."""
+    from max2code.sim.scene import SceneError
+    from max2code_rt.sim import Scene
+    for field in ("max_events_at_one_time", "max_events"):
+        with pytest.raises(SceneError, match=f"{field}.*below 10\\^18"):
+            parse_scene(json.dumps({**SCENE, field: 1e18}), "in-memory")
+    sc = parse_scene(json.dumps({**SCENE, "max_events_at_one_time": 999999999999999872}), "in-memory")
+    assert Scene(compile_scene(sc)).max_same == 999999999999999872

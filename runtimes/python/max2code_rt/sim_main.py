@@ -16,6 +16,7 @@ import importlib.util
 import sys
 
 from max2code_rt.sim import SimError, World, simulate
+from max2code_rt.sim.scene import MAX_TEXT
 
 
 def _load(path: str, name: str):
@@ -81,11 +82,14 @@ def main(argv: list[str]) -> int:
     cc = _load(args[0], "m2c_gen_circle_circle")
     pe = _load(args[1], "m2c_gen_point_edge")
     out = sys.stdout
+    # bytes read as latin-1 never fail to decode: the scene's check names a bad byte by its offset;
+    # one byte more than a flat text may have is enough to refuse a longer one
+    text = sys.stdin.buffer.read(MAX_TEXT + 1).decode("latin-1")
     try:
         if len(args) == 4:
-            stepped(sys.stdin.read(), cc, pe, out, sys.stderr, float(args[3]), live)
+            stepped(text, cc, pe, out, sys.stderr, float(args[3]), live)
         else:
-            simulate(sys.stdin.read(), cc, pe, out)
+            simulate(text, cc, pe, out)
     except SimError as exc:
         out.write(f"X {exc}\n")
         out.flush()

@@ -18,8 +18,8 @@ from max2code_rt.sim.out import OutMixin, SimError, _fmt
 from max2code_rt.sim.overlap import OverlapMixin
 from max2code_rt.sim.predict import PredictMixin
 from max2code_rt.sim.queue import INPUT, InputEvent, QueueMixin
-from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT, Body, Input, Scene, Tokens,
-                                   drivable, read_body)
+from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT, Body, Input,
+                                   Scene, Tokens, _cut, drivable, read_body)
 from max2code_rt.sim.sleep import SleepMixin
 from max2code_rt.sim.support import SupportMixin
 from max2code_rt.sim.world import STAT_NAMES, Contact, WorldState
@@ -30,9 +30,10 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
     """A live world (docs/engine-api.md): made from a flat scene, driven by
     advance(t); the batch simulator is run() = advance(end) + finish()."""
 
-    def __init__(self, scene_text: str, cc, pe, out=None):
+    def __init__(self, scene_text: str | bytes, cc, pe, out=None):
         scene = Scene(scene_text)
         WorldState.__init__(self, scene, cc, pe, out)
+        self.finished = False           # finish() was called: no more inputs or bodies
         for b in scene.bodies:
             if b.large:
                 self.place_large(b)
@@ -42,7 +43,7 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
 
     @classmethod
     def from_file(cls, path: str, cc, pe, out=None) -> "World":
-        with open(path, encoding="ascii") as fh:
+        with open(path, "rb") as fh:
             return cls(fh.read(), cc, pe, out)
 
     def advance(self, t: float) -> list[Contact]:
@@ -116,11 +117,13 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         state at the world's time) added now; its index, or -1 (the world
         unchanged) when it would overlap a body by more than the tolerance.
         Not an input: a recording refuses a world that added bodies."""
+        if self.finished:
+            raise SimError("live input: the world is finished")
         tk = Tokens(text, "add_body")
         s = self.s
-        b = read_body(tk, len(s.bodies))
-        if tk.pos != len(tk.tok):
-            raise SimError(f"add_body: unexpected '{tk.tok[tk.pos]}' after the body")
+        b = read_body(tk, len(s.bodies), s.tol, s.end, len(s.bodies))
+        if not tk.at_end():
+            tk.fail(f"unexpected '{_cut(tk.word())}' after the body")
         b.large = 2.0 * b.bound > min(s.cw, s.ch)
         if b.large and not b.fixed:
             raise SimError(f"add_body: a movable body of bound {_fmt(b.bound)} m does not fit the grid's cells "
@@ -167,17 +170,35 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         at T and listed after the scene's would be: the scene's inputs at T
         are handled first, then this one, before any other event at T
         (docs/engine-api.md, "Live inputs").  It is appended to the input
-        list (s.inputs), which is the recording."""
-        b = self.body(body)
+        list (s.inputs), which is the recording.  An input that would make
+        the body's velocity or position not finite is refused before it
+        changes anything, as is any input after finish()."""
+        if self.finished:
+            raise SimError("live input: the world is finished")
+        if not 0 <= body < len(self.s.bodies):
+            raise SimError(f"live input: body {body} does not exist")
+        b = self.s.bodies[body]
         if b.gone:
             raise SimError(f"body {body} was removed")
         if not drivable(b, mode):
             raise SimError(f"body {body} is fixed: inputs move movable bodies only (or set the velocity of a "
                            f"fixed polygon that does not turn, or remove a fixed body)")
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise SimError(f"input on body {body}: ({_fmt(x)}, {_fmt(y)}) is not finite")
         t = self.time
         self.inputs_now()
+        _, _, vx, vy, _ = self.state_at(b, t)
+        if mode == SET_VELOCITY:
+            vx, vy = x, y
+        elif mode == ADD_VELOCITY:
+            vx, vy = vx + x, vy + y
+        elif mode == IMPULSE:
+            vx, vy = vx + x * b.inv_m, vy + y * b.inv_m
+        if mode != TELEPORT and not (math.isfinite(vx) and math.isfinite(vy)):
+            raise SimError(f"live input: body {body}: velocity would not be finite")
+        if mode == TELEPORT:
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise SimError(f"live input: body {body}: position would not be finite")
+            if not abs(x) + abs(y) <= LENGTH_MAX:
+                raise SimError(f"live input: body {body}: teleport beyond 1e150 m")
         if mode == TELEPORT:
             if self.overlapping(b, x, y, t) >= 0:
                 return False
@@ -204,6 +225,7 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         s = self.s
         self.process(s.end, True)
         self.time = s.end
+        self.finished = True
         for b in s.bodies:
             self.rebase(b, s.end)
         for b in s.bodies:
@@ -222,6 +244,6 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         self.finish()
 
 
-def simulate(scene_text: str, cc, pe, out) -> None:
+def simulate(scene_text: str | bytes, cc, pe, out) -> None:
     """Run a compiled scene; raises SimError with a message on a stuck or bad scene."""
     World(scene_text, cc, pe, out).run()

@@ -3,6 +3,9 @@ their vertices, the inputs, the grid and the run's constants, read from
 the flat text that `max2code simulate` makes from a JSON scene."""
 from __future__ import annotations
 
+import math
+import re
+
 from max2code_rt.sim.out import SimError, _fmt
 
 
@@ -49,59 +52,111 @@ class Input:
         self.t, self.body, self.mode, self.vx, self.vy = t, body, mode, vx, vy
 
 
-class Tokens:
-    """The whitespace-separated words of a flat text, read in order."""
+# The limits of a flat text (docs/simulator.md, "Flat scene checks"): every
+# runtime uses these names and values.
+MAX_BODIES = 1000000            # bodies in a scene
+MAX_VERTICES = 1024             # vertices of one polygon
+MAX_INPUTS = 10000000           # scripted inputs in a scene
+LENGTH_MAX = 1e150              # m or s: lengths, times and positions at most this
+LENGTH_MIN = 1e-150             # m: tolerances and grid cells at least this
+MAX_TEXT = 1073741824           # bytes in one flat text
 
-    def __init__(self, text: str, what: str):
+_BAD_BYTE = re.compile(r"[^\x21-\x7e \t\n\r]")
+_NUMBER = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
+_INTEGER = re.compile(r"-?[0-9]{1,18}")
+
+
+def _cut(w: str) -> str:
+    """A word as a message quotes it: its first 32 characters, then `...`."""
+    return w if len(w) <= 32 else w[:32] + "..."
+
+
+class Tokens:
+    """The whitespace-separated words of a flat text, read in order.  The
+    text (str, or bytes read as latin-1) must be printable ASCII and
+    whitespace, at most MAX_TEXT bytes; numbers and integers are read by
+    the flat format's own grammar, never by float()'s or int()'s wider one."""
+
+    def __init__(self, text: str | bytes, what: str):
+        self.what = what
+        if isinstance(text, (bytes, bytearray)):
+            text = bytes(text).decode("latin-1")
+        # every character before the first bad one is ASCII, so its index is the byte offset
+        if len(text) > MAX_TEXT:
+            raise SimError(f"{what}: longer than {MAX_TEXT} bytes")
+        bad = _BAD_BYTE.search(text)
+        if bad:
+            raise SimError(f"{what}: byte {bad.start()}: not printable ASCII")
         self.tok = text.split()
         self.pos = 0
-        self.what = what
+
+    def fail(self, message: str):
+        raise SimError(f"{self.what}: {message}")
 
     def word(self, expect=None) -> str:
         if self.pos >= len(self.tok):
-            raise SimError(f"{self.what}: ends early" + (f" (expected '{expect}')" if expect else ""))
+            self.fail("ends early" + (f" (expected '{expect}')" if expect else ""))
         w = self.tok[self.pos]
         self.pos += 1
         if expect is not None and w != expect:
-            raise SimError(f"{self.what}: expected '{expect}', found '{w}'")
+            self.fail(f"expected '{expect}', found '{_cut(w)}'")
         return w
 
     def num(self) -> float:
+        """A finite double: the nearest to a decimal word of at most 64 characters."""
         w = self.word()
-        try:
-            return float(w)
-        except ValueError:
-            raise SimError(f"{self.what}: expected a number, found '{w}'") from None
+        if len(w) > 64 or not _NUMBER.fullmatch(w):
+            self.fail(f"expected a number, found '{_cut(w)}'")
+        x = float(w)
+        if math.isinf(x):
+            self.fail(f"number '{_cut(w)}' is beyond a double's range")
+        return x
 
     def integer(self) -> int:
+        """An integer of at most 18 digits, optionally negative."""
         w = self.word()
-        try:
-            return int(w)
-        except ValueError:
-            raise SimError(f"{self.what}: expected an integer, found '{w}'") from None
+        if not _INTEGER.fullmatch(w):
+            self.fail(f"expected an integer, found '{_cut(w)}'")
+        return int(w)
+
+    def at_end(self) -> bool:
+        return self.pos >= len(self.tok)
 
 
-def read_body(tk: Tokens, i: int) -> Body:
-    """A `body ...` line and its `v` lines (docs/simulator.md, Flat scene)."""
+def read_body(tk: Tokens, i: int, tol: float, end: float, n: int) -> Body:
+    """A `body ...` line and its `v` lines (docs/simulator.md, Flat scene),
+    checked as read ("Flat scene checks"): tol the scene's tolerance, end
+    its end time (for the body's reach), n the bodies a cover may name."""
     num, integer = tk.num, tk.integer
     tk.word("body")
     b = Body()
     b.idx = i
-    b.polygon = integer() == 1
-    b.fixed = integer() == 1
+    poly, fixed = integer(), integer()
     b.inv_m, b.inv_i, b.e, b.mu = num(), num(), num(), num()
     b.px, b.py, b.vx, b.vy, b.ax, b.ay = num(), num(), num(), num(), num(), num()
+    b.ang, b.om = num(), num()
+    b.r, b.orbit, b.ophase, b.bound, b.window = num(), num(), num(), num(), num()
+    large = integer()
+    nv = integer()
+    _check_body(tk, i, poly, fixed, large, nv, b, tol, end)
+    b.polygon, b.fixed, b.large = poly == 1, fixed == 1, large == 1
     b.fax, b.fay = b.ax, b.ay
     b.sup, b.sup_edge = -1, -1
     b.tx = b.ty = b.load = b.at = 0.0
-    b.ang, b.om = num(), num()
-    b.r, b.orbit, b.ophase, b.bound, b.window = num(), num(), num(), num(), num()
-    b.large = integer() == 1
-    nv = integer()
     b.verts = []
-    for _ in range(nv):
+    for j in range(nv):
         tk.word("v")
-        b.verts.append(Vertex([num() for _ in range(10)], integer()))
+        v = Vertex([num() for _ in range(10)], integer())
+        where = f"body {i} vertex {j}"
+        if not (abs(v.lx) <= b.bound and abs(v.ly) <= b.bound):
+            tk.fail(f"{where}: outside the bound")
+        if not abs(v.nx * v.nx + v.ny * v.ny - 1.0) <= 1e-9:
+            tk.fail(f"{where}: the normal is not a unit vector")
+        if not (v.cover == -1 or (0 <= v.cover < n and v.cover != i)):
+            tk.fail(f"{where}: cover {v.cover} is not a body")
+        b.verts.append(v)
+    if b.polygon:
+        _check_polygon(tk, i, b.verts, tol)
     b.tb = 0.0
     b.stamp = 0
     b.cx = b.cy = 0
@@ -114,6 +169,76 @@ def read_body(tk: Tokens, i: int) -> Body:
     return b
 
 
+def _check_body(tk: Tokens, k: int, poly: int, fixed: int, large: int, nv: int, b: Body, tol: float,
+                end: float) -> None:
+    """The checks of a body line, in the specification's order."""
+    at = f"body {k}"
+    for name, flag in (("poly", poly), ("fixed", fixed), ("large", large)):
+        if flag not in (0, 1):
+            tk.fail(f"{at}: {name} must be 0 or 1")
+    if fixed:
+        if not (b.inv_m == 0.0 and b.inv_i == 0.0):
+            tk.fail(f"{at}: a fixed body has inverse mass 0")
+    else:
+        if not b.inv_m > 0.0:
+            tk.fail(f"{at}: inverse mass {_fmt(b.inv_m)} must be positive")
+        if poly and not b.inv_i > 0.0:
+            tk.fail(f"{at}: inverse inertia {_fmt(b.inv_i)} must be positive")
+        if not poly and b.inv_i != 0.0:
+            tk.fail(f"{at}: a circle has inverse inertia 0")
+    if not 0.0 <= b.e <= 1.0:
+        tk.fail(f"{at}: restitution {_fmt(b.e)} outside [0, 1]")
+    if not b.mu >= 0.0:
+        tk.fail(f"{at}: friction {_fmt(b.mu)} is negative")
+    if not poly:
+        if not tol <= b.r <= LENGTH_MAX:
+            tk.fail(f"{at}: radius {_fmt(b.r)} outside [tolerance, 1e150]")
+        if nv != 0:
+            tk.fail(f"{at}: a circle has no vertices")
+        if b.orbit != 0.0:
+            if not tol <= b.orbit <= LENGTH_MAX:
+                tk.fail(f"{at}: orbit radius {_fmt(b.orbit)} outside [tolerance, 1e150]")
+            if not fixed:
+                tk.fail(f"{at}: an orbiting circle must be fixed")
+        if b.om != 0.0 and not b.orbit > 0.0:
+            tk.fail(f"{at}: a circle turns only about an orbit")
+    else:
+        if b.r != 0.0 or b.orbit != 0.0:
+            tk.fail(f"{at}: a polygon has no radius or orbit")
+        if not 3 <= nv <= MAX_VERTICES:
+            tk.fail(f"{at}: {nv} vertices (3 to {MAX_VERTICES})")
+    if not 0.0 <= b.window <= 0.5:
+        tk.fail(f"{at}: window {_fmt(b.window)} outside [0, 0.5]")
+    # a polygon's radius and orbit are 0 here, so this is bound >= 0 for it
+    if not b.r + b.orbit <= b.bound <= LENGTH_MAX:
+        tk.fail(f"{at}: bound {_fmt(b.bound)} is too small or too large")
+    reach = ((abs(b.px) + abs(b.py)) + (abs(b.vx) + abs(b.vy)) * end + (abs(b.ax) + abs(b.ay)) * end * end / 2
+             + b.bound)
+    if not reach <= 2 * LENGTH_MAX:
+        tk.fail(f"{at}: reaches more than 2e150 m from the origin by the end")
+
+
+def _check_polygon(tk: Tokens, k: int, vs: list[Vertex], tol: float) -> None:
+    """A polygon is strictly convex, counter-clockwise, winds once, and its
+    normals point outward; each rule over every vertex before the next."""
+    n = len(vs)
+    ex = [vs[(j + 1) % n].lx - vs[j].lx for j in range(n)]
+    ey = [vs[(j + 1) % n].ly - vs[j].ly for j in range(n)]
+    for j in range(n):
+        if not abs(ex[j]) + abs(ey[j]) >= tol:
+            tk.fail(f"body {k} vertex {j}: edge shorter than the tolerance")
+    for j in range(n):
+        if not ex[j - 1] * ey[j] - ey[j - 1] * ex[j] > 0.0:
+            tk.fail(f"body {k} vertex {j}: not strictly convex (counter-clockwise)")
+    signs = [y > 0.0 for y in ey if y != 0.0]
+    changes = sum(1 for j in range(len(signs)) if signs[j] != signs[j - 1])
+    if changes != 2:
+        tk.fail(f"body {k}: the polygon winds {changes // 2} times")
+    for j in range(n):
+        if not vs[j].nx * ey[j] - vs[j].ny * ex[j] > 0.0:
+            tk.fail(f"body {k} vertex {j}: the normal does not point outward")
+
+
 def drivable(b: Body, mode: int) -> bool:
     """An input of this mode may act on b: any on a movable body; on a fixed
     one, removal, or set_velocity when it is a polygon that does not turn
@@ -124,38 +249,85 @@ def drivable(b: Body, mode: int) -> bool:
 
 
 class Scene:
-    """A compiled scene, read from the flat format."""
+    """A compiled scene, read from the flat format and checked as it is read
+    (docs/simulator.md, "Flat scene checks"): the first fault stops it."""
 
-    def __init__(self, text: str):
+    def __init__(self, text: str | bytes):
         tk = Tokens(text, "scene")
-        word, num, integer = tk.word, tk.num, tk.integer
+        word, num, integer, fail = tk.word, tk.num, tk.integer, tk.fail
         word("m2c-scene")
-        if integer() != 1:
-            raise SimError("scene: unknown version")
-        word("end"); self.end = num()
-        word("frame"); self.frame_dt = num()
-        word("tolerance"); self.tol = num()
+        version = integer()
+        if version != 1:
+            fail(f"unknown version {version}")
+        word("end"); self.end = end = num()
+        if not 0.0 < end <= LENGTH_MAX:
+            fail(f"end {_fmt(end)} outside (0, 1e150]")
+        word("frame"); self.frame_dt = dt = num()
+        if not (dt == 0.0 or (dt > 0.0 and end / dt <= 1e12)):
+            fail(f"frame {_fmt(dt)} gives more than 1e12 frames" if dt > 0.0 else f"frame {_fmt(dt)} is negative")
+        word("tolerance"); self.tol = tol = num()
+        if not LENGTH_MIN <= tol <= LENGTH_MAX:
+            fail(f"tolerance {_fmt(tol)} outside [1e-150, 1e150]")
         word("rest_speed"); self.rest_speed = num()
+        if not self.rest_speed >= 0.0:
+            fail(f"rest_speed {_fmt(self.rest_speed)} is negative")
         word("window_angle"); self.alpha = num()
+        if not 0.0 < self.alpha <= 0.5:
+            fail(f"window_angle {_fmt(self.alpha)} outside (0, 0.5]")
         word("max_same_time"); self.max_same = integer()
-        word("grid"); self.x0 = num(); self.y0 = num(); self.cw = num(); self.ch = num()
-        self.nx = integer(); self.ny = integer(); self.margin = num()
+        if self.max_same < 1:
+            fail(f"max_same_time {self.max_same} is less than 1")
+        word("grid"); self.x0 = num(); self.y0 = num()
+        if not (abs(self.x0) <= LENGTH_MAX and abs(self.y0) <= LENGTH_MAX):
+            fail("grid origin beyond 1e150")
+        self.cw = num(); self.ch = num()
+        for c in (self.cw, self.ch):
+            if not LENGTH_MIN <= c <= LENGTH_MAX:
+                fail(f"grid cell {_fmt(c)} outside [1e-150, 1e150]")
+        self.nx = integer(); self.ny = integer()
+        if self.nx < 1 or self.ny < 1:
+            fail(f"grid of {self.nx} x {self.ny} cells")
+        self.margin = num()
         self.half_cell = 0.5 * min(self.cw, self.ch)
         if not 0.0 <= self.margin < self.half_cell:
-            raise SimError(f"scene: grid margin {_fmt(self.margin)} m outside [0, half a cell)")
+            fail(f"grid margin {_fmt(self.margin)} m outside [0, half a cell)")
         word("bodies"); n = integer()
-        self.bodies: list[Body] = [read_body(tk, i) for i in range(n)]
+        if not 1 <= n <= MAX_BODIES:
+            fail(f"{n} bodies (1 to {MAX_BODIES})")
+        cells = max(16, 4 * n)
+        if self.nx > cells or self.nx * self.ny > cells:
+            fail(f"grid of {self.nx} x {self.ny} cells for {n} bodies (at most max(16, 4 x bodies) cells)")
+        self.bodies: list[Body] = [read_body(tk, i, tol, end, n) for i in range(n)]
+        for b in self.bodies:
+            for j, v in enumerate(b.verts):
+                if v.cover >= 0 and not self.bodies[v.cover].fixed:
+                    fail(f"body {b.idx} vertex {j}: cover {v.cover} is not a fixed body")
         word("inputs"); k = integer()
+        if not 0 <= k <= MAX_INPUTS:
+            fail(f"{k} inputs (0 to {MAX_INPUTS})")
         self.inputs = []
-        for _ in range(k):
+        removed_by: dict[int, int] = {}         # body -> the input that removed it
+        for i in range(k):
             word("input")
             inp = Input(num(), integer(), integer(), num(), num())
+            if not 0.0 <= inp.t <= end:
+                fail(f"input {i}: time {_fmt(inp.t)} outside [0, end]")
             if not 0 <= inp.body < n:
-                raise SimError(f"scene: input on body {inp.body}, which does not exist")
+                fail(f"input on body {inp.body}, which does not exist")
             if not 0 <= inp.mode <= 4:
-                raise SimError(f"scene: unknown input mode {inp.mode}")
+                fail(f"unknown input mode {inp.mode}")
             if not drivable(self.bodies[inp.body], inp.mode):
-                raise SimError(f"scene: input {len(self.inputs)} on fixed body {inp.body}: only set_velocity "
-                               f"(on a polygon that does not turn) or remove")
+                fail(f"input {i} on fixed body {inp.body}: only set_velocity "
+                     f"(on a polygon that does not turn) or remove")
+            if inp.body in removed_by:
+                fail(f"input {i}: body {inp.body} was removed by input {removed_by[inp.body]}")
+            if inp.mode == REMOVE:
+                if inp.vx != 0.0 or inp.vy != 0.0:
+                    fail(f"input {i}: a removal has no vector")
+                removed_by[inp.body] = i
+            if inp.mode == TELEPORT and not abs(inp.vx) + abs(inp.vy) <= LENGTH_MAX:
+                fail(f"input {i}: teleport beyond 1e150 m")
             self.inputs.append(inp)
         word("end")
+        if not tk.at_end():
+            fail(f"unexpected '{_cut(tk.word())}' after the end")
