@@ -275,12 +275,27 @@ pub fn main<E: Equations>() -> i32 {
             return 2;
         }
     };
-    let mut text = String::new();
-    if let Err(e) = io::stdin().read_to_string(&mut text) {
+    // bytes (at most one past the longest text): checked before they are
+    // taken as text, so that a byte that is no ASCII gets its X line
+    let mut bytes = Vec::new();
+    if let Err(e) = io::stdin().take(scene::MAX_TEXT as u64 + 1).read_to_end(&mut bytes) {
         eprintln!("max2code simulator: cannot read the scene: {e}");
         return 2;
     }
-    let stdout = Box::new(io::stdout().lock());
+    let mut stdout = Box::new(io::stdout().lock());
+    let text = match scene::check_text(&bytes, "scene").map(|()| String::from_utf8(bytes)) {
+        Ok(Ok(text)) => text,
+        Err(msg) => {
+            return match writeln!(stdout, "X {msg}").and_then(|()| stdout.flush()) {
+                Ok(()) => 1,
+                Err(e) => {
+                    eprintln!("max2code simulator: cannot write the trace: {e}");
+                    2
+                }
+            };
+        }
+        Ok(Err(e)) => unreachable!("printable ASCII is UTF-8: {e}"),
+    };
     let res = match step {
         None => {
             let parsed = Scene::parse(&text);
