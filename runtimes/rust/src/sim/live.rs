@@ -459,3 +459,79 @@ impl<E: Equations> World<E> {
         self.flush()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::World;
+    use crate::sim::{Equations, SimError, MAX_COEF};
+
+    /// Equations under which no pair ever meets (every gap polynomial is
+    /// the constant 1): a world whose live API alone is tested.
+    struct Apart;
+
+    impl Equations for Apart {
+        const CC_VARIANTS: usize = 1;
+        const PE_VARIANTS: usize = 1;
+        fn cc_variant(_: &[f64; 24]) -> i32 {
+            0
+        }
+        fn cc_coefficients(_: &[f64; 24], c: &mut [f64; MAX_COEF]) -> Option<usize> {
+            c[0] = 1.0;
+            Some(0)
+        }
+        fn pe_variant(_: &[f64; 12]) -> i32 {
+            0
+        }
+        fn pe_coefficients(_: &[f64; 12], c: &mut [f64; MAX_COEF]) -> Option<usize> {
+            c[0] = 1.0;
+            Some(0)
+        }
+    }
+
+    const SCENE: &str = "m2c-scene 1\nend 2\nframe 0\ntolerance 1e-9\nrest_speed 0.01\nwindow_angle 0.5\n\
+        max_same_time 100\ngrid -2 -2 1 1 4 4 0.1\nbodies 1\n\
+        body 0 0 1 0 0.5 0.2 0 0 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0\ninputs 0\nend\n";
+
+    const BALL: &str = "body 0 0 1 0 0.5 0.2 1 1 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0";
+
+    #[track_caller]
+    fn msg<T: std::fmt::Debug>(r: Result<T, SimError>) -> String {
+        match r {
+            Err(SimError::Msg(m)) => m,
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    }
+
+    /// The live API refuses, before it changes anything, bodies that do not
+    /// exist, results that would not be finite, far teleports, add_body text
+    /// that fails a body's checks, and everything after finish().
+    #[test]
+    fn live_refusals() {
+        let mut w = World::<Apart>::from_scene(SCENE, None).expect("a valid scene");
+        assert_eq!(msg(w.set_velocity(5, 1.0, 0.0)), "body 5 does not exist");
+        assert_eq!(msg(w.state(1, 0.0)), "body 1 does not exist");
+        w.add_velocity(0, 1e308, 0.0).expect("finite");
+        assert_eq!(msg(w.add_velocity(0, 1e308, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.apply_impulse(0, f64::MAX, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.set_velocity(0, f64::NAN, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.teleport(0, f64::INFINITY, 0.0)), "live input: body 0: position would not be finite");
+        assert_eq!(msg(w.teleport(0, 1e150, 1e150)), "live input: body 0: teleport beyond 1e150 m");
+        assert_eq!(w.state(0, 0.0).expect("a body").vx, 1e308); // the refused inputs changed nothing
+        assert_eq!(w.input_log().len(), 1);
+        w.set_velocity(0, 0.0, 0.0).expect("finite");
+        assert_eq!(
+            msg(w.add_body(&BALL.replace(" 0.5 0.2 ", " 5 0.2 "))),
+            "add_body: body 1: restitution 5 outside [0, 1]"
+        );
+        assert_eq!(msg(w.add_body(&format!("{BALL} x"))), "add_body: unexpected 'x' after the body");
+        assert_eq!(msg(w.add_body(&BALL.replace("body", "b\u{e9}dy"))), "add_body: byte 1: not printable ASCII");
+        assert_eq!(msg(w.add_body("body 1")), "add_body: ends early");
+        assert_eq!(w.bodies(), 1);
+        assert_eq!(w.add_body(BALL).expect("a valid body"), Some(1));
+        w.finish().expect("the end");
+        let finished = "live input: the world is finished";
+        assert_eq!(msg(w.set_velocity(0, 1.0, 0.0)), finished);
+        assert_eq!(msg(w.remove_body(1)), finished);
+        assert_eq!(msg(w.add_body(BALL)), finished);
+    }
+}

@@ -912,7 +912,7 @@ impl Scene {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_decimal_prefix, Tokens};
+    use super::{check_text, parse_decimal_prefix, read_body, BodyLimits, Tokens};
 
     /// The whole word `w` as parse_decimal_prefix reads it, or None.
     fn parse_decimal(w: &[u8]) -> Option<f64> {
@@ -978,8 +978,9 @@ mod tests {
 
     /// Tokens reads a text word by word as split_ascii_whitespace and
     /// `parse` read it: every number to the same bits, every word that is
-    /// no number to the same error, whatever whitespace separates them
-    /// (numbers followed directly by other characters included).
+    /// no number (or `parse`'s inf, nan, infinity) to the same error, an
+    /// overflow to its own, whatever whitespace separates them (numbers
+    /// followed directly by other characters included).
     #[test]
     fn tokens_read_as_split_and_parse_read() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -1012,11 +1013,125 @@ mod tests {
             }
             let mut tk = Tokens::new(&text, "t");
             for w in text.split_ascii_whitespace() {
-                let want = w.parse::<f64>().map(f64::to_bits).map_err(|_| format!("t: expected a number, found '{w}'"));
+                let named = w.contains(['n', 'N', 'i', 'I']); // inf, nan, infinity
+                let want = match w.parse::<f64>() {
+                    Ok(x) if !named && x.is_finite() => Ok(x.to_bits()),
+                    Ok(_) if !named => Err(format!("t: number '{w}' is beyond a double's range")),
+                    _ => Err(format!("t: expected a number, found '{w}'")),
+                };
                 assert_eq!(tk.num().map(f64::to_bits), want, "{text:?}");
             }
             assert_eq!(tk.num(), Err("t: ends early".to_string()), "{text:?}");
             assert_eq!(tk.rest(), None);
         }
+    }
+
+    /// The number grammar's edges: signs, points, exponents, 64
+    /// characters, overflow and underflow; the integer grammar's 18 digits.
+    #[test]
+    fn number_and_integer_words() {
+        let num = |w: &str| Tokens::new(w, "t").num();
+        for (w, x) in [("+1", 1.0), ("1.", 1.0), (".5", 0.5), ("-.5e+1", -5.0), ("1E-400", 0.0), ("4.9e-324", 5e-324)] {
+            assert_eq!(num(w), Ok(x), "{w}");
+        }
+        let long = format!("0.{}1", "0".repeat(61)); // 64 characters
+        assert_eq!(num(&long), Ok(1e-62));
+        let longer = format!("0.{}1", "0".repeat(62));
+        assert_eq!(num(&longer), Err(format!("t: expected a number, found '{}...'", &longer[..32])));
+        for w in ["inf", "-infinity", "NaN", "0x10", "1_0", ".", "-", "1e", "1e+", "++1", "1.5.", "e5", "1d5"] {
+            assert_eq!(num(w), Err(format!("t: expected a number, found '{w}'")), "{w}");
+        }
+        assert_eq!(num("-1e309"), Err("t: number '-1e309' is beyond a double's range".to_string()));
+        let int = |w: &str| Tokens::new(w, "t").int();
+        assert_eq!(int("-999999999999999999"), Ok(-999_999_999_999_999_999));
+        for w in ["1000000000000000000", "+5", "-", "1.0", "1e3", "--1", " "] {
+            assert!(int(w).is_err(), "{w}");
+        }
+        assert_eq!(int("+5"), Err("t: expected an integer, found '+5'".to_string()));
+    }
+
+    /// The whole text: its first byte that is neither printable ASCII nor
+    /// space, tab, newline or carriage return, by its offset.
+    #[test]
+    fn bytes_of_the_text() {
+        assert_eq!(check_text(b"a b\tc\r\nd~!", "scene"), Ok(()));
+        assert_eq!(check_text(b"ab\x0cc", "scene"), Err("scene: byte 2: not printable ASCII".to_string()));
+        assert_eq!(
+            check_text("t\u{e9}".as_bytes(), "add_body"),
+            Err("add_body: byte 1: not printable ASCII".to_string())
+        );
+        assert_eq!(check_text(b"\x7f", "scene"), Err("scene: byte 0: not printable ASCII".to_string()));
+    }
+
+    /// A body line of a movable circle of radius 0.1 at x, the fields
+    /// changed as `change` says (name, value).
+    fn circle(change: &[(&str, &str)]) -> String {
+        let names = "poly fixed inv_mass inv_inertia restitution friction px py vx vy ax ay angle omega radius orbit \
+                     orbit_angle bound window large nverts";
+        let mut words: Vec<String> =
+            "0 0 1 0 0.5 0.2 0 0 0 0 0 -9.81 0 0 0.1 0 0 0.1 0 0 0".split(' ').map(String::from).collect();
+        for (name, value) in change {
+            let k = names.split_whitespace().position(|n| n == *name).expect("a field");
+            words[k] = value.to_string();
+        }
+        format!("body {}\n", words.join(" "))
+    }
+
+    /// A square polygon's body line and `v` lines (side 0.4 about its
+    /// centre), its vertices as given (counter-clockwise from (-0.2, -0.2)).
+    fn square(vs: &[(f64, f64, f64, f64)]) -> String {
+        let mut t = format!("body 1 0 0.5 3 0.5 0.2 1 0 0 0 0 -9.81 0 0 0 0 0 0.3 0 0 {}\n", vs.len());
+        for (x, y, nx, ny) in vs {
+            t.push_str(&format!("v {x} {y} 0.28 0 0 0.2 -0.2 0.2 {nx} {ny} -1\n"));
+        }
+        t
+    }
+
+    const SQUARE: [(f64, f64, f64, f64); 4] =
+        [(-0.2, -0.2, 0.0, -1.0), (0.2, -0.2, 1.0, 0.0), (0.2, 0.2, 0.0, 1.0), (-0.2, 0.2, -1.0, 0.0)];
+
+    fn body(text: &str) -> Result<(), String> {
+        let lim = BodyLimits { end: 2.0, tol: 1e-9, bodies: 3 };
+        let mut tk = Tokens::new(text, "add_body");
+        read_body(&mut tk, 3, &mut Vec::new(), &lim).map(|_| ())
+    }
+
+    /// A body's checks, in their order, with WHAT = add_body.
+    #[test]
+    fn body_checks() {
+        assert_eq!(body(&circle(&[])), Ok(()));
+        assert_eq!(body(&square(&SQUARE)), Ok(()));
+        let at = |m: &str| Err(format!("add_body: body 3: {m}"));
+        assert_eq!(body(&circle(&[("fixed", "2"), ("large", "3")])), at("fixed must be 0 or 1"));
+        assert_eq!(body(&circle(&[("inv_mass", "0")])), at("inverse mass 0 must be positive"));
+        assert_eq!(body(&circle(&[("fixed", "1")])), at("a fixed body has inverse mass 0"));
+        assert_eq!(body(&circle(&[("restitution", "5"), ("friction", "-1")])), at("restitution 5 outside [0, 1]"));
+        assert_eq!(body(&circle(&[("friction", "-1")])), at("friction -1 is negative"));
+        assert_eq!(
+            body(&circle(&[("radius", "1e151"), ("bound", "1e151")])),
+            at("radius 1e+151 outside [tolerance, 1e150]")
+        );
+        assert_eq!(body(&circle(&[("window", "-0.1")])), at("window -0.10000000000000001 outside [0, 0.5]"));
+        assert_eq!(body(&circle(&[("bound", "0.05")])), at("bound 0.050000000000000003 is too small or too large"));
+        assert_eq!(body(&circle(&[("ay", "-1e300")])), at("reaches more than 2e150 m from the origin by the end"));
+        let mut big = square(&SQUARE);
+        big = big.replacen(" 4\n", " 1025\n", 1);
+        assert_eq!(body(&big), at("1025 vertices (3 to 1024)"));
+        let mut cw = SQUARE;
+        cw.reverse();
+        assert_eq!(
+            body(&square(&cw)),
+            Err("add_body: body 3 vertex 0: not strictly convex (counter-clockwise)".into())
+        );
+        let mut short = SQUARE;
+        short[1].0 = -0.2 + 1e-10;
+        assert_eq!(body(&square(&short)), Err("add_body: body 3 vertex 0: edge shorter than the tolerance".into()));
+        let mut inward = SQUARE;
+        inward[2].3 = -1.0;
+        assert_eq!(body(&square(&inward)), Err("add_body: body 3 vertex 2: the normal does not point outward".into()));
+        let covered = square(&SQUARE).replacen(" -1\n", " 3\n", 1);
+        assert_eq!(body(&covered), Err("add_body: body 3 vertex 0: cover 3 is not a body".into()));
+        let far = square(&SQUARE).replacen("v -0.2 -0.2", "v -0.5 -0.2", 1);
+        assert_eq!(body(&far), Err("add_body: body 3 vertex 0: outside the bound".into()));
     }
 }
