@@ -60,7 +60,10 @@ mod world;
 pub use g17::{g17, push_g17};
 pub use live::{BodyState, Contact, World};
 pub use out::SimError;
-pub use scene::{Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+pub use scene::{
+    Body, CosSin, Input, Scene, Vertex, ADD_VELOCITY, IMPULSE, LENGTH_MAX, LENGTH_MIN, MAX_BODIES, MAX_INPUTS,
+    MAX_TEXT, MAX_VERTICES, REMOVE, SET_VELOCITY, TELEPORT,
+};
 
 /// pi/2 rounded to double (cos x = sin(x + pi/2)).
 pub const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
@@ -153,7 +156,11 @@ fn split_inputs(text: &str) -> Result<(String, Vec<Input>), SimError> {
     let (head, tail) = (&text[..at], &text[at + "\ninputs ".len()..]);
     let lines: Vec<&str> = tail.split('\n').collect();
     let k: usize = lines[0].trim().parse().map_err(|_| bad())?;
-    let mut inputs = Vec::with_capacity(k);
+    if k > scene::MAX_INPUTS as usize {
+        return Err(SimError::Msg(format!("scene: {k} inputs (0 to {})", scene::MAX_INPUTS)));
+    }
+    // one line each: no more than the text has
+    let mut inputs = Vec::with_capacity(k.min(lines.len()));
     for i in 0..k {
         let f: Vec<&str> = lines.get(1 + i).ok_or_else(bad)?.split_ascii_whitespace().skip(1).collect();
         let num = |n: usize| f.get(n).and_then(|w| w.parse::<f64>().ok()).ok_or_else(bad);
@@ -275,12 +282,27 @@ pub fn main<E: Equations>() -> i32 {
             return 2;
         }
     };
-    let mut text = String::new();
-    if let Err(e) = io::stdin().read_to_string(&mut text) {
+    // bytes (at most one past the longest text): checked before they are
+    // taken as text, so that a byte that is no ASCII gets its X line
+    let mut bytes = Vec::new();
+    if let Err(e) = io::stdin().take(scene::MAX_TEXT as u64 + 1).read_to_end(&mut bytes) {
         eprintln!("max2code simulator: cannot read the scene: {e}");
         return 2;
     }
-    let stdout = Box::new(io::stdout().lock());
+    let mut stdout = Box::new(io::stdout().lock());
+    let text = match scene::check_text(&bytes, "scene").map(|()| String::from_utf8(bytes)) {
+        Ok(Ok(text)) => text,
+        Err(msg) => {
+            return match writeln!(stdout, "X {msg}").and_then(|()| stdout.flush()) {
+                Ok(()) => 1,
+                Err(e) => {
+                    eprintln!("max2code simulator: cannot write the trace: {e}");
+                    2
+                }
+            };
+        }
+        Ok(Err(e)) => unreachable!("printable ASCII is UTF-8: {e}"),
+    };
     let res = match step {
         None => {
             let parsed = Scene::parse(&text);

@@ -15,7 +15,8 @@ use super::overlap::overlapping;
 use super::predict::{predict_body, predict_pair};
 use super::queue::{Event, INPUT};
 use super::scene::{
-    drivable, read_body, Body, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT,
+    check_text, drivable, read_body, shown, Body, BodyLimits, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, LENGTH_MAX,
+    REMOVE, SET_VELOCITY, TELEPORT,
 };
 use super::world::{Queue, Space};
 use super::Equations;
@@ -91,6 +92,8 @@ pub struct World<E: Equations> {
     pub(super) contacts: Reported,
     /// bodies added by add_body (a recording refuses them)
     added: usize,
+    /// `finish` wrote the trace's final lines: no input or body may follow
+    finished: bool,
     /// the instant of the contacts in `touched`
     pub(super) touched_t: f64,
     /// the contacts (a, b, feature, i, j) handled at `touched_t` (cluster.rs)
@@ -122,6 +125,7 @@ impl<E: Equations> World<E> {
             same: 0,
             contacts: Reported { list: Vec::new(), keep: true },
             added: 0,
+            finished: false,
             touched_t: -1.0,
             touched: Vec::new(),
             eq: PhantomData,
@@ -130,7 +134,10 @@ impl<E: Equations> World<E> {
 
     /// A world from a compiled scene file.
     pub fn from_file(path: &str, trace: Option<Box<dyn Write>>) -> Result<World<E>, SimError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SimError::Msg(format!("{path}: {e}")))?;
+        let bytes = std::fs::read(path).map_err(|e| SimError::Msg(format!("{path}: {e}")))?;
+        check_text(&bytes, "scene").map_err(SimError::Msg)?;
+        // printable ASCII: UTF-8
+        let text = String::from_utf8(bytes).map_err(|e| SimError::Msg(format!("{path}: {e}")))?;
         World::from_scene(&text, trace)
     }
 
@@ -226,7 +233,7 @@ impl<E: Equations> World<E> {
     fn body(&self, k: usize) -> Result<&Body, SimError> {
         let n = self.w.s.bodies.len();
         if k >= n {
-            return Err(SimError::Msg(format!("no body {k} (the world has {n})")));
+            return Err(SimError::Msg(format!("body {k} does not exist")));
         }
         Ok(&self.w.s.bodies[k])
     }
@@ -260,7 +267,12 @@ impl<E: Equations> World<E> {
     /// are handled first, then this one, before any other event at T
     /// (docs/engine-api.md, "Live inputs").  It is appended to the input
     /// list, which is the recording.
+    /// Refused before it changes anything: after `finish`, on a body that
+    /// does not exist or was removed, one an input of this mode may not
+    /// drive, or when the velocity or position it gives would not be finite
+    /// (a teleport: beyond LENGTH_MAX).
     fn live_input(&mut self, body: usize, mode: i64, x: f64, y: f64) -> Result<bool, SimError> {
+        self.not_finished()?;
         if self.body(body)?.gone {
             return Err(SimError::Msg(format!("body {body} was removed")));
         }
@@ -269,11 +281,27 @@ impl<E: Equations> World<E> {
                 "body {body} is fixed: inputs move movable bodies only (or set the velocity of a fixed polygon that does not turn, or remove a fixed body)"
             )));
         }
-        if !(x.is_finite() && y.is_finite()) {
-            return Err(SimError::Msg(format!("input on body {body}: ({}, {}) is not finite", g17(x), g17(y))));
-        }
         let t = self.time;
         self.inputs_now()?;
+        // the scene's inputs at t are handled: the body's velocity now is
+        // the one this input changes (as handle_input re-bases it)
+        let b = self.body(body)?;
+        if b.gone {
+            return Err(SimError::Msg(format!("body {body} was removed")));
+        }
+        let (_, _, vx, vy, _) = state_at(b, t);
+        let (rx, ry, what) = match mode {
+            SET_VELOCITY => (x, y, "velocity"),
+            ADD_VELOCITY => (vx + x, vy + y, "velocity"),
+            IMPULSE => (vx + x * b.inv_m, vy + y * b.inv_m, "velocity"),
+            _ => (x, y, "position"),
+        };
+        if !(rx.is_finite() && ry.is_finite()) {
+            return Err(SimError::Msg(format!("live input: body {body}: {what} would not be finite")));
+        }
+        if mode == TELEPORT && !(x.abs() + y.abs() <= LENGTH_MAX) {
+            return Err(SimError::Msg(format!("live input: body {body}: teleport beyond 1e150 m")));
+        }
         if mode == TELEPORT {
             let s = &self.w.s;
             if overlapping(&s.bodies, &s.verts, s.tol, &s.bodies[body], Some(body), x, y, t).is_some() {
@@ -308,6 +336,7 @@ impl<E: Equations> World<E> {
     /// unchanged) when it would overlap a body by more than the tolerance.
     /// Not an input: a recording refuses a session that added bodies.
     pub fn add_body(&mut self, text: &str) -> Result<Option<usize>, SimError> {
+        self.not_finished()?;
         let v0 = self.w.s.verts.len();
         let res = self.add_body_at(text, v0);
         if !matches!(res, Ok(Some(_))) {
@@ -318,12 +347,15 @@ impl<E: Equations> World<E> {
     }
 
     fn add_body_at(&mut self, text: &str, v0: usize) -> Result<Option<usize>, SimError> {
+        check_text(text.as_bytes(), "add_body").map_err(SimError::Msg)?;
         let mut tk = Tokens::new(text, "add_body");
         let idx = self.w.s.bodies.len();
-        let mut b = read_body(&mut tk, idx as u32, &mut self.w.s.verts).map_err(SimError::Msg)?;
+        let s = &self.w.s;
+        let lim = BodyLimits { end: s.end, tol: s.tol, bodies: idx as i64 };
+        let mut b = read_body(&mut tk, idx as u32, &mut self.w.s.verts, &lim).map_err(SimError::Msg)?;
         debug_assert_eq!(b.v0 as usize, v0);
         if let Some(w) = tk.rest() {
-            return Err(SimError::Msg(format!("add_body: unexpected '{w}' after the body")));
+            return Err(SimError::Msg(format!("add_body: unexpected '{}' after the body", shown(w))));
         }
         let s = &self.w.s;
         // Python's min(cw, ch)
@@ -373,6 +405,14 @@ impl<E: Equations> World<E> {
         Ok(Some(idx))
     }
 
+    /// Inputs and bodies are refused once `finish` wrote the final lines.
+    fn not_finished(&self) -> Result<(), SimError> {
+        if self.finished {
+            return Err(SimError::Msg("live input: the world is finished".to_string()));
+        }
+        Ok(())
+    }
+
     /// Handle the input events queued at exactly the world's time.
     fn inputs_now(&mut self) -> Result<(), SimError> {
         while let Some(top) = self.q.heap.peek() {
@@ -393,6 +433,7 @@ impl<E: Equations> World<E> {
         let end = self.w.s.end;
         self.process(end, true)?;
         self.time = end;
+        self.finished = true;
         self.write_final()?;
         self.out.flush()?;
         Ok(self.take_contacts())
@@ -416,5 +457,81 @@ impl<E: Equations> World<E> {
     pub fn stop_trace(&mut self, msg: &str) -> Result<(), SimError> {
         self.out.message(msg);
         self.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::World;
+    use crate::sim::{Equations, SimError, MAX_COEF};
+
+    /// Equations under which no pair ever meets (every gap polynomial is
+    /// the constant 1): a world whose live API alone is tested.
+    struct Apart;
+
+    impl Equations for Apart {
+        const CC_VARIANTS: usize = 1;
+        const PE_VARIANTS: usize = 1;
+        fn cc_variant(_: &[f64; 24]) -> i32 {
+            0
+        }
+        fn cc_coefficients(_: &[f64; 24], c: &mut [f64; MAX_COEF]) -> Option<usize> {
+            c[0] = 1.0;
+            Some(0)
+        }
+        fn pe_variant(_: &[f64; 12]) -> i32 {
+            0
+        }
+        fn pe_coefficients(_: &[f64; 12], c: &mut [f64; MAX_COEF]) -> Option<usize> {
+            c[0] = 1.0;
+            Some(0)
+        }
+    }
+
+    const SCENE: &str = "m2c-scene 1\nend 2\nframe 0\ntolerance 1e-9\nrest_speed 0.01\nwindow_angle 0.5\n\
+        max_same_time 100\ngrid -2 -2 1 1 4 4 0.1\nbodies 1\n\
+        body 0 0 1 0 0.5 0.2 0 0 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0\ninputs 0\nend\n";
+
+    const BALL: &str = "body 0 0 1 0 0.5 0.2 1 1 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0";
+
+    #[track_caller]
+    fn msg<T: std::fmt::Debug>(r: Result<T, SimError>) -> String {
+        match r {
+            Err(SimError::Msg(m)) => m,
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    }
+
+    /// The live API refuses, before it changes anything, bodies that do not
+    /// exist, results that would not be finite, far teleports, add_body text
+    /// that fails a body's checks, and everything after finish().
+    #[test]
+    fn live_refusals() {
+        let mut w = World::<Apart>::from_scene(SCENE, None).expect("a valid scene");
+        assert_eq!(msg(w.set_velocity(5, 1.0, 0.0)), "body 5 does not exist");
+        assert_eq!(msg(w.state(1, 0.0)), "body 1 does not exist");
+        w.add_velocity(0, 1e308, 0.0).expect("finite");
+        assert_eq!(msg(w.add_velocity(0, 1e308, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.apply_impulse(0, f64::MAX, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.set_velocity(0, f64::NAN, 0.0)), "live input: body 0: velocity would not be finite");
+        assert_eq!(msg(w.teleport(0, f64::INFINITY, 0.0)), "live input: body 0: position would not be finite");
+        assert_eq!(msg(w.teleport(0, 1e150, 1e150)), "live input: body 0: teleport beyond 1e150 m");
+        assert_eq!(w.state(0, 0.0).expect("a body").vx, 1e308); // the refused inputs changed nothing
+        assert_eq!(w.input_log().len(), 1);
+        w.set_velocity(0, 0.0, 0.0).expect("finite");
+        assert_eq!(
+            msg(w.add_body(&BALL.replace(" 0.5 0.2 ", " 5 0.2 "))),
+            "add_body: body 1: restitution 5 outside [0, 1]"
+        );
+        assert_eq!(msg(w.add_body(&format!("{BALL} x"))), "add_body: unexpected 'x' after the body");
+        assert_eq!(msg(w.add_body(&BALL.replace("body", "b\u{e9}dy"))), "add_body: byte 1: not printable ASCII");
+        assert_eq!(msg(w.add_body("body 1")), "add_body: ends early");
+        assert_eq!(w.bodies(), 1);
+        assert_eq!(w.add_body(BALL).expect("a valid body"), Some(1));
+        w.finish().expect("the end");
+        let finished = "live input: the world is finished";
+        assert_eq!(msg(w.set_velocity(0, 1.0, 0.0)), finished);
+        assert_eq!(msg(w.remove_body(1)), finished);
+        assert_eq!(msg(w.add_body(BALL)), finished);
     }
 }

@@ -184,6 +184,83 @@ impl Body {
     }
 }
 
+/// The limits of a flat text (docs/simulator.md, "Flat scene checks"), the
+/// same names and values in every runtime: bodies in a scene, vertices of a
+/// polygon, inputs in a scene.
+pub const MAX_BODIES: i64 = 1_000_000;
+pub const MAX_VERTICES: i64 = 1024;
+pub const MAX_INPUTS: i64 = 10_000_000;
+/// m: the largest length (and coordinate) a flat text may give, and the
+/// smallest tolerance or grid cell
+pub const LENGTH_MAX: f64 = 1e150;
+pub const LENGTH_MIN: f64 = 1e-150;
+/// bytes: the longest flat text
+pub const MAX_TEXT: usize = 1 << 30;
+/// characters of a number's word, digits of an integer's
+const MAX_NUMBER_CHARS: usize = 64;
+const MAX_INTEGER_DIGITS: usize = 18;
+
+/// A word as a message shows it: its first 32 characters, then `...` when
+/// it is longer.
+pub(super) fn shown(w: &str) -> String {
+    match w.char_indices().nth(32) {
+        Some((at, _)) => format!("{}...", &w[..at]),
+        None => w.to_string(),
+    }
+}
+
+/// The text as a whole: at most MAX_TEXT bytes, each printable ASCII or
+/// whitespace (space, tab, newline, carriage return); `what` names it in
+/// the message ("scene", "add_body").
+pub fn check_text(text: &[u8], what: &str) -> Result<(), String> {
+    if text.len() > MAX_TEXT {
+        return Err(format!("{what}: longer than {MAX_TEXT} bytes"));
+    }
+    match text.iter().position(|&c| !(c.is_ascii_graphic() || matches!(c, b' ' | b'\t' | b'\n' | b'\r'))) {
+        Some(n) => Err(format!("{what}: byte {n}: not printable ASCII")),
+        None => Ok(()),
+    }
+}
+
+/// `w` is a number's word: `[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?`,
+/// at most MAX_NUMBER_CHARS characters (no `inf`, `nan`, hex, `_`).
+fn is_number_word(w: &[u8]) -> bool {
+    let n = w.len();
+    let digits = |mut p: usize| {
+        while p < n && w[p].is_ascii_digit() {
+            p += 1;
+        }
+        p
+    };
+    if n > MAX_NUMBER_CHARS {
+        return false;
+    }
+    let mut p = usize::from(n > 0 && (w[0] == b'+' || w[0] == b'-'));
+    let q = digits(p);
+    let mut any = q > p;
+    p = q;
+    if p < n && w[p] == b'.' {
+        let q = digits(p + 1);
+        any |= q > p + 1;
+        p = q;
+    }
+    if !any {
+        return false;
+    }
+    if p < n && (w[p] == b'e' || w[p] == b'E') {
+        p += 1;
+        if p < n && (w[p] == b'+' || w[p] == b'-') {
+            p += 1;
+        }
+        let q = digits(p);
+        if q == p {
+            return false;
+        }
+        p = q;
+    }
+    p == n
+}
+
 /// Input modes (the flat scene's MODE).
 pub const SET_VELOCITY: i64 = 0;
 pub const ADD_VELOCITY: i64 = 1;
@@ -411,29 +488,50 @@ impl<'a> Tokens<'a> {
     fn expect(&mut self, w: &str) -> Result<(), String> {
         let got = self.next_word(Some(w))?;
         if got != w {
-            return Err(format!("{}: expected '{w}', found '{got}'", self.what));
+            return Err(format!("{}: expected '{w}', found '{}'", self.what, shown(got)));
         }
         Ok(())
+    }
+
+    /// Bytes not read yet (a bound on how many lines can follow).
+    fn remaining(&self) -> usize {
+        self.text.len() - self.pos
     }
 
     fn num(&mut self) -> Result<f64, String> {
         self.skip_space();
         let b = &self.text.as_bytes()[self.pos..];
         if let Some((x, p)) = parse_decimal_prefix(b) {
-            if p == b.len() || b[p].is_ascii_whitespace() {
+            // the grammar's words are a subset of a number's; finite
+            if p <= MAX_NUMBER_CHARS && (p == b.len() || b[p].is_ascii_whitespace()) {
                 self.pos += p;
                 return Ok(x);
             }
         }
         // not a decimal that parse_decimal reads (nor is the whole word,
         // which starts as the number did and goes on): `parse` reads it
+        // when it is a number's word (`parse` also takes inf, nan, infinity)
         let w = self.next_word(None)?;
-        w.parse::<f64>().map_err(|_| format!("{}: expected a number, found '{w}'", self.what))
+        let bad = || format!("{}: expected a number, found '{}'", self.what, shown(w));
+        if !is_number_word(w.as_bytes()) {
+            return Err(bad());
+        }
+        let x = w.parse::<f64>().map_err(|_| bad())?;
+        if !x.is_finite() {
+            return Err(format!("{}: number '{}' is beyond a double's range", self.what, shown(w)));
+        }
+        Ok(x)
     }
 
+    /// An integer's word: `-?[0-9]{1,18}`.
     fn int(&mut self) -> Result<i64, String> {
         let w = self.next_word(None)?;
-        w.parse::<i64>().map_err(|_| format!("{}: expected an integer, found '{w}'", self.what))
+        let bad = || format!("{}: expected an integer, found '{}'", self.what, shown(w));
+        let d = w.strip_prefix('-').unwrap_or(w);
+        if d.is_empty() || d.len() > MAX_INTEGER_DIGITS || !d.bytes().all(|c| c.is_ascii_digit()) {
+            return Err(bad());
+        }
+        w.parse::<i64>().map_err(|_| bad())
     }
 
     /// The next word, if any (a text that should have ended).
@@ -442,26 +540,113 @@ impl<'a> Tokens<'a> {
     }
 }
 
+/// What a body's checks compare with: the scene's end time (s) and
+/// tolerance (m), and how many bodies there are (a cover names one of them).
+#[derive(Clone, Copy, Debug)]
+pub struct BodyLimits {
+    pub end: f64,
+    pub tol: f64,
+    pub bodies: i64,
+}
+
 /// A `body ...` line and its `v` lines (docs/simulator.md, Flat scene):
-/// body number `idx`, its vertices appended to `verts`.
-pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<Body, String> {
+/// body number `idx`, its vertices appended to `verts`, each field checked
+/// ("Flat scene checks"): the body line once read whole, each `v` line once
+/// read, the polygon once its last `v` line is.
+pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>, lim: &BodyLimits) -> Result<Body, String> {
     tk.expect("body")?;
-    let polygon = tk.int()? == 1;
-    let fixed = tk.int()? == 1;
+    let poly = tk.int()?;
+    let fixed = tk.int()?;
     let (inv_m, inv_i, e, mu) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (px, py, vx, vy, ax, ay) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
     let (ang, om) = (tk.num()?, tk.num()?);
     let (r, orbit, ophase, bound, window) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?, tk.num()?);
-    let large = tk.int()? == 1;
-    let nv = tk.int()?.max(0) as u32;
+    let large = tk.int()?;
+    let nverts = tk.int()?;
+    let what = tk.what;
+    let fail = |m: String| Err(format!("{what}: body {idx}: {m}"));
+    for (name, x) in [("poly", poly), ("fixed", fixed), ("large", large)] {
+        if x != 0 && x != 1 {
+            return fail(format!("{name} must be 0 or 1"));
+        }
+    }
+    let (polygon, fixed, large) = (poly == 1, fixed == 1, large == 1);
+    if fixed {
+        if !(inv_m == 0.0 && inv_i == 0.0) {
+            return fail("a fixed body has inverse mass 0".to_string());
+        }
+    } else if !(inv_m > 0.0) {
+        return fail(format!("inverse mass {} must be positive", g17(inv_m)));
+    } else if polygon && !(inv_i > 0.0) {
+        return fail(format!("inverse inertia {} must be positive", g17(inv_i)));
+    } else if !polygon && inv_i != 0.0 {
+        return fail("a circle has inverse inertia 0".to_string());
+    }
+    if !((0.0..=1.0).contains(&e)) {
+        return fail(format!("restitution {} outside [0, 1]", g17(e)));
+    }
+    if !(mu >= 0.0) {
+        return fail(format!("friction {} is negative", g17(mu)));
+    }
+    let tol = lim.tol;
+    if !polygon {
+        if !(tol <= r && r <= LENGTH_MAX) {
+            return fail(format!("radius {} outside [tolerance, 1e150]", g17(r)));
+        }
+        if nverts != 0 {
+            return fail("a circle has no vertices".to_string());
+        }
+        if orbit != 0.0 {
+            if !(tol <= orbit && orbit <= LENGTH_MAX) {
+                return fail(format!("orbit radius {} outside [tolerance, 1e150]", g17(orbit)));
+            }
+            if !fixed {
+                return fail("an orbiting circle must be fixed".to_string());
+            }
+        }
+        if om != 0.0 && !(orbit > 0.0) {
+            return fail("a circle turns only about an orbit".to_string());
+        }
+    } else {
+        if r != 0.0 || orbit != 0.0 {
+            return fail("a polygon has no radius or orbit".to_string());
+        }
+        if !(3..=MAX_VERTICES).contains(&nverts) {
+            return fail(format!("{nverts} vertices (3 to {MAX_VERTICES})"));
+        }
+    }
+    if !((0.0..=0.5).contains(&window)) {
+        return fail(format!("window {} outside [0, 0.5]", g17(window)));
+    }
+    if !((polygon || bound >= r + orbit) && bound <= LENGTH_MAX) {
+        return fail(format!("bound {} is too small or too large", g17(bound)));
+    }
+    let t = lim.end;
+    // left to right, as every runtime computes it
+    let reach = (px.abs() + py.abs()) + (vx.abs() + vy.abs()) * t + (ax.abs() + ay.abs()) * t * t / 2.0 + bound;
+    if !(reach <= 2.0 * LENGTH_MAX) {
+        return fail("reaches more than 2e150 m from the origin by the end".to_string());
+    }
+    // nverts is 0 or in 3..=MAX_VERTICES
+    let nv = nverts as u32;
     let v0 = verts.len() as u32;
-    for _ in 0..nv {
+    for j in 0..nv {
         tk.expect("v")?;
         let mut v = [0.0f64; 10];
         for x in v.iter_mut() {
             *x = tk.num()?;
         }
         let cover = tk.int()?;
+        let fail = |m: String| Err(format!("{what}: body {idx} vertex {j}: {m}"));
+        if !(v[0].abs() <= bound && v[1].abs() <= bound) {
+            return fail("outside the bound".to_string());
+        }
+        if !((v[8] * v[8] + v[9] * v[9] - 1.0).abs() <= 1e-9) {
+            return fail("the normal is not a unit vector".to_string());
+        }
+        if !(cover == -1 || (0 <= cover && cover < lim.bodies && cover != i64::from(idx))) {
+            return fail(format!("cover {cover} is not a body"));
+        }
         verts.push(Vertex {
             lx: v[0],
             ly: v[1],
@@ -477,6 +662,9 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
             at: CosSin::new(),
             normal: CosSin::new(),
         });
+    }
+    if polygon {
+        check_polygon(&verts[v0 as usize..], tol).map_err(|m| format!("{what}: body {idx}{m}"))?;
     }
     Ok(Body {
         idx,
@@ -521,57 +709,153 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>) -> Result<B
     })
 }
 
+/// A polygon's vertices (at least 3) as the flat text's checks 12-15 ask:
+/// edges of at least `tol` (|x| + |y|), every turn strictly
+/// counter-clockwise, one winding, every normal outward; the message after
+/// `body K` (" vertex J: ..." or ": ...").
+fn check_polygon(vs: &[Vertex], tol: f64) -> Result<(), String> {
+    let n = vs.len();
+    let edge = |j: usize| {
+        let (a, b) = (&vs[j], &vs[(j + 1) % n]);
+        (b.lx - a.lx, b.ly - a.ly)
+    };
+    for j in 0..n {
+        let (ex, ey) = edge(j);
+        if !(ex.abs() + ey.abs() >= tol) {
+            return Err(format!(" vertex {j}: edge shorter than the tolerance"));
+        }
+    }
+    for j in 0..n {
+        let ((px, py), (ex, ey)) = (edge((j + n - 1) % n), edge(j));
+        if !(px * ey - py * ex > 0.0) {
+            return Err(format!(" vertex {j}: not strictly convex (counter-clockwise)"));
+        }
+    }
+    let signs: Vec<bool> = (0..n).map(|j| edge(j).1).filter(|&y| y != 0.0).map(|y| y > 0.0).collect();
+    let changes = (0..signs.len()).filter(|&i| signs[i] != signs[(i + 1) % signs.len()]).count();
+    if changes != 2 {
+        return Err(format!(": the polygon winds {} times", changes / 2));
+    }
+    for (j, v) in vs.iter().enumerate() {
+        let (ex, ey) = edge(j);
+        if !(v.nx * ey - v.ny * ex > 0.0) {
+            return Err(format!(" vertex {j}: the normal does not point outward"));
+        }
+    }
+    Ok(())
+}
+
 impl Scene {
-    /// Read a compiled scene; the error is the message of an `X` line.
+    /// Read a compiled scene, checking it as docs/simulator.md's "Flat
+    /// scene checks" say (the first fault); the error is the message of an
+    /// `X` line.  No count taken from the text sizes an allocation before
+    /// it is checked.
     pub fn parse(text: &str) -> Result<Scene, String> {
+        check_text(text.as_bytes(), "scene")?;
         let mut tk = Tokens::new(text, "scene");
         tk.expect("m2c-scene")?;
-        if tk.int()? != 1 {
-            return Err("scene: unknown version".to_string());
+        let version = tk.int()?;
+        if version != 1 {
+            return Err(format!("scene: unknown version {version}"));
         }
         tk.expect("end")?;
         let end = tk.num()?;
+        if !(end > 0.0 && end <= LENGTH_MAX) {
+            return Err(format!("scene: end {} outside (0, 1e150]", g17(end)));
+        }
         tk.expect("frame")?;
         let frame_dt = tk.num()?;
+        if !(frame_dt == 0.0 || (frame_dt > 0.0 && end / frame_dt <= 1e12)) {
+            return Err(if frame_dt > 0.0 {
+                format!("scene: frame {} gives more than 1e12 frames", g17(frame_dt))
+            } else {
+                format!("scene: frame {} is negative", g17(frame_dt))
+            });
+        }
         tk.expect("tolerance")?;
         let tol = tk.num()?;
+        if !(LENGTH_MIN..=LENGTH_MAX).contains(&tol) {
+            return Err(format!("scene: tolerance {} outside [1e-150, 1e150]", g17(tol)));
+        }
         tk.expect("rest_speed")?;
         let rest_speed = tk.num()?;
+        if !(rest_speed >= 0.0) {
+            return Err(format!("scene: rest_speed {} is negative", g17(rest_speed)));
+        }
         tk.expect("window_angle")?;
         let alpha = tk.num()?;
+        if !(alpha > 0.0 && alpha <= 0.5) {
+            return Err(format!("scene: window_angle {} outside (0, 0.5]", g17(alpha)));
+        }
         tk.expect("max_same_time")?;
         let max_same = tk.int()?;
+        if max_same < 1 {
+            return Err(format!("scene: max_same_time {max_same} is less than 1"));
+        }
+        // the grid line read whole, then checked
         tk.expect("grid")?;
         let (x0, y0, cw, ch) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
         let (nx, ny) = (tk.int()?, tk.int()?);
-        if nx < 1 || ny < 1 || nx > i64::from(i32::MAX) || ny > i64::from(i32::MAX) {
-            return Err(format!("scene: a grid of {nx} x {ny} cells"));
-        }
         let margin = tk.num()?;
+        if !(x0.abs() <= LENGTH_MAX && y0.abs() <= LENGTH_MAX) {
+            return Err("scene: grid origin beyond 1e150".to_string());
+        }
+        for c in [cw, ch] {
+            if !(LENGTH_MIN..=LENGTH_MAX).contains(&c) {
+                return Err(format!("scene: grid cell {} outside [1e-150, 1e150]", g17(c)));
+            }
+        }
+        if nx < 1 || ny < 1 {
+            return Err(format!("scene: grid of {nx} x {ny} cells"));
+        }
         let half_cell = 0.5 * if ch < cw { ch } else { cw };
         if !(0.0 <= margin && margin < half_cell) {
             return Err(format!("scene: grid margin {} m outside [0, half a cell)", g17(margin)));
         }
         tk.expect("bodies")?;
         let n = tk.int()?;
-        if n < 0 || n > i64::from(i32::MAX) {
-            return Err(format!("scene: {n} bodies"));
+        if !(1..=MAX_BODIES).contains(&n) {
+            return Err(format!("scene: {n} bodies (1 to {MAX_BODIES})"));
         }
-        let mut bodies = Vec::with_capacity(n as usize);
+        // at most 4e6 cells: nx, ny and their product fit an i32
+        let cells = (4 * n).max(16);
+        if !(nx <= cells && ny <= cells && nx * ny <= cells) {
+            return Err(format!("scene: grid of {nx} x {ny} cells for {n} bodies (at most max(16, 4 x bodies) cells)"));
+        }
+        // a body line has 22 words: at least 44 bytes each
+        let mut bodies = Vec::with_capacity((n as usize).min(tk.remaining() / 44 + 1));
         super::huge::advise(&bodies);
         let mut verts = Vec::new();
+        let lim = BodyLimits { end, tol, bodies: n };
         for idx in 0..n as u32 {
-            bodies.push(read_body(&mut tk, idx, &mut verts)?);
+            bodies.push(read_body(&mut tk, idx, &mut verts, &lim)?);
+        }
+        for b in &bodies {
+            for j in 0..b.nverts() {
+                let cover = verts[b.vert(j)].cover;
+                if cover >= 0 && !bodies[cover as usize].fixed {
+                    return Err(format!("scene: body {} vertex {j}: cover {cover} is not a fixed body", b.idx));
+                }
+            }
         }
         tk.expect("inputs")?;
         let k = tk.int()?;
-        let mut inputs = Vec::with_capacity(k.max(0) as usize);
-        for _ in 0..k.max(0) {
+        if !(0..=MAX_INPUTS).contains(&k) {
+            return Err(format!("scene: {k} inputs (0 to {MAX_INPUTS})"));
+        }
+        // an input line has 6 words: at least 12 bytes each
+        let mut inputs = Vec::with_capacity((k as usize).min(tk.remaining() / 12 + 1));
+        // the input that removed each body, once one does
+        let mut removed_by: Vec<i64> = Vec::new();
+        for i in 0..k {
             tk.expect("input")?;
             let t = tk.num()?;
             let body = tk.int()?;
             let mode = tk.int()?;
             let (vx, vy) = (tk.num()?, tk.num()?);
+            if !(0.0 <= t && t <= end) {
+                return Err(format!("scene: input {i}: time {} outside [0, end]", g17(t)));
+            }
             if body < 0 || body >= n {
                 return Err(format!("scene: input on body {body}, which does not exist"));
             }
@@ -580,13 +864,30 @@ impl Scene {
             }
             if !drivable(&bodies[body as usize], mode) {
                 return Err(format!(
-                    "scene: input {} on fixed body {body}: only set_velocity (on a polygon that does not turn) or remove",
-                    inputs.len()
+                    "scene: input {i} on fixed body {body}: only set_velocity (on a polygon that does not turn) or remove"
                 ));
+            }
+            if let Some(&m) = removed_by.get(body as usize).filter(|&&m| m >= 0) {
+                return Err(format!("scene: input {i}: body {body} was removed by input {m}"));
+            }
+            if mode == REMOVE {
+                if !(vx == 0.0 && vy == 0.0) {
+                    return Err(format!("scene: input {i}: a removal has no vector"));
+                }
+                if removed_by.is_empty() {
+                    removed_by = vec![-1; n as usize];
+                }
+                removed_by[body as usize] = i;
+            }
+            if mode == TELEPORT && !(vx.abs() + vy.abs() <= LENGTH_MAX) {
+                return Err(format!("scene: input {i}: teleport beyond 1e150 m"));
             }
             inputs.push(Input { t, body, mode, vx, vy });
         }
         tk.expect("end")?;
+        if let Some(w) = tk.rest() {
+            return Err(format!("scene: unexpected '{}' after the end", shown(w)));
+        }
         Ok(Scene {
             end,
             frame_dt,
@@ -611,7 +912,7 @@ impl Scene {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_decimal_prefix, Tokens};
+    use super::{check_text, parse_decimal_prefix, read_body, BodyLimits, Tokens};
 
     /// The whole word `w` as parse_decimal_prefix reads it, or None.
     fn parse_decimal(w: &[u8]) -> Option<f64> {
@@ -677,8 +978,9 @@ mod tests {
 
     /// Tokens reads a text word by word as split_ascii_whitespace and
     /// `parse` read it: every number to the same bits, every word that is
-    /// no number to the same error, whatever whitespace separates them
-    /// (numbers followed directly by other characters included).
+    /// no number (or `parse`'s inf, nan, infinity) to the same error, an
+    /// overflow to its own, whatever whitespace separates them (numbers
+    /// followed directly by other characters included).
     #[test]
     fn tokens_read_as_split_and_parse_read() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -711,11 +1013,125 @@ mod tests {
             }
             let mut tk = Tokens::new(&text, "t");
             for w in text.split_ascii_whitespace() {
-                let want = w.parse::<f64>().map(f64::to_bits).map_err(|_| format!("t: expected a number, found '{w}'"));
+                let named = w.contains(['n', 'N', 'i', 'I']); // inf, nan, infinity
+                let want = match w.parse::<f64>() {
+                    Ok(x) if !named && x.is_finite() => Ok(x.to_bits()),
+                    Ok(_) if !named => Err(format!("t: number '{w}' is beyond a double's range")),
+                    _ => Err(format!("t: expected a number, found '{w}'")),
+                };
                 assert_eq!(tk.num().map(f64::to_bits), want, "{text:?}");
             }
             assert_eq!(tk.num(), Err("t: ends early".to_string()), "{text:?}");
             assert_eq!(tk.rest(), None);
         }
+    }
+
+    /// The number grammar's edges: signs, points, exponents, 64
+    /// characters, overflow and underflow; the integer grammar's 18 digits.
+    #[test]
+    fn number_and_integer_words() {
+        let num = |w: &str| Tokens::new(w, "t").num();
+        for (w, x) in [("+1", 1.0), ("1.", 1.0), (".5", 0.5), ("-.5e+1", -5.0), ("1E-400", 0.0), ("4.9e-324", 5e-324)] {
+            assert_eq!(num(w), Ok(x), "{w}");
+        }
+        let long = format!("0.{}1", "0".repeat(61)); // 64 characters
+        assert_eq!(num(&long), Ok(1e-62));
+        let longer = format!("0.{}1", "0".repeat(62));
+        assert_eq!(num(&longer), Err(format!("t: expected a number, found '{}...'", &longer[..32])));
+        for w in ["inf", "-infinity", "NaN", "0x10", "1_0", ".", "-", "1e", "1e+", "++1", "1.5.", "e5", "1d5"] {
+            assert_eq!(num(w), Err(format!("t: expected a number, found '{w}'")), "{w}");
+        }
+        assert_eq!(num("-1e309"), Err("t: number '-1e309' is beyond a double's range".to_string()));
+        let int = |w: &str| Tokens::new(w, "t").int();
+        assert_eq!(int("-999999999999999999"), Ok(-999_999_999_999_999_999));
+        for w in ["1000000000000000000", "+5", "-", "1.0", "1e3", "--1", " "] {
+            assert!(int(w).is_err(), "{w}");
+        }
+        assert_eq!(int("+5"), Err("t: expected an integer, found '+5'".to_string()));
+    }
+
+    /// The whole text: its first byte that is neither printable ASCII nor
+    /// space, tab, newline or carriage return, by its offset.
+    #[test]
+    fn bytes_of_the_text() {
+        assert_eq!(check_text(b"a b\tc\r\nd~!", "scene"), Ok(()));
+        assert_eq!(check_text(b"ab\x0cc", "scene"), Err("scene: byte 2: not printable ASCII".to_string()));
+        assert_eq!(
+            check_text("t\u{e9}".as_bytes(), "add_body"),
+            Err("add_body: byte 1: not printable ASCII".to_string())
+        );
+        assert_eq!(check_text(b"\x7f", "scene"), Err("scene: byte 0: not printable ASCII".to_string()));
+    }
+
+    /// A body line of a movable circle of radius 0.1 at x, the fields
+    /// changed as `change` says (name, value).
+    fn circle(change: &[(&str, &str)]) -> String {
+        let names = "poly fixed inv_mass inv_inertia restitution friction px py vx vy ax ay angle omega radius orbit \
+                     orbit_angle bound window large nverts";
+        let mut words: Vec<String> =
+            "0 0 1 0 0.5 0.2 0 0 0 0 0 -9.81 0 0 0.1 0 0 0.1 0 0 0".split(' ').map(String::from).collect();
+        for (name, value) in change {
+            let k = names.split_whitespace().position(|n| n == *name).expect("a field");
+            words[k] = value.to_string();
+        }
+        format!("body {}\n", words.join(" "))
+    }
+
+    /// A square polygon's body line and `v` lines (side 0.4 about its
+    /// centre), its vertices as given (counter-clockwise from (-0.2, -0.2)).
+    fn square(vs: &[(f64, f64, f64, f64)]) -> String {
+        let mut t = format!("body 1 0 0.5 3 0.5 0.2 1 0 0 0 0 -9.81 0 0 0 0 0 0.3 0 0 {}\n", vs.len());
+        for (x, y, nx, ny) in vs {
+            t.push_str(&format!("v {x} {y} 0.28 0 0 0.2 -0.2 0.2 {nx} {ny} -1\n"));
+        }
+        t
+    }
+
+    const SQUARE: [(f64, f64, f64, f64); 4] =
+        [(-0.2, -0.2, 0.0, -1.0), (0.2, -0.2, 1.0, 0.0), (0.2, 0.2, 0.0, 1.0), (-0.2, 0.2, -1.0, 0.0)];
+
+    fn body(text: &str) -> Result<(), String> {
+        let lim = BodyLimits { end: 2.0, tol: 1e-9, bodies: 3 };
+        let mut tk = Tokens::new(text, "add_body");
+        read_body(&mut tk, 3, &mut Vec::new(), &lim).map(|_| ())
+    }
+
+    /// A body's checks, in their order, with WHAT = add_body.
+    #[test]
+    fn body_checks() {
+        assert_eq!(body(&circle(&[])), Ok(()));
+        assert_eq!(body(&square(&SQUARE)), Ok(()));
+        let at = |m: &str| Err(format!("add_body: body 3: {m}"));
+        assert_eq!(body(&circle(&[("fixed", "2"), ("large", "3")])), at("fixed must be 0 or 1"));
+        assert_eq!(body(&circle(&[("inv_mass", "0")])), at("inverse mass 0 must be positive"));
+        assert_eq!(body(&circle(&[("fixed", "1")])), at("a fixed body has inverse mass 0"));
+        assert_eq!(body(&circle(&[("restitution", "5"), ("friction", "-1")])), at("restitution 5 outside [0, 1]"));
+        assert_eq!(body(&circle(&[("friction", "-1")])), at("friction -1 is negative"));
+        assert_eq!(
+            body(&circle(&[("radius", "1e151"), ("bound", "1e151")])),
+            at("radius 1e+151 outside [tolerance, 1e150]")
+        );
+        assert_eq!(body(&circle(&[("window", "-0.1")])), at("window -0.10000000000000001 outside [0, 0.5]"));
+        assert_eq!(body(&circle(&[("bound", "0.05")])), at("bound 0.050000000000000003 is too small or too large"));
+        assert_eq!(body(&circle(&[("ay", "-1e300")])), at("reaches more than 2e150 m from the origin by the end"));
+        let mut big = square(&SQUARE);
+        big = big.replacen(" 4\n", " 1025\n", 1);
+        assert_eq!(body(&big), at("1025 vertices (3 to 1024)"));
+        let mut cw = SQUARE;
+        cw.reverse();
+        assert_eq!(
+            body(&square(&cw)),
+            Err("add_body: body 3 vertex 0: not strictly convex (counter-clockwise)".into())
+        );
+        let mut short = SQUARE;
+        short[1].0 = -0.2 + 1e-10;
+        assert_eq!(body(&square(&short)), Err("add_body: body 3 vertex 0: edge shorter than the tolerance".into()));
+        let mut inward = SQUARE;
+        inward[2].3 = -1.0;
+        assert_eq!(body(&square(&inward)), Err("add_body: body 3 vertex 2: the normal does not point outward".into()));
+        let covered = square(&SQUARE).replacen(" -1\n", " 3\n", 1);
+        assert_eq!(body(&covered), Err("add_body: body 3 vertex 0: cover 3 is not a body".into()));
+        let far = square(&SQUARE).replacen("v -0.2 -0.2", "v -0.5 -0.2", 1);
+        assert_eq!(body(&far), Err("add_body: body 3 vertex 0: outside the bound".into()));
     }
 }
