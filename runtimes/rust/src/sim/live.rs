@@ -233,7 +233,7 @@ impl<E: Equations> World<E> {
     fn body(&self, k: usize) -> Result<&Body, SimError> {
         let n = self.w.s.bodies.len();
         if k >= n {
-            return Err(SimError::Msg(format!("body {k} does not exist")));
+            return Err(SimError::Msg(format!("no body {k} (the world has {n})")));
         }
         Ok(&self.w.s.bodies[k])
     }
@@ -273,6 +273,9 @@ impl<E: Equations> World<E> {
     /// (a teleport: beyond LENGTH_MAX).
     fn live_input(&mut self, body: usize, mode: i64, x: f64, y: f64) -> Result<bool, SimError> {
         self.not_finished()?;
+        if body >= self.w.s.bodies.len() {
+            return Err(SimError::Msg(format!("live input: body {body} does not exist")));
+        }
         if self.body(body)?.gone {
             return Err(SimError::Msg(format!("body {body} was removed")));
         }
@@ -508,8 +511,8 @@ mod tests {
     #[test]
     fn live_refusals() {
         let mut w = World::<Apart>::from_scene(SCENE, None).expect("a valid scene");
-        assert_eq!(msg(w.set_velocity(5, 1.0, 0.0)), "body 5 does not exist");
-        assert_eq!(msg(w.state(1, 0.0)), "body 1 does not exist");
+        assert_eq!(msg(w.set_velocity(5, 1.0, 0.0)), "live input: body 5 does not exist");
+        assert_eq!(msg(w.state(1, 0.0)), "no body 1 (the world has 1)");
         w.add_velocity(0, 1e308, 0.0).expect("finite");
         assert_eq!(msg(w.add_velocity(0, 1e308, 0.0)), "live input: body 0: velocity would not be finite");
         assert_eq!(msg(w.apply_impulse(0, f64::MAX, 0.0)), "live input: body 0: velocity would not be finite");
