@@ -234,3 +234,107 @@ def test_a_modula2_session_is_recorded_and_replays_in_the_batch_simulators(tmp_p
     rec = parse_scene(json.dumps(recording(path, log)), "recording.json")
     for lang in ("m2", "python"):
         assert run_scene(rec, lang).raw == run.stdout, lang
+
+
+CHECK_PROGRAM = """MODULE LiveChecks ;
+FROM SYSTEM IMPORT ADR ;
+FROM SimC IMPORT write, snprintf ;
+FROM SimLive IMPORT Contact, FromFile, Advance, AddBody, SetVelocity, ApplyImpulse, Teleport, Finish, Error ;
+
+VAR
+   text: ARRAY [0..4095] OF CHAR ;
+   msg: ARRAY [0..511] OF CHAR ;
+   k: INTEGER ;
+   moved: BOOLEAN ;
+
+PROCEDURE Check (c: Contact) ;
+BEGIN
+   IF c.t > 1.5 THEN HALT END
+END Check ;
+
+PROCEDURE Say (ok: BOOLEAN) ;
+VAR
+   line: ARRAY [0..1023] OF CHAR ;
+   n: INTEGER ;
+BEGIN
+   line[0] := 0C ;
+   IF ok THEN
+      n := snprintf (ADR (line), 1023, "ok")
+   ELSE
+      Error (msg) ;
+      n := snprintf (ADR (line), 1023, "error %s", ADR (msg))
+   END ;
+   line[n] := 12C ;
+   IF write (2, ADR (line), VAL (LONGCARD, n + 1)) # VAL (LONGINT, n + 1) THEN HALT END
+END Say ;
+
+BEGIN
+   IF NOT FromFile ("scene.txt", TRUE) THEN HALT END ;
+   IF NOT Advance (0.5, Check) THEN HALT END ;
+(*BEFORE*)
+   IF NOT Advance (1.5, Check) THEN HALT END ;
+   IF NOT Finish (Check) THEN HALT END ;
+(*AFTER*)
+END LiveChecks.
+"""
+
+
+def test_modula2_add_body_is_checked_and_the_live_api_refuses_without_changing_the_world(tmp_path):
+    """SimLive.AddBody checks its text as a scene's body is checked
+    (docs/simulator.md, "Flat scene checks", WHAT = add_body); inputs whose
+    velocity would not be finite, far teleports and unknown bodies are
+    refused, and so is every input or AddBody after Finish.  Refused calls
+    leave the world as it was: the trace is the Python world's without them."""
+    import io
+    import json
+    import sys
+    sys.path.insert(0, os.path.dirname(__file__))
+    from sim_scenes import inputs_scene
+    from max2code.sim.live import flat_body
+    from max2code.sim.scene import parse_scene
+    raw = inputs_scene(1.5)
+    raw["inputs"] = []
+    scene = parse_scene(json.dumps(raw))
+    ball = next(i for i, b in enumerate(raw["bodies"]) if b["name"] == "ball")
+    pebble = next(i for i, b in enumerate(raw["bodies"]) if b["name"] == "pebble")   # 0.2 kg: 1e308 N s is too much
+    n = len(raw["bodies"])
+    drop = {"name": "drop", "shape": "circle", "radius": 0.08, "mass": 0.5, "position": [0.3, 1.5],
+            "velocity": [0.0, -1.0]}
+    good = " ".join(flat_body(scene, drop).split())
+    words = good.split()
+
+    def with_field(k: int, value: str) -> str:
+        return " ".join(words[:1 + k] + [value] + words[2 + k:])
+
+    # body-line fields after "body": poly fixed inv_mass inv_inertia restitution friction ...
+    cases = [(with_field(4, "5"), f"add_body: body {n}: restitution 5 outside [0, 1]"),
+             (with_field(2, "nan"), "add_body: expected a number, found 'nan'"),
+             (with_field(2, "-1"), f"add_body: body {n}: inverse mass -1 must be positive"),
+             (with_field(13, "1.0"), f"add_body: body {n}: a circle turns only about an orbit"),
+             (with_field(0, "+1"), "add_body: expected an integer, found '+1'"),
+             (good + " foo", "add_body: unexpected 'foo' after the body"),
+             (" ".join(words[:-3]), "add_body: ends early")]
+    before = [f'   text := "{t}" ;\n   Say (AddBody (text, k)) ;' for t, _ in cases]
+    expect = [f"error {m}" for _, m in cases]
+    before += [f"   Say (ApplyImpulse ({pebble}, 1.0E308, 0.0)) ;",
+               f"   Say (Teleport ({ball}, 1.0E200, 0.0, moved)) ;",
+               "   Say (SetVelocity (99, 0.0, 0.0)) ;",
+               "   Say (SetVelocity (-1, 0.0, 0.0)) ;"]
+    expect += [f"error live input: body {pebble}: velocity would not be finite",
+               f"error live input: body {ball}: teleport beyond 1e150 m",
+               "error body 99 does not exist",
+               "error body -1 does not exist"]
+    after = [f"   Say (SetVelocity ({ball}, 0.0, 0.0)) ;",
+             f"   Say (Teleport ({ball}, 0.5, 0.5, moved)) ;",
+             f'   text := "{good}" ;\n   Say (AddBody (text, k)) ;']
+    expect += ["error live input: the world is finished"] * 3
+    out = io.StringIO()
+    w = python_world(scene, out)
+    w.advance(0.5)
+    w.advance(1.5)
+    w.finish()
+    source = CHECK_PROGRAM.replace("(*BEFORE*)", "\n".join(before)).replace("(*AFTER*)", "\n".join(after))
+    run = _build_and_run(tmp_path, scene, "LiveChecks", source, "scene.txt", "checks")
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr
+    assert run.stderr.splitlines() == expect
+    assert run.stdout == out.getvalue()

@@ -3,8 +3,8 @@ IMPLEMENTATION MODULE SimLive ;
 (* The live world's API (SimLive.def, docs/engine-api.md) over the
    world's state (SimWorld, SimScene) and its handlers (SimHandlers). *)
 
-FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT AddInput, Bodies, BodyRef, CellH, CellW, EndT, Inputs, NBodies, NInputs, NVerts,
+FROM SYSTEM IMPORT ADR, CAST ;
+FROM SimScene IMPORT AddInput, Bodies, BodyRef, CellH, CellW, EndT, Inputs, LENGTH_MAX, NBodies, NInputs, NVerts,
                      ReadBodyText, ReadError, ReadFile, ReadStdin, ReadText ;
 FROM SimQueue IMPORT Event, KInput, Pop, Top ;
 FROM SimGrid IMPORT CellAdd, CellOf, place_large ;
@@ -17,8 +17,20 @@ FROM SimPredict IMPORT PredictBody, PredictPair ;
 FROM SimOverlap IMPORT overlapping ;
 FROM SimHandlers IMPORT dispatch, process, start, WriteFinal ;
 
+CONST
+   SignBit = VAL (LONGCARD, 9223372036854775808) ;  (* 2^63: a REAL's sign bit *)
+   InfBits = VAL (LONGCARD, 9218868437227405312) ;  (* the bits of infinity; NaNs lie above *)
+
 VAR
    Reporting: BOOLEAN ;        (* a ContactProc is being called *)
+   Finished: BOOLEAN ;         (* Finish or Run was called: no more inputs or bodies *)
+
+
+(* x is neither infinite nor a NaN (from its bits: no comparison of a NaN). *)
+PROCEDURE Finite (x: REAL) : BOOLEAN ;
+BEGIN
+   RETURN CAST (LONGCARD, x) MOD SignBit < InfBits
+END Finite ;
 
 
 (* A call that is refused (the reference raises SimError): FALSE with msg
@@ -67,6 +79,7 @@ BEGIN
    Loaded := FALSE ;
    Failed := FALSE ;
    Reporting := FALSE ;
+   Finished := FALSE ;
    NLeft := 0 ;                (* a world that failed in a handler may have left some listed *)
    IF NOT ok THEN
       ReadError (ErrMsg) ;
@@ -215,11 +228,9 @@ VAR
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    IF (k >= 0) AND (k < NBodies) THEN RETURN TRUE END ;
-   m := "no body " ;
+   m := "body " ;
    AppendInt (m, k) ;
-   Append (m, " (the world has ") ;
-   AppendInt (m, NBodies) ;
-   Append (m, ")") ;
+   Append (m, " does not exist") ;
    RETURN Refuse (m)
 END BodyOk ;
 
@@ -250,21 +261,43 @@ BEGIN
 END drivable ;
 
 
+(* FALSE (refused) after Finish or Run. *)
+PROCEDURE NotFinished () : BOOLEAN ;
+BEGIN
+   IF Finished THEN RETURN Refuse ("live input: the world is finished") END ;
+   RETURN TRUE
+END NotFinished ;
+
+
+(* FALSE (refused) when body b (index body) was removed. *)
+PROCEDURE NotGone (b: BodyRef; body: INTEGER) : BOOLEAN ;
+VAR
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   IF NOT b^.gone THEN RETURN TRUE END ;
+   m := "body " ;
+   AppendInt (m, body) ;
+   Append (m, " was removed") ;
+   RETURN Refuse (m)
+END NotGone ;
+
+
+(* Refused after Finish, on a body that does not exist or was removed, one
+   an input of this mode may not drive, or when the velocity or position
+   it gives would not be finite (a teleport: beyond LENGTH_MAX); the
+   scene's inputs at the world's time are handled before the result is
+   computed from the body's velocity then. *)
 PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOLEAN ;
 VAR
    b: BodyRef ;
    ev: Event ;
+   px, py, vx, vy, ang, rx, ry: REAL ;
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    done := FALSE ;
-   IF (NOT Usable ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
+   IF (NOT Usable ()) OR (NOT NotFinished ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
    b := ADR (Bodies^[body]) ;
-   IF b^.gone THEN
-      m := "body " ;
-      AppendInt (m, body) ;
-      Append (m, " was removed") ;
-      RETURN Refuse (m)
-   END ;
+   IF NOT NotGone (b, body) THEN RETURN FALSE END ;
    IF NOT drivable (b, mode) THEN
       m := "body " ;
       AppendInt (m, body) ;
@@ -272,18 +305,36 @@ BEGIN
       Append (m, "not turn, or remove a fixed body)") ;
       RETURN Refuse (m)
    END ;
-   IF (x - x # 0.0) OR (y - y # 0.0) THEN       (* not finite: inf - inf and nan - nan are nan *)
-      m := "input on body " ;
-      AppendInt (m, body) ;
-      Append (m, ": (") ;
-      AppendReal (m, x) ;
-      Append (m, ", ") ;
-      AppendReal (m, y) ;
-      Append (m, ") is not finite") ;
-      RETURN Refuse (m)
-   END ;
    inputs_now ;
    IF Failed THEN RETURN FALSE END ;
+   b := ADR (Bodies^[body]) ;
+   IF NOT NotGone (b, body) THEN RETURN FALSE END ;
+   StateAt (b, WorldT, px, py, vx, vy, ang) ;
+   IF mode = SetVelocityMode THEN
+      rx := x ; ry := y
+   ELSIF mode = AddVelocityMode THEN
+      rx := vx + x ; ry := vy + y
+   ELSIF mode = ImpulseMode THEN
+      rx := vx + x * b^.invM ; ry := vy + y * b^.invM
+   ELSE
+      rx := x ; ry := y
+   END ;
+   IF NOT (Finite (rx) AND Finite (ry)) THEN
+      m := "live input: body " ;
+      AppendInt (m, body) ;
+      IF (mode = TeleportMode) OR (mode = RemoveMode) THEN
+         Append (m, ": position would not be finite")
+      ELSE
+         Append (m, ": velocity would not be finite")
+      END ;
+      RETURN Refuse (m)
+   END ;
+   IF (mode = TeleportMode) AND NOT (ABS (x) + ABS (y) <= LENGTH_MAX) THEN
+      m := "live input: body " ;
+      AppendInt (m, body) ;
+      Append (m, ": teleport beyond 1e150 m") ;
+      RETURN Refuse (m)
+   END ;
    IF (mode = TeleportMode) AND (overlapping (b, x, y, WorldT) >= 0) THEN RETURN TRUE END ;
    ev.t := WorldT ;
    ev.kind := KInput ;
@@ -342,7 +393,7 @@ VAR
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    index := -1 ;
-   IF NOT Usable () THEN RETURN FALSE END ;
+   IF (NOT Usable ()) OR (NOT NotFinished ()) THEN RETURN FALSE END ;
    IF NOT ReadBodyText (ADR (text), HIGH (text) + 1, NBodies, NVerts, nv) THEN
       ReadError (ErrMsg) ;
       RETURN FALSE
@@ -435,6 +486,7 @@ BEGIN
    IF NOT Usable () THEN RETURN FALSE END ;
    process (EndT, TRUE) ;
    IF Failed THEN RETURN FALSE END ;
+   Finished := TRUE ;
    WorldT := EndT ;
    WriteFinal ;
    Flush ;
@@ -452,6 +504,7 @@ BEGIN
       process (EndT, TRUE)
    END ;
    IF Failed THEN RETURN FALSE END ;
+   Finished := TRUE ;
    WriteFinal ;
    Flush ;
    NContacts := 0 ;
@@ -460,5 +513,6 @@ END Run ;
 
 
 BEGIN
-   Reporting := FALSE
+   Reporting := FALSE ;
+   Finished := FALSE
 END SimLive.
