@@ -322,8 +322,8 @@ def test_modula2_add_body_is_checked_and_the_live_api_refuses_without_changing_t
                "   Say (SetVelocity (-1, 0.0, 0.0)) ;"]
     expect += [f"error live input: body {pebble}: velocity would not be finite",
                f"error live input: body {ball}: teleport beyond 1e150 m",
-               "error body 99 does not exist",
-               "error body -1 does not exist"]
+               "error live input: body 99 does not exist",
+               "error live input: body -1 does not exist"]
     after = [f"   Say (SetVelocity ({ball}, 0.0, 0.0)) ;",
              f"   Say (Teleport ({ball}, 0.5, 0.5, moved)) ;",
              f'   text := "{good}" ;\n   Say (AddBody (text, k)) ;']

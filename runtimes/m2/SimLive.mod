@@ -172,7 +172,7 @@ VAR
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    IF NOT Usable () THEN RETURN FALSE END ;
-   IF NOT BodyOk (body) THEN RETURN FALSE END ;
+   IF NOT BodyOk (body, FALSE) THEN RETURN FALSE END ;
    b := ADR (Bodies^[body]) ;
    nxt := NextEventTime () ;
    IF NOT ((t >= WorldT) AND (t <= nxt) AND (t <= EndT)) THEN
@@ -222,15 +222,25 @@ BEGIN
 END States ;
 
 
-(* FALSE (refused) when k is not a body of the world. *)
-PROCEDURE BodyOk (k: INTEGER) : BOOLEAN ;
+(* FALSE (refused) when k is not a body of the world: a live input's
+   words ("live input: body K does not exist") or State's ("no body K (the
+   world has N)"), as the other engines say them. *)
+PROCEDURE BodyOk (k: INTEGER; live: BOOLEAN) : BOOLEAN ;
 VAR
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    IF (k >= 0) AND (k < NBodies) THEN RETURN TRUE END ;
-   m := "body " ;
-   AppendInt (m, k) ;
-   Append (m, " does not exist") ;
+   IF live THEN
+      m := "live input: body " ;
+      AppendInt (m, k) ;
+      Append (m, " does not exist")
+   ELSE
+      m := "no body " ;
+      AppendInt (m, k) ;
+      Append (m, " (the world has ") ;
+      AppendInt (m, NBodies) ;
+      Append (m, ")")
+   END ;
    RETURN Refuse (m)
 END BodyOk ;
 
@@ -295,7 +305,7 @@ VAR
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    done := FALSE ;
-   IF (NOT Usable ()) OR (NOT NotFinished ()) OR (NOT BodyOk (body)) THEN RETURN FALSE END ;
+   IF (NOT Usable ()) OR (NOT NotFinished ()) OR (NOT BodyOk (body, TRUE)) THEN RETURN FALSE END ;
    b := ADR (Bodies^[body]) ;
    IF NOT NotGone (b, body) THEN RETURN FALSE END ;
    IF NOT drivable (b, mode) THEN

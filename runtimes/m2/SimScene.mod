@@ -763,7 +763,7 @@ BEGIN
    IF Failed THEN RETURN END ;
    IF CellH < CellW THEN HalfCell := 0.5 * CellH ELSE HalfCell := 0.5 * CellW END ;
    IF NOT (AtLeast (GridMargin, 0.0) AND (GridMargin < HalfCell)) THEN
-      Error ("grid margin outside [0, half a cell)") ; RETURN
+      ErrorReal ("grid margin ", GridMargin, " m outside [0, half a cell)") ; RETURN
    END ;
    Expect ("bodies") ;
    n := ReadLongInt () ;
