@@ -1,7 +1,7 @@
 IMPLEMENTATION MODULE SimPredict ;
 
 (* Predictions: a transcription of the Python reference
-   (runtimes/python/max2code_rt/sim.py), procedure for procedure, with the
+   (runtimes/python/max2code_rt/sim/), procedure for procedure, with the
    same IEEE double operations in the same order (no FMA: built with
    -ffp-contract=off; sin and cos are libm's through RealMath, sqrt libm's
    through CMath).  The reference's predict_cc, predict_pe, pe_coefficients,

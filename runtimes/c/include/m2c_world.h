@@ -1,5 +1,5 @@
 /* max2code C runtime: the live world API (docs/engine-api.md), a port of
- * the Python reference's World (runtimes/python/max2code_rt/sim.py).
+ * the Python reference's World (runtimes/python/max2code_rt/sim/).
  *
  * A world is a scene being simulated: advance it to any time, read the
  * exact state of any body between events, change velocities at the current

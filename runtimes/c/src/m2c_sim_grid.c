@@ -5,7 +5,7 @@
  *
  * The cells: one list of body indices per cell, in the
  * reference's order (append at the end; remove by moving the last element
- * into the hole, as sim.py's cell_remove).  Each body knows its slot, so a
+ * into the hole, as the reference's cell_remove).  Each body knows its slot, so a
  * removal costs O(1).  Up to M2C_SIM_CELL_INLINE bodies live in the cell
  * itself (no pointer to follow); a fuller cell moves them, in order, to an
  * array that grows by doubling and never shrinks: no allocation once every

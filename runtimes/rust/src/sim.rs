@@ -1,5 +1,5 @@
 //! The discrete-event simulator (docs/simulator.md), a port of the
-//! reference runtimes/python/max2code_rt/sim.py that performs the same IEEE
+//! reference runtimes/python/max2code_rt/sim/ that performs the same IEEE
 //! double operations in the same order, so that it writes the same bytes.
 //!
 //! The crate cannot depend on generated code: the simulator is generic over

@@ -1,7 +1,7 @@
 //! The live world (docs/engine-api.md): a scene made into a world that a
 //! caller drives with `advance(t)`, asks `next_event_time()` and
 //! `state(body, t)`; the batch simulator is `advance(end)` + `finish()`.
-//! The reference is `World` in runtimes/python/max2code_rt/sim.py.
+//! The reference is `World` in runtimes/python/max2code_rt/sim/.
 
 use std::io::Write;
 use std::marker::PhantomData;

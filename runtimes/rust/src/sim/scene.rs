@@ -1,5 +1,5 @@
 //! The compiled scene: the flat text of docs/simulator.md, read as
-//! `Scene` in runtimes/python/max2code_rt/sim.py reads it.  Numbers are
+//! `Scene` in runtimes/python/max2code_rt/sim/ reads it.  Numbers are
 //! shortest round-trip decimals; Rust's parser reads them exactly.
 
 use super::g17::g17;
