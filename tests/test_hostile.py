@@ -420,10 +420,9 @@ def test_live_inputs_after_finish_or_with_a_velocity_that_is_not_finite_are_refu
     w.advance(0.1)
     w.add_velocity(0, 1e308, 0.0)
     before = (w.input_log(), w.state(0, w.time))
-    with pytest.raises(SimError, match=re.escape("add_velocity: body 0's velocity would be (inf, 0), not finite: "
-                                                 "the input is refused")):
+    with pytest.raises(SimError, match=re.escape("live input: body 0: velocity would not be finite")):
         w.add_velocity(0, 1e308, 0.0)
-    with pytest.raises(SimError, match=r"apply_impulse: body 0's velocity would be \(inf, 0\), not finite"):
+    with pytest.raises(SimError, match=re.escape("live input: body 0: velocity would not be finite")):
         w.apply_impulse(0, 1e308, 0.0)           # mass 1 kg
     w.add_velocity(0, -1e308, 0.0)               # finite: made
     assert (w.input_log()[:-1], w.state(0, w.time)) != before and w.input_log()[:-1] == before[0]
@@ -431,7 +430,7 @@ def test_live_inputs_after_finish_or_with_a_velocity_that_is_not_finite_are_refu
     for call in (lambda: w.set_velocity(0, 1.0, 0.0), lambda: w.add_velocity(0, 1.0, 0.0),
                  lambda: w.apply_impulse(0, 1.0, 0.0), lambda: w.teleport(0, 0.0, 5.0), lambda: w.remove_body(1),
                  w.finish):
-        with pytest.raises(SimError, match="the world is finished: finish\\(\\) wrote the trace's final lines"):
+        with pytest.raises(SimError, match=re.escape("live input: the world is finished")):
             call()
     if engine == "c":
         w.close()

@@ -6,6 +6,7 @@ ctypes, write the batch bytes."""
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import subprocess
 
@@ -416,7 +417,8 @@ def test_add_body_text_and_live_inputs_are_checked_in_c():
         assert refused(w.add_body, box.replace("body", "body\x01", 1)) == "add_body: byte 4: not printable ASCII"
         assert w.body_count() == 3 and w.added == 0
         assert refused(w.apply_impulse, 1, 1e308, 0.0) == "live input: body 1: velocity would not be finite"
-        assert refused(w.add_velocity, 1, 1e308, 0.0) == "live input: body 1: position would not be finite"
+        assert refused(w.set_velocity, 1, math.inf, 0.0) == "live input: body 1: velocity would not be finite"
+        assert refused(w.teleport, 1, math.nan, 0.0) == "live input: body 1: position would not be finite"
         assert refused(w.teleport, 1, 1e200, 0.0) == "live input: body 1: teleport beyond 1e150 m"
         assert refused(w.set_velocity, 7, 1.0, 0.0) == "live input: body 7 does not exist"
         assert refused(w.set_velocity, 2 ** 32 + 1, 1.0, 0.0) == f"live input: body {2 ** 32 + 1} does not exist"

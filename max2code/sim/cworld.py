@@ -399,7 +399,7 @@ class CWorld:
         return self._take()
 
 
-FINISHED = "the world is finished: finish() wrote the trace's final lines, no input may follow"
+FINISHED = "live input: the world is finished"          # as the engines say it
 
 
 def check_finite_velocity(what: str, body: int, vx: float, vy: float) -> None:
@@ -407,8 +407,7 @@ def check_finite_velocity(what: str, body: int, vx: float, vy: float) -> None:
     (the live API checks this before the input changes anything, in both
     engines: max2code/sim/live.py)."""
     if not (math.isfinite(vx) and math.isfinite(vy)):
-        raise SimError(f"{what}: body {body}'s velocity would be ({_fmt(vx)}, {_fmt(vy)}), not finite: "
-                       "the input is refused")
+        raise SimError(f"live input: body {body}: velocity would not be finite")     # as the engines say it
 
 
 def _real(x, what: str) -> float:

@@ -97,10 +97,10 @@ int m2c_world_finish(m2c_world *w, m2c_contact_fn fn, void *user);
  * not turn (a moving platform: docs/engine-api.md).  0, or -1 with
  * m2c_world_error(w), the world unchanged: "live input: the world is
  * finished" (after m2c_world_finish), "live input: body N does not exist",
- * a removed body, another input on a fixed body, a coordinate that is not
- * finite, "live input: body N: velocity would not be finite" (the body's
- * velocity after the input) or "... position would not be finite" (its
- * centre carried with that velocity to the scene's end); or -1 on a
+ * a removed body, another input on a fixed body, "live input: body N:
+ * velocity would not be finite" (the body's velocity after the input),
+ * "... position would not be finite" (a teleport to a point that is not
+ * finite) or "... teleport beyond 1e150 m"; or -1 on a
  * failure (the world unusable).  Velocities in m/s; an impulse in N s
  * through the centre (dv = J / mass). */
 int m2c_world_set_velocity(m2c_world *w, int body, double vx, double vy);
