@@ -21,7 +21,6 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import functools
-import math
 import operator
 import os
 import weakref
@@ -187,7 +186,6 @@ class CWorld:
         self._finalizer = weakref.finalize(self, _release_quietly, h)
         self._states_buf = None
         self._scene_text = scene_text
-        self._inverse_mass: list[float] | None = None     # per body, read from the flat text when an impulse needs it
         self._finished = False
         if out is not None:
             h.file = _c_library().tmpfile()
@@ -316,18 +314,12 @@ class CWorld:
 
     def add_velocity(self, body: int, dvx: float, dvy: float) -> None:
         self._live()
-        dvx, dvy = _real(dvx, "dvx"), _real(dvy, "dvy")
-        self._finite_velocity(body, dvx, dvy, "add_velocity")
-        self._input(self._lib.m2c_world_add_velocity, body, dvx, dvy)
+        self._input(self._lib.m2c_world_add_velocity, body, _real(dvx, "dvx"), _real(dvy, "dvy"))
 
     def apply_impulse(self, body: int, jx: float, jy: float) -> None:
         """An impulse (N s) through the centre: dv = J inv_mass."""
         self._live()
-        jx, jy = _real(jx, "jx"), _real(jy, "jy")
-        if math.isfinite(jx) and math.isfinite(jy):         # else the C world names the input
-            inv_m = self._inverse_masses()[self._body(body)]
-            self._finite_velocity(body, jx * inv_m, jy * inv_m, "apply_impulse")
-        self._input(self._lib.m2c_world_apply_impulse, body, jx, jy)
+        self._input(self._lib.m2c_world_apply_impulse, body, _real(jx, "jx"), _real(jy, "jy"))
 
     def teleport(self, body: int, x: float, y: float) -> bool:
         """Move the body's centre to (x, y) now, keeping its velocity; False
@@ -346,27 +338,8 @@ class CWorld:
         self._pass_trace()
         if k == -2:
             raise self._fail()
-        if k >= 0 and self._inverse_mass is not None:
-            self._inverse_mass.append(_inverse_mass(text.split("\n", 1)[0]))
         return k
 
-    def _finite_velocity(self, body, dvx: float, dvy: float, what: str) -> None:
-        """SimError, before anything changes, when adding (dvx, dvy) to the
-        body's velocity now would not give a finite velocity (1e308 added
-        twice is inf; the world's position would become NaN)."""
-        if not (math.isfinite(dvx) and math.isfinite(dvy)):
-            return          # the C world refuses it, naming the input
-        k = self._body(body)
-        _, _, vx, vy, _, _ = self.state(k, self.time)
-        check_finite_velocity(what, k, vx + dvx, vy + dvy)
-
-    def _inverse_masses(self) -> list[float]:
-        """1/mass of every body (0 for fixed ones), from the flat scene's body
-        lines (read once, when an impulse first needs them)."""
-        if self._inverse_mass is None:
-            self._inverse_mass = [_inverse_mass(line) for line in self._scene_text.splitlines()
-                                  if line.startswith("body ")]
-        return self._inverse_mass
 
     @property
     def added(self) -> int:
@@ -402,14 +375,6 @@ class CWorld:
 FINISHED = "live input: the world is finished"          # as the engines say it
 
 
-def check_finite_velocity(what: str, body: int, vx: float, vy: float) -> None:
-    """SimError when the velocity an input would give a body is not finite
-    (the live API checks this before the input changes anything, in both
-    engines: max2code/sim/live.py)."""
-    if not (math.isfinite(vx) and math.isfinite(vy)):
-        raise SimError(f"live input: body {body}: velocity would not be finite")     # as the engines say it
-
-
 def _real(x, what: str) -> float:
     """x as the C double, or SimError naming it (a string, an int beyond the doubles)."""
     try:
@@ -427,6 +392,3 @@ def _ascii(text, what: str) -> bytes:
     return text.encode("ascii")
 
 
-def _inverse_mass(line: str) -> float:
-    """1/mass from a flat `body` line (its third field: docs/simulator.md)."""
-    return float(line.split()[3])

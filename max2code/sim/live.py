@@ -19,7 +19,6 @@ from __future__ import annotations
 import functools
 import importlib.util
 import json
-import math
 import os
 
 from max2code.paths import RUNTIMES
@@ -66,35 +65,16 @@ def python_world(scene: Scene, out=None):
 
 @functools.cache
 def checked_world():
-    """max2code_rt.sim.World with the live API's checks that the C binding
-    (max2code/sim/cworld.py) makes before it calls the engine: no input after
-    finish(), and none whose velocity would not be finite (1e308 added twice);
-    the same errors in both engines."""
+    """max2code_rt.sim.World that, as the C binding (max2code/sim/cworld.py),
+    also refuses a second finish(); the engine itself refuses inputs after
+    finish() and inputs whose result would not be finite."""
     sim = _runtime()
-    from max2code.sim.cworld import FINISHED, check_finite_velocity
+    from max2code.sim.cworld import FINISHED
 
     class CheckedWorld(sim.World):
-        finished = False
-
-        def live_input(self, body: int, mode: int, x: float, y: float) -> bool:
-            if self.finished:
-                raise sim.SimError(FINISHED)
-            if mode in (sim.ADD_VELOCITY, sim.IMPULSE) and math.isfinite(x) and math.isfinite(y):
-                scale = 1.0 if mode == sim.ADD_VELOCITY else self.body(body).inv_m
-                _, _, vx, vy, _, _ = self.state(body, self.time)
-                check_finite_velocity("add_velocity" if mode == sim.ADD_VELOCITY else "apply_impulse", body,
-                                      vx + x * scale, vy + y * scale)
-            return super().live_input(body, mode, x, y)
-
-        def add_body(self, text: str) -> int:
-            if self.finished:
-                raise sim.SimError(FINISHED)
-            return super().add_body(text)
-
         def finish(self):
             if self.finished:
                 raise sim.SimError(FINISHED)
-            self.finished = True
             return super().finish()
 
     return CheckedWorld

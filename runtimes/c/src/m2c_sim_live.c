@@ -379,10 +379,9 @@ int m2c_sim_live_input(m2c_world *m, int body, int mode, double x, double y, int
                  "fixed polygon that does not turn, or remove a fixed body)", body);
         return -1;
     }
-    if (!isfinite(x) || !isfinite(y)) {
-        char a[M2C_SIM_NUMBER_MAX + 1], c[M2C_SIM_NUMBER_MAX + 1];
-        snprintf(m->err, sizeof m->err, "input on body %d: (%s, %s) is not finite", body, m2c_sim_text(a, x),
-                 m2c_sim_text(c, y));
+    if (!isfinite(x) || !isfinite(y)) {          /* also on a fixed body: its velocity or position */
+        snprintf(m->err, sizeof m->err, "live input: body %d: %s would not be finite", body,
+                 mode == M2C_SIM_TELEPORT ? "position" : "velocity");
         return -1;
     }
     if (refused_as_not_finite(m, b, mode, x, y))
