@@ -19,6 +19,7 @@ from max2code.textio import check_output, write_output
 # name -> "module:function(argv) -> int"
 SUBCOMMANDS: dict[str, str] = {
     "conformance": "max2code.conformance.runner:main",
+    "cases": "max2code.conformance.user_cases:main",
     "table": "max2code.reports.table:main",
     "bench-variants": "max2code.reports.bench_variants:main",
     "accuracy": "max2code.reports.accuracy:main",
