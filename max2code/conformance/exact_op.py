@@ -14,14 +14,14 @@ from __future__ import annotations
 
 import tempfile
 
+from max2code.conformance.equations import USER_EQUATIONS, equation_file, known_equations
 from max2code.conformance.ops import Verdict
+
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
 DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
 
 
 def malformed(case: dict) -> str:
-    from max2code.conformance.toc import USER_EQUATIONS, known_equations
-
     if case.get("equation") not in LETTERS and case.get("equation") not in USER_EQUATIONS:
         return (f"unknown equation {case.get('equation')!r} (known: {known_equations()}; "
                 "max2code conformance --equation FILE.mxm names another)")
@@ -47,7 +47,6 @@ def row(case: dict, names) -> list[float]:
 
 def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
     # imported here: the runner loads this module, and roots-only runs need no generator
-    from max2code.conformance.toc import equation_file
     from max2code.generate.pipeline import GenerateRequest, generate_file
     from max2code.toolchain.exact import build_exact_harness
 

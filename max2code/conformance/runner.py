@@ -26,7 +26,8 @@ from pathlib import Path
 
 from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
-from max2code.conformance.toc import TocOp, use_equation
+from max2code.conformance.equations import use_equation
+from max2code.conformance.toc import TocOp
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
 from max2code.targets import LANGUAGES, gsl_baselines

@@ -28,43 +28,17 @@ from pathlib import Path
 import mpmath
 
 from max2code.conformance import exact_op
+from max2code.conformance.equations import equation_file, known_equations
 from max2code.conformance.motion_ref import EQUATIONS, scale
 from max2code.conformance.ops import Verdict, float_of, hex_of, num
 
-from max2code.paths import CASES, equation as mxm_path
+from max2code.paths import CASES
 from max2code.targets import LANGUAGES
 ORDER = 4
 EPS = 2.0 ** -52
 CASE_FILE = CASES / "toc.jsonl"
 
 # a user's equations, by the names a case may give them (the file's stem and its `equation` name)
-USER_EQUATIONS: dict[str, Path] = {}
-
-
-def use_equation(path: str | Path) -> list[str]:
-    """Let cases name the equation of the .mxm file `path` by its file name
-    without .mxm or by its `equation` name; returns the two names."""
-    from max2code.generate.mxm import read_mxm    # here: the runner starts without the generator
-
-    path = Path(path)
-    names = [path.stem, read_mxm(str(path)).equation]
-    for n in names:
-        USER_EQUATIONS[n] = path
-    return names
-
-
-def equation_file(name: str) -> Path | None:
-    """The .mxm file of an equation a case names: a registered user's, else a bundled one (None: unknown)."""
-    if name in USER_EQUATIONS:
-        return USER_EQUATIONS[name]
-    return mxm_path(name) if name in EQUATIONS else None
-
-
-def known_equations() -> str:
-    user = sorted({f"{n} ({p})" for n, p in USER_EQUATIONS.items() if n == p.stem})
-    return ", ".join(sorted(EQUATIONS) + user)
-
-
 def reference(equation: str, params: dict, horizon: float):
     """(t or None, tolerance, reason-to-skip or None) for one case."""
     with mpmath.workdps(60):

@@ -653,7 +653,7 @@ def _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin) -> Exa
     lines = tuple(f"{a.name}(...) is the degree-{a.degree} Taylor polynomial in {t} of "
                   f"{next(x.text.strip() for x in mod.approximations if x.name == a.name)}" for a in approx)
     return ExactSection(name, tuple(params), t, gap_fn, dt_fn, scale_fn, shift_fn, rate_fn, trunc_fn, lines, origin,
-                        gap, gap_dt, tuple(shifts.get(p) for p in params))
+                        gap_expr=gap, gap_dt_expr=gap_dt, shift_exprs=tuple(shifts.get(p) for p in params))
 
 
 def _refs_outside_abs(n: Node, out: set[str]) -> None:
