@@ -21,6 +21,7 @@ from max2code.textio import check_output, write_output
 # name -> "module:function(argv) -> int"
 SUBCOMMANDS: dict[str, str] = {
     "conformance": "max2code.conformance.runner:main",
+    "cases": "max2code.conformance.user_cases:main",
     "table": "max2code.reports.table:main",
     "bench-variants": "max2code.reports.bench_variants:main",
     "accuracy": "max2code.reports.accuracy:main",
@@ -69,7 +70,9 @@ def _generate_parser() -> argparse.ArgumentParser:
                         "only the variants such a world reaches are generated.  Default: all")
     p.add_argument("--exact", action="store_true",
                    help="also generate the exact-motion entries from the file's 'exact' and 'shift' declarations: "
-                        "NAME_gap, NAME_gap_dt, NAME_shift, ... and NAME_toc_exact (docs/exact-motion.md)")
+                        "NAME_gap, NAME_gap_dt, NAME_shift, ... and NAME_toc_exact; for a file whose polynomial is "
+                        "the exact gap (no 'exact', no Taylor sum, no rotation) NAME_toc_exact on the polynomial "
+                        "itself (docs/exact-motion.md)")
     p.add_argument("--real", choices=["double", "float"], default="double",
                    help="arithmetic of the generated code: double (default) or float (C float, Rust f32, "
                         "Modula-2 SHORTREAL: the same bits in all three, sin and cos being the C library's sinf and "

@@ -14,18 +14,20 @@ from __future__ import annotations
 
 import tempfile
 
+from max2code.conformance.equations import USER_EQUATIONS, equation_file, known_equations
 from max2code.conformance.ops import Verdict
-from max2code.paths import equation as mxm_path
+
 LETTERS = {"circle-circle": "abcdefmnopqghijklrsuvwxz", "point-line": "abcdefghijkl"}
 DEFAULTS = {"window_angle": 1.0, "refine": True, "zero_tol": 0.0}
 
 
 def malformed(case: dict) -> str:
-    if case.get("equation") not in LETTERS:
-        return f"unknown equation {case.get('equation')!r} (known: {', '.join(sorted(LETTERS))})"
+    if case.get("equation") not in LETTERS and case.get("equation") not in USER_EQUATIONS:
+        return (f"unknown equation {case.get('equation')!r} (known: {known_equations()}; "
+                "max2code conformance --equation FILE.mxm names another)")
     if not isinstance(case.get("params"), dict):
         return "params must be an object of letter: number"
-    missing = [k for k in LETTERS[case["equation"]] if k not in case["params"]]
+    missing = [k for k in LETTERS.get(case["equation"], "") if k not in case["params"]]
     if missing:
         return f"missing parameters {', '.join(missing)}"
     h = case.get("horizon")
@@ -57,8 +59,14 @@ def batch(lang: str, cases: dict[int, dict]) -> dict[int, str]:
         else:
             by_eq.setdefault(case["equation"], []).append(seq)
     for equation, seqs in sorted(by_eq.items()):
-        g = generate_file(GenerateRequest(path=str(mxm_path(equation)), lang=lang,
+        g = generate_file(GenerateRequest(path=str(equation_file(equation)), lang=lang,
                                           out_name="generated", exact=True))
+        missing = {s: [n for n in g.exact.params if n not in cases[s]["params"]] for s in seqs}
+        for s in [s for s in seqs if missing[s]]:
+            answers[s] = f"error: malformed toc case: missing parameters {', '.join(missing[s])}"
+        seqs = [s for s in seqs if not missing[s]]
+        if not seqs:
+            continue
         with tempfile.TemporaryDirectory(prefix=f"exact-{lang}-") as tmp:
             h = build_exact_harness(lang, g.text, g.exact, tmp)
             got, _ = h.run([row(cases[s], g.exact.params) for s in seqs])

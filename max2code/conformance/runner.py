@@ -17,6 +17,7 @@ can only shrink.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import time
@@ -25,6 +26,7 @@ from pathlib import Path
 
 from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
+from max2code.conformance.equations import use_equation
 from max2code.conformance.toc import TocOp
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
@@ -142,23 +144,30 @@ def load_xfail(lang: str) -> dict[str, str]:
     return out
 
 
-def run_lang(lang: str, cases: list[dict]) -> Report:
+TESTEE = "testee"     # the report's name for a testee of the user's own (--testee)
+
+
+def run_lang(lang: str, cases: list[dict], testee: list[str] | None = None) -> Report:
+    """Run the cases against runtime `lang`, or with `testee` against that
+    command (every case over the wire, toc cases too: docs/conformance.md)."""
     rep = Report(lang)
     t0 = time.monotonic()
     try:
-        cmd = build_testee(lang)
+        cmd = testee or build_testee(lang)
     except (Max2CodeError, OSError) as exc:
         rep.error = str(exc)
         return rep
     # ops that name their testee languages are skipped for other runtimes (the GSL baselines)
-    cases = [c for c in cases if not (c.get("op") in OPS and lang not in getattr(OPS[c["op"]], "testee_langs", (lang,)))]
+    if testee is None:
+        cases = [c for c in cases
+                 if not (c.get("op") in OPS and lang not in getattr(OPS[c["op"]], "testee_langs", (lang,)))]
     lines, index = [], {}
     batched: dict[str, dict[int, dict]] = {}
     for seq, case in enumerate(cases):
         op = OPS.get(case.get("op"))
         if op is None:
             continue
-        if hasattr(op, "batch"):   # answered by the op's own testee (generated code)
+        if hasattr(op, "batch") and testee is None:   # answered by the op's own testee (generated code)
             batched.setdefault(op.name, {})[seq] = case
             continue
         try:
@@ -167,16 +176,19 @@ def run_lang(lang: str, cases: list[dict]) -> Report:
         except (KeyError, TypeError, ValueError) as exc:
             case["_bad"] = f"malformed case: {exc}"
     try:
-        proc = subprocess.run(cmd, input="\n".join(lines) + "\n", stdout=subprocess.PIPE,
+        proc = subprocess.run(cmd, input="".join(line + "\n" for line in lines), stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True, timeout=600)
     except (OSError, subprocess.TimeoutExpired) as exc:
         rep.error = f"testee {cmd[0]} failed: {exc}"
+        rep.results = [Result(str(c.get("id")), None, Verdict(False, "-", why="no answer from testee"), None, "FAIL")
+                       for c in cases]
         return rep
     answers: dict[int, str] = {}
     for line in proc.stdout.splitlines():
         seq, _, ans = line.strip().partition(" ")
-        if seq.isdigit():
-            answers[int(seq)] = ans.strip()
+        if seq.isdigit() and int(seq) < len(cases):
+            op = OPS.get(cases[int(seq)].get("op"))
+            answers[int(seq)] = op.read(ans.strip()) if hasattr(op, "read") else ans.strip()
     if proc.returncode != 0:
         rep.error = f"testee exited with {proc.returncode}: {proc.stderr.strip()[:500]}"
     for name, group in batched.items():
@@ -254,28 +266,64 @@ def agreement(reports: list[Report]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import shlex
+
     ap = ArgumentParser(prog="max2code conformance",
-                                 description="Run the conformance cases against a runtime's testee.")
-    ap.add_argument("--lang", required=True, choices=ALL_LANGS + BASELINES + ("all",),
+                        description="Run the conformance cases against a runtime's testee, a user's equation's "
+                                    "generated code (--equation) or a program of the user's own (--testee).")
+    ap.add_argument("--lang", choices=ALL_LANGS + BASELINES + ("all",),
                     help="runtime to test; 'all' runs python, c, rust and m2 and checks they agree bit for bit; "
                          "'gsl' and 'gsl-m2' are the GSL companion-matrix baselines (C, Modula-2)")
+    ap.add_argument("--testee", metavar="COMMAND",
+                    help="run this program instead of a runtime (a shell-quoted command line); it reads the cases "
+                         "as wire lines on standard input and answers on standard output (docs/conformance.md)")
+    ap.add_argument("--equation", metavar="FILE.mxm",
+                    help="a .mxm file of your own: toc cases naming it (its file name without .mxm, or its "
+                         "'equation' name) are answered by its generated code; without --cases, the cases of "
+                         "'max2code cases FILE.mxm -n 24 --seed 1'")
     ap.add_argument("--cases", action="append", type=Path,
                     help="a .jsonl case file (repeatable; default: every tests/conformance/*.jsonl)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only failures and the summary")
     ap.add_argument("--list-failures", action="store_true",
                     help="print the failing cases in the expected_failures format (ID reason) and exit 0")
     args = ap.parse_args(argv)
-    files = args.cases or default_case_files()
-    if not files:
-        raise Max2CodeError(f"max2code conformance: error: no case files (*.jsonl) in {CASES_DIR}")
-    cases = load_cases(files)
+    if (args.lang is None) == (args.testee is None):
+        raise Max2CodeError("max2code conformance: error: give --lang LANG or --testee 'COMMAND ...' (one of them)")
+    testee = None
+    if args.testee is not None:
+        testee = shlex.split(args.testee)
+        if not testee:
+            raise Max2CodeError("max2code conformance: error: --testee: expected a command")
+        if not args.cases and not args.equation:
+            raise Max2CodeError("max2code conformance: error: --testee needs --cases FILE.jsonl (or --equation FILE.mxm)")
+    if args.equation is not None:
+        if not os.path.isfile(args.equation):
+            raise Max2CodeError(f"--equation {args.equation}: error: no such file")
+        names = use_equation(args.equation)
+    if args.cases:
+        files = args.cases
+    elif args.equation is not None:
+        files = []
+    else:
+        files = default_case_files()
+        if not files:
+            raise Max2CodeError(f"max2code conformance: error: no case files (*.jsonl) in {CASES_DIR}")
+    if files:
+        cases = load_cases(files)
+    else:
+        from max2code.conformance.user_cases import cases_for     # here: it loads the generator
+
+        cases = cases_for(args.equation)
+        if not args.quiet:
+            print(f"max2code conformance: {len(cases)} cases for {names[0]} "
+                  f"(max2code cases {args.equation} -n 24 --seed 1)")
     if not cases:
         raise Max2CodeError(f"{files[0] if len(files) == 1 else ', '.join(map(str, files))}: error: "
                             "expected conformance cases (JSON lines), found none")
-    langs = list(ALL_LANGS) if args.lang == "all" else [args.lang]
+    langs = [TESTEE] if testee else list(ALL_LANGS) if args.lang == "all" else [args.lang]
     reports = []
     for lang in langs:
-        rep = run_lang(lang, cases)
+        rep = run_lang(lang, cases, testee)
         if args.list_failures:
             for r in rep.results:
                 if r.status in ("FAIL", "xfail"):
@@ -285,7 +333,8 @@ def main(argv: list[str] | None = None) -> int:
         reports.append(rep)
     if args.list_failures:
         return 0
-    print(accuracy_table(reports))
+    if any(r.degree is not None for rep in reports for r in rep.results):
+        print(accuracy_table(reports))
     text = exact_summary(reports, cases)
     if text:
         print(text)

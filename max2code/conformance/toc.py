@@ -2,8 +2,12 @@
 functions (`NAME_toc`), with their variant selection and the runtime's
 solver.
 
-Case: {"id", "op": "toc", "equation": "circle-circle" | "point-line",
+Case: {"id", "op": "toc", "equation": "circle-circle" | "point-line" | a user's,
        "params": {letter: value}, "horizon": T, "expect": t | null, "tol": abs}
+or, as `max2code cases` writes them (user_cases.py), "accept" intervals and
+"none_ok" instead of "tol".  A user's equation is known by the file's stem
+or its `equation` name once registered with use_equation (`max2code
+conformance --equation FILE`).
 The answer is the smallest t in (0, T] at which the equation's polynomial
 (the bundled .mxm at its default Taylor order) is zero.  References come
 from motion_ref (polynomial arithmetic at 60 digits, independent of Maxima
@@ -14,23 +18,27 @@ relative.
 from __future__ import annotations
 
 import json
+import os
 import random
+import re
 import sys
 import tempfile
+from pathlib import Path
 
 import mpmath
 
 from max2code.conformance import exact_op
+from max2code.conformance.equations import equation_file, known_equations
 from max2code.conformance.motion_ref import EQUATIONS, scale
-from max2code.conformance.ops import Verdict
+from max2code.conformance.ops import Verdict, float_of, hex_of, num
 
-from max2code.paths import CASES, equation as mxm_path
+from max2code.paths import CASES
 from max2code.targets import LANGUAGES
 ORDER = 4
 EPS = 2.0 ** -52
 CASE_FILE = CASES / "toc.jsonl"
 
-
+# a user's equations, by the names a case may give them (the file's stem and its `equation` name)
 def reference(equation: str, params: dict, horizon: float):
     """(t or None, tolerance, reason-to-skip or None) for one case."""
     with mpmath.workdps(60):
@@ -107,8 +115,9 @@ def generate(n_per_equation: int = 150, seed: int = 2026) -> list[dict]:
 
 
 def _malformed(case: dict) -> str:
-    if case.get("equation") not in EQUATIONS:
-        return f"unknown equation {case.get('equation')!r} (known: {', '.join(sorted(EQUATIONS))})"
+    if not isinstance(case.get("equation"), str) or equation_file(case["equation"]) is None:
+        return (f"unknown equation {case.get('equation')!r} (known: {known_equations()}; "
+                "max2code conformance --equation FILE.mxm names another)")
     if not isinstance(case.get("params"), dict):
         return "params must be an object of letter: number"
     h = case.get("horizon")
@@ -130,6 +139,7 @@ class TocOp:
     def batch(self, lang: str, cases: dict[int, dict]) -> dict[int, str]:
         # imported here: the runner loads this module, and roots-only runs need no generator
         from max2code.generate.pipeline import GenerateRequest, generate_file
+        from max2code.toolchain.exact import build_poly_harness
         from max2code.toolchain.harness import build_harness
 
         if lang not in self.testee_langs:
@@ -151,23 +161,50 @@ class TocOp:
             else:
                 by_eq.setdefault(case["equation"], []).append(seq)
         for equation, seqs in sorted(by_eq.items()):
-            path = mxm_path(equation)
+            path = equation_file(equation)
             g = generate_file(GenerateRequest(path=str(path), lang=lang, out_name="generated"))
-            toc = g.derivation.module.equation + "_toc"
+            missing = {s: [n for n in g.function.params if n not in cases[s]["params"]] for s in seqs}
+            for s in [s for s in seqs if missing[s]]:
+                answers[s] = f"error: malformed toc case: missing parameters {', '.join(missing[s])}"
+            seqs = [s for s in seqs if not missing[s]]
+            if not seqs:
+                continue
+            params = [[float(cases[s]["params"][n]) for n in g.function.params] for s in seqs]
             with tempfile.TemporaryDirectory(prefix=f"toc-{lang}-") as tmp:
-                h = build_harness(lang, g.text, g.function, tmp, toc=toc)
-                missing = {s: [n for n in g.function.params if n not in cases[s]["params"]] for s in seqs}
-                for s in [s for s in seqs if missing[s]]:
-                    answers[s] = f"error: malformed toc case: missing parameters {', '.join(missing[s])}"
-                seqs = [s for s in seqs if not missing[s]]
-                rows = [[float(cases[s]["params"][n]) for n in g.function.params] + [0.0, float(cases[s]["horizon"])]
-                        for s in seqs]
-                for s, (status, t) in zip(seqs, h.evaluate(rows) if rows else []):
+                if g.selection is not None:     # NAME_toc: the selected variant, then the runtime's solver
+                    h = build_harness(lang, g.text, g.function, tmp, toc=g.derivation.module.equation + "_toc")
+                    got = h.evaluate([p + [0.0, float(cases[s]["horizon"])] for p, s in zip(params, seqs)])
+                else:       # no roles, no NAME_toc: the equation's function, then the runtime's solver on (0, T]
+                    h = build_poly_harness(lang, g.text, g.function.params, g.function.name, False, g.function.degree,
+                                           tmp)
+                    got, _ = h.run([p + [float(cases[s]["horizon"])] for p, s in zip(params, seqs)])
+                for s, (status, t) in zip(seqs, got):
                     answers[s] = {1.0: repr(t), 0.0: "none"}.get(status, "unsupported")
         return answers
 
+    def wire(self, case: dict, seq: int) -> str:
+        """The case as a line for a testee of the user's own (docs/conformance.md, "Wire format"):
+        toc SEQ EQUATION MOTION HORIZON COUNT NAME1 HEX1 ... (the parameters in the case's order)."""
+        if not isinstance(case.get("equation"), str) or not re.fullmatch(r"[A-Za-z0-9_.+-]+", case["equation"]):
+            raise ValueError("equation must be a name without spaces")
+        if not isinstance(case.get("params"), dict) or not all(re.fullmatch(r"\S+", k) for k in case["params"]):
+            raise ValueError("params must be an object of name: number")
+        motion = case.get("motion", "taylor")
+        if motion not in ("taylor", "exact"):
+            raise ValueError(f"motion must be 'taylor' or 'exact', not {motion!r}")
+        params = [f"{k} {hex_of(num(v))}" for k, v in case["params"].items()]
+        return " ".join(["toc", str(seq), case["equation"], motion, hex_of(num(case["horizon"])),
+                         str(len(params))] + params)
+
+    @staticmethod
+    def read(answer: str) -> str:
+        """A testee's wire answer as the judge reads it: HEX as the double's repr; none, overlapped, error as they are."""
+        if re.fullmatch(r"[0-9a-f]{16}", answer):
+            return repr(float_of(answer))
+        return answer
+
     def judge(self, case: dict, answer: str):
-        if case.get("motion") == "exact":
+        if case.get("motion") == "exact" or "accept" in case:
             return exact_op.judge(case, answer)
         expect, tol = case.get("expect"), float(case.get("tol", 0.0))
         if answer.startswith("error"):

@@ -18,6 +18,15 @@ the clock restarts at time t (`shift a { a + b*t + c*t^2/2 }`).  From that:
   E = sum over the error monomials of prod(delta_i^k_i) sum_j |c_j| h^j;
 * a rounding scale S(p, t) (a majorant of G's evaluation error, in units of
   the unit roundoff) and the orbits' angular rates (window sizing).
+
+A file without `exact` declarations whose Maxima text approximates nothing
+(no Taylor sums: `sum`, `taylor`, `powerseries`; no parameter with a
+rotation's role: orbit_radius, angular_velocity, phase) has a polynomial that *is*
+the exact gap (bodies without rotation: accelerating spheres, a ball in an
+arena, a point on a polynomial path).  Then only G, dG/dt and S are derived
+(one Maxima run, no shifts needed), and the contact time is the polynomial's
+own first root over the whole horizon (the runtimes' poly_toc: no windows,
+the same rules at t = 0 as the windowed driver).
 """
 from __future__ import annotations
 
@@ -62,16 +71,24 @@ class ExactSection:
     gap: ScalarFn
     gap_dt: ScalarFn
     scale: ScalarFn
-    shift: ScalarFn
-    rate: ScalarFn
-    truncation: ScalarFn
+    shift: ScalarFn | None
+    rate: ScalarFn | None
+    truncation: ScalarFn | None
     approximations: tuple[str, ...]   # one line per approximation, for the header
     origin: Span
+    polynomial: bool = False       # the polynomial is the exact gap: no shift, rate nor truncation (None)
     # Maxima's expressions behind gap, gap_dt and shift (one per parameter, None
-    # where the parameter does not move), which verify.py checks them against
+    # where the parameter does not move): verify.py checks the printed functions
+    # against them, and the polynomial case's references use gap and gap_dt
     gap_expr: Expr | None = None
     gap_dt_expr: Expr | None = None
     shift_exprs: tuple = ()
+
+    def functions(self) -> tuple[str, ...]:
+        """The keys of the generated functions, in the order they are printed."""
+        if self.polynomial:
+            return ("gap", "gap_dt", "scale")
+        return ("gap", "gap_dt", "scale", "truncation", "shift", "rate")
 
 
 # ---------------------------------------------------------------- Maxima
@@ -102,6 +119,25 @@ def _fresh(k: int) -> list[str]:
     return [f"__m2c_x{i + 1}" for i in range(k)]
 
 
+def _public(text: str, approximations=()) -> str:
+    """Maxima text as a user may read it: the names max2code gives its own
+    helper functions and variables (prefix __m2c_) replaced by the file's
+    names (an error term of SIN(...) reads SIN(...), a fresh argument the
+    formal it stands for, the restart time t0)."""
+    for a in approximations:
+        text = re.sub(rf"__m2c_(?:eps|approx|exact)_{re.escape(a.name)}\b", a.name, text)
+    formals = next((a.formals for a in approximations), ())
+    text = re.sub(r"__m2c_x([0-9]+)", lambda m: formals[int(m.group(1)) - 1] if int(m.group(1)) <= len(formals)
+                  else f"x{m.group(1)}", text)
+    return text.replace("__m2c_t0", "t0").replace("__m2c_p", "the gap")
+
+
+# Maxima constructs that approximate: a text using one without an `exact`
+# declaration does not give the exact gap
+ROTATION = ("orbit_radius", "angular_velocity", "phase")   # parameter roles of a rotation
+TAYLOR = re.compile(r"(?<![A-Za-z0-9_%])(sum|taylor|powerseries|taytorat|nusum)\s*\(")
+
+
 @dataclass(frozen=True)
 class _Approx:
     name: str
@@ -118,8 +154,7 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
 
     mod = d.module
     if not mod.approximations:
-        raise SourceError(mod.maxima_span, "--exact needs an 'exact NAME(args) { expression }' declaration "
-                                           "(see docs/mxm-language.md, 'The exact motion')")
+        return _derive_polynomial_gap(d, progress, use_cache, timeout)
     params, _ = parameters_of(d)
     t = mod.variable
     stmts = [s for s in d.statements]
@@ -157,7 +192,7 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
         if again.items["c"].strip() != "0":
             raise SourceError(mod.shifts[0].span, "the shifts do not restart the clock: Maxima finds "
                                                   "gap(p, t0 + t) - gap(shift(p, t0), t) = "
-                                                  f"{again.items['c'].replace('__m2c_t0', 't0')[:100]} (not 0)")
+                                                  f"{_public(again.items['c'], mod.approximations)[:100]} (not 0)")
 
     # run 2: each approximation as its polynomial plus an error atom
     inserts = {}
@@ -185,7 +220,7 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
     for i, a in enumerate(mod.approximations):
         if r2.items[f"chk{i}"].strip() != "0":
             raise SourceError(a.span, f"'{a.name}' is not the Taylor polynomial in {t} of {a.text.strip()} "
-                                      f"(Maxima finds the difference {r2.items[f'chk{i}'][:80]})")
+                                      f"(Maxima finds the difference {_public(r2.items[f'chk{i}'], [a])[:80]})")
         approx.append(_Approx(a.name, a.formals, int(r2.items[f"deg{i}"]), _read(r2.items[f"dn{i}"], a.span, a.name),
                               _read(r2.items[f"d1{i}"], a.span, a.name), a.span))
 
@@ -210,6 +245,66 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
         raise SourceError(origin, "internal error: the polynomial with zero error terms differs from the file's "
                                   "polynomial; please report this")
     return _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin)
+
+
+def _derive_polynomial_gap(d, progress: bool, use_cache: bool, timeout: float) -> "ExactSection":
+    """The exact pieces of a file whose polynomial is the exact gap (no
+    `exact` declarations): G as the text gives it (not expanded), dG/dt and
+    the rounding scale.  A text that approximates (a Taylor sum) is refused
+    at the statement that does, since its polynomial is not the exact gap."""
+    from max2code.generate.derive import note as _note, parameters_of
+
+    mod = d.module
+    for prm in mod.parameters:
+        if prm.effect in ROTATION:
+            raise SourceError(prm.span, f"--exact: '{prm.name}' is an {prm.effect}, so the polynomial approximates a "
+                                        "rotation: it needs an 'exact NAME(args) { expression }' declaration of what "
+                                        "the approximation stands for and 'shift' declarations "
+                                        "(docs/mxm-language.md, 'The exact motion')")
+    for st in d.statements:
+        m = TAYLOR.search(st.text)
+        if m:
+            raise SourceError(st.span, f"--exact: this statement approximates with {m.group(1)}(...), so the polynomial "
+                                       "is not the exact gap: declare what the approximation stands for with "
+                                       "'exact NAME(args) { expression }' and how the parameters move with 'shift' "
+                                       "(docs/mxm-language.md, 'The exact motion')")
+    params, _ = parameters_of(d)
+    t = mod.variable
+    _note(progress, f"{mod.path}: Maxima derives the exact gap (the polynomial itself) and its derivative ...")
+    r = run_maxima(list(d.prelude), list(d.statements), {"gap": "__m2c_p", "gap_dt": f"diff(__m2c_p, {t})"},
+                   fallback=d.origin, timeout=timeout, use_cache=use_cache)
+    gap = _read(r.items["gap"], d.origin, "the exact gap")
+    gap_dt = _read(r.items["gap_dt"], d.origin, "the exact gap's derivative")
+    for e, what in ((gap, "the exact gap"), (gap_dt, "its derivative")):
+        _check_symbols(e, set(params) | {t}, d.origin, what)
+        if _calls_with(e, t):
+            raise SourceError(d.origin, f"--exact: {what} calls sin or cos of {t}: declare the approximation "
+                                        "with 'exact NAME(args) { expression }'")
+    name = mod.equation
+
+    def one(fname, doc, node):
+        return _scalar(fname, doc, "value", params, (t,), [node], [])
+
+    return ExactSection(
+        name, tuple(params), t,
+        one(f"{name}_gap", "the exact gap at time t (zero at contact)", lower_expr(gap, t)),
+        one(f"{name}_gap_dt", "d/dt of the exact gap at time t", lower_expr(gap_dt, t)),
+        one(f"{name}_gap_scale", "a majorant of the exact gap's rounding error at time t, in units of the unit "
+                                 "roundoff", rounding_scale(gap, t)),
+        None, None, None,
+        ("the polynomial is the exact gap (no approximated functions)",), d.origin, polynomial=True,
+        gap_expr=gap, gap_dt_expr=gap_dt)
+
+
+def _calls_with(e: Expr, t: str) -> bool:
+    """Whether e calls a function of an argument that depends on t."""
+    if isinstance(e, Call):
+        return any(_mentions(a, t) for a in e.args) or any(_calls_with(a, t) for a in e.args)
+    for c in (e.terms if isinstance(e, Add) else e.factors if isinstance(e, Mul) else
+              (e.base, e.exp) if isinstance(e, Pow) else ()):
+        if _calls_with(c, t):
+            return True
+    return False
 
 
 def _drop_eps(p: Poly) -> Poly:
@@ -509,16 +604,19 @@ def _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin) -> Exa
     for key in eps_atoms:
         call = atoms_all[key]
         ap = by_name[call.func[len(EPS_PREFIX):]]
+        shown = _public(to_maxima(call), approx)
         if any(_mentions(a, t) for a in call.args):
-            raise SourceError(ap.span, f"'{ap.name}' is called with arguments that depend on {t}: {to_maxima(call)}")
+            raise SourceError(ap.span, f"'{ap.name}' is called with arguments that depend on {t}: {shown}")
         names = dict(zip(_fresh(len(ap.formals)), call.args))
-        m = sup_majorant(_substitute(ap.dn, names), t, h, ap.span, f"the error of {to_maxima(call)}")
+        m = sup_majorant(_substitute(ap.dn, names), t, h, ap.span, f"the error of {shown}")
         n1 = ap.degree + 1
         delta[key] = mul(mul(m, _power(("ref", h), n1)), lit(Fraction(1, math.factorial(n1))))
+        if isinstance(ap.dn, Num) and ap.dn.value == 0:
+            continue    # the approximation is its exact expression (a polynomial in t): no error, no rate
         rate = _substitute(ap.d1, names)
-        rate_node = sup_majorant(rate, t, h, ap.span, f"the rate of {to_maxima(call)}")
+        rate_node = sup_majorant(rate, t, h, ap.span, f"the rate of {shown}")
         if _mentions(rate, t) and _refers(rate_node, h):
-            raise SourceError(ap.span, f"the rate of {to_maxima(call)} depends on {t}: cannot size windows")
+            raise SourceError(ap.span, f"the rate of {shown} depends on {t}: cannot size windows")
         rates.append((key, rate_node))
     order = {p: i for i, p in enumerate(params)}
     bound: Node | None = None
@@ -555,7 +653,7 @@ def _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin) -> Exa
     lines = tuple(f"{a.name}(...) is the degree-{a.degree} Taylor polynomial in {t} of "
                   f"{next(x.text.strip() for x in mod.approximations if x.name == a.name)}" for a in approx)
     return ExactSection(name, tuple(params), t, gap_fn, dt_fn, scale_fn, shift_fn, rate_fn, trunc_fn, lines, origin,
-                        gap, gap_dt, tuple(shifts.get(p) for p in params))
+                        gap_expr=gap, gap_dt_expr=gap_dt, shift_exprs=tuple(shifts.get(p) for p in params))
 
 
 def _refs_outside_abs(n: Node, out: set[str]) -> None:
@@ -589,10 +687,10 @@ def render_context(target, section: ExactSection, coef_entry: str, coef_selectio
     params = section.params
     taken = set(params) | {section.variable}
     fns = {}
-    for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
+    for key in section.functions():
         fn: ScalarFn = getattr(section, key)
         taken |= {a.name for a in fn.temps}
-    for key in ("gap", "gap_dt", "scale", "truncation", "shift", "rate"):
+    for key in section.functions():
         fn = getattr(section, key)
         inputs = list(params) + list(fn.extra)
         printer = target.float_copies(inputs)
@@ -610,4 +708,4 @@ def render_context(target, section: ExactSection, coef_entry: str, coef_selectio
     local = {b: _unique(b, taken) for b in ("out", "rate", "pv", "mo", "wk", "rk")}
     return {"section": section, "fns": fns, "params": list(params), "nparams": len(params),
             "variable": section.variable, "coef_entry": coef_entry, "coef_selection": coef_selection,
-            "coef_degree": coef_degree, "local": local, "name": section.name}
+            "coef_degree": coef_degree, "local": local, "name": section.name, "polynomial": section.polynomial}

@@ -380,6 +380,7 @@ class Verifier:
         t = section.variable
         checks = [(section.gap, [section.gap_expr]), (section.gap_dt, [section.gap_dt_expr]),
                   (section.shift, [e if e is not None else Sym(p) for p, e in zip(section.params, section.shift_exprs)])]
+        checks = [(fn, exprs) for fn, exprs in checks if fn is not None]    # a polynomial gap has no shift
 
         def job(p):
             for k in range(POINTS):

@@ -186,13 +186,18 @@ BEGIN
 END Depart ;
 
 
-PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
-                        VAR o: Options; VAR t: REAL) : INTEGER ;
+CONST
+   Search = 3 ;          (* Begin: search (start, horizon] *)
+
+(* The checks and the rules at t = 0 shared by FirstContact and PolyContact
+   (m and p become the call's Cur and Par): -1 an error, 0 none, 1 a contact
+   at 0, Overlapped, or Search with start (0, or where a separating contact
+   at 0 has left the zero band). *)
+PROCEDURE Begin (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+                 VAR o: Options; VAR t, start: REAL) : INTEGER ;
 VAR
-   i, st, n: INTEGER ;
-   start, band0, g0, d0, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
-   pp: Params ;
-   c: Coeffs ;
+   i: INTEGER ;
+   band0, g0, d0: REAL ;
 BEGIN
    IF (m.nparams < 0) OR (m.nparams > MaxParams) OR (m.maxDegree > MaxDegree)
       OR (VAL (INTEGER, HIGH (p)) + 1 < m.nparams) THEN
@@ -226,6 +231,20 @@ BEGIN
       start := Depart (horizon, band0, d0) ;
       IF NOT (start < horizon) THEN RETURN 0 END
    END ;
+   RETURN Search
+END Begin ;
+
+
+PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+                        VAR o: Options; VAR t: REAL) : INTEGER ;
+VAR
+   st, n: INTEGER ;
+   start, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
+   pp: Params ;
+   c: Coeffs ;
+BEGIN
+   st := Begin (m, p, horizon, o, t, start) ;
+   IF st # Search THEN RETURN st END ;
    span := horizon - start ;
    h := span ;
    rate := Cur.rate (Par) ;
@@ -265,6 +284,60 @@ BEGIN
    END ;
    RETURN 0
 END FirstContact ;
+
+
+(* What PolyContact's motion holds for the pieces it never calls. *)
+PROCEDURE NoShift (VAR p: ARRAY OF REAL; t: REAL; VAR out: ARRAY OF REAL) ;
+VAR
+   i: INTEGER ;
+BEGIN
+   t := t ;
+   FOR i := 0 TO VAL (INTEGER, HIGH (out)) DO out[i] := p[i] END
+END NoShift ;
+
+
+PROCEDURE NoValue (VAR p: ARRAY OF REAL; t: REAL) : REAL ;
+BEGIN
+   p[0] := p[0] ;
+   t := t ;
+   RETURN 0.0
+END NoValue ;
+
+
+PROCEDURE NoRate (VAR p: ARRAY OF REAL) : REAL ;
+BEGIN
+   p[0] := p[0] ;
+   RETURN 0.0
+END NoRate ;
+
+
+PROCEDURE PolyContact (VAR m: PolyMotion; VAR p: ARRAY OF REAL; horizon: REAL;
+                       VAR o: Options; VAR t: REAL) : INTEGER ;
+VAR
+   st, n: INTEGER ;
+   start, r: REAL ;
+   c: Coeffs ;
+   mo: Motion ;
+BEGIN
+   mo.nparams := m.nparams ;
+   mo.maxDegree := m.maxDegree ;
+   mo.coefficients := m.coefficients ;
+   mo.shift := NoShift ;
+   mo.gap := m.gap ;
+   mo.gapDt := m.gapDt ;
+   mo.scale := m.scale ;
+   mo.truncation := NoValue ;
+   mo.rate := NoRate ;
+   st := Begin (mo, p, horizon, o, t, start) ;
+   IF st # Search THEN RETURN st END ;
+   n := Cur.coefficients (Par, c) ;
+   IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
+   IF NOT CurSolver (c, n, start, horizon, r) THEN RETURN 0 END ;
+   IF o.refine THEN r := Polish (r, start, horizon, start, horizon) END ;
+   IF r > horizon THEN r := horizon END ;
+   t := r + 0.0 ;
+   RETURN 1
+END PolyContact ;
 
 
 BEGIN

@@ -169,28 +169,26 @@ static double depart(const ctx *k, double horizon, double band0, double d0)
     return horizon;
 }
 
-int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *options,
-                  double *t)
+/* The checks and the rules at t = 0 shared by m2c_exact_toc and
+ * m2c_exact_poly_toc: -1 an error, 0 none, 1 a contact at 0,
+ * M2C_EXACT_OVERLAPPED, or 3 with *start (0, or where a separating contact
+ * at 0 has left the zero band): search (*start, horizon]. */
+#define SEARCH 3
+static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double *start, double *t)
 {
-    m2c_exact_options o;
-    if (options)
-        o = *options;
-    else
-        m2c_exact_defaults(&o);
-    if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > MAX_DEGREE)
-        return -1;
-    if (!(o.window_angle > 0.0) || !isfinite(o.window_angle) || !o.solver || !(o.zero_tol >= 0.0))
+    const m2c_motion *m = k->m;
+    const double *p = k->p;
+    if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
         return -1;
     if (!isfinite(horizon) || !(horizon > 0.0))
         return 0;
     for (int i = 0; i < m->nparams; i++)
         if (!isfinite(p[i]))
             return 0;
-    ctx k = {m, p, o.solver, o.zero_tol};
-    double start = 0.0;
-    double band0 = floor_at(&k, 0.0);
-    if (o.zero_tol > band0)
-        band0 = o.zero_tol;
+    *start = 0.0;
+    double band0 = floor_at(k, 0.0);
+    if (o->zero_tol > band0)
+        band0 = o->zero_tol;
     double g0 = m->gap(p, 0.0);
     if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
         *t = 0.0;
@@ -202,10 +200,28 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
             *t = 0.0;
             return 1;
         }
-        start = depart(&k, horizon, band0, d0);
-        if (!(start < horizon))
+        *start = depart(k, horizon, band0, d0);
+        if (!(*start < horizon))
             return 0;
     }
+    return SEARCH;
+}
+
+int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *options,
+                  double *t)
+{
+    m2c_exact_options o;
+    if (options)
+        o = *options;
+    else
+        m2c_exact_defaults(&o);
+    if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > MAX_DEGREE)
+        return -1;
+    ctx k = {m, p, o.solver, o.zero_tol};
+    double start;
+    int st0 = begin(&k, &o, horizon, &start, t);
+    if (st0 != SEARCH)
+        return st0;
     double span = horizon - start;
     double h = span;
     double rate = m->rate(p);
@@ -248,4 +264,35 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         t0 = t1;
     }
     return 0;
+}
+
+int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizon,
+                       const m2c_exact_options *options, double *t)
+{
+    m2c_exact_options o;
+    if (options)
+        o = *options;
+    else
+        m2c_exact_defaults(&o);
+    if (!pm || !p || !t || pm->nparams < 0 || pm->nparams > M2C_EXACT_MAX_PARAMS || pm->max_degree > MAX_DEGREE)
+        return -1;
+    /* the windowed driver's motion without shift, truncation and rate, which this path never calls */
+    m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0};
+    ctx k = {&m, p, o.solver, o.zero_tol};
+    double start;
+    int st0 = begin(&k, &o, horizon, &start, t);
+    if (st0 != SEARCH)
+        return st0;
+    double c[MAX_DEGREE + 1], r;
+    int n = m.coefficients(p, c);
+    if (n < 0 || n > MAX_DEGREE)
+        return -1;
+    if (o.solver(c, n, start, horizon, &r) != 1)
+        return 0;
+    if (o.refine)
+        r = polish(&k, r, start, horizon, start, horizon);
+    if (r > horizon)
+        r = horizon;
+    *t = r + 0.0;
+    return 1;
 }
