@@ -131,3 +131,16 @@ def test_an_exact_declaration_of_a_polynomial_motion_works_and_errors_name_no_in
                        capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 1 and "'MOVE' is not the Taylor polynomial" in r.stderr, r.stderr
     assert "a*t^2" in r.stderr and "__m2c" not in r.stderr and r.stderr.count("\n") == 1, r.stderr
+
+
+def test_rust_compiles_a_parameter_named_in_capitals(tmp_path):
+    """The arena's radius R beside the ball's r: Rust's naming lint must not stop the user's names."""
+    from max2code.toolchain.exact import build_exact_harness
+
+    g = _gen(os.path.join(USER, "ball-arena.mxm"), "rust")
+    assert "#![allow(non_snake_case)]" in g.text
+    h = build_exact_harness("rust", g.text, g.exact, str(tmp_path))
+    got, _ = h.run([[0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 1.0, 6.0, 10.0, 1.0, 1.0, 0.0, 0.0]])
+    assert got == [(1, 2.5)]
+    plain = _gen(os.path.join(USER, "sphere-sphere.mxm"), "rust")
+    assert "non_snake_case" not in plain.text

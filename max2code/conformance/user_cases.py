@@ -76,6 +76,7 @@ class Equation:
     coefficients: tuple       # Maxima's polynomial: Poly per power of t
     exact: object | None      # exact.ExactSection when the polynomial is the exact gap, else None
     why_not_exact: str        # why there are no exact-motion cases
+    windowed: bool = False    # the file declares `exact` approximations: NAME_toc_exact by windows (no cases here)
 
 
 def _range_of(name: str, doc: str, role: str | None) -> tuple[tuple[float, float], bool]:
@@ -132,7 +133,8 @@ def load_equation(path: str, ranges: dict[str, tuple[float, float]] | None = Non
         except SourceError as exc:
             why = f"its polynomial is not the exact gap ({exc.message}): only NAME_toc cases"
     stem = os.path.splitext(os.path.basename(path))[0]
-    return Equation(path, stem, params, out_ranges, tuple(lengths), d.polynomial.coefficients, exact, why)
+    return Equation(path, stem, params, out_ranges, tuple(lengths), d.polynomial.coefficients, exact, why,
+                    bool(mod.approximations))
 
 
 # ------------------------------------------------------------- exact evaluation

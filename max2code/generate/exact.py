@@ -234,7 +234,8 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
     try:
         eps_poly = collect(_read(r2.items["eps"], origin, "the polynomial with error terms"), t)
     except NotPolynomial as exc:
-        raise SourceError(origin, f"with error terms the text is not a polynomial in {t}: {exc}") from None
+        raise SourceError(origin, f"with error terms the text is not a polynomial in {t}: "
+                                  f"{_public(str(exc), mod.approximations)}") from None
     # at zero error the polynomial must be the one the file generates
     def trimmed(ps):
         ps = list(ps)
