@@ -44,12 +44,12 @@ def segment_end(order):
 
 def orbiting_circles(order):
     dx = moving("x1", "u1") - (moving("x2", "u2", "a2") + V("d2") * cos_of("w2", "f2", order))
-    dy = moving("y1", "v1") - (moving("y2", "v2", "b2") + V("d2") * sin_of("w2", "f2", order))
+    dy = moving("yp1", "v1") - (moving("y2", "v2", "b2") + V("d2") * sin_of("w2", "f2", order))
     return dx ** 2 + dy ** 2 - (V("r1") + V("r2")) ** 2
 
 
 def quintic_floor(order):
-    height = moving("y0", "v0", "a0") + Fraction(1, 6) * V("j0") * T ** 3 + Fraction(1, 24) * V("s0") * T ** 4 \
+    height = moving("h0", "v0", "a0") + Fraction(1, 6) * V("k0") * T ** 3 + Fraction(1, 24) * V("s0") * T ** 4 \
         + Fraction(1, 120) * V("c0") * T ** 5
     floor = V("hf") + V("vf") * T + V("bf") * sin_of("wf", "pf", order)
     return height - V("rp") - floor
