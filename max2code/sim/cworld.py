@@ -185,7 +185,6 @@ class CWorld:
         self._h = h = _Handles(self._lib, out)
         self._finalizer = weakref.finalize(self, _release_quietly, h)
         self._states_buf = None
-        self._scene_text = scene_text
         self._finished = False
         if out is not None:
             h.file = _c_library().tmpfile()
