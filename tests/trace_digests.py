@@ -2,7 +2,7 @@
 EXPECTED_HASH): a change made in all four runtimes at once still shows.
 
 The trace is the flat text the simulator writes (docs/simulator.md), from the
-C runtime; tests/test_crosscheck.py proves the other three write the same
+C runtime; tests/simulator/test_crosscheck.py proves the other three write the same
 bytes.  After an intended change of the simulator, refresh the pins with
 
     python3 tests/trace_digests.py --update

@@ -13,7 +13,7 @@ effects (cached, as `max2code simulate` builds them) and returns a world:
   effects, loaded as modules, and the world made from the compiled scene.
 
 Both take the same calls and give the same contacts, states and trace bytes
-(tests/test_live.py)."""
+(tests/runtimes/test_live.py)."""
 from __future__ import annotations
 
 import functools

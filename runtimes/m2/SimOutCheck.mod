@@ -5,7 +5,7 @@ MODULE SimOutCheck ;
    trace holds, near-halfway and power-of-ten neighbours, zeros, infinities.
    Writes the count of numbers checked, how many the fast path decided, and
    every mismatch; exit status 1 on a mismatch.  Build and run (as
-   tests/test_m2_sim_out.py does):
+   tests/simulator/test_m2_sim_out.py does):
      gm2 -fiso -fcpp -Wall -Werror -O2 -ffp-contract=off -I runtimes/m2 \
          -I runtimes/m2/src runtimes/m2/SimOutCheck.mod SimOut.o -o sim_out_check -lm
    (SimOut.o compiled from runtimes/m2/SimOut.mod).  Argument-free: the

@@ -28,7 +28,7 @@
      tolerance with a margin.
    Numbers are written as the interpreter's repr writes them (quick_repr,
    and PyOS_double_to_string, 'r' mode, '.0' added, for the rest): the flat
-   text is the Python compiler's byte for byte, and tests/test_scene_c.py
+   text is the Python compiler's byte for byte, and tests/simulator/test_scene_c.py
    compares the two.  The JSON text is not kept: after sf_compile the state
    holds the bodies' numbers and names only (sf_part writes from them). */
 #include <float.h>
@@ -100,7 +100,7 @@ static int puts_(sf_buf *b, const char *s) { return put(b, s, strlen(s)); }
    Most numbers go neither through the interpreter's strtod nor its dtoa
    (each a few hundred ns: bignum arithmetic, and the x87 control word set
    and restored): two exact shortcuts take the common ones and leave the
-   rest to the interpreter.  tests/test_scene_c.py compares both with
+   rest to the interpreter.  tests/simulator/test_scene_c.py compares both with
    float() and repr() on random and edge values. */
 typedef unsigned __int128 u128;
 static u128 pow10_128[40];       /* 10^0 .. 10^38 */
@@ -1170,7 +1170,7 @@ const char *sf_text(void *h, long *size)
     return s->out.s;
 }
 
-/* for tests/test_scene_c.py: a number read as the scene reader reads it (1 and *out, 0 when it is not one
+/* for tests/simulator/test_scene_c.py: a number read as the scene reader reads it (1 and *out, 0 when it is not one
    it takes), and a double written as the flat scene writes it (its length) */
 int sf_number(const char *text, long size, double *out)
 {

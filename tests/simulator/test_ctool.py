@@ -6,6 +6,7 @@ from __future__ import annotations
 import ctypes
 import fcntl
 import os
+from pathlib import Path
 import subprocess
 import sys
 
@@ -14,7 +15,8 @@ import pytest
 from max2code.sim import ctool
 from max2code.sim.ctool import CTool
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 def tool(tmp_path, body="int answer(void) { return 42; }"):

@@ -4,6 +4,7 @@ case the issue lists: a correct result, or one line
 traceback, an "internal error", a hang or a silently wrong answer."""
 import json
 import os
+from pathlib import Path
 import re
 import subprocess
 import sys
@@ -13,7 +14,8 @@ import pytest
 from max2code.cli import main
 from max2code.generate.maxima import DEFAULT_TIMEOUT
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 OK_MXM = "begin\na + b*t + c*t^2;\nend\n"
 
 

@@ -3,13 +3,13 @@ docs/simulator.md "Contact model"): resting contact, support, sliding,
 friction.  The proofs (resting ball and box, the slope, friction,
 the dropped ball, the sleeping island) run in every runtime, each checked
 on its own trace; the rest run the Python runtime, and the others are held
-to the same bytes by tests/test_crosscheck.py."""
+to the same bytes by tests/simulator/test_crosscheck.py."""
 from __future__ import annotations
 
 import json
 import math
 import os
-import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -18,9 +18,10 @@ from max2code.sim.invariants import check, energy_growth
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import parse_scene
 from max2code.sim.simulate import LANGS, SimulateError, run_scene
-
-sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import resting_scene  # noqa: E402
+
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 G = 9.81
 
@@ -765,7 +766,7 @@ def test_ball_pit_settles_sleeps_and_wakes_when_a_ball_drops_in():
     from then until the scripted push at t = 5 s nothing but frames
     happens; the 43rd ball drops in, wakes islands, and the pit settles
     again; no overlap beyond the tolerance at any event."""
-    path = os.path.join(os.path.dirname(__file__), "..", "examples", "ball-pit.json")
+    path = os.path.join(ROOT, "examples", "ball-pit.json")
     from max2code.sim.scene import load_scene
     scene = load_scene(path)
     tr = run_scene(scene, "python")
@@ -785,7 +786,7 @@ def test_energy_never_grows_in_the_gravity_box_and_the_game(name):
     """Slow pressed contacts hop on the energy of the pair's sliding
     (docs/simulator.md, Hop): between inputs (and contacts with moving
     fixed bodies, which do work) the energy never grows."""
-    path = os.path.join(os.path.dirname(__file__), "..", "examples", name)
+    path = os.path.join(ROOT, "examples", name)
     from max2code.sim.scene import load_scene
     scene = load_scene(path)
     tr = run_scene(scene, "python")
@@ -913,7 +914,7 @@ def test_the_moving_platform_example_never_overlaps_nor_gains_energy_in_the_plat
     the platform (inertial between the inputs that reverse it: constant
     velocity) the energy never grows, where in the world's the platform's
     friction does work on what it carries."""
-    path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples",
+    path = os.path.join(ROOT, "examples",
                         "moving-platform.json")
     from max2code.sim.scene import load_scene
     from max2code.sim.simulate import run_scene

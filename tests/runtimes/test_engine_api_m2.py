@@ -7,6 +7,7 @@ contacts and the striker's final position to the last bit."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import re
 import subprocess
 
@@ -15,7 +16,8 @@ from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import build_simulator
 from max2code.toolchain.m2 import Modula2Toolchain
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 STRIKER = 4
 
 
@@ -120,7 +122,6 @@ def test_add_body_in_modula2_writes_the_reference_bytes(tmp_path):
     import io
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.live import flat_body
     from max2code.sim.scene import parse_scene
@@ -205,14 +206,13 @@ END Session.
 
 
 def test_a_modula2_session_is_recorded_and_replays_in_the_batch_simulators(tmp_path):
-    """The live session of tests/test_world.py's recording test driven from
+    """The live session of tests/runtimes/test_world.py's recording test driven from
     Modula-2 (inputs at an event's exact time and at the scene's own input
     times, a refused teleport, removals): its input log (InputLog) made into
     a recording (max2code.sim.recording) replays the session's trace byte
     for byte in the Modula-2 and the Python batch simulators."""
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.recording import recording
     from max2code.sim.scene import parse_scene
@@ -288,7 +288,6 @@ def test_modula2_add_body_is_checked_and_the_live_api_refuses_without_changing_t
     import io
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.live import flat_body
     from max2code.sim.scene import parse_scene

@@ -9,13 +9,14 @@ sample: C with gcc, Python byte-compiled).
 The suite runs a fixed seed (hypothesis `derandomize`) and a small budget;
 MAX2CODE_FUZZ_EXAMPLES=N runs N inputs per test instead (the longer run):
 
-    MAX2CODE_FUZZ_EXAMPLES=300 python3 -m pytest -q tests/test_fuzz.py
+    MAX2CODE_FUZZ_EXAMPLES=300 python3 -m pytest -q tests/commands/test_fuzz.py
 """
 import contextlib
 import hashlib
 import io
 import json
 import os
+from pathlib import Path
 import py_compile
 import subprocess
 import time
@@ -26,7 +27,8 @@ from hypothesis import strategies as st
 
 from max2code.cli import main
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 SCALE = int(os.environ.get("MAX2CODE_FUZZ_EXAMPLES", "0"))
 SECONDS = 240.0          # one run: Maxima is given 10 s per call, simulations a few thousand events
 

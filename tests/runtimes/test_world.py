@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from pathlib import Path
 import subprocess
 
 import pytest
@@ -23,7 +24,8 @@ from max2code.sim.scene import compile_scene, load_scene, parse_scene
 from max2code.sim.simulate import LANGS, SimulateError, build_simulator, run_scene
 from sim_scenes import inputs_scene
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 EX = os.path.join(ROOT, "examples")
 
 # REF: step -> the runtimes that have ported it (python is the reference)

@@ -6,6 +6,7 @@ import glob
 import json
 import math
 import os
+from pathlib import Path
 import subprocess
 import sys
 
@@ -16,11 +17,10 @@ from max2code.sim.invariants import check
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import SceneError, compile_scene, load_scene, parse_scene
 from max2code.sim.simulate import run_scene
-
-sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import random_scene  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
 
 

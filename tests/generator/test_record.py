@@ -3,6 +3,7 @@ import path of `max2code simulate` compare, print and hash by their fields."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import pickle
 import subprocess
 import sys
@@ -12,7 +13,8 @@ import pytest
 from max2code.errors import Span
 from max2code.sim.scene import Body, Grid, Scene
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 def body(**kw):

@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from pathlib import Path
 import random
 import subprocess
 import sys
@@ -21,7 +22,8 @@ from max2code.errors import Max2CodeError, SourceError
 from max2code.toolchain.exact import build_exact_harness
 from max2code.generate.pipeline import GenerateRequest, generate_file
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 CASES = [json.loads(line) for line in open(os.path.join(ROOT, "tests", "conformance", "toc_exact.jsonl"))]
 
 HEAD = """parameter a "line end"  : body 1 position

@@ -8,6 +8,7 @@ from __future__ import annotations
 import ctypes
 import math
 import os
+from pathlib import Path
 import subprocess
 
 import pytest
@@ -16,7 +17,8 @@ from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import run_scene, world_library
 from max2code.toolchain.c import FLAGS
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")
 EXAMPLE = os.path.join(ROOT, "runtimes", "c", "examples", "world_loop.c")
 
@@ -138,7 +140,6 @@ def test_live_inputs_and_teleports_refused_or_made_as_the_reference(tmp_path):
     reference refuses and writes its bytes."""
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.scene import parse_scene
     scene = parse_scene(json.dumps(inputs_scene(2.0) | {"inputs": []}))
@@ -163,7 +164,6 @@ def test_live_inputs_and_teleports_refused_or_made_as_the_reference(tmp_path):
 def test_a_scripted_teleport_into_overlap_is_the_references_error():
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.scene import parse_scene
     from max2code.sim.simulate import SimulateError
@@ -184,7 +184,6 @@ def test_add_body_made_or_refused_as_the_reference(tmp_path):
     import io
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.live import flat_body, python_world
     from max2code.sim.scene import parse_scene
@@ -258,7 +257,6 @@ def test_a_c_session_recorded_replays_in_c_and_python(tmp_path):
     session's trace again."""
     import json
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import inputs_scene
     from max2code.sim.recording import write_recording
     raw = inputs_scene(2.0, remove=True)
@@ -311,7 +309,6 @@ def test_random_c_sessions_replay_from_their_recordings(tmp_path):
     import json
     import random
     import sys
-    sys.path.insert(0, os.path.dirname(__file__))
     from sim_scenes import random_scene
     from max2code.sim.recording import write_recording
     done = 0

@@ -7,6 +7,7 @@ import ast
 import dataclasses
 import functools
 import os
+from pathlib import Path
 import re
 import shutil
 import subprocess
@@ -23,7 +24,8 @@ from max2code.generate.pipeline import GenerateRequest, generate
 from max2code.targets import target
 from max2code.toolchain.c import FLAGS
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 def run(capsys, *argv):

@@ -4,7 +4,7 @@ import ast
 import os
 import pathlib
 
-PKG = pathlib.Path(__file__).resolve().parent.parent / "max2code"
+PKG = next(p for p in pathlib.Path(__file__).resolve().parents if (p / "pyproject.toml").exists()) / "max2code"
 
 
 def module_name(path: pathlib.Path) -> str:

@@ -9,7 +9,6 @@ import json
 import math
 import os
 import random
-import sys
 
 import pytest
 
@@ -17,8 +16,6 @@ from max2code.sim.invariants import check
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import parse_scene
 from max2code.sim.simulate import run_scene
-
-sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import box, random_scene  # noqa: E402
 
 

@@ -5,6 +5,7 @@ powers of ten, zeros, infinities and NaN, and fails on any difference."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import re
 import shutil
 import subprocess
@@ -13,7 +14,8 @@ import pytest
 
 from max2code.toolchain.m2 import SIM_FLAGS
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 M2 = os.path.join(ROOT, "runtimes", "m2")
 
 pytestmark = pytest.mark.skipif(shutil.which("gm2") is None, reason="gm2 not installed")

@@ -1,5 +1,6 @@
 """Byte-stable output, and property-based tests of both parsers."""
 import os
+from pathlib import Path
 import subprocess
 import sys
 from fractions import Fraction
@@ -14,7 +15,8 @@ from max2code.generate.expr import Add, Mul, Num, Pow, Sym, to_maxima, to_poly
 from max2code.generate.mxm import parse_mxm
 from max2code.generate.reader import MaximaOutputError, read_expr
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 @pytest.mark.parametrize("lang", LANGS)

@@ -3,12 +3,14 @@ reported by gcc and gm2 at the .mxm line (and column)."""
 import os
 import re
 import subprocess
+from pathlib import Path
 
 import pytest
 
 from max2code.generate.pipeline import GenerateRequest, generate_file
 
-DATA = os.path.join(os.path.dirname(__file__), "data", "planted-error.mxm")
+ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
+DATA = str(ROOT / "tests" / "data" / "planted-error.mxm")
 PLANTED_LINE = {"c": 10, "m2": 20}   # the `term 1` blocks in planted-error.mxm
 
 

@@ -3,6 +3,7 @@ float, Rust f32, Modula-2 SHORTREAL): the bundled equations, generated in
 single precision, compiled by the project's harness and run on the same
 inputs, print the same coefficients."""
 import os
+from pathlib import Path
 import random
 
 import pytest
@@ -11,7 +12,8 @@ from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code.toolchain.harness import build_harness
 from max2code.targets import LANGUAGES
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 FLOAT_LANGS = sorted(n for n, t in LANGUAGES.items() if t.single_type is not None)
 
 

@@ -1,11 +1,13 @@
 """The seed files parse, in both dialects; the language's details."""
 import os
+from pathlib import Path
 
 import pytest
 
 from max2code.generate.mxm import parse_mxm, read_mxm
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 @pytest.mark.parametrize("rel", ["equations/circle-circle.mxm", "equations/point-line.mxm",

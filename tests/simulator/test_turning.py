@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
-import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -16,12 +16,11 @@ from max2code.sim.invariants import check, energy_growth
 from max2code.sim.replay import read_trace
 from max2code.sim.scene import load_scene, parse_scene
 from max2code.sim.simulate import run_scene
-
-sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import spinning_scene  # noqa: E402
 from test_contact import runtimes  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
 def graze_scene(ceiling_vy: float, omega: float, angle: float) -> dict:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import glob
 import json
 import os
-import sys
+from pathlib import Path
 import tempfile
 
 import pytest
@@ -16,11 +16,10 @@ from hypothesis import given, settings, strategies as st
 from max2code.sim.scene import load_scene
 from max2code.sim.commands import crosscheck
 from max2code.sim.simulate import LANGS
-
-sys.path.insert(0, os.path.dirname(__file__))
 from sim_scenes import resting_scene, spinning_scene, write_random_scenes  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+from pathlib import Path
 import subprocess
 import sys
 
@@ -14,7 +15,8 @@ import pytest
 
 pytest.importorskip("pygame")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 GAME = os.path.join(ROOT, "examples", "game", "game.py")
 KEYS = os.path.join(ROOT, "examples", "game", "keys.txt")
 FRAMES = 1200          # 20 s at 60 frames per second

@@ -7,6 +7,7 @@ from __future__ import annotations
 import io
 import math
 import os
+from pathlib import Path
 import subprocess
 
 import pytest
@@ -16,7 +17,8 @@ from max2code.sim.scene import compile_scene
 from max2code.sim.simulate import build_simulator
 from max2code_rt.sim import SimError
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 # scenes the Python reference plays in a few seconds (gravity-box takes a minute)
 SCENES = ["platformer.json", "billiard-break.json", "newtons-cradle.json", "resting-ball.json"]
 
