@@ -142,10 +142,13 @@ def test_ours_reads_the_scene_and_a_stop_is_a_status():
     t = next(t for t, st in run.samples if st[1][4] > -1.0 and t > 0.2)
     assert abs(t - math.sqrt(2 * DROP / G)) <= 1.0 / 60.0
     assert peers.judge(s, run.samples).overlap < 1e-6
-    # Newton's cradle with at most 1 event at one instant stops at its first collision: a status, not an error
-    with open(ROOT / "examples" / "newtons-cradle.json") as fh:
-        raw = json.load(fh)
-    raw["max_events_at_one_time"] = 1
-    stuck = peers.run_ours(parse_scene(json.dumps(raw), "cradle"), "c")
+    # at most 1 event at one instant: the ball, the box and the bouncer land together, and the run stops there,
+    # a status, not an error
+    stuck = peers.run_ours(s.replace(max_same=1), "c")
     assert stuck.status.startswith("stuck at t = "), stuck.status
-    assert 0.0 < stuck.simulated < 3.0 and stuck.cpu > 0.0
+    assert stuck.simulated == pytest.approx(math.sqrt(2 * DROP / G), rel=1e-3) and stuck.cpu > 0.0
+    assert stuck.samples == []
+    # stopped after a CPU budget: the time reached is reported
+    cut = peers.run_ours(s.replace(end_time=1e6, frame_rate=1000.0, max_events=10**12), "c", budget=0.5)
+    assert cut.status.startswith("unfinished: stopped after 0.5 CPU s at t = "), cut.status
+    assert 0.0 < cut.simulated < 1e6 and cut.cpu >= 0.5

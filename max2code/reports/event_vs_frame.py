@@ -861,7 +861,7 @@ def _peers_only(args, lang: str, shown: list[str]) -> int:
     import pymunk
     load = [os.getloadavg()[0]]
     rows = peers.sweep([(label, scene) for label, _, scene in example_scenes()], args.box2d_src, lang,
-                       not args.quiet)
+                       not args.quiet, budget=args.ours_budget)
     load.append(os.getloadavg()[0])
     os.makedirs(args.out_dir, exist_ok=True)
     files = peers.plot(rows, os.path.join(args.out_dir, "peers"))
@@ -974,6 +974,9 @@ def main(argv: list[str]) -> int:
     p.add_argument("--box2d-src", metavar="DIR",
                    help="a Box2D v3 source folder: its src/*.c are compiled with bench/peers/box2d/driver.c and "
                         "Box2D joins the side-by-side table")
+    p.add_argument("--ours-budget", type=float, default=120.0, metavar="SECONDS",
+                   help="side-by-side table: stop our run on a scene after this many CPU seconds and report the "
+                        "time it reached (default 120)")
     p.add_argument("--no-peers", action="store_true",
                    help="leave out the side-by-side table (pymunk, rapier2d, Box2D: max2code/reports/peers.py)")
     p.add_argument("--peers-only", action="store_true",
@@ -1001,7 +1004,8 @@ def main(argv: list[str]) -> int:
     if not args.no_peers:
         from max2code.reports import peers
         side = peers.sweep([(r.label, r.scene) for r in _examples(results)], args.box2d_src,
-                           next((lang for lang in langs if not avail[lang]), langs[0]), not args.quiet)
+                           next((lang for lang in langs if not avail[lang]), langs[0]), not args.quiet,
+                           budget=args.ours_budget)
     load.append(os.getloadavg()[0])
     files = write_report(results, avail, langs, args.out_dir, shown, args.max_replays, load, side)
     ran = [lang for lang in langs if not avail[lang]]

@@ -12,7 +12,7 @@ driven by an input), mass and moment of inertia, start velocities,
 restitution and friction (both engines' contacts multiply the two bodies'
 values, as ours), gravity, the scripted inputs).  The peers are small
 drivers: bench/peers/rapier (a Rust crate, built here with cargo into
-build/peers/rapier/) and bench/peers/box2d/driver.c (compiled here with gcc
+build/peers/rapier-target/) and bench/peers/box2d/driver.c (compiled here with gcc
 against the given Box2D source into build/peers/box2d-HASH/); pymunk runs
 in this process through event_vs_frame.build_space.
 
@@ -39,6 +39,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,10 +47,11 @@ from pathlib import Path
 from max2code.errors import Max2CodeError
 from max2code.paths import ROOT
 from max2code.sim.scene import REMOVE, Scene, compile_scene
-from max2code.sim.simulate import SimulateError, build_simulator, run_scene, start_simulator
+from max2code.sim.simulate import build_simulator, parse_trace, start_simulator, time_engine
 
 STEP = 1.0 / 60.0
 SUBSTEPS = 4                    # Box2D's sub-steps per step
+OURS_BUDGET = 120.0             # CPU s: our run on one scene is stopped after this (its status says so)
 PYMUNK_SLOP = 0.005             # m: pymunk's allowed overlap, Box2D's linear slop
 REST_SPEED = 0.01               # m/s: a body moves slower than this (its fastest point) to count as at rest
 PEERS = ("pymunk", "rapier", "box2d")
@@ -225,50 +227,104 @@ def run_pymunk(scene: Scene, dt: float = STEP) -> Run:
 _STOP_AT = re.compile(r"at t = ([-+0-9.eE]+)")
 
 
-def _cpu_run(build, flat: str) -> int:
-    """Run the simulator once on a flat scene (a failing run too): its exit
-    code.  communicate reaps the child, so its CPU is in os.times()'s
-    children totals."""
+def _proc_cpu(pid: int) -> float:
+    """CPU seconds (user + system) a running process has used so far (Linux /proc)."""
+    with open(f"/proc/{pid}/stat", encoding="ascii") as fh:
+        fields = fh.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _run_budget(build, flat: str, budget: float) -> tuple[str, float, int, bool]:
+    """Run the simulator on a flat scene, killed once it has used `budget`
+    CPU seconds: (its whole output, its CPU seconds, exit code, killed)."""
     proc = start_simulator(build)
-    proc.communicate(flat.encode("ascii"))
-    return proc.returncode
+    done = threading.Event()
+    killed = []
+
+    def feed():
+        try:
+            proc.stdin.write(flat.encode("ascii"))
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
+
+    def watch():
+        while not done.wait(0.5):      # the child is not reaped before done is set: its pid stays its own
+            try:
+                if _proc_cpu(proc.pid) > budget:
+                    killed.append(True)
+                    proc.kill()
+                    return
+            except (OSError, ValueError, IndexError):
+                return
+    threads = [threading.Thread(target=feed, daemon=True), threading.Thread(target=watch, daemon=True),
+               threading.Thread(target=proc.stderr.read, daemon=True)]
+    for th in threads:
+        th.start()
+    chunks = []
+    while True:
+        chunk = proc.stdout.read(1 << 20)
+        if not chunk:
+            break
+        chunks.append(chunk)
+    done.set()
+    _, code, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(code)
+    for th in threads:
+        th.join(timeout=5)
+    proc.stdout.close()
+    return b"".join(chunks).decode("ascii", "replace"), usage.ru_utime + usage.ru_stime, proc.returncode, bool(killed)
 
 
-def _children_cpu() -> float:
-    r = os.times()
-    return r.children_user + r.children_system
+def _last_time(text: str) -> float:
+    """The time of the last event line ('E KIND T ...') of a flat trace (0: none)."""
+    k = text.rfind("\nE ")
+    while k >= 0:
+        w = text[k + 1:k + 200].split()
+        try:
+            return float(w[2])
+        except (IndexError, ValueError):
+            k = text.rfind("\nE ", 0, k)
+    return 0.0
 
 
-def run_ours(scene: Scene, lang: str = "c") -> Run:
+def run_ours(scene: Scene, lang: str = "c", budget: float = OURS_BUDGET) -> Run:
     """Our simulator on the scene: the exact states at every frame (the
     scene's frame_rate; STEP when it has none) replayed from the trace, and
-    the CPU per simulated second less the start-up (event_vs_frame.time_ours).
-    A run that stops early (stuck, any failure) is timed up to where it
-    stopped: its status names the instant, and its CPU is the failing run's
-    (start-up included) over the time reached."""
-    from max2code.reports.event_vs_frame import time_ours
+    the CPU per simulated second less the start-up (event_vs_frame.time_ours;
+    a run of more than 2 CPU seconds is not repeated: its own CPU less the
+    start-up).  A run that stops early (stuck, any failure), or is stopped
+    here after `budget` CPU seconds, is timed up to where it stopped: its
+    status names the instant, its CPU is that run's (start-up included) over
+    the time reached."""
+    from max2code.reports.event_vs_frame import START, best_cpu, time_ours
     if scene.frame_rate == 0:
         scene = scene.replace(frame_rate=1.0 / STEP)
-    try:
-        trace = run_scene(scene, lang)
-    except SimulateError as exc:
-        msg = str(exc).splitlines()[0]
+    build = build_simulator(lang, scene.effects, scene.taylor_order)
+    text, cpu, code, killed = _run_budget(build, compile_scene(scene), budget)
+    name = f"ours {lang}"
+    if killed:
+        reached = _last_time(text)
+        return Run(name, cpu, reached, f"unfinished: stopped after {budget:g} CPU s at t = {reached:.4g} s")
+    if code != 0:
+        last = text.rstrip().splitlines()[-1] if text.strip() else ""
+        msg = last[2:] if last.startswith("X ") else f"exit {code}"
         m = _STOP_AT.search(msg)
         try:
-            reached = float(m.group(1).rstrip(".")) if m else math.nan
+            reached = float(m.group(1).rstrip(".")) if m else _last_time(text)
         except ValueError:
-            reached, m = math.nan, None
-        build = build_simulator(lang, scene.effects, scene.taylor_order)
-        flat = compile_scene(scene)
-        c0 = _children_cpu()
-        _cpu_run(build, flat)
-        cpu = _children_cpu() - c0
+            reached = _last_time(text)
         what = "stuck" if "stuck" in msg else "failed"
-        status = f"{what} at t = {reached:.4g} s" if m else f"{what}: {msg[-160:]}"
-        return Run(f"ours {lang}", cpu, reached if m else 0.0, status)
-    res = time_ours(scene, lang)
-    cpu = res.cpu - res.start
-    return Run(f"ours {lang}", cpu if cpu > 0.0 else 0.0, scene.end_time, "ok", [], frame_states(scene, trace.events))
+        return Run(name, cpu, reached, f"{what} at t = {reached:.4g} s" if m else f"{what}: {msg[-160:]}")
+    samples = frame_states(scene, parse_trace(text, scene, build).events)
+    if cpu > 2.0:
+        first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
+        start, _ = best_cpu(lambda: time_engine(build, first))
+        run_cpu = cpu - start
+    else:
+        res = time_ours(scene, lang)
+        run_cpu = res.cpu - res.start
+    return Run(name, max(run_cpu, 0.0), scene.end_time, "ok", [], samples)
 
 
 def frame_states(scene: Scene, events: list[dict]) -> list:
@@ -437,12 +493,12 @@ def _digest(paths) -> str:
 
 
 def build_rapier(progress: bool = True) -> str:
-    """The rapier driver built with cargo (release) into build/peers/rapier/;
+    """The rapier driver built with cargo (release) into build/peers/rapier-target/;
     cargo rebuilds only what changed.  PeerError when it cannot be built."""
     cargo = shutil.which("cargo")
     if cargo is None:
         raise PeerError("cargo not found")
-    target = ROOT / "build" / "peers" / "rapier"
+    target = ROOT / "build" / "peers" / "rapier-target"
     if progress:
         print("peers: building the rapier2d driver (cargo build --release)", file=sys.stderr, flush=True)
     proc = subprocess.run([cargo, "build", "--release", "--quiet", "--manifest-path", str(RAPIER_DIR / "Cargo.toml")],
@@ -522,8 +578,10 @@ def run_peer(engine: str, how, scene: Scene) -> Run:
     return run_driver(engine, how, scene)
 
 
-def sweep(scenes, box2d_src: str | None = None, lang: str = "c", progress: bool = True, built=None) -> list[Row]:
-    """Every scene (label, scene) in ours and in each peer."""
+def sweep(scenes, box2d_src: str | None = None, lang: str = "c", progress: bool = True, built=None,
+          budget: float = OURS_BUDGET) -> list[Row]:
+    """Every scene (label, scene) in ours (stopped after `budget` CPU
+    seconds) and in each peer."""
     built = prepare(box2d_src, progress) if built is None else built
     rows = []
     for n, (label, scene) in enumerate(scenes, 1):
@@ -531,7 +589,7 @@ def sweep(scenes, box2d_src: str | None = None, lang: str = "c", progress: bool 
         for engine in ["ours", *built]:
             if progress:
                 print(f"peers: [{n}/{len(scenes)}] {label}: {engine} ...", file=sys.stderr, flush=True)
-            r = run_ours(scene, lang) if engine == "ours" else run_peer(engine, built[engine], scene)
+            r = run_ours(scene, lang, budget) if engine == "ours" else run_peer(engine, built[engine], scene)
             runs[engine] = r
             outcomes[engine] = judge(scene, r.samples, label)
             r.samples = []          # judged: the states are not kept
