@@ -2,7 +2,7 @@
 driven by a 60 frames-per-second game loop, against pymunk stepping the same
 scene at 1/60 and 1/240 s, rapier2d at 1/60 s and Box2D v3 at 1/60 s with 4
 sub-steps (when its source is given), for the game's scene and every example
-scene.
+scene (examples/*.json and examples/piles/*.json).
 
     python3 bench/idle.py [--engines c[,python]] [--fps 60] [--runs 3] [--plot docs/idle]
                           [--box2d-src DIR] [--no-peers] [SCENE.json ...]
@@ -233,7 +233,8 @@ def main(argv=None) -> int:
     ap.add_argument("--box2d-src", metavar="DIR", help="a Box2D v3 source folder: Box2D joins the table")
     ap.add_argument("--no-peers", action="store_true", help="leave out rapier2d (and Box2D)")
     args = ap.parse_args(argv)
-    paths = args.scenes or [GAME_SCENE] + sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
+    paths = args.scenes or ([GAME_SCENE] + sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))
+                            + sorted(glob.glob(os.path.join(ROOT, "examples", "piles", "*.json"))))
     engines = [e for e in args.engines.split(",") if e]
     load_before = os.getloadavg()
     built = {}

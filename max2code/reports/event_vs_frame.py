@@ -466,6 +466,13 @@ def best_cpu(fn, budget: float = 2.0, runs: int = 10) -> tuple[float, dict]:
     return best, counts
 
 
+def start_scene(scene: Scene) -> Scene:
+    """The scene ended at START (its start-up run), without the inputs
+    after START (a scene refuses inputs after its end)."""
+    end = min(START, scene.end_time)
+    return scene.replace(end_time=end, inputs=[e for e in scene.inputs if e.time <= end])
+
+
 def time_ours(scene: Scene, lang: str) -> OurResult:
     """CPU seconds of `lang`'s simulator process on the scene and on the
     same scene ended at START (its start-up: process start, reading the
@@ -474,7 +481,7 @@ def time_ours(scene: Scene, lang: str) -> OurResult:
     done before (cached)."""
     build = build_simulator(lang, scene.effects, scene.taylor_order)
     flat = compile_scene(scene)
-    first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
+    first = compile_scene(start_scene(scene))
     cpu, counts = best_cpu(lambda: time_engine(build, flat))
     start, _ = best_cpu(lambda: time_engine(build, first))
     return OurResult(lang, cpu, start, counts)

@@ -297,7 +297,7 @@ def run_ours(scene: Scene, lang: str = "c", budget: float = OURS_BUDGET) -> Run:
     here after `budget` CPU seconds, is timed up to where it stopped: its
     status names the instant, its CPU is that run's (start-up included) over
     the time reached."""
-    from max2code.reports.event_vs_frame import START, best_cpu, time_ours
+    from max2code.reports.event_vs_frame import best_cpu, start_scene, time_ours
     if scene.frame_rate == 0:
         scene = scene.replace(frame_rate=1.0 / STEP)
     build = build_simulator(lang, scene.effects, scene.taylor_order)
@@ -318,7 +318,7 @@ def run_ours(scene: Scene, lang: str = "c", budget: float = OURS_BUDGET) -> Run:
         return Run(name, cpu, reached, f"{what} at t = {reached:.4g} s" if m else f"{what}: {msg[-160:]}")
     samples = frame_states(scene, parse_trace(text, scene, build).events)
     if cpu > 2.0:
-        first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
+        first = compile_scene(start_scene(scene))
         start, _ = best_cpu(lambda: time_engine(build, first))
         run_cpu = cpu - start
     else:
@@ -530,7 +530,7 @@ def build_box2d(src: str, progress: bool = True) -> str:
     if progress:
         print(f"peers: compiling Box2D ({len(sources)} files) and its driver into {out_dir}", file=sys.stderr,
               flush=True)
-    tmp = out_dir / "box2d-peer.tmp"
+    tmp = out_dir / f"box2d-peer.{os.getpid()}.tmp"     # two runs building at once do not clash
     proc = subprocess.run([cc, "-O2", "-std=c17", "-DNDEBUG", "-I", str(src_dir / "include"), "-I",
                            str(src_dir / "src"), *map(str, sources), str(BOX2D_DRIVER), "-lm", "-lpthread",
                            "-o", str(tmp)], capture_output=True, text=True)
@@ -589,7 +589,11 @@ def sweep(scenes, box2d_src: str | None = None, lang: str = "c", progress: bool 
         for engine in ["ours", *built]:
             if progress:
                 print(f"peers: [{n}/{len(scenes)}] {label}: {engine} ...", file=sys.stderr, flush=True)
-            r = run_ours(scene, lang, budget) if engine == "ours" else run_peer(engine, built[engine], scene)
+            try:
+                r = run_ours(scene, lang, budget) if engine == "ours" else run_peer(engine, built[engine], scene)
+            except Exception as exc:        # any failure is a status in the table, not the end of the sweep
+                r = Run(engine, status=f"failed: {type(exc).__name__}: {str(exc).strip().splitlines()[0][-160:]}"
+                        if str(exc).strip() else f"failed: {type(exc).__name__}")
             runs[engine] = r
             outcomes[engine] = judge(scene, r.samples, label)
             r.samples = []          # judged: the states are not kept
