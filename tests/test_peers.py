@@ -152,3 +152,13 @@ def test_ours_reads_the_scene_and_a_stop_is_a_status():
     cut = peers.run_ours(s.replace(end_time=1e6, frame_rate=1000.0, max_events=10**12), "c", budget=0.5)
     assert cut.status.startswith("unfinished: stopped after 0.5 CPU s at t = "), cut.status
     assert 0.0 < cut.simulated < 1e6 and cut.cpu >= 0.5
+
+
+@pytest.mark.slow
+def test_event_vs_frame_sweep_reports_a_stuck_scene():
+    from max2code.reports import event_vs_frame as ev
+    s = drop_scene().replace(max_same=1)
+    results, _ = ev.sweep(["c"], (peers.STEP,), 5, False, scenes=[("drops", "<drops>", s)])
+    row = ev.cpu_table(results, ["c"])[2]
+    assert row.startswith("| drops | 1 | 0 (0) | stopped: ") and "the scene is stuck" in row
+    assert results[0].frames[0].cpu_per_s > 0.0        # pymunk's free run is still timed

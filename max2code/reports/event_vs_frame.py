@@ -872,7 +872,7 @@ def _peers_only(args, lang: str, shown: list[str]) -> int:
     load.append(os.getloadavg()[0])
     os.makedirs(args.out_dir, exist_ok=True)
     files = peers.plot(rows, os.path.join(args.out_dir, "peers"))
-    print(f"`{' '.join([COMMAND, *shown])}` ({platform.machine()}, {os.cpu_count()} cores, {platform.processor() or 'cpu'}; "
+    print(f"`{' '.join([COMMAND, *shown])}` ({platform.machine()}, {os.cpu_count()} cores; "
           f"Python {platform.python_version()}, pymunk {pymunk.version}; {_load_words(load)}); CPU seconds per "
           "simulated second:\n")
     print("\n".join(peers.cpu_table(rows, lang)))
