@@ -19,6 +19,7 @@ def box(w, h, thick=0.1, restitution=1.0, x0=0.0, y0=0.0):
 
 
 def write(name, scene):
+    os.makedirs(os.path.dirname(os.path.join(HERE, name)), exist_ok=True)
     with open(os.path.join(HERE, name), "w") as f:
         json.dump(scene, f, indent=1)
         f.write("\n")
@@ -175,3 +176,117 @@ write("moving-platform.json", {
                 "friction": 0.3, "position": [3.9, 0.08]}],
     "inputs": [{"time": 3.4, "body": "platform", "set_velocity": [-V, 0.0]},
                {"time": 6.8, "body": "platform", "set_velocity": [V, 0.0]}]})
+
+
+# ---- piles, stacks and dominoes: lasting contact among movable bodies ----
+# In piles/: the benchmarks' scenes (max2code event-vs-frame, bench/idle.py)
+# of bodies in lasting contact with each other, which the simulator may stop
+# as stuck or model only in part (friction between movable bodies, tipping);
+# the tests that run every examples/*.json do not run these.
+def square(name, cx, cy, half, mass, **kw):
+    """A movable square box of side 2 half."""
+    b = {"name": name, "shape": "polygon", "mass": mass, "position": [round(cx, 12), round(cy, 12)],
+         "vertices": [[-half, -half], [half, -half], [half, half], [-half, half]]}
+    b.update(kw)
+    return b
+
+
+def bin_walls(w, h, friction=0.5):
+    """A floor and two side walls around [0, w] x [0, h] (open at the top)."""
+    return [plank("floor", w / 2, -0.05, w / 2 + 0.1, 0.05, friction=friction),
+            plank("left", -0.05, h / 2, 0.05, h / 2), plank("right", w + 0.05, h / 2, 0.05, h / 2)]
+
+
+# a ball pit of 200: balls (radius 5 cm, restitution 0.3, friction 0.3) in a
+# 2 x 3 m bin, in a 16 x 13 grid with start velocities up to 1 m/s; they fall,
+# pile up and settle
+balls = []
+for i in range(200):
+    row, col = divmod(i, 16)
+    balls.append({"name": f"ball{i}", "shape": "circle", "radius": 0.05, "mass": 0.1, "restitution": 0.3,
+                  "friction": 0.3, "position": [round(0.1 + col * 0.12 + 0.01 * math.sin(i * 2.3), 6),
+                                                round(0.3 + row * 0.16, 6)],
+                  "velocity": [round(math.cos(i * 1.7), 6), round(0.5 * math.sin(i * 2.9), 6)]})
+write("piles/pit-200.json", {"name": "a pit of 200 balls: they fall into a 2 x 3 m bin, pile up and settle",
+                       "end_time": 5.0, "frame_rate": 60, "gravity": [0.0, -9.81],
+                       "bodies": bin_walls(2.0, 3.0) + balls})
+
+# a mixed pile: 50 boxes (10 cm) and 50 balls (radius 5 cm) in a 10 x 10
+# grid, alternating, dropped into a 2 m wide bin (restitution 0.3, friction 0.3)
+bodies = []
+for i in range(100):
+    row, col = divmod(i, 10)
+    x, y = round(0.15 + col * 0.19 + 0.01 * math.sin(i * 1.3), 6), round(0.3 + row * 0.2, 6)
+    if (row + col) % 2 == 0:
+        bodies.append(square(f"box{i}", x, y, 0.05, 0.1, restitution=0.3, friction=0.3, angle=round(0.3 * math.sin(i), 6)))
+    else:
+        bodies.append({"name": f"ball{i}", "shape": "circle", "radius": 0.05, "mass": 0.1, "restitution": 0.3,
+                       "friction": 0.3, "position": [x, y]})
+write("piles/mixed-pile.json", {"name": "a mixed pile: 50 boxes and 50 balls dropped into a bin",
+                          "end_time": 5.0, "frame_rate": 60, "gravity": [0.0, -9.81],
+                          "bodies": bin_walls(2.0, 3.0) + bodies})
+
+# 20 dominoes (2 x 20 cm, 50 g) 12 cm apart on a floor; the first is set
+# tipping at 3 rad/s about its front bottom corner (its centre moves as a
+# point of a body turning about that corner): each falls onto the next
+W, H, PITCH = 0.01, 0.1, 0.12
+dominoes = []
+for i in range(20):
+    d = square(f"domino{i}", 0.2 + i * PITCH, H, 0.0, 0.05, restitution=0.1, friction=0.5)
+    d["vertices"] = [[-W, -H], [W, -H], [W, H], [-W, H]]
+    dominoes.append(d)
+OM = -3.0          # clockwise: the top moves in +x
+dominoes[0]["angular_velocity"] = OM
+dominoes[0]["velocity"] = [-OM * H, OM * -W]      # omega x (centre - corner), corner (W, -H) from the centre
+write("piles/dominoes.json", {"name": "20 dominoes: the first tips over and knocks down the rest",
+                        "end_time": 4.0, "frame_rate": 60, "gravity": [0.0, -9.81],
+                        "bodies": [plank("floor", 1.5, -0.05, 1.8, 0.05, friction=0.5)] + dominoes})
+
+# a 6-row pyramid of 21 boxes (20 cm, 1 kg, 1 mm apart in a row) hit at its
+# second row by a ball (radius 10 cm, 2 kg) at 8 m/s
+boxes = []
+for row in range(6):
+    for i in range(6 - row):
+        boxes.append(square(f"box{row}_{i}", 1.5 + (i + row / 2) * 0.201, 0.1 + row * 0.2, 0.1, 1.0,
+                            restitution=0.1, friction=0.5))
+write("piles/pyramid-hit.json", {"name": "a 6-row pyramid of boxes hit by a ball", "end_time": 4.0, "frame_rate": 60,
+                           "gravity": [0.0, -9.81],
+                           "bodies": [plank("floor", 2.5, -0.05, 3.0, 0.05, friction=0.5),
+                                      {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 2.0,
+                                       "restitution": 0.1, "friction": 0.5, "position": [0.3, 0.3],
+                                       "velocity": [8.0, 1.0]}] + boxes})
+
+# a stack of 10 boxes (20 cm, 1 kg) hit at its fourth box by a ball
+# (radius 10 cm, 2 kg) at 6 m/s
+write("piles/stack-hit.json", {"name": "a stack of 10 boxes hit by a ball", "end_time": 4.0, "frame_rate": 60,
+                         "gravity": [0.0, -9.81],
+                         "bodies": [plank("floor", 2.0, -0.05, 2.5, 0.05, friction=0.5),
+                                    {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 2.0,
+                                     "restitution": 0.1, "friction": 0.5, "position": [0.3, 0.7],
+                                     "velocity": [6.0, 0.5]}]
+                         + [square(f"box{k}", 1.5, 0.1 + k * 0.2, 0.1, 1.0, restitution=0.1, friction=0.5)
+                            for k in range(10)]})
+
+# a box sliding on a box: the bottom box (1 m x 20 cm, 2 kg) rests on a floor
+# (friction 1 x 0.5); the top box (20 cm, 0.5 kg) slides on it at 1 m/s with
+# friction 0.5 x 0.5 = 0.25: Coulomb stops it after v^2 / (2 mu g) = 0.2039 m,
+# while the floor holds the bottom box (0.25 x 0.5 g < 0.5 x 2.5 g)
+write("piles/box-on-box.json", {"name": "a box sliding to a stop on a box", "end_time": 2.0, "frame_rate": 60,
+                          "gravity": [0.0, -9.81],
+                          "bodies": [plank("floor", 1.0, -0.05, 1.5, 0.05, friction=1.0),
+                                     {"name": "bottom", "shape": "polygon", "mass": 2.0, "restitution": 0.0,
+                                      "friction": 0.5, "position": [1.0, 0.1],
+                                      "vertices": [[-0.5, -0.1], [0.5, -0.1], [0.5, 0.1], [-0.5, 0.1]]},
+                                     square("top", 0.65, 0.3, 0.1, 0.5, restitution=0.0, friction=0.5,
+                                            velocity=[1.0, 0.0])]})
+
+# a box overhanging a ledge: two boxes (20 cm, 1 kg) at rest on a fixed ledge
+# whose right end is at x = 1; "tipper" has its centre of mass 5 cm beyond
+# the end (it should tip and fall to the floor), "holder", at the ledge's left
+# end, has 5 cm of its width over the edge and its centre 5 cm inside (it stays)
+write("piles/overhang.json", {"name": "a box overhanging a ledge by 5 cm tips off; a supported one stays",
+                        "end_time": 2.0, "frame_rate": 60, "gravity": [0.0, -9.81],
+                        "bodies": [plank("floor", 0.5, -0.05, 1.5, 0.05, friction=0.5),
+                                   plank("ledge", 0.5, 0.45, 0.5, 0.05, friction=0.5),
+                                   square("tipper", 1.05, 0.6, 0.1, 1.0, restitution=0.0, friction=0.5),
+                                   square("holder", 0.05, 0.6, 0.1, 1.0, restitution=0.0, friction=0.5)]})

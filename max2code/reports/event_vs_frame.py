@@ -37,7 +37,8 @@ from max2code.progress import bar
 from max2code.paths import ROOT
 from max2code.sim.scene import Scene, compile_scene, load_scene, parse_scene
 from max2code.sim.commands import compare
-from max2code.sim.simulate import LANGS, WORK_COUNTERS, build_simulator, handled_events, run_scene, time_engine
+from max2code.sim.simulate import (LANGS, WORK_COUNTERS, SimulateError, build_simulator, handled_events, run_scene,
+                                   time_engine)
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)
 STEP_NAMES = {1.0 / 60.0: "1/60", 1.0 / 240.0: "1/240", 1.0 / 1000.0: "1/1000"}
@@ -179,7 +180,7 @@ class FrameWorld:
     inputs: list = field(default_factory=list)   # the scene's inputs still to apply (a free run from t = 0)
 
 
-def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
+def build_space(scene: Scene, states=None, t0: float = 0.0, begins: bool = True) -> FrameWorld:
     """A faithful pymunk translation of `scene`, every body at the state
     given (px, py, vx, vy, angle, omega) or its initial one: circles (infinite
     moment: with friction 0 a contact never turns them, as in ours; an orbit
@@ -188,7 +189,8 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
     / area), fixed bodies static (kinematic when they move or spin),
     elasticity = our restitution and friction = our friction coefficient
     (Chipmunk's arbiter multiplies the two shapes' values, as we do), the
-    scene's gravity; collision_slop 0 and collision_bias 0."""
+    scene's gravity; collision_slop 0 and collision_bias 0.  With `begins`
+    a begin callback records every contact start in world.begins."""
     pymunk = _pymunk()
     space = pymunk.Space()
     space.gravity = scene.gravity
@@ -238,7 +240,8 @@ def build_space(scene: Scene, states=None, t0: float = 0.0) -> FrameWorld:
         i, j = index[s1], index[s2]
         world.begins.append((world.t0 + (world.steps + 1) * world.dt, min(i, j), max(i, j)))
 
-    space.on_collision(begin=begin)
+    if begins:
+        space.on_collision(begin=begin)
     return world
 
 
@@ -463,6 +466,13 @@ def best_cpu(fn, budget: float = 2.0, runs: int = 10) -> tuple[float, dict]:
     return best, counts
 
 
+def start_scene(scene: Scene) -> Scene:
+    """The scene ended at START (its start-up run), without the inputs
+    after START (a scene refuses inputs after its end)."""
+    end = min(START, scene.end_time)
+    return scene.replace(end_time=end, inputs=[e for e in scene.inputs if e.time <= end])
+
+
 def time_ours(scene: Scene, lang: str) -> OurResult:
     """CPU seconds of `lang`'s simulator process on the scene and on the
     same scene ended at START (its start-up: process start, reading the
@@ -471,7 +481,7 @@ def time_ours(scene: Scene, lang: str) -> OurResult:
     done before (cached)."""
     build = build_simulator(lang, scene.effects, scene.taylor_order)
     flat = compile_scene(scene)
-    first = compile_scene(scene.replace(end_time=min(START, scene.end_time)))
+    first = compile_scene(start_scene(scene))
     cpu, counts = best_cpu(lambda: time_engine(build, flat))
     start, _ = best_cpu(lambda: time_engine(build, first))
     return OurResult(lang, cpu, start, counts)
@@ -489,10 +499,13 @@ def ours_available(lang: str) -> str:
 
 
 def example_scenes() -> list[tuple[str, str, Scene]]:
-    """Every examples/*.json, by file name: (label, path, scene)."""
+    """Every examples/*.json, then every examples/piles/*.json (bodies in
+    lasting contact: piles, stacks, dominoes), by file name: (label, path,
+    scene)."""
     out = []
-    for path in sorted((ROOT / "examples").glob("*.json")):
-        out.append((path.stem, f"examples/{path.name}", load_scene(str(path))))
+    for folder in ("examples", "examples/piles"):
+        for path in sorted((ROOT / folder).glob("*.json")):
+            out.append((path.stem, f"{folder}/{path.name}", load_scene(str(path))))
     return out
 
 
@@ -514,7 +527,11 @@ def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool =
             if avail[lang]:
                 ours.append(OurResult(lang, note=f"not run: {avail[lang]}"))
                 continue
-            trace = run_scene(scene, lang)
+            try:
+                trace = run_scene(scene, lang)
+            except SimulateError as exc:      # stuck, or any failure: the report says where it stopped
+                ours.append(OurResult(lang, note=f"stopped: {str(exc).splitlines()[0][-200:]}"))
+                continue
             res = time_ours(scene, lang)
             if ref is None:
                 ref = trace
@@ -522,9 +539,10 @@ def sweep(langs=OUR_LANGS, steps=STEPS, max_replays: int = 300, progress: bool =
                 d = compare(ref, trace)
                 res.note = f"agrees with {ref.lang}" if d is None else f"differs from {ref.lang}: {d.what}"
             ours.append(res)
-        if ref is None:
+        if ref is None and not any(o.note.startswith("stopped: ") for o in ours):
             raise EvfError("no runtime of ours ran: " + "; ".join(f"{k}: {v}" for k, v in avail.items()))
-        cols = our_collisions(scene, ref.events)
+        # a scene none of ours finished has no contacts to replay; pymunk's free run is still timed
+        cols = our_collisions(scene, ref.events) if ref is not None else []
         real = [c for c in cols if not c.resting][:max_replays]
         frames = []
         for dt in steps:
@@ -586,7 +604,7 @@ def table(results) -> list[str]:
     for r in results:
         for o in r.ours:
             if not o.ran:
-                out.append(f"| {r.label} | ours, {o.lang} | - | - | - | - | - | - | - | not available |")
+                out.append(f"| {r.label} | ours, {o.lang} | - | - | - | - | - | - | - | {o.note or 'not available'} |")
                 continue
             exact = "within the tolerance" if "orbit" in r.scene.effects else "exact"
             out.append(f"| {r.label} | ours, {o.lang} | {r.collisions} ({r.resting} rest-speed) | - | {exact} | "
@@ -633,7 +651,8 @@ def cpu_table(results, langs: list[str]) -> list[str]:
         by = {o.lang: o for o in r.ours}
         for lang in langs:
             o = by.get(lang)
-            row.append("not available" if o is None or not o.ran else
+            row.append("not available" if o is None else o.note if not o.ran and o.note else
+                       "not available" if not o.ran else
                        f"{_per_s(o, r.scene.end_time)} ({_s(o.start)})")
         row += [_s(f.cpu_per_s) for f in r.frames]
         if ratio:
@@ -724,8 +743,9 @@ def plot(results, langs: list[str], png: str, svg: str) -> None:
 DESIGN = """\
 ## What is compared, and how
 
-**Scenes.** Every example scene, `examples/*.json` (made by
-`examples/make_examples.py`), found when the command runs, and a tunnelling
+**Scenes.** Every example scene, `examples/*.json` and
+`examples/piles/*.json` (made by `examples/make_examples.py`), found when
+the command runs, and a tunnelling
 case built in (`max2code.reports.event_vs_frame.tunnel_scene`): a bullet of
 radius 1 cm at 30 m/s towards a fixed wall 2 cm thick.
 
@@ -841,14 +861,36 @@ Chipmunk's restitution uses the normal velocity at the start of the step.
 """
 
 
+def _peers_only(args, lang: str, shown: list[str]) -> int:
+    """--peers-only: the side-by-side table of every example scene, printed,
+    and its plot."""
+    from max2code.reports import peers
+    import pymunk
+    load = [os.getloadavg()[0]]
+    rows = peers.sweep([(label, scene) for label, _, scene in example_scenes()], args.box2d_src, lang,
+                       not args.quiet, budget=args.ours_budget)
+    load.append(os.getloadavg()[0])
+    os.makedirs(args.out_dir, exist_ok=True)
+    files = peers.plot(rows, os.path.join(args.out_dir, "peers"))
+    print(f"`{' '.join([COMMAND, *shown])}` ({platform.machine()}, {os.cpu_count()} cores; "
+          f"Python {platform.python_version()}, pymunk {pymunk.version}; {_load_words(load)}); CPU seconds per "
+          "simulated second:\n")
+    print("\n".join(peers.cpu_table(rows, lang)))
+    print()
+    print("\n".join(peers.outcome_table(rows)))
+    print(f"{COMMAND}: wrote {', '.join(files)}", file=sys.stderr)
+    return 0
+
+
 def write_report(results, avail, langs, out_dir: str, argv: list[str], max_replays: int,
-                 load: list[float]) -> list[str]:
+                 load: list[float], side=None) -> list[str]:
     import pymunk
     os.makedirs(out_dir, exist_ok=True)
     md = os.path.join(out_dir, "event-vs-frame.md")
     png = os.path.join(out_dir, "event-vs-frame.png")
     svg = os.path.join(out_dir, "event-vs-frame.svg")
     ran = [lang for lang in langs if not avail[lang]]
+    out: list[str] = []
     plot(results, ran, png, svg)
     cmd = " ".join([COMMAND, *argv])
     lines = ["# Event versus frame: our simulator against pymunk (Chipmunk) at fixed steps", "",
@@ -883,11 +925,24 @@ def write_report(results, avail, langs, out_dir: str, argv: list[str], max_repla
     if notes:
         lines += ["", "Our runtimes against each other (`max2code crosscheck` rule): " + "; ".join(notes) + "."]
     lines += ["", "![error, missed and CPU time](event-vs-frame.png)", "",
-              "([SVG](event-vs-frame.svg))", "",
-              DESIGN % {"max_replays": max_replays, "window": WINDOW_STEPS, "rest": REST_FACTOR}]
+              "([SVG](event-vs-frame.svg))", ""]
+    if side:
+        from max2code.reports import peers
+        ours_lang = next((lang for lang in langs if not avail[lang]), langs[0])
+        out.extend(peers.plot(side, os.path.join(out_dir, "peers")))
+        lines += ["## Side by side: pymunk, rapier2d and Box2D v3", "",
+                  "CPU seconds per simulated second on every example scene (ours: less the start-up; a peer: its "
+                  "steps alone), ours over each, and how each run ended (max2code/reports/peers.py; Box2D only "
+                  "with --box2d-src).", "", *peers.cpu_table(side, ours_lang), "",
+                  "Outcomes, judged alike from each engine's states every 1/60 s: the largest overlap of two "
+                  f"bodies, the time from which every movable body moves slower than {peers.REST_SPEED:g} m/s (its "
+                  "fastest point), the watched bodies' final position and angle.", "",
+                  *peers.outcome_table(side), "", "![CPU per simulated second, side by side](peers.png)", "",
+                  "([SVG](peers.svg))", ""]
+    lines += [DESIGN % {"max_replays": max_replays, "window": WINDOW_STEPS, "rest": REST_FACTOR}]
     with open(md, "w", encoding="utf-8") as f:
         f.write("\n".join(lines).rstrip() + "\n")
-    return [md, png, svg]
+    return [md, png, svg, *out]
 
 
 def _load_words(load: list[float]) -> str:
@@ -923,8 +978,21 @@ def main(argv: list[str]) -> int:
                    help="replay at most the first N real contacts per scene (default 300)")
     p.add_argument("--out-dir", default=str(ROOT / "docs"), help="where the report goes (default docs/)")
     p.add_argument("--no-readme", action="store_true", help="leave README.md alone")
+    p.add_argument("--box2d-src", metavar="DIR",
+                   help="a Box2D v3 source folder: its src/*.c are compiled with bench/peers/box2d/driver.c and "
+                        "Box2D joins the side-by-side table")
+    p.add_argument("--ours-budget", type=float, default=120.0, metavar="SECONDS",
+                   help="side-by-side table: stop our run on a scene after this many CPU seconds and report the "
+                        "time it reached (default 120)")
+    p.add_argument("--no-peers", action="store_true",
+                   help="leave out the side-by-side table (pymunk, rapier2d, Box2D: max2code/reports/peers.py)")
+    p.add_argument("--peers-only", action="store_true",
+                   help="only the side-by-side table: print it and write OUT-DIR/peers.png and .svg (no replays, "
+                        "no report, README.md left alone)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     args = p.parse_args(argv)
+    if args.peers_only and args.no_peers:
+        raise EvfError("--peers-only and --no-peers exclude each other")
     langs = list(dict.fromkeys(x for x in args.langs.split(",") if x))
     if not langs:
         raise EvfError("--langs: expected at least one runtime")
@@ -934,11 +1002,19 @@ def main(argv: list[str]) -> int:
     if args.max_replays < 1:
         raise EvfError("--max-replays must be at least 1")
     _pymunk()
+    shown = [a for a in argv if a not in ("-q", "--quiet", "--no-readme")]
+    if args.peers_only:
+        return _peers_only(args, langs[0], shown)
     load = [os.getloadavg()[0]]
     results, avail = sweep(langs, STEPS, args.max_replays, not args.quiet)
+    side = None
+    if not args.no_peers:
+        from max2code.reports import peers
+        side = peers.sweep([(r.label, r.scene) for r in _examples(results)], args.box2d_src,
+                           next((lang for lang in langs if not avail[lang]), langs[0]), not args.quiet,
+                           budget=args.ours_budget)
     load.append(os.getloadavg()[0])
-    shown = [a for a in argv if a not in ("-q", "--quiet", "--no-readme")]
-    files = write_report(results, avail, langs, args.out_dir, shown, args.max_replays, load)
+    files = write_report(results, avail, langs, args.out_dir, shown, args.max_replays, load, side)
     ran = [lang for lang in langs if not avail[lang]]
     if not args.no_readme and update_readme(results, ran, shown, load):
         files.append(str(ROOT / "README.md"))

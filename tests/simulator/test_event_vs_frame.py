@@ -148,4 +148,6 @@ def test_ours_timed_less_start_up_and_events_by_name():
 
 def test_every_example_scene_is_found():
     found = [path for _, path, _ in example_scenes()]
-    assert found == sorted(f"examples/{p.name}" for p in (ROOT / "examples").glob("*.json")) and len(found) >= 7
+    assert found == (sorted(f"examples/{p.name}" for p in (ROOT / "examples").glob("*.json"))
+                     + sorted(f"examples/piles/{p.name}" for p in (ROOT / "examples" / "piles").glob("*.json")))
+    assert len(found) >= 14 and "examples/piles/pit-200.json" in found
