@@ -10,7 +10,7 @@ scene (examples/*.json and examples/piles/*.json).
 Ours: the world opened through max2code.sim.live (the build is done before
 the clock starts), then per frame k: advance(k / fps) (every event up to
 the frame) and states(t), every body's state in one call (what drawing needs); no
-rendering.  pymunk: the scene translated by max2code/reports/event_vs_frame.py
+rendering.  pymunk: the scene translated by max2code/reports/engines.py
 (build_space: the same bodies, masses, restitution, gravity; friction 0),
 per frame 1 or 4 steps and every body's position and angle read.  A scene's
 scripted inputs (the game's recording has them) are applied in pymunk at the
@@ -42,7 +42,7 @@ sys.path.insert(0, ROOT)
 from max2code.errors import Max2CodeError  # noqa: E402
 from max2code.sim.live import _runtime  # noqa: E402
 from max2code.reports import peers  # noqa: E402
-from max2code.reports.event_vs_frame import build_space  # noqa: E402
+from max2code.reports.engines import build_space  # noqa: E402
 from max2code.sim.live import open_world  # noqa: E402
 from max2code.sim.scene import ADD_VELOCITY, IMPULSE, SET_VELOCITY, TELEPORT, parse_scene  # noqa: E402
 

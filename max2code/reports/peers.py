@@ -14,11 +14,11 @@ values, as ours), gravity, the scripted inputs).  The peers are small
 drivers: bench/peers/rapier (a Rust crate, built here with cargo into
 build/peers/rapier-target/) and bench/peers/box2d/driver.c (compiled here with gcc
 against the given Box2D source into build/peers/box2d-HASH/); pymunk runs
-in this process through event_vs_frame.build_space.
+in this process through engines.build_space.
 
 Figures per scene and engine:
 * CPU seconds per simulated second: ours is the simulator's process less
-  its start-up (event_vs_frame.time_ours); a peer's is the sum of its step
+  its start-up (engines.time_ours); a peer's is the sum of its step
   calls alone (CLOCK_PROCESS_CPUTIME_ID around each call), best of up to 3
   runs;
 * status: "ok", or how the run ended early (ours: "stuck at t = ..." and
@@ -169,7 +169,7 @@ def run_driver(engine: str, binary: str, scene: Scene, dt: float = STEP) -> Run:
 
 def run_pymunk(scene: Scene, dt: float = STEP) -> Run:
     """pymunk stepping the scene as a game would: the bodies of
-    event_vs_frame.build_space with pymunk's default solver (10 iterations,
+    engines.build_space with pymunk's default solver (10 iterations,
     its default collision bias) and a collision slop of PYMUNK_SLOP
     (build_space's zero slop and bias, chosen there to date contact starts,
     let resting stacks jitter and sink; pymunk's default slop, 0.1, is made
@@ -178,7 +178,7 @@ def run_pymunk(scene: Scene, dt: float = STEP) -> Run:
     their time; best of up to 3 runs."""
     import pymunk
 
-    from max2code.reports.event_vs_frame import build_space
+    from max2code.reports.engines import build_space
     default = pymunk.Space()
 
     def once() -> Run:
@@ -291,13 +291,13 @@ def _last_time(text: str) -> float:
 def run_ours(scene: Scene, lang: str = "c", budget: float = OURS_BUDGET) -> Run:
     """Our simulator on the scene: the exact states at every frame (the
     scene's frame_rate; STEP when it has none) replayed from the trace, and
-    the CPU per simulated second less the start-up (event_vs_frame.time_ours;
+    the CPU per simulated second less the start-up (engines.time_ours;
     a run of more than 2 CPU seconds is not repeated: its own CPU less the
     start-up).  A run that stops early (stuck, any failure), or is stopped
     here after `budget` CPU seconds, is timed up to where it stopped: its
     status names the instant, its CPU is that run's (start-up included) over
     the time reached."""
-    from max2code.reports.event_vs_frame import best_cpu, start_scene, time_ours
+    from max2code.reports.engines import best_cpu, start_scene, time_ours
     if scene.frame_rate == 0:
         scene = scene.replace(frame_rate=1.0 / STEP)
     build = build_simulator(lang, scene.effects, scene.taylor_order)

@@ -7,9 +7,9 @@ import math
 
 import pymunk
 
-from max2code.reports.event_vs_frame import (build_space, example_scenes, free_run, FrameResult, is_resting,
-                                             kinds_table, match_events, our_collisions, OurResult, replay,
-                                             SceneResult, step_until, time_ours, tunnel_scene)
+from max2code.reports.engines import OurResult, build_space, step_until, time_ours
+from max2code.reports.event_vs_frame import (example_scenes, free_run, FrameResult, is_resting, kinds_table,
+                                             match_events, our_collisions, replay, SceneResult, tunnel_scene)
 from max2code.sim.scene import load_scene, parse_scene
 from max2code.paths import ROOT
 from max2code.sim.simulate import run_scene
