@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+from max2code.facts import MAX_DEGREE as SOLVER_DEGREE
 from max2code.generate.expr import Add, Call, Eq, Expr, Monomial, NotPolynomial, Num, Pow, Poly, Sym, to_maxima, to_poly
 
 
@@ -74,6 +75,6 @@ def collect(expr: Expr, variable: str) -> Polynomial:
     degree = max(by_power, default=0)
     if degree > MAX_DEGREE:
         raise NotPolynomial(f"the result has degree {degree} in {variable}: max2code prints polynomials of degree "
-                            f"{MAX_DEGREE} at most (the runtimes' solvers take 16)")
+                            f"{MAX_DEGREE} at most (the runtimes' solvers take {SOLVER_DEGREE})")
     coeffs = tuple(Poly.build(by_power.get(k, {}), atoms) for k in range(degree + 1))
     return Polynomial(variable, coeffs)

@@ -2,7 +2,9 @@
 parameters, the `exact` functions) must be identifiers in every target
 language and plain symbols to Maxima: not a keyword, not a library name the
 generated file sees, not a name the printer or the templates use (each
-target's `words` and `reserved_prefixes`, asked through `reserved_as`), not
+target's `words` and `reserved_prefixes`, asked through `reserved_as`; the
+equation and `exact` function names, which the generated code declares at
+file scope, also not a name the target's library declares there), not
 a Maxima keyword, constant or system variable (maxima_words.txt, beside
 this module), and not one of the names max2code derives from the others.
 A clash is refused at the name's place in the file, whatever the --lang, so
@@ -45,14 +47,16 @@ def maxima_clash(name: str) -> str | None:
     return None
 
 
-def clash(name: str) -> str | None:
-    """Why `name` cannot be used, or None: the languages (and Maxima) whose word it is, and what it is there."""
+def clash(name: str, file_scope: bool = True) -> str | None:
+    """Why `name` cannot be used, or None: the languages (and Maxima) whose word it is, and what it is there.
+    `file_scope`: whether the generated code declares it at file scope (the equation, an `exact`
+    function); a parameter's name is declared in the functions' parameter lists only."""
     if not IDENTIFIER.fullmatch(name):
         return (f"'{name}' is not an identifier in every target language (letters A-Z and a-z, digits and '_', "
                 "not starting with a digit)")
     found = []
     for lang, cls in sorted(LANGUAGES.items()):
-        what = cls.reserved_as(name)
+        what = cls.reserved_as(name, file_scope)
         if what:
             found.append((lang, what))
     what = maxima_clash(name)
@@ -70,7 +74,7 @@ def check_names(mod) -> None:
     if why:
         raise SourceError(mod.equation_span or Span(mod.path, 1, 1), f"equation name {why}; choose another name")
     if mod.variable_span is not None:
-        why = clash(mod.variable)
+        why = clash(mod.variable, file_scope=False)
         if why:
             raise SourceError(mod.variable_span, f"variable {why}; choose another name")
     for o in mod.options:
@@ -79,7 +83,7 @@ def check_names(mod) -> None:
             raise SourceError(o.span, f"option '{o.name}' is reserved in maxima ({what}); choose another name")
     names = {p.name for p in mod.parameters}
     for p in mod.parameters:
-        why = clash(p.name)
+        why = clash(p.name, file_scope=False)
         if why:
             raise SourceError(p.span, f"parameter {why}; choose another name")
         if p.name.startswith(mod.equation + "_"):
@@ -129,7 +133,7 @@ def check_symbols(names, span: Span, mod=None) -> None:
     declaration: each is reported at its first use in the Maxima text of
     `mod` (else at `span`, the polynomial's statement)."""
     for n in names:
-        why = clash(n)
+        why = clash(n, file_scope=False)
         if why:
             where = (use_of(mod, n) if mod is not None else None) or span
             raise SourceError(where, f"the polynomial's symbol {why}; rename it, or declare the parameters")

@@ -2,33 +2,41 @@
 target language gives for an equation, measured on this machine.
 
 For the equation (default the bundled two circles): the code is generated
-and compiled per language (the build time is measured: generation of the
-file and compilation of its harnesses); then rounds, the languages taking
-turns in a rotating order, each round one harness run per language and
-entry: the ns per prediction of `NAME_toc` (the selected variant's
-polynomial over the whole horizon, then the runtime's root solver) and of
-`NAME_toc_exact` (`--exact`, default options) on the same random motions
-(drawn as `max2code cases` draws parameters).  Rounds go on until the time
-budget is spent (at least MIN_ROUNDS); the table gives the median over the
-rounds and their spread (smallest to largest), since one pass on a shared
-machine is noise.  Besides speed it states what each language offers:
-single precision (`--real=float`), `#line` debugging into the .mxm,
-reentrancy of the entries, what must be installed and how the code links.
+and compiled per language into harnesses, which are kept (BUILD/reuse/,
+max2code/toolchain/cache.py) and reused by later runs with the same inputs;
+the build time reported is what making them took.  Then rounds, the
+languages taking turns in a rotating order, each round one harness run per
+language and entry: the ns per prediction of `NAME_toc` (the selected
+variant's polynomial over the whole horizon, then the runtime's root
+solver) and of `NAME_toc_exact` (`--exact`, default options) on the same
+random motions (drawn as `max2code cases` draws parameters); the table gives
+the median over the rounds and their spread (smallest to largest), since
+one pass on a shared machine is noise.
+
+The budget (`--seconds`) covers everything: a language whose build would
+not fit in what is left is not built, and said so before the time is spent;
+a build or a harness run still going at the deadline is stopped; rounds go
+on while the next one, by its runs' last durations, ends in time.  The run
+reports its accounting (preparing, builds, timing, total).  Besides speed
+the table states what each language offers: single precision
+(`--real=float`), `#line` debugging into the .mxm, reentrancy of the
+entries, what must be installed and how the code links.
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import os
 import random
+import shutil
 import statistics
+import subprocess
 import sys
-import tempfile
 import time
 
 from max2code.errors import Max2CodeError
 from max2code.paths import equation as bundled_equation
-from max2code.progress import bar
 from max2code.targets import LANGUAGES, target
 
 BEGIN = "<!-- choose-language:begin (written by max2code choose-language) -->"
@@ -41,12 +49,20 @@ PASSES = 3            # passes over the motions per harness run (the run reports
 NOT_REENTRANT = {"m2": "NAME_toc yes; NAME_toc_exact no (the driver's state is in module variables)"}
 
 
+# seconds a language's generation and builds take when this machine has not made them yet (unloaded: the
+# Modula-2 build alone is about 50 s); once made, the measured time is used, and the programs are reused
+FIRST_SECONDS = {"python": 10.0, "c": 15.0, "rust": 40.0, "m2": 60.0}
+
+
 @dataclasses.dataclass
 class Lang:
     name: str
-    build_s: float
-    poly: object               # toolchain.exact.ExactHarness of NAME_toc (or the plain polynomial)
-    exact: object | None       # ... of NAME_toc_exact, None when the equation has none
+    build_s: float | None      # seconds its generation and builds took when made (None: not made)
+    poly: object = None        # toolchain.exact.ExactHarness of NAME_toc (or the plain polynomial)
+    exact: object = None       # ... of NAME_toc_exact, None when the equation has none
+    reused: bool = False       # built by an earlier run
+    spent_s: float = 0.0       # seconds this run spent generating and building it
+    note: str = ""             # why it is not timed
     toc: list = dataclasses.field(default_factory=list)       # ns per prediction, one per round
     toc_exact: list = dataclasses.field(default_factory=list)
 
@@ -61,83 +77,229 @@ def _motions(path: str, n: int, seed: int) -> tuple[list[dict], bool, str]:
     return [_draw(eq, rng) for _ in range(n)], exact, "" if exact else eq.why_not_exact
 
 
-def build(path: str, langs: list[str], workdir: str, exact: bool, progress: bool) -> list[Lang]:
-    """Generate the equation's code for every language (one after the other:
-    Python), then compile the harnesses two at a time (the runtimes' own
-    builds first, one at a time, so that no two makes share a folder).  A
-    language's build time: its generation plus its compilations."""
-    from concurrent.futures import ThreadPoolExecutor
+def _within(deadline: float, fn, *args):
+    """fn(*args) in a child process (its own process group, so that the
+    compilers and Maxima it starts go with it), stopped at `deadline`
+    (time.perf_counter()).  Returns (finished, its result or error text,
+    seconds)."""
+    import multiprocessing
+    import signal
 
+    ctx = multiprocessing.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+
+    def child():
+        os.setpgid(0, 0)
+        try:
+            send.send((True, fn(*args)))
+        except BaseException as exc:            # noqa: BLE001 - every failure goes to the parent as text
+            send.send((False, str(exc) or type(exc).__name__))
+
+    t0 = time.perf_counter()
+    proc = ctx.Process(target=child, daemon=True)
+    proc.start()
+    with contextlib.suppress(OSError):
+        os.setpgid(proc.pid, proc.pid)          # the child does the same: whichever runs first
+    send.close()
+    answer = None
+    if recv.poll(max(0.0, deadline - time.perf_counter())):
+        try:
+            answer = recv.recv()
+        except EOFError:
+            answer = (False, "the child process ended without an answer")
+    if answer is None:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.kill()
+    proc.join()
+    seconds = time.perf_counter() - t0
+    if answer is None:
+        return False, None, seconds
+    ok, value = answer
+    return ok, value, seconds
+
+
+def _make(path: str, lang: str, exact: bool, key: str) -> dict:
+    """Generate the equation's code for `lang` and compile its harnesses into
+    the reuse folder of `key` (run in a child process); the entry."""
     from max2code.generate.pipeline import GenerateRequest, generate_file
-    from max2code.toolchain import toolchain
+    from max2code.toolchain import cache, toolchain
     from max2code.toolchain.exact import build_exact_harness, build_poly_harness
 
-    seconds = {lang: 0.0 for lang in langs}
-    jobs = []
-    for i, lang in enumerate(langs):
-        if progress:
-            bar(i, 2 * len(langs), f"{lang}: generate", prefix="choose-language")
-        t0 = time.perf_counter()
+    t0 = time.perf_counter()
+    with cache.building(key) as d:
+        toolchain(lang).exact_harness_build("harness", "harness", str(d))      # the runtime, built if needed
         req = GenerateRequest(path=path, lang=lang, out_name="generated")
         plain = generate_file(req)
         fn, sel = plain.function, plain.selection
         coef, selected, degree = (sel.name, True, sel.max_degree) if sel is not None else (fn.name, False, fn.degree)
-        jobs.append((lang, "toc", build_poly_harness, (lang, plain.text, fn.params, coef, selected, degree,
-                                                        os.path.join(workdir, f"{lang}-toc"))))
+        h = build_poly_harness(lang, plain.text, fn.params, coef, selected, degree, str(d / "toc"))
+        entry = {"toc": [h.workdir, h.cmd, h.nparams], "exact": None}
         if exact:
             g = generate_file(dataclasses.replace(req, exact=True))
-            jobs.append((lang, "exact", build_exact_harness, (lang, g.text, g.exact, os.path.join(workdir, f"{lang}-exact"))))
-        toolchain(lang).exact_harness_build("harness", "harness", workdir)      # the runtime, built if needed
-        seconds[lang] += time.perf_counter() - t0
+            x = build_exact_harness(lang, g.text, g.exact, str(d / "exact"))
+            entry["exact"] = [x.workdir, x.cmd, x.nparams]
+        entry["seconds"] = time.perf_counter() - t0
+        cache.save(key, entry)
+    return entry
 
-    def run(job):
-        t0 = time.perf_counter()
-        h = job[2](*job[3])
-        return job, h, time.perf_counter() - t0
 
-    built: dict[tuple[str, str], object] = {}
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        for k, (job, h, secs) in enumerate(pool.map(run, jobs)):
-            built[job[0], job[1]] = h
-            seconds[job[0]] += secs
-            if progress:
-                bar(len(langs) + (k + 1) * len(langs) // len(jobs), 2 * len(langs), f"{job[0]}: {job[1]} harness built",
-                    prefix="choose-language")
-    return [Lang(lang, seconds[lang], built[lang, "toc"], built.get((lang, "exact"))) for lang in langs]
+def _harnesses(lang: str, entry: dict):
+    from max2code.toolchain.exact import ExactHarness
+
+    poly = ExactHarness(lang, *entry["toc"])
+    exact = ExactHarness(lang, *entry["exact"]) if entry.get("exact") else None
+    return poly, exact
+
+
+def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: float, say) -> tuple[list[Lang], dict]:
+    """The motions and every language's harnesses, reused when an earlier run
+    made them from the same inputs, else made within the budget: a language
+    whose making would not fit in what is left (by the time it took when last
+    made here, else FIRST_SECONDS) is not made, and said so before any time is
+    spent on it; one that is still being made at the deadline is stopped."""
+    from max2code.toolchain import cache
+
+    info: dict = {"motions_s": 0.0}
+    key = cache.equation_key(path, motions=motions, seed=seed, what="motions")
+    got = cache.load(key)
+    if got is not None:
+        rows, exact, why = got["rows"], got["exact"], got["why"]
+    else:
+        ok, value, secs = _within(deadline, _motions, path, motions, seed)
+        info["motions_s"] = secs
+        if not ok:
+            raise Max2CodeError(f"max2code choose-language: error: {path}: " + (
+                value if value is not None else "reading the equation and drawing its motions did not finish "
+                f"within the budget ({secs:.1f} s); give more --seconds"))
+        rows, exact, why = value
+        if key is not None:
+            with cache.building(key):
+                cache.save(key, {"rows": rows, "exact": exact, "why": why})
+    info.update(rows=rows, exact=exact, why_not_exact=why)
+    taken = cache.seconds_taken()
+    out = {lang: Lang(lang, None) for lang in langs}
+    keys = {lang: cache.equation_key(path, lang=lang, exact=exact, what="harnesses") for lang in langs}
+    todo = []
+    for lang in langs:
+        entry = cache.load(keys[lang])
+        if entry is not None:
+            lg = out[lang]
+            lg.build_s, lg.reused = entry["seconds"], True
+            lg.poly, lg.exact = _harnesses(lang, entry)
+        else:
+            last = taken.get(lang)
+            todo.append((last["seconds"] if last else FIRST_SECONDS.get(lang, 30.0), lang, last))
+    for expect, lang, last in sorted(todo, key=lambda x: x[0]):
+        lg = out[lang]
+        left = deadline - time.perf_counter()
+        how = ("as when last made here" if last and last["finished"] else
+               "at least: stopped at the budget's end when last tried here" if last else "before it was ever made here")
+        if expect > left:
+            lg.note = (f"not built: generating and building it takes about {expect:.0f} s ({how}), more than the "
+                       f"{max(left, 0.0):.0f} s left of the budget; a run with --seconds {expect + 30:.0f} or more "
+                       "builds it once, later runs reuse it")
+            say(f"choose-language: {lang}: {lg.note}")
+            continue
+        say(f"choose-language: {lang}: generating and building (about {expect:.0f} s, {how}; {left:.0f} s left)")
+        work_key = keys[lang] or f"scratch-{os.getpid()}-{lang}"      # an equation whose reads cannot be known
+        if keys[lang] is None:
+            info.setdefault("scratch", []).append(cache.folder(work_key))
+        ok, value, secs = _within(deadline, _make, path, lang, exact, work_key)
+        lg.spent_s = secs
+        cache.remember_seconds(lang, secs, ok)
+        if ok:
+            lg.build_s = value["seconds"]
+            lg.poly, lg.exact = _harnesses(lang, value)
+        elif value is None:
+            lg.note = (f"not built: still building when the budget ended ({secs:.0f} s); a run with a larger "
+                       "--seconds builds it once, later runs reuse it")
+            say(f"choose-language: {lang}: {lg.note}")
+        else:
+            raise Max2CodeError(f"max2code choose-language: error: {lang}: {value}")
+    return [out[lang] for lang in langs], info
 
 
 def measure(path: str, langs: list[str], seconds: float = 60.0, motions: int = 200, seed: int = 13,
-            progress: bool = True) -> tuple[list[Lang], dict]:
-    """Build every language, then interleaved rounds until `seconds` (from the start) are spent."""
-    start = time.perf_counter()
-    rows, exact, why = _motions(path, motions, seed)
-    info = {"rounds": 0, "motions": motions, "exact": exact, "why_not_exact": why}
-    with tempfile.TemporaryDirectory(prefix="choose-language-") as tmp:
-        out = build(path, langs, tmp, exact, progress)
-        params = list(rows[0])
-        toc_rows = [[m[k] for k in params] + [HORIZON] for m in rows]
-        exact_rows = [[m[k] for k in params] + [HORIZON, 1.0, 1.0, 0.0, 0.0] for m in rows]
-        r = 0
-        while True:
-            elapsed = time.perf_counter() - start
-            if r >= MIN_ROUNDS and elapsed >= seconds:
-                break
-            order = out[r % len(out):] + out[:r % len(out)]     # a rotating order: no language always first
-            for lg in order:
-                if progress:
-                    left = max(0.0, seconds - elapsed)
-                    print(f"\rchoose-language: round {r + 1}: {lg.name:<6s} ({elapsed:5.1f} s, {left:4.1f} s of the "
-                          f"budget left)        ", end="", file=sys.stderr, flush=True)
-                _, ns = lg.poly.run(toc_rows, reps=PASSES)
-                lg.toc.append(ns)
-                if lg.exact is not None:
-                    _, ns = lg.exact.run(exact_rows, reps=PASSES)
-                    lg.toc_exact.append(ns)
-            r += 1
+            progress: bool = True, rounds: int | None = None, start: float | None = None) -> tuple[list[Lang], dict]:
+    """Make (or reuse) every language's harnesses, then interleaved rounds
+    while a round's next run fits in the budget: `seconds` from `start`
+    (default now) cover everything, and no step is begun that its last
+    duration says would not end in time; a harness run is stopped at the
+    deadline (its round is then left out).  `rounds`: at most so many."""
+    start = time.perf_counter() if start is None else start
+    deadline = start + seconds
+
+    def say(text):
         if progress:
-            print(f"\rchoose-language: {r} rounds in {time.perf_counter() - start:.1f} s" + " " * 40, file=sys.stderr)
-    info["rounds"] = r
+            print(text, file=sys.stderr, flush=True)
+
+    out, info = prepare(path, langs, motions, seed, deadline, say)
+    t_timing = time.perf_counter()
+    rows = info.pop("rows")
+    params = list(rows[0])
+    toc_rows = [[m[k] for k in params] + [HORIZON] for m in rows]
+    exact_rows = [[m[k] for k in params] + [HORIZON, 1.0, 1.0, 0.0, 0.0] for m in rows]
+    timed = [lg for lg in out if lg.poly is not None]
+    last: dict[tuple[str, str], float] = {}         # each harness run's last duration
+    r, why_stop = 0, "the budget"
+    while timed and (rounds is None or r < rounds):
+        order = timed[r % len(timed):] + timed[:r % len(timed)]     # a rotating order: no language always first
+        runs = [(lg, "toc", lg.poly, toc_rows) for lg in order] + \
+               [(lg, "exact", lg.exact, exact_rows) for lg in order if lg.exact is not None]
+        runs.sort(key=lambda x: order.index(x[0]))
+        if sum(last.get((lg.name, kind), 0.0) for lg, kind, _, _ in runs) > deadline - time.perf_counter():
+            break                       # the next round, by its runs' last durations, would not end in time
+        got, complete = [], True
+        for lg, kind, h, data in runs:
+            left = deadline - time.perf_counter()
+            if left <= 0:
+                complete = False
+                break
+            t0 = time.perf_counter()
+            try:
+                _, ns = h.run(data, reps=PASSES, timeout=left)
+            except subprocess.TimeoutExpired:
+                complete = False
+                break
+            last[lg.name, kind] = time.perf_counter() - t0
+            got.append((lg, kind, ns))
+            if progress:
+                el = time.perf_counter() - start
+                print(f"\rchoose-language: round {r + 1}: {lg.name:<6s} ({el:5.1f} s, {max(0.0, seconds - el):4.1f} s "
+                      "of the budget left)        ", end="", file=sys.stderr, flush=True)
+        if not complete:
+            break
+        for lg, kind, ns in got:
+            (lg.toc if kind == "toc" else lg.toc_exact).append(ns)
+        r += 1
+    else:
+        why_stop = "--rounds" if timed else "no language built"
+    for d in info.pop("scratch", []):
+        shutil.rmtree(d, ignore_errors=True)
+    end = time.perf_counter()
+    if progress and timed:
+        print(f"\rchoose-language: {r} rounds in {end - start:.1f} s" + " " * 40, file=sys.stderr)
+    info.update(rounds=r, motions=motions, stopped_by=why_stop, budget=seconds,
+                prepare_s=t_timing - start, build_s=sum(lg.spent_s for lg in out), timing_s=end - t_timing,
+                total_s=end - start)
     return out, info
+
+
+def accounting(out: list[Lang], info: dict) -> str:
+    """The run's use of its budget, in one sentence."""
+    reused = [lg.name for lg in out if lg.reused]
+    made = [f"{lg.name} {lg.spent_s:.1f} s" for lg in out if lg.spent_s and lg.build_s is not None]
+    stopped = [f"{lg.name} {lg.spent_s:.1f} s" for lg in out if lg.spent_s and lg.build_s is None]
+    parts = [f"budget {info['budget']:g} s",
+             f"preparing {info['prepare_s']:.1f} s (motions {info['motions_s']:.1f} s; builds "
+             + (", ".join(made) if made else "none")
+             + (f"; reused {', '.join(reused)}" if reused else "")
+             + (f"; stopped at the deadline {', '.join(stopped)}" if stopped else "") + ")",
+             f"timing {info['timing_s']:.1f} s ({info['rounds']} rounds)",
+             f"total {info['total_s']:.1f} s"]
+    over = info["total_s"] - info["budget"]
+    return "Accounting: " + "; ".join(parts) + (f"; over the budget by {over:.1f} s" if over > 0.05 else "") + "."
 
 
 def _ns(values: list) -> str:
@@ -158,20 +320,28 @@ def facts(lang: str) -> dict:
 
 
 def table(langs: list[Lang], info: dict, name: str, command: str) -> str:
+    few = "" if info["rounds"] >= MIN_ROUNDS or info["stopped_by"] != "the budget" else (
+        f"  Only {info['rounds']} rounds fitted in the budget: the medians are of few runs (give more --seconds).")
     head = (f"Measured by `{command}` ({os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}): {name}, "
             f"{info['motions']} random motions (parameters drawn as `max2code cases` draws them), horizon "
             f"{HORIZON:g} s; ns per prediction, median over {info['rounds']} interleaved rounds (smallest-largest "
-            f"in brackets); build: generating the code and compiling its harnesses."
-            + ("" if info["exact"] else f"  No `NAME_toc_exact`: {info['why_not_exact']}."))
+            f"in brackets); build: the seconds generating the code and compiling its harnesses took when they were "
+            f"made (reused: by an earlier run with the same inputs)."
+            + ("" if info["exact"] else f"  No `NAME_toc_exact`: {info['why_not_exact']}.") + few
+            + "\n\n" + accounting(langs, info))
     lines = ["| language | ns per prediction (`NAME_toc`) | with `--exact` (`NAME_toc_exact`) | build s "
              "| single precision (`--real=float`) | `#line` debugging | reentrant | must be installed "
              "| how it links into a program |",
              "|---|---|---|---|---|---|---|---|---|"]
+    notes = []
     for lg in langs:
         f = facts(lg.name)
-        lines.append(f"| {lg.name} | {_ns(lg.toc)} | {_ns(lg.toc_exact)} | {lg.build_s:.1f} | {f['single']} | "
+        build = "-" if lg.build_s is None else f"{lg.build_s:.1f}" + (" (reused)" if lg.reused else "")
+        lines.append(f"| {lg.name} | {_ns(lg.toc)} | {_ns(lg.toc_exact)} | {build} | {f['single']} | "
                      f"{f['line']} | {f['reentrant']} | {f['requires']} | {f['links']} |")
-    return head + "\n\n" + "\n".join(lines) + "\n"
+        if lg.note:
+            notes.append(f"- {lg.name}: {lg.note}.")
+    return head + "\n\n" + "\n".join(lines) + "\n" + ("\n" + "\n".join(notes) + "\n" if notes else "")
 
 
 def write(path: str, text: str) -> None:
@@ -197,10 +367,13 @@ def _positive(kind):
 
 
 def main(argv: list[str]) -> int:
+    start = time.perf_counter()
     ap = argparse.ArgumentParser(prog="max2code choose-language", description=__doc__.split("\n\n")[0])
     ap.add_argument("file", nargs="?", help="the .mxm file (default: the bundled circle-circle)")
     ap.add_argument("--seconds", type=_positive(float), default=60.0,
-                    help="time budget, builds included (default 60); at least 3 rounds are run")
+                    help="time budget, everything included (default 60): harnesses made by an earlier run from "
+                         "the same inputs are reused; a build that does not fit is left out, and said so")
+    ap.add_argument("--rounds", type=_positive(int), help="at most this many rounds (default: while the budget lasts)")
     ap.add_argument("--motions", type=_positive(int), default=200, help="random motions timed per round (default 200)")
     ap.add_argument("--langs", default=",".join(LANGUAGES), metavar="LIST",
                     help=f"languages, comma-separated (default {','.join(LANGUAGES)})")
@@ -216,12 +389,15 @@ def main(argv: list[str]) -> int:
     path = args.file or str(bundled_equation("circle-circle"))
     if not os.path.isfile(path):
         raise Max2CodeError(f"{path}: error: no such file")
-    rows, info = measure(path, langs, args.seconds, args.motions, progress=not args.quiet)
+    rows, info = measure(path, langs, args.seconds, args.motions, progress=not args.quiet, rounds=args.rounds,
+                         start=start)
     name = os.path.basename(path)
     command = "max2code choose-language" + (f" {name}" if args.file else "") + \
         (" --write " + os.path.basename(args.write) if args.write else "")
     text = table(rows, info, "the bundled two circles (circle-circle.mxm)" if not args.file else name, command)
     sys.stdout.write(text)
+    if not args.quiet:
+        print("choose-language: " + accounting(rows, info), file=sys.stderr)
     if args.write:
         write(args.write, text)
     return 0

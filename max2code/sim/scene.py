@@ -18,6 +18,7 @@ import os
 from itertools import accumulate, compress, repeat
 
 from max2code.errors import Max2CodeError
+from max2code.facts import MAX_DEGREE
 from max2code.record import FrozenRecord, Record
 from max2code.textio import InputError, read_text
 
@@ -575,7 +576,8 @@ def _parse_scene(text: str, path: str) -> Scene:
     rest = rd.number(raw, "rest_speed", "", 0.05, nonneg=True)
     order = rd.number(raw, "taylor_order", "", 4, positive=True)
     if order != int(order) or not 1 <= order <= 7:
-        rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree 16 at most), got {order}")
+        rd.fail("taylor_order", f"must be an integer from 1 to 7 (the root solver takes degree {MAX_DEGREE} at most), "
+                                f"got {order}")
     max_same = rd.number(raw, "max_events_at_one_time", "", 100000, positive=True)
     if max_same != int(max_same) or max_same >= COUNT_LIMIT:
         rd.fail("max_events_at_one_time", f"must be a whole number below 10^18, got {max_same:g}")

@@ -34,13 +34,17 @@ class Target:
     # through reserved_as): (what they are, the names), e.g. the language's keywords, the library
     # names the generated file can see, the names the printer and templates use
     words: ClassVar[tuple[tuple[str, frozenset[str]], ...]] = ()
+    # the same, for the names the generated code declares at file scope only (the equation's, the
+    # `exact` functions'), not for parameters, which may hide them
+    file_scope_words: ClassVar[tuple[tuple[str, frozenset[str]], ...]] = ()
     reserved_prefixes: ClassVar[tuple[str, ...]] = ()   # prefixes of the runtime's and the printer's names
 
     @classmethod
-    def reserved_as(cls, name: str) -> str | None:
+    def reserved_as(cls, name: str, file_scope: bool = True) -> str | None:
         """What `name` is in this language when the generated code cannot take it
-        as an identifier (e.g. "a keyword of C"), or None."""
-        for what, names in cls.words:
+        as an identifier (e.g. "a keyword of C"), or None; `file_scope`: whether
+        the generated code declares it at file scope (else it is a parameter)."""
+        for what, names in cls.words + (cls.file_scope_words if file_scope else ()):
             if name in names:
                 return what
         for prefix in cls.reserved_prefixes:

@@ -4,13 +4,12 @@ IMPLEMENTATION MODULE ExactToc ;
    from the C runtime (runtimes/c/src/m2c_exact.c). *)
 
 FROM CMath IMPORT ldexp ;
-FROM Roots IMPORT SmallestRoot, IsFinite ;
+FROM Roots IMPORT SmallestRoot, IsFinite, MaxDegree ;
 
 CONST
    MaxDepth = 40 ;       (* subdivision levels *)
    MaxSteps = 200 ;      (* zones visited per level *)
    PolishSteps = 4 ;     (* Newton steps on the exact gap *)
-   MaxDegree = 16 ;
 
 TYPE
    Params = ARRAY [0..MaxParams - 1] OF REAL ;

@@ -73,8 +73,8 @@ def test_cycle_finder_finds_a_planted_cycle():
 
 def test_subpackages_by_job():
     top = sorted(p.name for p in PKG.iterdir() if p.suffix == ".py")
-    assert top == ["__init__.py", "__main__.py", "cli.py", "errors.py", "filestate.py", "paths.py", "progress.py",
-                   "record.py", "textio.py"], top
+    assert top == ["__init__.py", "__main__.py", "cli.py", "errors.py", "facts.py", "filestate.py", "paths.py",
+                   "progress.py", "record.py", "textio.py"], top
     for sub in ("generate", "targets", "toolchain", "sim", "draw", "reports", "conformance"):
         assert (PKG / sub / "__init__.py").is_file(), sub
     assert not os.path.exists(PKG / "harness"), "harness programs are built by max2code/toolchain"

@@ -8,9 +8,13 @@ each special case (whole numbers, minus zero, exponents, states of still
 circles); a non-finite number or a bad line is the same error from all."""
 import json
 import random
+import unittest.mock
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
+from max2code import facts
 from max2code.paths import ROOT
 from max2code.sim.scene import load_scene, parse_scene
 from max2code.sim.simulate import SimBuild, SimulateError, TraceConverter, build_simulator, run_scene
@@ -246,3 +250,86 @@ def test_bad_final_states_are_the_same_error(bad):
 def test_names_are_their_json(names):
     from max2code.sim.simulate import _json_names
     assert _json_names(names) == [json.dumps(n) for n in names]
+
+
+# ---- hypothesis-made traces: the three paths write the same bytes ----
+
+def _g17(x: float) -> str:
+    return "%.17g" % x      # how every runtime writes a number
+
+
+NUMBERS = st.one_of(st.floats(allow_nan=False, allow_infinity=False).map(_g17),
+                    st.integers(-10 ** 6, 10 ** 6).map(str),
+                    st.sampled_from(["0", "-0", "1", "-1", "0.5", "1e+20", "1e-300", "-2.5e-05", "4.9406564584124654e-324",
+                                     "1.7976931348623157e+308", "123456789012345678"]))
+BODY = st.integers(0, 2)
+INDEX = st.integers(-1, 4)          # a vertex or edge of SCENE, or -1
+
+
+ALL_KINDS = ["collision", "support", "stop", "leave", "sleep", "wake", "input", "frame"]
+COMMON_KINDS = ["collision", "support", "frame"]      # the lines the C converter takes (with states)
+
+
+@st.composite
+def events(draw, kinds=tuple(ALL_KINDS)):
+    """One event line of SCENE's trace and its state lines."""
+    kind = draw(st.sampled_from(kinds))
+    t = draw(NUMBERS)
+    if kind in ("collision", "support"):
+        feat = 1 if kind == "support" else draw(st.integers(0, 1))
+        nums = " ".join(draw(NUMBERS) for _ in range(5))
+        head = f"E {kind} {t} {draw(BODY)} {draw(BODY)} {feat} {draw(INDEX)} {draw(INDEX)} {nums}"
+    elif kind in ("stop", "leave", "sleep"):
+        head = f"E {kind} {t} {draw(BODY)} {draw(BODY)} -1 -1 {draw(INDEX)} 0 0 0 0 0"
+    elif kind == "wake":
+        head = f"E wake {t} {draw(BODY)} -1 -1 -1 {draw(INDEX)} 0 0 0 0 0"
+    elif kind == "input":
+        head = f"E input {t} {draw(BODY)} -1 -1 0 -1 0 0 0 0 0"
+    else:
+        head = f"E frame {t} -1 -1 -1 -1 -1 0 0 0 0 0"
+    states = [] if kind == "frame" else [f"S {draw(BODY)} {t} " + " ".join(draw(NUMBERS) for _ in range(8))
+                                         for _ in range(draw(st.integers(0, 3)))]
+    return [head, *states]
+
+
+@st.composite
+def traces(draw, kinds=tuple(ALL_KINDS), tail=True):
+    """A trace of SCENE (`tail`: with the final states, counters and
+    variants), and where to cut it."""
+    lines = [x for ev in draw(st.lists(events(kinds), min_size=1, max_size=25)) for x in ev]
+    if tail:
+        lines += [f"F {k} " + " ".join(draw(NUMBERS) for _ in range(6)) for k in range(3)]
+        lines += [f"N {name} {draw(st.integers(0, 10 ** 12))}" for name in facts.STAT_NAMES]
+        lines += [f"V circle_circle {k} {draw(st.integers(0, 99))}" for k in range(2)]
+        lines += [f"V point_edge {k} {draw(st.integers(0, 99))}" for k in range(3)]
+    text = "".join(x + "\n" for x in lines)
+    cuts = draw(st.lists(st.integers(1, len(lines) - 1), max_size=6, unique=True)) if len(lines) > 1 else []
+    return text, cuts
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(traces(), st.booleans())
+def test_made_traces_convert_alike(trace, frames):
+    """Python line by line, Python by chunks and the C converter give the
+    same bytes on any trace, cut anywhere (the C path between events)."""
+    text, cuts = trace
+    want = slow(SCENE, BUILD, text, frames=frames)
+    assert fast(SCENE, BUILD, text, cuts, frames=frames) == want
+    assert in_c(SCENE, BUILD, text, cuts, frames=frames) == want
+    assert in_c_streamed(SCENE, BUILD, text, cuts, frames=frames) == (want[0], want[1][1])
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(traces(tuple(COMMON_KINDS), tail=False), st.booleans())
+def test_made_traces_of_the_common_lines_convert_in_c(trace, frames):
+    """On traces of collisions, supports, frames and states (the lines a
+    run writes by the million) the C converter takes every chunk, and its
+    bytes are Python's."""
+    text, cuts = trace
+    want = slow(SCENE, BUILD, text, frames=frames)
+    assert fast(SCENE, BUILD, text, cuts, frames=frames) == want
+
+    def refuse(self, chunk):
+        raise AssertionError("Python converted " + chunk[:80])
+    with unittest.mock.patch.object(TraceConverter, "feed_chunk", refuse):
+        assert in_c(SCENE, BUILD, text, cuts, frames=frames) == want

@@ -9,7 +9,6 @@
 #define MAX_DEPTH 40         /* subdivision levels */
 #define MAX_STEPS 200        /* zones visited per level */
 #define POLISH_STEPS 4       /* Newton steps on the exact gap */
-#define MAX_DEGREE 16
 #define SAFE (1.0 + 0x1p-40) /* covers the rounding of reach() */
 
 typedef struct {
@@ -66,10 +65,10 @@ static double floor_at(const ctx *k, double t)
  * none, -1 on an error. */
 static int first_root(const ctx *k, double t0, double L, int closed, int depth, double *r, double *a, double *b)
 {
-    double pp[M2C_EXACT_MAX_PARAMS], c[MAX_DEGREE + 1], q[MAX_DEGREE + 1];
+    double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], q[M2C_MAX_DEGREE + 1];
     k->m->shift(k->p, t0, pp);
     int n = k->m->coefficients(pp, c);
-    if (n < 0 || n > MAX_DEGREE)
+    if (n < 0 || n > M2C_MAX_DEGREE)
         return -1;
     double e = k->m->truncation(pp, L);
     double f = floor_at(k, t0 + L);
@@ -215,7 +214,7 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         o = *options;
     else
         m2c_exact_defaults(&o);
-    if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > MAX_DEGREE)
+    if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > M2C_MAX_DEGREE)
         return -1;
     ctx k = {m, p, o.solver, o.zero_tol};
     double start;
@@ -242,10 +241,10 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
             if (st == 1)
                 r = polish(&k, r, a, b, start, horizon);
         } else {
-            double pp[M2C_EXACT_MAX_PARAMS], c[MAX_DEGREE + 1], s = 0.0;
+            double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], s = 0.0;
             m->shift(p, t0, pp);
             int n = m->coefficients(pp, c);
-            if (n < 0 || n > MAX_DEGREE)
+            if (n < 0 || n > M2C_MAX_DEGREE)
                 st = -1;
             else if (fabs(c[0]) - reach(c, n, L) > 0.0)
                 st = 0;
@@ -274,7 +273,7 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
         o = *options;
     else
         m2c_exact_defaults(&o);
-    if (!pm || !p || !t || pm->nparams < 0 || pm->nparams > M2C_EXACT_MAX_PARAMS || pm->max_degree > MAX_DEGREE)
+    if (!pm || !p || !t || pm->nparams < 0 || pm->nparams > M2C_EXACT_MAX_PARAMS || pm->max_degree > M2C_MAX_DEGREE)
         return -1;
     /* the windowed driver's motion without shift, truncation and rate, which this path never calls */
     m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0};
@@ -283,9 +282,9 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
     int st0 = begin(&k, &o, horizon, &start, t);
     if (st0 != SEARCH)
         return st0;
-    double c[MAX_DEGREE + 1], r;
+    double c[M2C_MAX_DEGREE + 1], r;
     int n = m.coefficients(p, c);
-    if (n < 0 || n > MAX_DEGREE)
+    if (n < 0 || n > M2C_MAX_DEGREE)
         return -1;
     if (o.solver(c, n, start, horizon, &r) != 1)
         return 0;

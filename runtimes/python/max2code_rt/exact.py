@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
-from max2code_rt.roots import smallest_root
+from max2code_rt.roots import MAX_DEGREE, smallest_root
 
 __all__ = ["Motion", "PolyMotion", "exact_toc", "poly_toc", "OVERLAPPED", "WINDOW_ANGLE", "MAX_WINDOWS"]
 
@@ -23,7 +23,6 @@ MAX_DEPTH = 40             # subdivision levels
 MAX_STEPS = 200            # zones visited per level
 POLISH_STEPS = 4           # Newton steps on the exact gap
 MAX_WINDOWS = 10000000.0
-MAX_DEGREE = 16
 MAX_PARAMS = 64
 SAFE = 1.0 + 2.0 ** -40    # covers the rounding of _reach()
 
@@ -100,7 +99,7 @@ class _Driver:
         except ValueError:
             raise _Error("a parameter uses an effect the code was not generated for") from None
         if len(c) - 1 > MAX_DEGREE:
-            raise _Error("degree above 16")
+            raise _Error(f"degree above {MAX_DEGREE}")
         return c
 
     def first_root(self, t0, L, closed, depth):

@@ -8,7 +8,7 @@
 // `!(x < y)` is true for NaN, as `not (x < y)` in the other runtimes
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::roots::smallest_root;
+use crate::roots::{smallest_root, MAX_DEGREE};
 
 /// Default radians the fastest orbit turns per window.
 pub const WINDOW_ANGLE: f64 = 1.0;
@@ -21,7 +21,6 @@ const FLOOR: f64 = 1.0 / 70368744177664.0; // 2^-46 = 64 eps: the rounding floor
 const MAX_DEPTH: u32 = 40;
 const MAX_STEPS: u32 = 200;
 const POLISH_STEPS: u32 = 4;
-const MAX_DEGREE: usize = 16;
 const SAFE: f64 = 1.0 + 1.0 / 1099511627776.0; // 1 + 2^-40: covers the rounding of reach()
 
 /// What the driver needs of an equation (generated); every function takes
