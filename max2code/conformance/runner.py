@@ -28,6 +28,7 @@ from max2code.conformance.exact_op import summary as exact_summary
 from max2code.conformance.ops import RootsOp, Verdict, float_of, hex_of, num  # noqa: F401  (the runner's API)
 from max2code.conformance.equations import use_equation
 from max2code.conformance.toc import TocOp
+from max2code.conformance.toi_op import ToiOp, summary as toi_summary
 from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.paths import BUILD, CASES as CASES_DIR, EXPECTED_FAILURES as XFAIL_DIR  # noqa: F401  (BUILD: the runner's API)
 from max2code.targets import LANGUAGES, gsl_baselines
@@ -40,7 +41,7 @@ BASELINES = gsl_baselines()
 
 
 def _ops() -> dict[str, object]:
-    return {"roots": RootsOp(), "toc": TocOp()}
+    return {"roots": RootsOp(), "toc": TocOp(), "toi": ToiOp()}
 
 
 OPS: dict[str, object] = _ops()
@@ -335,9 +336,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if any(r.degree is not None for rep in reports for r in rep.results):
         print(accuracy_table(reports))
-    text = exact_summary(reports, cases)
-    if text:
-        print(text)
+    for text in (exact_summary(reports, cases), toi_summary(reports, cases)):
+        if text:
+            print(text)
     ok = all(rep.ok for rep in reports)
     if len(reports) > 1:
         diff = agreement(reports)

@@ -79,7 +79,8 @@ class CToolchain(Toolchain):
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the generated circle_circle.c and point_edge.c (checked
         against the declarations of m2c_sim_equations.h), then the simulator
-        (runtimes/c/src/m2c_sim*.c) with its program, told how many variants
+        (runtimes/c/src/m2c_sim*.c and the pair computation it shares with the
+        TOI library, m2c_toi.c) with its program, told how many variants
         each NAME_variant counts, and link them with libm2c.a into workdir/sim;
         the same world (m2c_world.h) with libm2c's position-independent
         objects into workdir/libm2c_world.so."""
@@ -96,7 +97,7 @@ class CToolchain(Toolchain):
             objs.append(obj)
         counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
-        sources = sorted(str(p) for p in src.glob("m2c_sim*.c"))
+        sources = sorted(str(p) for p in src.glob("m2c_sim*.c")) + [str(src / "m2c_toi.c")]
         cmds.append([*SIM_FLAGS, f"-I{inc}", f"-I{src}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"),
                      *objs, "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
         # the same world as a shared library, for ctypes and other programs (m2c_world.h)

@@ -57,5 +57,5 @@ def test_no_simulator_file_outside_the_concepts():
 
 def test_the_c_include_folder_holds_only_public_headers():
     """What a user's program includes; the simulator's internal headers live in src/."""
-    assert sorted(p.name for p in (RUNTIMES / "c" / "include").iterdir()) == ["m2c_exact.h", "m2c_roots.h",
+    assert sorted(p.name for p in (RUNTIMES / "c" / "include").iterdir()) == ["m2c_exact.h", "m2c_roots.h", "m2c_toi.h",
                                                                               "m2c_world.h"]

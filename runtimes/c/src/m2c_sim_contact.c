@@ -10,37 +10,11 @@
 #include "m2c_sim_internal.h"
 
 /* Contact point (cx, cy) (m) and unit normal (nx, ny) from A to B of a
- * feature at t (both bodies advanced to t). */
+ * feature at t (both bodies advanced to t): the TOI library's frame. */
 void m2c_sim_contact_frame(m2c_world *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B,
                            int32_t i, int32_t j, double *cx, double *cy, double *nx, double *ny)
 {
-    const m2c_sim_vertex *vA = i >= 0 ? &A->verts[i] : NULL;
-    if (feature == M2C_SIM_CC) {
-        double ax_, ay_, bx_, by_;
-        m2c_sim_point_at(m, A, NULL, t, &ax_, &ay_);
-        m2c_sim_point_at(m, B, j >= 0 ? &B->verts[j] : NULL, t, &bx_, &by_);
-        double dx = bx_ - ax_, dy = by_ - ay_;
-        double dist = sqrt(dx * dx + dy * dy);
-        if (dist > 0.0) {
-            *nx = dx / dist;
-            *ny = dy / dist;
-        } else {
-            *nx = 1.0;
-            *ny = 0.0;
-        }
-        *cx = ax_ + A->r * *nx;
-        *cy = ay_ + A->r * *ny;
-    } else {
-        double px, py;
-        m2c_sim_point_at(m, A, vA, t, &px, &py);
-        double c, sn;
-        m2c_sim_cos_sin(M2C_SIM_ETRIG(m, &B->verts[j]), B->ang + B->verts[j].psi, &c, &sn);
-        *nx = -c;                       /* from A to B: against the edge's outward normal */
-        *ny = -sn;
-        double rad = vA == NULL ? A->r : 0.0;
-        *cx = px + rad * *nx;
-        *cy = py + rad * *ny;
-    }
+    m2c_toi_frame(m, t, feature, A, B, i, j, B->ang, cx, cy, nx, ny);
 }
 
 /* The gap polynomial of the contact's feature (feature, i, j as in a

@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "m2c_sim.h"
+#include "m2c_toi.h"
 #include "m2c_world.h"
 
 /* Nothing declared here is exported from the shared library of the world
@@ -44,18 +45,12 @@ void m2c_sim_huge_pages(void *p, size_t bytes);
 /* ---- scene ---------------------------------------------------------------- */
 
 /* One vertex of a polygon and the edge from it to the next vertex, in the
- * body's frame: all precomputed by the scene compiler. */
-typedef struct m2c_sim_vertex {
-    double lx, ly;          /* m: the vertex about the centre of mass */
-    double rho, beta;       /* m, rad: its polar form */
-    double psi;             /* rad: angle of the edge's outward normal */
-    double h;               /* m: offset of the edge's line, n . v */
-    double s1, s2;          /* m: the edge's extent along its tangent (-ny, nx) */
-    double nx, ny;          /* the edge's outward unit normal (cos psi, sin psi, but exact where the
-                               compiler's quotient is: (0, 1) for a level top face) */
-    int32_t cover;          /* the fixed body that covers the edge (no body can touch it while that one
-                               is there), -1: none */
-} m2c_sim_vertex;
+ * body's frame: all precomputed by the scene compiler (about the centre of
+ * mass; nx, ny are cos psi, sin psi, but exact where the compiler's
+ * quotient is: (0, 1) for a level top face; cover: the fixed body that
+ * covers the edge, so that no body can touch it while that one is there,
+ * -1: none).  The TOI library's vertex (m2c_toi.h), field for field. */
+typedef m2c_toi_vertex m2c_sim_vertex;
 
 /* A body, laid out for the predictions: a pair's prediction reads only
  * the first two cache lines (its motion, then its shape and the flags and
@@ -604,6 +599,29 @@ static inline void m2c_sim_cos_sin(m2c_sim_trig *k, double a, double *c, double 
 #define M2C_SIM_VTRIG(m, v) (&(m)->vtrig[(v) - (m)->s->verts])
 #define M2C_SIM_ETRIG(m, v) (&(m)->etrig[(v) - (m)->s->verts])
 
+/* cos(a) and sin(a) of vertex v's phase (vcos_sin) or of its edge's
+ * normal (ecos_sin): from the world's cache, or computed when m is NULL
+ * (the TOI library, m2c_toi.c, has no world): the same bits either way. */
+static inline void m2c_sim_vcos_sin(m2c_world *m, const m2c_sim_vertex *v, double a, double *c, double *s)
+{
+    if (m != NULL) {
+        m2c_sim_cos_sin(M2C_SIM_VTRIG(m, v), a, c, s);
+        return;
+    }
+    *c = cos(a);
+    *s = sin(a);
+}
+
+static inline void m2c_sim_ecos_sin(m2c_world *m, const m2c_sim_vertex *v, double a, double *c, double *s)
+{
+    if (m != NULL) {
+        m2c_sim_cos_sin(M2C_SIM_ETRIG(m, v), a, c, s);
+        return;
+    }
+    *c = cos(a);
+    *s = sin(a);
+}
+
 /* Moves b's state on to time t (s). */
 static inline void m2c_sim_rebase(m2c_sim_body *b, double t)
 {
@@ -637,7 +655,8 @@ static inline double m2c_sim_turn_rate(const m2c_sim_body *b)
     return 0.0;
 }
 
-/* World position (m) of a circle's centre (v NULL) or of a vertex, at t. */
+/* World position (m) of a circle's centre (v NULL) or of a vertex, at t
+ * (m NULL: no world, vcos_sin). */
 static inline void m2c_sim_point_at(m2c_world *m, const m2c_sim_body *b, const m2c_sim_vertex *v, double t, double *x,
                                     double *y)
 {
@@ -651,7 +670,7 @@ static inline void m2c_sim_point_at(m2c_world *m, const m2c_sim_body *b, const m
     }
     double c, sn;
     if (v != NULL) {
-        m2c_sim_cos_sin(M2C_SIM_VTRIG(m, v), q.ang + beta, &c, &sn);
+        m2c_sim_vcos_sin(m, v, q.ang + beta, &c, &sn);
     } else {
         c = cos(q.ang + beta);
         sn = sin(q.ang + beta);
@@ -665,8 +684,64 @@ void m2c_sim_body_state(const m2c_sim_body *b, double t, m2c_body_state *s);
 
 /* ---- predict: pairs, features, first valid root, cells, horizons (m2c_sim_predict.c) ---- */
 
+/* ---- the pair computation, shared with the TOI library (m2c_toi.c) ----------- */
+
+/* What a pair's computation reads besides the two bodies. */
+typedef struct m2c_toi_ctx {
+    double tol;                 /* m: the distance tolerance */
+    double alpha;               /* rad: the window angle of a pair in which both bodies turn */
+    m2c_world *m;               /* the simulator's world (its variant counts, cos/sin caches, covered edges,
+                                   scratch, errors), or NULL: the library, which has none of them */
+    void (*die)(m2c_world *m, const char *format, ...);     /* with a world: its error exit */
+    int error;                  /* without a world: a generated entry refused its parameters */
+    double *scratch;            /* without a world: bound_polygon's M2C_TOI_MAX_VERTICES polynomials */
+    int *scratch_deg;           /* and their degrees */
+} m2c_toi_ctx;
+
+/* The simulator's context of a pair's computation. */
+static inline m2c_toi_ctx m2c_sim_ctx(m2c_world *m)
+{
+    m2c_toi_ctx k = { m->s->tol, m->s->alpha, m, m2c_sim_die, 0, NULL, NULL };
+    return k;
+}
+
+/* The earliest contact found in a pair: s after the time of the answer,
+ * feature feat of a's point (circle centre i -1, or vertex i) against b's
+ * circle, vertex or edge j. */
+typedef struct m2c_toi_best {
+    int have;
+    double s;
+    int32_t feat;
+    const m2c_sim_body *a, *b;
+    int32_t i, j;
+} m2c_toi_best;
+
+/* The first contact of A and B after now, through at most `stages` cheap
+ * steps (bounds, clear stretches, windows) and `windows` Taylor windows:
+ * 1 with *bs (its s after *at), 0 when there is none before end, 2 when the
+ * steps ran out at *at (a horizon). */
+int m2c_toi_pair(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, double now, double end, long stages,
+                 long windows, m2c_toi_best *bs, double *at);
 /* At s = 0, with the gap polynomial c zero within kappa: approaching or pressed together. */
-int m2c_sim_touching_now(const double *c, int deg, double kappa);
+int m2c_toi_touching_now(const double *c, int deg, double kappa);
+/* circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
+ * circle's centre (v NULL) or of a polygon's vertex, at time now. */
+void m2c_toi_circle_params(m2c_toi_ctx *ctx, const m2c_sim_body *b, double now, const m2c_sim_vertex *v, double *o);
+/* The circle_circle polynomial of two circles moving as p1 and p2 (circle_params); its degree. */
+int m2c_toi_circles_gap(m2c_toi_ctx *ctx, const double *p1, double ra, const double *p2, double rb, double *coef);
+/* The point_edge polynomial of a point of X (rho, beta about its centre,
+ * radius rad) against the line of edge j of Y; its degree. */
+int m2c_toi_pe_coefficients(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double rho, double beta,
+                            double rad, int32_t j, double now, double *coef);
+/* Contact point (cx, cy) (m) and unit normal (nx, ny) from A to B of a
+ * feature at t, B's angle at t being bang. */
+void m2c_toi_frame(m2c_world *m, double t, int32_t feature, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i,
+                   int32_t j, double bang, double *cx, double *cy, double *nx, double *ny);
+
+static inline int m2c_sim_touching_now(const double *c, int deg, double kappa)
+{
+    return m2c_toi_touching_now(c, deg, kappa);
+}
 /* circle_circle parameters (x, vx, ax, d, e, f; y, vy, ay, p, q) of a
  * circle's centre (v NULL) or of a polygon's vertex, at time now. */
 void m2c_sim_circle_params(m2c_world *m, const m2c_sim_body *b, double now, const m2c_sim_vertex *v, double *o);

@@ -7,5 +7,6 @@
 pub mod exact;
 pub mod roots;
 pub mod sim;
+pub mod toi;
 
 pub use roots::{smallest_root, MAX_DEGREE};

@@ -14,9 +14,10 @@ from max2code_rt.sim.scene import Body
 class ContactMixin:
     """Contact frame, normal speed, impulses."""
 
-    def contact_frame(self, t: float, feature: int, A: Body, B: Body, i: int, j: int):
+    def contact_frame(self, t: float, feature: int, A: Body, B: Body, i: int, j: int, bang: float | None = None):
         """Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
-        feature at t (both bodies advanced to t)."""
+        feature at t (both bodies advanced to t, or B's angle at t given as
+        bang: the TOI library's bodies stay at their time 0)."""
         vA = A.verts[i] if i >= 0 else None
         if feature == CC:
             ax_, ay_ = self.point_at(A, None, t)
@@ -30,7 +31,7 @@ class ContactMixin:
             cx, cy = ax_ + A.r * nx, ay_ + A.r * ny
         else:
             px, py = self.point_at(A, vA, t)
-            th = B.ang + B.verts[j].psi
+            th = (B.ang if bang is None else bang) + B.verts[j].psi
             nx, ny = -math.cos(th), -math.sin(th)       # from A to B: against the edge's outward normal
             rad = A.r if vA is None else 0.0
             cx, cy = px + rad * nx, py + rad * ny

@@ -1,5 +1,6 @@
-"""Predictions: the first contact of a pair after now (or a horizon event
-where the Taylor polynomials of its turns stop being good), the first valid
+"""Predictions: the first contact of a pair after now (pair_search, which
+the TOI library max2code_rt.toi calls too; or a horizon event where the
+Taylor polynomials of its turns stop being good), the first valid
 root of one feature's gap polynomial, and a body's next cell crossing.
 Every prediction goes through the generated entries of
 equations/circle-circle.mxm and equations/point-edge.mxm (the World's
@@ -272,19 +273,36 @@ class PredictMixin:
         """Schedule the first contact of A and B after now, or a horizon
         event where the Taylor polynomials of their turns stop being good.
         Cheap steps chain: a later meeting of the bounds or a clear stretch
-        moves `now` on (up to CHAIN stages, at most one Taylor window)."""
+        moves `now` on (up to CHAIN stages, at most one Taylor window:
+        pair_search, the TOI library's computation)."""
         s = self.s
         if A.sup == B.idx or B.sup == A.idx:
             return      # the support's edge line separates them (both convex): only leaving ends it
         if (A.asleep and self.grounded(B)) or (B.asleep and self.grounded(A)):
             return      # a sleeper against a sleeper or an unmoving fixed body: nothing moves
         self.stats.pairs += 1
+        found, at, best = self.pair_search(A, B, now, s.end, CHAIN, 1)
+        if found == 1:
+            bodies = s.bodies
+            self.push_collision(at + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
+        elif found == 2 and at < s.end:
+            self.push_horizon(at, A, B)
+
+    def pair_search(self, A: Body, B: Body, now: float, end: float, stages: int, windows: int):
+        """The first contact of A and B after now (docs/simulator.md, "One
+        prediction chains its cheap steps"): a later meeting of the bounds
+        or a clear stretch moves now on, a Taylor window solves the
+        features, at most `stages` steps of which at most `windows` windows.
+        (1, at, best) with best = (s after at, feature, a, b, i, j); (0, at,
+        None) when there is none before end; (2, at, None) when the steps
+        ran out at `at` (the simulator schedules a horizon there)."""
+        s = self.s
         ta, tb = self.turn_rate(A), self.turn_rate(B)
-        windowed = False
-        for _ in range(CHAIN):
-            w = s.end - now
+        solved = 0
+        for _ in range(stages):
+            w = end - now
             if not (w > 0.0):
-                return
+                return 0, now, None
             if A.polygon or B.polygon:
                 # bounds that do not turn: until they touch, nothing can
                 if B.polygon and ta > 0.0 and B.om == 0.0:
@@ -294,7 +312,7 @@ class PredictMixin:
                 else:
                     meet = self.bounds_meet(A, B, now, w)
                 if meet is None:
-                    return
+                    return 0, now, None
                 if meet > 0.0:
                     now = now + meet
                     continue
@@ -311,19 +329,16 @@ class PredictMixin:
                     # roots to solve until they may come within the tolerance
                     now = now + clear
                     continue
-            if windowed:
-                break       # one Taylor window per prediction: the next at a horizon
+            if solved >= windows:
+                break       # the simulator: one Taylor window per prediction, the next at a horizon
             best = self.features(A, B, now, w)
             if best is not None:
-                bodies = s.bodies
-                self.push_collision(now + best[0], best[1], bodies[best[2]], bodies[best[3]], best[4], best[5])
-                return
+                return 1, now, best
             if ta == 0.0 and tb == 0.0:
-                return      # nothing turns: the window was the whole run
+                return 0, now, None     # nothing turns: the window was the whole run
             now = now + w
-            windowed = True
-        if now < s.end:
-            self.push_horizon(now, A, B)
+            solved += 1
+        return 2, now, None
 
     def features(self, A: Body, B: Body, now: float, w: float):
         """The earliest contact of A's and B's features within [0, w] after now:

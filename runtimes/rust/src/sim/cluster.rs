@@ -285,7 +285,7 @@ fn solve_cluster<E: Equations>(sv: &mut Solve, bodies: &mut [Body], cs: &[Contac
     let mut rows = Vec::with_capacity(cs.len());
     for &(a, b, feature, i, j) in cs {
         let (a_, b_) = (&bodies[a], &bodies[b]);
-        let (cx, cy, nx, ny) = contact_frame(sv.verts, t, feature, a_, b_, i, j);
+        let (cx, cy, nx, ny) = contact_frame(sv.verts, t, feature, a_, b_, i, j, b_.ang);
         let ran = (cx - a_.px) * ny - (cy - a_.py) * nx;
         let rbn = (cx - b_.px) * ny - (cy - b_.py) * nx;
         let kn = give(bodies, a, nx, ny, ran) + give(bodies, b, nx, ny, rbn);

@@ -10,7 +10,9 @@ use super::world::Queue;
 use super::{Equations, CC, MAX_COEF};
 
 /// Contact point (cx, cy) and unit normal (nx, ny) from A to B of a
-/// feature at t (both bodies advanced to t); `verts` is the scene's.
+/// feature at t (both bodies advanced to t, or B's angle at t given as
+/// bang: the TOI library's bodies stay at their time 0); `verts` is the
+/// scene's.
 #[allow(clippy::too_many_arguments)]
 pub fn contact_frame(
     verts: &[Vertex],
@@ -20,6 +22,7 @@ pub fn contact_frame(
     b_: &Body,
     i: i32,
     j: i32,
+    bang: f64,
 ) -> (f64, f64, f64, f64) {
     let va = if i >= 0 { Some(&verts[a_.vert(i as usize)]) } else { None };
     let (nx, ny, cx, cy);
@@ -41,7 +44,7 @@ pub fn contact_frame(
     } else {
         let (px, py) = point_at(a_, va, t);
         let ed = &verts[b_.vert(j as usize)];
-        let th = b_.ang + ed.psi;
+        let th = bang + ed.psi;
         let (c, s) = ed.normal.of(th);
         // from A to B: against the edge's outward normal
         nx = -c;
@@ -85,14 +88,14 @@ pub fn closing<E: Equations>(
     if feature == CC {
         let vb = if j >= 0 { Some(&verts[b_.vert(j as usize)]) } else { None };
         let rb = if vb.is_none() { b_.r } else { 0.0 };
-        deg = circles_gap::<E>(q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, &mut c)?;
+        deg = circles_gap::<E, _>(q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, &mut c)?;
         kappa = tol * (2.0 * (a_.r + rb) + tol);
     } else {
         if i >= 0 {
             let v = &verts[a_.vert(i as usize)];
-            deg = pe_coefficients::<E>(verts, q, a_, b_, v.rho, v.beta, 0.0, j as usize, now, &mut c)?;
+            deg = pe_coefficients::<E, _>(verts, q, a_, b_, v.rho, v.beta, 0.0, j as usize, now, &mut c)?;
         } else {
-            deg = pe_coefficients::<E>(verts, q, a_, b_, a_.orbit, a_.ophase, a_.r, j as usize, now, &mut c)?;
+            deg = pe_coefficients::<E, _>(verts, q, a_, b_, a_.orbit, a_.ophase, a_.r, j as usize, now, &mut c)?;
         }
         kappa = tol;
     }

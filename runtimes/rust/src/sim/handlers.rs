@@ -40,7 +40,7 @@ impl<E: Equations> World<E> {
         let (cx, cy, nx, ny, vn, support) = {
             let s = &self.w.s;
             let (a_, b_) = (&s.bodies[ai], &s.bodies[bi]);
-            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j);
+            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, a_, b_, i, j, b_.ang);
             let vn = normal_speed(a_, b_, cx, cy, nx, ny);
             let support =
                 can_support(&self.w, a_, b_, feature, i, j, vn) || can_carry(&self.w, a_, b_, feature, i, j, vn);

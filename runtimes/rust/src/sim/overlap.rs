@@ -71,7 +71,7 @@ pub fn overlapping(
 /// by the depth they overlap (edge normals of either polygon, and for a
 /// circle the line from the nearest vertex; circles: the distance of the
 /// centres less the radii).
-pub(super) fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 {
+pub(crate) fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 {
     if !a_.polygon && !b_.polygon {
         let (ax, ay) = point_at(a_, None, t);
         let (bx, by) = point_at(b_, None, t);

@@ -1,6 +1,7 @@
-//! Predictions: the first contact of a pair after now (or a horizon event
-//! where the Taylor polynomials of its turns stop being good), and a
-//! body's next cell crossing.  Every prediction goes through the generated
+//! Predictions: the first contact of a pair after now ([`pair_search`],
+//! which the TOI library [`crate::toi`] calls too; or a horizon event where
+//! the Taylor polynomials of its turns stop being good), and a body's next
+//! cell crossing.  Every prediction goes through the generated
 //! entries ([`Equations`]) and the root solver [`smallest_root`].
 
 use super::motion::{point_at, state_at, turn_rate};
@@ -18,6 +19,59 @@ use crate::roots::smallest_root;
 /// window) one prediction of a pair goes through before it leaves the rest
 /// to a horizon.
 const CHAIN: usize = 8;
+
+/// What a pair's computation reads besides the two bodies: the simulator's
+/// [`Space`], or the TOI library's pair ([`crate::toi`]).
+pub trait PairEnv {
+    /// m: the distance tolerance
+    fn tol(&self) -> f64;
+    /// rad: the window angle of a pair in which both bodies turn
+    fn alpha(&self) -> f64;
+    /// every vertex, indexed by [`Body::vert`]
+    fn verts(&self) -> &[Vertex];
+    /// whether the fixed body `cover` (>= 0) still covers its edge
+    fn covered(&self, cover: i64) -> bool;
+}
+
+impl PairEnv for Space {
+    #[inline(always)]
+    fn tol(&self) -> f64 {
+        self.s.tol
+    }
+    #[inline(always)]
+    fn alpha(&self) -> f64 {
+        self.s.alpha
+    }
+    #[inline(always)]
+    fn verts(&self) -> &[Vertex] {
+        &self.s.verts
+    }
+    #[inline(always)]
+    fn covered(&self, cover: i64) -> bool {
+        !self.s.bodies[cover as usize].gone
+    }
+}
+
+/// Where a pair's computation counts the generated entries' variants it
+/// serves: the simulator's [`Queue`] (and its features counter); the TOI
+/// library counts nothing.
+pub trait Counter {
+    fn count_cc(&mut self, idx: usize);
+    fn count_pe(&mut self, idx: usize);
+}
+
+impl Counter for Queue {
+    #[inline(always)]
+    fn count_cc(&mut self, idx: usize) {
+        self.cc_counts[idx] += 1;
+        self.stats.features += 1;
+    }
+    #[inline(always)]
+    fn count_pe(&mut self, idx: usize) {
+        self.pe_counts[idx] += 1;
+        self.stats.features += 1;
+    }
+}
 
 /// At a zero of the gap c: approaching (first derivative d < 0), or
 /// resting and pressed together (d == 0, second derivative < 0).
@@ -114,19 +168,18 @@ pub(super) fn circle_params(b: &Body, now: f64, v: Option<&Vertex>) -> [f64; 11]
 /// Counts a circle_circle prediction of these 24 parameters: its variant
 /// and the features counter.
 #[inline(always)]
-fn cc_count<E: Equations>(q: &mut Queue, args: &[f64; 24]) -> Res<()> {
+fn cc_count<E: Equations, C: Counter>(q: &mut C, args: &[f64; 24]) -> Res<()> {
     let idx = E::cc_variant(args);
     if idx < 0 {
         return Err(SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()));
     }
-    q.cc_counts[idx as usize] += 1;
-    q.stats.features += 1;
+    q.count_cc(idx as usize);
     Ok(())
 }
 
 #[inline(always)]
-fn cc_coefficients<E: Equations>(q: &mut Queue, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
-    cc_count::<E>(q, args)?;
+fn cc_coefficients<E: Equations, C: Counter>(q: &mut C, args: &[f64; 24], coef: &mut [f64; MAX_COEF]) -> Res<usize> {
+    cc_count::<E, _>(q, args)?;
     E::cc_coefficients(args, coef)
         .ok_or_else(|| SimError::Msg("circle_circle: the scene uses an effect the generated code leaves out".into()))
 }
@@ -141,9 +194,9 @@ fn centre_params(b: &Body, now: f64) -> [f64; 11] {
 
 /// Circle of A against circle of B (vb None) or vertex vb of B (radius 0).
 #[allow(clippy::too_many_arguments)]
-fn predict_cc<E: Equations>(
-    w: &Space,
-    q: &mut Queue,
+fn predict_cc<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
     a_: &Body,
     b_: &Body,
     vb: Option<&Vertex>,
@@ -151,7 +204,7 @@ fn predict_cc<E: Equations>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    circles_first::<E>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
+    circles_first::<E, _, _>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
 }
 
 /// circle_circle's 24 parameters for two bodies that do not turn:
@@ -195,37 +248,49 @@ fn plain_args(a_: &Body, b_: &Body, now: f64, (oa, ob): (f64, f64), (ra, rb): (f
 /// bit (d = 0 sets the turn and the phase to 0), without its branches and
 /// copies.  Most pairs of a gas are such.
 #[inline(always)]
-fn circles_plain<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+fn circles_plain<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    a_: &Body,
+    b_: &Body,
+    now: f64,
+    win: f64,
+) -> Res<Option<f64>> {
     let args = plain_args(a_, b_, now, (a_.orbit, b_.orbit), (a_.r, b_.r));
-    circles_first_args::<E>(w, q, &args, win)
+    circles_first_args::<E, _, _>(w, q, &args, win)
 }
 
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
-fn circles_first<E: Equations>(
-    w: &Space,
-    q: &mut Queue,
+fn circles_first<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
     pa: &[f64; 11],
     ra: f64,
     pb: &[f64; 11],
     rb: f64,
     win: f64,
 ) -> Res<Option<f64>> {
-    circles_first_args::<E>(w, q, &cc_args(pa, ra, pb, rb), win)
+    circles_first_args::<E, _, _>(w, q, &cc_args(pa, ra, pb, rb), win)
 }
 
 /// circles_first of circle_circle's 24 parameters (cc_args).
 #[inline(always)]
-fn circles_first_args<E: Equations>(w: &Space, q: &mut Queue, args: &[f64; 24], win: f64) -> Res<Option<f64>> {
+fn circles_first_args<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    args: &[f64; 24],
+    win: f64,
+) -> Res<Option<f64>> {
     let (ra, rb) = (args[22], args[23]);
-    let tol = w.s.tol;
+    let tol = w.tol();
     let kappa = tol * (2.0 * (ra + rb) + tol);
     if circles_apart(args, kappa) {
-        cc_count::<E>(q, args)?;
+        cc_count::<E, _>(q, args)?;
         return Ok(None);
     }
     let mut coef = [0.0; MAX_COEF];
-    let deg = cc_coefficients::<E>(q, args, &mut coef)?;
+    let deg = cc_coefficients::<E, _>(q, args, &mut coef)?;
     Ok(first_contact(&coef, deg, win, kappa, |_| true))
 }
 
@@ -280,15 +345,15 @@ const TWO_P450: f64 = two_to(450);
 /// moving as pa (circle_params) and one of radius rb moving as pb, in
 /// `coef`; returns its degree.
 #[inline(always)]
-pub(super) fn circles_gap<E: Equations>(
-    q: &mut Queue,
+pub(super) fn circles_gap<E: Equations, C: Counter>(
+    q: &mut C,
     pa: &[f64; 11],
     ra: f64,
     pb: &[f64; 11],
     rb: f64,
     coef: &mut [f64; MAX_COEF],
 ) -> Res<usize> {
-    cc_coefficients::<E>(q, &cc_args(pa, ra, pb, rb), coef)
+    cc_coefficients::<E, _>(q, &cc_args(pa, ra, pb, rb), coef)
 }
 
 /// circle_circle's 24 parameters of a circle of radius ra moving as pa
@@ -306,9 +371,9 @@ fn cc_args(pa: &[f64; 11], ra: f64, pb: &[f64; 11], rb: f64) -> [f64; 24] {
 /// -1: a circle) against the line of edge j of Y (none while a fixed body
 /// covers the edge: its cover is not gone).
 #[allow(clippy::too_many_arguments)]
-fn predict_pe<E: Equations>(
-    w: &Space,
-    q: &mut Queue,
+fn predict_pe<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
     x_: &Body,
     y_: &Body,
     vx_: Option<&Vertex>,
@@ -317,8 +382,8 @@ fn predict_pe<E: Equations>(
     win: f64,
     i: i32,
 ) -> Res<Option<f64>> {
-    let cover = w.s.verts[y_.vert(j)].cover;
-    if cover >= 0 && !w.s.bodies[cover as usize].gone {
+    let cover = w.verts()[y_.vert(j)].cover;
+    if cover >= 0 && w.covered(cover) {
         return Ok(None);
     }
     let (rho, beta, rad) = match vx_ {
@@ -326,7 +391,7 @@ fn predict_pe<E: Equations>(
         Some(v) => (v.rho, v.beta, 0.0),
     };
     let mut coef = [0.0; MAX_COEF];
-    let deg = pe_coefficients::<E>(&w.s.verts, q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
+    let deg = pe_coefficients::<E, _>(w.verts(), q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
     Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win, i))
 }
 
@@ -334,9 +399,9 @@ fn predict_pe<E: Equations>(
 /// X's centre at rho (phase beta in X's frame) against the line of edge j
 /// of Y, in s = t - now (its c[0]: the gap now); returns its degree.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn pe_coefficients<E: Equations>(
+pub(super) fn pe_coefficients<E: Equations, C: Counter>(
     verts: &[Vertex],
-    q: &mut Queue,
+    q: &mut C,
     x_: &Body,
     y_: &Body,
     rho: f64,
@@ -365,8 +430,7 @@ pub(super) fn pe_coefficients<E: Equations>(
     if idx < 0 {
         return Err(SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()));
     }
-    q.pe_counts[idx as usize] += 1;
-    q.stats.features += 1;
+    q.count_pe(idx as usize);
     E::pe_coefficients(&args, coef)
         .ok_or_else(|| SimError::Msg("point_edge: the scene uses an effect the generated code leaves out".into()))
 }
@@ -379,8 +443,8 @@ pub(super) fn pe_coefficients<E: Equations>(
 /// not separate the bodies there, a corner meeting a corner: another
 /// feature pair is the contact).
 #[allow(clippy::too_many_arguments)]
-fn pe_first(
-    w: &Space,
+fn pe_first<W: PairEnv>(
+    w: &W,
     coef: &[f64; MAX_COEF],
     deg: usize,
     x_: &Body,
@@ -391,8 +455,8 @@ fn pe_first(
     win: f64,
     i: i32,
 ) -> Option<f64> {
-    let ed = &w.s.verts[y_.vert(j)];
-    let tol = w.s.tol;
+    let ed = &w.verts()[y_.vert(j)];
+    let tol = w.tol();
     let (rho, beta, vx_) = pt;
     let inside = |s: f64| -> bool {
         let t = now + s;
@@ -425,14 +489,14 @@ fn pe_first(
 /// `n` = (c, sn), its body's centre `q`), previous neighbour first
 /// (docs/simulator.md, "Corners").
 #[inline]
-fn behind(w: &Space, x_: &Body, i: usize, t: f64, q: (f64, f64), n: (f64, f64), h: f64) -> bool {
+fn behind<W: PairEnv>(w: &W, x_: &Body, i: usize, t: f64, q: (f64, f64), n: (f64, f64), h: f64) -> bool {
     let nv = x_.nverts();
     let (px, py, _, _, pa) = state_at(x_, t);
     let (qx, qy) = q;
     let (c, sn) = n;
-    let lim = -w.s.tol;
+    let lim = -w.tol();
     for k in [(i + nv - 1) % nv, (i + 1) % nv] {
-        let v = &w.s.verts[x_.vert(k)];
+        let v = &w.verts()[x_.vert(k)];
         let (vc, vs) = v.at.of(pa + v.beta);
         let kx = px + v.rho * vc;
         let ky = py + v.rho * vs;
@@ -443,15 +507,16 @@ fn behind(w: &Space, x_: &Body, i: usize, t: f64, q: (f64, f64), n: (f64, f64), 
     false
 }
 
-/// A candidate contact: (s, feature, a, b, i, j).
+/// A candidate contact: s after its time, feature feat of body a's point
+/// (i: its vertex, -1 the circle) against body b's edge, vertex or circle j.
 #[derive(Clone, Copy)]
-struct Best {
-    s: f64,
-    feat: i32,
-    a: usize,
-    b: usize,
-    i: i32,
-    j: i32,
+pub struct Best {
+    pub s: f64,
+    pub feat: i32,
+    pub a: usize,
+    pub b: usize,
+    pub i: i32,
+    pub j: i32,
 }
 
 #[inline(always)]
@@ -467,11 +532,18 @@ fn better(best: Option<Best>, t: Option<f64>, feat: i32, a: usize, b: usize, i: 
 /// When the bounding circles first touch within (0, w]: 0.0 when they
 /// overlap or touch now (within the tolerance), None when they do not meet
 /// (exact: bounding circles do not turn).
-fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
+fn bounds_meet<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    a_: &Body,
+    b_: &Body,
+    now: f64,
+    win: f64,
+) -> Res<Option<f64>> {
     let args = plain_args(a_, b_, now, (0.0, 0.0), (a_.bound, b_.bound));
     let mut coef = [0.0; MAX_COEF];
-    let deg = cc_coefficients::<E>(q, &args, &mut coef)?;
-    let tol = w.s.tol;
+    let deg = cc_coefficients::<E, _>(q, &args, &mut coef)?;
+    let tol = w.tol();
     if coef[0] <= tol * (2.0 * (a_.bound + b_.bound) + tol) {
         return Ok(Some(0.0));
     }
@@ -484,14 +556,21 @@ fn bounds_meet<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now
 /// line of P has the circle beyond it by more than the tolerance now
 /// (overlapping, or near a corner); None when they do not meet.  Exact:
 /// neither the circle nor P turns.
-fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, now: f64, win: f64) -> Res<Option<f64>> {
-    let tol = w.s.tol;
+fn bound_polygon<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    t_: &Body,
+    p_: &Body,
+    now: f64,
+    win: f64,
+) -> Res<Option<f64>> {
+    let tol = w.tol();
     let n = p_.nverts();
     let mut coefs: Vec<([f64; MAX_COEF], usize)> = Vec::with_capacity(n);
     let mut apart = false;
     for j in 0..n {
         let mut c = [0.0; MAX_COEF];
-        let deg = pe_coefficients::<E>(&w.s.verts, q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
+        let deg = pe_coefficients::<E, _>(w.verts(), q, t_, p_, 0.0, 0.0, t_.bound, j, now, &mut c)?;
         if c[0] > tol {
             apart = true;
         }
@@ -510,8 +589,8 @@ fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, n
     }
     let pt = centre_params(t_, now);
     for k in 0..n {
-        let v = &w.s.verts[p_.vert(k)];
-        let t = circles_first::<E>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win)?;
+        let v = &w.verts()[p_.vert(k)];
+        let t = circles_first::<E, _, _>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win)?;
         if let Some(t) = t {
             if meet.is_none_or(|m| t < m) {
                 meet = Some(t);
@@ -521,9 +600,9 @@ fn bound_polygon<E: Equations>(w: &Space, q: &mut Queue, t_: &Body, p_: &Body, n
     Ok(meet)
 }
 
-fn circle_polygon<E: Equations>(
-    w: &Space,
-    q: &mut Queue,
+fn circle_polygon<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
     c_: &Body,
     p_: &Body,
     now: f64,
@@ -531,20 +610,20 @@ fn circle_polygon<E: Equations>(
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
     for j in 0..p_.nverts() {
-        let t = predict_pe::<E>(w, q, c_, p_, None, j, now, win, -1)?;
+        let t = predict_pe::<E, _, _>(w, q, c_, p_, None, j, now, win, -1)?;
         best = better(best, t, PE, c_.index(), p_.index(), -1, j as i32);
     }
     for k in 0..p_.nverts() {
-        let v = &w.s.verts[p_.vert(k)];
-        let t = predict_cc::<E>(w, q, c_, p_, Some(v), 0.0, now, win)?;
+        let v = &w.verts()[p_.vert(k)];
+        let t = predict_cc::<E, _, _>(w, q, c_, p_, Some(v), 0.0, now, win)?;
         best = better(best, t, CC, c_.index(), p_.index(), -1, k as i32);
     }
     Ok(best)
 }
 
-fn vertices_edges<E: Equations>(
-    w: &Space,
-    q: &mut Queue,
+fn vertices_edges<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
     a_: &Body,
     b_: &Body,
     now: f64,
@@ -552,9 +631,9 @@ fn vertices_edges<E: Equations>(
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
     for i in 0..a_.nverts() {
-        let v = &w.s.verts[a_.vert(i)];
+        let v = &w.verts()[a_.vert(i)];
         for j in 0..b_.nverts() {
-            let t = predict_pe::<E>(w, q, a_, b_, Some(v), j, now, win, i as i32)?;
+            let t = predict_pe::<E, _, _>(w, q, a_, b_, Some(v), j, now, win, i as i32)?;
             best = better(best, t, PE, a_.index(), b_.index(), i as i32, j as i32);
         }
     }
@@ -566,7 +645,8 @@ fn vertices_edges<E: Equations>(
 /// Schedule the first contact of A and B after now, or a horizon event
 /// where the Taylor polynomials of their turns stop being good.  Cheap
 /// steps chain: a later meeting of the bounds or a clear stretch moves
-/// `now` on (up to CHAIN stages, at most one Taylor window).
+/// `now` on (up to CHAIN stages, at most one Taylor window: [`pair_search`],
+/// the TOI library's computation).
 pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize, now: f64) -> Res<()> {
     let s = &w.s;
     let a_ = &s.bodies[ai];
@@ -580,36 +660,70 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
         return Ok(());
     }
     q.stats.pairs += 1;
+    match pair_search::<E, _, _>(w, q, a_, b_, now, s.end, CHAIN, 1)? {
+        Found::Contact(at, bb) => q.push_collision(w, at + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j),
+        Found::Stopped(at) if at < s.end => q.push_horizon(w, at, a_, b_),
+        _ => {}
+    }
+    Ok(())
+}
+
+/// What [`pair_search`] found.
+#[derive(Clone, Copy)]
+pub enum Found {
+    /// no contact before the end
+    None,
+    /// a contact: its s after the time given, its features
+    Contact(f64, Best),
+    /// the steps ran out at this time (the simulator schedules a horizon there)
+    Stopped(f64),
+}
+
+/// The first contact of A and B after now (docs/simulator.md, "One
+/// prediction chains its cheap steps"): a later meeting of the bounds or a
+/// clear stretch moves now on, a Taylor window solves the features, at most
+/// `stages` steps of which at most `windows` windows.
+#[allow(clippy::too_many_arguments)]
+pub fn pair_search<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    a_: &Body,
+    b_: &Body,
+    now: f64,
+    end: f64,
+    stages: usize,
+    windows: usize,
+) -> Res<Found> {
     if !a_.polygon && !b_.polygon && a_.orbit == 0.0 && b_.orbit == 0.0 {
         // two circles that do not turn (turn_rate 0): the loop below takes
         // one stage, features' predict_cc
-        let win = s.end - now;
+        let win = end - now;
         if win > 0.0 {
-            if let Some(t) = circles_plain::<E>(w, q, a_, b_, now, win)? {
-                q.push_collision(w, now + t, CC, a_, b_, -1, -1);
+            if let Some(t) = circles_plain::<E, _, _>(w, q, a_, b_, now, win)? {
+                return Ok(Found::Contact(now, Best { s: t, feat: CC, a: a_.index(), b: b_.index(), i: -1, j: -1 }));
             }
         }
-        return Ok(());
+        return Ok(Found::None);
     }
     let (ta, tb) = (turn_rate(a_), turn_rate(b_));
     let mut now = now;
-    let mut windowed = false;
-    for _ in 0..CHAIN {
-        let mut win = s.end - now;
+    let mut solved = 0;
+    for _ in 0..stages {
+        let mut win = end - now;
         if !(win > 0.0) {
-            return Ok(());
+            return Ok(Found::None);
         }
         if a_.polygon || b_.polygon {
             // bounds that do not turn: until they touch, nothing can
             let meet = if b_.polygon && ta > 0.0 && b_.om == 0.0 {
-                bound_polygon::<E>(w, q, a_, b_, now, win)?
+                bound_polygon::<E, _, _>(w, q, a_, b_, now, win)?
             } else if a_.polygon && tb > 0.0 && a_.om == 0.0 {
-                bound_polygon::<E>(w, q, b_, a_, now, win)?
+                bound_polygon::<E, _, _>(w, q, b_, a_, now, win)?
             } else {
-                bounds_meet::<E>(w, q, a_, b_, now, win)?
+                bounds_meet::<E, _, _>(w, q, a_, b_, now, win)?
             };
             match meet {
-                None => return Ok(()),
+                None => return Ok(Found::None),
                 Some(meet) if meet > 0.0 => {
                     now = now + meet;
                     continue;
@@ -618,7 +732,7 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
             }
         }
         let x = if ta > 0.0 && tb > 0.0 {
-            s.alpha / (ta + tb)
+            w.alpha() / (ta + tb)
         } else if ta > 0.0 {
             a_.window / ta
         } else if tb > 0.0 {
@@ -639,42 +753,45 @@ pub fn predict_pair<E: Equations>(w: &Space, q: &mut Queue, ai: usize, bi: usize
                 continue;
             }
         }
-        if windowed {
-            // one Taylor window per prediction: the next at a horizon
+        if solved >= windows {
+            // the simulator: one Taylor window per prediction, the next at a horizon
             break;
         }
-        if let Some(bb) = features::<E>(w, q, a_, b_, now, win)? {
-            q.push_collision(w, now + bb.s, bb.feat, &s.bodies[bb.a], &s.bodies[bb.b], bb.i, bb.j);
-            return Ok(());
+        if let Some(bb) = features::<E, _, _>(w, q, a_, b_, now, win)? {
+            return Ok(Found::Contact(now, bb));
         }
         if ta == 0.0 && tb == 0.0 {
             // nothing turns: the window was the whole run
-            return Ok(());
+            return Ok(Found::None);
         }
         now = now + win;
-        windowed = true;
+        solved += 1;
     }
-    if now < s.end {
-        q.push_horizon(w, now, a_, b_);
-    }
-    Ok(())
+    Ok(Found::Stopped(now))
 }
 
 /// The earliest contact of A's and B's features within [0, win] after now.
-fn features<E: Equations>(w: &Space, q: &mut Queue, a_: &Body, b_: &Body, now: f64, win: f64) -> Res<Option<Best>> {
+fn features<E: Equations, W: PairEnv, C: Counter>(
+    w: &W,
+    q: &mut C,
+    a_: &Body,
+    b_: &Body,
+    now: f64,
+    win: f64,
+) -> Res<Option<Best>> {
     let mut best = None;
     if !a_.polygon && !b_.polygon {
-        let t = predict_cc::<E>(w, q, a_, b_, None, b_.r, now, win)?;
+        let t = predict_cc::<E, _, _>(w, q, a_, b_, None, b_.r, now, win)?;
         if let Some(t) = t {
             best = Some(Best { s: t, feat: CC, a: a_.index(), b: b_.index(), i: -1, j: -1 });
         }
     } else if !a_.polygon {
-        best = circle_polygon::<E>(w, q, a_, b_, now, win, None)?;
+        best = circle_polygon::<E, _, _>(w, q, a_, b_, now, win, None)?;
     } else if !b_.polygon {
-        best = circle_polygon::<E>(w, q, b_, a_, now, win, None)?;
+        best = circle_polygon::<E, _, _>(w, q, b_, a_, now, win, None)?;
     } else {
-        best = vertices_edges::<E>(w, q, a_, b_, now, win, None)?;
-        best = vertices_edges::<E>(w, q, b_, a_, now, win, best)?;
+        best = vertices_edges::<E, _, _>(w, q, a_, b_, now, win, None)?;
+        best = vertices_edges::<E, _, _>(w, q, b_, a_, now, win, best)?;
     }
     Ok(best)
 }
@@ -701,7 +818,7 @@ fn max(a: f64, b: f64) -> f64 {
 /// does not turn and the other, T, turns, each of P's edge normals (the
 /// largest of the times); otherwise the line of the centres, and the best
 /// separating axis bounded by the norms |x| + |y|.
-fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
+fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     if b_.polygon && b_.om == 0.0 && turn_rate(a_) > 0.0 {
         return clear_axes(w, a_, b_, now);
     }
@@ -719,7 +836,7 @@ fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
     let hi = reach(w, a_, nx, ny, now);
     let lo = -reach(w, b_, -nx, -ny, now);
     let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
-    let tol = w.s.tol;
+    let tol = w.tol();
     let along = clear_root(
         lo - hi - tol,
         spin - (nx * (u2 - u1) + ny * (v2 - v1)),
@@ -727,7 +844,7 @@ fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
     );
     // and along the best separating axis, which may turn: the norms, |x| + |y|
     let anyway = clear_root(
-        separation(&w.s.verts, a_, b_, now) - tol,
+        separation(w.verts(), a_, b_, now) - tol,
         spin + (u2 - u1).abs() + (v2 - v1).abs(),
         (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs(),
     );
@@ -735,30 +852,30 @@ fn clear_time(w: &Space, a_: &Body, b_: &Body, now: f64) -> f64 {
 }
 
 /// The largest projection of b on the unit axis (nx, ny) at now.
-fn reach(w: &Space, b: &Body, nx: f64, ny: f64, now: f64) -> f64 {
+fn reach<W: PairEnv>(w: &W, b: &Body, nx: f64, ny: f64, now: f64) -> f64 {
     if !b.polygon {
         let (px, py) = point_at(b, None, now);
         return nx * px + ny * py + b.r;
     }
     let mut best = f64::NEG_INFINITY;
     for k in 0..b.nverts() {
-        let (px, py) = point_at(b, Some(&w.s.verts[b.vert(k)]), now);
+        let (px, py) = point_at(b, Some(&w.verts()[b.vert(k)]), now);
         best = max(best, nx * px + ny * py);
     }
     best
 }
 
 /// clear_time along each edge normal of P (P does not turn, T does).
-fn clear_axes(w: &Space, t_: &Body, p_: &Body, now: f64) -> f64 {
+fn clear_axes<W: PairEnv>(w: &W, t_: &Body, p_: &Body, now: f64) -> f64 {
     let (_, _, u1, v1, _) = state_at(t_, now);
     let (_, _, u2, v2, _) = state_at(p_, now);
     let (du, dv, dax, day) = (u1 - u2, v1 - v2, t_.ax - p_.ax, t_.ay - p_.ay);
     let spin = t_.bound * turn_rate(t_);
     let mut best = 0.0;
     for j in 0..p_.nverts() {
-        let (ox, oy, off) = edge_line(&w.s.verts, p_, j, now);
+        let (ox, oy, off) = edge_line(w.verts(), p_, j, now);
         let c = clear_root(
-            -reach(w, t_, -ox, -oy, now) - off - w.s.tol,
+            -reach(w, t_, -ox, -oy, now) - off - w.tol(),
             spin - (ox * du + oy * dv),
             (ox * dax + oy * day).abs(),
         );

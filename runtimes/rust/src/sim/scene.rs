@@ -42,7 +42,7 @@ pub struct Vertex {
 pub struct CosSin(Cell<(u64, f64, f64)>);
 
 impl CosSin {
-    fn new() -> CosSin {
+    pub(crate) fn new() -> CosSin {
         CosSin(Cell::new((f64::NAN.to_bits(), f64::NAN, f64::NAN)))
     }
 

@@ -1,0 +1,238 @@
+"""Time of impact of two bodies (a circle or a convex polygon each), with
+no world: the first contact within a horizon of two bodies moving as the
+simulator moves them (docs/toi.md).  The computation is the simulator's own
+(PredictMixin.pair_search, which its predictions call): bounding circles
+that do not turn first, clear stretches, then Taylor windows of the
+generated circle_circle and point_edge polynomials.  The same bits as the
+C, Rust and Modula-2 libraries.
+
+Units: s, m, m/s, m/s^2, rad, rad/s.  Angles count counter-clockwise.
+
+    from max2code_rt.toi import Toi, circle, polygon, Motion
+    lib = Toi(circle_circle_module, point_edge_module)   # generated with every effect
+    r = lib.toi(circle(0.5), Motion(x=-3.0, vx=2.0), polygon([(-1, -1), (1, -1), (1, 1), (-1, 1)]),
+                Motion(omega=1.0), 5.0)
+    if r.status == HIT: r.t, r.px, r.py, r.nx, r.ny
+"""
+from __future__ import annotations
+
+import math
+
+from max2code_rt.sim.contact import ContactMixin
+from max2code_rt.sim.motion import MotionMixin
+from max2code_rt.sim.out import SimError
+from max2code_rt.sim.overlap import OverlapMixin
+from max2code_rt.sim.predict import CC, PE, PredictMixin
+from max2code_rt.sim.scene import Body, Vertex
+
+# status of an answer (the C library's numbers)
+ERROR, NONE, HIT, OVERLAPPED = -1, 0, 1, 2
+# features of a contact: circle (or its centre) against a circle or a vertex; a point against an edge
+FEATURE_CC, FEATURE_PE = CC, PE
+# most vertices of a polygon shape
+MAX_VERTICES = 64
+# most steps (bounds, clear stretches, windows) of one query
+MAX_STEPS = 10_000_000
+
+
+class Shape:
+    """A circle (verts empty, radius > 0) or a convex polygon (its vertices
+    about the centre of rotation, radius 0); bound: m, the radius of the
+    bounding circle about the centre of rotation."""
+    __slots__ = ("radius", "bound", "verts")
+
+    def __init__(self, radius: float, bound: float, verts: list[Vertex]):
+        self.radius, self.bound, self.verts = radius, bound, verts
+
+
+def circle(radius: float) -> Shape:
+    """A circle of `radius` m (> 0); ValueError otherwise."""
+    radius = float(radius)
+    if not (0.0 < radius <= 1.7976931348623157e308):
+        raise ValueError(f"radius {radius!r} is not positive and finite")
+    return Shape(radius, radius, [])
+
+
+def polygon(points) -> Shape:
+    """A strictly convex polygon of 3..MAX_VERTICES vertices [(x, y), ...]
+    (m, about the centre of rotation, counter-clockwise); ValueError otherwise."""
+    pts = [(float(x), float(y)) for x, y in points]
+    n = len(pts)
+    if not (3 <= n <= MAX_VERTICES):
+        raise ValueError(f"{n} vertices: a polygon has 3 to {MAX_VERTICES}")
+    if not all(math.isfinite(x) and math.isfinite(y) for x, y in pts):
+        raise ValueError("a vertex is not finite")
+    verts = []
+    bound = 0.0
+    for k in range(n):
+        (x0, y0), (x1, y1), (x2, y2) = pts[k], pts[(k + 1) % n], pts[(k + 2) % n]
+        ex, ey = x1 - x0, y1 - y0
+        if not (ex * (y2 - y1) - ey * (x2 - x1) > 0.0):
+            raise ValueError("not strictly convex and counter-clockwise")
+        ln = math.sqrt(ex * ex + ey * ey)
+        nx, ny = ey / ln, -ex / ln          # outward: the polygon is counter-clockwise
+        tx, ty = ex / ln, ey / ln
+        rho = math.sqrt(x0 * x0 + y0 * y0)
+        verts.append(Vertex((x0, y0, rho, math.atan2(y0, x0), math.atan2(ny, nx), nx * x0 + ny * y0,
+                             tx * x0 + ty * y0, tx * x1 + ty * y1, nx, ny), -1))
+        if rho > bound:
+            bound = rho
+    # the edges wind once around: the turns of the normal sum to 2 pi
+    turn = 0.0
+    for k in range(n):
+        d = verts[(k + 1) % n].psi - verts[k].psi
+        while d <= 0.0:
+            d += 2.0 * math.pi
+        turn += d
+    if not (turn < 3.0 * math.pi):
+        raise ValueError("the edges wind more than once")
+    return Shape(0.0, bound, verts)
+
+
+class Motion:
+    """A body's motion at time 0 of the query: its centre of rotation moves
+    as p + v t + a t^2/2, its angle as angle + omega t; a circle's own
+    centre may orbit it at `orbit` m, at angle + orbit_phase."""
+    __slots__ = ("x", "y", "vx", "vy", "ax", "ay", "angle", "omega", "orbit", "orbit_phase")
+
+    def __init__(self, x=0.0, y=0.0, vx=0.0, vy=0.0, ax=0.0, ay=0.0, angle=0.0, omega=0.0, orbit=0.0,
+                 orbit_phase=0.0):
+        self.x, self.y, self.vx, self.vy, self.ax, self.ay = map(float, (x, y, vx, vy, ax, ay))
+        self.angle, self.omega, self.orbit, self.orbit_phase = map(float, (angle, omega, orbit, orbit_phase))
+
+    def values(self) -> tuple:
+        return (self.x, self.y, self.vx, self.vy, self.ax, self.ay, self.angle, self.omega, self.orbit,
+                self.orbit_phase)
+
+
+class Result:
+    """status (HIT, NONE, OVERLAPPED, ERROR); t (s); feature (FEATURE_CC or
+    FEATURE_PE); first: False when i is A's feature and j B's, True when i
+    is B's and j A's; i: vertex (-1: the circle) against j: edge or vertex
+    (-1: the circle); (px, py) the contact point (m) and (nx, ny) the unit
+    normal from the body holding i to the other, at t."""
+    __slots__ = ("status", "t", "feature", "first", "i", "j", "px", "py", "nx", "ny")
+
+    def __init__(self, status: int):
+        self.status, self.t, self.feature, self.first, self.i, self.j = status, 0.0, 0, False, -1, -1
+        self.px = self.py = self.nx = self.ny = 0.0
+
+    def __repr__(self):
+        return (f"Result(status={self.status}, t={self.t!r}, feature={self.feature}, first={self.first}, "
+                f"i={self.i}, j={self.j}, p=({self.px!r}, {self.py!r}), n=({self.nx!r}, {self.ny!r}))")
+
+
+class _Uncounted:
+    """The variant counters of a world, counting nothing."""
+
+    def __getitem__(self, k):
+        return 0
+
+    def __setitem__(self, k, v):
+        pass
+
+
+class _Stats:
+    __slots__ = ("features", "pairs")
+
+    def __init__(self):
+        self.features = self.pairs = 0
+
+
+class _Scene:
+    __slots__ = ("tol", "alpha", "end", "bodies")
+
+
+class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
+    """The simulator's pair computation without a world: two bodies, no
+    counters, no covered edges."""
+
+    def __init__(self, cc, pe):
+        self.cc_coef, self.cc_var = cc.circle_circle_coefficients, cc.circle_circle_variant
+        self.pe_coef, self.pe_var = pe.point_edge_coefficients, pe.point_edge_variant
+        self.cc_counts = self.pe_counts = _Uncounted()
+        self.stats = _Stats()
+        self.s = _Scene()
+
+
+def _angle_for(lever: float, n: int, tol: float) -> float:
+    """The largest angle (at most 0.5 rad) whose order-n Taylor remainder of
+    sin and cos, a^(n+1)/(n+1)!, times the lever (m) stays below tol."""
+    f = 1.0
+    for k in range(2, n + 2):
+        f = f * float(k)
+    return min(0.5, (f * tol / lever) ** (1.0 / float(n + 1)))
+
+
+def _body(s: Shape, q: Motion, idx: int) -> Body:
+    b = Body.__new__(Body)
+    b.idx, b.polygon, b.fixed = idx, bool(s.verts), False
+    b.px, b.py, b.vx, b.vy, b.ax, b.ay = q.x, q.y, q.vx, q.vy, q.ax, q.ay
+    b.tb, b.om, b.ang = 0.0, q.omega, q.angle
+    if b.polygon:
+        b.r, b.orbit, b.ophase, b.bound = 0.0, 0.0, 0.0, s.bound
+    else:
+        b.r, b.orbit, b.ophase = s.radius, q.orbit, q.orbit_phase
+        b.bound = b.orbit + b.r
+    b.window = 0.0
+    b.verts = s.verts
+    b.sup, b.asleep, b.gone, b.island = -1, False, False, -1
+    return b
+
+
+class Toi:
+    """The TOI library over the generated circle_circle and point_edge
+    modules (generated with every effect, acceleration and orbit, at
+    `taylor_order`); tol: m, the distance tolerance of contacts."""
+
+    def __init__(self, cc, pe, tol: float = 1e-9, taylor_order: int = 4):
+        self.pair = _Pair(cc, pe)
+        self.tol, self.order = float(tol), int(taylor_order)
+
+    def toi(self, a: Shape, ma: Motion, b: Shape, mb: Motion, horizon: float) -> Result:
+        """The first contact of A and B within [0, horizon] s (docs/toi.md)."""
+        tol, order = self.tol, self.order
+        horizon = float(horizon)
+        if not (0.0 < tol <= 1.7976931348623157e308) or not (1 <= order <= 7):
+            return Result(ERROR)
+        if not (0.0 <= horizon <= 1.7976931348623157e308):
+            return Result(ERROR)
+        for q in (ma, mb):
+            if not all(math.fabs(v) <= 1.7976931348623157e308 for v in q.values()) or not (q.orbit >= 0.0):
+                return Result(ERROR)
+        if (a.verts and ma.orbit != 0.0) or (b.verts and mb.orbit != 0.0):
+            return Result(ERROR)
+        A, B = _body(a, ma, 0), _body(b, mb, 1)
+        p = self.pair
+        s = p.s
+        s.tol, s.bodies, s.end = tol, [A, B], horizon
+        if p.separation(A, B, 0.0) < -tol:
+            return Result(OVERLAPPED)
+        # the windows (docs/simulator.md, "Taylor windows"): both turn, a
+        # lever of twice the larger bound plus the larger bound; one turns,
+        # its bound plus a circle partner's radius
+        ta, tb = p.turn_rate(A), p.turn_rate(B)
+        big = A.bound if A.bound > B.bound else B.bound
+        s.alpha = 0.5
+        if ta > 0.0 and tb > 0.0:
+            s.alpha = _angle_for(2.0 * big + big, order, tol)
+        elif ta > 0.0:
+            A.window = _angle_for(A.bound + B.r, order, tol)
+        elif tb > 0.0:
+            B.window = _angle_for(B.bound + A.r, order, tol)
+        try:
+            found, at, best = p.pair_search(A, B, 0.0, horizon, MAX_STEPS, MAX_STEPS)
+        except SimError:
+            return Result(ERROR)
+        if found == 2:
+            return Result(ERROR)
+        if found == 0:
+            return Result(NONE)
+        s_, feat, ia, ib, i, j = best
+        t = at + s_
+        r = Result(HIT)
+        r.t, r.feature, r.first, r.i, r.j = t, feat, ia == 1, i, j
+        X, Y = s.bodies[ia], s.bodies[ib]
+        bang = p.state_at(Y, t)[4]
+        r.px, r.py, r.nx, r.ny = p.contact_frame(t, feat, X, Y, i, j, bang)
+        return r
