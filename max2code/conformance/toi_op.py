@@ -3,8 +3,8 @@ tests/conformance/toi/toi.jsonl, made by toi_cases.py, references by
 toi_ref.py on the exact motion; docs/toi.md, docs/conformance.md).
 
 Each runtime answers through its library: C through
-runtimes/c/tools/m2c_toi_testee.c (linked with the library, max2code/toi.py),
-Rust through max2code_rt::toi::testee_main (max2code/toi.py builds it with
+runtimes/c/tools/m2c_toi_testee.c (linked with the library, max2code/toolchain/toi.py),
+Rust through max2code_rt::toi::testee_main (max2code/toolchain/toi.py builds it with
 the generated Rust), Python through max2code_rt.toi in this process.  The raw answer holds every
 bit of the result (time, features, point, normal), so `--lang all` checks
 that the runtimes agree on all of them.
@@ -42,13 +42,13 @@ def wire(case: dict, seq: int) -> str:
 
 
 def c_testee() -> Path:
-    from max2code import toi
+    from max2code.toolchain import toi
     return toi.c_program(RUNTIMES / "c" / "tools" / "m2c_toi_testee.c", "m2c_toi_testee")
 
 
 def run_rust(cases: dict[int, dict]) -> dict[int, str]:
     """The Rust library's answers of the cases by seq."""
-    from max2code import toi
+    from max2code.toolchain import toi
     exe = toi.rust_testee()
     text = "".join(wire(c, s) + "\n" for s, c in cases.items())
     proc = subprocess.run([str(exe)], input=text, capture_output=True, text=True, timeout=3600)
@@ -80,7 +80,7 @@ def run_c(cases: dict[int, dict], reps: int = 0) -> tuple[dict[int, str], dict[i
 
 
 def python_answer(case: dict) -> str:
-    from max2code import toi
+    from max2code.toolchain import toi
     from max2code_rt import toi as rt
 
     lib = toi.python_toi(tol=float(case["tol"]))

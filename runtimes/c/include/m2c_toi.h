@@ -18,7 +18,7 @@
  * The library calls the generated circle_circle and point_edge entries
  * (with every effect: acceleration and orbit) and is built with them: the
  * simulator's shared library of those effects exports m2c_toi
- * (max2code/toi.py, c_library; docs/toi.md). */
+ * (max2code/toolchain/toi.py, c_library; docs/toi.md). */
 #ifndef M2C_TOI_H
 #define M2C_TOI_H
 

@@ -67,7 +67,7 @@ def c_program(source: Path, name: str, order: int = ORDER) -> Path:
 
 RUST_MAIN = """\
 // The TOI library's conformance testee with the generated contact equations
-// of every effect (written by max2code/toi.py: do not edit).
+// of every effect (written by max2code/toolchain/toi.py: do not edit).
 #[path = {cc}]
 #[allow(dead_code)]
 mod circle_circle;
