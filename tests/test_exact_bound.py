@@ -112,9 +112,8 @@ def _draw(rng: random.Random) -> tuple[dict, float]:
 
 def test_bound_never_hides_a_contact_and_keeps_the_answers(circles_py):
     """On drawn circle pairs: whenever the driver with the bound answers none,
-    the reference allows none; with orbits its answer is the windows-only
-    driver's answer bit for bit; without orbits both are accepted by the
-    reference."""
+    the reference allows none, and every answer (with orbits or without) is
+    the windows-only driver's answer bit for bit."""
     from max2code_rt.exact import exact_toc
 
     _, ns = circles_py
@@ -136,15 +135,14 @@ def test_bound_never_hides_a_contact_and_keeps_the_answers(circles_py):
                 assert ref.none_ok
             else:
                 assert any(lo <= ans <= hi for lo, hi in ref.accept) or abs(ans - ref.expect) <= 1e-12 * ref.expect
-        if p["d"] != 0.0 or p["j"] != 0.0:
-            assert new == old
+        assert new == old
         decided += new is None
     assert decided >= 10
 
 
 def test_conformance_cases_keep_their_bits(circles_py):
-    """Every circle-circle case of tests/conformance/toc_exact.jsonl with an
-    orbit: the same answer with and without the bound."""
+    """Every circle-circle case of tests/conformance/toc_exact.jsonl, refined
+    and not: the same answer with and without the bound."""
     from max2code_rt.exact import exact_toc
 
     _, ns = circles_py
@@ -154,13 +152,14 @@ def test_conformance_cases_keep_their_bits(circles_py):
     with open(ROOT / "tests" / "conformance" / "toc_exact.jsonl") as f:
         for line in f:
             c = json.loads(line)
-            if c["equation"] != "circle-circle" or (c["params"]["d"] == 0.0 and c["params"]["j"] == 0.0):
+            if c["equation"] != "circle-circle":
                 continue
-            o = c.get("options") or {}
             vec = [c["params"][k] for k in CC]
-            assert exact_toc(motion, vec, c["horizon"], **o) == exact_toc(plain, vec, c["horizon"], **o), c["id"]
+            for refine in (True, False):
+                o = dict(c.get("options") or {}, refine=refine)
+                assert exact_toc(motion, vec, c["horizon"], **o) == exact_toc(plain, vec, c["horizon"], **o), c["id"]
             n += 1
-    assert n > 100
+    assert n > 150
 
 
 @settings(max_examples=200, deadline=None)

@@ -100,7 +100,7 @@ BEGIN
    IF NOT UsePd THEN RETURN Cur.gap (Par, t) END ;
    x := (Pd[2] * t + Pd[1]) * t + Pd[0] ;
    y := (Pd[5] * t + Pd[4]) * t + Pd[3] ;
-   RETURN x * x + y * y - Pd[6] * Pd[6]
+   RETURN y * y - Pd[6] * Pd[6] + x * x
 END GapAt ;
 
 
@@ -182,6 +182,31 @@ BEGIN
    IF SmallestRoot (q, n, lo, T, r) THEN RETURN r END ;
    RETURN 2.0 * T + 1.0
 END Entry ;
+
+
+(* Circles without orbits: the windowed search's single window (no
+   truncation, no rate), the gap evaluated as the polynomial (Pd). *)
+PROCEDURE OneWindow (start, horizon: REAL; refine: BOOLEAN; VAR t: REAL) : INTEGER ;
+VAR
+   pp: Params ;
+   c: Coeffs ;
+   n: INTEGER ;
+   t1, L, s, r: REAL ;
+BEGIN
+   t1 := start + (horizon - start) ;
+   IF NOT (t1 < horizon) THEN t1 := horizon END ;
+   L := t1 - start ;
+   Cur.shift (Par, start, pp) ;
+   n := Cur.coefficients (pp, c) ;
+   IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
+   IF NOT refine AND (ABS (c[0]) - Reach (c, n, L) > 0.0) THEN RETURN 0 END ;
+   IF NOT CurSolver (c, n, 0.0, L, s) THEN RETURN 0 END ;
+   r := start + s ;
+   IF refine THEN r := Polish (r, start, start + L, start, horizon) END ;
+   IF r > horizon THEN r := horizon END ;
+   t := r + 0.0 ;
+   RETURN 1
+END OneWindow ;
 
 
 (* The polynomial c of degree n is the exact gap: its smallest root in
@@ -372,7 +397,7 @@ BEGIN
    END ;
    st := Begin (m, p, horizon, o, t, start) ;
    IF st # Search THEN RETURN st END ;
-   IF UsePd THEN RETURN PolySearch (hb, nb, start, horizon, o.refine, t) END ;
+   IF UsePd THEN RETURN OneWindow (start, horizon, o.refine, t) END ;
    IF bound THEN e := Entry (hb, nb, mb, start, horizon) ELSE e := start END ;
    IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
    span := horizon - start ;

@@ -73,7 +73,7 @@ static double gap_at(const ctx *k, double t)
     const double *d = k->pd;
     double x = (d[2] * t + d[1]) * t + d[0];
     double y = (d[5] * t + d[4]) * t + d[3];
-    return x * x + y * y - d[6] * d[6];
+    return y * y - d[6] * d[6] + x * x;
 }
 
 static double gap_dt_at(const ctx *k, double t)
@@ -292,7 +292,7 @@ static int begin(const ctx *k, const m2c_exact_options *o, double horizon, doubl
 }
 
 /* The polynomial c of degree n is the exact gap: its smallest root in
- * (start, horizon], polished. */
+ * (start, horizon], polished (PolyContact). */
 static int poly_search(const ctx *k, const double *c, int n, double start, double horizon, int refine, double *t)
 {
     double r;
@@ -300,6 +300,32 @@ static int poly_search(const ctx *k, const double *c, int n, double start, doubl
         return 0;
     if (refine)
         r = polish(k, r, start, horizon, start, horizon);
+    if (r > horizon)
+        r = horizon;
+    *t = r + 0.0;
+    return 1;
+}
+
+/* Circles without orbits: the windowed search's single window (no
+ * truncation, no rate), the gap evaluated as the polynomial (k->pd). */
+static int one_window(const ctx *k, double start, double horizon, int refine, double *t)
+{
+    double pp[M2C_EXACT_MAX_PARAMS], c[MAX_DEGREE + 1], s = 0.0;
+    double t1 = start + (horizon - start);
+    if (!(t1 < horizon))
+        t1 = horizon;
+    double L = t1 - start;
+    k->m->shift(k->p, start, pp);
+    int n = k->m->coefficients(pp, c);
+    if (n < 0 || n > MAX_DEGREE)
+        return -1;
+    if (!refine && fabs(c[0]) - reach(c, n, L) > 0.0)
+        return 0;
+    if (k->solver(c, n, 0.0, L, &s) != 1)
+        return 0;
+    double r = start + s;
+    if (refine)
+        r = polish(k, r, start, start + L, start, horizon);
     if (r > horizon)
         r = horizon;
     *t = r + 0.0;
@@ -333,7 +359,7 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
     if (st0 != SEARCH)
         return st0;
     if (k.pd)
-        return poly_search(&k, hb, nb, start, horizon, o.refine, t);
+        return one_window(&k, start, horizon, o.refine, t);
     double e = bound ? entry(hb, nb, mb, start, horizon) : start;
     if (!(e <= horizon))
         return 0;              /* the bound keeps the circles apart over the whole horizon */

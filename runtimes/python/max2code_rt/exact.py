@@ -150,7 +150,7 @@ class _Driver:
         x0, x1, x2, y0, y1, y2, r = self.pd
         x = (x2 * t + x1) * t + x0
         y = (y2 * t + y1) * t + y0
-        return x * x + y * y - r * r
+        return y * y - r * r + x * x
 
     def gap_dt(self, t):
         if self.pd is None:
@@ -309,7 +309,7 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
         if start is None:
             return answer
         if k.pd is not None:
-            return _poly_search(k, hb[:nb + 1], start, horizon, refine)
+            return _one_window(k, start, horizon, refine)
         e = _entry(hb, nb, mb, start, horizon) if bound else start
         if not e <= horizon:
             return None     # the bound keeps the circles apart over the whole horizon
@@ -358,6 +358,27 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
                     return None
     except _Error as exc:
         raise ValueError(f"exact_toc: {exc}") from None
+
+
+def _one_window(k: _Driver, start: float, horizon: float, refine: bool):
+    """Circles without orbits: the windowed search's single window (no
+    truncation, no rate), the gap evaluated as the polynomial (k.pd)."""
+    t1 = start + (horizon - start)
+    if not t1 < horizon:
+        t1 = horizon
+    L = t1 - start
+    c = k.coefficients(k.m.shift(k.p, start))
+    if not refine and abs(c[0]) - _reach(c, len(c) - 1, L) > 0.0:
+        return None
+    s = k.solver(c, 0.0, L)
+    if s is None:
+        return None
+    r = start + s
+    if refine:
+        r = k.polish(r, start, start + L, start, horizon)
+    if r > horizon:
+        r = horizon
+    return r + 0.0
 
 
 def _poly_search(k: _Driver, c, start: float, horizon: float, refine: bool):

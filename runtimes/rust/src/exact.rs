@@ -214,7 +214,7 @@ impl Ctx<'_> {
             Some(d) => {
                 let x = (d[2] * t + d[1]) * t + d[0];
                 let y = (d[5] * t + d[4]) * t + d[3];
-                x * x + y * y - d[6] * d[6]
+                y * y - d[6] * d[6] + x * x
             }
         }
     }
@@ -373,7 +373,7 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         Begin::Search(s) => s,
     };
     if k.pd.is_some() {
-        return Ok(poly_search(&k, &hb[..=nb], start, horizon, o.refine));
+        return one_window(&k, start, horizon, o.refine);
     }
     let mut e = if bound { entry(&hb, nb, mb, start, horizon) } else { start };
     if !(e <= horizon) {
@@ -439,6 +439,35 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
             }
         }
     }
+}
+
+/// Circles without orbits: the windowed search's single window (no
+/// truncation, no rate), the gap evaluated as the polynomial (`k.pd`).
+fn one_window(k: &Ctx, start: f64, horizon: f64, refine: bool) -> Result<Toc, &'static str> {
+    let mut t1 = start + (horizon - start);
+    if !(t1 < horizon) {
+        t1 = horizon;
+    }
+    let l = t1 - start;
+    let mut pp = [0.0f64; MAX_PARAMS];
+    let pp = &mut pp[..k.m.nparams];
+    (k.m.shift)(k.p, start, pp);
+    let mut c = [0.0f64; MAX_DEGREE + 1];
+    let n = k.coefficients(pp, &mut c)?;
+    if !refine && c[0].abs() - reach(&c, n, l) > 0.0 {
+        return Ok(Toc::NoContact);
+    }
+    let Some(s) = (k.solver)(&c[..=n], 0.0, l) else {
+        return Ok(Toc::NoContact);
+    };
+    let mut r = start + s;
+    if refine {
+        r = k.polish(r, start, start + l, start, horizon);
+    }
+    if r > horizon {
+        r = horizon;
+    }
+    Ok(Toc::Contact(r + 0.0))
 }
 
 /// The polynomial `c` is the exact gap: its smallest root in `(start, horizon]`, polished.
