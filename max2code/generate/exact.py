@@ -30,6 +30,7 @@ the same rules at t = 0 as the windowed driver).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -83,12 +84,59 @@ class ExactSection:
     gap_expr: Expr | None = None
     gap_dt_expr: Expr | None = None
     shift_exprs: tuple = ()
+    # two circles (see circle_layout): the parameters' indices in CIRCLE_ROLES order
+    # per body, when Maxima proved the exact gap to be their squared centre distance
+    # minus the squared sum of radii; the drivers' whole-horizon bound uses them
+    circles: tuple[int, ...] | None = None
 
     def functions(self) -> tuple[str, ...]:
         """The keys of the generated functions, in the order they are printed."""
         if self.polynomial:
             return ("gap", "gap_dt", "scale")
         return ("gap", "gap_dt", "scale", "truncation", "shift", "rate")
+
+
+# ---------------------------------------------------------------- two circles
+# Per body, in this order: x and y position, x and y velocity, x and y
+# acceleration, the orbit radius, the x term's angular velocity and phase,
+# the y term's, and the radius (the order of the drivers' index table).
+CIRCLE_ROLES = ("position", "position", "velocity", "velocity", "acceleration", "acceleration", "orbit_radius",
+                "angular_velocity", "phase", "angular_velocity", "phase", "radius")
+
+
+def circle_layout(mod, params) -> tuple[tuple[str, ...], str] | None:
+    """The parameters of two circles by their roles (`: body K position`
+    ...), each body declaring, in order, two positions (x, y), two
+    velocities, two accelerations, one orbit radius, two angular velocities
+    and two phases (the x term's first) and one radius; with the Maxima
+    expression of the gap they must have (the exact text's value is checked
+    against it).  None when the roles do not describe two such circles."""
+    bodies = sorted({p.body for p in mod.parameters if p.body is not None})
+    if bodies != [1, 2] or len(mod.parameters) != len(params):
+        return None
+    names: list[str] = []
+    for b in bodies:
+        by_effect: dict[str, list[str]] = {}
+        for p in mod.parameters:
+            if p.body == b:
+                by_effect.setdefault(p.effect, []).append(p.name)
+        want = {e: CIRCLE_ROLES.count(e) for e in set(CIRCLE_ROLES)}
+        if {e: len(v) for e, v in by_effect.items()} != want:
+            return None
+        taken = {e: 0 for e in want}
+        for e in CIRCLE_ROLES:
+            names.append(by_effect[e][taken[e]])
+            taken[e] += 1
+    t = mod.variable
+
+    def centre(k: int, axis: int) -> str:
+        n = names[12 * k:12 * k + 12]
+        w, ph = (n[7], n[8]) if axis == 0 else (n[9], n[10])
+        return (f"({n[axis]} + {n[2 + axis]}*{t} + {n[4 + axis]}*{t}^2/2 + {n[6]}*sin({w}*{t} + {ph}))")
+
+    gap = (f"({centre(0, 0)} - {centre(1, 0)})^2 + ({centre(0, 1)} - {centre(1, 1)})^2 "
+           f"- ({names[11]} + {names[23]})^2")
+    return tuple(names), gap
 
 
 # ---------------------------------------------------------------- Maxima
@@ -182,6 +230,9 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
              "shiftcheck": f"expand(psubst([{t} = {t} + __m2c_t0], __m2c_p) - psubst([{shift_subst}], __m2c_p))"}
     for i, sh in enumerate(mod.shifts):
         items[f"shift{i}"] = f"({sh.text})"
+    layout = circle_layout(mod, params)
+    if layout is not None:
+        items["circles"] = f"expand(__m2c_p - ({layout[1]}))"
     _note(progress, f"{mod.path}: Maxima derives the exact gap, its derivative and checks the shift ...")
     r1 = run_maxima(list(d.prelude), _with_inserted(stmts, inserts), items, fallback=mod.approximations[0].span,
                     timeout=timeout, use_cache=use_cache)
@@ -245,7 +296,10 @@ def derive_exact(d, progress: bool = False, use_cache: bool = True, timeout: flo
     if trimmed(_drop_eps(c) for c in eps_poly.coefficients) != trimmed(d.polynomial.coefficients):
         raise SourceError(origin, "internal error: the polynomial with zero error terms differs from the file's "
                                   "polynomial; please report this")
-    return _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin)
+    section = _build(mod, params, t, gap, gap_dt, shifts, eps_poly, approx, origin)
+    if layout is not None and r1.items["circles"].strip() == "0":
+        section = dataclasses.replace(section, circles=tuple(params.index(n) for n in layout[0]))
+    return section
 
 
 def _derive_polynomial_gap(d, progress: bool, use_cache: bool, timeout: float) -> "ExactSection":
@@ -683,7 +737,8 @@ def _unique(base: str, taken: set[str]) -> str:
     return name
 
 
-def render_context(target, section: ExactSection, coef_entry: str, coef_selection: bool, coef_degree: int) -> dict:
+def render_context(target, section: ExactSection, coef_entry: str, coef_selection: bool, coef_degree: int,
+                   complete: bool = True) -> dict:
     """What templates/<lang>/exact.j2 prints: every function's lines as text."""
     params = section.params
     taken = set(params) | {section.variable}
@@ -709,4 +764,7 @@ def render_context(target, section: ExactSection, coef_entry: str, coef_selectio
     local = {b: _unique(b, taken) for b in ("out", "rate", "pv", "mo", "wk", "rk")}
     return {"section": section, "fns": fns, "params": list(params), "nparams": len(params),
             "variable": section.variable, "coef_entry": coef_entry, "coef_selection": coef_selection,
-            "coef_degree": coef_degree, "local": local, "name": section.name, "polynomial": section.polynomial}
+            "coef_degree": coef_degree, "local": local, "name": section.name, "polynomial": section.polynomial,
+            # the circles' bound and polynomial stand in for the generated functions: only in double
+            # code whose coefficients take every effect (never -1 for finite parameters)
+            "circles": list(section.circles) if section.circles and complete and not target.single else None}

@@ -113,7 +113,7 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     ordered = [general] + [v for v in vs if v is not general]
     functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
-    section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree)
+    section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree, selection.complete)
     if check:
         check.coefficient_functions([(v.function, v.zeros, v.polynomial) for v in ordered])
         check.selection(selection, vs)
@@ -126,12 +126,13 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
                          header_name=header_name)
 
 
-def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection: bool, degree: int):
+def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection: bool, degree: int,
+           complete: bool = True):
     """The exact-motion section and its template context, when requested."""
     if not req.exact:
         return None, None
     section = derive_exact(d, progress=req.progress, use_cache=req.use_cache, timeout=req.maxima_timeout)
-    return section, render_context(tgt, section, coef_entry, selection, degree)
+    return section, render_context(tgt, section, coef_entry, selection, degree, complete)
 
 
 def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives,

@@ -3,7 +3,7 @@ IMPLEMENTATION MODULE ExactToc ;
 (* The driver of docs/exact-motion.md, transcribed operation for operation
    from the C runtime (runtimes/c/src/m2c_exact.c). *)
 
-FROM CMath IMPORT ldexp ;
+FROM CMath IMPORT ldexp, cos, sqrt, floor ;
 FROM Roots IMPORT SmallestRoot, IsFinite, MaxDegree ;
 
 CONST
@@ -24,6 +24,11 @@ VAR
    Par: Params ;
    CurSolver: SolverProc ;
    CurZeroTol: REAL ;
+   (* two circles without orbits: the differences of GapAt (x0, x1, x2, y0,
+      y1, y2, R); the gap is then this polynomial (UsePd) *)
+   UsePd: BOOLEAN ;
+   Pd: ARRAY [0..6] OF REAL ;
+   Two50: REAL ;         (* 2^-50 *)
 
 
 PROCEDURE Defaults (VAR o: Options) ;
@@ -82,6 +87,140 @@ PROCEDURE FloorAt (t: REAL) : REAL ;
 BEGIN
    RETURN Floor * Cur.scale (Par, t)
 END FloorAt ;
+
+
+(* The exact gap and its derivative: the motion's, or for two circles
+   without orbits the centres' distance squared minus the radii's sum
+   squared, differences first (Pd). *)
+PROCEDURE GapAt (t: REAL) : REAL ;
+VAR
+   x, y: REAL ;
+BEGIN
+   IF NOT UsePd THEN RETURN Cur.gap (Par, t) END ;
+   x := (Pd[2] * t + Pd[1]) * t + Pd[0] ;
+   y := (Pd[5] * t + Pd[4]) * t + Pd[3] ;
+   RETURN y * y - Pd[6] * Pd[6] + x * x
+END GapAt ;
+
+
+PROCEDURE GapDtAt (t: REAL) : REAL ;
+VAR
+   x, y: REAL ;
+BEGIN
+   IF NOT UsePd THEN RETURN Cur.gapDt (Par, t) END ;
+   x := (Pd[2] * t + Pd[1]) * t + Pd[0] ;
+   y := (Pd[5] * t + Pd[4]) * t + Pd[3] ;
+   RETURN 2.0 * (x * (2.0 * Pd[2] * t + Pd[1]) + y * (2.0 * Pd[5] * t + Pd[4]))
+END GapDtAt ;
+
+
+(* ---- Two circles: the whole-horizon bound (docs/exact-motion.md) ----
+   H(t) = |D(t)|^2 - (R + rho1 + rho2)^2, D the centres' difference without
+   orbits, R the sum of radii, rho a bound on an orbit offset's length: the
+   gap is positive wherever H > 0. *)
+
+(* A bound on |(sin(wx t + phx), sin(wy t + phy))| times |radius|: with
+   wx = wy the squared length is 1 - cos(A + B) cos(phx - phy) <= 1 +
+   |cos(phx - phy)| (1 for a circular orbit), else at most 2. *)
+PROCEDURE OrbitReach (radius, wx, phx, wy, phy: REAL) : REAL ;
+VAR
+   k2: REAL ;
+BEGIN
+   IF radius = 0.0 THEN RETURN 0.0 END ;
+   k2 := 2.0 ;
+   IF wx = wy THEN
+      k2 := 1.0 + (ABS (cos (phx - phy)) + Two50 * (1.0 + ABS (phx) + ABS (phy)))
+   END ;
+   RETURN ABS (radius) * sqrt (k2) * Safe
+END OrbitReach ;
+
+
+(* H's coefficients h[0..4], the differences Pd, margin a bound on the
+   rounding of H on [0, T]; returns rho1 + rho2. *)
+PROCEDURE CirclesBound (VAR m: Motion; VAR p: ARRAY OF REAL; T: REAL;
+                        VAR h: Coeffs; VAR margin: REAL) : REAL ;
+VAR
+   x0, y0, x1, y1, x2, y2, rho, r, big, sx, sy: REAL ;
+BEGIN
+   x0 := p[m.circles[0]] - p[m.circles[12]] ;
+   y0 := p[m.circles[1]] - p[m.circles[13]] ;
+   x1 := p[m.circles[2]] - p[m.circles[14]] ;
+   y1 := p[m.circles[3]] - p[m.circles[15]] ;
+   x2 := 0.5 * (p[m.circles[4]] - p[m.circles[16]]) ;
+   y2 := 0.5 * (p[m.circles[5]] - p[m.circles[17]]) ;
+   rho := OrbitReach (p[m.circles[6]], p[m.circles[7]], p[m.circles[8]], p[m.circles[9]], p[m.circles[10]])
+          + OrbitReach (p[m.circles[18]], p[m.circles[19]], p[m.circles[20]], p[m.circles[21]],
+                        p[m.circles[22]]) ;
+   r := ABS (p[m.circles[11]] + p[m.circles[23]]) ;
+   big := (r + rho) * Safe ;
+   h[0] := x0 * x0 + y0 * y0 - big * big ;
+   h[1] := 2.0 * (x0 * x1 + y0 * y1) ;
+   h[2] := x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2) ;
+   h[3] := 2.0 * (x1 * x2 + y1 * y2) ;
+   h[4] := x2 * x2 + y2 * y2 ;
+   sx := ABS (x0) + (ABS (x1) + ABS (x2) * T) * T ;
+   sy := ABS (y0) + (ABS (y1) + ABS (y2) * T) * T ;
+   margin := Floor * (sx * sx + sy * sy + big * big) ;
+   Pd[0] := x0 ; Pd[1] := x1 ; Pd[2] := x2 ;
+   Pd[3] := y0 ; Pd[4] := y1 ; Pd[5] := y2 ; Pd[6] := r ;
+   RETURN rho
+END CirclesBound ;
+
+
+(* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
+   > 0, before it), or 2 T + 1 when there is none. *)
+PROCEDURE Entry (VAR h: Coeffs; n: INTEGER; margin, lo, T: REAL) : REAL ;
+VAR
+   q: Coeffs ;
+   i: INTEGER ;
+   r: REAL ;
+BEGIN
+   IF Value (h, n, lo) <= 2.0 * margin THEN RETURN lo END ;
+   FOR i := 0 TO n DO q[i] := h[i] END ;
+   q[0] := h[0] - 2.0 * margin ;
+   IF SmallestRoot (q, n, lo, T, r) THEN RETURN r END ;
+   RETURN 2.0 * T + 1.0
+END Entry ;
+
+
+(* Circles without orbits: the windowed search's single window (no
+   truncation, no rate), the gap evaluated as the polynomial (Pd). *)
+PROCEDURE OneWindow (start, horizon: REAL; refine: BOOLEAN; VAR t: REAL) : INTEGER ;
+VAR
+   pp: Params ;
+   c: Coeffs ;
+   n: INTEGER ;
+   t1, L, s, r: REAL ;
+BEGIN
+   t1 := start + (horizon - start) ;
+   IF NOT (t1 < horizon) THEN t1 := horizon END ;
+   L := t1 - start ;
+   Cur.shift (Par, start, pp) ;
+   n := Cur.coefficients (pp, c) ;
+   IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
+   IF NOT refine AND (ABS (c[0]) - Reach (c, n, L) > 0.0) THEN RETURN 0 END ;
+   IF NOT CurSolver (c, n, 0.0, L, s) THEN RETURN 0 END ;
+   r := start + s ;
+   IF refine THEN r := Polish (r, start, start + L, start, horizon) END ;
+   IF r > horizon THEN r := horizon END ;
+   t := r + 0.0 ;
+   RETURN 1
+END OneWindow ;
+
+
+(* The polynomial c of degree n is the exact gap: its smallest root in
+   (start, horizon], polished. *)
+PROCEDURE PolySearch (VAR c: Coeffs; n: INTEGER; start, horizon: REAL; refine: BOOLEAN;
+                      VAR t: REAL) : INTEGER ;
+VAR
+   r: REAL ;
+BEGIN
+   IF NOT CurSolver (c, n, start, horizon, r) THEN RETURN 0 END ;
+   IF refine THEN r := Polish (r, start, horizon, start, horizon) END ;
+   IF r > horizon THEN r := horizon END ;
+   t := r + 0.0 ;
+   RETURN 1
+END PolySearch ;
 
 
 (* The first root of the exact gap in [t0, t0 + L] (closed) or (t0, t0 + L]:
@@ -150,14 +289,14 @@ VAR
    g, d, xn, gn: REAL ;
    i: INTEGER ;
 BEGIN
-   g := Cur.gap (Par, x) ;
+   g := GapAt (x) ;
    FOR i := 1 TO PolishSteps DO
       IF g = 0.0 THEN RETURN x END ;
-      d := Cur.gapDt (Par, x) ;
+      d := GapDtAt (x) ;
       IF NOT (d # 0.0) THEN RETURN x END ;
       xn := x - g / d ;
       IF NOT ((xn >= a) AND (xn <= b) AND (xn > lo) AND (xn <= hi)) THEN RETURN x END ;
-      gn := Cur.gap (Par, xn) ;
+      gn := GapAt (xn) ;
       IF NOT (ABS (gn) < ABS (g)) THEN RETURN x END ;
       x := xn ;
       g := gn
@@ -178,7 +317,7 @@ BEGIN
       IF NOT (tau < horizon) THEN RETURN horizon END ;
       band := FloorAt (tau) ;
       IF CurZeroTol > band THEN band := CurZeroTol END ;
-      IF ABS (Cur.gap (Par, tau)) > 2.0 * band THEN RETURN tau END ;
+      IF ABS (GapAt (tau)) > 2.0 * band THEN RETURN tau END ;
       tau := 2.0 * tau
    END ;
    RETURN horizon
@@ -216,13 +355,13 @@ BEGIN
    start := 0.0 ;
    band0 := FloorAt (0.0) ;
    IF o.zeroTol > band0 THEN band0 := o.zeroTol END ;
-   g0 := Cur.gap (Par, 0.0) ;
+   g0 := GapAt (0.0) ;
    IF g0 < -band0 THEN          (* inside each other at t = 0: not a contact, its own answer *)
       t := 0.0 ;
       RETURN Overlapped
    END ;
    IF ABS (g0) <= band0 THEN
-      d0 := Cur.gapDt (Par, 0.0) ;
+      d0 := GapDtAt (0.0) ;
       IF d0 < 0.0 THEN
          t := 0.0 ;
          RETURN 1
@@ -237,13 +376,29 @@ END Begin ;
 PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
                         VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
-   st, n: INTEGER ;
-   start, span, h, rate, t0, t1, w, L, r, a, b, s: REAL ;
+   st, n, nb: INTEGER ;
+   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho: REAL ;
+   bound: BOOLEAN ;
    pp: Params ;
-   c: Coeffs ;
+   c, hb: Coeffs ;
 BEGIN
+   UsePd := FALSE ;
+   bound := FALSE ;
+   nb := 0 ;
+   mb := 0.0 ;
+   (* (non-finite parameters or horizon: Begin answers before any use) *)
+   IF m.hasCircles AND (VAL (INTEGER, HIGH (p)) + 1 >= m.nparams) THEN
+      bound := TRUE ;
+      rho := CirclesBound (m, p, horizon, hb, mb) ;
+      nb := 4 ;
+      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END ;
+      IF rho = 0.0 THEN UsePd := TRUE END    (* no orbit: the gap is the polynomial H, no windows *)
+   END ;
    st := Begin (m, p, horizon, o, t, start) ;
    IF st # Search THEN RETURN st END ;
+   IF UsePd THEN RETURN OneWindow (start, horizon, o.refine, t) END ;
+   IF bound THEN e := Entry (hb, nb, mb, start, horizon) ELSE e := start END ;
+   IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
    span := horizon - start ;
    h := span ;
    rate := Cur.rate (Par) ;
@@ -251,7 +406,16 @@ BEGIN
    IF span / h > MaxWindows THEN RETURN -1 END ;
    t0 := start ;
    w := 0.0 ;
-   WHILE t0 < horizon DO
+   LOOP
+      IF e > t0 THEN             (* skip the windows that end before the bound's zone *)
+         wj := floor ((e - start) / h) ;
+         IF (wj > 0.0) AND (start + wj * h > e) THEN wj := wj - 1.0 END ;
+         IF wj > w THEN
+            w := wj ;
+            t0 := start + w * h
+         END
+      END ;
+      IF NOT (t0 < horizon) THEN RETURN 0 END ;
       t1 := start + (w + 1.0) * h ;
       IF NOT (t1 < horizon) THEN t1 := horizon END ;
       L := t1 - t0 ;
@@ -279,9 +443,12 @@ BEGIN
          RETURN 1
       END ;
       t0 := t1 ;
-      w := w + 1.0
-   END ;
-   RETURN 0
+      w := w + 1.0 ;
+      IF bound AND (t0 < horizon) THEN
+         e := Entry (hb, nb, mb, t0, horizon) ;
+         IF NOT (e <= horizon) THEN RETURN 0 END
+      END
+   END
 END FirstContact ;
 
 
@@ -314,7 +481,7 @@ PROCEDURE PolyContact (VAR m: PolyMotion; VAR p: ARRAY OF REAL; horizon: REAL;
                        VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
    st, n: INTEGER ;
-   start, r: REAL ;
+   start: REAL ;
    c: Coeffs ;
    mo: Motion ;
 BEGIN
@@ -327,20 +494,20 @@ BEGIN
    mo.scale := m.scale ;
    mo.truncation := NoValue ;
    mo.rate := NoRate ;
+   mo.hasCircles := FALSE ;
+   UsePd := FALSE ;
    st := Begin (mo, p, horizon, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    n := Cur.coefficients (Par, c) ;
    IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
-   IF NOT CurSolver (c, n, start, horizon, r) THEN RETURN 0 END ;
-   IF o.refine THEN r := Polish (r, start, horizon, start, horizon) END ;
-   IF r > horizon THEN r := horizon END ;
-   t := r + 0.0 ;
-   RETURN 1
+   RETURN PolySearch (c, n, start, horizon, o.refine, t)
 END PolyContact ;
 
 
 BEGIN
    Floor := ldexp (1.0, -46) ;
    Safe := 1.0 + ldexp (1.0, -40) ;
-   TwoM30 := ldexp (1.0, -30)
+   TwoM30 := ldexp (1.0, -30) ;
+   Two50 := ldexp (1.0, -50) ;
+   UsePd := FALSE
 END ExactToc.

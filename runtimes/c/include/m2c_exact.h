@@ -33,6 +33,12 @@ typedef struct m2c_motion {
     double (*truncation)(const double *p, double h);
     /* the largest angular rate (rad/s) of the approximated functions that matter */
     double (*rate)(const double *p);
+    /* two circles, or NULL: the indices in p of, per body, x and y position, x and y velocity,
+       x and y acceleration, orbit radius, the x term's angular velocity and phase, the y term's,
+       radius (24 entries), when the gap is their squared centre distance minus the squared sum
+       of radii and coefficients covers every effect; the driver then bounds the whole horizon
+       first and takes circles without orbits on their exact polynomial (docs/exact-motion.md) */
+    const int *circles;
 } m2c_motion;
 
 /* Options (knobs).  m2c_exact_defaults fills the defaults. */

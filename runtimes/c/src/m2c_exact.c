@@ -16,6 +16,8 @@ typedef struct {
     const double *p;
     int (*solver)(const double *c, int degree, double lo, double hi, double *t);
     double zero_tol;
+    const double *pd;   /* two circles without orbits: the centres' difference (x0, x1, x2, y0, y1, y2) and
+                           the sum of radii; the gap is then this polynomial (NULL: the motion's gap) */
 } ctx;
 
 void m2c_exact_defaults(m2c_exact_options *o)
@@ -58,6 +60,88 @@ static double reach(const double *c, int n, double L)
 static double floor_at(const ctx *k, double t)
 {
     return FLOOR * k->m->scale(k->p, t);
+}
+
+/* The exact gap and its derivative: the motion's, or for two circles
+ * without orbits the centres' distance squared minus the radii's sum
+ * squared, differences first (k->pd). */
+static double gap_at(const ctx *k, double t)
+{
+    if (!k->pd)
+        return k->m->gap(k->p, t);
+    const double *d = k->pd;
+    double x = (d[2] * t + d[1]) * t + d[0];
+    double y = (d[5] * t + d[4]) * t + d[3];
+    return y * y - d[6] * d[6] + x * x;
+}
+
+static double gap_dt_at(const ctx *k, double t)
+{
+    if (!k->pd)
+        return k->m->gap_dt(k->p, t);
+    const double *d = k->pd;
+    double x = (d[2] * t + d[1]) * t + d[0];
+    double y = (d[5] * t + d[4]) * t + d[3];
+    return 2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]));
+}
+
+/* ---- Two circles: the whole-horizon bound (docs/exact-motion.md) ----
+ * Without its orbit a centre moves on a parabola; the orbit term moves it
+ * by at most rho from there.  So the gap is positive wherever the
+ * parabolas' distance exceeds the sum of radii plus both rho:
+ * H(t) = |D(t)|^2 - (R + rho1 + rho2)^2 > 0, a polynomial of degree <= 4. */
+
+/* A bound on |(sin(wx t + phx), sin(wy t + phy))| times |radius|: with
+ * wx = wy the squared length is 1 - cos(A + B) cos(phx - phy) <= 1 +
+ * |cos(phx - phy)| (1 for a circular orbit), else at most 2. */
+static double orbit_reach(double radius, double wx, double phx, double wy, double phy)
+{
+    if (radius == 0.0)
+        return 0.0;
+    double k2 = 2.0;
+    if (wx == wy)
+        k2 = 1.0 + (fabs(cos(phx - phy)) + 0x1p-50 * (1.0 + fabs(phx) + fabs(phy)));
+    return fabs(radius) * sqrt(k2) * SAFE;
+}
+
+/* H's coefficients h[0..4] from the circles' parameters (ix: the motion's
+ * circles table), d[0..6] the differences of gap_at, *margin a bound on the
+ * rounding of H on [0, T]; returns rho1 + rho2. */
+static double circles_bound(const int *ix, const double *p, double T, double *h, double *d, double *margin)
+{
+    const int *jx = ix + 12;
+    double x0 = p[ix[0]] - p[jx[0]], y0 = p[ix[1]] - p[jx[1]];
+    double x1 = p[ix[2]] - p[jx[2]], y1 = p[ix[3]] - p[jx[3]];
+    double x2 = 0.5 * (p[ix[4]] - p[jx[4]]), y2 = 0.5 * (p[ix[5]] - p[jx[5]]);
+    double rho = orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]]) +
+                 orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]);
+    double r = fabs(p[ix[11]] + p[jx[11]]);
+    double R = (r + rho) * SAFE;
+    h[0] = x0 * x0 + y0 * y0 - R * R;
+    h[1] = 2.0 * (x0 * x1 + y0 * y1);
+    h[2] = x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2);
+    h[3] = 2.0 * (x1 * x2 + y1 * y2);
+    h[4] = x2 * x2 + y2 * y2;
+    double sx = fabs(x0) + (fabs(x1) + fabs(x2) * T) * T;
+    double sy = fabs(y0) + (fabs(y1) + fabs(y2) * T) * T;
+    *margin = FLOOR * (sx * sx + sy * sy + R * R);
+    d[0] = x0, d[1] = x1, d[2] = x2, d[3] = y0, d[4] = y1, d[5] = y2, d[6] = r;
+    return rho;
+}
+
+/* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
+ * > 0, before it), or 2 T + 1 when there is none. */
+static double entry(const double *h, int n, double margin, double lo, double T)
+{
+    if (value(h, n, lo) <= 2.0 * margin)
+        return lo;
+    double q[5], r;
+    for (int i = 0; i <= n; i++)
+        q[i] = h[i];
+    q[0] = h[0] - 2.0 * margin;
+    if (m2c_smallest_root(q, n, lo, T, &r) == 1)
+        return r;
+    return 2.0 * T + 1.0;
 }
 
 /* The first root of the exact gap in [t0, t0 + L] (closed: t0 counts) or
@@ -130,17 +214,17 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
  * [a, b] and (lo, hi]. */
 static double polish(const ctx *k, double x, double a, double b, double lo, double hi)
 {
-    double g = k->m->gap(k->p, x);
+    double g = gap_at(k, x);
     for (int i = 0; i < POLISH_STEPS; i++) {
         if (g == 0.0)
             break;
-        double d = k->m->gap_dt(k->p, x);
+        double d = gap_dt_at(k, x);
         if (!(d != 0.0))
             break;
         double xn = x - g / d;
         if (!(xn >= a && xn <= b && xn > lo && xn <= hi))
             break;
-        double gn = k->m->gap(k->p, xn);
+        double gn = gap_at(k, xn);
         if (!(fabs(gn) < fabs(g)))
             break;
         x = xn;
@@ -161,7 +245,7 @@ static double depart(const ctx *k, double horizon, double band0, double d0)
         double band = floor_at(k, tau);
         if (k->zero_tol > band)
             band = k->zero_tol;
-        if (fabs(k->m->gap(k->p, tau)) > 2.0 * band)
+        if (fabs(gap_at(k, tau)) > 2.0 * band)
             return tau;
         tau = 2.0 * tau;
     }
@@ -188,13 +272,13 @@ static int begin(const ctx *k, const m2c_exact_options *o, double horizon, doubl
     double band0 = floor_at(k, 0.0);
     if (o->zero_tol > band0)
         band0 = o->zero_tol;
-    double g0 = m->gap(p, 0.0);
+    double g0 = gap_at(k, 0.0);
     if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
         *t = 0.0;
         return M2C_EXACT_OVERLAPPED;
     }
     if (fabs(g0) <= band0) {
-        double d0 = m->gap_dt(p, 0.0);
+        double d0 = gap_dt_at(k, 0.0);
         if (d0 < 0.0) {
             *t = 0.0;
             return 1;
@@ -204,6 +288,47 @@ static int begin(const ctx *k, const m2c_exact_options *o, double horizon, doubl
             return 0;
     }
     return SEARCH;
+}
+
+/* The polynomial c of degree n is the exact gap: its smallest root in
+ * (start, horizon], polished (PolyContact). */
+static int poly_search(const ctx *k, const double *c, int n, double start, double horizon, int refine, double *t)
+{
+    double r;
+    if (k->solver(c, n, start, horizon, &r) != 1)
+        return 0;
+    if (refine)
+        r = polish(k, r, start, horizon, start, horizon);
+    if (r > horizon)
+        r = horizon;
+    *t = r + 0.0;
+    return 1;
+}
+
+/* Circles without orbits: the windowed search's single window (no
+ * truncation, no rate), the gap evaluated as the polynomial (k->pd). */
+static int one_window(const ctx *k, double start, double horizon, int refine, double *t)
+{
+    double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], s = 0.0;
+    double t1 = start + (horizon - start);
+    if (!(t1 < horizon))
+        t1 = horizon;
+    double L = t1 - start;
+    k->m->shift(k->p, start, pp);
+    int n = k->m->coefficients(pp, c);
+    if (n < 0 || n > M2C_MAX_DEGREE)
+        return -1;
+    if (!refine && fabs(c[0]) - reach(c, n, L) > 0.0)
+        return 0;
+    if (k->solver(c, n, 0.0, L, &s) != 1)
+        return 0;
+    double r = start + s;
+    if (refine)
+        r = polish(k, r, start, start + L, start, horizon);
+    if (r > horizon)
+        r = horizon;
+    *t = r + 0.0;
+    return 1;
 }
 
 int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *options,
@@ -216,11 +341,27 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         m2c_exact_defaults(&o);
     if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > M2C_MAX_DEGREE)
         return -1;
-    ctx k = {m, p, o.solver, o.zero_tol};
+    ctx k = {m, p, o.solver, o.zero_tol, 0};
+    double hb[5], pd[7], mb = 0.0;
+    int nb = 0, bound = 0;
+    if (m->circles) {          /* (non-finite parameters or horizon: begin answers before any use) */
+        bound = 1;
+        double rho = circles_bound(m->circles, p, horizon, hb, pd, &mb);
+        nb = 4;
+        while (nb > 0 && hb[nb] == 0.0)
+            nb--;
+        if (rho == 0.0)        /* no orbit: the gap is the polynomial H, no windows */
+            k.pd = pd;
+    }
     double start;
     int st0 = begin(&k, &o, horizon, &start, t);
     if (st0 != SEARCH)
         return st0;
+    if (k.pd)
+        return one_window(&k, start, horizon, o.refine, t);
+    double e = bound ? entry(hb, nb, mb, start, horizon) : start;
+    if (!(e <= horizon))
+        return 0;              /* the bound keeps the circles apart over the whole horizon */
     double span = horizon - start;
     double h = span;
     double rate = m->rate(p);
@@ -228,8 +369,19 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         h = o.window_angle / rate;
     if (span / h > M2C_EXACT_MAX_WINDOWS)
         return -1;
-    double t0 = start;
-    for (double w = 0.0; t0 < horizon; w += 1.0) {
+    double w = 0.0, t0 = start;
+    for (;;) {
+        if (e > t0) {          /* skip the windows that end before the bound's zone */
+            double wj = floor((e - start) / h);
+            if (wj > 0.0 && start + wj * h > e)
+                wj -= 1.0;
+            if (wj > w) {
+                w = wj;
+                t0 = start + w * h;
+            }
+        }
+        if (!(t0 < horizon))
+            return 0;
         double t1 = start + (w + 1.0) * h;
         if (!(t1 < horizon))
             t1 = horizon;
@@ -261,8 +413,13 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
             return 1;
         }
         t0 = t1;
+        w += 1.0;
+        if (bound && t0 < horizon) {
+            e = entry(hb, nb, mb, t0, horizon);
+            if (!(e <= horizon))
+                return 0;
+        }
     }
-    return 0;
 }
 
 int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizon,
@@ -276,22 +433,15 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
     if (!pm || !p || !t || pm->nparams < 0 || pm->nparams > M2C_EXACT_MAX_PARAMS || pm->max_degree > M2C_MAX_DEGREE)
         return -1;
     /* the windowed driver's motion without shift, truncation and rate, which this path never calls */
-    m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0};
-    ctx k = {&m, p, o.solver, o.zero_tol};
+    m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0};
+    ctx k = {&m, p, o.solver, o.zero_tol, 0};
     double start;
     int st0 = begin(&k, &o, horizon, &start, t);
     if (st0 != SEARCH)
         return st0;
-    double c[M2C_MAX_DEGREE + 1], r;
+    double c[M2C_MAX_DEGREE + 1];
     int n = m.coefficients(p, c);
     if (n < 0 || n > M2C_MAX_DEGREE)
         return -1;
-    if (o.solver(c, n, start, horizon, &r) != 1)
-        return 0;
-    if (o.refine)
-        r = polish(&k, r, start, horizon, start, horizon);
-    if (r > horizon)
-        r = horizon;
-    *t = r + 0.0;
-    return 1;
+    return poly_search(&k, c, n, start, horizon, o.refine, t);
 }

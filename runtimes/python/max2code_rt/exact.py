@@ -40,6 +40,11 @@ class Motion:
     scale: Callable[[Sequence[float], float], float]     # majorant of the gap's rounding error / unit roundoff
     truncation: Callable[[Sequence[float], float], float]   # bound on |gap - polynomial| over [0, h]
     rate: Callable[[Sequence[float]], float]             # largest angular rate (rad/s) that matters
+    # two circles, or None: the indices in p of, per body, x and y position, x and y velocity, x and y
+    # acceleration, orbit radius, the x term's angular velocity and phase, the y term's, radius (24),
+    # when the gap is their squared centre distance minus the squared sum of radii and coefficients
+    # takes every effect: the whole-horizon bound first, circles without orbits on their polynomial
+    circles: Sequence[int] | None = None
 
 
 @dataclass(frozen=True)
@@ -86,12 +91,73 @@ def _reach(c, n, L):
     return b * L * SAFE
 
 
+def _orbit_reach(radius, wx, phx, wy, phy):
+    """A bound on |(sin(wx t + phx), sin(wy t + phy))| times |radius|: with
+    wx = wy the squared length is 1 - cos(A + B) cos(phx - phy) <= 1 +
+    |cos(phx - phy)| (1 for a circular orbit), else at most 2."""
+    if radius == 0.0:
+        return 0.0
+    k2 = 2.0
+    if wx == wy:
+        k2 = 1.0 + (abs(math.cos(phx - phy)) + 2.0 ** -50 * (1.0 + abs(phx) + abs(phy)))
+    return abs(radius) * math.sqrt(k2) * SAFE
+
+
+def _circles_bound(ix, p, T):
+    """H(t) = |D(t)|^2 - (R + rho1 + rho2)^2 (D the centres' difference
+    without orbits, R the sum of radii, rho a bound on an orbit offset's
+    length): its coefficients, the differences (x0, x1, x2, y0, y1, y2, R)
+    of the gap without orbits, a bound on H's rounding on [0, T], and rho1 + rho2."""
+    jx = ix[12:]
+    x0, y0 = p[ix[0]] - p[jx[0]], p[ix[1]] - p[jx[1]]
+    x1, y1 = p[ix[2]] - p[jx[2]], p[ix[3]] - p[jx[3]]
+    x2, y2 = 0.5 * (p[ix[4]] - p[jx[4]]), 0.5 * (p[ix[5]] - p[jx[5]])
+    rho = (_orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]])
+           + _orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]))
+    r = abs(p[ix[11]] + p[jx[11]])
+    R = (r + rho) * SAFE
+    h = [x0 * x0 + y0 * y0 - R * R, 2.0 * (x0 * x1 + y0 * y1), x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2),
+         2.0 * (x1 * x2 + y1 * y2), x2 * x2 + y2 * y2]
+    sx = abs(x0) + (abs(x1) + abs(x2) * T) * T
+    sy = abs(y0) + (abs(y1) + abs(y2) * T) * T
+    margin = FLOOR * (sx * sx + sy * sy + R * R)
+    return h, (x0, x1, x2, y0, y1, y2, r), margin, rho
+
+
+def _entry(h, n, margin, lo, T):
+    """The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the
+    gap > 0, before it), or 2 T + 1 when there is none."""
+    if _value(h, n, lo) <= 2.0 * margin:
+        return lo
+    q = list(h[:n + 1])
+    q[0] = h[0] - 2.0 * margin
+    r = smallest_root(q, lo, T)
+    return 2.0 * T + 1.0 if r is None else r
+
+
 class _Driver:
     def __init__(self, m: Motion, p, solver, zero_tol: float):
         self.m, self.p, self.solver, self.zero_tol = m, p, solver, zero_tol
+        self.pd = None      # two circles without orbits: the differences of gap(); the gap is this polynomial
 
     def floor_at(self, t):
         return FLOOR * self.m.scale(self.p, t)
+
+    def gap(self, t):
+        if self.pd is None:
+            return self.m.gap(self.p, t)
+        x0, x1, x2, y0, y1, y2, r = self.pd
+        x = (x2 * t + x1) * t + x0
+        y = (y2 * t + y1) * t + y0
+        return y * y - r * r + x * x
+
+    def gap_dt(self, t):
+        if self.pd is None:
+            return self.m.gap_dt(self.p, t)
+        x0, x1, x2, y0, y1, y2, r = self.pd
+        x = (x2 * t + x1) * t + x0
+        y = (y2 * t + y1) * t + y0
+        return 2.0 * (x * (2.0 * x2 * t + x1) + y * (2.0 * y2 * t + y1))
 
     def coefficients(self, pp):
         try:
@@ -147,17 +213,17 @@ class _Driver:
         return None if s is None else (t0 + s, t0 + x, t0 + L)
 
     def polish(self, x, a, b, lo, hi):
-        g = self.m.gap(self.p, x)
+        g = self.gap(x)
         for _ in range(POLISH_STEPS):
             if g == 0.0:
                 break
-            d = self.m.gap_dt(self.p, x)
+            d = self.gap_dt(x)
             if not d != 0.0:
                 break
             xn = x - g / d
             if not (xn >= a and xn <= b and xn > lo and xn <= hi):
                 break
-            gn = self.m.gap(self.p, xn)
+            gn = self.gap(xn)
             if not abs(gn) < abs(g):
                 break
             x, g = xn, gn
@@ -173,7 +239,7 @@ class _Driver:
             band = self.floor_at(tau)
             if self.zero_tol > band:
                 band = self.zero_tol
-            if abs(self.m.gap(self.p, tau)) > 2.0 * band:
+            if abs(self.gap(tau)) > 2.0 * band:
                 return tau
             tau = 2.0 * tau
         return horizon
@@ -195,11 +261,11 @@ def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float):
     band0 = k.floor_at(0.0)
     if zero_tol > band0:
         band0 = zero_tol
-    g0 = m.gap(p, 0.0)
+    g0 = k.gap(0.0)
     if g0 < -band0:         # inside each other at t = 0: not a contact, its own answer
         return OVERLAPPED, None
     if abs(g0) <= band0:
-        d0 = m.gap_dt(p, 0.0)
+        d0 = k.gap_dt(0.0)
         if d0 < 0.0:
             return 0.0, None
         start = k.depart(horizon, band0, d0)
@@ -228,10 +294,24 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
     horizon = float(horizon)
     p = [float(x) for x in p]
     k = _Driver(m, p, solver, zero_tol)
+    circles = getattr(m, "circles", None)
+    bound = circles is not None and all(math.isfinite(x) for x in p)
+    if bound:       # (a non-finite horizon: _begin answers before any use)
+        hb, pd, mb, rho = _circles_bound(circles, p, horizon)
+        nb = 4
+        while nb > 0 and hb[nb] == 0.0:
+            nb -= 1
+        if rho == 0.0:      # no orbit: the gap is the polynomial H, no windows
+            k.pd = pd
     try:
         answer, start = _begin(k, p, horizon, window_angle, zero_tol)
         if start is None:
             return answer
+        if k.pd is not None:
+            return _one_window(k, start, horizon, refine)
+        e = _entry(hb, nb, mb, start, horizon) if bound else start
+        if not e <= horizon:
+            return None     # the bound keeps the circles apart over the whole horizon
         span = horizon - start
         h = span
         rate = m.rate(p)
@@ -241,7 +321,16 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
             raise _Error("more windows than MAX_WINDOWS")
         t0 = start
         w = 0.0
-        while t0 < horizon:
+        while True:
+            if e > t0:      # skip the windows that end before the bound's zone
+                wj = float(math.floor((e - start) / h))
+                if wj > 0.0 and start + wj * h > e:
+                    wj -= 1.0
+                if wj > w:
+                    w = wj
+                    t0 = start + w * h
+            if not t0 < horizon:
+                return None
             t1 = start + (w + 1.0) * h
             if not t1 < horizon:
                 t1 = horizon
@@ -262,9 +351,45 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
                 return r + 0.0
             t0 = t1
             w += 1.0
-        return None
+            if bound and t0 < horizon:
+                e = _entry(hb, nb, mb, t0, horizon)
+                if not e <= horizon:
+                    return None
     except _Error as exc:
         raise ValueError(f"exact_toc: {exc}") from None
+
+
+def _one_window(k: _Driver, start: float, horizon: float, refine: bool):
+    """Circles without orbits: the windowed search's single window (no
+    truncation, no rate), the gap evaluated as the polynomial (k.pd)."""
+    t1 = start + (horizon - start)
+    if not t1 < horizon:
+        t1 = horizon
+    L = t1 - start
+    c = k.coefficients(k.m.shift(k.p, start))
+    if not refine and abs(c[0]) - _reach(c, len(c) - 1, L) > 0.0:
+        return None
+    s = k.solver(c, 0.0, L)
+    if s is None:
+        return None
+    r = start + s
+    if refine:
+        r = k.polish(r, start, start + L, start, horizon)
+    if r > horizon:
+        r = horizon
+    return r + 0.0
+
+
+def _poly_search(k: _Driver, c, start: float, horizon: float, refine: bool):
+    """The polynomial c is the exact gap: its smallest root in (start, horizon], polished."""
+    r = k.solver(c, start, horizon)
+    if r is None:
+        return None
+    if refine:
+        r = k.polish(r, start, horizon, start, horizon)
+    if r > horizon:
+        r = horizon
+    return r + 0.0
 
 
 def poly_toc(m: PolyMotion, p: Sequence[float], horizon: float, *, window_angle: float = WINDOW_ANGLE,
@@ -283,14 +408,6 @@ def poly_toc(m: PolyMotion, p: Sequence[float], horizon: float, *, window_angle:
         answer, start = _begin(k, p, horizon, window_angle, zero_tol)
         if start is None:
             return answer
-        c = k.coefficients(p)
-        r = solver(c, start, horizon)
-        if r is None:
-            return None
-        if refine:
-            r = k.polish(r, start, horizon, start, horizon)
-        if r > horizon:
-            r = horizon
-        return r + 0.0
+        return _poly_search(k, k.coefficients(p), start, horizon, refine)
     except _Error as exc:
         raise ValueError(f"exact_toc: {exc}") from None

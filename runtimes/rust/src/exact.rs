@@ -43,6 +43,12 @@ pub struct Motion {
     pub truncation: fn(&[f64], f64) -> f64,
     /// The largest angular rate (rad/s) of the approximated functions that matter.
     pub rate: fn(&[f64]) -> f64,
+    /// Two circles, or `None`: the indices in `p` of, per body, x and y position, x and y
+    /// velocity, x and y acceleration, orbit radius, the x term's angular velocity and phase,
+    /// the y term's, radius, when the gap is their squared centre distance minus the squared
+    /// sum of radii and `coefficients` takes every effect: the driver then bounds the whole
+    /// horizon first and takes circles without orbits on their exact polynomial.
+    pub circles: Option<&'static [usize; 24]>,
 }
 
 /// An equation whose polynomial is the exact gap (no approximated
@@ -104,6 +110,62 @@ struct Ctx<'a> {
     p: &'a [f64],
     solver: Solver,
     zero_tol: f64,
+    /// Two circles without orbits: the differences of `gap` (x0, x1, x2, y0, y1, y2, R); the gap is this polynomial.
+    pd: Option<[f64; 7]>,
+}
+
+/// A bound on |(sin(wx t + phx), sin(wy t + phy))| times |radius|: with
+/// wx = wy the squared length is 1 - cos(A + B) cos(phx - phy) <= 1 +
+/// |cos(phx - phy)| (1 for a circular orbit), else at most 2.
+fn orbit_reach(radius: f64, wx: f64, phx: f64, wy: f64, phy: f64) -> f64 {
+    if radius == 0.0 {
+        return 0.0;
+    }
+    let mut k2 = 2.0;
+    if wx == wy {
+        k2 = 1.0 + ((phx - phy).cos().abs() + (1.0 / 1125899906842624.0) * (1.0 + phx.abs() + phy.abs()));
+    }
+    radius.abs() * k2.sqrt() * SAFE
+}
+
+/// The circles' bound H(t) = |D(t)|^2 - (R + rho1 + rho2)^2 (D the centres'
+/// difference without orbits, R the sum of radii, rho a bound on an orbit
+/// offset's length): its coefficients, the differences of the gap without
+/// orbits, a bound on H's rounding on [0, T], and rho1 + rho2.
+fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f64, f64) {
+    let jx = &ix[12..];
+    let (x0, y0) = (p[ix[0]] - p[jx[0]], p[ix[1]] - p[jx[1]]);
+    let (x1, y1) = (p[ix[2]] - p[jx[2]], p[ix[3]] - p[jx[3]]);
+    let (x2, y2) = (0.5 * (p[ix[4]] - p[jx[4]]), 0.5 * (p[ix[5]] - p[jx[5]]));
+    let rho = orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]])
+        + orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]);
+    let r = (p[ix[11]] + p[jx[11]]).abs();
+    let big = (r + rho) * SAFE;
+    let h = [
+        x0 * x0 + y0 * y0 - big * big,
+        2.0 * (x0 * x1 + y0 * y1),
+        x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2),
+        2.0 * (x1 * x2 + y1 * y2),
+        x2 * x2 + y2 * y2,
+    ];
+    let sx = x0.abs() + (x1.abs() + x2.abs() * t) * t;
+    let sy = y0.abs() + (y1.abs() + y2.abs() * t) * t;
+    let margin = FLOOR * (sx * sx + sy * sy + big * big);
+    (h, [x0, x1, x2, y0, y1, y2, r], margin, rho)
+}
+
+/// The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
+/// > 0, before it), or 2 T + 1 when there is none.
+fn entry(h: &[f64; 5], n: usize, margin: f64, lo: f64, t: f64) -> f64 {
+    if value(h, n, lo) <= 2.0 * margin {
+        return lo;
+    }
+    let mut q = *h;
+    q[0] = h[0] - 2.0 * margin;
+    match smallest_root(&q[..=n], lo, t) {
+        Some(r) => r,
+        None => 2.0 * t + 1.0,
+    }
 }
 
 fn value(c: &[f64], n: usize, x: f64) -> f64 {
@@ -142,6 +204,29 @@ type Found = Result<Option<(f64, f64, f64)>, &'static str>;
 impl Ctx<'_> {
     fn floor_at(&self, t: f64) -> f64 {
         FLOOR * (self.m.scale)(self.p, t)
+    }
+
+    /// The exact gap: the motion's, or the polynomial of two circles without orbits.
+    fn gap(&self, t: f64) -> f64 {
+        match &self.pd {
+            None => (self.m.gap)(self.p, t),
+            Some(d) => {
+                let x = (d[2] * t + d[1]) * t + d[0];
+                let y = (d[5] * t + d[4]) * t + d[3];
+                y * y - d[6] * d[6] + x * x
+            }
+        }
+    }
+
+    fn gap_dt(&self, t: f64) -> f64 {
+        match &self.pd {
+            None => (self.m.gap_dt)(self.p, t),
+            Some(d) => {
+                let x = (d[2] * t + d[1]) * t + d[0];
+                let y = (d[5] * t + d[4]) * t + d[3];
+                2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]))
+            }
+        }
     }
 
     fn coefficients(&self, pp: &[f64], c: &mut [f64; MAX_DEGREE + 1]) -> Result<usize, &'static str> {
@@ -209,12 +294,12 @@ impl Ctx<'_> {
     }
 
     fn polish(&self, mut x: f64, a: f64, b: f64, lo: f64, hi: f64) -> f64 {
-        let mut g = (self.m.gap)(self.p, x);
+        let mut g = self.gap(x);
         for _ in 0..POLISH_STEPS {
             if g == 0.0 {
                 break;
             }
-            let d = (self.m.gap_dt)(self.p, x);
+            let d = self.gap_dt(x);
             if !(d != 0.0) {
                 break;
             }
@@ -222,7 +307,7 @@ impl Ctx<'_> {
             if !(xn >= a && xn <= b && xn > lo && xn <= hi) {
                 break;
             }
-            let gn = (self.m.gap)(self.p, xn);
+            let gn = self.gap(xn);
             if !(gn.abs() < g.abs()) {
                 break;
             }
@@ -245,7 +330,7 @@ impl Ctx<'_> {
             if self.zero_tol > band {
                 band = self.zero_tol;
             }
-            if (self.m.gap)(self.p, tau).abs() > 2.0 * band {
+            if self.gap(tau).abs() > 2.0 * band {
                 return tau;
             }
             tau *= 2.0;
@@ -262,11 +347,37 @@ impl Ctx<'_> {
 /// root where the gap grows is never a contact), `Err(..)` for a parameter that uses an effect the code was
 /// not generated for, bad options, or more than [`MAX_WINDOWS`] windows.
 pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
-    let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol };
+    let mut k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
+    let mut hb = [0.0f64; 5];
+    let (mut nb, mut mb) = (0usize, 0.0f64);
+    // (non-finite parameters or horizon: begin answers before any use)
+    let bound = match m.circles {
+        Some(ix) if p.len() == m.nparams && p.iter().all(|v| v.is_finite()) => {
+            let (h, pd, margin, rho) = circles_bound(ix, p, horizon);
+            hb = h;
+            mb = margin;
+            nb = 4;
+            while nb > 0 && hb[nb] == 0.0 {
+                nb -= 1;
+            }
+            if rho == 0.0 {
+                k.pd = Some(pd); // no orbit: the gap is the polynomial H, no windows
+            }
+            true
+        }
+        _ => false,
+    };
     let start = match begin(&k, horizon, o)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
+    if k.pd.is_some() {
+        return one_window(&k, start, horizon, o.refine);
+    }
+    let mut e = if bound { entry(&hb, nb, mb, start, horizon) } else { start };
+    if !(e <= horizon) {
+        return Ok(Toc::NoContact); // the bound keeps the circles apart over the whole horizon
+    }
     let span = horizon - start;
     let mut h = span;
     let rate = (m.rate)(p);
@@ -278,7 +389,21 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
     let mut t0 = start;
     let mut w = 0.0f64;
-    while t0 < horizon {
+    loop {
+        if e > t0 {
+            // skip the windows that end before the bound's zone
+            let mut wj = ((e - start) / h).floor();
+            if wj > 0.0 && start + wj * h > e {
+                wj -= 1.0;
+            }
+            if wj > w {
+                w = wj;
+                t0 = start + w * h;
+            }
+        }
+        if !(t0 < horizon) {
+            return Ok(Toc::NoContact);
+        }
         let mut t1 = start + (w + 1.0) * h;
         if !(t1 < horizon) {
             t1 = horizon;
@@ -306,8 +431,58 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         }
         t0 = t1;
         w += 1.0;
+        if bound && t0 < horizon {
+            e = entry(&hb, nb, mb, t0, horizon);
+            if !(e <= horizon) {
+                return Ok(Toc::NoContact);
+            }
+        }
     }
-    Ok(Toc::NoContact)
+}
+
+/// Circles without orbits: the windowed search's single window (no
+/// truncation, no rate), the gap evaluated as the polynomial (`k.pd`).
+fn one_window(k: &Ctx, start: f64, horizon: f64, refine: bool) -> Result<Toc, &'static str> {
+    let mut t1 = start + (horizon - start);
+    if !(t1 < horizon) {
+        t1 = horizon;
+    }
+    let l = t1 - start;
+    let mut pp = [0.0f64; MAX_PARAMS];
+    let pp = &mut pp[..k.m.nparams];
+    (k.m.shift)(k.p, start, pp);
+    let mut c = [0.0f64; MAX_DEGREE + 1];
+    let n = k.coefficients(pp, &mut c)?;
+    if !refine && c[0].abs() - reach(&c, n, l) > 0.0 {
+        return Ok(Toc::NoContact);
+    }
+    let Some(s) = (k.solver)(&c[..=n], 0.0, l) else {
+        return Ok(Toc::NoContact);
+    };
+    let mut r = start + s;
+    if refine {
+        r = k.polish(r, start, start + l, start, horizon);
+    }
+    if r > horizon {
+        r = horizon;
+    }
+    Ok(Toc::Contact(r + 0.0))
+}
+
+/// The polynomial `c` is the exact gap: its smallest root in `(start, horizon]`, polished.
+fn poly_search(k: &Ctx, c: &[f64], start: f64, horizon: f64, refine: bool) -> Toc {
+    match (k.solver)(c, start, horizon) {
+        None => Toc::NoContact,
+        Some(mut r) => {
+            if refine {
+                r = k.polish(r, start, horizon, start, horizon);
+            }
+            if r > horizon {
+                r = horizon;
+            }
+            Toc::Contact(r + 0.0)
+        }
+    }
 }
 
 /// [`exact_toc`]'s answer for an equation whose polynomial is the exact gap,
@@ -327,26 +502,16 @@ pub fn poly_toc(pm: &PolyMotion, p: &[f64], horizon: f64, o: &ExactOptions) -> R
         scale: pm.scale,
         truncation: no_truncation,
         rate: no_rate,
+        circles: None,
     };
-    let k = Ctx { m: &m, p, solver: o.solver, zero_tol: o.zero_tol };
+    let k = Ctx { m: &m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
     let start = match begin(&k, horizon, o)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
     let mut c = [0.0f64; MAX_DEGREE + 1];
     let n = k.coefficients(p, &mut c)?;
-    match (o.solver)(&c[..=n], start, horizon) {
-        None => Ok(Toc::NoContact),
-        Some(mut r) => {
-            if o.refine {
-                r = k.polish(r, start, horizon, start, horizon);
-            }
-            if r > horizon {
-                r = horizon;
-            }
-            Ok(Toc::Contact(r + 0.0))
-        }
-    }
+    Ok(poly_search(&k, &c[..=n], start, horizon, o.refine))
 }
 
 enum Begin {
@@ -372,12 +537,12 @@ fn begin(k: &Ctx, horizon: f64, o: &ExactOptions) -> Result<Begin, &'static str>
     if o.zero_tol > band0 {
         band0 = o.zero_tol;
     }
-    let g0 = (m.gap)(p, 0.0);
+    let g0 = k.gap(0.0);
     if g0 < -band0 {
         return Ok(Begin::Answer(Toc::Overlapped)); // inside each other at t = 0: not a contact, its own answer
     }
     if g0.abs() <= band0 {
-        let d0 = (m.gap_dt)(p, 0.0);
+        let d0 = k.gap_dt(0.0);
         if d0 < 0.0 {
             return Ok(Begin::Answer(Toc::Contact(0.0)));
         }

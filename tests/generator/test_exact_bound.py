@@ -1,0 +1,198 @@
+"""The two circles' whole-horizon bound of the exact-motion driver
+(docs/exact-motion.md, "Two circles: the whole-horizon bound"): where the
+bound polynomial H exceeds its margin the exact gap (mpmath) is positive, so
+the bound never declares no contact where there is one; the generator finds
+the circles' layout only where Maxima proves the gap; and the driver's
+answers with the bound are those without it wherever the windows it skips
+hold no contact."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import random
+from pathlib import Path
+
+import mpmath
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from max2code.conformance.exact_cases import _aim
+from max2code.conformance.exact_ref import DPS, Gap, reference
+from max2code.generate.pipeline import GenerateRequest, generate_file
+
+ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
+CC = "abcdefmnopqghijklrsuvwxz"
+
+
+@pytest.fixture(scope="module")
+def circles_py():
+    g = generate_file(GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang="python",
+                                      out_name="generated", exact=True))
+    ns: dict = {}
+    exec(compile(g.text, "generated.py", "exec"), ns)
+    return g, ns
+
+
+def test_layout_is_found_and_proved(circles_py):
+    g, ns = circles_py
+    # per body: x, y position; x, y velocity; x, y acceleration; orbit radius; x term's rate and
+    # phase; y term's; radius (equations/circle-circle.mxm's letters)
+    assert [CC[i] for i in g.exact.circles] == list("ambncodefpqxgrhsiujklvwz")
+    assert tuple(ns["CIRCLE_CIRCLE_MOTION"].circles) == g.exact.circles
+    pl = generate_file(GenerateRequest(path=str(ROOT / "equations" / "point-line.mxm"), lang="python",
+                                       out_name="generated", exact=True))
+    assert pl.exact.circles is None
+
+
+def test_float_code_has_no_bound():
+    g = generate_file(GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang="c",
+                                      out_name="generated", exact=True, real="float"))
+    assert "circle_circle_circles" not in g.text
+    d = generate_file(GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang="c",
+                                      out_name="generated", exact=True))
+    assert "static const int circle_circle_circles[24]" in d.text
+
+
+finite = st.floats(-4.0, 4.0, allow_nan=False)
+rates = st.floats(-6.0, 6.0, allow_nan=False)
+
+
+@st.composite
+def circle_params(draw):
+    p = {}
+    for pos, vel, acc, rad, w1, ph1, posy, vely, accy, w2, ph2 in (tuple("abcdefmnopq"), tuple("ghijklrsuvw")):
+        circular = draw(st.booleans())
+        w = draw(rates)
+        ph = draw(st.floats(-3.2, 3.2))
+        p.update({pos: draw(finite), vel: draw(finite), acc: draw(st.floats(-1, 1)),
+                  rad: draw(st.sampled_from([0.0, draw(st.floats(0.0, 1.5))])),
+                  w1: w, ph1: ph + math.pi / 2 if circular else draw(st.floats(-3.2, 3.2)),
+                  posy: draw(finite), vely: draw(finite), accy: draw(st.floats(-1, 1)),
+                  w2: w if circular else draw(rates), ph2: ph})
+    p["x"], p["z"] = draw(st.floats(0.0, 1.5)), draw(st.floats(0.0, 1.5))
+    return p
+
+
+@settings(max_examples=300, deadline=None)
+@given(circle_params(), st.floats(0.1, 10.0), st.floats(0.0, 1.0))
+def test_the_gap_is_positive_where_the_bound_is(p, T, frac):
+    """H(t) > margin implies the exact gap (40 digits) is positive at t."""
+    from max2code_rt.exact import _circles_bound, _value
+
+    ix = [CC.index(c) for c in "ambncodefpqxgrhsiujklvwz"]
+    vec = [p[c] for c in CC]
+    h, _, margin, _ = _circles_bound(ix, vec, T)
+    t = frac * T
+    if _value(h, 4, t) > margin:
+        gp = Gap("circle-circle", p, T)
+        with mpmath.workdps(DPS):
+            assert gp.G(mpmath.mpf(t)) > 0
+
+
+def _draw(rng: random.Random) -> tuple[dict, float]:
+    """Two circles on circular orbits (or none), aimed at each other or not."""
+    p = {}
+    for b in ("abcdefmnopq", "ghijklrsuvw"):
+        a, bv, c, d, e, f, m, n, o, pw, q = b
+        w = rng.uniform(-3, 3)
+        ph = rng.uniform(-3.1, 3.1)
+        orbit = rng.random() < 0.8
+        p.update({a: rng.uniform(-5, 5), bv: rng.uniform(-3, 3), c: rng.uniform(-1, 1) * (rng.random() < 0.5),
+                  d: rng.uniform(0.1, 1.0) if orbit else 0.0, e: w, f: ph + math.pi / 2, m: rng.uniform(-5, 5),
+                  n: rng.uniform(-3, 3), o: 0.0, pw: w, q: ph})
+    p["x"], p["z"] = rng.uniform(0.1, 1.0), rng.uniform(0.1, 1.0)
+    T = rng.choice([1.0, 3.0, 8.0])
+    if rng.random() < 0.5:
+        p = _aim(rng, p, "circle-circle", T, 1.3)
+    return p, T
+
+
+def test_bound_never_hides_a_contact_and_keeps_the_answers(circles_py):
+    """On drawn circle pairs: whenever the driver with the bound answers none,
+    the reference allows none, and every answer (with orbits or without) is
+    the windows-only driver's answer bit for bit."""
+    from max2code_rt.exact import exact_toc
+
+    _, ns = circles_py
+    motion = ns["CIRCLE_CIRCLE_MOTION"]
+    plain = dataclasses.replace(motion, circles=None)
+    rng = random.Random(3131)
+    decided = 0
+    for _ in range(60):
+        p, T = _draw(rng)
+        vec = [p[c] for c in CC]
+        new = exact_toc(motion, vec, T)
+        old = exact_toc(plain, vec, T)
+        ref = reference("circle-circle", p, T)
+        if ref.expect == "overlapped":
+            assert new == old == "overlapped"
+            continue
+        for ans in (new, old):
+            if ans is None:
+                assert ref.none_ok
+            else:
+                assert any(lo <= ans <= hi for lo, hi in ref.accept) or abs(ans - ref.expect) <= 1e-12 * ref.expect
+        assert new == old
+        decided += new is None
+    assert decided >= 10
+
+
+def test_conformance_cases_keep_their_bits(circles_py):
+    """Every circle-circle case of tests/conformance/toc_exact.jsonl, refined
+    and not: the same answer with and without the bound."""
+    from max2code_rt.exact import exact_toc
+
+    _, ns = circles_py
+    motion = ns["CIRCLE_CIRCLE_MOTION"]
+    plain = dataclasses.replace(motion, circles=None)
+    n = 0
+    with open(ROOT / "tests" / "conformance" / "toc_exact.jsonl") as f:
+        for line in f:
+            c = json.loads(line)
+            if c["equation"] != "circle-circle":
+                continue
+            vec = [c["params"][k] for k in CC]
+            for refine in (True, False):
+                o = dict(c.get("options") or {}, refine=refine)
+                assert exact_toc(motion, vec, c["horizon"], **o) == exact_toc(plain, vec, c["horizon"], **o), c["id"]
+            n += 1
+    assert n > 150
+
+
+@settings(max_examples=200, deadline=None)
+@given(circle_params(), st.floats(0.1, 10.0), st.floats(0.0, 1.0), st.floats(-1e-3, 1e-3))
+def test_the_bound_is_tight_where_the_orbits_face_each_other(p, T, frac, slack):
+    """Circular orbits turned so that at time t both offsets point at the
+    other circle, radii so that the circles overlap (slack > 0) or miss
+    (slack < 0) by |slack| there: H(t) > margin only where they miss, and
+    that is the only way H can exceed its margin at t, so a bound weaker
+    than the orbits' reach fails here."""
+    from max2code_rt.exact import _circles_bound, _value
+
+    t = frac * T
+    D = [(p[a] + p[b] * t + p[c] * t * t / 2) - (p[g] + p[h] * t + p[i] * t * t / 2)
+         for a, b, c, g, h, i in (("a", "b", "c", "g", "h", "i"), ("m", "n", "o", "r", "s", "u"))]
+    dist = math.hypot(*D)
+    d1, d2 = max(p["d"], 0.05), max(p["j"], 0.05)
+    if dist < d1 + d2 + 0.1:
+        return
+    ux, uy = D[0] / dist, D[1] / dist
+    for rad, w, f, wy, q, sign, dk in (("d", "e", "f", "p", "q", -1.0, d1), ("j", "k", "l", "v", "w", 1.0, d2)):
+        p[rad] = dk
+        p[wy] = p[w]
+        p[q] = math.atan2(sign * uy, sign * ux) - p[w] * t
+        p[f] = p[q] + math.pi / 2
+    total = dist - d1 - d2 + slack
+    p["x"], p["z"] = 0.4 * total, 0.6 * total
+    ix = [CC.index(c) for c in "ambncodefpqxgrhsiujklvwz"]
+    h, _, margin, _ = _circles_bound(ix, [p[c] for c in CC], T)
+    gp = Gap("circle-circle", p, T)
+    with mpmath.workdps(DPS):
+        g = gp.G(mpmath.mpf(t))
+    if _value(h, 4, t) > margin:
+        assert g > 0
+    elif slack < -1e-9:
+        assert g > 0     # a miss that the bound leaves to the windows
