@@ -22,8 +22,8 @@ FROM SimWorld IMPORT AddContact, AddLeft, AddVelocityMode, Append, AppendInt, Ap
 FROM SimMotion IMPORT rebase, StateAt ;
 FROM SimPredict IMPORT ClearCounts, PredictBody, PredictCells, PredictLarge, PredictPair, ScheduleCell ;
 FROM SimContact IMPORT contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse ;
-FROM SimSupport IMPORT can_carry, can_support, end_support, enter_carried, enter_support, slide_accel,
-                       static ;
+FROM SimSupport IMPORT base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support,
+                       slide_accel, static ;
 FROM SimSleep IMPORT at_rest, can_sleep, jolted ;
 FROM SimOverlap IMPORT overlapping ;
 FROM SimCluster IMPORT handle_cluster, NTouched, repeated, touch, TouchedT ;
@@ -85,6 +85,7 @@ VAR
    n0: INTEGER ;
 BEGIN
    INC (Stats.sleeps) ;
+   IF (A^.sup >= 0) AND Bodies^[A^.sup].fixed THEN A^.rest := A^.sup ELSE A^.rest := -1 END ;
    IF A^.sup >= 0 THEN end_support (A) END ;
    A^.vx := 0.0 ;
    A^.vy := 0.0 ;
@@ -107,7 +108,7 @@ END handle_sleep ;
    acceleration back, then fresh predictions (a pair of members once). *)
 PROCEDURE handle_wake (S: BodyRef; t: REAL) ;
 VAR
-   island, i: INTEGER ;
+   island, i, n0: INTEGER ;
    b: BodyRef ;
 BEGIN
    INC (Stats.wakes) ;
@@ -123,16 +124,23 @@ BEGIN
       IF b^.asleep AND (b^.island = island) THEN
          rebase (b, t) ;
          b^.asleep := FALSE ;
+         b^.rest := -1 ;
          b^.ax := b^.fax ;
          b^.ay := b^.fay ;
          INC (b^.stamp) ;
          EmitState (b)
       END
    END ;
+   n0 := NLeft ;
+   FOR i := 0 TO NBodies - 1 DO
+      b := ADR (Bodies^[i]) ;
+      IF b^.island = island THEN release (b, t) END     (* bodies sliding on a member leave it: it may move *)
+   END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF b^.island = island THEN predict_woken (b, t, island) END
    END ;
+   predict_released (n0, t) ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF b^.island = island THEN b^.island := -1 END
@@ -202,6 +210,10 @@ BEGIN
       handle_sleep (B, A, t) ;
       RETURN
    END ;
+   IF can_ride (A, B, ev.feature, ev.i, ev.j, vn) THEN
+      handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
+      RETURN
+   END ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
       on it); a gentle touch leaves it asleep, a real impulse wakes its island;
@@ -263,7 +275,7 @@ VAR
 BEGIN
    INC (Stats.supports) ;
    imp := (-vn) / A^.invM ;
-   IF B^.fixed THEN enter_support (A, B, ev.j) ELSE enter_carried (A, B, ev.j) END ;
+   IF B^.fixed OR B^.asleep THEN enter_support (A, B, ev.j) ELSE enter_carried (A, B, ev.j) END ;
    EmitContact ("support", t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp) ;
    AddContact (t, A^.idx, B^.idx, ev.feature, ev.i, ev.j, cx, cy, nx, ny, imp, TRUE) ;
    touch (t, ev.a, ev.b, ev.feature, ev.i, ev.j) ;
@@ -302,6 +314,13 @@ BEGIN
    EmitSupportEnd ("stop", t, A^.idx, A^.sup, A^.sup_edge) ;
    IF at_rest (A) THEN
       handle_sleep (A, ADR (Bodies^[A^.sup]), t) ;
+      RETURN
+   END ;
+   IF B^.asleep AND (NOT base_holds (B, 0.0, 0.0)) THEN
+      (* sliding back, its friction turned: the sleeping base no longer holds it *)
+      n0 := NLeft ;
+      leave (A, t, -1) ;
+      predict_released (n0, t) ;
       RETURN
    END ;
    INC (A^.stamp) ;

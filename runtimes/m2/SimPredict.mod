@@ -821,7 +821,7 @@ BEGIN
    PredictLarge (b, skip, now) ;
    ScheduleCell (b, now) ;
    (* a carried body moves with its base: no stop, no leave of its own *)
-   IF (b^.sup >= 0) AND Bodies^[b^.sup].fixed THEN schedule_support (b) END
+   IF (b^.sup >= 0) AND (Bodies^[b^.sup].fixed OR Bodies^[b^.sup].asleep) THEN schedule_support (b) END
 END PredictBody ;
 
 

@@ -664,6 +664,7 @@ BEGIN
    b^.placed := FALSE ;
    b^.seen := 0 ;
    b^.carry := 0 ;
+   b^.rest := -1 ;
    RETURN b^.nv
 END ReadBody ;
 

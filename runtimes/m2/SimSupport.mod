@@ -9,7 +9,7 @@ IMPLEMENTATION MODULE SimSupport ;
 FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT cos, sin ;
 FROM Roots IMPORT SmallestRoot ;
-FROM SimScene IMPORT Bodies, BodyRef, EndT, RestSpeed, Tol, Verts ;
+FROM SimScene IMPORT Bodies, BodyRef, EndT, NBodies, RestSpeed, Tol, Verts ;
 FROM SimQueue IMPORT Event, FeatPE, KLeave, KStop ;
 FROM SimWorld IMPORT push ;
 FROM SimMotion IMPORT PointAt, StateAt ;
@@ -64,10 +64,85 @@ END flat ;
    does not turn (it may translate) becomes support, everything relative to
    B (docs/simulator.md, Contact model); both advanced. *)
 PROCEDURE can_support (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (B^.om # 0.0) THEN RETURN FALSE END ;
+   RETURN supportable (A, B, i, j, vn)
+END can_support ;
+
+
+(* Acceleration along an edge of a body sliding at u relative to it: the
+   free part at less Coulomb friction f (mu times the load) against the
+   motion; at relative rest none while static friction holds. *)
+PROCEDURE friction_accel (at, f, u: REAL) : REAL ;
+BEGIN
+   IF u > 0.0 THEN
+      RETURN at - f
+   ELSIF u < 0.0 THEN
+      RETURN at + f
+   ELSIF at > f THEN
+      RETURN at - f
+   ELSIF at < -f THEN
+      RETURN at + f
+   END ;
+   RETURN 0.0
+END friction_accel ;
+
+
+(* Sleeping base B (at rest on edge frame (B.tx, B.ty) of fixed body
+   B.rest) stays at rest under its free acceleration, the force (px, py)
+   and the force of each body supported on it (by index, its reaction
+   -m (a - fa)): the resting contact's normal force n = -(mB faB + P) . o
+   is positive and its tangential force t = -(mB faB + P) . t lies within
+   static friction, |t| <= mu n. *)
+PROCEDURE base_holds (B: BodyRef; px, py: REAL) : BOOLEAN ;
+VAR
+   k: INTEGER ;
+   mB, fx, fy, n, t, f: REAL ;
+BEGIN
+   IF B^.carry > 0 THEN
+      FOR k := 0 TO NBodies - 1 DO
+         IF Bodies^[k].sup = B^.idx THEN
+            px := px - (Bodies^[k].ax - Bodies^[k].fax) / Bodies^[k].invM ;
+            py := py - (Bodies^[k].ay - Bodies^[k].fay) / Bodies^[k].invM
+         END
+      END
+   END ;
+   mB := 1.0 / B^.invM ;
+   fx := mB * B^.fax + px ;
+   fy := mB * B^.fay + py ;
+   n := -(fx * B^.ty - fy * B^.tx) ;
+   t := -(fx * B^.tx + fy * B^.ty) ;
+   f := B^.mu * Bodies^[B^.rest].mu * n ;
+   RETURN (n > 0.0) AND (NOT (t > f)) AND (NOT (t < -f))
+END base_holds ;
+
+
+(* A point-edge contact of movable A on edge j of a sleeping polygon B that
+   fell asleep supported on a fixed body (B.rest) becomes support on B, as
+   on a fixed body that does not move (docs/simulator.md, "Sliding on a
+   sleeping base"), when B's resting contact holds the force A's sliding
+   puts on B besides B's other riders (base_holds). *)
+PROCEDURE can_ride (A, B: BodyRef; feature, i, j: INTEGER; vn: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, u, a: REAL ;
+BEGIN
+   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.asleep) OR (B^.rest < 0) OR (NOT B^.polygon) THEN
+      RETURN FALSE
+   END ;
+   IF NOT supportable (A, B, i, j, vn) THEN RETURN FALSE END ;
+   support_frame (B, j, tx, ty, ox, oy) ;
+   u := A^.vx * tx + A^.vy * ty ;
+   a := friction_accel (A^.fax * tx + A^.fay * ty, A^.mu * B^.mu * (-(A^.fax * ox + A^.fay * oy)), u) ;
+   RETURN base_holds (B, (-(a * tx - A^.fax)) / A^.invM, (-(a * ty - A^.fay)) / A^.invM)
+END can_ride ;
+
+
+(* The checks of can_support after the bodies' kinds: pressed onto edge j,
+   slow, over the edge and not leaving it, a polygon flat on it. *)
+PROCEDURE supportable (A, B: BodyRef; i, j: INTEGER; vn: REAL) : BOOLEAN ;
 VAR
    tx, ty, ox, oy, load, q, u: REAL ;
 BEGIN
-   IF (feature # FeatPE) OR A^.fixed OR (NOT B^.fixed) OR (B^.om # 0.0) THEN RETURN FALSE END ;
    support_frame (B, j, tx, ty, ox, oy) ;
    load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
    IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (A^.e * B^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
@@ -84,7 +159,7 @@ BEGIN
       RETURN flat (A, B, i, j, ox, oy, load)
    END ;
    RETURN TRUE
-END can_support ;
+END supportable ;
 
 
 (* Acceleration of supported A with tangential speed u relative to its
@@ -93,22 +168,11 @@ END can_support ;
    while friction can hold it; plus B's acceleration when B moves. *)
 PROCEDURE slide_accel (A: BodyRef; u: REAL) ;
 VAR
-   f, a: REAL ;
+   a: REAL ;
    B: BodyRef ;
 BEGIN
    B := ADR (Bodies^[A^.sup]) ;
-   f := A^.mu * B^.mu * A^.load ;
-   IF u > 0.0 THEN
-      a := A^.at - f
-   ELSIF u < 0.0 THEN
-      a := A^.at + f
-   ELSIF A^.at > f THEN
-      a := A^.at - f
-   ELSIF A^.at < -f THEN
-      a := A^.at + f
-   ELSE
-      a := 0.0
-   END ;
+   a := friction_accel (A^.at, A^.mu * B^.mu * A^.load, u) ;
    IF static (B) THEN
       A^.ax := a * A^.tx ;
       A^.ay := a * A^.ty
@@ -142,6 +206,7 @@ BEGIN
    A^.ty := ty ;
    A^.load := -((A^.fax - B^.ax) * ox + (A^.fay - B^.ay) * oy) ;
    A^.at := (A^.fax - B^.ax) * tx + (A^.fay - B^.ay) * ty ;
+   IF NOT B^.fixed THEN INC (B^.carry) END ;      (* a sleeping base counts what it supports *)
    slide_accel (A, u)
 END enter_support ;
 

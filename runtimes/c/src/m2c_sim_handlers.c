@@ -198,7 +198,7 @@ static void handle_support(m2c_world *m, const m2c_sim_event *ev, m2c_sim_body *
 {
     m->stats.supports++;
     double imp = -vn / A->inv_m;
-    if (B->fixed)
+    if (B->fixed || B->asleep)
         m2c_sim_enter_support(m, A, B, ev->u.collision.j);
     else
         m2c_sim_enter_carried(A, B, ev->u.collision.j);
@@ -248,6 +248,10 @@ static void handle_collision(m2c_world *m, const m2c_sim_event *ev)
     }
     if (m2c_sim_can_sleep(m, B, A, ev, nx, ny, vn)) {
         m2c_sim_handle_sleep(m, B, A, t);
+        return;
+    }
+    if (m2c_sim_can_ride(m, A, B, feature, i, j, vn)) {
+        handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
     m->stats.collisions++;
@@ -323,6 +327,13 @@ static void handle_stop(m2c_world *m, const m2c_sim_event *ev)
     m2c_sim_emit_support_change(m, "E stop ", ev->t, A, A->sup, A->sup_edge);
     if (m2c_sim_at_rest(m, A)) {
         m2c_sim_handle_sleep(m, A, &m->bodies[A->sup], ev->t);
+        return;
+    }
+    if (B->asleep && !m2c_sim_base_holds(m, B, 0.0, 0.0)) {
+        /* sliding back, its friction turned: the sleeping base no longer holds it */
+        m2c_sim_left gone = { 0 };
+        m2c_sim_leave(m, A, ev->t, NULL, &gone);
+        m2c_sim_predict_released(m, &gone, ev->t);
         return;
     }
     m->stamp[A->idx]++;

@@ -96,6 +96,7 @@ typedef struct m2c_sim_body {
     double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
     double at;              /* m/s^2: free acceleration relative to the support's, along the tangent */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    int32_t rest;           /* asleep: the fixed body it fell asleep supported on (its edge frame kept in tx, ty), else -1 */
     int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
     unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
 } m2c_sim_body;
@@ -845,6 +846,11 @@ int m2c_sim_can_support(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body 
 /* Supported A's acceleration (m/s^2) for its tangential speed u (m/s) relative to its support. */
 void m2c_sim_slide_accel(const m2c_world *m, m2c_sim_body *A, double u);
 void m2c_sim_enter_support(const m2c_world *m, m2c_sim_body *A, const m2c_sim_body *B, int32_t j);
+/* A point-edge contact that becomes support on a sleeping polygon that holds it. */
+int m2c_sim_can_ride(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                     int32_t j, double vn);
+/* A sleeping base stays at rest under its riders and the extra force (px, py). */
+int m2c_sim_base_holds(const m2c_world *m, const m2c_sim_body *B, double px, double py);
 /* A's support (or carrier) ends: its free acceleration again. */
 void m2c_sim_end_support(m2c_world *m, m2c_sim_body *A);
 /* A point-edge contact that becomes carrying on a movable polygon. */

@@ -305,12 +305,12 @@ static inline __attribute__((always_inline)) void predict_near(m2c_world *m, con
 }
 
 /* Everything of b's future: its pairs with every neighbour but skip, its
- * cell crossing, its stop and leave on a fixed support. */
+ * cell crossing, its stop and leave on a fixed or sleeping support. */
 void m2c_sim_predict_body(m2c_world *m, const m2c_sim_body *b, double now, const m2c_sim_body *skip)
 {
     const pair_filter f = { PAIRS_ALL, skip, -1 };
     predict_near(m, b, now, &f);
-    if (b->sup >= 0 && m->bodies[b->sup].fixed)
+    if (b->sup >= 0 && (m->bodies[b->sup].fixed || m->bodies[b->sup].asleep))
         m2c_sim_schedule_support(m, b);     /* a carried body moves with its base: no stop, no leave of its own */
 }
 

@@ -528,6 +528,7 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t k, const body_context 
     b->asleep = 0;
     b->island = -1;
     b->carry = 0;
+    b->rest = -1;
     b->verts = NULL;
     if (*cap - *n < (size_t)b->nverts) {
         size_t want = *cap ? 2 * *cap : 64;

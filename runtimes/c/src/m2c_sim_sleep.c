@@ -65,6 +65,7 @@ int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G
 void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
 {
     m->stats.sleeps++;
+    A->rest = A->sup >= 0 && m->bodies[A->sup].fixed ? A->sup : -1;
     if (A->sup >= 0)
         m2c_sim_end_support(m, A);
     A->vx = 0.0;
@@ -96,15 +97,21 @@ void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t)
         if (b->asleep && b->island == island) {
             m2c_sim_rebase(b, t);
             b->asleep = 0;
+            b->rest = -1;
             b->ax = b->fax;
             b->ay = b->fay;
             m->stamp[b->idx]++;
             m2c_sim_emit_state(m, b);
         }
     }
+    m2c_sim_left left = { 0 };
+    for (int32_t k = 0; k < n; k++)
+        if (m->bodies[k].island == island)
+            m2c_sim_release(m, &m->bodies[k], t, &left);    /* bodies sliding on a member leave it: it may move */
     for (int32_t k = 0; k < n; k++)
         if (m->bodies[k].island == island)
             m2c_sim_predict_woken(m, &m->bodies[k], t, island);
+    m2c_sim_predict_released(m, &left, t);
     for (int32_t k = 0; k < n; k++)
         if (m->bodies[k].island == island)
             m->bodies[k].island = -1;

@@ -46,6 +46,9 @@ int m2c_sim_flat(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, int
     return 0;
 }
 
+static int supportable(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i, int32_t j,
+                       double vn);
+
 /* A point-edge contact of movable A on edge j of a fixed polygon B that
  * does not turn (it may translate) becomes support, everything relative to
  * B (docs/simulator.md, Contact model); both advanced. */
@@ -54,6 +57,73 @@ int m2c_sim_can_support(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body 
 {
     if (feature != M2C_SIM_PE || A->fixed || !B->fixed || B->om != 0.0)
         return 0;
+    return supportable(m, A, B, i, j, vn);
+}
+
+/* Acceleration along an edge of a body sliding at u relative to it: the
+ * free part at less Coulomb friction f (mu times the load) against the
+ * motion; at relative rest none while static friction holds. */
+static double friction_accel(double at, double f, double u)
+{
+    if (u > 0.0)
+        return at - f;
+    if (u < 0.0)
+        return at + f;
+    if (at > f)
+        return at - f;
+    if (at < -f)
+        return at + f;
+    return 0.0;
+}
+
+/* Sleeping base B (at rest on edge frame (B.tx, B.ty) of fixed body B.rest)
+ * stays at rest under its free acceleration, the force (px, py) and the
+ * force of each body supported on it (by index, its reaction -m (a - fa)):
+ * the resting contact's normal force n = -(mB faB + P) . o is positive and
+ * its tangential force t = -(mB faB + P) . t lies within static friction,
+ * |t| <= mu n. */
+int m2c_sim_base_holds(const m2c_world *m, const m2c_sim_body *B, double px, double py)
+{
+    if (B->carry > 0)
+        for (int32_t k = 0; k < m->s->nbodies; k++) {
+            const m2c_sim_body *R = &m->bodies[k];
+            if (R->sup == B->idx) {
+                px = px - (R->ax - R->fax) / R->inv_m;
+                py = py - (R->ay - R->fay) / R->inv_m;
+            }
+        }
+    double mB = 1.0 / B->inv_m;
+    double fx = mB * B->fax + px;
+    double fy = mB * B->fay + py;
+    double n = -(fx * B->ty - fy * B->tx);
+    double t = -(fx * B->tx + fy * B->ty);
+    double f = B->mu * m->bodies[B->rest].mu * n;
+    return n > 0.0 && !(t > f) && !(t < -f);
+}
+
+/* A point-edge contact of movable A on edge j of a sleeping polygon B that
+ * fell asleep supported on a fixed body (B.rest) becomes support on B, as
+ * on a fixed body that does not move (docs/simulator.md, "Sliding on a
+ * sleeping base"), when B's resting contact holds the force A's sliding
+ * puts on B besides B's other riders (base_holds). */
+int m2c_sim_can_ride(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t feature, int32_t i,
+                     int32_t j, double vn)
+{
+    if (feature != M2C_SIM_PE || A->fixed || !B->asleep || B->rest < 0 || !B->polygon)
+        return 0;
+    if (!supportable(m, A, B, i, j, vn))
+        return 0;
+    double tx, ty, ox, oy;
+    m2c_sim_support_frame(B, j, &tx, &ty, &ox, &oy);
+    double u = A->vx * tx + A->vy * ty;
+    double a = friction_accel(A->fax * tx + A->fay * ty, A->mu * B->mu * -(A->fax * ox + A->fay * oy), u);
+    return m2c_sim_base_holds(m, B, -(a * tx - A->fax) / A->inv_m, -(a * ty - A->fay) / A->inv_m);
+}
+
+/* The checks of can_support after the bodies' kinds: pressed onto edge j,
+ * slow, over the edge and not leaving it, a polygon flat on it. */
+static int supportable(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, int32_t i, int32_t j, double vn)
+{
     double tx, ty, ox, oy;
     m2c_sim_support_frame(B, j, &tx, &ty, &ox, &oy);
     double load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
@@ -85,18 +155,7 @@ int m2c_sim_can_support(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body 
 void m2c_sim_slide_accel(const m2c_world *m, m2c_sim_body *A, double u)
 {
     const m2c_sim_body *B = &m->bodies[A->sup];
-    double f = A->mu * B->mu * A->load;
-    double a;
-    if (u > 0.0)
-        a = A->at - f;
-    else if (u < 0.0)
-        a = A->at + f;
-    else if (A->at > f)
-        a = A->at - f;
-    else if (A->at < -f)
-        a = A->at + f;
-    else
-        a = 0.0;
+    double a = friction_accel(A->at, A->mu * B->mu * A->load, u);
     if (m2c_sim_is_static(B)) {
         A->ax = a * A->tx;
         A->ay = a * A->ty;
@@ -129,6 +188,8 @@ void m2c_sim_enter_support(const m2c_world *m, m2c_sim_body *A, const m2c_sim_bo
     A->ty = ty;
     A->load = -((A->fax - B->ax) * ox + (A->fay - B->ay) * oy);
     A->at = (A->fax - B->ax) * tx + (A->fay - B->ay) * ty;
+    if (!B->fixed)
+        m->bodies[B->idx].carry++;      /* a sleeping base counts what it supports */
     m2c_sim_slide_accel(m, A, u);
 }
 

@@ -36,6 +36,9 @@ class HandlersMixin:
         if self.can_sleep(B, A, ev, nx, ny, vn):
             self.handle_sleep(B, A, t)
             return
+        if self.can_ride(A, B, ev.feature, ev.i, ev.j, vn):
+            self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
+            return
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
         # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
@@ -86,7 +89,7 @@ class HandlersMixin:
         """A collision that ends in support (called by handle_collision)."""
         self.stats.supports += 1
         imp = -vn / A.inv_m
-        if B.fixed:
+        if B.fixed or B.asleep:
             self.enter_support(A, B, ev.j)
         else:
             self.enter_carried(A, B, ev.j)
@@ -119,6 +122,11 @@ class HandlersMixin:
         self.emit_support_end("stop", ev.t, A.idx, A.sup, A.sup_edge)
         if self.at_rest(A):
             self.handle_sleep(A, self.s.bodies[A.sup], ev.t)
+            return
+        if B.asleep and not self.base_holds(B, 0.0, 0.0):
+            left = []          # sliding back, its friction turned: the sleeping base no longer holds it
+            self.leave(A, ev.t, None, left)
+            self.predict_released(left, ev.t)
             return
         A.stamp += 1
         self.emit_state(A)

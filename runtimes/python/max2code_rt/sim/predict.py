@@ -502,7 +502,7 @@ class PredictMixin:
             if o is not skip and not (b.fixed and o.fixed):
                 self.predict_pair(b, o, now)
         self.schedule_cell(b, now)
-        if b.sup >= 0 and self.s.bodies[b.sup].fixed:
+        if b.sup >= 0 and (self.s.bodies[b.sup].fixed or self.s.bodies[b.sup].asleep):
             self.schedule_support(b, now)     # a carried body moves with its base: no stop, no leave of its own
 
     def schedule_cell(self, b: Body, now: float) -> None:

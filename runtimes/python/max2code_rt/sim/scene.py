@@ -38,7 +38,7 @@ class Body:
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
                  "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen",
-                 "carry")
+                 "carry", "rest")
 
 
 class Input:
@@ -166,6 +166,7 @@ def read_body(tk: Tokens, i: int, tol: float, end: float, n: int) -> Body:
     b.wcells = None
     b.seen = 0
     b.carry = 0
+    b.rest = -1
     return b
 
 

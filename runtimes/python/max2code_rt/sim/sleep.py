@@ -72,6 +72,7 @@ class SleepMixin:
         in G's island, or in a new one numbered A's index when G is fixed.
         Its awake neighbours are predicted against it again."""
         self.stats.sleeps += 1
+        A.rest = A.sup if A.sup >= 0 and self.s.bodies[A.sup].fixed else -1
         if A.sup >= 0:
             self.end_support(A)
         A.vx = 0.0
@@ -100,13 +101,19 @@ class SleepMixin:
             if b.asleep and b.island == island:
                 self.rebase(b, t)
                 b.asleep = False
+                b.rest = -1
                 b.ax = b.fax
                 b.ay = b.fay
                 b.stamp += 1
                 self.emit_state(b)
+        left = []
+        for b in bodies:
+            if b.island == island:
+                self.release(b, t, left)       # bodies sliding on a member leave it: it may move
         for b in bodies:
             if b.island == island:
                 self.predict_woken(b, t, island)
+        self.predict_released(left, t)
         for b in bodies:
             if b.island == island:
                 b.island = -1

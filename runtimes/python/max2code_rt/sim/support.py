@@ -38,6 +38,47 @@ class SupportMixin:
         relative to B (docs/simulator.md, Contact model); both advanced."""
         if feature != PE or A.fixed or not B.fixed or B.om != 0.0:
             return False
+        return self.supportable(A, B, i, j, vn)
+
+    def can_ride(self, A: Body, B: Body, feature: int, i: int, j: int, vn: float) -> bool:
+        """A point-edge contact of movable A on edge j of a sleeping polygon B
+        that fell asleep supported on a fixed body (B.rest) becomes support
+        on B, as on a fixed body that does not move (docs/simulator.md,
+        "Sliding on a sleeping base"), when B's resting contact holds the
+        force A's sliding puts on B besides B's other riders (`base_holds`)."""
+        if feature != PE or A.fixed or not B.asleep or B.rest < 0 or not B.polygon:
+            return False
+        if not self.supportable(A, B, i, j, vn):
+            return False
+        tx, ty, ox, oy = self.support_frame(B, j)
+        u = A.vx * tx + A.vy * ty
+        a = self.friction_accel(A.fax * tx + A.fay * ty, A.mu * B.mu * -(A.fax * ox + A.fay * oy), u)
+        return self.base_holds(B, -(a * tx - A.fax) / A.inv_m, -(a * ty - A.fay) / A.inv_m)
+
+    def base_holds(self, B: Body, px: float, py: float) -> bool:
+        """Sleeping base B (at rest on edge frame (B.tx, B.ty) of fixed body
+        B.rest) stays at rest under its free acceleration, the force
+        (px, py) and the force of each body supported on it (by index, its
+        reaction -m (a - fa)): the resting contact's normal force
+        n = -(mB faB + P) . o is positive and its tangential force
+        t = -(mB faB + P) . t lies within static friction, |t| <= mu n."""
+        bodies = self.s.bodies
+        if B.carry > 0:
+            for R in bodies:
+                if R.sup == B.idx:
+                    px = px - (R.ax - R.fax) / R.inv_m
+                    py = py - (R.ay - R.fay) / R.inv_m
+        mB = 1.0 / B.inv_m
+        fx = mB * B.fax + px
+        fy = mB * B.fay + py
+        n = -(fx * B.ty - fy * B.tx)
+        t = -(fx * B.tx + fy * B.ty)
+        f = B.mu * bodies[B.rest].mu * n
+        return n > 0.0 and not (t > f) and not (t < -f)
+
+    def supportable(self, A: Body, B: Body, i: int, j: int, vn: float) -> bool:
+        """The checks of can_support after the bodies' kinds: pressed onto
+        edge j, slow, over the edge and not leaving it, a polygon flat on it."""
         tx, ty, ox, oy = self.support_frame(B, j)
         load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
         rest = self.s.rest_speed
@@ -91,6 +132,8 @@ class SupportMixin:
         A.ty = ty
         A.load = -((A.fax - B.ax) * ox + (A.fay - B.ay) * oy)
         A.at = (A.fax - B.ax) * tx + (A.fay - B.ay) * ty
+        if not B.fixed:
+            B.carry += 1
         self.slide_accel(A, u)
 
     def slide_accel(self, A: Body, u: float) -> None:
@@ -100,23 +143,28 @@ class SupportMixin:
         rest, none while friction can hold it; plus B's acceleration when B
         moves."""
         B = self.s.bodies[A.sup]
-        f = A.mu * B.mu * A.load
-        if u > 0.0:
-            a = A.at - f
-        elif u < 0.0:
-            a = A.at + f
-        elif A.at > f:
-            a = A.at - f
-        elif A.at < -f:
-            a = A.at + f
-        else:
-            a = 0.0
+        a = self.friction_accel(A.at, A.mu * B.mu * A.load, u)
         if self.static(B):
             A.ax = a * A.tx
             A.ay = a * A.ty
         else:
             A.ax = B.ax + a * A.tx
             A.ay = B.ay + a * A.ty
+
+    @staticmethod
+    def friction_accel(at: float, f: float, u: float) -> float:
+        """Acceleration along an edge of a body sliding at u relative to it:
+        the free part at less Coulomb friction f (mu times the load) against
+        the motion; at relative rest none while static friction holds."""
+        if u > 0.0:
+            return at - f
+        if u < 0.0:
+            return at + f
+        if at > f:
+            return at - f
+        if at < -f:
+            return at + f
+        return 0.0
 
     def end_support(self, A: Body) -> None:
         """A's support (or carrier) ends: its free acceleration again."""

@@ -17,7 +17,9 @@ use super::predict::{predict_body, predict_cells, predict_near, predict_pair, sc
 use super::queue::{prefetch, Event};
 use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
-use super::support::{can_carry, can_support, end_support, enter_carried, enter_support, is_static, slide_accel};
+use super::support::{
+    base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support, is_static, slide_accel,
+};
 use super::world::SWEEP_FIRST;
 use super::Equations;
 
@@ -55,6 +57,9 @@ impl<E: Equations> World<E> {
         }
         if can_sleep(&self.w, bi, ai, touch, nx, ny, vn) {
             return self.handle_sleep(bi, ai, t);
+        }
+        if can_ride(&self.w, &self.w.s.bodies[ai], &self.w.s.bodies[bi], feature, i, j, vn) {
+            return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
         }
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
@@ -175,6 +180,9 @@ impl<E: Equations> World<E> {
             let imp = -vn / a_.inv_m;
             if b_.fixed {
                 enter_support(&w.s.verts, a_, b_, j);
+            } else if b_.asleep {
+                enter_support(&w.s.verts, a_, b_, j);
+                b_.carry += 1; // a sleeping base counts what it supports
             } else {
                 enter_carried(&w.s.verts, a_, b_, j);
             }
@@ -225,6 +233,12 @@ impl<E: Equations> World<E> {
         if at_rest(a_, b_, self.w.s.rest_speed) {
             return self.handle_sleep(ai, sup, t);
         }
+        if self.w.s.bodies[sup].asleep && !base_holds(&self.w, &self.w.s.bodies[sup], 0.0, 0.0) {
+            // sliding back, its friction turned: the sleeping base no longer holds it
+            let mut left = Vec::new();
+            self.leave(ai, t, None, &mut left)?;
+            return self.predict_released(&left, t);
+        }
         self.w.bump(ai);
         self.out.state(&self.w.s.bodies[ai])?;
         self.predict_changed(ai, t)
@@ -238,6 +252,8 @@ impl<E: Equations> World<E> {
     pub(super) fn handle_sleep(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
         self.q.stats.sleeps += 1;
         let g_island = if self.w.s.bodies[g].asleep { self.w.s.bodies[g].island } else { a as i32 };
+        let sup = self.w.s.bodies[a].sup;
+        self.w.rest[a] = if sup >= 0 && self.w.s.bodies[sup as usize].fixed { sup } else { -1 };
         if self.w.s.bodies[a].sup >= 0 {
             end_support(&mut self.w.s.bodies, a);
         }
@@ -321,8 +337,15 @@ impl<E: Equations> World<E> {
                 b_.asleep = false;
                 b_.ax = b_.fax;
                 b_.ay = b_.fay;
+                self.w.rest[k] = -1;
                 self.w.bump(k);
                 self.out.state(&self.w.s.bodies[k])?;
+            }
+        }
+        let mut left = Vec::new();
+        for k in 0..n {
+            if self.w.s.bodies[k].island == island {
+                self.release(k, t, &mut left)?; // bodies sliding on a member leave it: it may move
             }
         }
         for k in 0..n {
@@ -330,6 +353,7 @@ impl<E: Equations> World<E> {
                 self.predict_woken(k, t, island)?;
             }
         }
+        self.predict_released(&left, t)?;
         for b_ in self.w.s.bodies.iter_mut() {
             if b_.island == island {
                 b_.island = -1;

@@ -382,6 +382,7 @@ impl<E: Equations> World<E> {
         let (large, fixed) = (b.large, b.fixed);
         self.w.s.bodies.push(b);
         self.w.stamps.push(0);
+        self.w.rest.push(-1);
         self.w.choose_fetch();
         self.added += 1;
         self.out.add(t, idx as u32)?;

@@ -1004,7 +1004,7 @@ pub fn predict_body<E: Equations>(w: &Space, q: &mut Queue, b: usize, now: f64, 
         }
     }
     schedule_cell(w, q, b, now);
-    if body.sup >= 0 && w.s.bodies[body.sup as usize].fixed {
+    if body.sup >= 0 && (w.s.bodies[body.sup as usize].fixed || w.s.bodies[body.sup as usize].asleep) {
         // a carried body moves with its base: no stop, no leave of its own
         schedule_support(w, q, b);
     }

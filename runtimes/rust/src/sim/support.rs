@@ -38,6 +38,74 @@ pub fn can_support(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32
     if feature != PE || a_.fixed || !b_.fixed || b_.om != 0.0 {
         return false;
     }
+    supportable(w, a_, b_, i, j, vn)
+}
+
+/// Acceleration along an edge of a body sliding at u relative to it: the
+/// free part `at` less Coulomb friction f (mu times the load) against the
+/// motion; at relative rest none while static friction holds.
+#[inline]
+fn friction_accel(at: f64, f: f64, u: f64) -> f64 {
+    if u > 0.0 {
+        at - f
+    } else if u < 0.0 {
+        at + f
+    } else if at > f {
+        at - f
+    } else if at < -f {
+        at + f
+    } else {
+        0.0
+    }
+}
+
+/// Sleeping base B (at rest on edge frame (B.tx, B.ty) of fixed body
+/// `w.rest[B]`) stays at rest under its free acceleration, the force
+/// (px, py) and the force of each body supported on it (by index, its
+/// reaction -m (a - fa)): the resting contact's normal force
+/// n = -(mB faB + P) . o is positive and its tangential force
+/// t = -(mB faB + P) . t lies within static friction, |t| <= mu n.
+pub fn base_holds(w: &Space, b_: &Body, mut px: f64, mut py: f64) -> bool {
+    let bodies = &w.s.bodies;
+    if b_.carry > 0 {
+        for r_ in bodies.iter() {
+            if r_.sup == b_.idx as i32 {
+                px -= (r_.ax - r_.fax) / r_.inv_m;
+                py -= (r_.ay - r_.fay) / r_.inv_m;
+            }
+        }
+    }
+    let mb = 1.0 / b_.inv_m;
+    let fx = mb * b_.fax + px;
+    let fy = mb * b_.fay + py;
+    let n = -(fx * b_.ty - fy * b_.tx);
+    let t = -(fx * b_.tx + fy * b_.ty);
+    let f = b_.mu * bodies[w.rest[b_.idx as usize] as usize].mu * n;
+    n > 0.0 && !(t > f) && !(t < -f)
+}
+
+/// A point-edge contact of movable A on edge j of a sleeping polygon B that
+/// fell asleep supported on a fixed body (`w.rest`) becomes support on B,
+/// as on a fixed body that does not move (docs/simulator.md, "Sliding on a
+/// sleeping base"), when B's resting contact holds the force A's sliding
+/// puts on B besides B's other riders (`base_holds`).
+#[allow(clippy::too_many_arguments)]
+pub fn can_ride(w: &Space, a_: &Body, b_: &Body, feature: i32, i: i32, j: i32, vn: f64) -> bool {
+    if feature != PE || a_.fixed || !b_.asleep || w.rest[b_.idx as usize] < 0 || !b_.polygon {
+        return false;
+    }
+    if !supportable(w, a_, b_, i, j, vn) {
+        return false;
+    }
+    let (tx, ty, ox, oy) = support_frame(&w.s.verts, b_, j);
+    let u = a_.vx * tx + a_.vy * ty;
+    let a = friction_accel(a_.fax * tx + a_.fay * ty, a_.mu * b_.mu * -(a_.fax * ox + a_.fay * oy), u);
+    base_holds(w, b_, -(a * tx - a_.fax) / a_.inv_m, -(a * ty - a_.fay) / a_.inv_m)
+}
+
+/// The checks of can_support after the bodies' kinds: pressed onto edge j,
+/// slow, over the edge and not leaving it, a polygon flat on it.
+fn supportable(w: &Space, a_: &Body, b_: &Body, i: i32, j: i32, vn: f64) -> bool {
     let s = &w.s;
     let (tx, ty, ox, oy) = support_frame(&s.verts, b_, j);
     let load = -((a_.fax - b_.ax) * ox + (a_.fay - b_.ay) * oy);
@@ -117,18 +185,7 @@ pub fn enter_support(verts: &[Vertex], a_: &mut Body, b_: &Body, j: i32) {
 /// rest, none while friction can hold it; plus B's acceleration when B
 /// moves.
 pub fn slide_accel(a_: &mut Body, sup: &Body, u: f64) {
-    let f = a_.mu * sup.mu * a_.load;
-    let a = if u > 0.0 {
-        a_.at - f
-    } else if u < 0.0 {
-        a_.at + f
-    } else if a_.at > f {
-        a_.at - f
-    } else if a_.at < -f {
-        a_.at + f
-    } else {
-        0.0
-    };
+    let a = friction_accel(a_.at, a_.mu * sup.mu * a_.load, u);
     if is_static(sup) {
         a_.ax = a * a_.tx;
         a_.ay = a * a_.ty;

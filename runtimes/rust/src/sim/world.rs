@@ -59,6 +59,9 @@ pub struct Space {
     pub grid: Grid,
     /// whether to fetch the next event's bodies and cells ahead ([`Space::choose_fetch`])
     pub fetch: bool,
+    /// per body: asleep, the fixed body it fell asleep supported on (its
+    /// edge's tangent kept in `tx`, `ty`), else -1 (the body record is full)
+    pub rest: Vec<i32>,
 }
 
 /// Fetching ahead pays where the bodies and cells miss the cache (the
@@ -73,13 +76,14 @@ const FETCH_BYTES: usize = 1 << 20;
 impl Space {
     pub fn new(mut s: Scene) -> Space {
         let stamps = vec![0; s.bodies.len()];
+        let rest = vec![-1; s.bodies.len()];
         let mut grid = Grid::new(&s);
         for b in 0..s.bodies.len() {
             if s.bodies[b].large {
                 place_large(&mut grid, &mut s, b);
             }
         }
-        let mut w = Space { s, stamps, grid, fetch: false };
+        let mut w = Space { s, stamps, grid, fetch: false, rest };
         w.choose_fetch();
         w
     }
