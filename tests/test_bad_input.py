@@ -101,8 +101,12 @@ def test_max_events_stops_a_run(tmp_path, capsys):
     p = write(tmp_path, "many.json", scene(frame_rate=100, end_time=1))
     out = tmp_path / "trace.jsonl"
     code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "10", "-o", out, "-q")
-    assert code == 1 and "more than 10 events" in one_error_line(err, f"{p}: error: ")
-    assert not out.exists(), "a stopped run leaves no half-written trace"
+    msg = one_error_line(err, f"{p}: error: ")
+    assert code == 1 and msg.startswith("more than 10 events (collisions, inputs, frames) at t = "), msg
+    assert msg.endswith(f"; the trace up to then is in {out}"), msg
+    lines = [json.loads(x) for x in out.read_text().splitlines()]
+    assert [e["kind"] for e in lines] == ["frame"] * 10 + ["stopped"], "the ten events before the stop are kept"
+    assert lines[-1]["t"] == 0.11 and "at t = 0.11:" in lines[-1]["error"]
     code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "0")
     assert code == 1 and "--max-events" in err
 

@@ -9,7 +9,7 @@ from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.record import Record
 from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, check_scene, load_scene
 from max2code.sim.scene_c import read_scene
-from max2code.sim.simulate import CONVERTERS, LANGS, SimulateError, Trace, run_scene, stream_scene
+from max2code.sim.simulate import CONVERTERS, LANGS, RunStopped, SimulateError, Trace, run_scene, stream_scene, stop_line
 from max2code.textio import check_output, open_output
 
 
@@ -65,12 +65,24 @@ def simulate_main(argv: list[str]) -> int:
                 out.flush()
                 write_bytes = raw.write
                 write = lambda text: write_bytes(text.encode("utf-8"))      # noqa: E731
-            stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
-                                 progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
-                                 warn=lambda line: print(line, file=sys.stderr), check=check,
-                                 write_bytes=write_bytes)
+            try:
+                stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
+                                     progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
+                                     warn=lambda line: print(line, file=sys.stderr), check=check,
+                                     write_bytes=write_bytes)
+            except RunStopped as exc:
+                if exc.t is None:
+                    raise           # nothing was simulated (a scene the simulator refused): no trace
+                # the events up to the stop stay in the trace (a file is kept), closed by one line saying why
+                write(stop_line(exc))
+                stopped = exc
+            else:
+                stopped = None
     except (SimulateError, SceneError) as exc:
         raise SimCliError(str(exc)) from None
+    if stopped is not None:
+        where = "" if args.output == "-" else f"; the trace up to then is in {args.output}"
+        raise SimCliError(f"{stopped}{where}")
     if not args.quiet:
         ev = stats["events"]
         used = ", ".join(f"{k} {v}" for k, v in stats["predictions"].items())
