@@ -51,12 +51,16 @@ def simulate_main(argv: list[str]) -> int:
     check_output(args.output)
     # the common case read, checked and compiled in C; else in Python, the last checks while the simulator
     # reads the scene
-    scene = read_scene(args.scene)
+    # (--max-events is written into the flat scene, which the simulator counts its handled events against:
+    # such a run is read in Python)
+    scene = read_scene(args.scene) if args.max_events is None else None
     check = None
     if scene is None:
         scene = _load(args.scene, check=False)
+        if args.max_events is not None:
+            scene.max_events = args.max_events
         check = functools.partial(check_scene, scene)
-    limit = args.max_events if args.max_events is not None else scene.max_events
+    limit = scene.max_events
     try:
         with open_output(args.output) as out:
             raw = getattr(out, "buffer", None)       # all of the trace as bytes, when the stream has a buffer

@@ -948,7 +948,10 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
     else:
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
         message = f"{lang} simulator failed ({why}): {b''.join(err)[-2000:].decode('ascii', 'replace')}"
-    if t is not None and f"t = {t}" not in message:
+    named = re.search(r" at t = ([-+.0-9eE]+)", message)
+    if named:
+        t = named.group(1)          # the simulator named the instant (its event past a limit, a stuck instant)
+    elif t is not None:
         message += f" (stopped at t = {t})"
     raise RunStopped(f"{scene.path}: {message}", t, message)
 
