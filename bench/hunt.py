@@ -1,13 +1,15 @@
 """Seed hunt: random closed scenes of tests/sim_scenes.py run in one runtime,
 each checked for the three faults the contact model must not have.
 
-    python3 bench/hunt.py [--lang python] [--family resting,spinning] [--start 0] [--count 100]
+    python3 bench/hunt.py [--lang python] [--family resting,spinning,pile] [--start 0] [--count 100]
                           [--seed 1]
 
 Each family draws `--count` seeds at random (from `--seed`; `--start` adds
 an offset so that two hunts draw different seeds): `resting_scene(seed,
-boxes=True)` (bodies resting, sliding and dropped on a floor under gravity)
-and `spinning_scene(seed)` (spinning polygons in a box), each with
+boxes=True)` (bodies resting, sliding and dropped on a floor under
+gravity), `spinning_scene(seed)` (spinning polygons in a box) and `pile_scene(seed)`
+(6 to 16 balls, boxes or both, with friction or without, dropped with random
+velocities into a narrow bin: inelastic collapse and pinches), each with
 max_events_at_one_time = 1000 so that a loop at one instant fails at once.
 A scene fails when it does not finish (stuck, or any other simulator
 error), when two bodies overlap by more than the tolerance at an event or a
@@ -31,9 +33,10 @@ from max2code.sim.invariants import check, energy_growth  # noqa: E402
 from max2code.sim.replay import read_trace  # noqa: E402
 from max2code.sim.scene import parse_scene  # noqa: E402
 from max2code.sim.simulate import LANGS, SimulateError, run_scene  # noqa: E402
-from sim_scenes import resting_scene, spinning_scene  # noqa: E402
+from sim_scenes import pile_scene, resting_scene, spinning_scene  # noqa: E402
 
-FAMILIES = {"resting": lambda seed: resting_scene(seed, boxes=True), "spinning": spinning_scene}
+FAMILIES = {"resting": lambda seed: resting_scene(seed, boxes=True), "spinning": spinning_scene,
+            "pile": pile_scene}
 KINDS = ("collision", "support", "stop", "leave", "sleep", "wake", "input", "frame")
 
 

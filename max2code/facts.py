@@ -2,7 +2,7 @@
 
 Each runtime is its own source tree in its own language (a runtime must
 build without max2code installed), so each keeps its own spelling of these
-facts: tests/test_facts.py reads every copy, in every runtime, and fails
+facts: tests/docs/test_facts.py reads every copy, in every runtime, and fails
 when one differs from the values here.  Change a fact here first, then in
 each file that test names.
 

@@ -116,6 +116,40 @@ def resting_scene(seed: int, *, end_time: float = 2.0, boxes: bool = True) -> di
             "bodies": out}
 
 
+def pile_scene(seed: int, *, end_time: float = 1.5, kinds: str | None = None) -> dict:
+    """A pile: 6 to 16 bodies (balls, boxes, or both: `kinds` "balls",
+    "boxes" or "mixed", else drawn) dropped in rows into a narrow bin
+    under gravity with random velocities, so that they pile up, pinch and
+    collide again and again; restitution up to 0.9, friction on or off
+    (drawn per scene).  No inputs: the system is closed."""
+    rng = random.Random(seed)
+    kinds = kinds or rng.choice(["balls", "boxes", "mixed"])
+    friction = rng.choice([0.0, 0.3, 0.8])
+    n = rng.randint(6, 16)
+    cols = rng.randint(2, 4)
+    slot = 0.36         # a box turned 0.3 rad reaches 0.15 m across: rows and columns never overlap
+    w, h = cols * slot, 3.0
+    out = box(w, h, restitution=rng.choice([0.3, 0.8, 1.0]))
+    for wall in out:
+        wall["friction"] = friction
+    for k in range(n):
+        size = round(rng.uniform(0.06, 0.12), 3)
+        x = (k % cols + 0.5) * slot + round(rng.uniform(-0.02, 0.02), 3)
+        y = 0.2 + (k // cols) * slot
+        body = {"name": f"p{k}", "mass": round(rng.uniform(0.5, 2.0), 3),
+                "restitution": rng.choice([0.0, 0.5, 0.8, 0.9]), "friction": friction,
+                "position": [round(x, 6), round(y, 6)],
+                "velocity": [round(rng.uniform(-2.0, 2.0), 3), round(rng.uniform(-2.0, 2.0), 3)]}
+        if kinds == "balls" or (kinds == "mixed" and rng.random() < 0.5):
+            body.update(shape="circle", radius=size)
+        else:
+            body.update(shape="polygon", vertices=[[-size, -size], [size, -size], [size, size], [-size, size]],
+                        angle=round(rng.uniform(-0.3, 0.3), 3))
+        out.append(body)
+    return {"name": f"pile {seed} ({kinds})", "end_time": end_time, "frame_rate": 30, "gravity": [0.0, -9.81],
+            "bodies": out}
+
+
 def write_resting_scenes(folder, seeds) -> list[str]:
     paths = []
     for seed in seeds:

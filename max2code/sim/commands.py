@@ -9,7 +9,7 @@ from max2code.errors import ArgumentParser, Max2CodeError
 from max2code.record import Record
 from max2code.sim.scene import DEFAULT_MAX_EVENTS, SceneError, check_scene, load_scene
 from max2code.sim.scene_c import read_scene
-from max2code.sim.simulate import CONVERTERS, LANGS, SimulateError, Trace, run_scene, stream_scene
+from max2code.sim.simulate import CONVERTERS, LANGS, RunStopped, SimulateError, Trace, run_scene, stream_scene, stop_line
 from max2code.textio import check_output, open_output
 
 
@@ -51,12 +51,16 @@ def simulate_main(argv: list[str]) -> int:
     check_output(args.output)
     # the common case read, checked and compiled in C; else in Python, the last checks while the simulator
     # reads the scene
-    scene = read_scene(args.scene)
+    # (--max-events is written into the flat scene, which the simulator counts its handled events against:
+    # such a run is read in Python)
+    scene = read_scene(args.scene) if args.max_events is None else None
     check = None
     if scene is None:
         scene = _load(args.scene, check=False)
+        if args.max_events is not None:
+            scene.max_events = args.max_events
         check = functools.partial(check_scene, scene)
-    limit = args.max_events if args.max_events is not None else scene.max_events
+    limit = scene.max_events
     try:
         with open_output(args.output) as out:
             raw = getattr(out, "buffer", None)       # all of the trace as bytes, when the stream has a buffer
@@ -65,12 +69,24 @@ def simulate_main(argv: list[str]) -> int:
                 out.flush()
                 write_bytes = raw.write
                 write = lambda text: write_bytes(text.encode("utf-8"))      # noqa: E731
-            stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
-                                 progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
-                                 warn=lambda line: print(line, file=sys.stderr), check=check,
-                                 write_bytes=write_bytes)
+            try:
+                stats = stream_scene(scene, args.lang, write, frames=not args.no_frames, max_events=limit,
+                                     progress=not args.quiet and sys.stderr.isatty(), converter=args.converter,
+                                     warn=lambda line: print(line, file=sys.stderr), check=check,
+                                     write_bytes=write_bytes)
+            except RunStopped as exc:
+                if exc.t is None:
+                    raise           # nothing was simulated (a scene the simulator refused): no trace
+                # the events up to the stop stay in the trace (a file is kept), closed by one line saying why
+                write(stop_line(exc))
+                stopped = exc
+            else:
+                stopped = None
     except (SimulateError, SceneError) as exc:
         raise SimCliError(str(exc)) from None
+    if stopped is not None:
+        where = "" if args.output == "-" else f"; the trace up to then is in {args.output}"
+        raise SimCliError(f"{stopped}{where}")
     if not args.quiet:
         ev = stats["events"]
         used = ", ".join(f"{k} {v}" for k, v in stats["predictions"].items())

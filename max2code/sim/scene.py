@@ -552,7 +552,34 @@ def check_scene(scene: Scene) -> None:
 
 def _check_scene(scene: Scene) -> None:
     _check_magnitudes(scene, _Reader(scene.path))
+    _check_spins(scene, _Reader(scene.path))
     _check_overlaps(scene)
+
+
+def _check_spins(scene: Scene, rd: _Reader) -> None:
+    """Refuse a body that turns so fast that following one pair of it to the
+    end would take more than max_events Taylor windows.  A pair with a
+    turning body is predicted a window at a time, each window a horizon event
+    (which counts against max_events), and a window sweeps at most the body's
+    own window angle (body_window; a pair in which both turn, less): a pair
+    that stays within reach of the body for the whole run needs at least
+    |angular_velocity| end_time / window of them.  A scene whose bodies are
+    all fixed predicts no pair and is not refused."""
+    if len(scene.bodies) < 2 or all(b.fixed for b in scene.bodies):
+        return
+    circles = None
+    for k, b in enumerate(scene.bodies):
+        if not b.turns:
+            continue
+        if circles is None:
+            circles = circle_lever(scene)
+        window = body_window(b, scene, circles)
+        windows = abs(b.angular_velocity) * scene.end_time / window
+        if windows > scene.max_events:
+            rd.fail(f"bodies[{k}] ({b.name})",
+                    f"turns at {abs(b.angular_velocity):g} rad/s: one pair of it followed to end_time takes "
+                    f"{windows:.3g} Taylor windows ({window:.3g} rad each), each a horizon event, more than "
+                    f"max_events ({scene.max_events}); turn it slower, shorten end_time or raise max_events")
 
 
 def _parse_scene(text: str, path: str) -> Scene:
@@ -1231,6 +1258,7 @@ def _compile_parts(scene: Scene, size: int):
            f"rest_speed {_r(scene.rest_speed)}",
            f"window_angle {_r(window_angle(scene))}",
            f"max_same_time {scene.max_same}",
+           f"max_events {scene.max_events}",
            f"grid {_r(g.x0)} {_r(g.y0)} {_r(g.cw)} {_r(g.ch)} {g.nx} {g.ny} {_r(g.margin)}",
            f"bodies {len(scene.bodies)}"]
     circles = circle_lever(scene)

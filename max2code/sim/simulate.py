@@ -54,6 +54,39 @@ class SimulateError(Max2CodeError):
     """The simulator did not build, failed, or reported a stuck scene."""
 
 
+class RunStopped(SimulateError):
+    """The simulator stopped after it had started its trace (an X line, the
+    event limit, a crash): the events before the stop were written.  `t` is
+    the instant of the stop as the trace's text (the last event's time; None
+    when no event was written), `message` the error without that instant."""
+
+    def __init__(self, text: str, t: str | None, message: str):
+        super().__init__(text)
+        self.t = t
+        self.message = message
+
+
+def stop_line(exc: RunStopped) -> str:
+    """The last line of a trace whose run stopped: `{"kind": "stopped", "t", "error"}`."""
+    try:
+        t = _num(exc.t)
+    except ValueError:
+        t = "null"          # a bad trace line's time
+    return f'{{"kind":"stopped","t":{t},"error":{json.dumps(exc.message)}}}\n'
+
+
+def _last_time(data: bytes) -> str | None:
+    """The time of the last event line (`E KIND T ...`) of flat trace text, as written."""
+    p = len(data)
+    while True:
+        p = data.rfind(b"E ", 0, p)
+        if p < 0:
+            return None
+        if p == 0 or data[p - 1] == 10:
+            w = data[p:data.find(b"\n", p) if data.find(b"\n", p) >= 0 else len(data)].split()
+            return w[2].decode("ascii", "replace") if len(w) > 2 else None
+
+
 def start_simulator(build: "SimBuild", **kw) -> subprocess.Popen:
     """The built simulator started with pipes to and from it; a program that
     cannot be run (gone, not executable: e.g. rebuilt by another run at that
@@ -429,7 +462,7 @@ class TraceConverter:
             if tag == "E":
                 self.events += 1
                 if self.max_events is not None and self.events > self.max_events:
-                    raise TraceLimit(self.max_events)
+                    raise TraceLimit(self.max_events, w[2])
                 kind, t = w[1], _num(w[2])
                 if kind in ("collision", "support"):
                     a, b, feat, i, j = int(w[3]), int(w[4]), int(w[5]), int(w[6]), int(w[7])
@@ -725,9 +758,10 @@ class TraceConverter:
 class TraceLimit(Exception):
     """More events than the limit: the run is stopped."""
 
-    def __init__(self, limit: int):
+    def __init__(self, limit: int, t: str):
         super().__init__(limit)
         self.limit = limit
+        self.t = t          # the time of the event past the limit, as the trace wrote it
 
 
 def parse_trace(text: str, scene: Scene, build: SimBuild) -> Trace:
@@ -865,27 +899,27 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         proc.stdout.close()
         raise
     last, rest, fed, cut = "", b"", b"", 0
+    stopped: BaseException | None = None
     try:
-        # chunks of whole events: the converters' fast paths
-        while True:
-            data = proc.stdout.read1(CHUNK)
-            if not data:
-                break
-            data = rest + data
-            k = _events_end(data)
-            if k:
-                fed, cut = data, k
-                conv.feed_events(data, k)       # its first k bytes
-            rest = data[k:]
-        if rest:
-            last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
-            conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
-        elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
-            last = fed[fed.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
-    except TraceLimit as exc:
-        raise SimulateError(f"{scene.path}: error: more than {exc.limit} events (collisions, inputs, frames): "
-                            f"the run was stopped; raise max_events in the scene or --max-events, or shorten "
-                            f"end_time") from None
+        try:
+            # chunks of whole events: the converters' fast paths
+            while True:
+                data = proc.stdout.read1(CHUNK)
+                if not data:
+                    break
+                data = rest + data
+                k = _events_end(data)
+                if k:
+                    fed, cut = data, k
+                    conv.feed_events(data, k)       # its first k bytes
+                rest = data[k:]
+            if rest:
+                last = rest.decode("ascii", "replace").rstrip("\n").rpartition("\n")[2]
+                conv.feed_events(rest if rest.endswith(b"\n") else rest + b"\n")
+            elif fed:                       # the trace's last line (an X line tells why the simulator stopped)
+                last = fed[fed.rfind(b"\n", 0, cut - 1) + 1:cut].decode("ascii", "replace")
+        except (TraceLimit, SimulateError) as exc:
+            stopped = exc        # an X line, the event limit, a bad line: the events before it are written
     finally:
         timer.cancel()
         if proc.poll() is None:
@@ -894,13 +928,32 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         for th in threads:
             th.join(timeout=5)
         proc.stdout.close()
-    if proc.returncode != 0:
-        if last.startswith("X "):
-            raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:].strip()}")
+    if stopped is None and proc.returncode == 0:
+        return conv._finish()
+    # the run stopped: the trace written so far is kept (the event being converted included), and the
+    # error names the instant of the stop (the last event's time)
+    conv._flush()
+    t = _last_time(rest) or _last_time(fed[:cut])
+    if isinstance(stopped, TraceLimit):
+        t = stopped.t
+        message = (f"more than {stopped.limit} events (collisions, inputs, frames) at t = {t}: the run was "
+                   f"stopped; raise max_events in the scene or --max-events, or shorten end_time")
+        raise RunStopped(f"{scene.path}: error: {message}", t, message)
+    if last.startswith("X "):
+        message = f"{lang} simulator: {last[2:].strip()}"
+    elif stopped is not None:
+        message = str(stopped)
+        if message.startswith(f"{scene.path}: "):
+            message = message[len(scene.path) + 2:]
+    else:
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
-        raise SimulateError(f"{scene.path}: {lang} simulator failed ({why}): "
-                            f"{b''.join(err)[-2000:].decode('ascii', 'replace')}")
-    return conv._finish()
+        message = f"{lang} simulator failed ({why}): {b''.join(err)[-2000:].decode('ascii', 'replace')}"
+    named = re.search(r" at t = ([-+.0-9eE]+)", message)
+    if named:
+        t = named.group(1)          # the simulator named the instant (its event past a limit, a stuck instant)
+    elif t is not None:
+        message += f" (stopped at t = {t})"
+    raise RunStopped(f"{scene.path}: {message}", t, message)
 
 
 def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float = 3600) -> Trace:

@@ -13,7 +13,7 @@ FROM SimScene IMPORT Bodies, BodyRef, GridNX, GridNY, Grow, MaxItems, RestSpeed 
 FROM SimQueue IMPORT CollisionEvent ;
 FROM SimGrid IMPORT Cells, IntList, large_near, Max, Min, Near ;
 FROM SimOut IMPORT EmitContact ;
-FROM SimWorld IMPORT AddContact, EmitState, NLeft, Stats ;
+FROM SimWorld IMPORT AddContact, AddJammed, EmitState, HeldNow, NLeft, Stats ;
 FROM SimMotion IMPORT rebase, TurnRate ;
 FROM SimPredict IMPORT closing, PredictPair, ScheduleCell ;
 FROM SimContact IMPORT contact_frame, normal_speed, pressed ;
@@ -29,6 +29,11 @@ CONST
       them: no impulse in it changed a normal speed by more than ClusterTol
       rest_speed *)
    ClusterRepeats = 64 ;
+   (* a contact met ClusterRepeats + ClusterJam times at one instant (its
+      cluster solved ClusterJam times there and met again) jams its
+      cluster: the movers come to rest and fall asleep, held until the
+      instant ends *)
+   ClusterJam = 4 ;
    ClusterSweeps = 100 ;
    ClusterTol = 1.0E-9 ;
    (* the separation speed (times rest_speed) of a cluster's contact that
@@ -558,7 +563,7 @@ BEGIN
       FOR n := 0 TO 1 DO
          IF n = 0 THEN s := Rows^[k].a ELSE s := Rows^[k].b END ;
          S := ADR (Bodies^[s]) ;
-         IF S^.asleep THEN
+         IF S^.asleep AND NOT HeldNow (S) THEN
             total := 0.0 ;
             FOR q := 0 TO NRows - 1 DO
                WITH Rows^[q] DO
@@ -719,12 +724,107 @@ END predict_apart ;
    bodies not written yet (settle); what a body whose velocity changed
    carries leaves; those slow enough fall asleep (wedged), and the others
    are predicted again. *)
+(* How many times the collision's contact was handled at this instant. *)
+PROCEDURE jam_count (t: REAL; ev: CollisionEvent) : INTEGER ;
+VAR
+   k: INTEGER ;
+BEGIN
+   IF t # TouchedT THEN RETURN 0 END ;
+   FOR k := 0 TO NTouched - 1 DO
+      IF (Touched^[k].a = ev.a) AND (Touched^[k].b = ev.b) AND (Touched^[k].feature = ev.feature)
+         AND (Touched^[k].i = ev.i) AND (Touched^[k].j = ev.j) THEN
+         RETURN Touched^[k].times
+      END
+   END ;
+   RETURN 0
+END jam_count ;
+
+
+(* A cluster its solves do not settle (met again after ClusterJam solves at
+   one instant): inelastic collapse, resolved as in Luding's TC model with
+   a contact time of zero: contacts met again at once lose all restitution
+   and all sliding.  An E collision line per contact of the cluster
+   (impulse 0), then each mover (a body of the cluster that is not held, in
+   the contacts' order) falls asleep, at rest, on its support when that is
+   fixed, else on the first body it touches in the cluster that is fixed or
+   asleep, else on the other body of its first contact; it is held until
+   the instant ends (SimWorld.HeldNow).  Kinetic energy only falls. *)
+PROCEDURE jam (t: REAL; ev: CollisionEvent) ;
+VAR
+   k, q, n, m, o, g: INTEGER ;
+   A, B, b: BodyRef ;
+   found: BOOLEAN ;
+BEGIN
+   touch (t, ev.a, ev.b, ev.feature, ev.i, ev.j) ;
+   cluster (ev) ;
+   FOR k := 0 TO NRows - 1 DO
+      rebase (ADR (Bodies^[Rows^[k].a]), t) ;
+      rebase (ADR (Bodies^[Rows^[k].b]), t)
+   END ;
+   NMovers := 0 ;
+   FOR k := 0 TO NRows - 1 DO
+      FOR n := 0 TO 1 DO
+         IF n = 0 THEN b := ADR (Bodies^[Rows^[k].a]) ELSE b := ADR (Bodies^[Rows^[k].b]) END ;
+         IF part (b) # Held THEN
+            found := FALSE ;
+            FOR q := 0 TO NMovers - 1 DO
+               IF Movers^[q].idx = b^.idx THEN found := TRUE END
+            END ;
+            IF NOT found THEN
+               Movers^[NMovers].idx := b^.idx ;
+               INC (NMovers)
+            END
+         END
+      END
+   END ;
+   FOR k := 0 TO NRows - 1 DO
+      WITH Rows^[k] DO
+         A := ADR (Bodies^[a]) ;
+         B := ADR (Bodies^[b]) ;
+         contact_frame (t, feature, A, B, i, j, cx, cy, nx, ny) ;
+         INC (Stats.collisions) ;
+         EmitContact ("collision", t, a, b, feature, i, j, cx, cy, nx, ny, 0.0) ;
+         AddContact (t, a, b, feature, i, j, cx, cy, nx, ny, 0.0, FALSE)
+      END
+   END ;
+   FOR k := 0 TO NMovers - 1 DO
+      m := Movers^[k].idx ;
+      b := ADR (Bodies^[m]) ;
+      IF NOT b^.asleep THEN
+         g := -1 ;
+         IF (b^.sup >= 0) AND Bodies^[b^.sup].fixed THEN
+            g := b^.sup
+         ELSE
+            q := 0 ;
+            WHILE (g < 0) AND (q < NRows) DO
+               o := -1 ;
+               IF Rows^[q].a = m THEN o := Rows^[q].b ELSIF Rows^[q].b = m THEN o := Rows^[q].a END ;
+               IF (o >= 0) AND (Bodies^[o].fixed OR Bodies^[o].asleep) THEN g := o END ;
+               INC (q)
+            END ;
+            q := 0 ;
+            WHILE (g < 0) AND (q < NRows) DO
+               IF Rows^[q].a = m THEN g := Rows^[q].b ELSIF Rows^[q].b = m THEN g := Rows^[q].a END ;
+               INC (q)
+            END
+         END ;
+         AddJammed (t, m) ;
+         handle_sleep (b, ADR (Bodies^[g]), t)
+      END
+   END
+END jam ;
+
+
 PROCEDURE handle_cluster (t: REAL; ev: CollisionEvent) ;
 VAR
    k, m, s, g, n0, nw: INTEGER ;
    A, B, b: BodyRef ;
    grow: BOOLEAN ;
 BEGIN
+   IF jam_count (t, ev) >= ClusterRepeats + ClusterJam THEN
+      jam (t, ev) ;
+      RETURN
+   END ;
    touch (t, ev.a, ev.b, ev.feature, ev.i, ev.j) ;
    LOOP
       cluster (ev) ;

@@ -9,7 +9,7 @@ FROM RealMath IMPORT cos, sin ;
 FROM CMath IMPORT sqrt ;
 FROM SimScene IMPORT Bodies, BodyRef, RestSpeed, Verts ;
 FROM SimQueue IMPORT FeatCC ;
-FROM SimWorld IMPORT Unpaid ;
+FROM SimWorld IMPORT HeldNow, Unpaid ;
 FROM SimMotion IMPORT PointAt, TurnRate ;
 FROM SimPredict IMPORT closing ;
 FROM SimSupport IMPORT slide_accel, support_relative ;
@@ -321,7 +321,7 @@ BEGIN
    S^.invM := invM ;
    S^.invI := invI ;
    rsn := (cx - S^.px) * ny - (cy - S^.py) * nx ;
-   IF (imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed) AND NOT Unpaid THEN RETURN imp END ;
+   IF ((imp * (S^.invM + S^.invI * rsn * rsn) < RestSpeed) AND NOT Unpaid) OR HeldNow (S) THEN RETURN imp END ;
    M^.vx := vx ;
    M^.vy := vy ;
    M^.om := om ;

@@ -8,7 +8,7 @@ IMPLEMENTATION MODULE SimHandlers ;
    double operations in the same order. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, EndT, FrameDt, GridNX, GridNY, Input, Inputs, MaxSame, NBodies,
+FROM SimScene IMPORT Bodies, BodyRef, EndT, FrameDt, GridNX, GridNY, Input, Inputs, MaxEvents, MaxSame, NBodies,
                      NInputs, Tol ;
 FROM SimQueue IMPORT CellEvent, Clear, CollisionEvent, Event, FrameEvent, HorizonEvent, InputEvent, KCell,
                      KCollision, KFrame, KHorizon, KInput, KLeave, KStop, LeaveEvent, Pop, StopEvent, Top ;
@@ -16,7 +16,7 @@ FROM SimGrid IMPORT CellAdd, CellOf, CellRemove, Cells, InitGrid, large_near, La
                     place_large, SortNear, unplace_large, walls_in ;
 FROM SimOut IMPORT EmitContact, EmitSupportEnd, Int, Ln, Real, SpReal, Stat, Str ;
 FROM SimWorld IMPORT AddContact, AddLeft, AddVelocityMode, Append, AppendInt, AppendReal, CcCounts,
-                     EmitState, Failed, Fails, ImpulseMode, is_stale, LastT, LeftBody, LeftSkip, MsgLen,
+                     EmitState, Failed, Fails, Handled, ImpulseMode, JammedT, NJammed, is_stale, LastT, LeftBody, LeftSkip, MsgLen,
                      NAdded, NCc, NContacts, NLeft, NPe, PeCounts, push, push_frame, RemoveMode, Same, Seq,
                      SetVelocityMode, Stats, TeleportMode, Unpaid, WorldT ;
 FROM SimMotion IMPORT rebase, StateAt ;
@@ -632,6 +632,9 @@ BEGIN
    WorldT := 0.0 ;
    LastT := -1.0 ;
    Same := 0 ;
+   Handled := 0 ;
+   JammedT := -1.0 ;
+   NJammed := 0 ;
    TouchedT := -1.0 ;
    NTouched := 0 ;
    NContacts := 0 ;
@@ -664,7 +667,8 @@ BEGIN
 END start ;
 
 
-(* Handles one event taken from the queue: dropped when stale, counted at
+(* Handles one event taken from the queue: dropped when stale, counted
+   against max_events (every kind: cell crossings and horizons too) and at
    its instant (max_same_time: more is "stuck"), then its kind's handler. *)
 PROCEDURE dispatch (ev: Event) ;
 VAR
@@ -672,6 +676,16 @@ VAR
 BEGIN
    IF is_stale (ev) THEN
       INC (Stats.stale) ;
+      RETURN
+   END ;
+   INC (Handled) ;
+   IF Handled > MaxEvents THEN
+      m := "more than " ;
+      AppendInt (m, MaxEvents) ;
+      Append (m, " events (collisions, inputs, frames, cell crossings, horizons) at t = ") ;
+      AppendReal (m, ev.t) ;
+      Append (m, ": the run was stopped; raise max_events in the scene or --max-events, or shorten end_time") ;
+      Fails (m) ;
       RETURN
    END ;
    IF ev.t = LastT THEN

@@ -735,6 +735,10 @@ BEGIN
    IF Failed THEN RETURN END ;
    IF same < 1 THEN ErrorWhole ("max_same_time ", same, " is less than 1") ; RETURN END ;
    MaxSame := same ;
+   Expect ("max_events") ; same := ReadLongInt () ;
+   IF Failed THEN RETURN END ;
+   IF same < 1 THEN ErrorWhole ("max_events ", same, " is less than 1") ; RETURN END ;
+   MaxEvents := same ;
    Expect ("grid") ;
    GridX0 := Num () ; GridY0 := Num () ;
    IF Failed THEN RETURN END ;

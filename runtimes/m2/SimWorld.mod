@@ -13,6 +13,7 @@ FROM SimLive IMPORT Contact ;
 VAR
    CapContacts: INTEGER ;      (* Contacts' room *)
    CapLeft: INTEGER ;          (* LeftBody's and LeftSkip's room *)
+   CapJammed: INTEGER ;        (* Jammed's room *)
    endp: ADDRESS ;
 
 
@@ -200,6 +201,33 @@ BEGIN
 END AddLeft ;
 
 
+PROCEDURE AddJammed (t: REAL; i: INTEGER) ;
+BEGIN
+   IF JammedT # t THEN
+      JammedT := t ;
+      NJammed := 0
+   END ;
+   IF NJammed >= CapJammed THEN
+      IF CapJammed = 0 THEN CapJammed := 16 ELSE CapJammed := 2 * CapJammed END ;
+      Jammed := Grow (Jammed, CapJammed, SIZE (INTEGER))
+   END ;
+   Jammed^[NJammed] := i ;
+   INC (NJammed)
+END AddJammed ;
+
+
+PROCEDURE HeldNow (S: BodyRef) : BOOLEAN ;
+VAR
+   k: INTEGER ;
+BEGIN
+   IF JammedT # LastT THEN RETURN FALSE END ;
+   FOR k := 0 TO NJammed - 1 DO
+      IF Jammed^[k] = S^.idx THEN RETURN TRUE END
+   END ;
+   RETURN FALSE
+END HeldNow ;
+
+
 BEGIN
    Loaded := FALSE ;
    Failed := FALSE ;
@@ -216,6 +244,10 @@ BEGIN
    LeftSkip := NIL ;
    NLeft := 0 ;
    CapLeft := 0 ;
+   JammedT := -1.0 ;
+   Jammed := NIL ;
+   NJammed := 0 ;
+   CapJammed := 0 ;
    endp := NIL ;
    Inf := strtod ("inf", endp)
 END SimWorld.

@@ -103,8 +103,18 @@ def test_max_events_stops_a_run(tmp_path, capsys):
     p = write(tmp_path, "many.json", scene(frame_rate=100, end_time=1))
     out = tmp_path / "trace.jsonl"
     code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "10", "-o", out, "-q")
-    assert code == 1 and "more than 10 events" in one_error_line(err, f"{p}: error: ")
-    assert not out.exists(), "a stopped run leaves no half-written trace"
+    # the simulator counts every event it handles (the ball's cell crossings too) and stops first
+    assert code == 1 and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    assert err.startswith(f"{p}: c simulator: more than 10 events (collisions, inputs, frames, cell crossings, "
+                          "horizons) at t = "), err
+    assert err.endswith(f"; the trace up to then is in {out}\n"), err
+    lines = [json.loads(x) for x in out.read_text().splitlines()]
+    assert [e["kind"] for e in lines[:-1]] == ["frame"] * (len(lines) - 1) and lines[-1]["kind"] == "stopped"
+    assert 1 <= len(lines) - 1 <= 10, "the frames before the stop are kept"
+    assert all(e["t"] <= lines[-1]["t"] for e in lines)
+    assert float(err.split(" at t = ")[1].split(":")[0]) == lines[-1]["t"], "the stopped line's instant is the error's"
+    code, _, err = run(capsys, "simulate", "--lang", "c", p, "--no-frames", "--max-events", "200", "-o", out, "-q")
+    assert code == 0, err
     code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "0")
     assert code == 1 and "--max-events" in err
 

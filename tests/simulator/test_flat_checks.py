@@ -136,6 +136,10 @@ def cases() -> list[tuple[str, object, str]]:
         "scene: window_angle 0.69999999999999996 outside (0, 0.5]")
     add("window-angle-zero", lambda f: f.header("window_angle", "0"), "scene: window_angle 0 outside (0, 0.5]")
     add("max-same", lambda f: f.header("max_same_time", "0"), "scene: max_same_time 0 is less than 1")
+    add("max-events", lambda f: f.header("max_events", "0"), "scene: max_events 0 is less than 1")
+    add("max-events-negative", lambda f: f.header("max_events", "-3"), "scene: max_events -3 is less than 1")
+    add("max-events-missing", lambda f: f.raw("\nmax_events ", "\nmax_event "),
+        "scene: expected 'max_events', found 'max_event'")
     add("grid-origin", lambda f: f.header_field("grid", 0, "1e151"), "scene: grid origin beyond 1e150")
     add("grid-cell-nan", lambda f: f.header_field("grid", 2, "nan"), "scene: expected a number, found 'nan'")
     add("grid-cell-zero", lambda f: f.header_field("grid", 3, "0"), "scene: grid cell 0 outside [1e-150, 1e150]")
@@ -348,3 +352,5 @@ def test_the_json_check_bounds_the_event_counts_as_the_flat_check_does():
             parse_scene(json.dumps({**SCENE, field: 1e18}), "in-memory")
     sc = parse_scene(json.dumps({**SCENE, "max_events_at_one_time": 999999999999999872}), "in-memory")
     assert Scene(compile_scene(sc)).max_same == 999999999999999872
+    sc = parse_scene(json.dumps({**SCENE, "max_events": 999999999999999872}), "in-memory")
+    assert Scene(compile_scene(sc)).max_events == 999999999999999872

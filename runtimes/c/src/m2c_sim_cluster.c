@@ -14,6 +14,10 @@
  * sequential impulses, and the sweep that ends them: no impulse in it
  * changed a normal speed by more than CLUSTER_TOL rest_speed */
 #define CLUSTER_REPEATS 64
+/* a contact met CLUSTER_REPEATS + CLUSTER_JAM times at one instant (its
+ * cluster solved CLUSTER_JAM times there and met again) jams its cluster: the
+ * movers come to rest and fall asleep, held until the instant ends */
+#define CLUSTER_JAM 4
 #define CLUSTER_SWEEPS 100
 #define CLUSTER_TOL 1e-9
 /* the separation speed (times rest_speed) of a cluster's contact that nothing
@@ -48,6 +52,32 @@ void m2c_sim_count_touch(m2c_world *m, double t, int32_t a, int32_t b, int32_t f
         m->touched_cap = cap;
     }
     m->touched[m->ntouched++] = (m2c_sim_touch){ a, b, feature, i, j, 1 };
+}
+
+/* How many times the collision's contact was handled at this instant. */
+static long long jam_count(const m2c_world *m, const m2c_sim_event *ev)
+{
+    if (ev->t != m->touched_t)
+        return 0;
+    for (int32_t k = 0; k < m->ntouched; k++) {
+        const m2c_sim_touch *c = &m->touched[k];
+        if (c->a == ev->u.collision.a && c->b == ev->u.collision.b && c->feature == ev->u.collision.feature
+            && c->i == ev->u.collision.i && c->j == ev->u.collision.j)
+            return c->times;
+    }
+    return 0;
+}
+
+/* A sleeper a jam put to sleep at the current instant: no touch wakes it
+ * before the instant ends. */
+int m2c_sim_held_now(const m2c_world *m, const m2c_sim_body *S)
+{
+    if (m->jammed_t != m->last_t)
+        return 0;
+    for (int32_t k = 0; k < m->njammed; k++)
+        if (m->jammed[k] == S->idx)
+            return 1;
+    return 0;
 }
 
 /* The collision's contact (a, b, feature, i, j) was handled
@@ -449,7 +479,7 @@ static m2c_sim_body *jolted_sleeper(const m2c_world *m)
         m2c_sim_body *both[2] = { c->rows[k].A, c->rows[k].B };
         for (int p = 0; p < 2; p++) {
             m2c_sim_body *S = both[p];
-            if (!S->asleep)
+            if (!S->asleep || m2c_sim_held_now(m, S))
                 continue;
             double total = 0.0;
             for (int32_t q = 0; q < c->n; q++) {
@@ -574,10 +604,83 @@ static void settle(m2c_world *m, m2c_sim_body *b)
  * not written yet (settle); what a body whose velocity changed carries
  * leaves; those slow enough fall asleep (wedged), and the others are
  * predicted again. */
+/* A cluster its solves do not settle (met again after CLUSTER_JAM solves
+ * at one instant): inelastic collapse, resolved as in Luding's TC model
+ * with a contact time of zero: contacts met again at once lose all
+ * restitution and all sliding.  An E collision line per contact of the
+ * cluster (impulse 0), then each mover (a body of the cluster that is not
+ * held, in the contacts' order) falls asleep, at rest, on its support when
+ * that is fixed, else on the first body it touches in the cluster that is
+ * fixed or asleep, else on the other body of its first contact; it is held
+ * until the instant ends (m2c_sim_held_now).  Kinetic energy only falls. */
+static void jam(m2c_world *m, const m2c_sim_event *ev)
+{
+    m2c_sim_cluster *c = &m->clu;
+    double t = ev->t;
+    m2c_sim_count_touch(m, t, ev->u.collision.a, ev->u.collision.b, ev->u.collision.feature, ev->u.collision.i,
+                        ev->u.collision.j);
+    cluster(m, ev);
+    for (int32_t k = 0; k < c->n; k++) {
+        m2c_sim_rebase(c->rows[k].A, t);
+        m2c_sim_rebase(c->rows[k].B, t);
+    }
+    c->nmovers = 0;
+    for (int32_t k = 0; k < c->n; k++) {
+        m2c_sim_body *both[2] = { c->rows[k].A, c->rows[k].B };
+        for (int q = 0; q < 2; q++)
+            if (part(m, both[q]) != HELD && !m2c_sim_among(c->movers, c->nmovers, both[q]))
+                c->movers[c->nmovers++] = both[q];
+    }
+    for (int32_t k = 0; k < c->n; k++) {
+        m2c_sim_row *r = &c->rows[k];
+        m2c_sim_contact_frame(m, t, r->feature, r->A, r->B, r->i, r->j, &r->cx, &r->cy, &r->nx, &r->ny);
+        m->stats.collisions++;
+        m2c_sim_emit_contact(m, "E collision ", t, r->A, r->B, r->feature, r->i, r->j, r->cx, r->cy, r->nx, r->ny,
+                             0.0);
+        m2c_sim_report(m, t, r->A, r->B, r->feature, r->i, r->j, r->cx, r->cy, r->nx, r->ny, 0.0, 0);
+    }
+    if (m->jammed_t != t) {
+        m->jammed_t = t;
+        m->njammed = 0;
+    }
+    for (int32_t k = 0; k < c->nmovers; k++) {
+        m2c_sim_body *b = c->movers[k];
+        if (b->asleep)
+            continue;
+        m2c_sim_body *G = NULL;
+        if (b->sup >= 0 && m->bodies[b->sup].fixed) {
+            G = &m->bodies[b->sup];
+        } else {
+            for (int32_t q = 0; q < c->n && G == NULL; q++) {
+                m2c_sim_body *o = c->rows[q].A == b ? c->rows[q].B : (c->rows[q].B == b ? c->rows[q].A : NULL);
+                if (o != NULL && (o->fixed || o->asleep))
+                    G = o;
+            }
+            for (int32_t q = 0; q < c->n && G == NULL; q++)
+                if (c->rows[q].A == b || c->rows[q].B == b)
+                    G = c->rows[q].A == b ? c->rows[q].B : c->rows[q].A;
+        }
+        if (m->njammed == m->jammed_cap) {
+            int32_t cap = m->jammed_cap ? 2 * m->jammed_cap : 16;
+            int32_t *more = realloc(m->jammed, (size_t)cap * sizeof *more);
+            if (more == NULL)
+                m2c_sim_die(m, "out of memory");
+            m->jammed = more;
+            m->jammed_cap = cap;
+        }
+        m->jammed[m->njammed++] = b->idx;
+        m2c_sim_handle_sleep(m, b, G, t);
+    }
+}
+
 void m2c_sim_handle_cluster(m2c_world *m, const m2c_sim_event *ev)
 {
     m2c_sim_cluster *c = &m->clu;
     double t = ev->t;
+    if (jam_count(m, ev) >= CLUSTER_REPEATS + CLUSTER_JAM) {
+        jam(m, ev);
+        return;
+    }
     m2c_sim_count_touch(m, t, ev->u.collision.a, ev->u.collision.b, ev->u.collision.feature, ev->u.collision.i,
                         ev->u.collision.j);
     for (;;) {

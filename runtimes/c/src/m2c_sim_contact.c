@@ -270,7 +270,7 @@ double m2c_sim_sleeper_impulse(m2c_world *m, m2c_sim_body *A, m2c_sim_body *B, d
     S->inv_m = inv_m;
     S->inv_i = inv_i;
     double rsn = (cx - S->px) * ny - (cy - S->py) * nx;
-    if (imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed && !m->unpaid)
+    if ((imp * (S->inv_m + S->inv_i * rsn * rsn) < m->s->rest_speed && !m->unpaid) || m2c_sim_held_now(m, S))
         return imp;
     M->vx = vx;
     M->vy = vy;

@@ -610,12 +610,20 @@ static void count_same_time(m2c_world *m, double t, double *last_t, long long *s
 }
 
 /* Handles one event popped from the queue: dropped when stale, counted
+ * against max_events (every kind: cell crossings and horizons too) and
  * among the events at one instant (max_same_time), to its kind's handler. */
 void m2c_sim_dispatch(m2c_world *m, const m2c_sim_event *ev)
 {
     if (m2c_sim_is_stale(m, ev)) {
         m->stats.stale++;
         return;
+    }
+    if (++m->handled > m->s->max_events) {
+        char num[M2C_SIM_NUMBER_MAX + 1];
+        num[m2c_sim_format_number(num, ev->t)] = '\0';
+        m2c_sim_die(m, "more than %lld events (collisions, inputs, frames, cell crossings, horizons) at t = %s: "
+                    "the run was stopped; raise max_events in the scene or --max-events, or shorten end_time",
+                    m->s->max_events, num);
     }
     count_same_time(m, ev->t, &m->last_t, &m->same);
     handlers[ev->kind](m, ev);

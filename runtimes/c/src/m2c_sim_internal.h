@@ -142,6 +142,7 @@ struct m2c_sim_scene {
     double rest_speed;      /* m/s: smallest separation speed of a contact */
     double alpha;           /* rad: Taylor window angle */
     long long max_same;     /* events at one instant before "stuck" */
+    long long max_events;   /* events handled in a run (every kind but stale ones) */
     double x0, y0, cw, ch;  /* m: grid origin and cell size */
     int32_t nx, ny;         /* grid cells per axis */
     double margin;          /* m: a moving centre changes cell this far past the edge */
@@ -477,6 +478,7 @@ struct m2c_world {
     double now;                         /* s: the time reached */
     double last_t;                      /* s: time of the last event handled (-1 before any) */
     long long same;                     /* events handled at last_t after the first */
+    long long handled;                  /* events handled (stale ones not): at most s->max_events */
     m2c_contact_fn fn;                  /* during m2c_world_advance: told of each contact */
     void *user;
     size_t trig_cap;                    /* entries of vtrig and etrig */
@@ -484,6 +486,9 @@ struct m2c_world {
     int unpaid;                         /* a hop since sleeper_impulse cleared it added energy (pay_floor could not pay) */
     double touched_t;                   /* s: the instant of the contacts in touched */
     m2c_sim_touch *touched;             /* the contacts handled at touched_t, in order, each once */
+    double jammed_t;                    /* s: the instant of the bodies in jammed */
+    int32_t *jammed;                    /* the bodies a jam put to sleep at jammed_t (m2c_sim_held_now) */
+    int32_t njammed, jammed_cap;
     int32_t ntouched, touched_cap;
     m2c_sim_cluster clu;                /* handle_cluster's scratch */
     double *scratch;                    /* bound_polygon: scratch_cap polynomials of M2C_MAX_DEGREE + 1 */
@@ -901,6 +906,7 @@ void m2c_sim_wake_touching(m2c_world *m, const m2c_sim_body *body, double t);
 void m2c_sim_count_touch(m2c_world *m, double t, int32_t a, int32_t b, int32_t feature, int32_t i, int32_t j);
 /* The collision's contact was handled often enough at this instant to be solved with the others. */
 int m2c_sim_repeated(const m2c_world *m, const m2c_sim_event *ev);
+int m2c_sim_held_now(const m2c_world *m, const m2c_sim_body *S);
 /* Solves the contacts met at this instant that reach ev's together. */
 void m2c_sim_handle_cluster(m2c_world *m, const m2c_sim_event *ev);
 void m2c_sim_cluster_free(m2c_sim_cluster *c);

@@ -657,6 +657,10 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     s->max_same = integer(r);
     if (!r->failed && s->max_same < 1)
         fail(r, "max_same_time %lld is less than 1", s->max_same);
+    word(r, "max_events");
+    s->max_events = integer(r);
+    if (!r->failed && s->max_events < 1)
+        fail(r, "max_events %lld is less than 1", s->max_events);
     word(r, "grid");
     s->x0 = num(r);
     s->y0 = num(r);

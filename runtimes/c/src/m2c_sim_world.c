@@ -153,6 +153,7 @@ int m2c_sim_open(m2c_world *m, m2c_sim_scene *scene, int cc_variants, int pe_var
     m->last_t = -1.0;
     m->unpaid = 0;
     m->touched_t = -1.0;
+    m->jammed_t = -1.0;
     M2C_SIM_CATCH(m);
     if (m2c_sim_out_init(&m->out, trace) != 0)
         m2c_sim_die(m, "out of memory");
@@ -206,6 +207,7 @@ void m2c_sim_close(m2c_world *m)
     free(m->scratch);
     free(m->scratch_deg);
     free(m->touched);
+    free(m->jammed);
     m2c_sim_cluster_free(&m->clu);
     m2c_sim_scene_free(m->s);
     m->s = NULL;

@@ -1117,14 +1117,15 @@ int sf_compile(void *h, const double *poly, unsigned char *large)
     }
     /* the text */
     sf_buf *b = &s->out;
-    char tmp[64];
+    char tmp[96];
     b->n = 0;
     if (puts_(b, "m2c-scene 1\n") || line_real(b, "end ", s->end_time)
         || line_real(b, "frame ", s->frame_rate > 0.0 ? 1.0 / s->frame_rate : 0.0)
         || line_real(b, "tolerance ", s->tolerance) || line_real(b, "rest_speed ", s->rest_speed)
         || line_real(b, "window_angle ", 0.5))
         return NO_MEMORY;
-    snprintf(tmp, sizeof tmp, "max_same_time %lld\ngrid ", (long long)s->max_same);
+    snprintf(tmp, sizeof tmp, "max_same_time %lld\nmax_events %lld\ngrid ", (long long)s->max_same,
+             (long long)s->max_events);
     if (puts_(b, tmp) || put_real(b, x0) || put(b, " ", 1) || put_real(b, y0) || put(b, " ", 1) || put_real(b, cw)
         || put(b, " ", 1) || put_real(b, ch))
         return NO_MEMORY;

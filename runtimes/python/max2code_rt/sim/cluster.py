@@ -16,6 +16,10 @@ from max2code_rt.sim.world import Contact
 # cluster's sequential impulses, and the sweep that ends them: no impulse in
 # it changed a normal speed by more than CLUSTER_TOL rest_speed
 CLUSTER_REPEATS = 64
+# a contact met CLUSTER_REPEATS + CLUSTER_JAM times at one instant (its
+# cluster solved CLUSTER_JAM times there and met again) jams its cluster: the
+# movers come to rest and fall asleep, held until the instant ends
+CLUSTER_JAM = 4
 CLUSTER_SWEEPS = 100
 CLUSTER_TOL = 1e-9
 # the separation speed (times rest_speed) of a cluster's contact that nothing
@@ -41,6 +45,19 @@ class ClusterMixin:
                 c[5] += 1
                 return
         self.touched.append([a, b, feature, i, j, 1])
+
+    def jam_count(self, ev: CollisionEvent) -> int:
+        """How many times the collision's contact was handled at this instant."""
+        if ev.t != self.touched_t:
+            return 0
+        for c in self.touched:
+            if c[0] == ev.a and c[1] == ev.b and c[2] == ev.feature and c[3] == ev.i and c[4] == ev.j:
+                return c[5]
+        return 0
+
+    def held_now(self, S: Body) -> bool:
+        """A sleeper a jam put to sleep at the current instant: no touch wakes it before the instant ends."""
+        return self.jammed_t == self.last_t and S.idx in self.jammed
 
     def repeated(self, ev: CollisionEvent) -> bool:
         """The collision's contact (a, b, feature, i, j) was handled
@@ -290,7 +307,7 @@ class ClusterMixin:
         rest_speed (as a touch that is not gentle, sleeper_impulse); None."""
         for k in range(len(rows)):
             for S in (rows[k][0], rows[k][1]):
-                if not S.asleep:
+                if not S.asleep or self.held_now(S):
                     continue
                 total = 0.0
                 for q in range(len(rows)):
@@ -374,6 +391,9 @@ class ClusterMixin:
         body whose velocity changed carries leaves; those slow enough fall
         asleep (wedged), and the others are predicted again."""
         t = ev.t
+        if self.jam_count(ev) >= CLUSTER_REPEATS + CLUSTER_JAM:
+            self.jam(ev)
+            return
         self.touch(t, ev.a, ev.b, ev.feature, ev.i, ev.j)
         while True:
             cs = self.cluster(ev)
@@ -419,6 +439,57 @@ class ClusterMixin:
                 self.predict_apart(b, t, done)
                 done.append(b)
         self.predict_released(left, t)
+
+    def jam(self, ev: CollisionEvent) -> None:
+        """A cluster its solves do not settle (met again after CLUSTER_JAM
+        solves at one instant): inelastic collapse, resolved as in Luding's
+        TC model with a contact time of zero: contacts met again at once
+        lose all restitution and all sliding.  An E collision line per
+        contact of the cluster (impulse 0), then each mover (a body of the
+        cluster that is not held, in the contacts' order) falls asleep, at
+        rest (handle_sleep), on its support when that is fixed, else on the
+        first body it touches in the cluster that is fixed or asleep, else
+        on the other body of its first contact; it is held until the
+        instant ends (held_now: no touch wakes it at this instant).  Kinetic
+        energy only falls."""
+        t = ev.t
+        self.touch(t, ev.a, ev.b, ev.feature, ev.i, ev.j)
+        cs = self.cluster(ev)
+        for A, B, _, _, _ in cs:
+            self.rebase(A, t)
+            self.rebase(B, t)
+        movers = []
+        for A, B, _, _, _ in cs:
+            for b in (A, B):
+                if self.part(b) != HELD and b not in movers:
+                    movers.append(b)
+        for A, B, feature, i, j in cs:
+            cx, cy, nx, ny = self.contact_frame(t, feature, A, B, i, j)
+            self.stats.collisions += 1
+            self.emit_contact("collision", t, A.idx, B.idx, feature, i, j, cx, cy, nx, ny, 0.0)
+            self.contacts.append(Contact(t, A.idx, B.idx, feature, i, j, cx, cy, nx, ny, 0.0, False))
+        if self.jammed_t != t:
+            self.jammed_t = t
+            self.jammed = []
+        for b in movers:
+            if b.asleep:
+                continue
+            G = None
+            if b.sup >= 0 and self.s.bodies[b.sup].fixed:
+                G = self.s.bodies[b.sup]
+            else:
+                for A, B, _, _, _ in cs:
+                    o = B if A is b else (A if B is b else None)
+                    if o is not None and (o.fixed or o.asleep):
+                        G = o
+                        break
+                if G is None:
+                    for A, B, _, _, _ in cs:
+                        if A is b or B is b:
+                            G = B if A is b else A
+                            break
+            self.jammed.append(b.idx)
+            self.handle_sleep(b, G, t)
 
     def settle(self, b: Body) -> None:
         """A body of a solved cluster after its impulses: one sliding on a

@@ -274,7 +274,7 @@ class ContactMixin:
         S.inv_m = inv_m
         S.inv_i = inv_i
         rsn = (cx - S.px) * ny - (cy - S.py) * nx
-        if imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed and not self.unpaid:
+        if (imp * (S.inv_m + S.inv_i * rsn * rsn) < self.s.rest_speed and not self.unpaid) or self.held_now(S):
             return imp
         M.vx, M.vy, M.om = vx, vy, om
         return self.contact_impulse(A, B, cx, cy, nx, ny, feature, i, j)

@@ -311,10 +311,17 @@ class HandlersMixin:
 
     def dispatch(self, ev) -> None:
         """Handle one event popped from the queue: drop it when stale, count
-        the events at one instant (max_same_time), call its kind's handler."""
+        it against max_events (every kind: cell crossings and horizons too)
+        and among the events at one instant (max_same_time), call its kind's
+        handler."""
         if self.is_stale(ev):
             self.stats.stale += 1
             return
+        self.handled += 1
+        if self.handled > self.s.max_events:
+            raise SimError(f"more than {self.s.max_events} events (collisions, inputs, frames, cell crossings, "
+                           f"horizons) at t = {_fmt(ev.t)}: the run was stopped; raise max_events in the scene "
+                           f"or --max-events, or shorten end_time")
         if ev.t == self.last_t:
             self.same += 1
             if self.same > self.s.max_same:

@@ -278,6 +278,9 @@ class Scene:
         word("max_same_time"); self.max_same = integer()
         if self.max_same < 1:
             fail(f"max_same_time {self.max_same} is less than 1")
+        word("max_events"); self.max_events = integer()
+        if self.max_events < 1:
+            fail(f"max_events {self.max_events} is less than 1")
         word("grid"); self.x0 = num(); self.y0 = num()
         if not (abs(self.x0) <= LENGTH_MAX and abs(self.y0) <= LENGTH_MAX):
             fail("grid origin beyond 1e150")

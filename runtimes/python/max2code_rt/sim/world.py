@@ -63,11 +63,14 @@ class WorldState:
         self.time = 0.0             # s: the world's current time
         self.last_t = -1.0          # the instant of the last event handled, and how many came at it
         self.same = 0
+        self.handled = 0            # events handled (stale ones not): at most the scene's max_events
         self.contacts: list[Contact] = []    # reported by the next advance()
         self.added = 0              # bodies added by add_body (a recording refuses them)
         self.unpaid = False         # a hop since sleeper_impulse cleared it added energy (pay_floor could not pay)
         self.touched_t = -1.0       # the instant of the contacts in touched
         self.touched: list[list[int]] = []   # [a, b, feature, i, j, times] of each contact handled at touched_t
+        self.jammed_t = -1.0        # the instant of the bodies in jammed
+        self.jammed: list[int] = []  # the bodies a jam put to sleep at jammed_t (held_now)
 
     def is_stale(self, ev) -> bool:
         """An event whose bodies' motion changed since it was scheduled.

@@ -23,6 +23,10 @@ use super::Equations;
 /// cluster's sequential impulses, and the sweep that ends them: no impulse
 /// in it changed a normal speed by more than CLUSTER_TOL rest_speed.
 const CLUSTER_REPEATS: u32 = 64;
+/// A contact met CLUSTER_REPEATS + CLUSTER_JAM times at one instant (its
+/// cluster solved CLUSTER_JAM times there and met again) jams its cluster:
+/// the movers come to rest and fall asleep, held until the instant ends.
+const CLUSTER_JAM: u32 = 4;
 const CLUSTER_SWEEPS: usize = 100;
 const CLUSTER_TOL: f64 = 1e-9;
 /// The separation speed (times rest_speed) of a cluster's contact that
@@ -364,11 +368,11 @@ fn solve_cluster<E: Equations>(sv: &mut Solve, bodies: &mut [Body], cs: &[Contac
 /// The first sleeper (in the contacts' order) whose held impulses, summed,
 /// would change its material points' normal speed by at least rest_speed
 /// (as a touch that is not gentle, sleeper_impulse); None.
-fn jolted_sleeper(bodies: &[Body], rows: &[Row], acc: &[f64], rest_speed: f64) -> Option<usize> {
+fn jolted_sleeper(bodies: &[Body], rows: &[Row], acc: &[f64], rest_speed: f64, held: &[usize]) -> Option<usize> {
     for r in rows {
         for s in [r.a, r.b] {
             let s_ = &bodies[s];
-            if !s_.asleep {
+            if !s_.asleep || held.contains(&s) {
                 continue;
             }
             let mut total = 0.0;
@@ -482,6 +486,105 @@ impl<E: Equations> World<E> {
         self.touched.push(Touched { c, times: 1 });
     }
 
+    /// How many times the collision's contact was handled at this instant.
+    fn jam_count(&self, t: f64, c: ContactId) -> u32 {
+        if t != self.touched_t {
+            return 0;
+        }
+        self.touched.iter().find(|x| x.c == c).map_or(0, |x| x.times)
+    }
+
+    /// A sleeper a jam put to sleep at the current instant: no touch wakes it
+    /// before the instant ends.
+    pub(super) fn held_now(&self, s: usize) -> bool {
+        self.jammed_t == self.last_t && self.jammed.contains(&s)
+    }
+
+    /// A cluster its solves do not settle (met again after CLUSTER_JAM
+    /// solves at one instant): inelastic collapse, resolved as in Luding's
+    /// TC model with a contact time of zero: contacts met again at once lose
+    /// all restitution and all sliding.  An E collision line per contact of
+    /// the cluster (impulse 0), then each mover (a body of the cluster that
+    /// is not held, in the contacts' order) falls asleep, at rest, on its
+    /// support when that is fixed, else on the first body it touches in the
+    /// cluster that is fixed or asleep, else on the other body of its first
+    /// contact; it is held until the instant ends (held_now).  Kinetic
+    /// energy only falls.
+    fn jam(&mut self, t: f64, c: ContactId) -> Res<()> {
+        self.touch(t, c);
+        let cs = cluster(&self.w.s.bodies, &self.touched, c);
+        for &(a, b, ..) in &cs {
+            rebase(&mut self.w.s.bodies[a], t);
+            rebase(&mut self.w.s.bodies[b], t);
+        }
+        let mut movers: Vec<usize> = Vec::new();
+        for x in &cs {
+            for y in [x.0, x.1] {
+                if part(&self.w.s.bodies, y) != Part::Held && !movers.contains(&y) {
+                    movers.push(y);
+                }
+            }
+        }
+        for &(a, b, feature, i, j) in &cs {
+            let s = &self.w.s;
+            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, &s.bodies[a], &s.bodies[b], i, j);
+            self.q.stats.collisions += 1;
+            self.out.contact("collision", t, a as u32, b as u32, feature, i, j, (cx, cy), (nx, ny), 0.0)?;
+            self.contacts.push(Contact {
+                t,
+                a,
+                b,
+                feature,
+                i,
+                j,
+                px: cx,
+                py: cy,
+                nx,
+                ny,
+                impulse: 0.0,
+                support: false,
+            });
+        }
+        if self.jammed_t != t {
+            self.jammed_t = t;
+            self.jammed.clear();
+        }
+        for &m in &movers {
+            if self.w.s.bodies[m].asleep {
+                continue;
+            }
+            let bodies = &self.w.s.bodies;
+            let sup = bodies[m].sup;
+            let mut g: Option<usize> = None;
+            if sup >= 0 && bodies[sup as usize].fixed {
+                g = Some(sup as usize);
+            } else {
+                for &(a, b, ..) in &cs {
+                    let o = if a == m {
+                        Some(b)
+                    } else if b == m {
+                        Some(a)
+                    } else {
+                        None
+                    };
+                    if let Some(o) = o {
+                        if bodies[o].fixed || bodies[o].asleep {
+                            g = Some(o);
+                            break;
+                        }
+                    }
+                }
+                if g.is_none() {
+                    g = cs.iter().find(|x| x.0 == m || x.1 == m).map(|x| if x.0 == m { x.1 } else { x.0 });
+                }
+            }
+            let g = g.expect("a mover of a cluster has a contact");
+            self.jammed.push(m);
+            self.handle_sleep(m, g, t)?;
+        }
+        Ok(())
+    }
+
     /// The collision's contact (a, b, feature, i, j) was handled
     /// CLUSTER_REPEATS times already at this instant: other contacts keep
     /// undoing its impulse (a settling pile meets one contact up to 32 times
@@ -505,6 +608,9 @@ impl<E: Equations> World<E> {
     /// changed carries leaves; those slow enough fall asleep (wedged), and
     /// the others are predicted again.
     pub(super) fn handle_cluster(&mut self, t: f64, c: ContactId) -> Res<()> {
+        if self.jam_count(t, c) >= CLUSTER_REPEATS + CLUSTER_JAM {
+            return self.jam(t, c);
+        }
         self.touch(t, c);
         let rest = self.w.s.rest_speed;
         let (cs, solved) = loop {
@@ -516,7 +622,8 @@ impl<E: Equations> World<E> {
             let s = &mut self.w.s;
             let mut sv = Solve { verts: &s.verts, tol: s.tol, rest_speed: rest, q: &mut self.q };
             let solved = solve_cluster::<E>(&mut sv, &mut s.bodies, &cs, t)?;
-            match jolted_sleeper(&s.bodies, &solved.rows, &solved.acc, rest) {
+            let held: &[usize] = if self.jammed_t == self.last_t { &self.jammed } else { &[] };
+            match jolted_sleeper(&s.bodies, &solved.rows, &solved.acc, rest, held) {
                 None => break (cs, solved),
                 Some(sl) => {
                     set_velocities(&mut s.bodies, &solved.movers, &solved.saved);

@@ -127,6 +127,8 @@ pub struct ImpulseCtx<'a> {
     pub j: i32,
     /// a hop since sleeper_impulse cleared it added energy (pay_floor could not pay)
     pub unpaid: bool,
+    /// the sleeper of sleeper_impulse was put to sleep by a jam at this instant: no touch wakes it
+    pub held_now: bool,
 }
 
 /// The impulse of a contact of the feature (ctx: feature, i, j) at (cx, cy)
@@ -394,7 +396,7 @@ pub fn sleeper_impulse<E: Equations>(
         s_.inv_m = inv_m;
         s_.inv_i = inv_i;
         let rsn = (cx - s_.px) * ny - (cy - s_.py) * nx;
-        if imp * (s_.inv_m + s_.inv_i * rsn * rsn) < ctx.rest_speed && !ctx.unpaid {
+        if (imp * (s_.inv_m + s_.inv_i * rsn * rsn) < ctx.rest_speed && !ctx.unpaid) || ctx.held_now {
             return Ok(imp);
         }
     }

@@ -78,9 +78,19 @@ impl<E: Equations> World<E> {
             let (a_, b_) = two_mut(&mut self.w.s.bodies, ai, bi);
             held_impulse(a_, b_, sup_a.as_ref(), sup_b.as_ref(), nx, ny, vn, rest_speed)
         } else {
+            let held_now = self.held_now(if self.w.s.bodies[ai].asleep { ai } else { bi });
             let s = &mut self.w.s;
-            let mut ctx =
-                ImpulseCtx { verts: &s.verts, tol: s.tol, rest_speed, q: &mut self.q, feature, i, j, unpaid: false };
+            let mut ctx = ImpulseCtx {
+                verts: &s.verts,
+                tol: s.tol,
+                rest_speed,
+                q: &mut self.q,
+                feature,
+                i,
+                j,
+                unpaid: false,
+                held_now,
+            };
             let (a_, b_) = two_mut(&mut s.bodies, ai, bi);
             if a_.asleep || b_.asleep {
                 sleeper_impulse::<E>(&mut ctx, a_, b_, cx, cy, nx, ny)?
@@ -693,12 +703,23 @@ impl<E: Equations> World<E> {
         Ok(())
     }
 
-    /// Handle one event taken from the queue: drop it when stale, count the
-    /// events at one instant (max_same_time), call its kind's handler.
+    /// Handle one event taken from the queue: drop it when stale, count it
+    /// against max_events (every kind: cell crossings and horizons too) and
+    /// among the events at one instant (max_same_time), call its kind's handler.
     pub(super) fn dispatch(&mut self, t: f64, ev: Event) -> Res<()> {
         if self.w.is_stale(&ev) {
             self.q.stats.stale += 1;
             return Ok(());
+        }
+        self.handled += 1;
+        if self.handled > self.w.s.max_events {
+            let msg = format!(
+                "more than {} events (collisions, inputs, frames, cell crossings, horizons) at t = {}: the run was \
+                 stopped; raise max_events in the scene or --max-events, or shorten end_time",
+                self.w.s.max_events,
+                g17(t)
+            );
+            return Err(SimError::Msg(msg));
         }
         if t == self.last_t {
             self.same += 1;

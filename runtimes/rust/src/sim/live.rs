@@ -88,6 +88,8 @@ pub struct World<E: Equations> {
     /// the instant of the last event handled, and how many came at it
     pub(super) last_t: f64,
     pub(super) same: i64,
+    /// events handled (stale ones not): at most the scene's max_events
+    pub(super) handled: i64,
     /// the contacts the next `advance` reports
     pub(super) contacts: Reported,
     /// bodies added by add_body (a recording refuses them)
@@ -98,6 +100,10 @@ pub struct World<E: Equations> {
     pub(super) touched_t: f64,
     /// the contacts (a, b, feature, i, j) handled at `touched_t` (cluster.rs)
     pub(super) touched: Vec<Touched>,
+    /// the instant of the bodies in `jammed`
+    pub(super) jammed_t: f64,
+    /// the bodies a jam put to sleep at `jammed_t` (held_now, cluster.rs)
+    pub(super) jammed: Vec<usize>,
     eq: PhantomData<E>,
 }
 
@@ -123,11 +129,14 @@ impl<E: Equations> World<E> {
             time: 0.0,
             last_t: -1.0,
             same: 0,
+            handled: 0,
             contacts: Reported { list: Vec::new(), keep: true },
             added: 0,
             finished: false,
             touched_t: -1.0,
             touched: Vec::new(),
+            jammed_t: -1.0,
+            jammed: Vec::new(),
             eq: PhantomData,
         }
     }
@@ -493,7 +502,7 @@ mod tests {
     }
 
     const SCENE: &str = "m2c-scene 1\nend 2\nframe 0\ntolerance 1e-9\nrest_speed 0.01\nwindow_angle 0.5\n\
-        max_same_time 100\ngrid -2 -2 1 1 4 4 0.1\nbodies 1\n\
+        max_same_time 100\nmax_events 1000\ngrid -2 -2 1 1 4 4 0.1\nbodies 1\n\
         body 0 0 1 0 0.5 0.2 0 0 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0\ninputs 0\nend\n";
 
     const BALL: &str = "body 0 0 1 0 0.5 0.2 1 1 0 0 0 0 0 0 0.1 0 0 0.1 0 0 0";

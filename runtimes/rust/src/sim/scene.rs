@@ -301,6 +301,8 @@ pub struct Scene {
     pub rest_speed: f64,
     pub alpha: f64,
     pub max_same: i64,
+    /// events handled in a run (every kind but stale ones)
+    pub max_events: i64,
     pub x0: f64,
     pub y0: f64,
     pub cw: f64,
@@ -792,6 +794,11 @@ impl Scene {
         if max_same < 1 {
             return Err(format!("scene: max_same_time {max_same} is less than 1"));
         }
+        tk.expect("max_events")?;
+        let max_events = tk.int()?;
+        if max_events < 1 {
+            return Err(format!("scene: max_events {max_events} is less than 1"));
+        }
         // the grid line read whole, then checked
         tk.expect("grid")?;
         let (x0, y0, cw, ch) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
@@ -895,6 +902,7 @@ impl Scene {
             rest_speed,
             alpha,
             max_same,
+            max_events,
             x0,
             y0,
             cw,
