@@ -132,6 +132,8 @@ def cases() -> list[tuple[str, object, str]]:
         "scene: frame 1.0000000000000001e-15 gives more than 1e12 frames")
     add("tolerance-zero", lambda f: f.header("tolerance", "0.0"), "scene: tolerance 0 outside [1e-150, 1e150]")
     add("rest-speed", lambda f: f.header("rest_speed", "-1"), "scene: rest_speed -1 is negative")
+    add("rest-speed-huge", lambda f: f.header("rest_speed", "1e151"),
+        "scene: rest_speed 1e+151 beyond 1e150")
     add("window-angle", lambda f: f.header("window_angle", "0.7"),
         "scene: window_angle 0.69999999999999996 outside (0, 0.5]")
     add("window-angle-zero", lambda f: f.header("window_angle", "0"), "scene: window_angle 0 outside (0, 0.5]")

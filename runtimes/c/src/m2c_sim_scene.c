@@ -648,6 +648,8 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     s->rest_speed = num(r);
     if (!r->failed && !(s->rest_speed >= 0.0))
         fail(r, "rest_speed %s is negative", m2c_sim_text(v, s->rest_speed));
+    else if (!r->failed && !(s->rest_speed <= LENGTH_MAX))     /* its square must not overflow */
+        fail(r, "rest_speed %s beyond 1e150", m2c_sim_text(v, s->rest_speed));
     word(r, "window_angle");
     s->alpha = num(r);
     if (!r->failed && !(s->alpha > 0.0 && s->alpha <= 0.5))

@@ -782,6 +782,10 @@ impl Scene {
         if !(rest_speed >= 0.0) {
             return Err(format!("scene: rest_speed {} is negative", g17(rest_speed)));
         }
+        if rest_speed > LENGTH_MAX {
+            // its square must not overflow
+            return Err(format!("scene: rest_speed {} beyond 1e150", g17(rest_speed)));
+        }
         tk.expect("window_angle")?;
         let alpha = tk.num()?;
         if !(alpha > 0.0 && alpha <= 0.5) {
