@@ -425,6 +425,7 @@ class Tally:
         self.inputs = self.refused = self.accepted = self.capped = 0
         self.disagreements = self.crashes = self.timeouts = self.valgrind_errors = self.nonfinite = 0
         self.slow = 0                           # runs out of time on a scene the others found stuck
+        self.stopped = False                    # interrupted before the last input
         self.peak = {}                          # lang -> bytes
         self.cpu = {}                           # lang -> s of wall time in its runs
         self.failures: list[str] = []
@@ -513,7 +514,7 @@ def check(name: str, data: bytes, runs: dict[str, Run], tally: Tally, keep: int 
 
 
 def fuzz(count: int, live: int, seed: int, langs, *, valgrind: bool = False, progress=None,
-         rs: dict[str, Runner] | None = None, keep: int = 20) -> Tally:
+         rs: dict[str, Runner] | None = None, keep: int = 20, report=None) -> Tally:
     """`count` mutated scenes and `live` live sessions, from `seed`, in every runtime of `langs`."""
     rng = random.Random(seed)
     bases = base_scenes()
@@ -523,13 +524,21 @@ def fuzz(count: int, live: int, seed: int, langs, *, valgrind: bool = False, pro
     every = max(1, total // 50)
     t0 = time.monotonic()
     for k in range(total):
+        if tally.stopped:
+            break
         if k < count:
             name, data = mutated_scene(rng, bases)
             step = None
         else:
             name, data, step = live_session(rng, bases)
-        runs = {lang: r.run(data, step) for lang, r in rs.items()}
-        check(f"#{k} {name}", data, runs, tally, keep)
+        try:
+            runs = {lang: r.run(data, step) for lang, r in rs.items()}
+        except KeyboardInterrupt:       # stopped (Ctrl-C or SIGTERM): the figures so far
+            tally.stopped = True
+            break
+        faults = check(f"#{k} {name}", data, runs, tally, keep)
+        if faults and report:           # as found: a long run shows its failures while it runs
+            report(f"#{k} {name}: {data[:4000]!r}\n    " + "\n    ".join(faults))
         if progress and ((k + 1) % every == 0 or k + 1 == total):
             progress(f"{k + 1}/{total} inputs, {tally.refused} refused, {tally.accepted} accepted, "
                      f"{tally.disagreements} disagreements, {tally.crashes} crashes, {tally.timeouts} timeouts, "
@@ -570,15 +579,24 @@ def main(argv=None) -> int:
     if a.valgrind and "c" not in langs:
         ap.error("--valgrind runs the C simulator: --langs must name c")
     say = _progress_printer()
+
+    def stop(signum, frame):
+        raise KeyboardInterrupt
+    signal.signal(signal.SIGTERM, stop)
     t0 = time.monotonic()
-    tally = fuzz(a.count, a.live, a.seed, langs, valgrind=a.valgrind, progress=say, keep=a.show)
+    shown = []
+
+    def report(text: str):
+        if len(shown) < a.show:
+            shown.append(text)
+            print(text, flush=True)
+    tally = fuzz(a.count, a.live, a.seed, langs, valgrind=a.valgrind, progress=say, keep=a.show, report=report)
     say(None)
     figs = tally.figures()
     figs.update(seed=a.seed, scenes=a.count, live_sessions=a.live, langs=langs, valgrind=a.valgrind,
                 wall_seconds=round(time.monotonic() - t0, 1))
-    for f in tally.failures:
-        print(f)
-    print(f"inputs {figs['inputs']} ({a.count} scenes, {a.live} live sessions; seed {a.seed}; {', '.join(langs)}"
+    print(("stopped early: " if tally.stopped else "")
+          + f"inputs {figs['inputs']} ({a.count} scenes, {a.live} live sessions; seed {a.seed}; {', '.join(langs)}"
           f"{'; C under valgrind' if a.valgrind else ''})")
     print(f"refused {figs['refused']}, accepted {figs['accepted']}, cut at {OUTPUT_CAP} bytes {figs['capped']}; "
           f"out of time where the others found the scene stuck {figs['slow_on_stuck']}")

@@ -141,6 +141,10 @@ def cases() -> list[tuple[str, object, str]]:
     add("grid-origin", lambda f: f.header_field("grid", 0, "1e151"), "scene: grid origin beyond 1e150")
     add("grid-cell-nan", lambda f: f.header_field("grid", 2, "nan"), "scene: expected a number, found 'nan'")
     add("grid-cell-zero", lambda f: f.header_field("grid", 3, "0"), "scene: grid cell 0 outside [1e-150, 1e150]")
+    # each pair of grid words is checked once read: a bad cell before a bad count is the cell's fault
+    add("grid-cell-before-count", lambda f: f.header("grid", "0", "0", "1e308", "1", "-0.0", "2", "0"),
+        "scene: grid cell 1e+308 outside [1e-150, 1e150]")
+    add("grid-origin-before-cell", lambda f: f.header("grid", "1e151", "0", "x"), "scene: grid origin beyond 1e150")
     add("grid-no-cells", lambda f: f.header_field("grid", 4, "0"), "scene: grid of 0 x 2 cells")
     add("grid-huge", lambda f: f.header_field("grid", 4, "100000000"),
         "scene: grid of 100000000 x 2 cells for 3 bodies (at most max(16, 4 x bodies) cells)")
