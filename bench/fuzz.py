@@ -145,7 +145,7 @@ def mutate(rng: random.Random, text: str) -> tuple[str, bytes]:
     elif kind == "swap" and len(spans) > 1:
         (a, b), (c, d) = sorted(rng.sample(spans, 2))
         data = (text[:a] + text[c:d] + text[b:c] + text[a:b] + text[d:]).encode("latin-1")
-    elif kind in ("number", "count"):
+    elif kind in ("number", "count") and spans:
         if kind == "count":         # a count or an index: the first word of a short line, or an integer field
             ints = [s for s in spans if text[s[0]:s[1]].lstrip("-").isdigit()]
             spans = ints or spans
@@ -153,7 +153,7 @@ def mutate(rng: random.Random, text: str) -> tuple[str, bytes]:
         data = (text[:a] + rng.choice(EXTREMES) + text[b:]).encode("latin-1")
     elif kind == "truncate":
         data = data[:rng.randrange(len(data) + 1)]
-    elif kind in ("duplicate", "drop", "copy-body"):
+    elif kind in ("duplicate", "drop", "copy-body") and text:
         lines = text.splitlines(True)
         k = rng.randrange(len(lines))
         if kind == "duplicate":

@@ -76,6 +76,8 @@ def test_the_mutations_are_reproducible_and_varied(bases):
     rng = random.Random(3)
     kinds = {fuzz.mutate(rng, bases["ledge"][1])[0] for _ in range(300)}
     assert kinds == {"flip", "insert", "swap", "number", "count", "truncate", "duplicate", "drop", "copy-body"}
+    for kind in range(200):                     # an empty text (a truncation to nothing) mutates too
+        assert isinstance(fuzz.mutate(rng, "")[1], bytes)
 
 
 def test_a_disagreement_and_a_crash_are_counted():
