@@ -622,6 +622,8 @@ def _parse_scene(text: str, path: str) -> Scene:
         rd.fail("end_time", f"{end:g} s is more than {LENGTH_MAX:g} s, whose square overflows")
     if tol < LENGTH_MIN or tol > LENGTH_MAX:
         rd.fail("tolerance", f"{tol:g} m is outside {LENGTH_MIN:g}..{LENGTH_MAX:g} m (its square under- or overflows)")
+    if rest > LENGTH_MAX:
+        rd.fail("rest_speed", f"{rest:g} m/s is more than {LENGTH_MAX:g} m/s, whose square overflows")
     if not isinstance(raw["bodies"], list) or not raw["bodies"]:
         rd.fail("bodies", "expected a non-empty list of bodies")
     raw_inputs = raw.get("inputs", [])

@@ -4,8 +4,8 @@ IMPLEMENTATION MODULE SimLive ;
    world's state (SimWorld, SimScene) and its handlers (SimHandlers). *)
 
 FROM SYSTEM IMPORT ADR, CAST ;
-FROM SimScene IMPORT AddInput, Bodies, BodyRef, CellH, CellW, EndT, Inputs, LENGTH_MAX, NBodies, NInputs, NVerts,
-                     ReadBodyText, ReadError, ReadFile, ReadStdin, ReadText ;
+FROM SimScene IMPORT AddInput, Bodies, BodyRef, CellH, CellW, EndT, Inputs, LENGTH_MAX, MAX_BODIES, NBodies, NInputs,
+                     NVerts, ReadBodyText, ReadError, ReadFile, ReadStdin, ReadText ;
 FROM SimQueue IMPORT Event, KInput, Pop, Top ;
 FROM SimGrid IMPORT CellAdd, CellOf, place_large ;
 FROM SimOut IMPORT Flush, Int, Ln, Real, SetOn, Str ;
@@ -301,7 +301,7 @@ PROCEDURE live_input (body, mode: INTEGER; x, y: REAL; VAR done: BOOLEAN) : BOOL
 VAR
    b: BodyRef ;
    ev: Event ;
-   px, py, vx, vy, ang, rx, ry: REAL ;
+   px, py, vx, vy, ang, rx, ry, reach: REAL ;
    m: ARRAY [0..MsgLen] OF CHAR ;
 BEGIN
    done := FALSE ;
@@ -343,6 +343,18 @@ BEGIN
       m := "live input: body " ;
       AppendInt (m, body) ;
       Append (m, ": teleport beyond 1e150 m") ;
+      RETURN Refuse (m)
+   END ;
+   (* the motion after the input stays within the scene's reach by the end (rule 8, left to right) *)
+   IF mode = TeleportMode THEN
+      px := x ; py := y ; rx := vx ; ry := vy
+   END ;
+   reach := (ABS (px) + ABS (py)) + (ABS (rx) + ABS (ry)) * EndT
+            + (ABS (b^.ax) + ABS (b^.ay)) * EndT * EndT / 2.0 + b^.bound ;
+   IF (mode # RemoveMode) AND NOT (reach <= 2.0 * LENGTH_MAX) THEN
+      m := "live input: body " ;
+      AppendInt (m, body) ;
+      Append (m, ": reaches more than 2e150 m from the origin by the end") ;
       RETURN Refuse (m)
    END ;
    IF (mode = TeleportMode) AND (overlapping (b, x, y, WorldT) >= 0) THEN RETURN TRUE END ;
@@ -404,6 +416,12 @@ VAR
 BEGIN
    index := -1 ;
    IF (NOT Usable ()) OR (NOT NotFinished ()) THEN RETURN FALSE END ;
+   IF NBodies >= MAX_BODIES THEN        (* a scene's limit holds for a world too *)
+      m := "add_body: the world has " ;
+      AppendInt (m, NBodies) ;
+      Append (m, " bodies (at most 1000000)") ;
+      RETURN Refuse (m)
+   END ;
    IF NOT ReadBodyText (ADR (text), HIGH (text) + 1, NBodies, NVerts, nv) THEN
       ReadError (ErrMsg) ;
       RETURN FALSE

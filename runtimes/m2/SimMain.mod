@@ -33,7 +33,7 @@ CONST
 TYPE
    CharPtr = POINTER TO ARRAY [0..255] OF CHAR ;
    ArgArray = POINTER TO ARRAY [0..255] OF CharPtr ;
-   Text = POINTER TO ARRAY [0..MaxText - 1] OF CHAR ;
+   Text = POINTER TO ARRAY [0..MaxText] OF CHAR ;     (* the text and its 0C *)
    LiveInput = RECORD
       t: REAL ;
       body, mode: INTEGER ;
@@ -219,7 +219,9 @@ BEGIN
 END Stepped ;
 
 
-(* Standard input into text (0C-terminated). *)
+(* Standard input into text (0C-terminated); a text longer than MaxText
+   bytes is refused as the scene's check refuses it (docs/simulator.md,
+   "Flat scene checks", rule 1), after reading one byte more. *)
 PROCEDURE ReadAll ;
 VAR
    n, cap, ch: INTEGER ;
@@ -229,13 +231,19 @@ BEGIN
    text := NIL ;
    REPEAT
       IF n + 1 >= cap THEN
-         IF cap = 0 THEN cap := 65536 ELSE cap := 2 * cap END ;
-         IF cap > MaxText THEN FailMsg ("scene: too large") END ;
+         IF cap = 0 THEN
+            cap := 65536
+         ELSIF cap > MaxText DIV 2 THEN
+            cap := MaxText + 1
+         ELSE
+            cap := 2 * cap
+         END ;
          text := realloc (text, VAL (LONGCARD, cap)) ;
          IF text = NIL THEN FailMsg ("out of memory") END
       END ;
       ch := getchar () ;
       IF ch >= 0 THEN
+         IF n = MaxText THEN FailMsg ("scene: longer than 1073741824 bytes") END ;
          text^[n] := CHR (ch) ;
          INC (n)
       END

@@ -726,6 +726,9 @@ BEGIN
    IF NOT AtLeast (RestSpeed, 0.0) THEN
       ErrorReal ("rest_speed ", RestSpeed, " is negative") ; RETURN
    END ;
+   IF NOT AtMost (RestSpeed, LENGTH_MAX) THEN       (* its square must not overflow *)
+      ErrorReal ("rest_speed ", RestSpeed, " beyond 1e150") ; RETURN
+   END ;
    Expect ("window_angle") ; Alpha := Num () ;
    IF Failed THEN RETURN END ;
    IF NOT (Above (Alpha, 0.0) AND AtMost (Alpha, 0.5)) THEN

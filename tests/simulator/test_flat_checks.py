@@ -132,6 +132,8 @@ def cases() -> list[tuple[str, object, str]]:
         "scene: frame 1.0000000000000001e-15 gives more than 1e12 frames")
     add("tolerance-zero", lambda f: f.header("tolerance", "0.0"), "scene: tolerance 0 outside [1e-150, 1e150]")
     add("rest-speed", lambda f: f.header("rest_speed", "-1"), "scene: rest_speed -1 is negative")
+    add("rest-speed-huge", lambda f: f.header("rest_speed", "1e151"),
+        "scene: rest_speed 1e+151 beyond 1e150")
     add("window-angle", lambda f: f.header("window_angle", "0.7"),
         "scene: window_angle 0.69999999999999996 outside (0, 0.5]")
     add("window-angle-zero", lambda f: f.header("window_angle", "0"), "scene: window_angle 0 outside (0, 0.5]")
@@ -143,6 +145,10 @@ def cases() -> list[tuple[str, object, str]]:
     add("grid-origin", lambda f: f.header_field("grid", 0, "1e151"), "scene: grid origin beyond 1e150")
     add("grid-cell-nan", lambda f: f.header_field("grid", 2, "nan"), "scene: expected a number, found 'nan'")
     add("grid-cell-zero", lambda f: f.header_field("grid", 3, "0"), "scene: grid cell 0 outside [1e-150, 1e150]")
+    # each pair of grid words is checked once read: a bad cell before a bad count is the cell's fault
+    add("grid-cell-before-count", lambda f: f.header("grid", "0", "0", "1e308", "1", "-0.0", "2", "0"),
+        "scene: grid cell 1e+308 outside [1e-150, 1e150]")
+    add("grid-origin-before-cell", lambda f: f.header("grid", "1e151", "0", "x"), "scene: grid origin beyond 1e150")
     add("grid-no-cells", lambda f: f.header_field("grid", 4, "0"), "scene: grid of 0 x 2 cells")
     add("grid-huge", lambda f: f.header_field("grid", 4, "100000000"),
         "scene: grid of 100000000 x 2 cells for 3 bodies (at most max(16, 4 x bodies) cells)")
@@ -308,16 +314,18 @@ def test_python_live_inputs_refuse_results_that_are_not_finite():
     w.advance(0.1)
     before = w.state(1, 0.1)
     cases = [(lambda: w.set_velocity(1, math.inf, 0.0), "live input: body 1: velocity would not be finite"),
-             (lambda: w.add_velocity(1, 1.7e308, 0.0), None),
-             (lambda: w.add_velocity(1, 1.7e308, 0.0), "live input: body 1: velocity would not be finite"),
-             (lambda: w.apply_impulse(1, 1.7e308, 0.0), "live input: body 1: velocity would not be finite"),
+             (lambda: w.add_velocity(1, 1e140, 0.0), None),
+             (lambda: w.add_velocity(1, 1.7e308, 0.0),
+              "live input: body 1: reaches more than 2e150 m from the origin by the end"),
+             (lambda: w.apply_impulse(1, 1.7e308, 0.0),
+              "live input: body 1: reaches more than 2e150 m from the origin by the end"),
              (lambda: w.teleport(1, math.nan, 0.0), "live input: body 1: position would not be finite"),
              (lambda: w.teleport(1, 1e150, 1e150), "live input: body 1: teleport beyond 1e150 m"),
              (lambda: w.set_velocity(3, 0.0, 0.0), "live input: body 3 does not exist"),
              (lambda: w.remove_body(2 ** 64 + 1), f"live input: body {2 ** 64 + 1} does not exist"),
              (lambda: w.add_velocity(-1, 0.0, 0.0), "live input: body -1 does not exist")]
     for make, msg in cases:
-        if msg is None:                 # an accepted input: 1.7e308 m/s is finite
+        if msg is None:                 # an accepted input: 1e140 m/s reaches 2e140 m by the end
             make()
             continue
         n = len(w.s.inputs)

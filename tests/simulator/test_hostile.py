@@ -418,13 +418,16 @@ def test_live_inputs_after_finish_or_with_a_velocity_that_is_not_finite_are_refu
     from max2code_rt.sim import SimError
     w = open_world(TWO, engine)
     w.advance(0.1)
-    w.add_velocity(0, 1e308, 0.0)
+    w.add_velocity(0, 1e140, 0.0)                # 1e140 m/s reaches about 1e140 m by the end: made
     before = (w.input_log(), w.state(0, w.time))
-    with pytest.raises(SimError, match=re.escape("live input: body 0: velocity would not be finite")):
-        w.add_velocity(0, 1e308, 0.0)
-    with pytest.raises(SimError, match=re.escape("live input: body 0: velocity would not be finite")):
+    far = "live input: body 0: reaches more than 2e150 m from the origin by the end"
+    with pytest.raises(SimError, match=re.escape(far)):
+        w.add_velocity(0, 1e308, 0.0)            # finite, but far beyond the scene's reach by the end
+    with pytest.raises(SimError, match=re.escape(far)):
         w.apply_impulse(0, 1e308, 0.0)           # mass 1 kg
-    w.add_velocity(0, -1e308, 0.0)               # finite: made
+    with pytest.raises(SimError, match=re.escape("live input: body 0: velocity would not be finite")):
+        w.set_velocity(0, math.inf, 0.0)
+    w.add_velocity(0, -1e140, 0.0)               # made
     assert (w.input_log()[:-1], w.state(0, w.time)) != before and w.input_log()[:-1] == before[0]
     w.finish()
     for call in (lambda: w.set_velocity(0, 1.0, 0.0), lambda: w.add_velocity(0, 1.0, 0.0),

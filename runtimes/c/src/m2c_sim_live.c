@@ -323,36 +323,54 @@ int m2c_sim_next_time(m2c_world *m, double *t)
 /* A live input whose result would not be finite (docs/simulator.md,
  * "Flat scene checks", Live API): the body's velocity at the world's time
  * after a set, an added velocity or an impulse; a teleport to a point that
- * is not finite or beyond LENGTH_MAX (|x| + |y|).  1 with the message
- * (nothing changed), else 0. */
+ * is not finite or beyond LENGTH_MAX (|x| + |y|); or a motion after it
+ * that reaches more than 2 LENGTH_MAX from the origin by the end (the
+ * scene's rule 8 from the body's position and velocity after the input,
+ * its acceleration and bound, with T the end time; left to right in
+ * doubles).  1 with the message (nothing changed), else 0. */
 static int refused_as_not_finite(m2c_world *m, const m2c_sim_body *b, int mode, double x, double y)
 {
     int body = (int)b->idx;
+    if (mode == M2C_SIM_REMOVE)
+        return 0;
+    m2c_body_state st;
+    m2c_sim_body_state(b, m->now, &st);
+    double px = st.x, py = st.y, vx = st.vx, vy = st.vy;
     if (mode == M2C_SIM_TELEPORT) {
         if (!isfinite(x) || !isfinite(y)) {
             snprintf(m->err, sizeof m->err, "live input: body %d: position would not be finite", body);
             return 1;
         }
-        if (fabs(x) + fabs(y) <= LENGTH_MAX)
-            return 0;
-        snprintf(m->err, sizeof m->err, "live input: body %d: teleport beyond 1e150 m", body);
-        return 1;
+        if (!(fabs(x) + fabs(y) <= LENGTH_MAX)) {
+            snprintf(m->err, sizeof m->err, "live input: body %d: teleport beyond 1e150 m", body);
+            return 1;
+        }
+        px = x;
+        py = y;
+    } else {
+        if (mode == M2C_SIM_SET_VELOCITY) {
+            vx = x;
+            vy = y;
+        } else if (mode == M2C_SIM_ADD_VELOCITY) {
+            vx = st.vx + x;
+            vy = st.vy + y;
+        } else {
+            vx = st.vx + x * b->inv_m;
+            vy = st.vy + y * b->inv_m;
+        }
+        if (!b->fixed && !(isfinite(vx) && isfinite(vy))) {
+            snprintf(m->err, sizeof m->err, "live input: body %d: velocity would not be finite", body);
+            return 1;
+        }
     }
-    if (mode == M2C_SIM_REMOVE || b->fixed)
+    double T = m->s->end;
+    double r = fabs(px) + fabs(py);
+    r = r + (fabs(vx) + fabs(vy)) * T;
+    r = r + (fabs(b->ax) + fabs(b->ay)) * T * T / 2.0;
+    r = r + b->bound;
+    if (r <= 2.0 * LENGTH_MAX)
         return 0;
-    m2c_body_state st;
-    m2c_sim_body_state(b, m->now, &st);
-    double vx = x, vy = y;
-    if (mode == M2C_SIM_ADD_VELOCITY) {
-        vx = st.vx + x;
-        vy = st.vy + y;
-    } else if (mode == M2C_SIM_IMPULSE) {
-        vx = st.vx + x * b->inv_m;
-        vy = st.vy + y * b->inv_m;
-    }
-    if (isfinite(vx) && isfinite(vy))
-        return 0;
-    snprintf(m->err, sizeof m->err, "live input: body %d: velocity would not be finite", body);
+    snprintf(m->err, sizeof m->err, "live input: body %d: reaches more than 2e150 m from the origin by the end", body);
     return 1;
 }
 
@@ -484,6 +502,11 @@ int m2c_sim_add_body(m2c_world *m, const char *text, int *idx)
         return -1;
     if (m->finished) {
         snprintf(m->err, sizeof m->err, "live input: the world is finished");
+        return -1;
+    }
+    if (m->s->nbodies >= MAX_BODIES) {      /* a scene's limit holds for a world too */
+        snprintf(m->err, sizeof m->err, "add_body: the world has %d bodies (at most %d)", (int)m->s->nbodies,
+                 MAX_BODIES);
         return -1;
     }
     m2c_sim_scene *s = m->s;

@@ -649,6 +649,8 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     s->rest_speed = num(r);
     if (!r->failed && !(s->rest_speed >= 0.0))
         fail(r, "rest_speed %s is negative", m2c_sim_text(v, s->rest_speed));
+    else if (!r->failed && !(s->rest_speed <= LENGTH_MAX))     /* its square must not overflow */
+        fail(r, "rest_speed %s beyond 1e150", m2c_sim_text(v, s->rest_speed));
     word(r, "window_angle");
     s->alpha = num(r);
     if (!r->failed && !(s->alpha > 0.0 && s->alpha <= 0.5))
@@ -662,22 +664,21 @@ m2c_sim_scene *m2c_sim_scene_read(const char *text, char *err, size_t errlen)
     if (!r->failed && s->max_events < 1)
         fail(r, "max_events %lld is less than 1", s->max_events);
     word(r, "grid");
+    /* each pair checked once read, as the words come (docs/simulator.md, "Flat scene checks", Header) */
     s->x0 = num(r);
     s->y0 = num(r);
+    if (!r->failed && !(fabs(s->x0) <= LENGTH_MAX && fabs(s->y0) <= LENGTH_MAX))
+        fail(r, "grid origin beyond 1e150");
     s->cw = num(r);
     s->ch = num(r);
+    if (!r->failed && !(s->cw >= LENGTH_MIN && s->cw <= LENGTH_MAX))
+        fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->cw));
+    else if (!r->failed && !(s->ch >= LENGTH_MIN && s->ch <= LENGTH_MAX))
+        fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->ch));
     long long gnx = integer(r), gny = integer(r);
+    if (!r->failed && (gnx < 1 || gny < 1))
+        fail(r, "grid of %lld x %lld cells", gnx, gny);
     s->margin = num(r);
-    if (!r->failed) {
-        if (!(fabs(s->x0) <= LENGTH_MAX && fabs(s->y0) <= LENGTH_MAX))
-            fail(r, "grid origin beyond 1e150");
-        else if (!(s->cw >= LENGTH_MIN && s->cw <= LENGTH_MAX))
-            fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->cw));
-        else if (!(s->ch >= LENGTH_MIN && s->ch <= LENGTH_MAX))
-            fail(r, "grid cell %s outside [1e-150, 1e150]", m2c_sim_text(v, s->ch));
-        else if (gnx < 1 || gny < 1)
-            fail(r, "grid of %lld x %lld cells", gnx, gny);
-    }
     s->half_cell = 0.5 * (s->ch < s->cw ? s->ch : s->cw);
     if (!r->failed && !(0.0 <= s->margin && s->margin < s->half_cell))
         fail(r, "grid margin %s m outside [0, half a cell)", m2c_sim_text(v, s->margin));

@@ -397,8 +397,9 @@ int main(int argc, char **argv)
         printf("X cannot read the scene\n");
         return 1;
     }
-    /* the bytes the scene reader cannot see: a NUL, or past TEXT_MAX */
-    if (strlen(text) != len && m2c_sim_text_check(text, len, "scene", err, sizeof err) != 0) {
+    /* the bytes the scene reader cannot see: a NUL, or past TEXT_MAX; with --live, the whole text before its
+     * input lines are taken out */
+    if ((live || strlen(text) != len) && m2c_sim_text_check(text, len, "scene", err, sizeof err) != 0) {
         free(text);
         printf("X %s\n", err);
         return 1;

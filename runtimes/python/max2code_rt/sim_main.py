@@ -16,7 +16,7 @@ import importlib.util
 import sys
 
 from max2code_rt.sim import SimError, World, simulate
-from max2code_rt.sim.scene import MAX_TEXT
+from max2code_rt.sim.scene import MAX_TEXT, check_text
 
 
 def _load(path: str, name: str):
@@ -43,6 +43,7 @@ def stepped(text: str, cc, pe, out, probe, dt: float, live: bool) -> None:
     the live operation of its mode (docs/engine-api.md, "Checking a port")."""
     inputs: list[list[str]] = []
     if live:
+        check_text(text, "scene")       # the whole text, as the batch run checks it
         text, inputs = split_inputs(text)
     w = World(text, cc, pe, out)
     ops = (w.set_velocity, w.add_velocity, w.apply_impulse, w.teleport,

@@ -173,7 +173,8 @@ fn split_inputs(text: &str) -> Result<(String, Vec<Input>), SimError> {
 /// The live operation of an input's mode (set or add velocity, impulse,
 /// teleport) on the world at its time; false: a teleport refused.
 fn live_op<E: Equations>(world: &mut World<E>, inp: &Input) -> Result<bool, SimError> {
-    let body = usize::try_from(inp.body).map_err(|_| SimError::Msg(format!("no body {}", inp.body)))?;
+    let body = usize::try_from(inp.body)
+        .map_err(|_| SimError::Msg(format!("live input: body {} does not exist", inp.body)))?;
     match inp.mode {
         scene::SET_VELOCITY => world.set_velocity(body, inp.vx, inp.vy).map(|_| true),
         scene::ADD_VELOCITY => world.add_velocity(body, inp.vx, inp.vy).map(|_| true),

@@ -18,11 +18,20 @@ from max2code_rt.sim.out import OutMixin, SimError, _fmt
 from max2code_rt.sim.overlap import OverlapMixin
 from max2code_rt.sim.predict import PredictMixin
 from max2code_rt.sim.queue import INPUT, InputEvent, QueueMixin
-from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT, Body, Input,
-                                   Scene, Tokens, _cut, drivable, read_body)
+from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, MAX_BODIES, REMOVE, SET_VELOCITY, TELEPORT, Body,
+                                   Input, Scene, Tokens, _cut, drivable, read_body)
 from max2code_rt.sim.sleep import SleepMixin
 from max2code_rt.sim.support import SupportMixin
 from max2code_rt.sim.world import STAT_NAMES, Contact, WorldState
+
+
+def live_reach(b: Body, px: float, py: float, vx: float, vy: float, end: float) -> float:
+    """A body's reach by the end time `end` from position (px, py) and
+    velocity (vx, vy) now, with its own acceleration and bound: the scene's
+    rule for a body (docs/simulator.md, "Flat scene checks", rule 8), left
+    to right in doubles."""
+    return ((abs(px) + abs(py)) + (abs(vx) + abs(vy)) * end + (abs(b.ax) + abs(b.ay)) * end * end / 2
+            + b.bound)
 
 
 class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, ContactMixin, SupportMixin, SleepMixin,
@@ -119,6 +128,8 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         Not an input: a recording refuses a world that added bodies."""
         if self.finished:
             raise SimError("live input: the world is finished")
+        if len(self.s.bodies) >= MAX_BODIES:        # a scene's limit holds for a world too
+            raise SimError(f"add_body: the world has {len(self.s.bodies)} bodies (at most {MAX_BODIES})")
         tk = Tokens(text, "add_body")
         s = self.s
         b = read_body(tk, len(s.bodies), s.tol, s.end, len(s.bodies))
@@ -185,7 +196,7 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
                            f"fixed polygon that does not turn, or remove a fixed body)")
         t = self.time
         self.inputs_now()
-        _, _, vx, vy, _ = self.state_at(b, t)
+        px, py, vx, vy, _ = self.state_at(b, t)
         if mode == SET_VELOCITY:
             vx, vy = x, y
         elif mode == ADD_VELOCITY:
@@ -199,6 +210,9 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
                 raise SimError(f"live input: body {body}: position would not be finite")
             if not abs(x) + abs(y) <= LENGTH_MAX:
                 raise SimError(f"live input: body {body}: teleport beyond 1e150 m")
+            px, py = x, y
+        if mode != REMOVE and not live_reach(b, px, py, vx, vy, self.s.end) <= 2 * LENGTH_MAX:
+            raise SimError(f"live input: body {body}: reaches more than 2e150 m from the origin by the end")
         if mode == TELEPORT:
             if self.overlapping(b, x, y, t) >= 0:
                 return False

@@ -71,6 +71,18 @@ def _cut(w: str) -> str:
     return w if len(w) <= 32 else w[:32] + "..."
 
 
+def check_text(text: str, what: str) -> None:
+    """Rules 1 and 2 of a flat text (docs/simulator.md, "Flat scene
+    checks"): at most MAX_TEXT bytes, printable ASCII and whitespace.
+    Every character before the first bad one is ASCII, so its index is the
+    byte offset."""
+    if len(text) > MAX_TEXT:
+        raise SimError(f"{what}: longer than {MAX_TEXT} bytes")
+    bad = _BAD_BYTE.search(text)
+    if bad:
+        raise SimError(f"{what}: byte {bad.start()}: not printable ASCII")
+
+
 class Tokens:
     """The whitespace-separated words of a flat text, read in order.  The
     text (str, or bytes read as latin-1) must be printable ASCII and
@@ -81,12 +93,7 @@ class Tokens:
         self.what = what
         if isinstance(text, (bytes, bytearray)):
             text = bytes(text).decode("latin-1")
-        # every character before the first bad one is ASCII, so its index is the byte offset
-        if len(text) > MAX_TEXT:
-            raise SimError(f"{what}: longer than {MAX_TEXT} bytes")
-        bad = _BAD_BYTE.search(text)
-        if bad:
-            raise SimError(f"{what}: byte {bad.start()}: not printable ASCII")
+        check_text(text, what)
         self.tok = text.split()
         self.pos = 0
 
@@ -272,6 +279,8 @@ class Scene:
         word("rest_speed"); self.rest_speed = num()
         if not self.rest_speed >= 0.0:
             fail(f"rest_speed {_fmt(self.rest_speed)} is negative")
+        if not self.rest_speed <= LENGTH_MAX:          # its square must not overflow
+            fail(f"rest_speed {_fmt(self.rest_speed)} beyond 1e150")
         word("window_angle"); self.alpha = num()
         if not 0.0 < self.alpha <= 0.5:
             fail(f"window_angle {_fmt(self.alpha)} outside (0, 0.5]")

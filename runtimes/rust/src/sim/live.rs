@@ -16,7 +16,7 @@ use super::predict::{predict_body, predict_pair};
 use super::queue::{Event, INPUT};
 use super::scene::{
     check_text, drivable, read_body, shown, Body, BodyLimits, Input, Scene, Tokens, ADD_VELOCITY, IMPULSE, LENGTH_MAX,
-    REMOVE, SET_VELOCITY, TELEPORT,
+    MAX_BODIES, REMOVE, SET_VELOCITY, TELEPORT,
 };
 use super::world::{Queue, Space};
 use super::Equations;
@@ -301,7 +301,7 @@ impl<E: Equations> World<E> {
         if b.gone {
             return Err(SimError::Msg(format!("body {body} was removed")));
         }
-        let (_, _, vx, vy, _) = state_at(b, t);
+        let (px, py, vx, vy, _) = state_at(b, t);
         let (rx, ry, what) = match mode {
             SET_VELOCITY => (x, y, "velocity"),
             ADD_VELOCITY => (vx + x, vy + y, "velocity"),
@@ -313,6 +313,16 @@ impl<E: Equations> World<E> {
         }
         if mode == TELEPORT && !(x.abs() + y.abs() <= LENGTH_MAX) {
             return Err(SimError::Msg(format!("live input: body {body}: teleport beyond 1e150 m")));
+        }
+        // the motion after the input stays within the scene's reach by the end (rule 8, left to right)
+        let (qx, qy, ux, uy) = if mode == TELEPORT { (x, y, vx, vy) } else { (px, py, rx, ry) };
+        let end = self.w.s.end;
+        let reach =
+            (qx.abs() + qy.abs()) + (ux.abs() + uy.abs()) * end + (b.ax.abs() + b.ay.abs()) * end * end / 2.0 + b.bound;
+        if mode != REMOVE && !(reach <= 2.0 * LENGTH_MAX) {
+            return Err(SimError::Msg(format!(
+                "live input: body {body}: reaches more than 2e150 m from the origin by the end"
+            )));
         }
         if mode == TELEPORT {
             let s = &self.w.s;
@@ -349,6 +359,11 @@ impl<E: Equations> World<E> {
     /// Not an input: a recording refuses a session that added bodies.
     pub fn add_body(&mut self, text: &str) -> Result<Option<usize>, SimError> {
         self.not_finished()?;
+        let n = self.w.s.bodies.len();
+        if n as i64 >= MAX_BODIES {
+            // a scene's limit holds for a world too
+            return Err(SimError::Msg(format!("add_body: the world has {n} bodies (at most {MAX_BODIES})")));
+        }
         let v0 = self.w.s.verts.len();
         let res = self.add_body_at(text, v0);
         if !matches!(res, Ok(Some(_))) {
@@ -523,13 +538,15 @@ mod tests {
         let mut w = World::<Apart>::from_scene(SCENE, None).expect("a valid scene");
         assert_eq!(msg(w.set_velocity(5, 1.0, 0.0)), "live input: body 5 does not exist");
         assert_eq!(msg(w.state(1, 0.0)), "no body 1 (the world has 1)");
-        w.add_velocity(0, 1e308, 0.0).expect("finite");
-        assert_eq!(msg(w.add_velocity(0, 1e308, 0.0)), "live input: body 0: velocity would not be finite");
-        assert_eq!(msg(w.apply_impulse(0, f64::MAX, 0.0)), "live input: body 0: velocity would not be finite");
+        w.add_velocity(0, 1e140, 0.0).expect("within the reach");
+        let far = "live input: body 0: reaches more than 2e150 m from the origin by the end";
+        assert_eq!(msg(w.add_velocity(0, 1e308, 0.0)), far);
+        assert_eq!(msg(w.set_velocity(0, 0.0, 2e150)), far);
+        assert_eq!(msg(w.apply_impulse(0, f64::MAX, 0.0)), far);
         assert_eq!(msg(w.set_velocity(0, f64::NAN, 0.0)), "live input: body 0: velocity would not be finite");
         assert_eq!(msg(w.teleport(0, f64::INFINITY, 0.0)), "live input: body 0: position would not be finite");
         assert_eq!(msg(w.teleport(0, 1e150, 1e150)), "live input: body 0: teleport beyond 1e150 m");
-        assert_eq!(w.state(0, 0.0).expect("a body").vx, 1e308); // the refused inputs changed nothing
+        assert_eq!(w.state(0, 0.0).expect("a body").vx, 1e140); // the refused inputs changed nothing
         assert_eq!(w.input_log().len(), 1);
         w.set_velocity(0, 0.0, 0.0).expect("finite");
         assert_eq!(

@@ -784,6 +784,10 @@ impl Scene {
         if !(rest_speed >= 0.0) {
             return Err(format!("scene: rest_speed {} is negative", g17(rest_speed)));
         }
+        if rest_speed > LENGTH_MAX {
+            // its square must not overflow
+            return Err(format!("scene: rest_speed {} beyond 1e150", g17(rest_speed)));
+        }
         tk.expect("window_angle")?;
         let alpha = tk.num()?;
         if !(alpha > 0.0 && alpha <= 0.5) {
@@ -801,20 +805,22 @@ impl Scene {
         }
         // the grid line read whole, then checked
         tk.expect("grid")?;
-        let (x0, y0, cw, ch) = (tk.num()?, tk.num()?, tk.num()?, tk.num()?);
-        let (nx, ny) = (tk.int()?, tk.int()?);
-        let margin = tk.num()?;
+        // each pair checked once read, as the words come (docs/simulator.md, "Flat scene checks", Header)
+        let (x0, y0) = (tk.num()?, tk.num()?);
         if !(x0.abs() <= LENGTH_MAX && y0.abs() <= LENGTH_MAX) {
             return Err("scene: grid origin beyond 1e150".to_string());
         }
+        let (cw, ch) = (tk.num()?, tk.num()?);
         for c in [cw, ch] {
             if !(LENGTH_MIN..=LENGTH_MAX).contains(&c) {
                 return Err(format!("scene: grid cell {} outside [1e-150, 1e150]", g17(c)));
             }
         }
+        let (nx, ny) = (tk.int()?, tk.int()?);
         if nx < 1 || ny < 1 {
             return Err(format!("scene: grid of {nx} x {ny} cells"));
         }
+        let margin = tk.num()?;
         let half_cell = 0.5 * if ch < cw { ch } else { cw };
         if !(0.0 <= margin && margin < half_cell) {
             return Err(format!("scene: grid margin {} m outside [0, half a cell)", g17(margin)));

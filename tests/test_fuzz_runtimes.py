@@ -1,0 +1,202 @@
+"""The four simulators under hostile input (bench/fuzz.py): mutated flat
+scenes and random live sessions give the same answer in C, Rust, Python and
+Modula-2, with exit status 0 or 1, in bounded time and memory; and each
+fault the fuzzing found, pinned as a case of its own."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
+sys.path.insert(0, str(ROOT / "bench"))
+
+import fuzz  # noqa: E402  (bench/fuzz.py)
+from max2code.sim.scene import SceneError, parse_scene  # noqa: E402
+from max2code.sim.simulate import LANGS  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def runners():
+    return fuzz.runners(LANGS)
+
+
+@pytest.fixture(scope="module")
+def bases():
+    return fuzz.base_scenes()
+
+
+def answers(runners, data: bytes, step=None) -> dict:
+    """lang -> (exit status, stdout, stderr) of one input."""
+    out = {}
+    for lang, r in runners.items():
+        run = r.run(data, step)
+        assert not run.timed_out and run.signal is None, (lang, run.err[-500:])
+        out[lang] = (run.status, run.out.decode("latin-1"), run.err.decode("latin-1"))
+    return out
+
+
+def one_answer(got: dict) -> tuple[int, str]:
+    """The exit status and the last line of stdout, the same in every
+    runtime (all of stdout and stderr are the same too)."""
+    assert len(set(got.values())) == 1, {k: (v[0], v[1][-300:], v[2][-300:]) for k, v in got.items()}
+    status, out, _ = next(iter(got.values()))
+    return status, out.splitlines()[-1] if out else ""
+
+
+def live_text(bases, name: str, *inputs: str) -> bytes:
+    """A base scene with these live input lines (`T BODY MODE X Y`)."""
+    text = bases[name][1]
+    head = text[:text.index("\ninputs ")]
+    return (f"{head}\ninputs {len(inputs)}\n" + "".join(f"input {i}\n" for i in inputs) + "end\n").encode()
+
+
+# ------------------------------------------------------------------ the fixed-seed run
+@pytest.mark.slow
+def test_a_fixed_seed_fuzz_run_finds_every_runtime_agreeing(runners):
+    """300 mutated scenes and 60 live sessions (seed 1): no disagreement, no
+    crash, no timeout; both refusals and acceptances (the run is not
+    vacuous)."""
+    tally = fuzz.fuzz(300, 60, 1, LANGS, rs=runners)
+    figs = tally.figures()
+    assert figs["inputs"] == 360
+    assert (figs["disagreements"], figs["crashes"], figs["timeouts"]) == (0, 0, 0), "\n".join(tally.failures)
+    assert figs["refused"] > 50 and figs["accepted"] > 20, figs
+    assert all(0 < v < 1024 for v in figs["peak_memory_mb"].values()), figs
+
+
+def test_the_mutations_are_reproducible_and_varied(bases):
+    import random
+    a = [fuzz.mutated_scene(random.Random(7), bases) for _ in range(3)]
+    b = [fuzz.mutated_scene(random.Random(7), bases) for _ in range(3)]
+    assert a == b
+    rng = random.Random(3)
+    kinds = {fuzz.mutate(rng, bases["ledge"][1])[0] for _ in range(300)}
+    assert kinds == {"flip", "insert", "swap", "number", "count", "truncate", "duplicate", "drop", "copy-body"}
+    for kind in range(200):                     # an empty text (a truncation to nothing) mutates too
+        assert isinstance(fuzz.mutate(rng, "")[1], bytes)
+
+
+def test_a_disagreement_and_a_crash_are_counted():
+    """check() itself: one runtime's other X line is a disagreement, a
+    signal or exit status 2 a crash, a run out of time a timeout."""
+    def run(status=1, out=b"X scene: a\n", sig=None, timed_out=False):
+        r = fuzz.Run()
+        r.status, r.out, r.signal, r.timed_out = status, out, sig, timed_out
+        return r
+    t = fuzz.Tally()
+    assert not fuzz.check("same", b"", {"c": run(), "rust": run()}, t)
+    assert fuzz.check("other", b"", {"c": run(), "rust": run(out=b"X scene: b\n")}, t)
+    assert fuzz.check("signal", b"", {"c": run(), "rust": run(status=None, sig=11)}, t)
+    assert fuzz.check("exit 2", b"", {"c": run(), "rust": run(status=2)}, t)
+    assert fuzz.check("no X", b"", {"c": run(out=b"E x\n"), "rust": run(out=b"E x\n")}, t)
+    assert fuzz.check("slow", b"", {"c": run(), "rust": run(status=None, out=b"", timed_out=True)}, t)
+    assert (t.inputs, t.disagreements, t.crashes, t.timeouts) == (6, 3, 4, 1)
+    # out of time where every other runtime found the scene stuck: slow, not a fault
+    stuck = b"E x\nX more than 100000 events at t = 0.5: the scene is stuck\n"
+    assert not fuzz.check("stuck", b"", {"c": run(out=stuck), "rust": run(out=stuck), "m2": run(out=stuck),
+                                         "python": run(status=None, out=b"", timed_out=True)}, t)
+    assert (t.timeouts, t.slow, t.refused) == (1, 1, 7)
+
+
+# ------------------------------------------------------------------ what the fuzzing found
+def test_a_negative_body_of_a_live_input_has_the_one_message_in_every_runtime(runners, bases):
+    """Rust's `--live` reader named a negative body `no body -1`."""
+    for body in (-1, -2147483648):
+        got = answers(runners, live_text(bases, "ledge", f"0.5 {body} 1 1.0 0.0"), 0.25)
+        assert one_answer(got) == (1, f"X live input: body {body} does not exist")
+
+
+def test_a_rest_speed_whose_square_overflows_is_refused(runners, bases):
+    """rest_speed 1e160 ran with another horizon count in Modula-2 (its
+    square is infinite); it is now refused by the flat check in every runtime
+    and by the JSON check."""
+    text = bases["wheel"][1]
+    for v, expect in (("1e160", "X scene: rest_speed 1e+160 beyond 1e150"),
+                      ("1e308", "X scene: rest_speed 1e+308 beyond 1e150")):
+        bad = text.replace("\nrest_speed 0.05\n", f"\nrest_speed {v}\n").encode()
+        got = answers(runners, bad)
+        assert one_answer(got) == (1, expect)
+    ok = text.replace("\nrest_speed 0.05\n", "\nrest_speed 1e150\n").encode()
+    assert one_answer(answers(runners, ok))[0] == 0
+    raw = dict(fuzz.BASES["wheel"], rest_speed=1e151)
+    with pytest.raises(SceneError, match="rest_speed: 1e\\+151 m/s is more than 1e\\+150 m/s"):
+        parse_scene(json.dumps(raw), "in-memory")
+
+
+def test_a_live_velocity_that_would_carry_a_body_out_of_range_is_refused(runners, bases):
+    """add_velocity(1e308) on a ball (finite, so accepted before) would put
+    it at 2e308 m by the end: refused with the scene's reach message in
+    every runtime; a teleport near 1e150 m with the ball's velocity is
+    still taken, and a fast one that stays in range too."""
+    far = "X live input: body 1: reaches more than 2e150 m from the origin by the end"
+    for line in ("0.5 1 1 1e+308 0.0", "0.5 1 0 0.0 -2e+150", "0.5 1 2 1e+200 0.0"):
+        assert one_answer(answers(runners, live_text(bases, "ledge", line), 0.25)) == (1, far), line
+    for line in ("0.0 1 3 1e+150 0.0", "0.5 1 3 9e+149 0.0", "0.5 1 0 1e+6 0.0"):
+        assert one_answer(answers(runners, live_text(bases, "ledge", line), 0.5))[0] == 0, line
+
+
+def test_python_world_refuses_far_motion_and_leaves_the_world_as_it_was():
+    from max2code.sim.live import python_world
+    from max2code_rt.sim import SimError
+    sc = parse_scene(json.dumps(fuzz.BASES["ledge"]), "in-memory")
+    w = python_world(sc)
+    w.advance(0.25)
+    before = w.state(1, 0.25)
+    n = len(w.s.inputs)
+    for call in (lambda: w.add_velocity(1, 1e308, 0.0), lambda: w.set_velocity(1, 0.0, 2e150),
+                 lambda: w.apply_impulse(1, 1e300, 0.0)):
+        with pytest.raises(SimError, match="^live input: body 1: reaches more than 2e150 m from the origin by the end$"):
+            call()
+    assert len(w.s.inputs) == n and w.state(1, 0.25) == before
+    w.add_velocity(1, 1e140, 0.0)               # 2e140 m by the end: taken
+    assert math.isfinite(w.state(1, 0.25)[2]) and len(w.s.inputs) == n + 1
+
+
+def test_python_add_body_counts_against_max_bodies(monkeypatch):
+    """add_body on a world that has MAX_BODIES bodies is refused before its
+    text is read (the limit lowered to the world's 3 bodies here)."""
+    from max2code.sim.live import flat_body, python_world
+    from max2code_rt.sim import SimError
+    import max2code_rt.sim.live as live
+    sc = parse_scene(json.dumps(fuzz.BASES["ledge"]), "in-memory")
+    w = python_world(sc)
+    text = flat_body(sc, {"shape": "circle", "radius": 0.1, "mass": 1.0, "position": [-2.0, 1.0]})
+    monkeypatch.setattr(live, "MAX_BODIES", 3)
+    with pytest.raises(SimError, match="^add_body: the world has 3 bodies \\(at most 3\\)$"):
+        w.add_body(text)
+    with pytest.raises(SimError, match="^add_body: the world has 3 bodies"):
+        w.add_body("not a body at all")
+    monkeypatch.setattr(live, "MAX_BODIES", 4)
+    assert w.add_body(text) == 3
+
+
+def _many_fixed_circles(n: int) -> str:
+    """A flat scene of n fixed circles of radius 0.1 m, 1 m apart in rows of 1000."""
+    rows = [f"body 0 1 0.0 0.0 1.0 0.0 {k % 1000}.0 {k // 1000}.0 0.0 0.0 0.0 0.0 0.0 0.0 0.1 0.0 0.0 0.1 0.0 0 0"
+            for k in range(n)]
+    head = ["m2c-scene 1", "end 1.0", "frame 0.0", "tolerance 1e-09", "rest_speed 0.05", "window_angle 0.1",
+            "max_same_time 100000", "grid -1.0 -1.0 10.0 10.0 101 101 0.1", f"bodies {n}"]
+    return "\n".join(head + rows + ["inputs 0", "end"]) + "\n"
+
+
+@pytest.mark.slow
+def test_c_add_body_counts_against_max_bodies():
+    """The C world (ctypes) refuses add_body at MAX_BODIES bodies with the
+    Python world's line: a scene of 999,999 fixed circles, then two add_body."""
+    from max2code.sim.cworld import CWorld
+    from max2code.sim.live import flat_body
+    from max2code.sim.simulate import world_library
+    from max2code_rt.sim import SimError
+    sc = parse_scene(json.dumps(fuzz.BASES["ledge"]), "in-memory")
+    w = CWorld(str(world_library(sc, "c")), _many_fixed_circles(999_999))
+    assert w.body_count() == 999_999
+    one = flat_body(sc, {"shape": "circle", "radius": 0.1, "fixed": True, "position": [2000.0, 0.0]})
+    two = flat_body(sc, {"shape": "circle", "radius": 0.1, "fixed": True, "position": [2002.0, 0.0]})
+    assert w.add_body(one) == 999_999
+    with pytest.raises(SimError, match="^add_body: the world has 1000000 bodies \\(at most 1000000\\)$"):
+        w.add_body(two)
+    w.close()
