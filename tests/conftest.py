@@ -100,15 +100,29 @@ def null_device_kept():
         pytest.fail(f"{os.devnull} is no longer a character device after this test (something wrote a file over it)")
 
 
+NATIVE = {"c", "m2", "rust"}
+
+
+def _runs_a_native_runtime(item) -> bool:
+    """A test parametrized with a compiled runtime as its language or engine
+    (`lang`, `engine`): it builds that runtime's simulator or harness on first
+    use and runs it, so it counts as slow without a mark of its own."""
+    params = getattr(getattr(item, "callspec", None), "params", {})
+    return any(params.get(k) in NATIVE for k in ("lang", "engine"))
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     """The tests that share the installed wheel (the `installed` fixture, made
-    once per process) run in one worker under `--dist loadgroup`; and the files
+    once per process) run in one worker under `--dist loadgroup`; the tests of
+    a compiled runtime are marked slow; and the files
     holding slow tests come first, so that parallel workers do not end on one
     long test while the other idles (a file's own order is kept: its
     module-scoped fixtures are made once)."""
     for item in items:
         if "installed" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.xdist_group("installed"))
+        if _runs_a_native_runtime(item):
+            item.add_marker(pytest.mark.slow)
     slow_files = {item.path for item in items if item.get_closest_marker("slow")}
     items.sort(key=lambda item: item.path not in slow_files)      # stable: the order within each part is kept

@@ -8,12 +8,15 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from conftest import ROOT
 from max2code.reports import choose_language
 
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python")]))
 
 
+@pytest.mark.slow
 def test_a_users_equation_in_rounds_within_the_budget(tmp_path):
     eq = os.path.join(ROOT, "tests", "data", "user-equations", "point-floor-quintic.mxm")
     doc = tmp_path / "doc.md"

@@ -7,11 +7,15 @@ import math
 import random
 import subprocess
 
+import pytest
+
 from max2code.conformance import runner as R
 from max2code.toolchain.c import C_RUNTIME, make_c
 from max2code.toolchain.m2 import M2_RUNTIME, make_m2
 from max2code.toolchain.rust import RUST_RUNTIME
 from max2code.toolchain.tools import build_lock
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def run(cmd, cwd, env=None):

@@ -457,6 +457,7 @@ def test_a_recording_gives_the_session_trace(session, lang):
     assert run_scene(load_scene(rec), lang).raw == trace
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(set(LANGS) - PORTED["recordings"] != set(), strict=True,
                    reason="not every runtime has ported the REF steps yet")
 def test_a_recording_crosschecks(session):

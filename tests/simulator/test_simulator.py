@@ -336,6 +336,7 @@ def test_invariants_at_every_event(gravity):
     assert rep.max_energy_drift <= 1e-9, rep
 
 
+@pytest.mark.slow
 def test_only_the_effects_a_scene_uses():
     """No rotation: the generated code has no orbiting variant, and every
     prediction is served by a variant of degree 2 or less."""
