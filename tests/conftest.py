@@ -58,10 +58,15 @@ def installed(tmp_path_factory):
     for subprocesses: the venv's bin first on PATH, no PYTHONPATH)."""
     import subprocess
 
+    from max2code.toolchain.tools import build_lock
+
     base = tmp_path_factory.mktemp("installed")
     wheels = base / "wheels"
-    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
-                    "-w", str(wheels)], check=True, capture_output=True, text=True)
+    # one wheel build at a time from this checkout: setuptools writes its egg-info and build/lib
+    # in the checkout, and a parallel worker's build would mix into this one
+    with build_lock(Path(ROOT) / "build" / "wheel"):
+        subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
+                        "-w", str(wheels)], check=True, capture_output=True, text=True)
     (wheel,) = wheels.glob("max2code-*.whl")
     venv = base / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)

@@ -237,6 +237,7 @@ def _baseline(lang: str) -> str:
     return _render(lang, "plain", "plain.mxm", "plain.out").text
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(doc=hostile, path=hostile)
 def test_python_doc_and_path_property(doc, path):
@@ -274,6 +275,7 @@ def test_m2_doc_and_path_property(tmp_path_factory, doc, path, out_name):
         _gm2_syntax(tmp_path_factory.mktemp("m2"), text)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(doc=hostile, path=hostile)
 def test_rust_doc_and_path_property(doc, path):

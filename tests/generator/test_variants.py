@@ -39,6 +39,7 @@ EXPECTED = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
 def test_variant_degrees_follow_the_physics(eq):
     vs = list_variants(eq)
@@ -98,6 +99,7 @@ def entry_harness(tmp_path_factory):
     return get
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
 def test_selected_variant_equals_full_equation_with_the_zeros(eq, lang, entry_harness):
