@@ -118,15 +118,11 @@ def _runs_a_native_runtime(item) -> bool:
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """The tests that share the installed wheel (the `installed` fixture, made
-    once per process) run in one worker under `--dist loadgroup`; the tests of
-    a compiled runtime are marked slow; and the files
+    """The tests of a compiled runtime are marked slow; and the files
     holding slow tests come first, so that parallel workers do not end on one
     long test while the other idles (a file's own order is kept: its
     module-scoped fixtures are made once)."""
     for item in items:
-        if "installed" in getattr(item, "fixturenames", ()):
-            item.add_marker(pytest.mark.xdist_group("installed"))
         if _runs_a_native_runtime(item):
             item.add_marker(pytest.mark.slow)
     slow_files = {item.path for item in items if item.get_closest_marker("slow")}
