@@ -765,6 +765,7 @@ def test_a_sleeping_island_wakes_when_hit_and_moves_as_exact_free_motion(lang):
     no_overlap(scene, rp)
 
 
+@pytest.mark.slow
 def test_ball_pit_settles_sleeps_and_wakes_when_a_ball_drops_in():
     """examples/ball-pit.json: 42 balls settle in a bin and fall asleep;
     from then until the scripted push at t = 5 s nothing but frames

@@ -354,6 +354,7 @@ def test_only_the_effects_a_scene_uses():
     assert "orbit" in spin.effects
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
 def test_examples_replay_to_their_final_state(path):
     scene, tr = _run(path)
