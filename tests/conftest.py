@@ -1,9 +1,11 @@
 import os
 import sys
+from pathlib import Path
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the repository: the folder above this file that holds pyproject.toml
+ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 
 from max2code.targets import LANGUAGES  # noqa: E402  (the only list of languages)
@@ -56,13 +58,26 @@ def installed(tmp_path_factory):
     for subprocesses: the venv's bin first on PATH, no PYTHONPATH)."""
     import subprocess
 
+    from max2code.toolchain.tools import build_lock
+
     base = tmp_path_factory.mktemp("installed")
     wheels = base / "wheels"
-    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
-                    "-w", str(wheels)], check=True, capture_output=True, text=True)
+    # one wheel build at a time from this checkout: setuptools writes its egg-info and build/lib
+    # in the checkout, and a parallel worker's build would mix into this one
+    with build_lock(Path(ROOT) / "build" / "wheel"):
+        subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
+                        "-w", str(wheels)], check=True, capture_output=True, text=True)
     (wheel,) = wheels.glob("max2code-*.whl")
     venv = base / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    if sys.prefix != sys.base_prefix:
+        # the suite runs in a venv (scripts/setup's .venv), whose packages the new one sees
+        # too, after its own: a path line, so the .venv's editable max2code is not loaded
+        import sysconfig
+        here = sorted({sysconfig.get_path("purelib"), sysconfig.get_path("platlib")})
+        site = subprocess.run([str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
+                              check=True, capture_output=True, text=True).stdout.strip()
+        (Path(site) / "parent-environment.pth").write_text("".join(f"{d}\n" for d in here))
     subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "-q", "--no-deps", "--no-index", "--ignore-installed",
                     str(wheel)], check=True, capture_output=True, text=True)
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MAX2CODE_BUILD", "VIRTUAL_ENV")}
@@ -88,3 +103,27 @@ def null_device_kept():
     yield
     if before and not _null_is_device():
         pytest.fail(f"{os.devnull} is no longer a character device after this test (something wrote a file over it)")
+
+
+NATIVE = {"c", "m2", "rust"}
+
+
+def _runs_a_native_runtime(item) -> bool:
+    """A test parametrized with a compiled runtime as its language or engine
+    (`lang`, `engine`): it builds that runtime's simulator or harness on first
+    use and runs it, so it counts as slow without a mark of its own."""
+    params = getattr(getattr(item, "callspec", None), "params", {})
+    return any(params.get(k) in NATIVE for k in ("lang", "engine"))
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """The tests of a compiled runtime are marked slow; and the files
+    holding slow tests come first, so that parallel workers do not end on one
+    long test while the other idles (a file's own order is kept: its
+    module-scoped fixtures are made once)."""
+    for item in items:
+        if _runs_a_native_runtime(item):
+            item.add_marker(pytest.mark.slow)
+    slow_files = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow_files)      # stable: the order within each part is kept

@@ -16,7 +16,7 @@ import os
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 PINS = ROOT / "tests" / "data" / "trace-digests.json"
 # the runtime whose trace is pinned; a reference change not yet ported can be
 # pinned from the Python runtime with M2C_DIGEST_LANG=python

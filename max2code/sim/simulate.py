@@ -199,8 +199,16 @@ def build_simulator(lang: str, effects: tuple[str, ...], order: int, *, progress
     done = built_simulator(lang, effects, order)
     if done is not None:
         return done
+    workdir, _ = _build_key(lang, effects, order)
+    from max2code.toolchain.tools import build_lock
+    with build_lock(workdir):
+        # another process may have built it while this one waited for the lock
+        return built_simulator(lang, effects, order) or _build_simulator(lang, effects, order, progress)
+
+
+def _build_simulator(lang: str, effects: tuple[str, ...], order: int, progress: bool) -> SimBuild:
+    """build_simulator's work, under the lock of its folder."""
     workdir, key = _build_key(lang, effects, order)
-    workdir.mkdir(parents=True, exist_ok=True)
     inputs_stamp, names_file, stamp = workdir / "inputs.stamp", workdir / "variant-names.json", workdir / "build.stamp"
     # the generator is imported only when something must be generated (it is most of the start-up)
     from max2code.generate.mxm import read_mxm

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from max2code.paths import BUILD, RUNTIMES
 from max2code.toolchain.base import Toolchain
-from max2code.toolchain.tools import gsl_libs, run
+from max2code.toolchain.tools import build_lock, gsl_libs, run
 
 C_RUNTIME = RUNTIMES / "c"
 C_INCLUDE = C_RUNTIME / "include"
@@ -28,7 +28,8 @@ SIM_FLAGS = [*("-O3" if f == "-O2" else f for f in FLAGS), "-flto=auto"]
 
 def make_c(*targets: str | Path) -> None:
     """make in runtimes/c with our flags (warnings are errors), outputs under BUILD/c."""
-    run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c'}", "WERROR=-Werror", *map(str, targets)], C_RUNTIME)
+    with build_lock(BUILD / "c"):
+        run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c'}", "WERROR=-Werror", *map(str, targets)], C_RUNTIME)
 
 
 def c_library() -> Path:
@@ -63,8 +64,9 @@ class CToolchain(Toolchain):
 
     def install_runtime(self, prefix: str) -> str:
         prefix = os.path.abspath(prefix)
-        run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c-install'}",
-             f"PREFIX={prefix}", "install"], C_RUNTIME)
+        with build_lock(BUILD / "c-install"):
+            run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c-install'}",
+                 f"PREFIX={prefix}", "install"], C_RUNTIME)
         return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
                 f"  export PKG_CONFIG_PATH={prefix}/lib/pkgconfig\n"
                 "  cc main.c eq.c $(pkg-config --cflags --libs m2c) -Wl,-rpath,$(pkg-config --variable=libdir m2c)")

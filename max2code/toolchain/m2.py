@@ -8,7 +8,7 @@ from pathlib import Path
 
 from max2code.paths import BUILD, RUNTIMES
 from max2code.toolchain.base import Toolchain
-from max2code.toolchain.tools import gsl_libs, run
+from max2code.toolchain.tools import build_lock, gsl_libs, run
 
 M2_RUNTIME = RUNTIMES / "m2"
 
@@ -25,7 +25,8 @@ SIM_GENERATED = "SimPredict"
 def make_m2(*targets: str | Path) -> None:
     """make in runtimes/m2, outputs under BUILD/m2.  Without WERROR: gm2 12 warns of an
     unused VAR parameter it reads (Roots.Variations) and of GSL's output array (RootsGsl)."""
-    run(["make", "-s", "-C", str(M2_RUNTIME), f"BUILD={BUILD / 'm2'}", *map(str, targets)], M2_RUNTIME)
+    with build_lock(BUILD / "m2"):
+        run(["make", "-s", "-C", str(M2_RUNTIME), f"BUILD={BUILD / 'm2'}", *map(str, targets)], M2_RUNTIME)
 
 
 def m2_objects(*modules: str) -> list[Path]:
@@ -58,8 +59,9 @@ class Modula2Toolchain(Toolchain):
 
     def install_runtime(self, prefix: str) -> str:
         prefix = os.path.abspath(prefix)
-        run(["make", "-s", "-C", str(M2_RUNTIME), f"BUILD={BUILD / 'm2-install'}",
-             f"PREFIX={prefix}", "install"], M2_RUNTIME)
+        with build_lock(BUILD / "m2-install"):
+            run(["make", "-s", "-C", str(M2_RUNTIME), f"BUILD={BUILD / 'm2-install'}",
+                 f"PREFIX={prefix}", "install"], M2_RUNTIME)
         d = f"{prefix}/lib/max2code/m2"
         return (f"installed Roots, ExactToc (and RootsGsl, Wire) .def/.mod/.o in {d}; build with\n"
                 f"  gm2 -fiso -fcpp -I{d} prog.mod {d}/Roots.o {d}/ExactToc.o -o prog -lm")

@@ -4,8 +4,15 @@ builds deny warnings (the C Makefile's WERROR, cargo's RUSTFLAGS); a user's
 `make` does not."""
 from __future__ import annotations
 
+import contextlib
+import os
 import subprocess
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:     # not on Windows: there builds are not guarded against each other
+    fcntl = None
 
 from max2code.errors import Max2CodeError
 
@@ -22,6 +29,24 @@ def run(cmd: list[str], cwd: Path, env: dict | None = None) -> None:
         raise RuntimeBuildError(f"max2code: error: {cmd[0]} is needed to build the runtime and was not found") from None
     if r.returncode != 0:
         raise RuntimeBuildError(f"max2code: error: the runtime did not build: {' '.join(map(str, cmd))}\n{r.stdout[-3000:]}")
+
+
+@contextlib.contextmanager
+def build_lock(folder: Path):
+    """Hold the exclusive lock of `folder` (its file `.lock`) while building
+    into it: two processes that build the same thing at once (two commands,
+    or the test suite's parallel workers) take turns, and the second finds
+    the first's outputs up to date instead of overwriting them half made."""
+    if fcntl is None:
+        yield
+        return
+    folder.mkdir(parents=True, exist_ok=True)
+    fd = os.open(folder / ".lock", os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)        # releases the lock
 
 
 def gsl_libs() -> list[str]:

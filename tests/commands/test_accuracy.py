@@ -3,7 +3,11 @@ motions): it writes the table and both plots, and its numbers say what the
 issue expects of them (exact motion exact, the paper's form far off)."""
 import re
 
+import pytest
+
 from max2code.reports import accuracy
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def test_accuracy_quick_sweep(tmp_path, capsys):

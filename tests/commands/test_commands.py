@@ -3,7 +3,11 @@ speed lives in benchmarks, not in tests)."""
 import subprocess
 import sys
 
+import pytest
+
 from conftest import ROOT
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def test_bench_variants_builds_and_reports_every_variant():

@@ -14,6 +14,8 @@ import pytest
 
 from max2code import paths
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 DOC = paths.ROOT / "docs" / "using-generated-code.md"
 LANGS = ("c", "rust", "python", "m2")
 # circle 1 at (0, 0) at 1 m/s, radius 1; circle 2 at (10, 0.5) at -1 m/s, radius 0.5

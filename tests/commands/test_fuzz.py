@@ -27,6 +27,8 @@ from hypothesis import strategies as st
 
 from max2code.cli import main
 
+pytestmark = pytest.mark.slow      # runs Maxima and the simulators on many mutated inputs
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 SCALE = int(os.environ.get("MAX2CODE_FUZZ_EXAMPLES", "0"))

@@ -13,6 +13,8 @@ import pytest
 
 from max2code import paths
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 
 def sh(cmd: str, cwd, env, timeout=900) -> str:
     r = subprocess.run(["bash", "-euo", "pipefail", "-c", cmd], cwd=cwd, env=env, capture_output=True, text=True,

@@ -74,6 +74,7 @@ def test_exact_without_declarations_and_python_float(tmp_path):
         _generate(tmp_path, HEAD + GOOD + MAXIMA, lang="python", real="float")
 
 
+@pytest.mark.slow
 def test_cli_exact_is_byte_stable_and_errors_are_one_line(tmp_path):
     outs = []
     for _ in range(2):
@@ -152,6 +153,7 @@ def test_zero_tol_knob_decides_touching_at_zero(point_line_c):
     assert got[0] == (1, 0.0) and got[1][0] == 1 and abs(got[1][1] - 1e-6) < 1e-20
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", ["c", "rust", "m2"])
 def test_single_precision(lang, tmp_path):
     """--real=float: the generated arithmetic in float (C), f32 (Rust),
@@ -202,6 +204,7 @@ def _gap_numpy(equation, p, t):
     return dx * dx + dy * dy - (p["x"] + p["z"]) ** 2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("equation", ["circle-circle", "point-line"])
 def test_reference_against_a_brute_force_scan(equation):
     """The reference's first contact, against the first sign change of the

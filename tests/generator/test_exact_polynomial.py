@@ -133,6 +133,7 @@ def test_an_exact_declaration_of_a_polynomial_motion_works_and_errors_name_no_in
     assert "a*t^2" in r.stderr and "__m2c" not in r.stderr and r.stderr.count("\n") == 1, r.stderr
 
 
+@pytest.mark.slow
 def test_rust_compiles_a_parameter_named_in_capitals(tmp_path):
     """The arena's radius R beside the ball's r: Rust's naming lint must not stop the user's names."""
     from max2code.toolchain.exact import build_exact_harness

@@ -12,6 +12,8 @@ from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code.toolchain.harness import build_harness
 from max2code.targets import LANGUAGES
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 FLOAT_LANGS = sorted(n for n, t in LANGUAGES.items() if t.single_type is not None)

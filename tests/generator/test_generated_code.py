@@ -10,6 +10,8 @@ from max2code.toolchain.harness import build_harness
 from max2code.conformance.motion_ref import EQUATIONS as REFERENCE
 from max2code.conformance.motion_ref import scale as reference_scale
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 N_SETS = 200
 REL_TOL = 1e-12
 

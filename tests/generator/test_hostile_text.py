@@ -116,6 +116,7 @@ def _gcc_syntax(path, *extra):
     return subprocess.run([*FLAGS, "-fsyntax-only", *extra, str(path)], capture_output=True, text=True)
 
 
+@pytest.mark.slow
 def test_c_doc_cannot_close_the_comment(tmp_path, capsys):
     p = tmp_path / "e.mxm"
     p.write_text(INJECT_MXM.format(doc="x */ int injected; /* y"))
@@ -127,6 +128,7 @@ def test_c_doc_cannot_close_the_comment(tmp_path, capsys):
     assert "injected" not in _c_code(out.read_text())
 
 
+@pytest.mark.slow
 def test_m2_doc_cannot_close_the_comment(tmp_path, capsys):
     p = tmp_path / "e.mxm"
     p.write_text(INJECT_MXM.format(doc="x *) VAR injected: INTEGER ; (* y"))
@@ -147,6 +149,7 @@ def test_python_doc_with_backslash_escapes_compiles(tmp_path, capsys):
     assert ast.get_docstring(fn, clean=False).startswith(r"see \N and \x and a trailing backslash \ .")
 
 
+@pytest.mark.slow
 def test_file_name_with_a_line_end(tmp_path, capsys):
     p = tmp_path / 'we"ird\nimport os; os.system("false") # *\\ (* ??=.mxm'
     p.write_text(INJECT_MXM.format(doc="plain"))
@@ -234,6 +237,7 @@ def _baseline(lang: str) -> str:
     return _render(lang, "plain", "plain.mxm", "plain.out").text
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(doc=hostile, path=hostile)
 def test_python_doc_and_path_property(doc, path):
@@ -246,6 +250,7 @@ def test_python_doc_and_path_property(doc, path):
     assert ast.get_docstring(fn, clean=False).startswith((doc or "hostile") + ".")   # the doc reads back as written
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(doc=hostile, path=hostile, out_name=hostile)
 def test_c_doc_and_path_property(tmp_path_factory, doc, path, out_name):
@@ -259,6 +264,7 @@ def test_c_doc_and_path_property(tmp_path_factory, doc, path, out_name):
         assert r.returncode == 0, r.stderr
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(doc=hostile, path=hostile, out_name=hostile)
 def test_m2_doc_and_path_property(tmp_path_factory, doc, path, out_name):
@@ -269,6 +275,7 @@ def test_m2_doc_and_path_property(tmp_path_factory, doc, path, out_name):
         _gm2_syntax(tmp_path_factory.mktemp("m2"), text)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(doc=hostile, path=hostile)
 def test_rust_doc_and_path_property(doc, path):
@@ -280,6 +287,7 @@ def test_rust_doc_and_path_property(doc, path):
             assert not re.match(r"/// ?\s{0,3}(```|~~~)", line)   # no Markdown fence: no doctest
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not shutil.which("rustc"), reason="needs rustc")
 @pytest.mark.parametrize("doc", ["x */ fn injected() {} /*", "line\nfn injected() {}", "\u202e\x00 ``` \\"])
 def test_rust_doc_compiles(tmp_path, doc):
@@ -309,6 +317,7 @@ end
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", ["c", "m2", "python", "rust"])
 def test_exact_text_in_the_header_comment(tmp_path, lang):
     """The `exact` declaration's Maxima text (a comment, a line end) is quoted in a comment of the output."""

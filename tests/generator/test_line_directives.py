@@ -9,6 +9,8 @@ import pytest
 
 from max2code.generate.pipeline import GenerateRequest, generate_file
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 DATA = str(ROOT / "tests" / "data" / "planted-error.mxm")
 PLANTED_LINE = {"c": 10, "m2": 20}   # the `term 1` blocks in planted-error.mxm

@@ -6,6 +6,8 @@ import sys
 
 import pytest
 
+pytestmark = pytest.mark.slow      # runs the command (and Maxima) in a process of its own per case
+
 OK_TAIL = "begin\na + b*t + c*t^2;\nend\n"
 
 # (name, .mxm text, expected line, expected column or None, words the message must contain)

@@ -19,6 +19,7 @@ from max2code.generate.reader import MaximaOutputError, read_expr
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
 def test_generating_twice_gives_identical_bytes(tmp_path, lang):
     outs = []

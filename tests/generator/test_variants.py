@@ -39,6 +39,7 @@ EXPECTED = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
 def test_variant_degrees_follow_the_physics(eq):
     vs = list_variants(eq)
@@ -98,6 +99,7 @@ def entry_harness(tmp_path_factory):
     return get
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
 def test_selected_variant_equals_full_equation_with_the_zeros(eq, lang, entry_harness):
@@ -129,6 +131,7 @@ def test_selected_variant_equals_full_equation_with_the_zeros(eq, lang, entry_ha
     print(f"{eq} {lang}: degrees selected {dict(sorted(degrees.items()))}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
 def test_effects_restrict_generation(lang, tmp_path):
     g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", "circle-circle.mxm"), lang=lang,
@@ -158,6 +161,7 @@ def test_list_variants_with_effects_none():
     assert [v["name"] for v in vs] == ["point_line_no_accel1_no_orbit1_no_accel2_no_orbit2"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
 def test_toc_entry_same_bits_in_every_language_and_matches_the_full_equation(eq, tmp_path):
     rng = random.Random(f"toc-{eq}")

@@ -12,6 +12,8 @@ from conftest import ROOT
 from max2code.generate.pipeline import GenerateRequest, generate_file
 from refpoly import V, compare, cos_of, run_python, sin_of, substitute_zeros, trig_env
 
+pytestmark = pytest.mark.slow      # runs Maxima on every variant of each fixture
+
 DATA = os.path.join(ROOT, "tests", "data", "equations")
 T = V("t")
 

@@ -9,6 +9,8 @@ import pytest
 
 from max2code.conformance import runner as R
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 LANGS = list(R.ALL_LANGS)
 _reports: dict[str, R.Report] = {}
 

@@ -7,10 +7,15 @@ import math
 import random
 import subprocess
 
+import pytest
+
 from max2code.conformance import runner as R
 from max2code.toolchain.c import C_RUNTIME, make_c
 from max2code.toolchain.m2 import M2_RUNTIME, make_m2
 from max2code.toolchain.rust import RUST_RUNTIME
+from max2code.toolchain.tools import build_lock
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def run(cmd, cwd, env=None):
@@ -20,7 +25,8 @@ def run(cmd, cwd, env=None):
 
 
 def test_c_library_and_api():
-    out = run(["make", "-s", f"BUILD={R.BUILD / 'c'}", "WERROR=-Werror", "check"], C_RUNTIME)
+    with build_lock(R.BUILD / "c"):     # the folder other tests (and parallel workers) build into
+        out = run(["make", "-s", f"BUILD={R.BUILD / 'c'}", "WERROR=-Werror", "check"], C_RUNTIME)
     assert "15 passed, 0 failed" in out
 
 
@@ -38,7 +44,8 @@ def test_rust_unit_tests():
 
 
 def test_m2_programs_build():
-    run(["make", "-s", f"BUILD={R.BUILD / 'm2'}"], M2_RUNTIME)
+    with build_lock(R.BUILD / "m2"):
+        run(["make", "-s", f"BUILD={R.BUILD / 'm2'}"], M2_RUNTIME)
     for prog in ("roots_testee", "roots_gsl_testee", "roots_bench"):
         assert (R.BUILD / "m2" / prog).exists()
 

@@ -14,6 +14,10 @@ import mpmath
 
 from conftest import ROOT
 
+import pytest
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 USER = os.path.join(ROOT, "tests", "data", "user-equations")
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "runtimes", "python")]))
 

@@ -11,10 +11,14 @@ from pathlib import Path
 import re
 import subprocess
 
+import pytest
+
 from max2code.sim.live import python_world
 from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import build_simulator
 from max2code.toolchain.m2 import Modula2Toolchain
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())

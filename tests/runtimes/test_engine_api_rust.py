@@ -9,11 +9,15 @@ import re
 import shutil
 import subprocess
 
+import pytest
+
 from max2code import paths
 from max2code.sim.live import python_world
 from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import build_simulator
 from max2code.toolchain import toolchain
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 DOC = paths.ROOT / "docs" / "engine-api.md"
 

@@ -13,6 +13,8 @@ import sys
 
 import pytest
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 pytest.importorskip("pygame")
 
 # the repository: the folder above this file that holds pyproject.toml

@@ -17,6 +17,8 @@ from max2code.sim.scene import compile_scene
 from max2code.sim.simulate import build_simulator
 from max2code_rt.sim import SimError
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 # scenes the Python reference plays in a few seconds (gravity-box takes a minute)

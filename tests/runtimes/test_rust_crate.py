@@ -11,7 +11,11 @@ from __future__ import annotations
 
 import subprocess
 
+import pytest
+
 from max2code.toolchain import rust as runtimes
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def cargo(*args: str, timeout: float = 1800) -> subprocess.CompletedProcess:

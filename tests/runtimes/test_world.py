@@ -53,6 +53,7 @@ def stepped(scene, lang: str, dt: float, live: bool = False):
 STEP_SCENES = ["newtons-cradle.json", "platformer.json", "resting-ball.json", "spinning-polygons.json"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", STEP_SCENES, ids=lambda n: n[:-5])
 @pytest.mark.parametrize("lang", runtimes("world"))
 def test_small_steps_write_the_batch_bytes_and_states_are_the_replay(lang, name):
@@ -457,6 +458,7 @@ def test_a_recording_gives_the_session_trace(session, lang):
     assert run_scene(load_scene(rec), lang).raw == trace
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(set(LANGS) - PORTED["recordings"] != set(), strict=True,
                    reason="not every runtime has ported the REF steps yet")
 def test_a_recording_crosschecks(session):

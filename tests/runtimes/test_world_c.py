@@ -17,6 +17,8 @@ from max2code.sim.scene import compile_scene, load_scene
 from max2code.sim.simulate import run_scene, world_library
 from max2code.toolchain.c import FLAGS
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")

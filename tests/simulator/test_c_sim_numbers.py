@@ -9,7 +9,11 @@ from __future__ import annotations
 import re
 import subprocess
 
+import pytest
+
 from max2code.sim.simulate import build_simulator
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 N = 400_000
 

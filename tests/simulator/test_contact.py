@@ -266,6 +266,7 @@ def test_random_resting_circles_never_overlap_and_never_gain_energy(seed):
     _closed_scene_checks(resting_scene(seed, boxes=False), f"resting-{seed}.json")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
 def test_a_ball_pressed_on_a_sliding_ball_never_gains_energy(lang):
     """Found by the test above with a random seed: resting_scene(1909),
@@ -473,6 +474,7 @@ def test_a_ball_resting_on_a_sliding_box_never_gains_energy(lang):
     _closed_scene_checks(raw, "resting-128-boxes.json", lang)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", runtimes("hopfloor"))
 @pytest.mark.parametrize("seed", [244, 47, 33])
 def test_boxes_meeting_gently_while_sliding_never_gain_energy(seed, lang):
@@ -502,6 +504,7 @@ def test_a_ball_wedged_between_a_wall_and_a_sleeper_is_not_stuck(lang):
     _closed_scene_checks(stuck_at_once(resting_scene(993908, boxes=True)), "resting-993908-boxes.json", lang)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", runtimes("wedged"))
 @pytest.mark.parametrize("seed", [15095, 788526])
 def test_random_box_scenes_found_stuck_finish(seed, lang):
@@ -558,6 +561,7 @@ def test_a_ball_dropped_into_a_v_comes_to_rest_and_sleeps_in_it(x0, lang):
     assert all(e["t"] <= sleep_t for e in tr.events if e["kind"] != "frame")
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=SimulateError,
                    reason="known (a seed hunt, bench/hunt.py --count 1000 --seed 9 "
                           "--start 9000, 1 of 1000 box scenes): resting_scene 108926 with boxes stuck at "
@@ -761,6 +765,7 @@ def test_a_sleeping_island_wakes_when_hit_and_moves_as_exact_free_motion(lang):
     no_overlap(scene, rp)
 
 
+@pytest.mark.slow
 def test_ball_pit_settles_sleeps_and_wakes_when_a_ball_drops_in():
     """examples/ball-pit.json: 42 balls settle in a bin and fall asleep;
     from then until the scripted push at t = 5 s nothing but frames

@@ -18,6 +18,8 @@ from max2code.sim.commands import crosscheck
 from max2code.sim.simulate import LANGS
 from sim_scenes import resting_scene, spinning_scene, write_random_scenes  # noqa: E402
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))

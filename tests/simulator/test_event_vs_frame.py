@@ -6,6 +6,7 @@ import json
 import math
 
 import pymunk
+import pytest
 
 from max2code.reports.engines import OurResult, build_space, step_until, time_ours
 from max2code.reports.event_vs_frame import (example_scenes, free_run, FrameResult, is_resting, kinds_table,
@@ -13,6 +14,8 @@ from max2code.reports.event_vs_frame import (example_scenes, free_run, FrameResu
 from max2code.sim.scene import load_scene, parse_scene
 from max2code.paths import ROOT
 from max2code.sim.simulate import run_scene
+
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
 
 def test_tunnelling_case():

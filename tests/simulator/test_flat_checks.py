@@ -212,6 +212,7 @@ def cases() -> list[tuple[str, object, str]]:
 CASES = cases()
 
 
+@pytest.mark.slow
 def test_the_base_scene_runs():
     """Every case's base is a valid scene (so each fault is the only one)."""
     sc, flat = base()
@@ -220,6 +221,7 @@ def test_the_base_scene_runs():
     assert proc.returncode == 0 and not proc.stdout.startswith("X"), proc.stdout[-500:]
 
 
+@pytest.mark.slow
 def test_a_non_ascii_byte_is_refused_at_its_offset():
     sc, flat = base()
     bad = flat.replace("tolerance", "tolérance").encode("utf-8")
@@ -231,6 +233,7 @@ def test_a_non_ascii_byte_is_refused_at_its_offset():
             lang, 1, f"X scene: byte {offset}: not printable ASCII\n".encode()), proc.stderr[-500:]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
 def test_every_runtime_refuses_each_fault_with_the_same_line(lang):
     sc, flat = base()

@@ -160,6 +160,7 @@ def test_a_scene_whose_memory_estimate_passes_the_limit_is_refused(tmp_path, cap
     assert code == 1 and err == f"{sc.MEMORY_ENV}: error: expected a positive number of bytes (such as 4e9), got 'lots'\n"
 
 
+@pytest.mark.slow
 def test_the_memory_estimate_holds_the_c_engines_peak(tmp_path):
     """The C simulator's peak resident size for a scene of many circles,
     polygons and inputs is within the estimate (measured from a small

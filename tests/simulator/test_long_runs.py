@@ -18,6 +18,8 @@ from max2code.sim.scene import parse_scene
 from max2code.sim.simulate import run_scene
 from sim_scenes import box, random_scene  # noqa: E402
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 
 def disks(n: int, seed: int, end_time: float) -> dict:
     """n equal disks on a jittered lattice in a box, random velocities, restitution 1."""

@@ -18,7 +18,8 @@ from max2code.toolchain.m2 import SIM_FLAGS
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 M2 = os.path.join(ROOT, "runtimes", "m2")
 
-pytestmark = pytest.mark.skipif(shutil.which("gm2") is None, reason="gm2 not installed")
+pytestmark = [pytest.mark.slow,      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+              pytest.mark.skipif(shutil.which("gm2") is None, reason="gm2 not installed")]
 
 
 def test_sim_out_writes_what_printf_writes(tmp_path):

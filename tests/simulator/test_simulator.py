@@ -336,6 +336,7 @@ def test_invariants_at_every_event(gravity):
     assert rep.max_energy_drift <= 1e-9, rep
 
 
+@pytest.mark.slow
 def test_only_the_effects_a_scene_uses():
     """No rotation: the generated code has no orbiting variant, and every
     prediction is served by a variant of degree 2 or less."""
@@ -353,6 +354,7 @@ def test_only_the_effects_a_scene_uses():
     assert "orbit" in spin.effects
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
 def test_examples_replay_to_their_final_state(path):
     scene, tr = _run(path)

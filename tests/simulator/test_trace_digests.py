@@ -4,6 +4,8 @@ import pytest
 
 import trace_digests as td
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 
 def test_every_example_is_pinned():
     assert sorted(td.pinned()) == [p.name for p in td.examples()]

@@ -19,6 +19,8 @@ from max2code.sim.simulate import run_scene
 from sim_scenes import spinning_scene  # noqa: E402
 from test_contact import runtimes  # noqa: E402
 
+pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
+
 # the repository: the folder above this file that holds pyproject.toml
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 
