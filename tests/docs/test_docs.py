@@ -225,3 +225,28 @@ def test_command_reference_names_every_command_and_option():
             missing += [f"{doc_name}: {sub or 'the generator'} {o}" for o in sorted(options)
                         if not re.search(re.escape(o) + r"(?![a-z0-9-])", doc)]
     assert not missing, "\n".join(missing)
+
+
+TEST_PATH = re.compile(r"\btests/(?:[a-z_]+/)*test_[a-z0-9_]+\.py\b")
+
+
+def named_test_files(text: str) -> list[str]:
+    """The test files a text names by their path from the repository root."""
+    return TEST_PATH.findall(text)
+
+
+def test_named_test_files_exist():
+    """Docs, comments and build files that point a reader at a test file
+    name one that exists (tests move between area folders)."""
+    missing = []
+    for path in [*DOCS, ROOT / "CHANGELOG.md", *source_files()]:
+        text = path.read_text(encoding="utf-8", errors="replace")
+        for name in named_test_files(text):
+            if not (ROOT / name).is_file():
+                missing.append(f"{path.relative_to(ROOT)}: {name}")
+    assert not missing, "no such test file:\n" + "\n".join(sorted(set(missing)))
+
+
+def test_named_test_files_sees_paths():
+    assert named_test_files("see tests/simulator/test_contact.py and tests/test_gone.py, not mytests/x.py") == [
+        "tests/simulator/test_contact.py", "tests/test_gone.py"]
