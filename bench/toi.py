@@ -8,9 +8,9 @@ Box2D v3's `b2TimeOfImpact`, on families of two circles on rigid motions
 Ours: the generated `circle_circle_toc_exact` (C and Rust, default options)
 and, for scale, the single Taylor polynomial `circle_circle_coefficients`
 plus the runtime's root solver over the whole horizon (exact only where no
-body orbits).  parry2d: a small crate, bench/toi_parry, built with cargo into
+body orbits).  parry2d: a small crate, bench/peers/parry-toi, built with cargo into
 build/toi/parry.  Box2D: its source built with cmake into build/toi/box2d and
-a small C driver (bench/toi_box2d.c); `b2TimeOfImpact` over the horizon with
+a small C driver (bench/peers/box2d/toi.c); `b2TimeOfImpact` over the horizon with
 the sweeps of the same rigid motions.
 
 Each family is a row of the table FAMILIES: name -> (draw, note, shapes).
@@ -231,15 +231,16 @@ def build_parry(progress: bool) -> Path:
         print("toi: parry2d: cargo build --release (the first build fetches and compiles the crates)",
               file=sys.stderr, flush=True)
     target = BUILD / "parry"
-    subprocess.run(["cargo", "build", "--release", "--quiet", "--manifest-path", str(ROOT / "bench" / "toi_parry" /
-                    "Cargo.toml")], check=True, env=dict(os.environ, CARGO_TARGET_DIR=str(target)))
+    manifest = ROOT / "bench" / "peers" / "parry-toi" / "Cargo.toml"
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--manifest-path", str(manifest)], check=True,
+                   env=dict(os.environ, CARGO_TARGET_DIR=str(target)))
     return target / "release" / "toi_parry"
 
 
 def rigid_rows(cases: list[dict]) -> list[list[float]]:
     """Per case: per body the rotation centre, its velocity, the angular
     velocity, the ball's offset from the centre at t = 0 and its radius;
-    then the horizon (the layout of bench/toi_parry and bench/toi_box2d.c)."""
+    then the horizon (the layout of bench/peers/parry-toi and bench/peers/box2d/toi.c)."""
     rows = []
     for c in cases:
         p = c["params"]
@@ -270,7 +271,7 @@ def run_rigid(exe: Path, cases: list[dict], reps: int, tags: tuple[str, ...]):
 
 def build_box2d(src: Path, progress: bool) -> Path:
     """Box2D's library from its source (cmake, release, no samples or tests)
-    and the driver bench/toi_box2d.c linked against it."""
+    and the driver bench/peers/box2d/toi.c linked against it."""
     out = BUILD / "box2d"
     out.mkdir(parents=True, exist_ok=True)
     if progress:
@@ -281,7 +282,7 @@ def build_box2d(src: Path, progress: bool) -> Path:
     subprocess.run(["cmake", "--build", str(out), "-j2"], check=True, stdout=subprocess.DEVNULL)
     lib = next(out.rglob("libbox2d*.a"))
     exe = out / "toi_box2d"
-    subprocess.run(["gcc", "-O2", "-std=c17", f"-I{src / 'include'}", str(ROOT / "bench" / "toi_box2d.c"),
+    subprocess.run(["gcc", "-O2", "-std=c17", f"-I{src / 'include'}", str(ROOT / "bench" / "peers" / "box2d" / "toi.c"),
                     "-o", str(exe), str(lib), "-lm"], check=True)
     return exe
 
