@@ -1,12 +1,13 @@
 IMPLEMENTATION MODULE SimSleep ;
 
-(* Sleeping islands: the Python reference's grounded, at_rest, jolted and
-   can_sleep. *)
+(* Sleeping islands: the Python reference's grounded, at_rest, jolted,
+   over_face and can_sleep. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, RestSpeed ;
+FROM SimScene IMPORT Bodies, BodyRef, RestSpeed, Tol, Verts ;
 FROM SimQueue IMPORT CollisionEvent, FeatPE ;
-FROM SimSupport IMPORT flat, static ;
+FROM SimSupport IMPORT flat, static, support_frame ;
+FROM SimMotion IMPORT PointAt ;
 
 
 (* A body others can fall asleep on: asleep, or fixed and unmoving. *)
@@ -42,6 +43,43 @@ BEGIN
 END jolted ;
 
 
+(* M's centre of mass projects inside the support segment of the contact of
+   V's vertex i on E's edge j, shrunk by the tolerance: along the edge's
+   tangent t, the overlap of the edge [s1, s2] with V's face (vertex i and
+   each neighbour on the edge's line within the face tolerance of flat), all
+   relative to E's centre.  A polygon whose centre lies past its support's
+   end would tip: it does not sleep. *)
+PROCEDURE over_face (M, V, E: BodyRef; i, j: INTEGER; load: REAL) : BOOLEAN ;
+VAR
+   tx, ty, ox, oy, ftol, r, h, px, py, lo, hi, q, c: REAL ;
+   n, l, k: INTEGER ;
+BEGIN
+   support_frame (E, j, tx, ty, ox, oy) ;
+   (* Python's max(tol, r): tol unless r is larger *)
+   ftol := Tol ;
+   r := RestSpeed * RestSpeed / load ;
+   IF r > ftol THEN ftol := r END ;
+   h := Verts^[E^.v0 + j].h ;
+   PointAt (V, V^.v0 + i, V^.tb, px, py) ;
+   lo := (px - E^.px) * tx + (py - E^.py) * ty ;
+   hi := lo ;
+   n := V^.nv ;
+   FOR l := 0 TO 1 DO
+      IF l = 0 THEN k := (i + n - 1) MOD n ELSE k := (i + 1) MOD n END ;
+      PointAt (V, V^.v0 + k, V^.tb, px, py) ;
+      IF (px - E^.px) * ox + (py - E^.py) * oy - h <= ftol THEN
+         q := (px - E^.px) * tx + (py - E^.py) * ty ;
+         IF q < lo THEN lo := q END ;
+         IF q > hi THEN hi := q END
+      END
+   END ;
+   IF Verts^[E^.v0 + j].s1 > lo THEN lo := Verts^[E^.v0 + j].s1 END ;
+   IF Verts^[E^.v0 + j].s2 < hi THEN hi := Verts^[E^.v0 + j].s2 END ;
+   c := (M^.px - E^.px) * tx + (M^.py - E^.py) * ty ;
+   RETURN (NOT (c < lo + Tol)) AND NOT (c > hi - Tol)
+END over_face ;
+
+
 (* Awake movable M, one body of the collision ev with grounded G (both
    advanced; (nx, ny) the contact's unit normal from ev.a to ev.b, vn its
    normal speed), falls asleep on G: M's free acceleration presses it onto G
@@ -53,6 +91,7 @@ END jolted ;
 PROCEDURE can_sleep (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
 VAR
    mx, my, load, ut: REAL ;
+   V, E: BodyRef ;
 BEGIN
    IF M^.fixed OR M^.asleep OR NOT grounded (G) THEN RETURN FALSE END ;
    IF M^.idx = ev.a THEN
@@ -68,7 +107,9 @@ BEGIN
    IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
    IF M^.polygon THEN
       IF (ABS (M^.om) * M^.bound >= RestSpeed) OR (ev.feature # FeatPE) OR (ev.i < 0) THEN RETURN FALSE END ;
-      RETURN flat (ADR (Bodies^[ev.a]), ADR (Bodies^[ev.b]), ev.i, ev.j, -nx, -ny, load)
+      V := ADR (Bodies^[ev.a]) ;
+      E := ADR (Bodies^[ev.b]) ;
+      RETURN flat (V, E, ev.i, ev.j, -nx, -ny, load) AND over_face (M, V, E, ev.i, ev.j, load)
    END ;
    RETURN TRUE
 END can_sleep ;

@@ -25,6 +25,46 @@ int m2c_sim_at_rest(const m2c_world *m, const m2c_sim_body *A)
     return !(A->at > f) && !(A->at < -f);
 }
 
+/* M's centre of mass projects inside the support segment of the contact of
+ * V's vertex i on E's edge j, shrunk by the tolerance: along the edge's
+ * tangent t, the overlap of the edge [s1, s2] with V's face (vertex i and
+ * each neighbour on the edge's line within the face tolerance of `flat`),
+ * all relative to E's centre.  A polygon whose centre lies past its
+ * support's end would tip: it does not sleep. */
+static int over_face(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *V, const m2c_sim_body *E, int32_t i,
+                     int32_t j, double load)
+{
+    double tx, ty, ox, oy;
+    m2c_sim_support_frame(E, j, &tx, &ty, &ox, &oy);
+    double tol = m->s->tol, rest = m->s->rest_speed;
+    double r = rest * rest / load;
+    double ftol = r > tol ? r : tol;                                /* Python's max(tol, r) */
+    const m2c_sim_vertex *ed = &E->verts[j];
+    double h = ed->h;
+    double px, py;
+    m2c_sim_point_at(m, V, &V->verts[i], V->tb, &px, &py);
+    double lo = (px - E->px) * tx + (py - E->py) * ty;
+    double hi = lo;
+    int32_t n = V->nverts;
+    const int32_t ks[2] = { (i + n - 1) % n, (i + 1) % n };
+    for (int l = 0; l < 2; l++) {
+        m2c_sim_point_at(m, V, &V->verts[ks[l]], V->tb, &px, &py);
+        if ((px - E->px) * ox + (py - E->py) * oy - h <= ftol) {
+            double q = (px - E->px) * tx + (py - E->py) * ty;
+            if (q < lo)
+                lo = q;
+            if (q > hi)
+                hi = q;
+        }
+    }
+    if (ed->s1 > lo)
+        lo = ed->s1;
+    if (ed->s2 < hi)
+        hi = ed->s2;
+    double c = (M->px - E->px) * tx + (M->py - E->py) * ty;
+    return !(c < lo + tol) && !(c > hi - tol);
+}
+
 /* Awake movable M, one body of the collision ev with grounded G (both
  * advanced; (nx, ny) the contact's unit normal from a to b, vn its normal
  * speed), falls asleep on G: M's free acceleration presses it onto G, the
@@ -53,8 +93,10 @@ int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G
     if (M->polygon) {
         if (fabs(M->om) * M->bound >= rest || ev->u.collision.feature != M2C_SIM_PE || ev->u.collision.i < 0)
             return 0;
-        return m2c_sim_flat(m, &m->bodies[ev->u.collision.a], &m->bodies[ev->u.collision.b], ev->u.collision.i,
-                            ev->u.collision.j, -nx, -ny, load);
+        const m2c_sim_body *V = &m->bodies[ev->u.collision.a];
+        const m2c_sim_body *E = &m->bodies[ev->u.collision.b];
+        return m2c_sim_flat(m, V, E, ev->u.collision.i, ev->u.collision.j, -nx, -ny, load)
+               && over_face(m, M, V, E, ev->u.collision.i, ev->u.collision.j, load);
     }
     return 1;
 }

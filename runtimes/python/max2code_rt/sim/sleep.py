@@ -59,8 +59,41 @@ class SleepMixin:
             if math.fabs(M.om) * M.bound >= rest or ev.feature != PE or ev.i < 0:
                 return False
             bodies = self.s.bodies
-            return self.flat(bodies[ev.a], bodies[ev.b], ev.i, ev.j, -nx, -ny, load)
+            V = bodies[ev.a]
+            E = bodies[ev.b]
+            return self.flat(V, E, ev.i, ev.j, -nx, -ny, load) and self.over_face(M, V, E, ev.i, ev.j, load)
         return True
+
+    def over_face(self, M: Body, V: Body, E: Body, i: int, j: int, load: float) -> bool:
+        """M's centre of mass projects inside the support segment of the
+        contact of V's vertex i on E's edge j, shrunk by the tolerance: along
+        the edge's tangent t, the overlap of the edge [s1, s2] with V's face
+        (vertex i and each neighbour on the edge's line within the face
+        tolerance of `flat`), all relative to E's centre.  A polygon whose
+        centre lies past its support's end would tip: it does not sleep."""
+        tx, ty, ox, oy = self.support_frame(E, j)
+        ftol = max(self.s.tol, self.s.rest_speed * self.s.rest_speed / load)
+        ed = E.verts[j]
+        h = ed.h
+        px, py = self.point_at(V, V.verts[i], V.tb)
+        lo = (px - E.px) * tx + (py - E.py) * ty
+        hi = lo
+        n = len(V.verts)
+        for k in ((i + n - 1) % n, (i + 1) % n):
+            px, py = self.point_at(V, V.verts[k], V.tb)
+            if (px - E.px) * ox + (py - E.py) * oy - h <= ftol:
+                q = (px - E.px) * tx + (py - E.py) * ty
+                if q < lo:
+                    lo = q
+                if q > hi:
+                    hi = q
+        if ed.s1 > lo:
+            lo = ed.s1
+        if ed.s2 < hi:
+            hi = ed.s2
+        c = (M.px - E.px) * tx + (M.py - E.py) * ty
+        tol = self.s.tol
+        return not (c < lo + tol) and not (c > hi - tol)
 
     @staticmethod
     def jolted(S: Body) -> bool:

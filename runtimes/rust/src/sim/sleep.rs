@@ -4,7 +4,8 @@
 //! `predict_woken`) are the world's (handlers.rs).
 
 use super::scene::Body;
-use super::support::{flat, is_static};
+use super::motion::point_at;
+use super::support::{flat, is_static, support_frame};
 use super::world::Space;
 use super::PE;
 
@@ -76,7 +77,50 @@ pub fn can_sleep(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn:
         if m_.om.abs() * m_.bound >= rest || ev.feature != PE || ev.i < 0 {
             return false;
         }
-        return flat(w, &bodies[ev.a], &bodies[ev.b], ev.i, ev.j, -nx, -ny, load);
+        let (v_, e_) = (&bodies[ev.a], &bodies[ev.b]);
+        return flat(w, v_, e_, ev.i, ev.j, -nx, -ny, load) && over_face(w, m_, v_, e_, ev.i, ev.j, load);
     }
     true
+}
+
+/// M's centre of mass projects inside the support segment of the contact of
+/// V's vertex i on E's edge j, shrunk by the tolerance: along the edge's
+/// tangent t, the overlap of the edge [s1, s2] with V's face (vertex i and
+/// each neighbour on the edge's line within the face tolerance of `flat`),
+/// all relative to E's centre.  A polygon whose centre lies past its
+/// support's end would tip: it does not sleep.
+#[allow(clippy::too_many_arguments)]
+fn over_face(w: &Space, m_: &Body, v_: &Body, e_: &Body, i: i32, j: i32, load: f64) -> bool {
+    let s = &w.s;
+    let (tx, ty, ox, oy) = support_frame(&s.verts, e_, j);
+    let (tol, r2) = (s.tol, s.rest_speed * s.rest_speed / load);
+    // Python's max(tol, r2)
+    let ftol = if r2 > tol { r2 } else { tol };
+    let ed = &s.verts[e_.vert(j as usize)];
+    let h = ed.h;
+    let i = i as usize;
+    let (px, py) = point_at(v_, Some(&s.verts[v_.vert(i)]), v_.tb);
+    let mut lo = (px - e_.px) * tx + (py - e_.py) * ty;
+    let mut hi = lo;
+    let n = v_.nverts();
+    for k in [(i + n - 1) % n, (i + 1) % n] {
+        let (px, py) = point_at(v_, Some(&s.verts[v_.vert(k)]), v_.tb);
+        if (px - e_.px) * ox + (py - e_.py) * oy - h <= ftol {
+            let q = (px - e_.px) * tx + (py - e_.py) * ty;
+            if q < lo {
+                lo = q;
+            }
+            if q > hi {
+                hi = q;
+            }
+        }
+    }
+    if ed.s1 > lo {
+        lo = ed.s1;
+    }
+    if ed.s2 < hi {
+        hi = ed.s2;
+    }
+    let c = (m_.px - e_.px) * tx + (m_.py - e_.py) * ty;
+    !(c < lo + tol) && !(c > hi - tol)
 }
