@@ -5,7 +5,8 @@ toi_ref.py on the exact motion; docs/toi.md, docs/conformance.md).
 Each runtime answers through its library: C through
 runtimes/c/tools/m2c_toi_testee.c (linked with the library, max2code/toolchain/toi.py),
 Rust through max2code_rt::toi::testee_main (max2code/toolchain/toi.py builds it with
-the generated Rust), Python through max2code_rt.toi in this process.  The raw answer holds every
+the generated Rust), Modula-2 through runtimes/m2/ToiTestee.mod over the module Toi
+(max2code/toolchain/toi.py links it with the simulator's modules), Python through max2code_rt.toi in this process.  The raw answer holds every
 bit of the result (time, features, point, normal), so `--lang all` checks
 that the runtimes agree on all of them.
 
@@ -50,6 +51,21 @@ def run_rust(cases: dict[int, dict]) -> dict[int, str]:
     """The Rust library's answers of the cases by seq."""
     from max2code.toolchain import toi
     exe = toi.rust_testee()
+    text = "".join(wire(c, s) + "\n" for s, c in cases.items())
+    proc = subprocess.run([str(exe)], input=text, capture_output=True, text=True, timeout=3600)
+    if proc.returncode != 0:
+        raise RuntimeError(f"{exe} exited with {proc.returncode}: {proc.stderr[-500:]}")
+    answers = {}
+    for line in proc.stdout.splitlines():
+        seq, _, ans = line.partition(" ")
+        answers[int(seq)] = ans.strip()
+    return answers
+
+
+def run_m2(cases: dict[int, dict]) -> dict[int, str]:
+    """The Modula-2 library's answers of the cases by seq."""
+    from max2code.toolchain import toi
+    exe = toi.m2_testee()
     text = "".join(wire(c, s) + "\n" for s, c in cases.items())
     proc = subprocess.run([str(exe)], input=text, capture_output=True, text=True, timeout=3600)
     if proc.returncode != 0:
@@ -106,7 +122,7 @@ class ToiOp:
     """op "toi": the first contact of two bodies through the TOI library."""
 
     name = "toi"
-    testee_langs = ("c", "python", "rust")
+    testee_langs = ("c", "m2", "python", "rust")
 
     def degree(self, case: dict):
         return None
@@ -121,6 +137,8 @@ class ToiOp:
             return {s: python_answer(c) for s, c in cases.items()}
         if lang == "rust":
             return run_rust(cases)
+        if lang == "m2":
+            return run_m2(cases)
         return {s: f"error: no TOI library testee for {lang}" for s in cases}
 
     def judge(self, case: dict, answer: str) -> Verdict:

@@ -105,3 +105,33 @@ def rust_testee(order: int = ORDER) -> Path:
         if proc.returncode != 0:
             raise RuntimeError(f"{' '.join(cmd)}\n{proc.stderr[-3000:]}")
     return exe
+
+
+def m2_testee(order: int = ORDER) -> Path:
+    """The Modula-2 TOI testee (runtimes/m2/ToiTestee.mod over the library
+    module Toi) linked with the simulator build of every effect (its modules
+    and the generated code it includes), built under build/toi/m2/ when its
+    inputs changed.  The commands run in that folder: gm2 writes the
+    program's objects to the current folder and looks them up along -I,
+    where that folder comes first."""
+    from max2code.toolchain.m2 import M2_RUNTIME, SIM_FLAGS, SIM_GENERATED, SIM_MODULES, m2_objects
+    from max2code.toolchain.tools import gsl_libs
+    build = build_simulator("m2", WORLD_EFFECTS, order)
+    work = BUILD / "toi" / "m2" / f"o{order}"
+    work.mkdir(parents=True, exist_ok=True)
+    exe = work / "toi_testee"
+    objs = m2_objects("Roots", "RootsGsl", "Wire")
+    sim_objs = [Path(build.workdir) / f"{m}.o" for m in (*SIM_MODULES, SIM_GENERATED)]
+    sources = [M2_RUNTIME / "Toi.mod", M2_RUNTIME / "Toi.def", M2_RUNTIME / "ToiTestee.mod"]
+    newest = max(os.path.getmtime(p) for p in (*sources, *objs, *sim_objs))
+    if not exe.exists() or os.path.getmtime(exe) < newest:
+        incs = [f"-I{work}", f"-I{build.workdir}", f"-I{M2_RUNTIME}", f"-I{M2_RUNTIME / 'src'}"]
+        toi_o = work / "Toi.o"
+        cmds = [["gm2", *SIM_FLAGS, *incs, "-c", str(M2_RUNTIME / "Toi.mod"), "-o", str(toi_o)],
+                ["gm2", *SIM_FLAGS, *incs, str(M2_RUNTIME / "ToiTestee.mod"), str(toi_o), *map(str, sim_objs),
+                 *map(str, objs), "-o", str(exe), *gsl_libs(), "-lm"]]
+        for cmd in cmds:
+            proc = subprocess.run(cmd, cwd=work, capture_output=True, text=True)
+            if proc.returncode != 0:
+                raise RuntimeError(f"{' '.join(cmd)}\n{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
+    return exe

@@ -695,33 +695,29 @@ BEGIN
 END clear_time ;
 
 
-(* Schedules the first contact of A and B after now, or a horizon event
-   where the Taylor polynomials of their turns stop being good.  Cheap
-   steps chain: a later meeting of the bounds or a clear stretch moves now
-   on (up to Chain stages, at most one Taylor window). *)
-PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+(* The first contact of A and B after now and before end (the chain of
+   cheap steps and Taylor windows of docs/simulator.md): a later meeting of
+   the bounds or a clear stretch moves now on, a Taylor window solves the
+   features; at most stages steps, of which at most windows Taylor windows.
+   1 with the contact (t its time), 0 when there is none before end, 2 when
+   the steps ran out at t (where the simulator schedules a horizon). *)
+PROCEDURE PairContact (A, B: BodyRef; now, end: REAL; stages, windows: INTEGER;
+                       VAR t: REAL; VAR feat, a, b, i, j: INTEGER) : INTEGER ;
 VAR
    w, ta, tb, q, meet, clear: REAL ;
    best: Best ;
-   found, windowed: BOOLEAN ;
-   stage: INTEGER ;
+   found: BOOLEAN ;
+   stage, solved: INTEGER ;
 BEGIN
-   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
-      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
-   END ;
-   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
-      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
-   END ;
-   INC (Stats.pairs) ;
    ta := TurnRate (A) ;
    tb := TurnRate (B) ;
-   windowed := FALSE ;
+   solved := 0 ;
    stage := 0 ;
    LOOP
-      IF stage = Chain THEN EXIT END ;
+      IF stage = stages THEN EXIT END ;
       INC (stage) ;
-      w := EndT - now ;
-      IF NOT (w > 0.0) THEN RETURN END ;
+      w := end - now ;
+      IF NOT (w > 0.0) THEN RETURN 0 END ;
       meet := 0.0 ;
       IF A^.polygon OR B^.polygon THEN
          (* bounds that do not turn: until they touch, nothing can *)
@@ -732,7 +728,7 @@ BEGIN
          ELSE
             found := BoundsMeet (A, B, now, w, meet)
          END ;
-         IF NOT found THEN RETURN END
+         IF NOT found THEN RETURN 0 END
       END ;
       IF meet > 0.0 THEN
          now := now + meet              (* the next stage from there *)
@@ -753,20 +749,49 @@ BEGIN
                to solve until they may come within the tolerance *)
             now := now + clear
          ELSE
-            IF windowed THEN EXIT END ;   (* one Taylor window per prediction: the next at a horizon *)
+            IF solved >= windows THEN EXIT END ;   (* the simulator: one Taylor window per prediction *)
             Features (A, B, now, w, best) ;
             IF best.found THEN
-               push_collision (now + best.t, best.feat, ADR (Bodies^[best.a]), ADR (Bodies^[best.b]), best.i,
-                               best.j) ;
-               RETURN
+               t := now + best.t ;
+               feat := best.feat ;
+               a := best.a ;
+               b := best.b ;
+               i := best.i ;
+               j := best.j ;
+               RETURN 1
             END ;
-            IF (ta = 0.0) AND (tb = 0.0) THEN RETURN END ;   (* nothing turns: the window was the whole run *)
+            IF (ta = 0.0) AND (tb = 0.0) THEN RETURN 0 END ;   (* nothing turns: the window was the whole run *)
             now := now + w ;
-            windowed := TRUE
+            INC (solved)
          END
       END
    END ;
-   IF now < EndT THEN push_horizon (now, A, B) END
+   t := now ;
+   RETURN 2
+END PairContact ;
+
+
+(* Schedules the first contact of A and B after now, or a horizon event
+   where the Taylor polynomials of their turns stop being good.  Cheap
+   steps chain: a later meeting of the bounds or a clear stretch moves now
+   on (up to Chain stages, at most one Taylor window, PairContact). *)
+PROCEDURE PredictPair (A, B: BodyRef; now: REAL) ;
+VAR
+   t: REAL ;
+   feat, a, b, i, j: INTEGER ;
+BEGIN
+   IF (A^.sup = B^.idx) OR (B^.sup = A^.idx) THEN
+      RETURN      (* the support's edge line separates them (both convex): only leaving ends it *)
+   END ;
+   IF (A^.asleep AND grounded (B)) OR (B^.asleep AND grounded (A)) THEN
+      RETURN      (* a sleeper against a sleeper or an unmoving fixed body: nothing moves *)
+   END ;
+   INC (Stats.pairs) ;
+   CASE PairContact (A, B, now, EndT, Chain, 1, t, feat, a, b, i, j) OF
+      1: push_collision (t, feat, ADR (Bodies^[a]), ADR (Bodies^[b]), i, j)
+    | 2: IF t < EndT THEN push_horizon (t, A, B) END
+   ELSE
+   END
 END PredictPair ;
 
 

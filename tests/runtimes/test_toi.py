@@ -1,5 +1,5 @@
-"""The TOI library (docs/toi.md): its conformance cases pass in C, Python
-and Rust against the mpmath references, with the same bits (time,
+"""The TOI library (docs/toi.md): its conformance cases pass in C,
+Modula-2, Python and Rust against the mpmath references, with the same bits (time,
 features, point, normal); the judge rejects wrong answers; shapes are
 checked."""
 from __future__ import annotations
@@ -21,7 +21,7 @@ def _cases() -> list[dict]:
     return [json.loads(line) for line in CASES.read_text(encoding="utf-8").splitlines() if line.strip()]
 
 
-LANGS = ("c", "python", "rust")
+LANGS = ("c", "m2", "python", "rust")
 
 
 @pytest.fixture(scope="module")
