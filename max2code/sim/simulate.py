@@ -181,8 +181,11 @@ def built_simulator(lang: str, effects: tuple[str, ...], order: int) -> SimBuild
     try:
         if (workdir / "inputs.stamp").read_text() == key and (workdir / "build.stamp").exists():
             saved = json.loads((workdir / "variant-names.json").read_text(encoding="utf-8"))
-            if all(os.path.exists(g) for g in saved["generated"].values()) and _runnable(saved["run"]):
-                return SimBuild(lang, str(workdir), saved["run"], saved["names"], saved["generated"])
+            # the command is made again, not read back: it names this process's interpreter
+            # (sys.executable), and another environment may have built the folder
+            run = toolchain(lang).sim_run(str(workdir), saved["generated"])
+            if all(os.path.exists(g) for g in saved["generated"].values()) and _runnable(run):
+                return SimBuild(lang, str(workdir), run, saved["names"], saved["generated"])
     except (OSError, ValueError, KeyError, TypeError):
         pass
     return None
@@ -505,7 +508,7 @@ class TraceConverter:
                 if n:
                     self.predictions[self.build.variant_names[eq][k]] = n
             elif tag == "X":
-                raise SimulateError(f"{self.scene.path}: {self.build.lang} simulator: {line.strip()[2:]}")
+                raise SimulateError(f"{self.scene.path}: error: {self.build.lang} simulator: {line.strip()[2:]}")
             else:
                 raise ValueError(f"unknown line tag {tag!r}")
         except (IndexError, ValueError, KeyError) as exc:
@@ -953,6 +956,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         message = str(stopped)
         if message.startswith(f"{scene.path}: "):
             message = message[len(scene.path) + 2:]
+        message = message.removeprefix("error: ")
     else:
         why = "timed out" if proc.returncode < 0 else f"exit {proc.returncode}"
         message = f"{lang} simulator failed ({why}): {b''.join(err)[-2000:].decode('ascii', 'replace')}"
@@ -961,7 +965,7 @@ def stream_scene(scene: Scene | FlatScene, lang: str, write, *, frames: bool = T
         t = named.group(1)          # the simulator named the instant (its event past a limit, a stuck instant)
     elif t is not None:
         message += f" (stopped at t = {t})"
-    raise RunStopped(f"{scene.path}: {message}", t, message)
+    raise RunStopped(f"{scene.path}: error: {message}", t, message)
 
 
 def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float = 3600) -> Trace:
@@ -980,8 +984,8 @@ def run_scene(scene: Scene, lang: str, *, progress: bool = False, timeout: float
     if proc.returncode != 0:
         last = proc.stdout.rstrip().splitlines()[-1] if proc.stdout.strip() else ""
         if last.startswith("X "):
-            raise SimulateError(f"{scene.path}: {lang} simulator: {last[2:]}")
-        raise SimulateError(f"{scene.path}: {lang} simulator failed (exit {proc.returncode}): {proc.stderr[-2000:]}")
+            raise SimulateError(f"{scene.path}: error: {lang} simulator: {last[2:]}")
+        raise SimulateError(f"{scene.path}: error: {lang} simulator failed (exit {proc.returncode}): {proc.stderr[-2000:]}")
     return parse_trace(proc.stdout, scene, build)
 
 

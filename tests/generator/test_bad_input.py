@@ -106,7 +106,7 @@ def test_max_events_stops_a_run(tmp_path, capsys):
     code, _, err = run(capsys, "simulate", "--lang", "c", p, "--max-events", "10", "-o", out, "-q")
     # the simulator counts every event it handles (the ball's cell crossings too) and stops first
     assert code == 1 and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
-    assert err.startswith(f"{p}: c simulator: more than 10 events (collisions, inputs, frames, cell crossings, "
+    assert err.startswith(f"{p}: error: c simulator: more than 10 events (collisions, inputs, frames, cell crossings, "
                           "horizons) at t = "), err
     assert err.endswith(f"; the trace up to then is in {out}\n"), err
     lines = [json.loads(x) for x in out.read_text().splitlines()]

@@ -562,13 +562,6 @@ def test_a_ball_dropped_into_a_v_comes_to_rest_and_sleeps_in_it(x0, lang):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=SimulateError,
-                   reason="known (a seed hunt, bench/hunt.py --count 1000 --seed 9 "
-                          "--start 9000, 1 of 1000 box scenes): resting_scene 108926 with boxes stuck at "
-                          "t = 0.97680 s (before the cluster rule at t = 1.4409 s): a cluster of balls r7, r8, r9, "
-                          "r11, box r10, the right wall and the floor is solved again and again at one instant, "
-                          "its impulses swinging between two sets of values (contact r9-r10: 0.2202, 0.2002, ...): "
-                          "a loop between two solves of the same cluster, the same in Python")
 def test_random_box_scene_108926_finishes():
     _closed_scene_checks(stuck_at_once(resting_scene(108926, boxes=True)), "resting-108926-boxes.json", "c")
 

@@ -179,7 +179,7 @@ def _many_fixed_circles(n: int) -> str:
     rows = [f"body 0 1 0.0 0.0 1.0 0.0 {k % 1000}.0 {k // 1000}.0 0.0 0.0 0.0 0.0 0.0 0.0 0.1 0.0 0.0 0.1 0.0 0 0"
             for k in range(n)]
     head = ["m2c-scene 1", "end 1.0", "frame 0.0", "tolerance 1e-09", "rest_speed 0.05", "window_angle 0.1",
-            "max_same_time 100000", "grid -1.0 -1.0 10.0 10.0 101 101 0.1", f"bodies {n}"]
+            "max_same_time 100000", "max_events 1000000", "grid -1.0 -1.0 10.0 10.0 101 101 0.1", f"bodies {n}"]
     return "\n".join(head + rows + ["inputs 0", "end"]) + "\n"
 
 

@@ -42,11 +42,11 @@ def test_a_stuck_run_keeps_its_trace_in_every_runtime(tmp_path, capsys):
     for lang in LANGS:
         out = tmp_path / f"{lang}.jsonl"
         code, err = _simulate(capsys, "--lang", lang, path, "-o", out, "-q")
-        msg = f"{path}: {lang} simulator: more than 1 events at t = 0.20000000000000001: the scene is stuck"
+        msg = f"{path}: error: {lang} simulator: more than 1 events at t = 0.20000000000000001: the scene is stuck"
         assert (code, err) == (1, f"{msg}; the trace up to then is in {out}\n")
         lines = out.read_text().splitlines()
         last = json.loads(lines[-1])
-        assert last == {"kind": "stopped", "t": 0.2, "error": msg[len(f"{path}: "):]}
+        assert last == {"kind": "stopped", "t": 0.2, "error": msg[len(f"{path}: error: "):]}
         events = [json.loads(x) for x in lines[:-1]]
         assert events and all(e["t"] <= 0.2 for e in events)
         assert any(e["kind"] == "collision" and e["t"] == 0.2 for e in events), "the instant's first event is kept"
@@ -67,7 +67,7 @@ def test_a_run_over_the_event_limit_keeps_its_trace_on_standard_output(capsys):
     t = lines[-1]["t"]
     assert all(e["t"] <= t for e in lines[:-1])
     head, _, tail = err.strip().partition(" at t = ")
-    assert head.endswith(": c simulator: more than 50 events (collisions, inputs, frames, cell crossings, "
+    assert head.endswith(": error: c simulator: more than 50 events (collisions, inputs, frames, cell crossings, "
                          "horizons)"), err
     number, _, why = tail.partition(": ")
     assert float(number) == t and why == ("the run was stopped; raise max_events in the scene or --max-events, "
@@ -161,7 +161,7 @@ def test_horizons_count_against_max_events_in_every_runtime(tmp_path, capsys):
     path.write_text(json.dumps(_orbiters(10.0)))
     for lang in LANGS:
         code, err = _simulate(capsys, "--lang", lang, path, "--max-events", "5000", "-q")
-        assert code == 1 and err == (f"{path}: {lang} simulator: more than 5000 events (collisions, inputs, frames, "
+        assert code == 1 and err == (f"{path}: error: {lang} simulator: more than 5000 events (collisions, inputs, frames, "
                                      "cell crossings, horizons) at t = 6.0596990545550211: the run was stopped; "
                                      "raise max_events in the scene or --max-events, or shorten end_time\n"), err
     code, err = _simulate(capsys, "--lang", "c", path, "-o", tmp_path / "all.jsonl")

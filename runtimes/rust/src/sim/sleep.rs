@@ -3,8 +3,8 @@
 //! `at_rest`, `can_sleep`; the handlers (`handle_sleep`, `handle_wake`,
 //! `predict_woken`) are the world's (handlers.rs).
 
-use super::scene::Body;
 use super::motion::point_at;
+use super::scene::Body;
 use super::support::{flat, is_static, support_frame};
 use super::world::Space;
 use super::PE;
