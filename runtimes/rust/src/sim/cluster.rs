@@ -527,7 +527,7 @@ impl<E: Equations> World<E> {
         }
         for &(a, b, feature, i, j) in &cs {
             let s = &self.w.s;
-            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, &s.bodies[a], &s.bodies[b], i, j);
+            let (cx, cy, nx, ny) = contact_frame(&s.verts, t, feature, &s.bodies[a], &s.bodies[b], i, j, s.bodies[b].ang);
             self.q.stats.collisions += 1;
             self.out.contact("collision", t, a as u32, b as u32, feature, i, j, (cx, cy), (nx, ny), 0.0)?;
             self.contacts.push(Contact {
