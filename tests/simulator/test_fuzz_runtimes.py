@@ -157,6 +157,18 @@ def test_a_scripted_input_that_would_carry_a_body_out_of_range_stops_the_run(run
         assert one_answer(answers(runners, live_text(bases, "ledge", line)))[0] == 0, line
 
 
+def test_a_polygon_with_a_negative_bound_is_refused_by_rule_7_in_every_runtime(runners, bases):
+    """C and Rust skipped 0 <= BOUND for a polygon and refused its first
+    vertex as outside the bound (rule 9) where Python and Modula-2 refused
+    the body line (rule 7, checked first)."""
+    text = bases["ledge"][1]
+    line = next(x for x in text.splitlines() if x.startswith("body 1 0 0.5 "))
+    words = line.split()
+    words[18] = "-0.1"
+    bad = text.replace(line, " ".join(words)).encode()
+    assert one_answer(answers(runners, bad)) == (1, "X scene: body 2: bound -0.10000000000000001 is too small or too large")
+
+
 def test_modula2_writes_its_probe_lines_before_a_refused_live_teleport(runners, bases):
     """A live teleport onto another body stops the run; Modula-2 lost the
     probe's buffered state lines (stderr empty) where the others wrote
