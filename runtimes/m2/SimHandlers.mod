@@ -8,8 +8,8 @@ IMPLEMENTATION MODULE SimHandlers ;
    double operations in the same order. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, EndT, FrameDt, GridNX, GridNY, Input, Inputs, MaxEvents, MaxSame, NBodies,
-                     NInputs, Tol ;
+FROM SimScene IMPORT Bodies, BodyRef, EndT, FrameDt, GridNX, GridNY, Input, Inputs, LENGTH_MAX, MaxEvents, MaxSame,
+                     NBodies, NInputs, Tol ;
 FROM SimQueue IMPORT CellEvent, Clear, CollisionEvent, Event, FrameEvent, HorizonEvent, InputEvent, KCell,
                      KCollision, KFrame, KHorizon, KInput, KLeave, KStop, LeaveEvent, Pop, StopEvent, Top ;
 FROM SimGrid IMPORT CellAdd, CellOf, CellRemove, Cells, InitGrid, large_near, LargeAdd, Mark, Max, Min, Near,
@@ -343,6 +343,41 @@ BEGIN
 END handle_leave ;
 
 
+(* Input k (not a removal) on the body, based at t: the run fails (TRUE)
+   when the body's motion after it would reach more than 2 LENGTH_MAX from
+   the origin by the end (the live inputs' rule, from the state at t, left
+   to right in doubles; a velocity or position that is not finite fails it
+   too). *)
+PROCEDURE TooFar (b: BodyRef; k: INTEGER; t: REAL; inp: Input) : BOOLEAN ;
+VAR
+   px, py, vx, vy, reach: REAL ;
+   m: ARRAY [0..MsgLen] OF CHAR ;
+BEGIN
+   px := b^.px ; py := b^.py ; vx := b^.vx ; vy := b^.vy ;
+   IF inp.mode = SetVelocityMode THEN
+      vx := inp.vx ; vy := inp.vy
+   ELSIF inp.mode = AddVelocityMode THEN
+      vx := b^.vx + inp.vx ; vy := b^.vy + inp.vy
+   ELSIF inp.mode = ImpulseMode THEN
+      vx := b^.vx + inp.vx * b^.invM ; vy := b^.vy + inp.vy * b^.invM
+   ELSE
+      px := inp.vx ; py := inp.vy
+   END ;
+   reach := (ABS (px) + ABS (py)) + (ABS (vx) + ABS (vy)) * EndT
+            + (ABS (b^.ax) + ABS (b^.ay)) * EndT * EndT / 2.0 + b^.bound ;
+   IF reach <= 2.0 * LENGTH_MAX THEN RETURN FALSE END ;
+   m := "input " ;
+   AppendInt (m, k) ;
+   Append (m, ": body ") ;
+   AppendInt (m, b^.idx) ;
+   Append (m, " at t = ") ;
+   AppendReal (m, t) ;
+   Append (m, ": reaches more than 2e150 m from the origin by the end") ;
+   Fails (m) ;
+   RETURN TRUE
+END TooFar ;
+
+
 PROCEDURE handle_input (t: REAL; ev: InputEvent) ;
 VAR
    b: BodyRef ;
@@ -365,6 +400,7 @@ BEGIN
    END ;
    IF b^.asleep THEN handle_wake (b, t) END ;
    rebase (b, t) ;
+   IF (inp.mode # RemoveMode) AND TooFar (b, ev.k, t, inp) THEN RETURN END ;
    IF inp.mode = RemoveMode THEN
       remove (b, ev.k, t) ;
       RETURN

@@ -86,6 +86,16 @@ BEGIN
 END ProbeFlush ;
 
 
+(* The probe's buffered lines out to stderr, then the X line of msg and exit
+   1: a run that stops writes every state line it made before its X line,
+   as the other ports do. *)
+PROCEDURE ProbeFail (msg: ARRAY OF CHAR) ;
+BEGIN
+   ProbeFlush ;
+   FailMsg (msg)
+END ProbeFail ;
+
+
 (* Appends " " and x as "%.17g" writes it (first: no space). *)
 PROCEDURE ProbeReal (x: REAL; first: BOOLEAN) ;
 VAR
@@ -159,12 +169,12 @@ BEGIN
     | 3: ok := Teleport (live^[k].body, live^[k].x, live^[k].y, moved)
     | 4: ok := RemoveBody (live^[k].body)
    ELSE
-      FailMsg ("live input: unknown mode")
+      ProbeFail ("live input: unknown mode")
    END ;
    IF ok AND NOT moved THEN
       m[0] := 0C ;
       IF snprintf (ADR (m), 128, "live input %d: teleport refused (the body would overlap another)", k) > 0 THEN END ;
-      FailMsg (m)
+      ProbeFail (m)
    END ;
    RETURN ok
 END ApplyLive ;
@@ -192,12 +202,12 @@ BEGIN
       stepT := t ;
       counting := TRUE ;
       IF NOT Advance (t, Counted) THEN RETURN FALSE END ;
-      IF BodyCount () > MaxProbed THEN FailMsg ("--step: more bodies than the probe's States arrays hold") END ;
+      IF BodyCount () > MaxProbed THEN ProbeFail ("--step: more bodies than the probe's States arrays hold") END ;
       IF NOT States (t, sx, sy, svx, svy, sang, som) THEN RETURN FALSE END ;
       FOR b := 0 TO BodyCount () - 1 DO
          IF NOT State (b, t, px, py, vx, vy, ang, om) THEN RETURN FALSE END ;
          IF (px # sx[b]) OR (py # sy[b]) OR (vx # svx[b]) OR (vy # svy[b]) OR (ang # sang[b]) OR (om # som[b]) THEN
-            FailMsg ("--step: States gives a body another state than State")
+            ProbeFail ("--step: States gives a body another state than State")
          END ;
          ProbeLine ('P', t) ;
          ProbeInt (b) ;
@@ -239,11 +249,11 @@ BEGIN
             cap := 2 * cap
          END ;
          text := realloc (text, VAL (LONGCARD, cap)) ;
-         IF text = NIL THEN FailMsg ("out of memory") END
+         IF text = NIL THEN ProbeFail ("out of memory") END
       END ;
       ch := getchar () ;
       IF ch >= 0 THEN
-         IF n = MaxText THEN FailMsg ("scene: longer than 1073741824 bytes") END ;
+         IF n = MaxText THEN ProbeFail ("scene: longer than 1073741824 bytes") END ;
          text^[n] := CHR (ch) ;
          INC (n)
       END
@@ -293,7 +303,7 @@ VAR
 BEGIN
    pos := 0 ;
    LOOP
-      IF text^[pos] = 0C THEN FailMsg ("scene: expected 'inputs'") END ;
+      IF text^[pos] = 0C THEN ProbeFail ("scene: expected 'inputs'") END ;
       IF (text^[pos] = 12C) AND (text^[pos + 1] = 'i') AND (text^[pos + 2] = 'n') AND (text^[pos + 3] = 'p')
          AND (text^[pos + 4] = 'u') AND (text^[pos + 5] = 't') AND (text^[pos + 6] = 's')
          AND (text^[pos + 7] = ' ') THEN
@@ -305,7 +315,7 @@ BEGIN
    pos := pos + 8 ;
    nLive := TokenInt (pos) ;
    live := realloc (NIL, VAL (LONGCARD, nLive + 1) * VAL (LONGCARD, SIZE (LiveInput))) ;
-   IF live = NIL THEN FailMsg ("out of memory") END ;
+   IF live = NIL THEN ProbeFail ("out of memory") END ;
    FOR k := 0 TO nLive - 1 DO
       Token (pos, tok) ;          (* "input" *)
       live^[k].t := TokenReal (pos) ;

@@ -139,6 +139,46 @@ def test_a_live_velocity_that_would_carry_a_body_out_of_range_is_refused(runners
         assert one_answer(answers(runners, live_text(bases, "ledge", line), 0.5))[0] == 0, line
 
 
+def test_a_scripted_input_that_would_carry_a_body_out_of_range_stops_the_run(runners, bases):
+    """An impulse of -1e308 scripted on the box's ball (not finite, or 2e308
+    m by the end) made every runtime write NaN, then disagree: a scripted
+    input is held to the live inputs' reach rule when it is handled, from
+    the body's state at its time, with an X line naming the input and the
+    instant (the trace's lines before it as usual); scripted inputs that
+    stay in range (the ledge's ball fast, or teleported near 1e150 m) still
+    run."""
+    far = "reaches more than 2e150 m from the origin by the end"
+    cases = (("0.0 3 2 -1e308 3.0", f"X input 0: body 3 at t = 0: {far}"),
+             ("0.5 3 1 1e+200 0.0", f"X input 0: body 3 at t = 0.5: {far}"),
+             ("0.25 4 0 0.0 -2e+150", f"X input 0: body 4 at t = 0.25: {far}"))
+    for line, expect in cases:
+        assert one_answer(answers(runners, live_text(bases, "box", line))) == (1, expect), line
+    for line in ("0.5 1 1 1e+6 0.0", "0.5 1 3 9e+149 0.0"):
+        assert one_answer(answers(runners, live_text(bases, "ledge", line)))[0] == 0, line
+
+
+def test_a_polygon_with_a_negative_bound_is_refused_by_rule_7_in_every_runtime(runners, bases):
+    """C and Rust skipped 0 <= BOUND for a polygon and refused its first
+    vertex as outside the bound (rule 9) where Python and Modula-2 refused
+    the body line (rule 7, checked first)."""
+    text = bases["ledge"][1]
+    line = next(x for x in text.splitlines() if x.startswith("body 1 0 0.5 "))
+    words = line.split()
+    words[18] = "-0.1"
+    bad = text.replace(line, " ".join(words)).encode()
+    assert one_answer(answers(runners, bad)) == (1, "X scene: body 2: bound -0.10000000000000001 is too small or too large")
+
+
+def test_modula2_writes_its_probe_lines_before_a_refused_live_teleport(runners, bases):
+    """A live teleport onto another body stops the run; Modula-2 lost the
+    probe's buffered state lines (stderr empty) where the others wrote
+    them."""
+    got = answers(runners, live_text(bases, "ledge", "0.6 1 3 0.0 -1.0"), 0.25)
+    status, last = one_answer(got)
+    assert (status, last) == (1, "X live input 0: teleport refused (the body would overlap another)")
+    assert got["m2"][2].count("\nP 0.5 ") == 3 and got["m2"][2] == got["c"][2]
+
+
 def test_python_world_refuses_far_motion_and_leaves_the_world_as_it_was():
     from max2code.sim.live import python_world
     from max2code_rt.sim import SimError

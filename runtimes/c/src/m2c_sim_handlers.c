@@ -422,6 +422,39 @@ static void drive(m2c_world *m, m2c_sim_body *B, int32_t k, double t, double vx,
     m2c_sim_wake_touching(m, B, t);
 }
 
+/* Input k (not a removal) on the body, based at t: stops the run when the
+ * body's motion after it would reach more than 2 LENGTH_MAX from the origin
+ * by the end (the live inputs' rule, from the state at t: (|px| + |py|) +
+ * (|vx| + |vy|) T + (|ax| + |ay|) T T / 2 + bound, left to right in
+ * doubles; a velocity or position that is not finite fails it too). */
+static void check_reach(m2c_world *m, const m2c_sim_body *b, int32_t k, double t, int mode, double x, double y)
+{
+    double px = b->px, py = b->py, vx = b->vx, vy = b->vy;
+    if (mode == M2C_SIM_SET_VELOCITY) {
+        vx = x;
+        vy = y;
+    } else if (mode == M2C_SIM_ADD_VELOCITY) {
+        vx = b->vx + x;
+        vy = b->vy + y;
+    } else if (mode == M2C_SIM_IMPULSE) {
+        vx = b->vx + x * b->inv_m;
+        vy = b->vy + y * b->inv_m;
+    } else {
+        px = x;
+        py = y;
+    }
+    double T = m->s->end;
+    double r = fabs(px) + fabs(py);
+    r = r + (fabs(vx) + fabs(vy)) * T;
+    r = r + (fabs(b->ax) + fabs(b->ay)) * T * T / 2.0;
+    r = r + b->bound;
+    if (!(r <= 2.0 * LENGTH_MAX)) {
+        char a[M2C_SIM_NUMBER_MAX + 1];
+        m2c_sim_die(m, "input %d: body %d at t = %s: reaches more than 2e150 m from the origin by the end", (int)k,
+            (int)b->idx, m2c_sim_text(a, t));
+    }
+}
+
 /* Scripted or live input number k: its body's velocity set or added to,
  * an impulse through its centre, or its centre moved; on a fixed body
  * (set_velocity), drive. */
@@ -439,6 +472,8 @@ static void handle_input(m2c_world *m, const m2c_sim_event *ev)
     if (body->asleep)
         m2c_sim_handle_wake(m, body, t);
     m2c_sim_rebase(body, t);
+    if (in->mode != M2C_SIM_REMOVE)
+        check_reach(m, body, k, t, in->mode, in->vx, in->vy);
     if (in->mode == M2C_SIM_REMOVE) {
         remove_body(m, body, k, t);
         return;

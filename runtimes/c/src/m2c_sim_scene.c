@@ -429,7 +429,8 @@ static void check_body(reader *r, const m2c_sim_body *b, long long poly, long lo
         return;
     if (!(b->window >= 0.0 && b->window <= 0.5))
         fail(r, "body %d: window %s outside [0, 0.5]", (int)k, m2c_sim_text(v, b->window));
-    else if (!((poly || b->bound >= b->r + b->orbit) && b->bound <= LENGTH_MAX))
+    /* a polygon's radius and orbit are 0 here: its bound is at least 0 */
+    else if (!(b->bound >= b->r + b->orbit && b->bound <= LENGTH_MAX))
         fail(r, "body %d: bound %s is too small or too large", (int)k, m2c_sim_text(v, b->bound));
     else if (!(reach(b, c->end) <= 2.0 * LENGTH_MAX))
         fail(r, "body %d: reaches more than 2e150 m from the origin by the end", (int)k);

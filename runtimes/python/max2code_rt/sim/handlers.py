@@ -9,7 +9,7 @@ import heapq
 from max2code_rt.sim.out import SimError, _fmt
 from max2code_rt.sim.queue import (CellEvent, CollisionEvent, FrameEvent, HorizonEvent, InputEvent, LeaveEvent,
                                    StopEvent)
-from max2code_rt.sim.scene import ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT, Body
+from max2code_rt.sim.scene import ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT, Body, live_reach
 from max2code_rt.sim.world import Contact
 
 
@@ -151,6 +151,8 @@ class HandlersMixin:
         if body.asleep:
             self.handle_wake(body, t)      # any input on a sleeper wakes its island first
         self.rebase(body, t)
+        if inp.mode != REMOVE:
+            self.check_reach(body, ev.k, t, inp.mode, inp.vx, inp.vy)
         if inp.mode == REMOVE:
             self.remove(body, ev.k, t)
             return
@@ -183,6 +185,24 @@ class HandlersMixin:
         self.release(body, t, left)
         self.predict_body(body, t, None)
         self.predict_released(left, t)
+
+    def check_reach(self, body: Body, k: int, t: float, mode: int, x: float, y: float) -> None:
+        """Input k (not a removal) on the body, based at t, refused when the
+        body's motion after it would reach more than 2e150 m from the
+        origin by the end (the live inputs' rule, from the state at t; a
+        velocity or position that is not finite is refused by it too)."""
+        px, py, vx, vy = body.px, body.py, body.vx, body.vy
+        if mode == SET_VELOCITY:
+            vx, vy = x, y
+        elif mode == ADD_VELOCITY:
+            vx, vy = vx + x, vy + y
+        elif mode == IMPULSE:
+            vx, vy = vx + x * body.inv_m, vy + y * body.inv_m
+        else:
+            px, py = x, y
+        if not live_reach(body, px, py, vx, vy, self.s.end) <= 2 * LENGTH_MAX:
+            raise SimError(f"input {k}: body {body.idx} at t = {_fmt(t)}: reaches more than 2e150 m from the origin "
+                           f"by the end")
 
     def remove(self, body: Body, k: int, t: float) -> None:
         """Input k removes the body (based at t): it stops where it is (v, a,

@@ -19,19 +19,10 @@ from max2code_rt.sim.overlap import OverlapMixin
 from max2code_rt.sim.predict import PredictMixin
 from max2code_rt.sim.queue import INPUT, InputEvent, QueueMixin
 from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, MAX_BODIES, REMOVE, SET_VELOCITY, TELEPORT, Body,
-                                   Input, Scene, Tokens, _cut, drivable, read_body)
+                                   Input, Scene, Tokens, _cut, drivable, live_reach, read_body)
 from max2code_rt.sim.sleep import SleepMixin
 from max2code_rt.sim.support import SupportMixin
 from max2code_rt.sim.world import STAT_NAMES, Contact, WorldState
-
-
-def live_reach(b: Body, px: float, py: float, vx: float, vy: float, end: float) -> float:
-    """A body's reach by the end time `end` from position (px, py) and
-    velocity (vx, vy) now, with its own acceleration and bound: the scene's
-    rule for a body (docs/simulator.md, "Flat scene checks", rule 8), left
-    to right in doubles."""
-    return ((abs(px) + abs(py)) + (abs(vx) + abs(vy)) * end + (abs(b.ax) + abs(b.ay)) * end * end / 2
-            + b.bound)
 
 
 class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, ContactMixin, SupportMixin, SleepMixin,

@@ -256,6 +256,15 @@ def drivable(b: Body, mode: int) -> bool:
     return mode == SET_VELOCITY and b.polygon and b.om == 0.0
 
 
+def live_reach(b: Body, px: float, py: float, vx: float, vy: float, end: float) -> float:
+    """A body's reach by the end time `end` from position (px, py) and
+    velocity (vx, vy) after an input (live or scripted), with its own
+    acceleration and bound: the scene's rule for a body (docs/simulator.md,
+    "Flat scene checks", rule 8), left to right in doubles."""
+    return ((abs(px) + abs(py)) + (abs(vx) + abs(vy)) * end + (abs(b.ax) + abs(b.ay)) * end * end / 2
+            + b.bound)
+
+
 class Scene:
     """A compiled scene, read from the flat format and checked as it is read
     (docs/simulator.md, "Flat scene checks"): the first fault stops it."""

@@ -15,7 +15,7 @@ use super::out::{Res, SimError};
 use super::overlap::overlapping;
 use super::predict::{predict_body, predict_cells, predict_near, predict_pair, schedule_cell};
 use super::queue::{prefetch, Event};
-use super::scene::{ADD_VELOCITY, IMPULSE, REMOVE, SET_VELOCITY, TELEPORT};
+use super::scene::{ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT};
 use super::sleep::{at_rest, can_sleep, jolted, Touch};
 use super::support::{
     base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support, is_static, slide_accel,
@@ -401,6 +401,9 @@ impl<E: Equations> World<E> {
             self.handle_wake(a, t)?;
         }
         rebase(&mut self.w.s.bodies[a], t);
+        if inp.mode != REMOVE {
+            self.check_reach(a, k, t, inp.mode, inp.vx, inp.vy)?;
+        }
         if inp.mode == REMOVE {
             return self.remove(a, k, t);
         }
@@ -450,6 +453,31 @@ impl<E: Equations> World<E> {
         self.out.input(t, body.idx, k)?;
         self.out.state(body)?;
         self.predict_changed(a, t)
+    }
+
+    /// Input k (not a removal) on body a, based at t: refused when the
+    /// body's motion after it would reach more than 2e150 m from the origin
+    /// by the end (the live inputs' rule, from the state at t, left to
+    /// right in doubles; a velocity or position that is not finite is
+    /// refused by it too).
+    fn check_reach(&self, a: usize, k: u32, t: f64, mode: i64, x: f64, y: f64) -> Res<()> {
+        let b = &self.w.s.bodies[a];
+        let (px, py, vx, vy) = match mode {
+            SET_VELOCITY => (b.px, b.py, x, y),
+            ADD_VELOCITY => (b.px, b.py, b.vx + x, b.vy + y),
+            IMPULSE => (b.px, b.py, b.vx + x * b.inv_m, b.vy + y * b.inv_m),
+            _ => (x, y, b.vx, b.vy),
+        };
+        let end = self.w.s.end;
+        let reach =
+            (px.abs() + py.abs()) + (vx.abs() + vy.abs()) * end + (b.ax.abs() + b.ay.abs()) * end * end / 2.0 + b.bound;
+        if reach <= 2.0 * LENGTH_MAX {
+            return Ok(());
+        }
+        Err(SimError::Msg(format!(
+            "input {k}: body {a} at t = {}: reaches more than 2e150 m from the origin by the end",
+            g17(t)
+        )))
     }
 
     /// Input k removes body a (based at t): it stops where it is (v, a, w

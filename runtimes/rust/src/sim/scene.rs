@@ -620,7 +620,8 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>, lim: &BodyL
     if !((0.0..=0.5).contains(&window)) {
         return fail(format!("window {} outside [0, 0.5]", g17(window)));
     }
-    if !((polygon || bound >= r + orbit) && bound <= LENGTH_MAX) {
+    // a polygon's radius and orbit are 0 here: its bound is at least 0
+    if !(bound >= r + orbit && bound <= LENGTH_MAX) {
         return fail(format!("bound {} is too small or too large", g17(bound)));
     }
     let t = lim.end;
