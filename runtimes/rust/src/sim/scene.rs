@@ -1157,5 +1157,9 @@ mod tests {
         assert_eq!(body(&covered), Err("add_body: body 3 vertex 0: cover 3 is not a body".into()));
         let far = square(&SQUARE).replacen("v -0.2 -0.2", "v -0.5 -0.2", 1);
         assert_eq!(body(&far), Err("add_body: body 3 vertex 0: outside the bound".into()));
+        let distant = square(&SQUARE).replacen(" 0.28 ", " 0.31 ", 1);
+        assert_eq!(body(&distant), Err("add_body: body 3 vertex 0: outside the bound".into()));
+        let line = square(&SQUARE).replacen(" 0.2 -0.2 0.2 ", " 0.61 -0.2 0.2 ", 1);
+        assert_eq!(body(&line), Err("add_body: body 3 vertex 0: outside the bound".into()));
     }
 }
