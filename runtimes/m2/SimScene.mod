@@ -637,7 +637,11 @@ BEGIN
       v.nx := Num () ; v.ny := Num () ;
       cover := ReadLongInt () ;
       IF Failed THEN RETURN 0 END ;
-      IF NOT (In (v.lx, -b^.bound, b^.bound) AND In (v.ly, -b^.bound, b^.bound)) THEN
+      (* lx, ly and rho (the vertex), h, s1 and s2 (its edge's line and extent: each at most a vertex's
+         distance, twice the bound leaving room for their rounding) *)
+      IF NOT (In (v.lx, -b^.bound, b^.bound) AND In (v.ly, -b^.bound, b^.bound) AND In (v.rho, 0.0, b^.bound)
+              AND In (v.h, -2.0 * b^.bound, 2.0 * b^.bound) AND In (v.s1, -2.0 * b^.bound, 2.0 * b^.bound)
+              AND In (v.s2, -2.0 * b^.bound, 2.0 * b^.bound)) THEN
          VertexError (i, j, "outside the bound") ; RETURN 0
       END ;
       IF NOT In (v.nx * v.nx + v.ny * v.ny - 1.0, -1.0E-9, 1.0E-9) THEN

@@ -184,6 +184,10 @@ def cases() -> list[tuple[str, object, str]]:
         "scene: body 1: reaches more than 2e150 m from the origin by the end")
     # vertices
     add("vertex-outside", lambda f: f.vertex(2, 0, lx="-5"), "scene: body 2 vertex 0: outside the bound")
+    add("vertex-rho-far", lambda f: f.vertex(2, 1, rho="1e308"), "scene: body 2 vertex 1: outside the bound")
+    add("vertex-rho-negative", lambda f: f.vertex(2, 1, rho="-0.1"), "scene: body 2 vertex 1: outside the bound")
+    add("vertex-h-far", lambda f: f.vertex(2, 2, h="-1e200"), "scene: body 2 vertex 2: outside the bound")
+    add("vertex-s2-far", lambda f: f.vertex(2, 0, s2="0.6"), "scene: body 2 vertex 0: outside the bound")
     add("normal-not-unit", lambda f: f.vertex(2, 1, nx="2"), "scene: body 2 vertex 1: the normal is not a unit vector")
     add("cover-missing", lambda f: f.vertex(0, 0, cover="7"), "scene: body 0 vertex 0: cover 7 is not a body")
     add("cover-self", lambda f: f.vertex(0, 0, cover="0"), "scene: body 0 vertex 0: cover 0 is not a body")

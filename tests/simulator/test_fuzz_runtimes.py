@@ -240,3 +240,69 @@ def test_c_add_body_counts_against_max_bodies():
     with pytest.raises(SimError, match="^add_body: the world has 1000000 bodies \\(at most 1000000\\)$"):
         w.add_body(two)
     w.close()
+
+
+def _vertex_field(text: str, body: int, vertex: int, field: int, value: str) -> bytes:
+    """The flat text with word `field` (1: LX ... 10: NY) of a body's vertex line replaced."""
+    lines = text.splitlines(True)
+    starts = [i for i, ln in enumerate(lines) if ln.startswith("body ")]
+    k = starts[body] + 1 + vertex
+    words = lines[k].split()
+    assert words[0] == "v"
+    words[field] = value
+    lines[k] = " ".join(words) + "\n"
+    return "".join(lines).encode()
+
+
+def test_a_vertex_whose_distance_or_edge_line_is_beyond_the_bound_is_refused(runners, bases):
+    """A wall's vertex distance RHO of 1.8e308 (or -1e308) was read without a
+    check: Python's broad phase stopped on an infinite corner (exit 3) where
+    the others ran on.  Rule 9 bounds RHO by the bound and H, S1, S2 by
+    twice it, in every runtime; the compiled values pass."""
+    text = bases["box"][1]
+    msg = "X scene: body 1 vertex 3: outside the bound"
+    for field, value in ((3, "1.7976931348623157e308"), (3, "-1e308"), (3, "1.01"), (3, "-0.5"),
+                         (6, "1e308"), (6, "-2.1"), (7, "-1e200"), (8, "2.1")):
+        bad = _vertex_field(text, 1, 3, field, value)
+        assert one_answer(answers(runners, bad)) == (1, msg), (field, value)
+    for field, value in ((3, "1.004987562112089"), (3, "0"), (6, "-2.0"), (8, "2.0")):
+        assert one_answer(answers(runners, _vertex_field(text, 1, 3, field, value)))[0] == 0, (field, value)
+
+
+def test_a_run_out_of_time_where_the_others_hit_max_events_is_slow_not_a_timeout():
+    """An orbiting post turning at 1e151 rad/s (or 2147483647) passes every
+    check and meets horizons so often that C stops at max_events (10^7) in
+    about 10 s; Python needs about 500 s for them, past the harness's 20 s,
+    and Modula-2 13 s or more.  Out of time where at least two runtimes
+    ended in time, all with the same max_events X line, is slow, as where
+    they found the scene stuck; one runtime alone does not make it so."""
+    stop = (b"X more than 10000000 events (collisions, inputs, frames, cell crossings, horizons) at "
+            b"t = 7.9139339851708088e-144" + fuzz.STOPPED + b"\n")
+
+    def run(status=1, out=stop, timed_out=False):
+        r = fuzz.Run()
+        r.status, r.out, r.timed_out = status, out, timed_out
+        return r
+    t = fuzz.Tally()
+    slow = run(status=None, out=b"", timed_out=True)
+    assert not fuzz.check("slow", b"", {"c": run(), "rust": run(), "m2": run(), "python": slow}, t)
+    assert (t.timeouts, t.slow) == (0, 1)
+    assert not fuzz.check("two slow", b"", {"c": run(), "rust": run(), "m2": slow, "python": slow}, t)
+    assert (t.timeouts, t.slow) == (0, 3)
+    assert fuzz.check("alone", b"", {"c": run(), "python": slow}, t)
+    assert fuzz.check("alone of three", b"", {"c": run(), "m2": slow, "python": slow}, t)
+    other = run(out=stop.replace(b"7.9139339851708088e-144", b"1e-143"))
+    assert fuzz.check("differ", b"", {"c": run(), "rust": other, "m2": run(), "python": slow}, t)
+    assert t.timeouts == 4
+
+
+def test_an_orbit_turning_at_1e151_rad_s_is_stopped_by_max_events_alike(runners, bases):
+    """The scene of the test above with max_events 20000: every runtime
+    stops it with the same X line (bounded by max_events, not hung)."""
+    text = bases["wheel"][1]
+    post = next(x for x in text.splitlines() if x.startswith("body 0 1 "))
+    words = post.split()
+    words[14] = "1e151"                         # OMEGA
+    bad = text.replace(post, " ".join(words)).replace("\nmax_events 10000000\n", "\nmax_events 20000\n")
+    status, last = one_answer(answers(runners, bad.encode()))
+    assert status == 1 and last.startswith("X more than 20000 events (") and last.endswith(fuzz.STOPPED.decode())

@@ -560,7 +560,10 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t k, const body_context 
         long long cover = integer(r);
         if (r->failed)
             return;
-        if (!(fabs(v->lx) <= b->bound && fabs(v->ly) <= b->bound))
+        /* lx, ly and rho (the vertex), h, s1 and s2 (its edge's line and extent: each at most a vertex's
+           distance, twice the bound leaving room for their rounding) */
+        if (!(fabs(v->lx) <= b->bound && fabs(v->ly) <= b->bound && 0.0 <= v->rho && v->rho <= b->bound
+              && fabs(v->h) <= 2.0 * b->bound && fabs(v->s1) <= 2.0 * b->bound && fabs(v->s2) <= 2.0 * b->bound))
             fail(r, "body %d vertex %d: outside the bound", (int)k, (int)j);
         else if (!(fabs(v->nx * v->nx + v->ny * v->ny - 1.0) <= 1e-9))
             fail(r, "body %d vertex %d: the normal is not a unit vector", (int)k, (int)j);

@@ -155,7 +155,10 @@ def read_body(tk: Tokens, i: int, tol: float, end: float, n: int) -> Body:
         tk.word("v")
         v = Vertex([num() for _ in range(10)], integer())
         where = f"body {i} vertex {j}"
-        if not (abs(v.lx) <= b.bound and abs(v.ly) <= b.bound):
+        # lx, ly and rho (the vertex), h, s1 and s2 (its edge's line and extent: each at most a vertex's
+        # distance, twice the bound leaving room for their rounding)
+        if not (abs(v.lx) <= b.bound and abs(v.ly) <= b.bound and 0.0 <= v.rho <= b.bound
+                and abs(v.h) <= 2.0 * b.bound and abs(v.s1) <= 2.0 * b.bound and abs(v.s2) <= 2.0 * b.bound):
             tk.fail(f"{where}: outside the bound")
         if not abs(v.nx * v.nx + v.ny * v.ny - 1.0) <= 1e-9:
             tk.fail(f"{where}: the normal is not a unit vector")

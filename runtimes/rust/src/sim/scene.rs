@@ -641,7 +641,16 @@ pub fn read_body(tk: &mut Tokens, idx: u32, verts: &mut Vec<Vertex>, lim: &BodyL
         }
         let cover = tk.int()?;
         let fail = |m: String| Err(format!("{what}: body {idx} vertex {j}: {m}"));
-        if !(v[0].abs() <= bound && v[1].abs() <= bound) {
+        // lx, ly and rho (the vertex), h, s1 and s2 (its edge's line and extent: each at most a vertex's
+        // distance, twice the bound leaving room for their rounding)
+        if !(v[0].abs() <= bound
+            && v[1].abs() <= bound
+            && 0.0 <= v[2]
+            && v[2] <= bound
+            && v[5].abs() <= 2.0 * bound
+            && v[6].abs() <= 2.0 * bound
+            && v[7].abs() <= 2.0 * bound)
+        {
             return fail("outside the bound".to_string());
         }
         if !((v[8] * v[8] + v[9] * v[9] - 1.0).abs() <= 1e-9) {
@@ -1148,5 +1157,9 @@ mod tests {
         assert_eq!(body(&covered), Err("add_body: body 3 vertex 0: cover 3 is not a body".into()));
         let far = square(&SQUARE).replacen("v -0.2 -0.2", "v -0.5 -0.2", 1);
         assert_eq!(body(&far), Err("add_body: body 3 vertex 0: outside the bound".into()));
+        let distant = square(&SQUARE).replacen(" 0.28 ", " 0.31 ", 1);
+        assert_eq!(body(&distant), Err("add_body: body 3 vertex 0: outside the bound".into()));
+        let line = square(&SQUARE).replacen(" 0.2 -0.2 0.2 ", " 0.61 -0.2 0.2 ", 1);
+        assert_eq!(body(&line), Err("add_body: body 3 vertex 0: outside the bound".into()));
     }
 }
