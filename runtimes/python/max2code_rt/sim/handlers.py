@@ -9,7 +9,8 @@ import heapq
 from max2code_rt.sim.out import SimError, _fmt
 from max2code_rt.sim.queue import (CellEvent, CollisionEvent, FrameEvent, HorizonEvent, InputEvent, LeaveEvent,
                                    StopEvent)
-from max2code_rt.sim.scene import ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT, Body, live_reach
+from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT, Body,
+                                   after_input, live_reach)
 from max2code_rt.sim.world import Contact
 
 
@@ -191,15 +192,7 @@ class HandlersMixin:
         body's motion after it would reach more than 2e150 m from the
         origin by the end (the live inputs' rule, from the state at t; a
         velocity or position that is not finite is refused by it too)."""
-        px, py, vx, vy = body.px, body.py, body.vx, body.vy
-        if mode == SET_VELOCITY:
-            vx, vy = x, y
-        elif mode == ADD_VELOCITY:
-            vx, vy = vx + x, vy + y
-        elif mode == IMPULSE:
-            vx, vy = vx + x * body.inv_m, vy + y * body.inv_m
-        else:
-            px, py = x, y
+        px, py, vx, vy = after_input(body, mode, x, y, body.px, body.py, body.vx, body.vy)
         if not live_reach(body, px, py, vx, vy, self.s.end) <= 2 * LENGTH_MAX:
             raise SimError(f"input {k}: body {body.idx} at t = {_fmt(t)}: reaches more than 2e150 m from the origin "
                            f"by the end")

@@ -19,7 +19,7 @@ from max2code_rt.sim.overlap import OverlapMixin
 from max2code_rt.sim.predict import PredictMixin
 from max2code_rt.sim.queue import INPUT, InputEvent, QueueMixin
 from max2code_rt.sim.scene import (ADD_VELOCITY, IMPULSE, LENGTH_MAX, MAX_BODIES, REMOVE, SET_VELOCITY, TELEPORT, Body,
-                                   Input, Scene, Tokens, _cut, drivable, live_reach, read_body)
+                                   Input, Scene, Tokens, _cut, after_input, drivable, live_reach, read_body)
 from max2code_rt.sim.sleep import SleepMixin
 from max2code_rt.sim.support import SupportMixin
 from max2code_rt.sim.world import STAT_NAMES, Contact, WorldState
@@ -188,12 +188,7 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
         t = self.time
         self.inputs_now()
         px, py, vx, vy, _ = self.state_at(b, t)
-        if mode == SET_VELOCITY:
-            vx, vy = x, y
-        elif mode == ADD_VELOCITY:
-            vx, vy = vx + x, vy + y
-        elif mode == IMPULSE:
-            vx, vy = vx + x * b.inv_m, vy + y * b.inv_m
+        px, py, vx, vy = after_input(b, mode, x, y, px, py, vx, vy)
         if mode != TELEPORT and not (math.isfinite(vx) and math.isfinite(vy)):
             raise SimError(f"live input: body {body}: velocity would not be finite")
         if mode == TELEPORT:
@@ -201,7 +196,6 @@ class World(WorldState, MotionMixin, QueueMixin, GridMixin, PredictMixin, Contac
                 raise SimError(f"live input: body {body}: position would not be finite")
             if not abs(x) + abs(y) <= LENGTH_MAX:
                 raise SimError(f"live input: body {body}: teleport beyond 1e150 m")
-            px, py = x, y
         if mode != REMOVE and not live_reach(b, px, py, vx, vy, self.s.end) <= 2 * LENGTH_MAX:
             raise SimError(f"live input: body {body}: reaches more than 2e150 m from the origin by the end")
         if mode == TELEPORT:

@@ -259,6 +259,23 @@ def drivable(b: Body, mode: int) -> bool:
     return mode == SET_VELOCITY and b.polygon and b.om == 0.0
 
 
+def after_input(b: Body, mode: int, x: float, y: float, px: float, py: float, vx: float, vy: float
+                ) -> tuple[float, float, float, float]:
+    """A body's position and velocity (px, py, vx, vy) just after an input
+    of `mode` with values (x, y), from its state (px, py, vx, vy) then: the
+    velocity set, added to or changed by an impulse through the centre, or
+    the centre moved; a removal changes nothing."""
+    if mode == SET_VELOCITY:
+        return px, py, x, y
+    if mode == ADD_VELOCITY:
+        return px, py, vx + x, vy + y
+    if mode == IMPULSE:
+        return px, py, vx + x * b.inv_m, vy + y * b.inv_m
+    if mode == TELEPORT:
+        return x, y, vx, vy
+    return px, py, vx, vy
+
+
 def live_reach(b: Body, px: float, py: float, vx: float, vy: float, end: float) -> float:
     """A body's reach by the end time `end` from position (px, py) and
     velocity (vx, vy) after an input (live or scripted), with its own
