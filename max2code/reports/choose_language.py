@@ -13,10 +13,13 @@ random motions (drawn as `max2code cases` draws parameters); the table gives
 the median over the rounds and their spread (smallest to largest), since
 one pass on a shared machine is noise.
 
-The budget (`--seconds`) covers everything: a language whose build would
-not fit in what is left is not built, and said so before the time is spent;
-a build or a harness run still going at the deadline is stopped; rounds go
-on while the next one, by its runs' last durations, ends in time.  The run
+The budget (`--seconds`) covers everything, and a share of it is kept for
+timing: builds get the budget less that share (`timing_reserve`), a
+language whose build would not fit in what builds have left is not built,
+and said so before the time is spent, the cheapest languages first, so
+that successive runs add the next ones; a build still going when the builds'
+time ends is stopped, and so is a harness run still going at the deadline;
+rounds go on while the next one, by its runs' last durations, ends in time.  The run
 reports its accounting (preparing, builds, timing, total).  Besides speed
 the table states what each language offers: single precision
 (`--real=float`), `#line` debugging into the .mxm, reentrancy of the
@@ -51,7 +54,24 @@ NOT_REENTRANT = {"m2": "NAME_toc yes; NAME_toc_exact no (the driver's state is i
 
 # seconds a language's generation and builds take when this machine has not made them yet (unloaded: the
 # Modula-2 build alone is about 50 s); once made, the measured time is used, and the programs are reused
-FIRST_SECONDS = {"python": 10.0, "c": 15.0, "rust": 40.0, "m2": 60.0}
+FIRST_SECONDS = {"python": 20.0, "c": 30.0, "rust": 60.0, "m2": 90.0}
+STOPPED_FACTOR = 1.5  # a build stopped after s seconds is planned at this many times s next time
+TIMING_SHARE = 0.25   # of the budget kept for timing rounds when a language is to be built ...
+TIMING_MIN_S = 10.0   # ... at least so many seconds (never more than half the budget)
+
+
+def timing_reserve(seconds: float) -> float:
+    """Seconds of a `seconds` budget that builds leave for timing rounds."""
+    return min(0.5 * seconds, max(TIMING_MIN_S, TIMING_SHARE * seconds))
+
+
+def planned_seconds(lang: str, last: dict | None) -> float:
+    """What making `lang` is planned to take: its last time here when it
+    finished; STOPPED_FACTOR times it when it was stopped (it takes more);
+    FIRST_SECONDS when never made here."""
+    if last is None:
+        return FIRST_SECONDS.get(lang, 30.0)
+    return last["seconds"] if last["finished"] else max(STOPPED_FACTOR * last["seconds"], FIRST_SECONDS.get(lang, 30.0))
 
 
 @dataclasses.dataclass
@@ -152,12 +172,13 @@ def _harnesses(lang: str, entry: dict):
     return poly, exact
 
 
-def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: float, say) -> tuple[list[Lang], dict]:
+def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: float, say,
+            build_deadline: float | None = None) -> tuple[list[Lang], dict]:
     """The motions and every language's harnesses, reused when an earlier run
-    made them from the same inputs, else made within the budget: a language
-    whose making would not fit in what is left (by the time it took when last
-    made here, else FIRST_SECONDS) is not made, and said so before any time is
-    spent on it; one that is still being made at the deadline is stopped."""
+    made them from the same inputs, else made by `build_deadline` (default
+    `deadline`), the cheapest first: a language whose making would not fit in
+    what is left (planned_seconds) is not made, and said so before any time is
+    spent on it; one that is still being made at `build_deadline` is stopped."""
     from max2code.toolchain import cache
 
     info: dict = {"motions_s": 0.0}
@@ -189,35 +210,46 @@ def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: floa
             lg.poly, lg.exact = _harnesses(lang, entry)
         else:
             last = taken.get(lang)
-            todo.append((last["seconds"] if last else FIRST_SECONDS.get(lang, 30.0), lang, last))
+            todo.append((planned_seconds(lang, last), lang, last))
+    build_deadline = deadline if build_deadline is None else build_deadline
     for expect, lang, last in sorted(todo, key=lambda x: x[0]):
         lg = out[lang]
-        left = deadline - time.perf_counter()
+        left = build_deadline - time.perf_counter()
         how = ("as when last made here" if last and last["finished"] else
-               "at least: stopped at the budget's end when last tried here" if last else "before it was ever made here")
+               "more than the time it was stopped at when last tried here" if last else
+               "before it was ever made here")
         if expect > left:
             lg.note = (f"not built: generating and building it takes about {expect:.0f} s ({how}), more than the "
-                       f"{max(left, 0.0):.0f} s left of the budget; a run with --seconds {expect + 30:.0f} or more "
-                       "builds it once, later runs reuse it")
+                       f"{max(left, 0.0):.0f} s the budget leaves for builds; a run with --seconds "
+                       f"{_enough(expect):.0f} or more builds it once, later runs reuse it")
             say(f"choose-language: {lang}: {lg.note}")
             continue
         say(f"choose-language: {lang}: generating and building (about {expect:.0f} s, {how}; {left:.0f} s left)")
         work_key = keys[lang] or f"scratch-{os.getpid()}-{lang}"      # an equation whose reads cannot be known
         if keys[lang] is None:
             info.setdefault("scratch", []).append(cache.folder(work_key))
-        ok, value, secs = _within(deadline, _make, path, lang, exact, work_key)
+        ok, value, secs = _within(build_deadline, _make, path, lang, exact, work_key)
         lg.spent_s = secs
         cache.remember_seconds(lang, secs, ok)
         if ok:
             lg.build_s = value["seconds"]
             lg.poly, lg.exact = _harnesses(lang, value)
         elif value is None:
-            lg.note = (f"not built: still building when the budget ended ({secs:.0f} s); a run with a larger "
-                       "--seconds builds it once, later runs reuse it")
+            lg.note = (f"not built: still building when the budget's time for builds ended ({secs:.0f} s); a run "
+                       f"with --seconds {_enough(planned_seconds(lang, {'seconds': secs, 'finished': False})):.0f} "
+                       "or more builds it once, later runs reuse it")
             say(f"choose-language: {lang}: {lg.note}")
         else:
             raise Max2CodeError(f"max2code choose-language: error: {lang}: {value}")
     return [out[lang] for lang in langs], info
+
+
+def _enough(build_s: float) -> float:
+    """A budget whose time for builds holds a build of `build_s` seconds and motions."""
+    seconds = build_s + 10.0
+    while seconds - timing_reserve(seconds) < build_s + 5.0:
+        seconds += 5.0
+    return seconds
 
 
 def measure(path: str, langs: list[str], seconds: float = 60.0, motions: int = 200, seed: int = 13,
@@ -226,7 +258,8 @@ def measure(path: str, langs: list[str], seconds: float = 60.0, motions: int = 2
     while a round's next run fits in the budget: `seconds` from `start`
     (default now) cover everything, and no step is begun that its last
     duration says would not end in time; a harness run is stopped at the
-    deadline (its round is then left out).  `rounds`: at most so many."""
+    deadline (its round is then left out).  `rounds`: at most so many.
+    Builds end `timing_reserve(seconds)` before the deadline."""
     start = time.perf_counter() if start is None else start
     deadline = start + seconds
 
@@ -234,7 +267,7 @@ def measure(path: str, langs: list[str], seconds: float = 60.0, motions: int = 2
         if progress:
             print(text, file=sys.stderr, flush=True)
 
-    out, info = prepare(path, langs, motions, seed, deadline, say)
+    out, info = prepare(path, langs, motions, seed, deadline, say, deadline - timing_reserve(seconds))
     t_timing = time.perf_counter()
     rows = info.pop("rows")
     params = list(rows[0])
@@ -372,7 +405,8 @@ def main(argv: list[str]) -> int:
     ap.add_argument("file", nargs="?", help="the .mxm file (default: the bundled circle-circle)")
     ap.add_argument("--seconds", type=_positive(float), default=60.0,
                     help="time budget, everything included (default 60): harnesses made by an earlier run from "
-                         "the same inputs are reused; a build that does not fit is left out, and said so")
+                         "the same inputs are reused; builds get the budget less a quarter (at least 10 s) kept "
+                         "for timing, and a build that does not fit there is left out, and said so")
     ap.add_argument("--rounds", type=_positive(int), help="at most this many rounds (default: while the budget lasts)")
     ap.add_argument("--motions", type=_positive(int), default=200, help="random motions timed per round (default 200)")
     ap.add_argument("--langs", default=",".join(LANGUAGES), metavar="LIST",

@@ -93,6 +93,50 @@ def test_a_build_that_does_not_fit_is_said_and_not_begun(tmp_path, monkeypatch):
     assert "| m2 | - | - | - |" in choose_language.table(out, info, "q.mxm", "max2code choose-language q.mxm")
 
 
+@pytest.mark.parametrize("seconds", [12.0, 60.0, 240.0])
+def test_builds_leave_a_share_of_the_budget_to_timing(tmp_path, monkeypatch, seconds):
+    """Builds are planned and stopped against the budget less its timing
+    share: one planned to take the whole budget is not begun, one that fits
+    the builds' share is begun with the builds' deadline, and the cheapest
+    is made first."""
+    from max2code.toolchain import cache
+
+    eq = tmp_path / "q.mxm"
+    eq.write_text(open(QUINTIC).read() + "// a copy: no build of it is reused\n")
+    share = choose_language.timing_reserve(seconds)
+    assert choose_language.TIMING_MIN_S <= share or share == 0.5 * seconds
+    assert 0 < share <= 0.5 * seconds
+    fits = seconds - share - 2.0                   # fits the builds' share (the motions take a moment)
+    taken = {"python": {"seconds": fits, "finished": True},
+             "c": {"seconds": seconds - 1.0, "finished": True},         # fits the budget, not the builds' share
+             "rust": {"seconds": fits / 2, "finished": False}}         # stopped then: planned at 1.5 times
+    monkeypatch.setattr(cache, "seconds_taken", lambda: taken)
+    remembered = []
+    monkeypatch.setattr(cache, "remember_seconds", lambda *a: remembered.append(a))
+    begun = []
+    start = time.perf_counter()
+
+    def within(deadline, fn, *a):
+        if fn is choose_language._motions:
+            return True, fn(*a), 0.0
+        begun.append((a[1], deadline - start))
+        return False, None, 0.0                     # as if stopped: nothing is timed
+    monkeypatch.setattr(choose_language, "_within", within)
+    out, info = choose_language.measure(str(eq), ["c", "rust", "python"], seconds=seconds, motions=5,
+                                        progress=False, start=start)
+    notes = {lg.name: lg.note for lg in out}
+    # rust is planned at max(1.5 * fits / 2, 60 s), which fits the builds' share of 240 s only
+    assert [lang for lang, _ in begun] == {12.0: ["python"], 60.0: ["python"], 240.0: ["rust", "python"]}[seconds]
+    assert remembered == [(lang, 0.0, False) for lang, _ in begun]
+    for _, deadline in begun:
+        assert deadline == pytest.approx(seconds - share, abs=1e-6)
+    assert notes["c"].startswith(f"not built: generating and building it takes about {seconds - 1:.0f} s")
+    assert "the budget leaves for builds" in notes["c"]
+    enough = float(re.search(r"--seconds (\d+)", notes["c"]).group(1))
+    assert enough - choose_language.timing_reserve(enough) >= seconds - 1.0
+    assert choose_language.planned_seconds("rust", taken["rust"]) == max(1.5 * fits / 2, choose_language.FIRST_SECONDS["rust"])
+
+
 def test_a_child_still_working_at_the_deadline_is_stopped_with_its_children(tmp_path):
     """_within stops the child and what it started (a compiler, Maxima) at the deadline."""
     pid_file = tmp_path / "pid"
