@@ -55,7 +55,6 @@ NOT_REENTRANT = {"m2": "NAME_toc yes; NAME_toc_exact no (the driver's state is i
 # seconds a language's generation and builds take when this machine has not made them yet (unloaded: the
 # Modula-2 build alone is about 50 s); once made, the measured time is used, and the programs are reused
 FIRST_SECONDS = {"python": 20.0, "c": 30.0, "rust": 60.0, "m2": 90.0}
-STOPPED_FACTOR = 1.5  # a build stopped after s seconds is planned at this many times s next time
 TIMING_SHARE = 0.25   # of the budget kept for timing rounds when a language is to be built ...
 TIMING_MIN_S = 10.0   # ... at least so many seconds (never more than half the budget)
 
@@ -67,11 +66,12 @@ def timing_reserve(seconds: float) -> float:
 
 def planned_seconds(lang: str, last: dict | None) -> float:
     """What making `lang` is planned to take: its last time here when it
-    finished; STOPPED_FACTOR times it when it was stopped (it takes more);
-    FIRST_SECONDS when never made here."""
-    if last is None:
-        return FIRST_SECONDS.get(lang, 30.0)
-    return last["seconds"] if last["finished"] else max(STOPPED_FACTOR * last["seconds"], FIRST_SECONDS.get(lang, 30.0))
+    finished, else FIRST_SECONDS (never made here, or stopped when last
+    tried: the runtime's and the generator's builds are incremental, so
+    what a stopped build made is kept and the next one goes on from it)."""
+    if last is not None and last["finished"]:
+        return last["seconds"]
+    return FIRST_SECONDS.get(lang, 30.0)
 
 
 @dataclasses.dataclass
@@ -216,7 +216,7 @@ def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: floa
         lg = out[lang]
         left = build_deadline - time.perf_counter()
         how = ("as when last made here" if last and last["finished"] else
-               "more than the time it was stopped at when last tried here" if last else
+               f"going on from a build stopped at {last['seconds']:.0f} s here" if last else
                "before it was ever made here")
         if expect > left:
             lg.note = (f"not built: generating and building it takes about {expect:.0f} s ({how}), more than the "
@@ -235,9 +235,9 @@ def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: floa
             lg.build_s = value["seconds"]
             lg.poly, lg.exact = _harnesses(lang, value)
         elif value is None:
-            lg.note = (f"not built: still building when the budget's time for builds ended ({secs:.0f} s); a run "
-                       f"with --seconds {_enough(planned_seconds(lang, {'seconds': secs, 'finished': False})):.0f} "
-                       "or more builds it once, later runs reuse it")
+            lg.note = (f"not built: still building when the budget's time for builds ended ({secs:.0f} s); what "
+                       f"it made is kept: the next run goes on from it, and a run with --seconds {_enough(secs):.0f} "
+                       "or more finishes it, later runs reuse it")
             say(f"choose-language: {lang}: {lg.note}")
         else:
             raise Max2CodeError(f"max2code choose-language: error: {lang}: {value}")

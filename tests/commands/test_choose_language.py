@@ -109,7 +109,7 @@ def test_builds_leave_a_share_of_the_budget_to_timing(tmp_path, monkeypatch, sec
     fits = seconds - share - 2.0                   # fits the builds' share (the motions take a moment)
     taken = {"python": {"seconds": fits, "finished": True},
              "c": {"seconds": seconds - 1.0, "finished": True},         # fits the budget, not the builds' share
-             "rust": {"seconds": fits / 2, "finished": False}}         # stopped then: planned at 1.5 times
+             "rust": {"seconds": fits / 2, "finished": False}}         # stopped then: planned as never made
     monkeypatch.setattr(cache, "seconds_taken", lambda: taken)
     remembered = []
     monkeypatch.setattr(cache, "remember_seconds", lambda *a: remembered.append(a))
@@ -125,7 +125,7 @@ def test_builds_leave_a_share_of_the_budget_to_timing(tmp_path, monkeypatch, sec
     out, info = choose_language.measure(str(eq), ["c", "rust", "python"], seconds=seconds, motions=5,
                                         progress=False, start=start)
     notes = {lg.name: lg.note for lg in out}
-    # rust is planned at max(1.5 * fits / 2, 60 s), which fits the builds' share of 240 s only
+    # rust is planned at FIRST_SECONDS (60 s), which fits the builds' share of 240 s only
     assert [lang for lang, _ in begun] == {12.0: ["python"], 60.0: ["python"], 240.0: ["rust", "python"]}[seconds]
     assert remembered == [(lang, 0.0, False) for lang, _ in begun]
     for _, deadline in begun:
@@ -134,7 +134,7 @@ def test_builds_leave_a_share_of_the_budget_to_timing(tmp_path, monkeypatch, sec
     assert "the budget leaves for builds" in notes["c"]
     enough = float(re.search(r"--seconds (\d+)", notes["c"]).group(1))
     assert enough - choose_language.timing_reserve(enough) >= seconds - 1.0
-    assert choose_language.planned_seconds("rust", taken["rust"]) == max(1.5 * fits / 2, choose_language.FIRST_SECONDS["rust"])
+    assert choose_language.planned_seconds("rust", taken["rust"]) == choose_language.FIRST_SECONDS["rust"]
 
 
 def test_a_child_still_working_at_the_deadline_is_stopped_with_its_children(tmp_path):
