@@ -179,7 +179,7 @@ def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: floa
     `deadline`), the cheapest first: a language whose making would not fit in
     what is left (planned_seconds) is not made, and said so before any time is
     spent on it; one that is still being made at `build_deadline` is stopped."""
-    from max2code.toolchain import cache
+    from max2code.toolchain import cache, toolchain
 
     info: dict = {"motions_s": 0.0}
     key = cache.equation_key(path, motions=motions, seed=seed, what="motions")
@@ -200,7 +200,8 @@ def prepare(path: str, langs: list[str], motions: int, seed: int, deadline: floa
     info.update(rows=rows, exact=exact, why_not_exact=why)
     taken = cache.seconds_taken()
     out = {lang: Lang(lang, None) for lang in langs}
-    keys = {lang: cache.equation_key(path, lang=lang, exact=exact, what="harnesses") for lang in langs}
+    keys = {lang: cache.equation_key(path, lang=lang, exact=exact, what="harnesses",
+                                  tools=toolchain(lang).tool_versions()) for lang in langs}
     todo = []
     for lang in langs:
         entry = cache.load(keys[lang])

@@ -5,6 +5,9 @@ Toolchain; the methods that raise NotImplementedError are the ones it must
 define."""
 from __future__ import annotations
 
+import functools
+import subprocess
+import sys
 from pathlib import Path
 from typing import ClassVar
 
@@ -14,6 +17,14 @@ from max2code.paths import RUNTIMES
 
 class Toolchain:
     name: ClassVar[str]                        # the language's name, as in max2code.targets.LANGUAGES
+    # the compilers and tools whose version decides what its builds make (each answers `--version`)
+    tools: ClassVar[tuple[str, ...]] = ()
+
+    def tool_versions(self) -> dict[str, str]:
+        """Each tool's first line of `--version` (or "not found"), and the
+        Python running max2code: part of the key of programs kept for reuse
+        (max2code.toolchain.cache), so that a new compiler rebuilds them."""
+        return {"python": sys.version, **{tool: _version(tool) for tool in self.tools}}
 
     # ---- evaluation harness (templates/<lang>/harness.j2) ---------------
     harness_source: ClassVar[str]              # the harness's file name in its workdir
@@ -73,3 +84,12 @@ class Toolchain:
         """Compiler arguments that make this checkout's runtime (its root
         solver) available to generated code; builds the runtime if needed."""
         return []
+
+
+@functools.lru_cache(maxsize=None)
+def _version(tool: str) -> str:
+    try:
+        r = subprocess.run([tool, "--version"], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return "not found"
+    return (r.stdout or r.stderr).strip().split("\n", 1)[0]

@@ -46,6 +46,7 @@ def c_pic_library() -> Path:
 
 class CToolchain(Toolchain):
     name = "c"
+    tools = ("gcc", "pkg-config")
     harness_source = "harness.c"
     world_library = WORLD_LIBRARY
 

@@ -1,7 +1,8 @@
 """Built programs kept for reuse across runs, keyed by the digest of all
 that made them: the .mxm file, the files its Maxima text reads, Maxima
 (its program and environment), max2code's own sources and templates, the
-runtimes' sources, and what the caller adds (the language, the options).
+runtimes' sources, and what the caller adds (the language, the options, the
+compilers' versions: Toolchain.tool_versions).
 An entry is a folder under BUILD/reuse/ holding the programs and
 `entry.json` (written last: a folder without it is not an entry); a build
 runs under the entry's lock, so two runs never build into one folder.

@@ -38,6 +38,7 @@ def m2_objects(*modules: str) -> list[Path]:
 
 class Modula2Toolchain(Toolchain):
     name = "m2"
+    tools = ("gm2", "pkg-config")
     harness_source = "harness.mod"
 
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:

@@ -53,6 +53,7 @@ def rust_sim_library() -> Path:
 
 class RustToolchain(Toolchain):
     name = "rust"
+    tools = ("rustc", "cargo")
     harness_source = "harness.rs"
 
     def harness_build(self, src: str, exe: str, include_dirs: list[str]) -> list[list[str]]:

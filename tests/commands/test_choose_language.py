@@ -165,6 +165,21 @@ def test_a_child_still_working_at_the_deadline_is_stopped_with_its_children(tmp_
     assert choose_language._within(time.perf_counter() + 60.0, lambda: 1 / 0)[:2] == (False, "division by zero")
 
 
+def test_a_new_compiler_is_a_new_key(monkeypatch):
+    """Harnesses kept for reuse are keyed by the compilers' versions too:
+    another gcc (or Python) gives another key, so nothing built by the old
+    one is reused."""
+    from max2code.toolchain import base, cache, toolchain
+
+    tools = toolchain("c").tool_versions()
+    assert set(tools) == {"python", "gcc", "pkg-config"} and tools["gcc"].startswith("gcc")
+    key = cache.equation_key(QUINTIC, lang="c", tools=tools)
+    assert key == cache.equation_key(QUINTIC, lang="c", tools=toolchain("c").tool_versions())
+    monkeypatch.setattr(base, "_version", lambda tool: "gcc (a newer one) 99.1" if tool == "gcc" else "same")
+    assert cache.equation_key(QUINTIC, lang="c", tools=toolchain("c").tool_versions()) != key
+    assert toolchain("python").tool_versions() == {"python": sys.version}
+
+
 def test_facts_and_spread():
     assert choose_language.facts("m2")["reentrant"].startswith("NAME_toc yes; NAME_toc_exact no")
     assert choose_language.facts("rust")["single"] == "yes (f32)"
