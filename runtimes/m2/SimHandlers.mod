@@ -247,11 +247,12 @@ BEGIN
       INC (B^.stamp) ;
       EmitState (B)
    END ;
-   (* an impulse changes the motion of what it hit: what they carried leaves *)
+   (* an impulse changes the motion of what it hit: what they carried leaves
+      (a sleeper a gentle touch left asleep has not moved: what slides on it stays) *)
    n0 := NLeft ;
    IF imp # 0.0 THEN
-      IF NOT A^.fixed THEN release (A, t) END ;
-      IF NOT B^.fixed THEN release (B, t) END
+      IF (NOT A^.fixed) AND (NOT A^.asleep) THEN release (A, t) END ;
+      IF (NOT B^.fixed) AND (NOT B^.asleep) THEN release (B, t) END
    END ;
    IF (NOT A^.fixed) AND (NOT A^.asleep) THEN
       IF B^.asleep AND (imp = 0.0) THEN PredictBody (A, t, B^.idx) ELSE PredictBody (A, t, -1) END

@@ -292,11 +292,12 @@ static void handle_collision(m2c_world *m, const m2c_sim_event *ev)
             m2c_sim_emit_state(m, both[k]);
         }
     }
-    /* an impulse changes the motion of what it hit: what they carried leaves */
+    /* an impulse changes the motion of what it hit: what they carried leaves
+     * (a sleeper a gentle touch left asleep has not moved: what slides on it stays) */
     m2c_sim_left left = { 0 };
     if (imp != 0.0) {
         for (int k = 0; k < 2; k++)
-            if (!both[k]->fixed)
+            if (!both[k]->fixed && !both[k]->asleep)
                 m2c_sim_release(m, both[k], t, &left);
     }
     fetch_next(m);

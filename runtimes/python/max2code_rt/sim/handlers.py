@@ -74,10 +74,11 @@ class HandlersMixin:
                 b.stamp += 1
                 self.emit_state(b)
         # an impulse changes the motion of what it hit: what they carried leaves
+        # (a sleeper a gentle touch left asleep has not moved: what slides on it stays)
         left = []
         if imp != 0.0:
             for b in (A, B):
-                if not b.fixed:
+                if not b.fixed and not b.asleep:
                     self.release(b, t, left)
         if not A.fixed and not A.asleep:
             self.predict_body(A, t, B if (B.asleep and imp == 0.0) else None)

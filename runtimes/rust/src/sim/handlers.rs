@@ -151,10 +151,11 @@ impl<E: Equations> World<E> {
         }
         self.touch(t, (ai, bi, feature, i, j));
         // an impulse changes the motion of what it hit: what they carried leaves
+        // (a sleeper a gentle touch left asleep has not moved: what slides on it stays)
         let mut left = Vec::new();
         if imp != 0.0 {
             for k in [ai, bi] {
-                if !self.w.s.bodies[k].fixed {
+                if !self.w.s.bodies[k].fixed && !self.w.s.bodies[k].asleep {
                     self.release(k, t, &mut left)?;
                 }
             }
