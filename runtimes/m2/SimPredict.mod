@@ -82,6 +82,9 @@ VAR
       unit normal now, the gap (m) of the vertex polygon's centre beyond the
       edge's line now, and the margin (m) of the line's offset *)
    WinEX, WinEY, WinOff, WinSlack: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
+   (* and the place (m) of that centre along the edge's tangent (-WinEY, WinEX)
+      now, and the edge's extent (m) widened by the margins *)
+   WinAlong, WinLo, WinHi: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
    (* clear_time's vertices of its two polygons *)
    ClrAX, ClrAY, ClrBX, ClrBY: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
 
@@ -572,7 +575,9 @@ END CirclePolygon ;
    and Y the edges: FALSE when the bound does not hold (a turn over 1 rad
    in the window); else cos and sin of X's angle now (ca, sa), the bound's
    part common to every pair (base, m), its part per metre of a vertex's
-   radius (perRho), and per edge of Y WinEX, WinEY, WinOff, WinSlack.
+   radius (perRho), the same two for the place along an edge (abase,
+   aperRho), and per edge of Y WinEX, WinEY, WinOff, WinSlack, WinAlong,
+   WinLo, WinHi.
 
    The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
    X's centre, |r| = rho, turning at wx) from the line of an edge of Y (n:
@@ -586,11 +591,15 @@ END CirclePolygon ;
    tolerance (FirstContact's contact now) and a margin of 2^-30 of the sizes
    and of the angles' lever for every rounding, the polynomial keeps the
    sign of g(0) all through the window: no root, no contact (docs/toi.md,
-   "Cost"). *)
-PROCEDURE WindowBound (X, Y: BodyRef; now, w: REAL; VAR ca, sa, base, perRho: REAL) : BOOLEAN ;
+   "Cost").  Likewise the place a(s) = t(s) . (d(s) + r(s)) of the vertex
+   along the edge (t: the edge's unit tangent) changes by at most
+   w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
+   beyond the edge's extent widened by the tolerance, Inside (evaluated on
+   the exact motion) refuses every root of the window. *)
+PROCEDURE WindowBound (X, Y: BodyRef; now, w: REAL; VAR ca, sa, base, perRho, abase, aperRho: REAL) : BOOLEAN ;
 VAR
    x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2, dx, dy, u, v, ax, ay, speed, acc, d, vel: REAL ;
-   wy, wr, xn, xr, lever, cb, sb, nx, ny: REAL ;
+   wy, wr, xn, xr, lever, cb, sb, nx, ny, margin: REAL ;
    j, e: INTEGER ;
 BEGIN
    StateAt (X, now, x1, y1, u1, v1, ang1) ;
@@ -612,6 +621,8 @@ BEGIN
    lever := ABS (ang1) + ABS (ang2) + 8.0 ;
    base := w * (wy * d + vel) + xn * xn * d + Tol + TwoM30 * (1.0 + lever) * d ;
    perRho := w * wr + xr * xr + TwoM30 * (1.0 + lever) ;
+   abase := w * (wy * d + vel) + Tol + TwoM30 * (1.0 + lever) * d ;
+   aperRho := w * (wy + ABS (X^.om)) + TwoM30 * (1.0 + lever) ;
    IF NOT ((xn <= 1.0) AND (xr <= 1.0) AND (base <= MAX (REAL)) AND (perRho <= MAX (REAL))) THEN
       RETURN FALSE
    END ;
@@ -626,7 +637,11 @@ BEGIN
       WinEX[j] := nx ;
       WinEY[j] := ny ;
       WinOff[j] := nx * dx + ny * dy - Verts^[e].h ;
-      WinSlack[j] := TwoM30 * ABS (Verts^[e].h)
+      WinSlack[j] := TwoM30 * ABS (Verts^[e].h) ;
+      WinAlong[j] := -ny * dx + nx * dy ;
+      margin := TwoM30 * (ABS (Verts^[e].s1) + ABS (Verts^[e].s2)) ;
+      WinLo[j] := Verts^[e].s1 - margin ;
+      WinHi[j] := Verts^[e].s2 + margin
    END ;
    RETURN TRUE
 END WindowBound ;
@@ -657,10 +672,10 @@ END PeVariantsOf ;
 PROCEDURE VerticesEdges (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
 VAR
    i, j, vi, cover, turning, fixed, spared: INTEGER ;
-   t, ca, sa, base, perRho, rx, ry, lim: REAL ;
-   on, found: BOOLEAN ;
+   t, ca, sa, base, perRho, abase, aperRho, rx, ry, lim, alim, a: REAL ;
+   on, found, spare: BOOLEAN ;
 BEGIN
-   on := WindowBound (A, B, now, w, ca, sa, base, perRho) ;
+   on := WindowBound (A, B, now, w, ca, sa, base, perRho, abase, aperRho) ;
    turning := -1 ;
    fixed := -1 ;
    IF on THEN PeVariantsOf (A, B, now, turning, fixed) END ;
@@ -669,15 +684,24 @@ BEGIN
       rx := 0.0 ;
       ry := 0.0 ;
       lim := 0.0 ;
+      alim := 0.0 ;
       IF Verts^[vi].rho = 0.0 THEN spared := fixed ELSE spared := turning END ;
       IF on THEN
          rx := ca * Verts^[vi].lx - sa * Verts^[vi].ly ;
          ry := sa * Verts^[vi].lx + ca * Verts^[vi].ly ;
-         lim := base + perRho * Verts^[vi].rho
+         lim := base + perRho * Verts^[vi].rho ;
+         alim := abase + aperRho * Verts^[vi].rho
       END ;
       FOR j := 0 TO B^.nv - 1 DO
-         IF on AND (ABS (WinOff[j] + WinEX[j] * rx + WinEY[j] * ry) > lim + WinSlack[j]) THEN
-            (* far from the line all through the window (WindowBound): counted, not solved *)
+         spare := FALSE ;
+         IF on THEN
+            a := WinAlong[j] - WinEY[j] * rx + WinEX[j] * ry ;
+            spare := (ABS (WinOff[j] + WinEX[j] * rx + WinEY[j] * ry) > lim + WinSlack[j])
+                     OR (a < WinLo[j] - alim) OR (a > WinHi[j] + alim)
+         END ;
+         IF spare THEN
+            (* far from the line, or beside the edge, all through the window (WindowBound):
+               counted, not solved *)
             cover := Verts^[B^.v0 + j].cover ;
             IF NOT ((cover >= 0) AND (cover < NBodies) AND NOT Bodies^[cover].gone) THEN
                IF (spared < 0) OR (spared >= PeVariants) THEN

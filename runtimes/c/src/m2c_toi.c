@@ -557,9 +557,13 @@ typedef struct pe_window {
     double ca, sa;              /* cos, sin of X's angle now */
     double base;                /* m: the bound on a gap's change, its part common to every pair */
     double per_rho;             /* its part per metre of the vertex's radius */
+    double abase, aper_rho;     /* m, and m per metre of radius: the same for the place along an edge */
     double ex[M2C_TOI_MAX_VERTICES], ey[M2C_TOI_MAX_VERTICES];  /* each edge's outward unit normal now */
     double off[M2C_TOI_MAX_VERTICES];   /* m: the gap of X's centre beyond each edge's line now */
     double slack[M2C_TOI_MAX_VERTICES]; /* m: the margin of each line's offset */
+    double along[M2C_TOI_MAX_VERTICES]; /* m: X's centre along each edge (its tangent (-ey, ex)) now */
+    double lo[M2C_TOI_MAX_VERTICES], hi[M2C_TOI_MAX_VERTICES];  /* m: the edge's extent, widened by the
+                                                                   tolerance and the margins */
 } pe_window;
 
 /* The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
@@ -573,7 +577,12 @@ typedef struct pe_window {
  * |wy| w, xr = |wx - wy| w).  When |g(0)| exceeds both plus the tolerance
  * (first_contact's contact now) and a margin of 2^-30 of the sizes and of
  * the angles' lever for every rounding, the polynomial keeps the sign of
- * g(0) all through the window: no root, no contact (docs/toi.md, "Cost"). */
+ * g(0) all through the window: no root, no contact (docs/toi.md, "Cost").
+ * Likewise the place a(s) = t(s) . (d(s) + r(s)) of the vertex along the
+ * edge (t: the edge's unit tangent) changes by at most
+ * w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
+ * beyond the edge's extent widened by the tolerance, inside (evaluated on
+ * the exact motion) refuses every root of the window. */
 static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
                          pe_window *k)
 {
@@ -589,6 +598,8 @@ static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2
     double lever = fabs(q1.ang) + fabs(q2.ang) + 8.0;
     k->base = w * (wy * d + vel) + xn * xn * d + ctx->tol + 0x1p-30 * (1.0 + lever) * d;
     k->per_rho = w * wr + xr * xr + 0x1p-30 * (1.0 + lever);
+    k->abase = w * (wy * d + vel) + ctx->tol + 0x1p-30 * (1.0 + lever) * d;
+    k->aper_rho = w * (wy + fabs(X->om)) + 0x1p-30 * (1.0 + lever);
     k->on = xn <= 1.0 && xr <= 1.0 && k->base <= DBL_MAX && k->per_rho <= DBL_MAX
             && Y->nverts <= M2C_TOI_MAX_VERTICES;
     if (!k->on)
@@ -604,6 +615,10 @@ static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2
         k->ey[j] = ny;
         k->off[j] = nx * dx + ny * dy - ed->h;
         k->slack[j] = 0x1p-30 * fabs(ed->h);
+        k->along[j] = -ny * dx + nx * dy;
+        double margin = 0x1p-30 * (fabs(ed->s1) + fabs(ed->s2));
+        k->lo[j] = ed->s1 - margin;
+        k->hi[j] = ed->s2 + margin;
     }
 }
 
@@ -635,16 +650,21 @@ static void vertices_edges(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_si
     double t = 0.0;
     for (int32_t i = 0; i < A->nverts; i++) {
         const m2c_sim_vertex *v = &A->verts[i];
-        double rx = 0.0, ry = 0.0, lim = 0.0;
+        double rx = 0.0, ry = 0.0, lim = 0.0, alim = 0.0;
         int spared = v->rho == 0.0 ? fixed : turning;
         if (k.on) {
             rx = k.ca * v->lx - k.sa * v->ly;
             ry = k.sa * v->lx + k.ca * v->ly;
             lim = k.base + k.per_rho * v->rho;
+            alim = k.abase + k.aper_rho * v->rho;
         }
         for (int32_t j = 0; j < B->nverts; j++) {
-            if (k.on && fabs(k.off[j] + k.ex[j] * rx + k.ey[j] * ry) > lim + k.slack[j]) {
-                /* far from the line all through the window (window_bound): counted, not solved */
+            double a = 0.0;
+            if (k.on && (fabs(k.off[j] + k.ex[j] * rx + k.ey[j] * ry) > lim + k.slack[j]
+                         || (a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry) < k.lo[j] - alim
+                         || a > k.hi[j] + alim)) {
+                /* far from the line, or beside the edge, all through the window (window_bound):
+                 * counted, not solved */
                 int32_t cover = B->verts[j].cover;
                 if (!(cover >= 0 && ctx->m != NULL && !ctx->m->bodies[cover].gone))
                     pe_count(ctx, spared);

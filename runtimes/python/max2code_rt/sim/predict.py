@@ -512,9 +512,11 @@ class PredictMixin:
         vertices and Y the edges: None when the bound does not hold (a turn
         over 1 rad in the window), else (cos and sin of X's angle now, the
         bound's part common to every pair (m), its part per metre of a
-        vertex's radius, and per edge of Y: its outward unit normal now,
-        the gap of X's centre beyond its line (m), the margin of the line's
-        offset (m)).
+        vertex's radius, the same two for the place along an edge, and per
+        edge of Y: its outward unit normal now, the gap of X's centre beyond
+        its line (m), the margin of the line's offset (m), X's centre along
+        the edge's tangent (-ny, nx) now (m), the edge's extent widened by
+        the margins (m)).
 
         The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset
         from X's centre, |r| = rho, turning at wx) from the line of an edge
@@ -528,7 +530,12 @@ class PredictMixin:
         both plus the tolerance (first_contact's contact now) and a margin
         of 2^-30 of the sizes and of the angles' lever for every rounding,
         the polynomial keeps the sign of g(0) all through the window: no
-        root, no contact (docs/toi.md, "Cost")."""
+        root, no contact (docs/toi.md, "Cost").  Likewise the place
+        a(s) = t(s) . (d(s) + r(s)) of the vertex along the edge (t: the
+        edge's unit tangent) changes by at most w (|wy| (D + rho) + V +
+        |wx| rho): when a(0) lies farther than that beyond the edge's extent
+        widened by the tolerance, inside (evaluated on the exact motion)
+        refuses every root of the window."""
         x1, y1, u1, v1, ang1 = self.state_at(X, now)
         x2, y2, u2, v2, ang2 = self.state_at(Y, now)
         dx, dy = x1 - x2, y1 - y2
@@ -543,6 +550,8 @@ class PredictMixin:
         lever = math.fabs(ang1) + math.fabs(ang2) + 8.0
         base = w * (wy * d + vel) + xn * xn * d + self.s.tol + TWO_M30 * (1.0 + lever) * d
         per_rho = w * wr + xr * xr + TWO_M30 * (1.0 + lever)
+        abase = w * (wy * d + vel) + self.s.tol + TWO_M30 * (1.0 + lever) * d
+        aper_rho = w * (wy + math.fabs(X.om)) + TWO_M30 * (1.0 + lever)
         if not (xn <= 1.0 and xr <= 1.0 and base <= MAX_FLOAT and per_rho <= MAX_FLOAT):
             return None
         cb, sb = math.cos(ang2), math.sin(ang2)
@@ -550,8 +559,25 @@ class PredictMixin:
         for ed in Y.verts:
             nx = cb * ed.nx - sb * ed.ny
             ny = sb * ed.nx + cb * ed.ny
-            edges.append((nx, ny, nx * dx + ny * dy - ed.h, TWO_M30 * math.fabs(ed.h)))
-        return math.cos(ang1), math.sin(ang1), base, per_rho, edges
+            margin = TWO_M30 * (math.fabs(ed.s1) + math.fabs(ed.s2))
+            edges.append((nx, ny, nx * dx + ny * dy - ed.h, TWO_M30 * math.fabs(ed.h), -ny * dx + nx * dy,
+                          ed.s1 - margin, ed.s2 + margin))
+        return math.cos(ang1), math.sin(ang1), base, per_rho, abase, aper_rho, edges
+
+    @staticmethod
+    def spares(k, v: Vertex) -> list[bool]:
+        """For each edge of window_bound's k: vertex v surely stays far from
+        the edge's line, or beside the edge, all through the window."""
+        ca, sa, base, per_rho, abase, aper_rho, edges = k
+        rx = ca * v.lx - sa * v.ly
+        ry = sa * v.lx + ca * v.ly
+        lim = base + per_rho * v.rho
+        alim = abase + aper_rho * v.rho
+        out = []
+        for ex, ey, off, slack, along, lo, hi in edges:
+            a = along - ey * rx + ex * ry
+            out.append(math.fabs(off + ex * rx + ey * ry) > lim + slack or a < lo - alim or a > hi + alim)
+        return out
 
     def pe_variants(self, X: Body, Y: Body, now: float) -> tuple[int, int]:
         """The point_edge variants pe_coefficients picks for X's vertices
@@ -576,17 +602,15 @@ class PredictMixin:
                 for j in range(len(B.verts)):
                     best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
             return best
-        ca, sa, base, per_rho, edges = k
         turning, fixed = self.pe_variants(A, B, now)
         bodies = self.s.bodies
         for i, v in enumerate(A.verts):
-            rx = ca * v.lx - sa * v.ly
-            ry = sa * v.lx + ca * v.ly
-            lim = base + per_rho * v.rho
+            spare = self.spares(k, v)
             spared = fixed if v.rho == 0.0 else turning
-            for j, (ex, ey, off, slack) in enumerate(edges):
-                if math.fabs(off + ex * rx + ey * ry) > lim + slack:
-                    # far from the line all through the window (window_bound): counted, not solved
+            for j in range(len(B.verts)):
+                if spare[j]:
+                    # far from the line, or beside the edge, all through the window (window_bound):
+                    # counted, not solved
                     cover = B.verts[j].cover
                     if not (cover >= 0 and not bodies[cover].gone):
                         if spared < 0:

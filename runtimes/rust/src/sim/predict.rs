@@ -639,6 +639,9 @@ struct PeWindow {
     base: f64,
     /// its part per metre of the vertex's radius
     per_rho: f64,
+    /// m, and m per metre of radius: the same for the place along an edge
+    abase: f64,
+    aper_rho: f64,
     /// each edge's outward unit normal now
     ex: [f64; WINDOW_EDGES],
     ey: [f64; WINDOW_EDGES],
@@ -646,6 +649,11 @@ struct PeWindow {
     off: [f64; WINDOW_EDGES],
     /// m: the margin of each line's offset
     slack: [f64; WINDOW_EDGES],
+    /// m: X's centre along each edge (its tangent (-ey, ex)) now
+    along: [f64; WINDOW_EDGES],
+    /// m: the edge's extent, widened by the margins
+    lo: [f64; WINDOW_EDGES],
+    hi: [f64; WINDOW_EDGES],
 }
 
 /// The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
@@ -660,7 +668,11 @@ struct PeWindow {
 /// the tolerance (first_contact's contact now) and a margin of 2^-30 of
 /// the sizes and of the angles' lever for every rounding, the polynomial
 /// keeps the sign of g(0) all through the window: no root, no contact
-/// (docs/toi.md, "Cost").
+/// (docs/toi.md, "Cost").  Likewise the place a(s) = t(s) . (d(s) + r(s))
+/// of the vertex along the edge (t: the edge's unit tangent) changes by at
+/// most win (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than
+/// that beyond the edge's extent widened by the tolerance, inside
+/// (evaluated on the exact motion) refuses every root of the window.
 fn window_bound(verts: &[Vertex], tol: f64, x_: &Body, y_: &Body, now: f64, win: f64) -> PeWindow {
     let (x1, y1, u1, v1, ang1) = state_at(x_, now);
     let (x2, y2, u2, v2, ang2) = state_at(y_, now);
@@ -676,6 +688,8 @@ fn window_bound(verts: &[Vertex], tol: f64, x_: &Body, y_: &Body, now: f64, win:
     let lever = ang1.abs() + ang2.abs() + 8.0;
     let base = win * (wy * d + vel) + xn * xn * d + tol + TWO_M30 * (1.0 + lever) * d;
     let per_rho = win * wr + xr * xr + TWO_M30 * (1.0 + lever);
+    let abase = win * (wy * d + vel) + tol + TWO_M30 * (1.0 + lever) * d;
+    let aper_rho = win * (wy + x_.om.abs()) + TWO_M30 * (1.0 + lever);
     let on = xn <= 1.0 && xr <= 1.0 && base <= f64::MAX && per_rho <= f64::MAX && y_.nverts() <= WINDOW_EDGES;
     let mut k = PeWindow {
         on,
@@ -683,10 +697,15 @@ fn window_bound(verts: &[Vertex], tol: f64, x_: &Body, y_: &Body, now: f64, win:
         sa: 0.0,
         base,
         per_rho,
+        abase,
+        aper_rho,
         ex: [0.0; WINDOW_EDGES],
         ey: [0.0; WINDOW_EDGES],
         off: [0.0; WINDOW_EDGES],
         slack: [0.0; WINDOW_EDGES],
+        along: [0.0; WINDOW_EDGES],
+        lo: [0.0; WINDOW_EDGES],
+        hi: [0.0; WINDOW_EDGES],
     };
     if !on {
         return k;
@@ -702,6 +721,10 @@ fn window_bound(verts: &[Vertex], tol: f64, x_: &Body, y_: &Body, now: f64, win:
         k.ey[j] = ny;
         k.off[j] = nx * dx + ny * dy - ed.h;
         k.slack[j] = TWO_M30 * ed.h.abs();
+        k.along[j] = -ny * dx + nx * dy;
+        let margin = TWO_M30 * (ed.s1.abs() + ed.s2.abs());
+        k.lo[j] = ed.s1 - margin;
+        k.hi[j] = ed.s2 + margin;
     }
     k
 }
@@ -736,16 +759,24 @@ fn vertices_edges<E: Equations, W: PairEnv, C: Counter>(
     let (turning, fixed) = if k.on { pe_variants::<E>(a_, b_, now) } else { (-1, -1) };
     for i in 0..a_.nverts() {
         let v = &w.verts()[a_.vert(i)];
-        let (mut rx, mut ry, mut lim) = (0.0, 0.0, 0.0);
+        let (mut rx, mut ry, mut lim, mut alim) = (0.0, 0.0, 0.0, 0.0);
         let spared = if v.rho == 0.0 { fixed } else { turning };
         if k.on {
             rx = k.ca * v.lx - k.sa * v.ly;
             ry = k.sa * v.lx + k.ca * v.ly;
             lim = k.base + k.per_rho * v.rho;
+            alim = k.abase + k.aper_rho * v.rho;
         }
         for j in 0..b_.nverts() {
-            if k.on && (k.off[j] + k.ex[j] * rx + k.ey[j] * ry).abs() > lim + k.slack[j] {
-                // far from the line all through the window (window_bound): counted, not solved
+            let spare = k.on && {
+                let a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry;
+                (k.off[j] + k.ex[j] * rx + k.ey[j] * ry).abs() > lim + k.slack[j]
+                    || a < k.lo[j] - alim
+                    || a > k.hi[j] + alim
+            };
+            if spare {
+                // far from the line, or beside the edge, all through the window (window_bound):
+                // counted, not solved
                 let cover = w.verts()[b_.vert(j)].cover;
                 if !(cover >= 0 && w.covered(cover)) {
                     if spared < 0 {
