@@ -6,9 +6,13 @@ IMPLEMENTATION MODULE SimOverlap ;
 FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT cos, sin ;
 FROM CMath IMPORT sqrt ;
-FROM SimScene IMPORT Bodies, BodyRef, NBodies, Tol, Verts ;
+FROM SimScene IMPORT Bodies, BodyRef, MAX_VERTICES, NBodies, Tol, Verts ;
 FROM SimWorld IMPORT Inf ;
 FROM SimMotion IMPORT PointAt, StateAt ;
+
+VAR
+   (* separation's vertices of its two polygons *)
+   SepAX, SepAY, SepBX, SepBY: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
 
 
 (* The first body (by index) that A, with its centre moved to (x, y) at time
@@ -50,7 +54,7 @@ END overlapping ;
    centres less the radii). *)
 PROCEDURE separation (A, B: BodyRef; t: REAL) : REAL ;
 VAR
-   ax, ay, bx, by, s1, s2: REAL ;
+   ax, ay, bx, by: REAL ;
 BEGIN
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
       PointAt (A, -1, t, ax, ay) ;
@@ -59,11 +63,34 @@ BEGIN
    END ;
    IF NOT A^.polygon THEN RETURN circle_separation (A, B, t) END ;
    IF NOT B^.polygon THEN RETURN circle_separation (B, A, t) END ;
-   s1 := edges_separation (A, B, t) ;
-   s2 := edges_separation (B, A, t) ;
+   VertexPoints (A, t, SepAX, SepAY) ;
+   VertexPoints (B, t, SepBX, SepBY) ;
+   RETURN polygons_separation (A, B, t, SepAX, SepAY, SepBX, SepBY)
+END separation ;
+
+
+(* separation of two polygons whose vertices at t are (pax[k], pay[k]) and
+   (pbx[k], pby[k]). *)
+PROCEDURE polygons_separation (A, B: BodyRef; t: REAL; VAR pax, pay, pbx, pby: ARRAY OF REAL) : REAL ;
+VAR
+   s1, s2: REAL ;
+BEGIN
+   s1 := edges_separation (A, t, pbx, pby, B^.nv) ;
+   s2 := edges_separation (B, t, pax, pay, A^.nv) ;
    IF s2 > s1 THEN RETURN s2 END ;     (* Python's max: the first unless the second is larger *)
    RETURN s1
-END separation ;
+END polygons_separation ;
+
+
+(* The vertices (xs[k], ys[k]) (m) of polygon b at t. *)
+PROCEDURE VertexPoints (b: BodyRef; t: REAL; VAR xs, ys: ARRAY OF REAL) ;
+VAR
+   k: INTEGER ;
+BEGIN
+   FOR k := 0 TO b^.nv - 1 DO
+      PointAt (b, b^.v0 + k, t, xs[k], ys[k])
+   END
+END VertexPoints ;
 
 
 (* Outward unit normal (ox, oy) of edge j of P at t and the offset of its
@@ -84,19 +111,26 @@ END edge_line ;
 
 
 (* Along the edge normals of P: the largest over P's edges of the smallest
-   distance of Q's vertices beyond the edge's line. *)
-PROCEDURE edges_separation (P, Q: BodyRef; t: REAL) : REAL ;
+   distance of the nq vertices (qx[k], qy[k]) at t of the other polygon
+   beyond the edge's line.  P's lines are edge_line's, with the cos and sin
+   of P's angle taken once. *)
+PROCEDURE edges_separation (P: BodyRef; t: REAL; VAR qx, qy: ARRAY OF REAL; nq: INTEGER) : REAL ;
 VAR
-   best, lo, d, ox, oy, off, qx, qy: REAL ;
-   j, v: INTEGER ;
+   best, lo, d, ox, oy, off, px, py, vx, vy, ang, c, s: REAL ;
+   j, v, e: INTEGER ;
 BEGIN
+   StateAt (P, t, px, py, vx, vy, ang) ;
+   c := cos (ang) ;
+   s := sin (ang) ;
    best := -Inf ;
    FOR j := 0 TO P^.nv - 1 DO
-      edge_line (P, j, t, ox, oy, off) ;
+      e := P^.v0 + j ;
+      ox := c * Verts^[e].nx - s * Verts^[e].ny ;
+      oy := s * Verts^[e].nx + c * Verts^[e].ny ;
+      off := ox * px + oy * py + Verts^[e].h ;
       lo := Inf ;
-      FOR v := 0 TO Q^.nv - 1 DO
-         PointAt (Q, Q^.v0 + v, t, qx, qy) ;
-         d := ox * qx + oy * qy - off ;
+      FOR v := 0 TO nq - 1 DO
+         d := ox * qx[v] + oy * qy[v] - off ;
          IF d < lo THEN lo := d END
       END ;
       IF lo > best THEN best := lo END

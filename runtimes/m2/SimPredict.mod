@@ -22,14 +22,14 @@ FROM RealMath IMPORT cos, sin ;
 FROM Roots IMPORT SmallestRoot ;
 FROM CMath IMPORT sqrt ;
 FROM SimScene IMPORT Alpha, Bodies, BodyRef, CellH, CellW, EndT, GridMargin, GridNX, GridNY, GridX0, GridY0,
-                     Grow, HalfCell, MaxItems, NBodies, Tol, Vertex, Verts ;
+                     Grow, HalfCell, MAX_VERTICES, MaxItems, NBodies, Tol, Vertex, Verts ;
 FROM SimQueue IMPORT Event, FeatCC, FeatPE, KCell ;
 FROM SimGrid IMPORT Cells, large_near, Max, Min, Near ;
 FROM SimWorld IMPORT CcCounts, Fails, Inf, NCc, NPe, PeCounts, push, push_collision, push_horizon, Stats ;
 FROM SimMotion IMPORT PointAt, StateAt, TurnRate ;
 FROM SimSupport IMPORT schedule_support ;
 FROM SimSleep IMPORT grounded ;
-FROM SimOverlap IMPORT edge_line, separation ;
+FROM SimOverlap IMPORT edge_line, polygons_separation, separation, VertexPoints ;
 
 #include "circle_circle.mxd"
 #include "point_edge.mxd"
@@ -78,6 +78,15 @@ VAR
    ChkNow: REAL ;
    EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
    CapEdgePolys: INTEGER ;
+   (* WindowBound's values per edge of the window's edge polygon: the outward
+      unit normal now, the gap (m) of the vertex polygon's centre beyond the
+      edge's line now, and the margin (m) of the line's offset *)
+   WinEX, WinEY, WinOff, WinSlack: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
+   (* and the place (m) of that centre along the edge's tangent (-WinEY, WinEX)
+      now, and the edge's extent (m) widened by the margins *)
+   WinAlong, WinLo, WinHi: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
+   (* clear_time's vertices of its two polygons *)
+   ClrAX, ClrAY, ClrBX, ClrBY: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
 
 
 (* A neighbour of X's vertex i at t lies more than the tolerance behind the
@@ -562,16 +571,150 @@ BEGIN
 END CirclePolygon ;
 
 
+(* What every vertex-edge pair of a window shares, X holding the vertices
+   and Y the edges: FALSE when the bound does not hold (a turn over 1 rad
+   in the window); else cos and sin of X's angle now (ca, sa), the bound's
+   part common to every pair (base, m), its part per metre of a vertex's
+   radius (perRho), the same two for the place along an edge (abase,
+   aperRho), and per edge of Y WinEX, WinEY, WinOff, WinSlack, WinAlong,
+   WinLo, WinHi.
+
+   The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
+   X's centre, |r| = rho, turning at wx) from the line of an edge of Y (n:
+   its unit normal, turning at wy; d: X's centre less Y's) changes over
+   [0, w] by at most w (|wy| D + V + |wx - wy| rho), since
+   |g'| <= |wy| |d| + |d'| + |wx - wy| rho (D >= |d|, V >= |d'| over the
+   window); point_edge's polynomial is g with the sin and cos of both turns
+   replaced by their Taylor polynomials of order n >= 1, each off by at most
+   x^2/2 for a turn x <= 1 rad, so it is within (xn^2 D + xr^2 rho) of g
+   (xn = |wy| w, xr = |wx - wy| w).  When |g(0)| exceeds both plus the
+   tolerance (FirstContact's contact now) and a margin of 2^-30 of the sizes
+   and of the angles' lever for every rounding, the polynomial keeps the
+   sign of g(0) all through the window: no root, no contact (docs/toi.md,
+   "Cost").  Likewise the place a(s) = t(s) . (d(s) + r(s)) of the vertex
+   along the edge (t: the edge's unit tangent) changes by at most
+   w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
+   beyond the edge's extent widened by the tolerance, Inside (evaluated on
+   the exact motion) refuses every root of the window. *)
+PROCEDURE WindowBound (X, Y: BodyRef; now, w: REAL; VAR ca, sa, base, perRho, abase, aperRho: REAL) : BOOLEAN ;
+VAR
+   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2, dx, dy, u, v, ax, ay, speed, acc, d, vel: REAL ;
+   wy, wr, xn, xr, lever, cb, sb, nx, ny, margin: REAL ;
+   j, e: INTEGER ;
+BEGIN
+   StateAt (X, now, x1, y1, u1, v1, ang1) ;
+   StateAt (Y, now, x2, y2, u2, v2, ang2) ;
+   dx := x1 - x2 ;
+   dy := y1 - y2 ;
+   u := u1 - u2 ;
+   v := v1 - v2 ;
+   ax := X^.ax - Y^.ax ;
+   ay := X^.ay - Y^.ay ;
+   speed := sqrt (u * u + v * v) ;
+   acc := sqrt (ax * ax + ay * ay) ;
+   d := sqrt (dx * dx + dy * dy) + (speed + 0.5 * acc * w) * w ;
+   vel := speed + acc * w ;
+   wy := ABS (Y^.om) ;
+   wr := ABS (X^.om - Y^.om) ;
+   xn := wy * w ;
+   xr := wr * w ;
+   lever := ABS (ang1) + ABS (ang2) + 8.0 ;
+   base := w * (wy * d + vel) + xn * xn * d + Tol + TwoM30 * (1.0 + lever) * d ;
+   perRho := w * wr + xr * xr + TwoM30 * (1.0 + lever) ;
+   abase := w * (wy * d + vel) + Tol + TwoM30 * (1.0 + lever) * d ;
+   aperRho := w * (wy + ABS (X^.om)) + TwoM30 * (1.0 + lever) ;
+   IF NOT ((xn <= 1.0) AND (xr <= 1.0) AND (base <= MAX (REAL)) AND (perRho <= MAX (REAL))) THEN
+      RETURN FALSE
+   END ;
+   ca := cos (ang1) ;
+   sa := sin (ang1) ;
+   cb := cos (ang2) ;
+   sb := sin (ang2) ;
+   FOR j := 0 TO Y^.nv - 1 DO
+      e := Y^.v0 + j ;
+      nx := cb * Verts^[e].nx - sb * Verts^[e].ny ;
+      ny := sb * Verts^[e].nx + cb * Verts^[e].ny ;
+      WinEX[j] := nx ;
+      WinEY[j] := ny ;
+      WinOff[j] := nx * dx + ny * dy - Verts^[e].h ;
+      WinSlack[j] := TwoM30 * ABS (Verts^[e].h) ;
+      WinAlong[j] := -ny * dx + nx * dy ;
+      margin := TwoM30 * (ABS (Verts^[e].s1) + ABS (Verts^[e].s2)) ;
+      WinLo[j] := Verts^[e].s1 - margin ;
+      WinHi[j] := Verts^[e].s2 + margin
+   END ;
+   RETURN TRUE
+END WindowBound ;
+
+
+(* The point_edge variants PeCoefficients picks for X's vertices against
+   Y's edges now: turning for a vertex off X's centre that turns relative to
+   the edge, fixed for the others (rho 0 after the fold).  A variant reads
+   only which effects are zero (orbit, acceleration, the two turns), never
+   the positions, phases or the line's offset. *)
+PROCEDURE PeVariantsOf (X, Y: BodyRef; now: REAL; VAR turning, fixed: INTEGER) ;
+VAR
+   x1, y1, u1, v1, ang1, x2, y2, u2, v2, ang2, wr, rho: REAL ;
+BEGIN
+   StateAt (X, now, x1, y1, u1, v1, ang1) ;
+   StateAt (Y, now, x2, y2, u2, v2, ang2) ;
+   wr := X^.om - Y^.om ;
+   fixed := point_edge_variant (x1 - x2, u1 - u2, X^.ax - Y^.ax, y1 - y2, v1 - v2, X^.ay - Y^.ay, 0.0, wr, 0.0,
+                                Y^.om, 0.0, 0.0) ;
+   IF wr = 0.0 THEN rho := 0.0 ELSE rho := 1.0 END ;
+   turning := point_edge_variant (x1 - x2, u1 - u2, X^.ax - Y^.ax, y1 - y2, v1 - v2, X^.ay - Y^.ay, rho, wr, 0.0,
+                                  Y^.om, 0.0, 0.0)
+END PeVariantsOf ;
+
+
+(* Every vertex of A against every edge of B within [0, w] after now; the
+   pairs WindowBound proves apart are counted, not solved. *)
 PROCEDURE VerticesEdges (A, B: BodyRef; now, w: REAL; VAR best: Best) ;
 VAR
-   i, j: INTEGER ;
-   t: REAL ;
-   found: BOOLEAN ;
+   i, j, vi, cover, turning, fixed, spared: INTEGER ;
+   t, ca, sa, base, perRho, abase, aperRho, rx, ry, lim, alim, a: REAL ;
+   on, found, spare: BOOLEAN ;
 BEGIN
+   on := WindowBound (A, B, now, w, ca, sa, base, perRho, abase, aperRho) ;
+   turning := -1 ;
+   fixed := -1 ;
+   IF on THEN PeVariantsOf (A, B, now, turning, fixed) END ;
    FOR i := 0 TO A^.nv - 1 DO
+      vi := A^.v0 + i ;
+      rx := 0.0 ;
+      ry := 0.0 ;
+      lim := 0.0 ;
+      alim := 0.0 ;
+      IF Verts^[vi].rho = 0.0 THEN spared := fixed ELSE spared := turning END ;
+      IF on THEN
+         rx := ca * Verts^[vi].lx - sa * Verts^[vi].ly ;
+         ry := sa * Verts^[vi].lx + ca * Verts^[vi].ly ;
+         lim := base + perRho * Verts^[vi].rho ;
+         alim := abase + aperRho * Verts^[vi].rho
+      END ;
       FOR j := 0 TO B^.nv - 1 DO
-         found := PredictPE (A, B, A^.v0 + i, j, now, w, t) ;
-         Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
+         spare := FALSE ;
+         IF on THEN
+            a := WinAlong[j] - WinEY[j] * rx + WinEX[j] * ry ;
+            spare := (ABS (WinOff[j] + WinEX[j] * rx + WinEY[j] * ry) > lim + WinSlack[j])
+                     OR (a < WinLo[j] - alim) OR (a > WinHi[j] + alim)
+         END ;
+         IF spare THEN
+            (* far from the line, or beside the edge, all through the window (WindowBound):
+               counted, not solved *)
+            cover := Verts^[B^.v0 + j].cover ;
+            IF NOT ((cover >= 0) AND (cover < NBodies) AND NOT Bodies^[cover].gone) THEN
+               IF (spared < 0) OR (spared >= PeVariants) THEN
+                  Fails ("point_edge: the scene uses an effect the generated code leaves out")
+               ELSE
+                  INC (PeCounts^[spared]) ;
+                  INC (Stats.features)
+               END
+            END
+         ELSE
+            found := PredictPE (A, B, vi, j, now, w, t) ;
+            Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
+         END
       END
    END
 END VerticesEdges ;
@@ -633,6 +776,21 @@ BEGIN
 END reach ;
 
 
+(* reach of a polygon whose n vertices now are (xs[k], ys[k]). *)
+PROCEDURE reach_points (nx, ny: REAL; VAR xs, ys: ARRAY OF REAL; n: INTEGER) : REAL ;
+VAR
+   best, d: REAL ;
+   k: INTEGER ;
+BEGIN
+   best := -Inf ;
+   FOR k := 0 TO n - 1 DO
+      d := nx * xs[k] + ny * ys[k] ;
+      IF d > best THEN best := d END        (* Python's max(best, d) *)
+   END ;
+   RETURN best
+END reach_points ;
+
+
 (* clear_time along each edge normal of P (P does not turn, T does): the
    largest of the times. *)
 PROCEDURE clear_axes (T, P: BodyRef; now: REAL) : REAL ;
@@ -670,7 +828,8 @@ END clear_axes ;
    separation (which may turn: unsigned norms). *)
 PROCEDURE clear_time (A, B: BodyRef; now: REAL) : REAL ;
 VAR
-   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, hi, lo, spin, along, anyway: REAL ;
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, hi, lo, spin, along, anyway, sep: REAL ;
+   shared: BOOLEAN ;
 BEGIN
    IF B^.polygon AND (B^.om = 0.0) AND (TurnRate (A) > 0.0) THEN RETURN clear_axes (A, B, now) END ;
    IF A^.polygon AND (A^.om = 0.0) AND (TurnRate (B) > 0.0) THEN RETURN clear_axes (B, A, now) END ;
@@ -682,13 +841,27 @@ BEGIN
    IF NOT (d > 0.0) THEN RETURN 0.0 END ;
    nx := dx / d ;
    ny := dy / d ;
-   hi := reach (A, nx, ny, now) ;
-   lo := -reach (B, -nx, -ny, now) ;
+   shared := A^.polygon AND B^.polygon ;
+   IF shared THEN
+      (* two polygons: their vertices now, once for reach and the separation *)
+      VertexPoints (A, now, ClrAX, ClrAY) ;
+      VertexPoints (B, now, ClrBX, ClrBY) ;
+      hi := reach_points (nx, ny, ClrAX, ClrAY, A^.nv) ;
+      lo := -reach_points (-nx, -ny, ClrBX, ClrBY, B^.nv)
+   ELSE
+      hi := reach (A, nx, ny, now) ;
+      lo := -reach (B, -nx, -ny, now)
+   END ;
    spin := A^.bound * TurnRate (A) + B^.bound * TurnRate (B) ;
    along := clear_root (lo - hi - Tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
                         ABS (nx * (B^.ax - A^.ax) + ny * (B^.ay - A^.ay))) ;
    (* and along the best separating axis, which may turn: the norms, |x| + |y| *)
-   anyway := clear_root (separation (A, B, now) - Tol, spin + ABS (u2 - u1) + ABS (v2 - v1),
+   IF shared THEN
+      sep := polygons_separation (A, B, now, ClrAX, ClrAY, ClrBX, ClrBY)
+   ELSE
+      sep := separation (A, B, now)
+   END ;
+   anyway := clear_root (sep - Tol, spin + ABS (u2 - u1) + ABS (v2 - v1),
                          ABS (B^.ax - A^.ax) + ABS (B^.ay - A^.ay)) ;
    IF anyway > along THEN RETURN anyway END ;     (* Python's max(along, anyway) *)
    RETURN along

@@ -359,6 +359,24 @@ static int predict_cc(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_bod
     return circles_first(ctx, p1, A->r, p2, rb, w, out);
 }
 
+/* Counts a point_edge prediction of variant idx (point_edge_variant): its
+ * variant and the features counter; without a world, a variant of an
+ * effect the generated code leaves out (idx < 0) is an error. */
+static void pe_count(m2c_toi_ctx *ctx, int idx)
+{
+    m2c_world *m = ctx->m;
+    if (m == NULL) {
+        ctx->error |= idx < 0;
+        return;
+    }
+    if (idx < 0)
+        ctx->die(m, "point_edge: the scene uses an effect the generated code leaves out");
+    if (idx >= m->n_pe)
+        ctx->die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
+    m->pe_counts[idx]++;
+    m->stats.features++;
+}
+
 /* The point_edge polynomial (its degree; coef[0]: the gap now) of a circle
  * of radius rad whose centre orbits X's centre at rho (phase beta in X's
  * frame) against the line of edge j of Y, in s = t - now. */
@@ -380,18 +398,7 @@ int m2c_toi_pe_coefficients(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_s
     }
     double px = q1.x - q2.x, u = q1.vx - q2.vx, ax = X->ax - Y->ax;
     double py = q1.y - q2.y, v = q1.vy - q2.vy, ay = X->ay - Y->ay;
-    int idx = point_edge_variant(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h);
-    m2c_world *m = ctx->m;
-    if (m == NULL) {
-        ctx->error |= idx < 0;
-    } else {
-        if (idx < 0)
-            ctx->die(m, "point_edge: the scene uses an effect the generated code leaves out");
-        if (idx >= m->n_pe)
-            ctx->die(m, "point_edge: variant %d, but the build counts %d variants", idx, m->n_pe);
-        m->pe_counts[idx]++;
-        m->stats.features++;
-    }
+    pe_count(ctx, point_edge_variant(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h));
     return point_edge_coefficients(px, u, ax, py, v, ay, rho, wr, phr, Y->om, phn, h, coef);
 }
 
@@ -542,12 +549,128 @@ static void circle_polygon(m2c_toi_ctx *ctx, const m2c_sim_body *C, const m2c_si
     }
 }
 
+/* What every vertex-edge pair of a window shares (window_bound).  X holds
+ * the vertices, Y the edges. */
+typedef struct pe_window {
+    int on;                     /* the bound holds (both turns stay within 1 rad over the window) and Y's
+                                   edges fit the arrays */
+    double ca, sa;              /* cos, sin of X's angle now */
+    double base;                /* m: the bound on a gap's change, its part common to every pair */
+    double per_rho;             /* its part per metre of the vertex's radius */
+    double abase, aper_rho;     /* m, and m per metre of radius: the same for the place along an edge */
+    double ex[M2C_TOI_MAX_VERTICES], ey[M2C_TOI_MAX_VERTICES];  /* each edge's outward unit normal now */
+    double off[M2C_TOI_MAX_VERTICES];   /* m: the gap of X's centre beyond each edge's line now */
+    double slack[M2C_TOI_MAX_VERTICES]; /* m: the margin of each line's offset */
+    double along[M2C_TOI_MAX_VERTICES]; /* m: X's centre along each edge (its tangent (-ey, ex)) now */
+    double lo[M2C_TOI_MAX_VERTICES], hi[M2C_TOI_MAX_VERTICES];  /* m: the edge's extent, widened by the
+                                                                   tolerance and the margins */
+} pe_window;
+
+/* The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
+ * X's centre, |r| = rho, turning at wx) from the line of an edge of Y (n:
+ * its unit normal, turning at wy; d: X's centre less Y's) changes over
+ * [0, w] by at most w (|wy| D + V + |wx - wy| rho), since
+ * |g'| <= |wy| |d| + |d'| + |wx - wy| rho (D >= |d|, V >= |d'| over the
+ * window); point_edge's polynomial is g with the sin and cos of both turns
+ * replaced by their Taylor polynomials of order n >= 1, each off by at most
+ * x^2/2 for a turn x <= 1 rad, so it is within (xn^2 D + xr^2 rho) of g (xn =
+ * |wy| w, xr = |wx - wy| w).  When |g(0)| exceeds both plus the tolerance
+ * (first_contact's contact now) and a margin of 2^-30 of the sizes and of
+ * the angles' lever for every rounding, the polynomial keeps the sign of
+ * g(0) all through the window: no root, no contact (docs/toi.md, "Cost").
+ * Likewise the place a(s) = t(s) . (d(s) + r(s)) of the vertex along the
+ * edge (t: the edge's unit tangent) changes by at most
+ * w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
+ * beyond the edge's extent widened by the tolerance, inside (evaluated on
+ * the exact motion) refuses every root of the window. */
+static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
+                         pe_window *k)
+{
+    m2c_sim_motion q1 = m2c_sim_state_at(X, now);
+    m2c_sim_motion q2 = m2c_sim_state_at(Y, now);
+    double dx = q1.x - q2.x, dy = q1.y - q2.y;
+    double u = q1.vx - q2.vx, v = q1.vy - q2.vy, ax = X->ax - Y->ax, ay = X->ay - Y->ay;
+    double speed = sqrt(u * u + v * v), acc = sqrt(ax * ax + ay * ay);
+    double d = sqrt(dx * dx + dy * dy) + (speed + 0.5 * acc * w) * w;
+    double vel = speed + acc * w;
+    double wy = fabs(Y->om), wr = fabs(X->om - Y->om);
+    double xn = wy * w, xr = wr * w;
+    double lever = fabs(q1.ang) + fabs(q2.ang) + 8.0;
+    k->base = w * (wy * d + vel) + xn * xn * d + ctx->tol + 0x1p-30 * (1.0 + lever) * d;
+    k->per_rho = w * wr + xr * xr + 0x1p-30 * (1.0 + lever);
+    k->abase = w * (wy * d + vel) + ctx->tol + 0x1p-30 * (1.0 + lever) * d;
+    k->aper_rho = w * (wy + fabs(X->om)) + 0x1p-30 * (1.0 + lever);
+    k->on = xn <= 1.0 && xr <= 1.0 && k->base <= DBL_MAX && k->per_rho <= DBL_MAX
+            && Y->nverts <= M2C_TOI_MAX_VERTICES;
+    if (!k->on)
+        return;
+    k->ca = cos(q1.ang);
+    k->sa = sin(q1.ang);
+    double cb = cos(q2.ang), sb = sin(q2.ang);
+    for (int32_t j = 0; j < Y->nverts; j++) {
+        const m2c_sim_vertex *ed = &Y->verts[j];
+        double nx = cb * ed->nx - sb * ed->ny;
+        double ny = sb * ed->nx + cb * ed->ny;
+        k->ex[j] = nx;
+        k->ey[j] = ny;
+        k->off[j] = nx * dx + ny * dy - ed->h;
+        k->slack[j] = 0x1p-30 * fabs(ed->h);
+        k->along[j] = -ny * dx + nx * dy;
+        double margin = 0x1p-30 * (fabs(ed->s1) + fabs(ed->s2));
+        k->lo[j] = ed->s1 - margin;
+        k->hi[j] = ed->s2 + margin;
+    }
+}
+
+/* The point_edge variants m2c_toi_pe_coefficients picks for X's vertices
+ * against Y's edges now: *turning for a vertex off X's centre that turns
+ * relative to the edge, *fixed for the others (rho 0 after the fold).  A
+ * variant reads only which effects are zero (orbit, acceleration, the two
+ * turns), never the positions, phases or the line's offset. */
+static void pe_variants(const m2c_sim_body *X, const m2c_sim_body *Y, double now, int *turning, int *fixed)
+{
+    m2c_sim_motion q1 = m2c_sim_state_at(X, now);
+    m2c_sim_motion q2 = m2c_sim_state_at(Y, now);
+    double px = q1.x - q2.x, u = q1.vx - q2.vx, ax = X->ax - Y->ax;
+    double py = q1.y - q2.y, v = q1.vy - q2.vy, ay = X->ay - Y->ay;
+    double wr = X->om - Y->om;
+    *turning = point_edge_variant(px, u, ax, py, v, ay, wr == 0.0 ? 0.0 : 1.0, wr, 0.0, Y->om, 0.0, 0.0);
+    *fixed = point_edge_variant(px, u, ax, py, v, ay, 0.0, wr, 0.0, Y->om, 0.0, 0.0);
+}
+
+/* Every vertex of A against every edge of B within [0, w] after now; the
+ * pairs far_from_line proves apart are counted, not solved. */
 static void vertices_edges(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, double now, double w, best *bs)
 {
+    pe_window k;
+    window_bound(ctx, A, B, now, w, &k);
+    int turning = -1, fixed = -1;
+    if (k.on)
+        pe_variants(A, B, now, &turning, &fixed);
     double t = 0.0;
     for (int32_t i = 0; i < A->nverts; i++) {
+        const m2c_sim_vertex *v = &A->verts[i];
+        double rx = 0.0, ry = 0.0, lim = 0.0, alim = 0.0;
+        int spared = v->rho == 0.0 ? fixed : turning;
+        if (k.on) {
+            rx = k.ca * v->lx - k.sa * v->ly;
+            ry = k.sa * v->lx + k.ca * v->ly;
+            lim = k.base + k.per_rho * v->rho;
+            alim = k.abase + k.aper_rho * v->rho;
+        }
         for (int32_t j = 0; j < B->nverts; j++) {
-            int found = predict_pe(ctx, A, B, &A->verts[i], j, now, w, &t);
+            double a = 0.0;
+            if (k.on && (fabs(k.off[j] + k.ex[j] * rx + k.ey[j] * ry) > lim + k.slack[j]
+                         || (a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry) < k.lo[j] - alim
+                         || a > k.hi[j] + alim)) {
+                /* far from the line, or beside the edge, all through the window (window_bound):
+                 * counted, not solved */
+                int32_t cover = B->verts[j].cover;
+                if (!(cover >= 0 && ctx->m != NULL && !ctx->m->bodies[cover].gone))
+                    pe_count(ctx, spared);
+                continue;
+            }
+            int found = predict_pe(ctx, A, B, v, j, now, w, &t);
             better(bs, found, t, M2C_SIM_PE, A, B, i, j);
         }
     }
@@ -581,6 +704,42 @@ static double reach(m2c_toi_ctx *ctx, const m2c_sim_body *b, double nx, double n
     }
     return best;
 }
+
+/* The vertices (xs[k], ys[k]) of polygon b at t (m). */
+static void vertex_points(m2c_world *m, const m2c_sim_body *b, double t, double *xs, double *ys)
+{
+    if (m != NULL) {
+        for (int32_t k = 0; k < b->nverts; k++)
+            m2c_sim_point_at(m, b, &b->verts[k], t, &xs[k], &ys[k]);
+        return;
+    }
+    /* no world, no cache: m2c_sim_point_at's values, cos and sin of each angle in one go */
+    m2c_sim_motion q = m2c_sim_state_at(b, t);
+    for (int32_t k = 0; k < b->nverts; k++) {
+        const m2c_sim_vertex *v = &b->verts[k];
+        if (v->rho == 0.0) {
+            xs[k] = q.x;
+            ys[k] = q.y;
+            continue;
+        }
+        double a = q.ang + v->beta;
+        double c = cos(a), sn = sin(a);
+        xs[k] = q.x + v->rho * c;
+        ys[k] = q.y + v->rho * sn;
+    }
+}
+
+/* reach of a polygon whose vertices now are (xs[k], ys[k]), k < n. */
+static double reach_points(double nx, double ny, const double *xs, const double *ys, int32_t n)
+{
+    double best = -INFINITY;
+    for (int32_t k = 0; k < n; k++)
+        best = m2c_sim_max(best, nx * xs[k] + ny * ys[k]);
+    return best;
+}
+
+static double polygons_separation(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, double t,
+                                  const double *ax, const double *ay, const double *bx, const double *by);
 
 /* clear_time along each edge normal of P (P does not turn, T does). */
 static double clear_axes(m2c_toi_ctx *ctx, const m2c_sim_body *T, const m2c_sim_body *P, double now)
@@ -618,15 +777,29 @@ static double clear_time(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_
     if (!(d > 0.0))
         return 0.0;
     double nx = dx / d, ny = dy / d;
-    double hi = reach(ctx, A, nx, ny, now);
-    double lo = -reach(ctx, B, -nx, -ny, now);
+    /* two polygons: their vertices now, once for reach and the separation */
+    double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
+    int shared = A->polygon && B->polygon && A->nverts <= M2C_TOI_MAX_VERTICES && B->nverts <= M2C_TOI_MAX_VERTICES;
+    double hi, lo, sep;
+    if (shared) {
+        vertex_points(ctx->m, A, now, ax, ay);
+        vertex_points(ctx->m, B, now, bx, by);
+        hi = reach_points(nx, ny, ax, ay, A->nverts);
+        lo = -reach_points(-nx, -ny, bx, by, B->nverts);
+    } else {
+        hi = reach(ctx, A, nx, ny, now);
+        lo = -reach(ctx, B, -nx, -ny, now);
+    }
     double spin = A->bound * m2c_sim_turn_rate(A) + B->bound * m2c_sim_turn_rate(B);
     double tol = ctx->tol;
     double along = clear_root(lo - hi - tol, spin - (nx * (q2.vx - q1.vx) + ny * (q2.vy - q1.vy)),
                               fabs(nx * (B->ax - A->ax) + ny * (B->ay - A->ay)));
     /* and along the best separating axis, which may turn: the norms, |x| + |y| */
-    double anyway = clear_root(m2c_sim_separation(ctx->m, A, B, now) - tol,
-                               spin + fabs(q2.vx - q1.vx) + fabs(q2.vy - q1.vy),
+    if (shared)
+        sep = polygons_separation(ctx->m, A, B, now, ax, ay, bx, by);
+    else
+        sep = m2c_sim_separation(ctx->m, A, B, now);
+    double anyway = clear_root(sep - tol, spin + fabs(q2.vx - q1.vx) + fabs(q2.vy - q1.vy),
                                fabs(B->ax - A->ax) + fabs(B->ay - A->ay));
     return m2c_sim_max(along, anyway);
 }
@@ -664,22 +837,44 @@ void m2c_sim_edge_line(const m2c_sim_body *P, int32_t j, double t, double *ox, d
 }
 
 /* Along the edge normals of P: the largest over P's edges of the smallest
- * distance of Q's vertices beyond the edge's line. */
-static double edges_separation(m2c_world *m, const m2c_sim_body *P, const m2c_sim_body *Q, double t)
+ * distance of Q's vertices beyond the edge's line; Q's vertices at t from
+ * (qx, qy) when given, else computed (a polygon of more vertices than the
+ * buffers hold).  P's lines are m2c_sim_edge_line's, with the cos and sin
+ * of P's angle taken once. */
+static double edges_separation(m2c_world *m, const m2c_sim_body *P, const m2c_sim_body *Q, double t, const double *qx,
+                               const double *qy)
 {
+    m2c_sim_motion q = m2c_sim_state_at(P, t);
+    double c = cos(q.ang);
+    double s = sin(q.ang);
     double best = -INFINITY;
     for (int32_t j = 0; j < P->nverts; j++) {
-        double ox, oy, off;
-        m2c_sim_edge_line(P, j, t, &ox, &oy, &off);
+        const m2c_sim_vertex *ed = &P->verts[j];
+        double ox = c * ed->nx - s * ed->ny;
+        double oy = s * ed->nx + c * ed->ny;
+        double off = ox * q.x + oy * q.y + ed->h;
         double lo = INFINITY;
         for (int32_t k = 0; k < Q->nverts; k++) {
-            double qx, qy;
-            m2c_sim_point_at(m, Q, &Q->verts[k], t, &qx, &qy);
-            lo = m2c_sim_min(lo, ox * qx + oy * qy - off);
+            double px, py;
+            if (qx != NULL) {
+                px = qx[k];
+                py = qy[k];
+            } else {
+                m2c_sim_point_at(m, Q, &Q->verts[k], t, &px, &py);
+            }
+            lo = m2c_sim_min(lo, ox * px + oy * py - off);
         }
         best = m2c_sim_max(best, lo);
     }
     return best;
+}
+
+/* m2c_sim_separation of two polygons whose vertices at t are (ax, ay) and
+ * (bx, by), or NULL: computed on the way. */
+static double polygons_separation(m2c_world *m, const m2c_sim_body *A, const m2c_sim_body *B, double t,
+                                  const double *ax, const double *ay, const double *bx, const double *by)
+{
+    return m2c_sim_max(edges_separation(m, A, B, t, bx, by), edges_separation(m, B, A, t, ax, ay));
 }
 
 /* A circle against a polygon: along P's edge normals, and along the line
@@ -735,7 +930,12 @@ double m2c_sim_separation(m2c_world *m, const m2c_sim_body *A, const m2c_sim_bod
         return circle_separation(m, A, B, t);
     if (!B->polygon)
         return circle_separation(m, B, A, t);
-    return m2c_sim_max(edges_separation(m, A, B, t), edges_separation(m, B, A, t));
+    if (A->nverts > M2C_TOI_MAX_VERTICES || B->nverts > M2C_TOI_MAX_VERTICES)
+        return polygons_separation(m, A, B, t, NULL, NULL, NULL, NULL);
+    double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
+    vertex_points(m, A, t, ax, ay);
+    vertex_points(m, B, t, bx, by);
+    return polygons_separation(m, A, B, t, ax, ay, bx, by);
 }
 
 /* Contact point (cx, cy) (m) and unit normal (nx, ny) from A to B of a

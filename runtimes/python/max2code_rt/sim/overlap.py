@@ -46,7 +46,7 @@ class OverlapMixin:
             return self.circle_separation(A, B, t)
         if not B.polygon:
             return self.circle_separation(B, A, t)
-        return max(self.edges_separation(A, B, t), self.edges_separation(B, A, t))
+        return self.polygons_separation(A, B, t, self.vertices(A, t), self.vertices(B, t))
 
     def edge_line(self, P: Body, j: int, t: float):
         """Outward unit normal (ox, oy) of edge j of P at t and the offset
@@ -59,18 +59,32 @@ class OverlapMixin:
         oy = s * ed.nx + c * ed.ny
         return ox, oy, ox * px + oy * py + ed.h
 
-    def edges_separation(self, P: Body, Q: Body, t: float) -> float:
+    def vertices(self, Q: Body, t: float) -> list[tuple[float, float]]:
+        """Q's vertices at t."""
+        return [self.point_at(Q, v, t) for v in Q.verts]
+
+    def edges_separation(self, P: Body, pts, t: float) -> float:
         """Along the edge normals of P: the largest over P's edges of the
-        smallest distance of Q's vertices beyond the edge's line."""
+        smallest distance of Q's vertices (pts, at t) beyond the edge's
+        line.  P's lines are edge_line's, with the cos and sin of P's angle
+        taken once."""
+        px, py, _, _, ang = self.state_at(P, t)
+        c = math.cos(ang)
+        s = math.sin(ang)
         best = -math.inf
-        pts = [self.point_at(Q, v, t) for v in Q.verts]
-        for j in range(len(P.verts)):
-            ox, oy, off = self.edge_line(P, j, t)
+        for ed in P.verts:
+            ox = c * ed.nx - s * ed.ny
+            oy = s * ed.nx + c * ed.ny
+            off = ox * px + oy * py + ed.h
             lo = math.inf
             for qx, qy in pts:
                 lo = min(lo, ox * qx + oy * qy - off)
             best = max(best, lo)
         return best
+
+    def polygons_separation(self, A: Body, B: Body, t: float, pa, pb) -> float:
+        """separation of two polygons whose vertices at t are pa and pb."""
+        return max(self.edges_separation(A, pb, t), self.edges_separation(B, pa, t))
 
     def circle_separation(self, C: Body, P: Body, t: float) -> float:
         cx, cy = self.point_at(C, None, t)

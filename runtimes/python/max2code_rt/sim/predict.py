@@ -23,6 +23,7 @@ CC, PE = 0, 1
 CHAIN = 8
 TWO_M40 = 2.0 ** -40  # circles_apart's margins: far above the coefficients' rounding
 TWO_M30 = 2.0 ** -30
+MAX_FLOAT = 1.7976931348623157e308
 TWO_M900 = 2.0 ** -900  # ... and its bounds on sizes: nothing underflows or overflows
 TWO_M450 = 2.0 ** -450
 TWO_P450 = 2.0 ** 450
@@ -426,14 +427,24 @@ class PredictMixin:
         if not (d > 0.0):
             return 0.0
         nx, ny = dx / d, dy / d
-        hi = self.reach(A, nx, ny, now)
-        lo = -self.reach(B, -nx, -ny, now)
+        if A.polygon and B.polygon:
+            # two polygons: their vertices now, once for reach and the separation
+            pa, pb = self.vertices(A, now), self.vertices(B, now)
+            hi = self.reach_points(nx, ny, pa)
+            lo = -self.reach_points(-nx, -ny, pb)
+        else:
+            hi = self.reach(A, nx, ny, now)
+            lo = -self.reach(B, -nx, -ny, now)
         spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
         tol = self.s.tol
         along = self.clear_root(lo - hi - tol, spin - (nx * (u2 - u1) + ny * (v2 - v1)),
                                 math.fabs(nx * (B.ax - A.ax) + ny * (B.ay - A.ay)))
         # and along the best separating axis, which may turn: the norms, |x| + |y|
-        anyway = self.clear_root(self.separation(A, B, now) - tol,
+        if A.polygon and B.polygon:
+            sep = self.polygons_separation(A, B, now, pa, pb)
+        else:
+            sep = self.separation(A, B, now)
+        anyway = self.clear_root(sep - tol,
                                  spin + math.fabs(u2 - u1) + math.fabs(v2 - v1),
                                  math.fabs(B.ax - A.ax) + math.fabs(B.ay - A.ay))
         return max(along, anyway)
@@ -446,6 +457,14 @@ class PredictMixin:
         best = -math.inf
         for v in b.verts:
             px, py = self.point_at(b, v, now)
+            best = max(best, nx * px + ny * py)
+        return best
+
+    @staticmethod
+    def reach_points(nx: float, ny: float, pts) -> float:
+        """reach of a polygon whose vertices now are pts."""
+        best = -math.inf
+        for px, py in pts:
             best = max(best, nx * px + ny * py)
         return best
 
@@ -488,9 +507,117 @@ class PredictMixin:
             best = self._better(best, self.predict_cc(C, P, v, 0.0, now, w), CC, C.idx, P.idx, -1, k)
         return best
 
+    def window_bound(self, X: Body, Y: Body, now: float, w: float):
+        """What every vertex-edge pair of a window shares, X holding the
+        vertices and Y the edges: None when the bound does not hold (a turn
+        over 1 rad in the window), else (cos and sin of X's angle now, the
+        bound's part common to every pair (m), its part per metre of a
+        vertex's radius, the same two for the place along an edge, and per
+        edge of Y: its outward unit normal now, the gap of X's centre beyond
+        its line (m), the margin of the line's offset (m), X's centre along
+        the edge's tangent (-ny, nx) now (m), the edge's extent widened by
+        the margins (m)).
+
+        The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset
+        from X's centre, |r| = rho, turning at wx) from the line of an edge
+        of Y (n: its unit normal, turning at wy; d: X's centre less Y's)
+        changes over [0, w] by at most w (|wy| D + V + |wx - wy| rho), since
+        |g'| <= |wy| |d| + |d'| + |wx - wy| rho (D >= |d|, V >= |d'| over the
+        window); point_edge's polynomial is g with the sin and cos of both
+        turns replaced by their Taylor polynomials of order n >= 1, each off
+        by at most x^2/2 for a turn x <= 1 rad, so it is within (xn^2 D +
+        xr^2 rho) of g (xn = |wy| w, xr = |wx - wy| w).  When |g(0)| exceeds
+        both plus the tolerance (first_contact's contact now) and a margin
+        of 2^-30 of the sizes and of the angles' lever for every rounding,
+        the polynomial keeps the sign of g(0) all through the window: no
+        root, no contact (docs/toi.md, "Cost").  Likewise the place
+        a(s) = t(s) . (d(s) + r(s)) of the vertex along the edge (t: the
+        edge's unit tangent) changes by at most w (|wy| (D + rho) + V +
+        |wx| rho): when a(0) lies farther than that beyond the edge's extent
+        widened by the tolerance, inside (evaluated on the exact motion)
+        refuses every root of the window."""
+        x1, y1, u1, v1, ang1 = self.state_at(X, now)
+        x2, y2, u2, v2, ang2 = self.state_at(Y, now)
+        dx, dy = x1 - x2, y1 - y2
+        u, v, ax, ay = u1 - u2, v1 - v2, X.ax - Y.ax, X.ay - Y.ay
+        speed = math.sqrt(u * u + v * v)
+        acc = math.sqrt(ax * ax + ay * ay)
+        d = math.sqrt(dx * dx + dy * dy) + (speed + 0.5 * acc * w) * w
+        vel = speed + acc * w
+        wy = math.fabs(Y.om)
+        wr = math.fabs(X.om - Y.om)
+        xn, xr = wy * w, wr * w
+        lever = math.fabs(ang1) + math.fabs(ang2) + 8.0
+        base = w * (wy * d + vel) + xn * xn * d + self.s.tol + TWO_M30 * (1.0 + lever) * d
+        per_rho = w * wr + xr * xr + TWO_M30 * (1.0 + lever)
+        abase = w * (wy * d + vel) + self.s.tol + TWO_M30 * (1.0 + lever) * d
+        aper_rho = w * (wy + math.fabs(X.om)) + TWO_M30 * (1.0 + lever)
+        if not (xn <= 1.0 and xr <= 1.0 and base <= MAX_FLOAT and per_rho <= MAX_FLOAT):
+            return None
+        cb, sb = math.cos(ang2), math.sin(ang2)
+        edges = []
+        for ed in Y.verts:
+            nx = cb * ed.nx - sb * ed.ny
+            ny = sb * ed.nx + cb * ed.ny
+            margin = TWO_M30 * (math.fabs(ed.s1) + math.fabs(ed.s2))
+            edges.append((nx, ny, nx * dx + ny * dy - ed.h, TWO_M30 * math.fabs(ed.h), -ny * dx + nx * dy,
+                          ed.s1 - margin, ed.s2 + margin))
+        return math.cos(ang1), math.sin(ang1), base, per_rho, abase, aper_rho, edges
+
+    @staticmethod
+    def spares(k, v: Vertex) -> list[bool]:
+        """For each edge of window_bound's k: vertex v surely stays far from
+        the edge's line, or beside the edge, all through the window."""
+        ca, sa, base, per_rho, abase, aper_rho, edges = k
+        rx = ca * v.lx - sa * v.ly
+        ry = sa * v.lx + ca * v.ly
+        lim = base + per_rho * v.rho
+        alim = abase + aper_rho * v.rho
+        out = []
+        for ex, ey, off, slack, along, lo, hi in edges:
+            a = along - ey * rx + ex * ry
+            out.append(math.fabs(off + ex * rx + ey * ry) > lim + slack or a < lo - alim or a > hi + alim)
+        return out
+
+    def pe_variants(self, X: Body, Y: Body, now: float) -> tuple[int, int]:
+        """The point_edge variants pe_coefficients picks for X's vertices
+        against Y's edges now: (a vertex off X's centre that turns relative
+        to the edge, the others: rho 0 after the fold).  A variant reads
+        only which effects are zero (orbit, acceleration, the two turns),
+        never the positions, phases or the line's offset."""
+        x1, y1, u1, v1, _ = self.state_at(X, now)
+        x2, y2, u2, v2, _ = self.state_at(Y, now)
+        wr = X.om - Y.om
+        args = [x1 - x2, u1 - u2, X.ax - Y.ax, y1 - y2, v1 - v2, X.ay - Y.ay, 0.0, wr, 0.0, Y.om, 0.0, 0.0]
+        fixed = self.pe_var(*args)
+        args[6] = 0.0 if wr == 0.0 else 1.0
+        return self.pe_var(*args), fixed
+
     def vertices_edges(self, A: Body, B: Body, now: float, w: float, best):
+        """Every vertex of A against every edge of B within [0, w] after
+        now; the pairs window_bound proves apart are counted, not solved."""
+        k = self.window_bound(A, B, now, w)
+        if k is None:
+            for i, v in enumerate(A.verts):
+                for j in range(len(B.verts)):
+                    best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
+            return best
+        turning, fixed = self.pe_variants(A, B, now)
+        bodies = self.s.bodies
         for i, v in enumerate(A.verts):
+            spare = self.spares(k, v)
+            spared = fixed if v.rho == 0.0 else turning
             for j in range(len(B.verts)):
+                if spare[j]:
+                    # far from the line, or beside the edge, all through the window (window_bound):
+                    # counted, not solved
+                    cover = B.verts[j].cover
+                    if not (cover >= 0 and not bodies[cover].gone):
+                        if spared < 0:
+                            raise SimError("point_edge: the scene uses an effect the generated code leaves out")
+                        self.pe_counts[spared] += 1
+                        self.stats.features += 1
+                    continue
                 best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
         return best
 

@@ -83,7 +83,7 @@ pub(crate) fn separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64) -> f64 
     if !b_.polygon {
         return circle_separation(verts, b_, a_, t);
     }
-    max(edges_separation(verts, a_, b_, t), edges_separation(verts, b_, a_, t))
+    polygons_separation(verts, a_, b_, t, &vertices(verts, a_, t), &vertices(verts, b_, t))
 }
 
 /// Outward unit normal (ox, oy) of edge j of P at t and the offset of its
@@ -99,24 +99,36 @@ pub(super) fn edge_line(verts: &[Vertex], p_: &Body, j: usize, t: f64) -> (f64, 
 }
 
 /// Q's vertices at t.
-fn vertices(verts: &[Vertex], q_: &Body, t: f64) -> Vec<(f64, f64)> {
+pub(super) fn vertices(verts: &[Vertex], q_: &Body, t: f64) -> Vec<(f64, f64)> {
     (0..q_.nverts()).map(|k| point_at(q_, Some(&verts[q_.vert(k)]), t)).collect()
 }
 
 /// Along the edge normals of P: the largest over P's edges of the smallest
-/// distance of Q's vertices beyond the edge's line.
-fn edges_separation(verts: &[Vertex], p_: &Body, q_: &Body, t: f64) -> f64 {
+/// distance of Q's vertices (pts, at t) beyond the edge's line.  P's lines
+/// are [`edge_line`]'s, with the cos and sin of P's angle taken once.
+pub(super) fn edges_separation(verts: &[Vertex], p_: &Body, pts: &[(f64, f64)], t: f64) -> f64 {
+    let (px, py, _, _, ang) = state_at(p_, t);
+    let c = ang.cos();
+    let s = ang.sin();
     let mut best = f64::NEG_INFINITY;
-    let pts = vertices(verts, q_, t);
     for j in 0..p_.nverts() {
-        let (ox, oy, off) = edge_line(verts, p_, j, t);
+        let ed = &verts[p_.vert(j)];
+        let ox = c * ed.nx - s * ed.ny;
+        let oy = s * ed.nx + c * ed.ny;
+        let off = ox * px + oy * py + ed.h;
         let mut lo = f64::INFINITY;
-        for &(qx, qy) in &pts {
+        for &(qx, qy) in pts {
             lo = min(lo, ox * qx + oy * qy - off);
         }
         best = max(best, lo);
     }
     best
+}
+
+/// [`separation`] of two polygons whose vertices at t are pa and pb.
+pub(super) fn polygons_separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64, pa: &[(f64, f64)],
+                                  pb: &[(f64, f64)]) -> f64 {
+    max(edges_separation(verts, a_, pb, t), edges_separation(verts, b_, pa, t))
 }
 
 fn circle_separation(verts: &[Vertex], c_: &Body, p_: &Body, t: f64) -> f64 {

@@ -6,7 +6,7 @@
 
 use super::motion::{point_at, state_at, turn_rate};
 use super::out::{Res, SimError};
-use super::overlap::{edge_line, separation};
+use super::overlap::{edge_line, polygons_separation, separation, vertices};
 use super::queue::prefetch;
 use super::scene::{Body, Vertex};
 use super::sleep::grounded;
@@ -621,6 +621,131 @@ fn circle_polygon<E: Equations, W: PairEnv, C: Counter>(
     Ok(best)
 }
 
+/// The most edges a window's bound keeps per edge (window_bound): the TOI
+/// library's polygons have at most 64 vertices; a larger polygon of a
+/// scene is solved pair by pair without it.
+const WINDOW_EDGES: usize = 64;
+
+/// What every vertex-edge pair of a window shares ([`window_bound`]).  X
+/// holds the vertices, Y the edges.
+struct PeWindow {
+    /// the bound holds (both turns stay within 1 rad over the window) and
+    /// Y's edges fit the arrays
+    on: bool,
+    /// cos, sin of X's angle now
+    ca: f64,
+    sa: f64,
+    /// m: the bound on a gap's change, its part common to every pair
+    base: f64,
+    /// its part per metre of the vertex's radius
+    per_rho: f64,
+    /// m, and m per metre of radius: the same for the place along an edge
+    abase: f64,
+    aper_rho: f64,
+    /// each edge's outward unit normal now
+    ex: [f64; WINDOW_EDGES],
+    ey: [f64; WINDOW_EDGES],
+    /// m: the gap of X's centre beyond each edge's line now
+    off: [f64; WINDOW_EDGES],
+    /// m: the margin of each line's offset
+    slack: [f64; WINDOW_EDGES],
+    /// m: X's centre along each edge (its tangent (-ey, ex)) now
+    along: [f64; WINDOW_EDGES],
+    /// m: the edge's extent, widened by the margins
+    lo: [f64; WINDOW_EDGES],
+    hi: [f64; WINDOW_EDGES],
+}
+
+/// The gap g(s) = n(s) . (d(s) + r(s)) - h of a vertex (r: its offset from
+/// X's centre, |r| = rho, turning at wx) from the line of an edge of Y (n:
+/// its unit normal, turning at wy; d: X's centre less Y's) changes over
+/// [0, win] by at most win (|wy| D + V + |wx - wy| rho), since
+/// |g'| <= |wy| |d| + |d'| + |wx - wy| rho (D >= |d|, V >= |d'| over the
+/// window); point_edge's polynomial is g with the sin and cos of both turns
+/// replaced by their Taylor polynomials of order n >= 1, each off by at
+/// most x^2/2 for a turn x <= 1 rad, so it is within (xn^2 D + xr^2 rho) of
+/// g (xn = |wy| win, xr = |wx - wy| win).  When |g(0)| exceeds both plus
+/// the tolerance (first_contact's contact now) and a margin of 2^-30 of
+/// the sizes and of the angles' lever for every rounding, the polynomial
+/// keeps the sign of g(0) all through the window: no root, no contact
+/// (docs/toi.md, "Cost").  Likewise the place a(s) = t(s) . (d(s) + r(s))
+/// of the vertex along the edge (t: the edge's unit tangent) changes by at
+/// most win (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than
+/// that beyond the edge's extent widened by the tolerance, inside
+/// (evaluated on the exact motion) refuses every root of the window.
+fn window_bound(verts: &[Vertex], tol: f64, x_: &Body, y_: &Body, now: f64, win: f64) -> PeWindow {
+    let (x1, y1, u1, v1, ang1) = state_at(x_, now);
+    let (x2, y2, u2, v2, ang2) = state_at(y_, now);
+    let (dx, dy) = (x1 - x2, y1 - y2);
+    let (u, v, ax, ay) = (u1 - u2, v1 - v2, x_.ax - y_.ax, x_.ay - y_.ay);
+    let speed = (u * u + v * v).sqrt();
+    let acc = (ax * ax + ay * ay).sqrt();
+    let d = (dx * dx + dy * dy).sqrt() + (speed + 0.5 * acc * win) * win;
+    let vel = speed + acc * win;
+    let wy = y_.om.abs();
+    let wr = (x_.om - y_.om).abs();
+    let (xn, xr) = (wy * win, wr * win);
+    let lever = ang1.abs() + ang2.abs() + 8.0;
+    let base = win * (wy * d + vel) + xn * xn * d + tol + TWO_M30 * (1.0 + lever) * d;
+    let per_rho = win * wr + xr * xr + TWO_M30 * (1.0 + lever);
+    let abase = win * (wy * d + vel) + tol + TWO_M30 * (1.0 + lever) * d;
+    let aper_rho = win * (wy + x_.om.abs()) + TWO_M30 * (1.0 + lever);
+    let on = xn <= 1.0 && xr <= 1.0 && base <= f64::MAX && per_rho <= f64::MAX && y_.nverts() <= WINDOW_EDGES;
+    let mut k = PeWindow {
+        on,
+        ca: 0.0,
+        sa: 0.0,
+        base,
+        per_rho,
+        abase,
+        aper_rho,
+        ex: [0.0; WINDOW_EDGES],
+        ey: [0.0; WINDOW_EDGES],
+        off: [0.0; WINDOW_EDGES],
+        slack: [0.0; WINDOW_EDGES],
+        along: [0.0; WINDOW_EDGES],
+        lo: [0.0; WINDOW_EDGES],
+        hi: [0.0; WINDOW_EDGES],
+    };
+    if !on {
+        return k;
+    }
+    k.ca = ang1.cos();
+    k.sa = ang1.sin();
+    let (cb, sb) = (ang2.cos(), ang2.sin());
+    for j in 0..y_.nverts() {
+        let ed = &verts[y_.vert(j)];
+        let nx = cb * ed.nx - sb * ed.ny;
+        let ny = sb * ed.nx + cb * ed.ny;
+        k.ex[j] = nx;
+        k.ey[j] = ny;
+        k.off[j] = nx * dx + ny * dy - ed.h;
+        k.slack[j] = TWO_M30 * ed.h.abs();
+        k.along[j] = -ny * dx + nx * dy;
+        let margin = TWO_M30 * (ed.s1.abs() + ed.s2.abs());
+        k.lo[j] = ed.s1 - margin;
+        k.hi[j] = ed.s2 + margin;
+    }
+    k
+}
+
+/// The point_edge variants pe_coefficients picks for X's vertices against
+/// Y's edges now: (a vertex off X's centre that turns relative to the
+/// edge, the others: rho 0 after the fold).  A variant reads only which
+/// effects are zero (orbit, acceleration, the two turns), never the
+/// positions, phases or the line's offset.
+fn pe_variants<E: Equations>(x_: &Body, y_: &Body, now: f64) -> (i32, i32) {
+    let (x1, y1, u1, v1, _) = state_at(x_, now);
+    let (x2, y2, u2, v2, _) = state_at(y_, now);
+    let wr = x_.om - y_.om;
+    let mut args = [x1 - x2, u1 - u2, x_.ax - y_.ax, y1 - y2, v1 - v2, x_.ay - y_.ay, 0.0, wr, 0.0, y_.om, 0.0, 0.0];
+    let fixed = E::pe_variant(&args);
+    args[6] = if wr == 0.0 { 0.0 } else { 1.0 };
+    (E::pe_variant(&args), fixed)
+}
+
+/// Every vertex of A against every edge of B within [0, win] after now;
+/// the pairs window_bound proves apart are counted, not solved.
 fn vertices_edges<E: Equations, W: PairEnv, C: Counter>(
     w: &W,
     q: &mut C,
@@ -630,9 +755,39 @@ fn vertices_edges<E: Equations, W: PairEnv, C: Counter>(
     win: f64,
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
+    let k = window_bound(w.verts(), w.tol(), a_, b_, now, win);
+    let (turning, fixed) = if k.on { pe_variants::<E>(a_, b_, now) } else { (-1, -1) };
     for i in 0..a_.nverts() {
         let v = &w.verts()[a_.vert(i)];
+        let (mut rx, mut ry, mut lim, mut alim) = (0.0, 0.0, 0.0, 0.0);
+        let spared = if v.rho == 0.0 { fixed } else { turning };
+        if k.on {
+            rx = k.ca * v.lx - k.sa * v.ly;
+            ry = k.sa * v.lx + k.ca * v.ly;
+            lim = k.base + k.per_rho * v.rho;
+            alim = k.abase + k.aper_rho * v.rho;
+        }
         for j in 0..b_.nverts() {
+            let spare = k.on && {
+                let a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry;
+                (k.off[j] + k.ex[j] * rx + k.ey[j] * ry).abs() > lim + k.slack[j]
+                    || a < k.lo[j] - alim
+                    || a > k.hi[j] + alim
+            };
+            if spare {
+                // far from the line, or beside the edge, all through the window (window_bound):
+                // counted, not solved
+                let cover = w.verts()[b_.vert(j)].cover;
+                if !(cover >= 0 && w.covered(cover)) {
+                    if spared < 0 {
+                        return Err(SimError::Msg(
+                            "point_edge: the scene uses an effect the generated code leaves out".into(),
+                        ));
+                    }
+                    q.count_pe(spared as usize);
+                }
+                continue;
+            }
             let t = predict_pe::<E, _, _>(w, q, a_, b_, Some(v), j, now, win, i as i32)?;
             best = better(best, t, PE, a_.index(), b_.index(), i as i32, j as i32);
         }
@@ -833,8 +988,16 @@ fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
         return 0.0;
     }
     let (nx, ny) = (dx / d, dy / d);
-    let hi = reach(w, a_, nx, ny, now);
-    let lo = -reach(w, b_, -nx, -ny, now);
+    // two polygons: their vertices now, once for reach and the separation
+    let pts = if a_.polygon && b_.polygon {
+        Some((vertices(w.verts(), a_, now), vertices(w.verts(), b_, now)))
+    } else {
+        None
+    };
+    let (hi, lo) = match &pts {
+        Some((pa, pb)) => (reach_points(nx, ny, pa), -reach_points(-nx, -ny, pb)),
+        None => (reach(w, a_, nx, ny, now), -reach(w, b_, -nx, -ny, now)),
+    };
     let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
     let tol = w.tol();
     let along = clear_root(
@@ -843,8 +1006,12 @@ fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
         (nx * (b_.ax - a_.ax) + ny * (b_.ay - a_.ay)).abs(),
     );
     // and along the best separating axis, which may turn: the norms, |x| + |y|
+    let sep = match &pts {
+        Some((pa, pb)) => polygons_separation(w.verts(), a_, b_, now, pa, pb),
+        None => separation(w.verts(), a_, b_, now),
+    };
     let anyway = clear_root(
-        separation(w.verts(), a_, b_, now) - tol,
+        sep - tol,
         spin + (u2 - u1).abs() + (v2 - v1).abs(),
         (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs(),
     );
@@ -860,6 +1027,15 @@ fn reach<W: PairEnv>(w: &W, b: &Body, nx: f64, ny: f64, now: f64) -> f64 {
     let mut best = f64::NEG_INFINITY;
     for k in 0..b.nverts() {
         let (px, py) = point_at(b, Some(&w.verts()[b.vert(k)]), now);
+        best = max(best, nx * px + ny * py);
+    }
+    best
+}
+
+/// [`reach`] of a polygon whose vertices now are pts.
+fn reach_points(nx: f64, ny: f64, pts: &[(f64, f64)]) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    for &(px, py) in pts {
         best = max(best, nx * px + ny * py);
     }
     best
