@@ -18,14 +18,17 @@ TYPE
 VAR
    Safe,                 (* 1 + 2^-40: covers the rounding of Reach *)
    Floor,                (* 2^-46 = 64 eps: the rounding floor is Floor * scale *)
-   TwoM30: REAL ;        (* 2^-30 *)
+   TwoM30,               (* 2^-30 *)
+   Sharp,                (* 2^-42: a root known to this relative width is not polished *)
+   Inf: REAL ;           (* infinity *)
    (* the call being answered (the driver is not reentrant) *)
    Cur: Motion ;
    Par: Params ;
    CurSolver: SolverProc ;
    CurZeroTol: REAL ;
    (* two circles without orbits: the differences of GapAt (x0, x1, x2, y0,
-      y1, y2, R); the gap is then this polynomial (UsePd) *)
+      y1, y2, R); the gap is then this polynomial and its scale the layout's
+      magnitude sum (UsePd) *)
    UsePd: BOOLEAN ;
    Pd: ARRAY [0..6] OF REAL ;
    Two50: REAL ;         (* 2^-50 *)
@@ -83,8 +86,35 @@ BEGIN
 END Reach ;
 
 
+(* Two circles without orbits: the magnitude sum of the gap's terms at
+   time t, (|r1| + |r2|)^2 + Y^2 + X^2 with X = |x1| + |x2| + (|vx1| +
+   |vx2|) |t| + (|ax1| + |ax2|) t^2/2 (the value the generated scale gives
+   at t = 0 when the orbit radii are zero). *)
+PROCEDURE StillScale (t: REAL) : REAL ;
+VAR
+   u, u2, sr, sx, sy, ax, ay: REAL ;
+BEGIN
+   sr := ABS (Par[Cur.circles[11]]) + ABS (Par[Cur.circles[23]]) ;
+   IF t = 0.0 THEN              (* the same value, the terms in t being zero *)
+      ax := ABS (Par[Cur.circles[0]]) + ABS (Par[Cur.circles[12]]) ;
+      ay := ABS (Par[Cur.circles[1]]) + ABS (Par[Cur.circles[13]]) ;
+      RETURN sr * sr + ay * ay + ax * ax
+   END ;
+   u := ABS (t) ;
+   u2 := 0.5 * u * u ;
+   sx := ABS (Par[Cur.circles[0]]) + ABS (Par[Cur.circles[12]])
+         + (ABS (Par[Cur.circles[2]]) + ABS (Par[Cur.circles[14]])) * u
+         + (ABS (Par[Cur.circles[4]]) + ABS (Par[Cur.circles[16]])) * u2 ;
+   sy := ABS (Par[Cur.circles[1]]) + ABS (Par[Cur.circles[13]])
+         + (ABS (Par[Cur.circles[3]]) + ABS (Par[Cur.circles[15]])) * u
+         + (ABS (Par[Cur.circles[5]]) + ABS (Par[Cur.circles[17]])) * u2 ;
+   RETURN sr * sr + sy * sy + sx * sx
+END StillScale ;
+
+
 PROCEDURE FloorAt (t: REAL) : REAL ;
 BEGIN
+   IF UsePd THEN RETURN Floor * StillScale (t) END ;
    RETURN Floor * Cur.scale (Par, t)
 END FloorAt ;
 
@@ -136,7 +166,8 @@ END OrbitReach ;
 
 
 (* H's coefficients h[0..4], the differences Pd, margin a bound on the
-   rounding of H on [0, T]; returns rho1 + rho2. *)
+   rounding of H on [0, T]; returns rho1 + rho2.  Without orbits (rho1 =
+   rho2 = 0) H is the exact gap, differences first. *)
 PROCEDURE CirclesBound (VAR m: Motion; VAR p: ARRAY OF REAL; T: REAL;
                         VAR h: Coeffs; VAR margin: REAL) : REAL ;
 VAR
@@ -152,7 +183,7 @@ BEGIN
           + OrbitReach (p[m.circles[18]], p[m.circles[19]], p[m.circles[20]], p[m.circles[21]],
                         p[m.circles[22]]) ;
    r := ABS (p[m.circles[11]] + p[m.circles[23]]) ;
-   big := (r + rho) * Safe ;
+   IF rho = 0.0 THEN big := r ELSE big := (r + rho) * Safe END ;   (* no orbit: H is the exact gap *)
    h[0] := x0 * x0 + y0 * y0 - big * big ;
    h[1] := 2.0 * (x0 * x1 + y0 * y1) ;
    h[2] := x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2) ;
@@ -183,29 +214,17 @@ BEGIN
 END Entry ;
 
 
-(* Circles without orbits: the windowed search's single window (no
-   truncation, no rate), the gap evaluated as the polynomial (Pd). *)
-PROCEDURE OneWindow (start, horizon: REAL; refine: BOOLEAN; VAR t: REAL) : INTEGER ;
+(* How far the exact gap's root may lie from the root s of the polynomial c
+   of degree n that is within err of the gap: err / |c'(s)| (infinite where
+   c' is zero). *)
+PROCEDURE Width (VAR c: Coeffs; n: INTEGER; s, err: REAL) : REAL ;
 VAR
-   pp: Params ;
-   c: Coeffs ;
-   n: INTEGER ;
-   t1, L, s, r: REAL ;
+   d: REAL ;
 BEGIN
-   t1 := start + (horizon - start) ;
-   IF NOT (t1 < horizon) THEN t1 := horizon END ;
-   L := t1 - start ;
-   Cur.shift (Par, start, pp) ;
-   n := Cur.coefficients (pp, c) ;
-   IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
-   IF NOT refine AND (ABS (c[0]) - Reach (c, n, L) > 0.0) THEN RETURN 0 END ;
-   IF NOT CurSolver (c, n, 0.0, L, s) THEN RETURN 0 END ;
-   r := start + s ;
-   IF refine THEN r := Polish (r, start, start + L, start, horizon) END ;
-   IF r > horizon THEN r := horizon END ;
-   t := r + 0.0 ;
-   RETURN 1
-END OneWindow ;
+   d := ABS (Slope (c, n, s)) ;
+   IF d > 0.0 THEN RETURN err / d END ;
+   RETURN Inf
+END Width ;
 
 
 (* The polynomial c of degree n is the exact gap: its smallest root in
@@ -224,9 +243,10 @@ END PolySearch ;
 
 
 (* The first root of the exact gap in [t0, t0 + L] (closed) or (t0, t0 + L]:
-   1 with r and its bracket [a, b], 0 for none, -1 on an error. *)
+   1 with r, its bracket [a, b] and wd how far the gap's root may lie from
+   r, 0 for none, -1 on an error. *)
 PROCEDURE FirstRoot (t0, L: REAL; closed: BOOLEAN; depth: INTEGER;
-                     VAR r, a, b: REAL) : INTEGER ;
+                     VAR r, a, b, wd: REAL) : INTEGER ;
 VAR
    pp: Params ;
    c, q: Coeffs ;
@@ -242,11 +262,13 @@ BEGIN
    b := t0 + L ;
    IF closed AND (ABS (c[0]) <= f) THEN
       r := t0 ;
+      wd := Inf ;
       RETURN 1
    END ;
    IF (e <= f) OR (depth >= MaxDepth) THEN
       IF NOT CurSolver (c, n, 0.0, L, s) THEN RETURN 0 END ;
       r := t0 + s ;
+      wd := Width (c, n, s, e + f) ;
       RETURN 1
    END ;
    mg := e + f ;
@@ -262,13 +284,14 @@ BEGIN
          IF NOT CurSolver (q, n, x, L, z) THEN RETURN 0 END
       END ;
       d := Slope (c, n, z) ;
-      w := 0.5 * (L - z) ;
+      w := L - z ;               (* to the window's end, at most half the window *)
+      IF w > 0.5 * L THEN w := 0.5 * L END ;
       IF d # 0.0 THEN
          we := 8.0 * mg / ABS (d) ;
          IF we < w THEN w := we END
       END ;
       IF NOT (w > 0.0) THEN RETURN 0 END ;
-      st := FirstRoot (t0 + z, w, closed OR (z > 0.0), depth + 1, r, a, b) ;
+      st := FirstRoot (t0 + z, w, closed OR (z > 0.0), depth + 1, r, a, b, wd) ;
       IF st # 0 THEN RETURN st END ;
       x := z + w ;
       IF NOT (x < L) THEN RETURN 0 END
@@ -278,12 +301,15 @@ BEGIN
    a := t0 + x ;
    b := t0 + L ;
    r := t0 + s ;
+   wd := Width (c, n, s, mg) ;
    RETURN 1
 END FirstRoot ;
 
 
 (* Newton steps on the exact gap, kept while |gap| decreases inside [a, b]
-   and (lo, hi]. *)
+   and (lo, hi].  The driver polishes a root only when it may lie more than
+   Sharp r from the gap's (near a double root, or where the rounding or
+   truncation of its polynomial is large). *)
 PROCEDURE Polish (x, a, b, lo, hi: REAL) : REAL ;
 VAR
    g, d, xn, gn: REAL ;
@@ -373,11 +399,38 @@ BEGIN
 END Begin ;
 
 
+(* Two circles without orbits: their gap is the polynomial H of
+   CirclesBound (exact up to its margin), solved once over (start,
+   horizon]; the root is polished on the gap only when its width under that
+   margin exceeds Sharp r. *)
+PROCEDURE StillCircles (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+                        VAR o: Options; VAR t: REAL) : INTEGER ;
+VAR
+   st, n: INTEGER ;
+   start, margin, rho, r: REAL ;
+   h: Coeffs ;
+BEGIN
+   rho := CirclesBound (m, p, horizon, h, margin) ;
+   UsePd := TRUE ;
+   st := Begin (m, p, horizon, o, t, start) ;
+   IF st # Search THEN RETURN st END ;
+   n := 4 ;
+   WHILE (n > 0) AND (h[n] = 0.0) DO n := n - 1 END ;
+   IF NOT CurSolver (h, n, start, horizon, r) THEN RETURN 0 END ;
+   IF o.refine AND NOT (Width (h, n, r, margin) <= Sharp * r) THEN
+      r := Polish (r, start, horizon, start, horizon)
+   END ;
+   IF r > horizon THEN r := horizon END ;
+   t := r + 0.0 ;
+   RETURN 1
+END StillCircles ;
+
+
 PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
                         VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
    st, n, nb: INTEGER ;
-   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho: REAL ;
+   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho, wd: REAL ;
    bound: BOOLEAN ;
    pp: Params ;
    c, hb: Coeffs ;
@@ -386,17 +439,19 @@ BEGIN
    bound := FALSE ;
    nb := 0 ;
    mb := 0.0 ;
+   IF m.hasCircles AND (VAL (INTEGER, HIGH (p)) + 1 >= m.nparams)
+      AND (p[m.circles[6]] = 0.0) AND (p[m.circles[18]] = 0.0) THEN
+      RETURN StillCircles (m, p, horizon, o, t)    (* no orbit: no windows *)
+   END ;
    (* (non-finite parameters or horizon: Begin answers before any use) *)
    IF m.hasCircles AND (VAL (INTEGER, HIGH (p)) + 1 >= m.nparams) THEN
       bound := TRUE ;
       rho := CirclesBound (m, p, horizon, hb, mb) ;
       nb := 4 ;
-      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END ;
-      IF rho = 0.0 THEN UsePd := TRUE END    (* no orbit: the gap is the polynomial H, no windows *)
+      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END
    END ;
    st := Begin (m, p, horizon, o, t, start) ;
    IF st # Search THEN RETURN st END ;
-   IF UsePd THEN RETURN OneWindow (start, horizon, o.refine, t) END ;
    IF bound THEN e := Entry (hb, nb, mb, start, horizon) ELSE e := start END ;
    IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
    span := horizon - start ;
@@ -420,8 +475,8 @@ BEGIN
       IF NOT (t1 < horizon) THEN t1 := horizon END ;
       L := t1 - t0 ;
       IF o.refine THEN
-         st := FirstRoot (t0, L, w > 0.0, 0, r, a, b) ;
-         IF st = 1 THEN r := Polish (r, a, b, start, horizon) END
+         st := FirstRoot (t0, L, w > 0.0, 0, r, a, b, wd) ;
+         IF (st = 1) AND NOT (wd <= Sharp * r) THEN r := Polish (r, a, b, start, horizon) END
       ELSE
          Cur.shift (Par, t0, pp) ;
          n := Cur.coefficients (pp, c) ;
@@ -509,5 +564,7 @@ BEGIN
    Safe := 1.0 + ldexp (1.0, -40) ;
    TwoM30 := ldexp (1.0, -30) ;
    Two50 := ldexp (1.0, -50) ;
+   Sharp := ldexp (1.0, -42) ;
+   Inf := ldexp (1.0, 1100) ;   (* overflows to infinity *)
    UsePd := FALSE
 END ExactToc.

@@ -4,7 +4,8 @@ bound polynomial H exceeds its margin the exact gap (mpmath) is positive, so
 the bound never declares no contact where there is one; the generator finds
 the circles' layout only where Maxima proves the gap; and the driver's
 answers with the bound are those without it wherever the windows it skips
-hold no contact."""
+hold no contact (bit for bit with orbits; without orbits, where the driver
+solves the gap's own polynomial, to the last bits)."""
 from __future__ import annotations
 
 import dataclasses
@@ -92,6 +93,15 @@ def test_the_gap_is_positive_where_the_bound_is(p, T, frac):
             assert gp.G(mpmath.mpf(t)) > 0
 
 
+def _same_answer(new, old, p: dict) -> bool:
+    """The driver's answer with the circles' layout is the windowed one: the
+    same bits when a body orbits; without orbits (the gap's own polynomial,
+    solved once) the same answer to 2^-40 relative."""
+    if p["d"] != 0.0 or p["j"] != 0.0 or not (isinstance(new, float) and isinstance(old, float)):
+        return new == old
+    return abs(new - old) <= 2.0 ** -40 * max(abs(old), 1e-300)
+
+
 def _draw(rng: random.Random) -> tuple[dict, float]:
     """Two circles on circular orbits (or none), aimed at each other or not."""
     p = {}
@@ -112,8 +122,8 @@ def _draw(rng: random.Random) -> tuple[dict, float]:
 
 def test_bound_never_hides_a_contact_and_keeps_the_answers(circles_py):
     """On drawn circle pairs: whenever the driver with the bound answers none,
-    the reference allows none, and every answer (with orbits or without) is
-    the windows-only driver's answer bit for bit."""
+    the reference allows none, and every answer is the windows-only driver's
+    (_same_answer)."""
     from max2code_rt.exact import exact_toc
 
     _, ns = circles_py
@@ -135,14 +145,14 @@ def test_bound_never_hides_a_contact_and_keeps_the_answers(circles_py):
                 assert ref.none_ok
             else:
                 assert any(lo <= ans <= hi for lo, hi in ref.accept) or abs(ans - ref.expect) <= 1e-12 * ref.expect
-        assert new == old
+        assert _same_answer(new, old, p)
         decided += new is None
     assert decided >= 10
 
 
 def test_conformance_cases_keep_their_bits(circles_py):
     """Every circle-circle case of tests/conformance/toc_exact.jsonl, refined
-    and not: the same answer with and without the bound."""
+    and not: the same answer with and without the bound (_same_answer)."""
     from max2code_rt.exact import exact_toc
 
     _, ns = circles_py
@@ -157,7 +167,9 @@ def test_conformance_cases_keep_their_bits(circles_py):
             vec = [c["params"][k] for k in CC]
             for refine in (True, False):
                 o = dict(c.get("options") or {}, refine=refine)
-                assert exact_toc(motion, vec, c["horizon"], **o) == exact_toc(plain, vec, c["horizon"], **o), c["id"]
+                new = exact_toc(motion, vec, c["horizon"], **o)
+                old = exact_toc(plain, vec, c["horizon"], **o)
+                assert _same_answer(new, old, c["params"]), (c["id"], new, old)
             n += 1
     assert n > 150
 

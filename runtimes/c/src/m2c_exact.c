@@ -10,6 +10,7 @@
 #define MAX_STEPS 200        /* zones visited per level */
 #define POLISH_STEPS 4       /* Newton steps on the exact gap */
 #define SAFE (1.0 + 0x1p-40) /* covers the rounding of reach() */
+#define SHARP 0x1p-42        /* a root known to this relative width is not polished */
 
 typedef struct {
     const m2c_motion *m;
@@ -17,7 +18,9 @@ typedef struct {
     int (*solver)(const double *c, int degree, double lo, double hi, double *t);
     double zero_tol;
     const double *pd;   /* two circles without orbits: the centres' difference (x0, x1, x2, y0, y1, y2) and
-                           the sum of radii; the gap is then this polynomial (NULL: the motion's gap) */
+                           the sum of radii; the gap is then this polynomial and its scale the layout's
+                           magnitude sum (NULL: the motion's gap and scale) */
+    const int *ix;      /* with pd: the motion's circles table */
 } ctx;
 
 void m2c_exact_defaults(m2c_exact_options *o)
@@ -57,8 +60,31 @@ static double reach(const double *c, int n, double L)
     return b * L * SAFE;
 }
 
+/* Two circles without orbits: the magnitude sum of the gap's terms at
+ * time t, (|r1| + |r2|)^2 + Y^2 + X^2 with X = |x1| + |x2| + (|vx1| +
+ * |vx2|) |t| + (|ax1| + |ax2|) t^2/2 (the value the generated scale gives
+ * at t = 0 when the orbit radii are zero). */
+static double still_scale(const ctx *k, double t)
+{
+    const int *ix = k->ix, *jx = ix + 12;
+    const double *p = k->p;
+    double sr = fabs(p[ix[11]]) + fabs(p[jx[11]]);
+    if (t == 0.0) {            /* the same value, the terms in t being zero */
+        double ax = fabs(p[ix[0]]) + fabs(p[jx[0]]), ay = fabs(p[ix[1]]) + fabs(p[jx[1]]);
+        return sr * sr + ay * ay + ax * ax;
+    }
+    double u = fabs(t), u2 = 0.5 * u * u;
+    double sx = fabs(p[ix[0]]) + fabs(p[jx[0]]) + (fabs(p[ix[2]]) + fabs(p[jx[2]])) * u +
+                (fabs(p[ix[4]]) + fabs(p[jx[4]])) * u2;
+    double sy = fabs(p[ix[1]]) + fabs(p[jx[1]]) + (fabs(p[ix[3]]) + fabs(p[jx[3]])) * u +
+                (fabs(p[ix[5]]) + fabs(p[jx[5]])) * u2;
+    return sr * sr + sy * sy + sx * sx;
+}
+
 static double floor_at(const ctx *k, double t)
 {
+    if (k->pd)
+        return FLOOR * still_scale(k, t);
     return FLOOR * k->m->scale(k->p, t);
 }
 
@@ -106,7 +132,8 @@ static double orbit_reach(double radius, double wx, double phx, double wy, doubl
 
 /* H's coefficients h[0..4] from the circles' parameters (ix: the motion's
  * circles table), d[0..6] the differences of gap_at, *margin a bound on the
- * rounding of H on [0, T]; returns rho1 + rho2. */
+ * rounding of H on [0, T]; returns rho1 + rho2.  Without orbits (rho1 =
+ * rho2 = 0) H is the exact gap, differences first. */
 static double circles_bound(const int *ix, const double *p, double T, double *h, double *d, double *margin)
 {
     const int *jx = ix + 12;
@@ -116,7 +143,7 @@ static double circles_bound(const int *ix, const double *p, double T, double *h,
     double rho = orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]]) +
                  orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]);
     double r = fabs(p[ix[11]] + p[jx[11]]);
-    double R = (r + rho) * SAFE;
+    double R = rho == 0.0 ? r : (r + rho) * SAFE;   /* no orbit: H is the exact gap */
     h[0] = x0 * x0 + y0 * y0 - R * R;
     h[1] = 2.0 * (x0 * x1 + y0 * y1);
     h[2] = x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2);
@@ -144,10 +171,20 @@ static double entry(const double *h, int n, double margin, double lo, double T)
     return 2.0 * T + 1.0;
 }
 
+/* How far the exact gap's root may lie from the root s of the polynomial c
+ * of degree n that is within err of the gap: err / |c'(s)| (infinite where
+ * c' is zero). */
+static double width(const double *c, int n, double s, double err)
+{
+    double d = fabs(slope(c, n, s));
+    return d > 0.0 ? err / d : INFINITY;
+}
+
 /* The first root of the exact gap in [t0, t0 + L] (closed: t0 counts) or
- * (t0, t0 + L]: 1 with *r and the bracket [*a, *b] it was found in, 0 for
- * none, -1 on an error. */
-static int first_root(const ctx *k, double t0, double L, int closed, int depth, double *r, double *a, double *b)
+ * (t0, t0 + L]: 1 with *r, the bracket [*a, *b] it was found in and *wd
+ * how far the gap's root may lie from *r, 0 for none, -1 on an error. */
+static int first_root(const ctx *k, double t0, double L, int closed, int depth, double *r, double *a, double *b,
+                      double *wd)
 {
     double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], q[M2C_MAX_DEGREE + 1];
     k->m->shift(k->p, t0, pp);
@@ -161,12 +198,14 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
     *b = t0 + L;
     if (closed && fabs(c[0]) <= f) {
         *r = t0;
+        *wd = INFINITY;
         return 1;
     }
     if (e <= f || depth >= MAX_DEPTH) {
         if (k->solver(c, n, 0.0, L, &s) != 1)
             return 0;
         *r = t0 + s;
+        *wd = width(c, n, s, e + f);
         return 1;
     }
     double mg = e + f;
@@ -186,7 +225,9 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
                 return 0;
         }
         double d = slope(c, n, z);
-        double w = 0.5 * (L - z);
+        double w = L - z;      /* to the window's end, at most half the window */
+        if (w > 0.5 * L)
+            w = 0.5 * L;
         if (d != 0.0) {
             double we = 8.0 * mg / fabs(d);
             if (we < w)
@@ -194,7 +235,7 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
         }
         if (!(w > 0.0))
             return 0;
-        int st = first_root(k, t0 + z, w, closed || z > 0.0, depth + 1, r, a, b);
+        int st = first_root(k, t0 + z, w, closed || z > 0.0, depth + 1, r, a, b, wd);
         if (st != 0)
             return st;
         x = z + w;
@@ -207,11 +248,14 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
     *a = t0 + x;
     *b = t0 + L;
     *r = t0 + s;
+    *wd = width(c, n, s, mg);
     return 1;
 }
 
 /* Newton steps on the exact gap, kept while |gap| decreases inside
- * [a, b] and (lo, hi]. */
+ * [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+ * more than SHARP r from the gap's (near a double root, or where the
+ * rounding or truncation of its polynomial is large). */
 static double polish(const ctx *k, double x, double a, double b, double lo, double hi)
 {
     double g = gap_at(k, x);
@@ -252,6 +296,23 @@ static double depart(const ctx *k, double horizon, double band0, double d0)
     return horizon;
 }
 
+/* No parameter is an infinity or a NaN (x * 0 is 0 for every finite x,
+ * else NaN; four sums to keep the loop short). */
+static int all_finite(const double *p, int n)
+{
+    double z0 = 0.0, z1 = 0.0, z2 = 0.0, z3 = 0.0;
+    int i = 0;
+    for (; i + 3 < n; i += 4) {
+        z0 += p[i] * 0.0;
+        z1 += p[i + 1] * 0.0;
+        z2 += p[i + 2] * 0.0;
+        z3 += p[i + 3] * 0.0;
+    }
+    for (; i < n; i++)
+        z0 += p[i] * 0.0;
+    return (z0 + z1) + (z2 + z3) == 0.0;
+}
+
 /* The checks and the rules at t = 0 shared by m2c_exact_toc and
  * m2c_exact_poly_toc: -1 an error, 0 none, 1 a contact at 0,
  * M2C_EXACT_OVERLAPPED, or 3 with *start (0, or where a separating contact
@@ -260,14 +321,12 @@ static double depart(const ctx *k, double horizon, double band0, double d0)
 static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double *start, double *t)
 {
     const m2c_motion *m = k->m;
-    const double *p = k->p;
     if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
         return -1;
     if (!isfinite(horizon) || !(horizon > 0.0))
         return 0;
-    for (int i = 0; i < m->nparams; i++)
-        if (!isfinite(p[i]))
-            return 0;
+    if (!all_finite(k->p, m->nparams))
+        return 0;
     *start = 0.0;
     double band0 = floor_at(k, 0.0);
     if (o->zero_tol > band0)
@@ -305,26 +364,26 @@ static int poly_search(const ctx *k, const double *c, int n, double start, doubl
     return 1;
 }
 
-/* Circles without orbits: the windowed search's single window (no
- * truncation, no rate), the gap evaluated as the polynomial (k->pd). */
-static int one_window(const ctx *k, double start, double horizon, int refine, double *t)
+/* Two circles without orbits: their gap is the polynomial H of
+ * circles_bound (exact up to its margin), solved once over (start,
+ * horizon]; the root is polished on the gap only when its width under that
+ * margin exceeds SHARP r. */
+static int still_circles(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *o,
+                         double *t)
 {
-    double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], s = 0.0;
-    double t1 = start + (horizon - start);
-    if (!(t1 < horizon))
-        t1 = horizon;
-    double L = t1 - start;
-    k->m->shift(k->p, start, pp);
-    int n = k->m->coefficients(pp, c);
-    if (n < 0 || n > M2C_MAX_DEGREE)
-        return -1;
-    if (!refine && fabs(c[0]) - reach(c, n, L) > 0.0)
+    double h[5], d[7], margin, start, r;
+    circles_bound(m->circles, p, horizon, h, d, &margin);
+    ctx k = {m, p, o->solver, o->zero_tol, d, m->circles};
+    int st0 = begin(&k, o, horizon, &start, t);
+    if (st0 != SEARCH)
+        return st0;
+    int n = 4;
+    while (n > 0 && h[n] == 0.0)
+        n--;
+    if (o->solver(h, n, start, horizon, &r) != 1)
         return 0;
-    if (k->solver(c, n, 0.0, L, &s) != 1)
-        return 0;
-    double r = start + s;
-    if (refine)
-        r = polish(k, r, start, start + L, start, horizon);
+    if (o->refine && !(width(h, n, r, margin) <= SHARP * r))
+        r = polish(&k, r, start, horizon, start, horizon);
     if (r > horizon)
         r = horizon;
     *t = r + 0.0;
@@ -341,24 +400,22 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         m2c_exact_defaults(&o);
     if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > M2C_MAX_DEGREE)
         return -1;
-    ctx k = {m, p, o.solver, o.zero_tol, 0};
+    if (m->circles && p[m->circles[6]] == 0.0 && p[m->circles[18]] == 0.0)
+        return still_circles(m, p, horizon, &o, t);    /* no orbit: no windows */
+    ctx k = {m, p, o.solver, o.zero_tol, 0, 0};
     double hb[5], pd[7], mb = 0.0;
     int nb = 0, bound = 0;
     if (m->circles) {          /* (non-finite parameters or horizon: begin answers before any use) */
         bound = 1;
-        double rho = circles_bound(m->circles, p, horizon, hb, pd, &mb);
+        circles_bound(m->circles, p, horizon, hb, pd, &mb);
         nb = 4;
         while (nb > 0 && hb[nb] == 0.0)
             nb--;
-        if (rho == 0.0)        /* no orbit: the gap is the polynomial H, no windows */
-            k.pd = pd;
     }
     double start;
     int st0 = begin(&k, &o, horizon, &start, t);
     if (st0 != SEARCH)
         return st0;
-    if (k.pd)
-        return one_window(&k, start, horizon, o.refine, t);
     double e = bound ? entry(hb, nb, mb, start, horizon) : start;
     if (!(e <= horizon))
         return 0;              /* the bound keeps the circles apart over the whole horizon */
@@ -386,11 +443,11 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         if (!(t1 < horizon))
             t1 = horizon;
         double L = t1 - t0;
-        double r, a, b;
+        double r, a, b, wd;
         int st;
         if (o.refine) {
-            st = first_root(&k, t0, L, w > 0.0, 0, &r, &a, &b);
-            if (st == 1)
+            st = first_root(&k, t0, L, w > 0.0, 0, &r, &a, &b, &wd);
+            if (st == 1 && !(wd <= SHARP * r))
                 r = polish(&k, r, a, b, start, horizon);
         } else {
             double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], s = 0.0;
@@ -434,7 +491,7 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
         return -1;
     /* the windowed driver's motion without shift, truncation and rate, which this path never calls */
     m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0};
-    ctx k = {&m, p, o.solver, o.zero_tol, 0};
+    ctx k = {&m, p, o.solver, o.zero_tol, 0, 0};
     double start;
     int st0 = begin(&k, &o, horizon, &start, t);
     if (st0 != SEARCH)

@@ -25,6 +25,7 @@ POLISH_STEPS = 4           # Newton steps on the exact gap
 MAX_WINDOWS = 10000000.0
 MAX_PARAMS = 64
 SAFE = 1.0 + 2.0 ** -40    # covers the rounding of _reach()
+SHARP = 2.0 ** -42         # a root known to this relative width is not polished
 
 
 @dataclass(frozen=True)
@@ -107,7 +108,9 @@ def _circles_bound(ix, p, T):
     """H(t) = |D(t)|^2 - (R + rho1 + rho2)^2 (D the centres' difference
     without orbits, R the sum of radii, rho a bound on an orbit offset's
     length): its coefficients, the differences (x0, x1, x2, y0, y1, y2, R)
-    of the gap without orbits, a bound on H's rounding on [0, T], and rho1 + rho2."""
+    of the gap without orbits, a bound on H's rounding on [0, T], and rho1 +
+    rho2.  Without orbits (rho1 = rho2 = 0) H is the exact gap, differences
+    first."""
     jx = ix[12:]
     x0, y0 = p[ix[0]] - p[jx[0]], p[ix[1]] - p[jx[1]]
     x1, y1 = p[ix[2]] - p[jx[2]], p[ix[3]] - p[jx[3]]
@@ -115,7 +118,7 @@ def _circles_bound(ix, p, T):
     rho = (_orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]])
            + _orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]))
     r = abs(p[ix[11]] + p[jx[11]])
-    R = (r + rho) * SAFE
+    R = r if rho == 0.0 else (r + rho) * SAFE     # no orbit: H is the exact gap
     h = [x0 * x0 + y0 * y0 - R * R, 2.0 * (x0 * x1 + y0 * y1), x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2),
          2.0 * (x1 * x2 + y1 * y2), x2 * x2 + y2 * y2]
     sx = abs(x0) + (abs(x1) + abs(x2) * T) * T
@@ -135,13 +138,43 @@ def _entry(h, n, margin, lo, T):
     return 2.0 * T + 1.0 if r is None else r
 
 
+def _width(c, n, s, err):
+    """How far the exact gap's root may lie from the root s of the
+    polynomial c of degree n that is within err of the gap: err / |c'(s)|
+    (infinite where c' is zero)."""
+    d = abs(_slope(c, n, s))
+    return err / d if d > 0.0 else math.inf
+
+
 class _Driver:
     def __init__(self, m: Motion, p, solver, zero_tol: float):
         self.m, self.p, self.solver, self.zero_tol = m, p, solver, zero_tol
-        self.pd = None      # two circles without orbits: the differences of gap(); the gap is this polynomial
+        # two circles without orbits: the differences of gap(); the gap is this polynomial and its
+        # scale the layout's magnitude sum (_still_scale)
+        self.pd = None
 
     def floor_at(self, t):
+        if self.pd is not None:
+            return FLOOR * self._still_scale(t)
         return FLOOR * self.m.scale(self.p, t)
+
+    def _still_scale(self, t):
+        """Two circles without orbits: the magnitude sum of the gap's terms
+        at time t, (|r1| + |r2|)^2 + Y^2 + X^2 with X = |x1| + |x2| + (|vx1| +
+        |vx2|) |t| + (|ax1| + |ax2|) t^2/2 (the value the generated scale
+        gives at t = 0 when the orbit radii are zero)."""
+        ix, p = self.m.circles, self.p
+        jx = ix[12:]
+        sr = abs(p[ix[11]]) + abs(p[jx[11]])
+        if t == 0.0:        # the same value, the terms in t being zero
+            ax = abs(p[ix[0]]) + abs(p[jx[0]])
+            ay = abs(p[ix[1]]) + abs(p[jx[1]])
+            return sr * sr + ay * ay + ax * ax
+        u = abs(t)
+        u2 = 0.5 * u * u
+        sx = abs(p[ix[0]]) + abs(p[jx[0]]) + (abs(p[ix[2]]) + abs(p[jx[2]])) * u + (abs(p[ix[4]]) + abs(p[jx[4]])) * u2
+        sy = abs(p[ix[1]]) + abs(p[jx[1]]) + (abs(p[ix[3]]) + abs(p[jx[3]])) * u + (abs(p[ix[5]]) + abs(p[jx[5]])) * u2
+        return sr * sr + sy * sy + sx * sx
 
     def gap(self, t):
         if self.pd is None:
@@ -169,18 +202,19 @@ class _Driver:
         return c
 
     def first_root(self, t0, L, closed, depth):
-        """(r, a, b): the first root of the exact gap in [t0, t0 + L] (closed)
-        or (t0, t0 + L], and the bracket it was found in; None for none."""
+        """(r, a, b, width): the first root of the exact gap in [t0, t0 + L]
+        (closed) or (t0, t0 + L], the bracket it was found in and how far
+        the gap's root may lie from r; None for none."""
         pp = self.m.shift(self.p, t0)
         c = self.coefficients(pp)
         n = len(c) - 1
         e = self.m.truncation(pp, L)
         f = self.floor_at(t0 + L)
         if closed and abs(c[0]) <= f:
-            return t0, t0, t0 + L
+            return t0, t0, t0 + L, math.inf
         if e <= f or depth >= MAX_DEPTH:
             s = self.solver(c, 0.0, L)
-            return None if s is None else (t0 + s, t0, t0 + L)
+            return None if s is None else (t0 + s, t0, t0 + L, _width(c, n, s, e + f))
         mg = e + f
         if abs(c[0]) - _reach(c, n, L) > mg:    # |P| > mg on the whole window: no zone
             return None
@@ -196,7 +230,9 @@ class _Driver:
                 if z is None:
                     return None
             d = _slope(c, n, z)
-            w = 0.5 * (L - z)
+            w = L - z       # to the window's end, at most half the window
+            if w > 0.5 * L:
+                w = 0.5 * L
             if d != 0.0:
                 we = 8.0 * mg / abs(d)
                 if we < w:
@@ -210,9 +246,13 @@ class _Driver:
             if not x < L:
                 return None
         s = self.solver(c, x, L)
-        return None if s is None else (t0 + s, t0 + x, t0 + L)
+        return None if s is None else (t0 + s, t0 + x, t0 + L, _width(c, n, s, mg))
 
     def polish(self, x, a, b, lo, hi):
+        """Newton steps on the exact gap, kept while |gap| decreases inside
+        [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+        more than SHARP r from the gap's (near a double root, or where the
+        rounding or truncation of its polynomial is large)."""
         g = self.gap(x)
         for _ in range(POLISH_STEPS):
             if g == 0.0:
@@ -295,20 +335,18 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
     p = [float(x) for x in p]
     k = _Driver(m, p, solver, zero_tol)
     circles = getattr(m, "circles", None)
+    if circles is not None and len(p) == m.nparams and p[circles[6]] == 0.0 and p[circles[18]] == 0.0:
+        return _still_circles(k, circles, p, horizon, window_angle, zero_tol, refine)    # no orbit: no windows
     bound = circles is not None and all(math.isfinite(x) for x in p)
     if bound:       # (a non-finite horizon: _begin answers before any use)
-        hb, pd, mb, rho = _circles_bound(circles, p, horizon)
+        hb, _, mb, _ = _circles_bound(circles, p, horizon)
         nb = 4
         while nb > 0 and hb[nb] == 0.0:
             nb -= 1
-        if rho == 0.0:      # no orbit: the gap is the polynomial H, no windows
-            k.pd = pd
     try:
         answer, start = _begin(k, p, horizon, window_angle, zero_tol)
         if start is None:
             return answer
-        if k.pd is not None:
-            return _one_window(k, start, horizon, refine)
         e = _entry(hb, nb, mb, start, horizon) if bound else start
         if not e <= horizon:
             return None     # the bound keeps the circles apart over the whole horizon
@@ -337,7 +375,11 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
             L = t1 - t0
             if refine:
                 found = k.first_root(t0, L, w > 0.0, 0)
-                r = None if found is None else k.polish(found[0], found[1], found[2], start, horizon)
+                r = None
+                if found is not None:
+                    r = found[0]
+                    if not found[3] <= SHARP * r:
+                        r = k.polish(r, found[1], found[2], start, horizon)
             else:
                 c = k.coefficients(m.shift(p, t0))
                 if abs(c[0]) - _reach(c, len(c) - 1, L) > 0.0:
@@ -359,22 +401,24 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
         raise ValueError(f"exact_toc: {exc}") from None
 
 
-def _one_window(k: _Driver, start: float, horizon: float, refine: bool):
-    """Circles without orbits: the windowed search's single window (no
-    truncation, no rate), the gap evaluated as the polynomial (k.pd)."""
-    t1 = start + (horizon - start)
-    if not t1 < horizon:
-        t1 = horizon
-    L = t1 - start
-    c = k.coefficients(k.m.shift(k.p, start))
-    if not refine and abs(c[0]) - _reach(c, len(c) - 1, L) > 0.0:
+def _still_circles(k: _Driver, circles, p, horizon: float, window_angle: float, zero_tol: float, refine: bool):
+    """Two circles without orbits: their gap is the polynomial H of
+    _circles_bound (exact up to its margin), solved once over (start,
+    horizon]; the root is polished on the gap only when its width under that
+    margin exceeds SHARP r."""
+    h, pd, margin, _ = _circles_bound(circles, p, horizon)
+    k.pd = pd
+    answer, start = _begin(k, p, horizon, window_angle, zero_tol)
+    if start is None:
+        return answer
+    n = 4
+    while n > 0 and h[n] == 0.0:
+        n -= 1
+    r = k.solver(h[:n + 1], start, horizon)
+    if r is None:
         return None
-    s = k.solver(c, 0.0, L)
-    if s is None:
-        return None
-    r = start + s
-    if refine:
-        r = k.polish(r, start, start + L, start, horizon)
+    if refine and not _width(h, n, r, margin) <= SHARP * r:
+        r = k.polish(r, start, horizon, start, horizon)
     if r > horizon:
         r = horizon
     return r + 0.0

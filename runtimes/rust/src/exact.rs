@@ -22,6 +22,7 @@ const MAX_DEPTH: u32 = 40;
 const MAX_STEPS: u32 = 200;
 const POLISH_STEPS: u32 = 4;
 const SAFE: f64 = 1.0 + 1.0 / 1099511627776.0; // 1 + 2^-40: covers the rounding of reach()
+const SHARP: f64 = 1.0 / 4398046511104.0; // 2^-42: a root known to this relative width is not polished
 
 /// What the driver needs of an equation (generated); every function takes
 /// the parameters as a slice in the equation's order.
@@ -110,8 +111,9 @@ struct Ctx<'a> {
     p: &'a [f64],
     solver: Solver,
     zero_tol: f64,
-    /// Two circles without orbits: the differences of `gap` (x0, x1, x2, y0, y1, y2, R); the gap is this polynomial.
-    pd: Option<[f64; 7]>,
+    /// Two circles without orbits: the differences of `gap` (x0, x1, x2, y0, y1, y2, R) and the
+    /// motion's circles table; the gap is this polynomial and its scale the layout's magnitude sum.
+    pd: Option<([f64; 7], &'a [usize; 24])>,
 }
 
 /// A bound on |(sin(wx t + phx), sin(wy t + phy))| times |radius|: with
@@ -131,7 +133,8 @@ fn orbit_reach(radius: f64, wx: f64, phx: f64, wy: f64, phy: f64) -> f64 {
 /// The circles' bound H(t) = |D(t)|^2 - (R + rho1 + rho2)^2 (D the centres'
 /// difference without orbits, R the sum of radii, rho a bound on an orbit
 /// offset's length): its coefficients, the differences of the gap without
-/// orbits, a bound on H's rounding on [0, T], and rho1 + rho2.
+/// orbits, a bound on H's rounding on [0, T], and rho1 + rho2.  Without
+/// orbits (rho1 = rho2 = 0) H is the exact gap, differences first.
 fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f64, f64) {
     let jx = &ix[12..];
     let (x0, y0) = (p[ix[0]] - p[jx[0]], p[ix[1]] - p[jx[1]]);
@@ -140,7 +143,7 @@ fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f6
     let rho = orbit_reach(p[ix[6]], p[ix[7]], p[ix[8]], p[ix[9]], p[ix[10]])
         + orbit_reach(p[jx[6]], p[jx[7]], p[jx[8]], p[jx[9]], p[jx[10]]);
     let r = (p[ix[11]] + p[jx[11]]).abs();
-    let big = (r + rho) * SAFE;
+    let big = if rho == 0.0 { r } else { (r + rho) * SAFE }; // no orbit: H is the exact gap
     let h = [
         x0 * x0 + y0 * y0 - big * big,
         2.0 * (x0 * x1 + y0 * y1),
@@ -199,18 +202,34 @@ fn reach(c: &[f64], n: usize, l: f64) -> f64 {
     b * l * SAFE
 }
 
-type Found = Result<Option<(f64, f64, f64)>, &'static str>;
+/// How far the exact gap's root may lie from the root s of the polynomial
+/// `c` of degree n that is within err of the gap: err / |c'(s)| (infinite
+/// where c' is zero).
+fn width(c: &[f64], n: usize, s: f64, err: f64) -> f64 {
+    let d = slope(c, n, s).abs();
+    if d > 0.0 {
+        err / d
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// A root, the bracket it was found in and how far the gap's root may lie from it.
+type Found = Result<Option<(f64, f64, f64, f64)>, &'static str>;
 
 impl Ctx<'_> {
     fn floor_at(&self, t: f64) -> f64 {
-        FLOOR * (self.m.scale)(self.p, t)
+        match &self.pd {
+            None => FLOOR * (self.m.scale)(self.p, t),
+            Some((_, ix)) => FLOOR * still_scale(ix, self.p, t),
+        }
     }
 
     /// The exact gap: the motion's, or the polynomial of two circles without orbits.
     fn gap(&self, t: f64) -> f64 {
         match &self.pd {
             None => (self.m.gap)(self.p, t),
-            Some(d) => {
+            Some((d, _)) => {
                 let x = (d[2] * t + d[1]) * t + d[0];
                 let y = (d[5] * t + d[4]) * t + d[3];
                 y * y - d[6] * d[6] + x * x
@@ -221,7 +240,7 @@ impl Ctx<'_> {
     fn gap_dt(&self, t: f64) -> f64 {
         match &self.pd {
             None => (self.m.gap_dt)(self.p, t),
-            Some(d) => {
+            Some((d, _)) => {
                 let x = (d[2] * t + d[1]) * t + d[0];
                 let y = (d[5] * t + d[4]) * t + d[3];
                 2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]))
@@ -238,7 +257,7 @@ impl Ctx<'_> {
     }
 
     /// The first root of the exact gap in [t0, t0 + L] (closed) or (t0, t0 + L],
-    /// with the bracket it was found in.
+    /// with the bracket it was found in and how far the gap's root may lie from it.
     fn first_root(&self, t0: f64, l: f64, closed: bool, depth: u32) -> Found {
         let mut pp = [0.0f64; MAX_PARAMS];
         let pp = &mut pp[..self.m.nparams];
@@ -248,10 +267,10 @@ impl Ctx<'_> {
         let e = (self.m.truncation)(pp, l);
         let f = self.floor_at(t0 + l);
         if closed && c[0].abs() <= f {
-            return Ok(Some((t0, t0, t0 + l)));
+            return Ok(Some((t0, t0, t0 + l, f64::INFINITY)));
         }
         if e <= f || depth >= MAX_DEPTH {
-            return Ok((self.solver)(&c[..=n], 0.0, l).map(|s| (t0 + s, t0, t0 + l)));
+            return Ok((self.solver)(&c[..=n], 0.0, l).map(|s| (t0 + s, t0, t0 + l, width(&c, n, s, e + f))));
         }
         let mg = e + f;
         if c[0].abs() - reach(&c, n, l) > mg {
@@ -271,7 +290,10 @@ impl Ctx<'_> {
                 }
             };
             let d = slope(&c, n, z);
-            let mut w = 0.5 * (l - z);
+            let mut w = l - z; // to the window's end, at most half the window
+            if w > 0.5 * l {
+                w = 0.5 * l;
+            }
             if d != 0.0 {
                 let we = 8.0 * mg / d.abs();
                 if we < w {
@@ -290,9 +312,13 @@ impl Ctx<'_> {
                 return Ok(None);
             }
         }
-        Ok((self.solver)(&c[..=n], x, l).map(|s| (t0 + s, t0 + x, t0 + l)))
+        Ok((self.solver)(&c[..=n], x, l).map(|s| (t0 + s, t0 + x, t0 + l, width(&c, n, s, mg))))
     }
 
+    /// Newton steps on the exact gap, kept while |gap| decreases inside
+    /// [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+    /// more than SHARP r from the gap's (near a double root, or where the
+    /// rounding or truncation of its polynomial is large).
     fn polish(&self, mut x: f64, a: f64, b: f64, lo: f64, hi: f64) -> f64 {
         let mut g = self.gap(x);
         for _ in 0..POLISH_STEPS {
@@ -347,21 +373,23 @@ impl Ctx<'_> {
 /// root where the gap grows is never a contact), `Err(..)` for a parameter that uses an effect the code was
 /// not generated for, bad options, or more than [`MAX_WINDOWS`] windows.
 pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
-    let mut k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
+    if let Some(ix) = m.circles {
+        if p.len() == m.nparams && p[ix[6]] == 0.0 && p[ix[18]] == 0.0 {
+            return still_circles(m, ix, p, horizon, o); // no orbit: no windows
+        }
+    }
+    let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
     let mut hb = [0.0f64; 5];
     let (mut nb, mut mb) = (0usize, 0.0f64);
     // (non-finite parameters or horizon: begin answers before any use)
     let bound = match m.circles {
         Some(ix) if p.len() == m.nparams && p.iter().all(|v| v.is_finite()) => {
-            let (h, pd, margin, rho) = circles_bound(ix, p, horizon);
+            let (h, _, margin, _) = circles_bound(ix, p, horizon);
             hb = h;
             mb = margin;
             nb = 4;
             while nb > 0 && hb[nb] == 0.0 {
                 nb -= 1;
-            }
-            if rho == 0.0 {
-                k.pd = Some(pd); // no orbit: the gap is the polynomial H, no windows
             }
             true
         }
@@ -371,9 +399,6 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
-    if k.pd.is_some() {
-        return one_window(&k, start, horizon, o.refine);
-    }
     let mut e = if bound { entry(&hb, nb, mb, start, horizon) } else { start };
     if !(e <= horizon) {
         return Ok(Toc::NoContact); // the bound keeps the circles apart over the whole horizon
@@ -410,7 +435,8 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         }
         let l = t1 - t0;
         let r = if o.refine {
-            k.first_root(t0, l, w > 0.0, 0)?.map(|(r, a, b)| k.polish(r, a, b, start, horizon))
+            let found = k.first_root(t0, l, w > 0.0, 0)?;
+            found.map(|(r, a, b, wd)| if wd <= SHARP * r { r } else { k.polish(r, a, b, start, horizon) })
         } else {
             let mut pp = [0.0f64; MAX_PARAMS];
             let pp = &mut pp[..m.nparams];
@@ -440,28 +466,52 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
 }
 
-/// Circles without orbits: the windowed search's single window (no
-/// truncation, no rate), the gap evaluated as the polynomial (`k.pd`).
-fn one_window(k: &Ctx, start: f64, horizon: f64, refine: bool) -> Result<Toc, &'static str> {
-    let mut t1 = start + (horizon - start);
-    if !(t1 < horizon) {
-        t1 = horizon;
+/// Two circles without orbits: the magnitude sum of the gap's terms at
+/// time t, (|r1| + |r2|)^2 + Y^2 + X^2 with X = |x1| + |x2| + (|vx1| +
+/// |vx2|) |t| + (|ax1| + |ax2|) t^2/2 (the value the generated scale gives
+/// at t = 0 when the orbit radii are zero).
+fn still_scale(ix: &[usize; 24], p: &[f64], t: f64) -> f64 {
+    let jx = &ix[12..];
+    let sr = p[ix[11]].abs() + p[jx[11]].abs();
+    if t == 0.0 {
+        // the same value, the terms in t being zero
+        let ax = p[ix[0]].abs() + p[jx[0]].abs();
+        let ay = p[ix[1]].abs() + p[jx[1]].abs();
+        return sr * sr + ay * ay + ax * ax;
     }
-    let l = t1 - start;
-    let mut pp = [0.0f64; MAX_PARAMS];
-    let pp = &mut pp[..k.m.nparams];
-    (k.m.shift)(k.p, start, pp);
-    let mut c = [0.0f64; MAX_DEGREE + 1];
-    let n = k.coefficients(pp, &mut c)?;
-    if !refine && c[0].abs() - reach(&c, n, l) > 0.0 {
-        return Ok(Toc::NoContact);
+    let u = t.abs();
+    let u2 = 0.5 * u * u;
+    let sx = p[ix[0]].abs()
+        + p[jx[0]].abs()
+        + (p[ix[2]].abs() + p[jx[2]].abs()) * u
+        + (p[ix[4]].abs() + p[jx[4]].abs()) * u2;
+    let sy = p[ix[1]].abs()
+        + p[jx[1]].abs()
+        + (p[ix[3]].abs() + p[jx[3]].abs()) * u
+        + (p[ix[5]].abs() + p[jx[5]].abs()) * u2;
+    sr * sr + sy * sy + sx * sx
+}
+
+/// Two circles without orbits: their gap is the polynomial H of
+/// `circles_bound` (exact up to its margin), solved once over `(start,
+/// horizon]`; the root is polished on the gap only when its width under that
+/// margin exceeds SHARP r.
+fn still_circles(m: &Motion, ix: &[usize; 24], p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
+    let (h, pd, margin, _) = circles_bound(ix, p, horizon);
+    let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: Some((pd, ix)) };
+    let start = match begin(&k, horizon, o)? {
+        Begin::Answer(a) => return Ok(a),
+        Begin::Search(s) => s,
+    };
+    let mut n = 4;
+    while n > 0 && h[n] == 0.0 {
+        n -= 1;
     }
-    let Some(s) = (k.solver)(&c[..=n], 0.0, l) else {
+    let Some(mut r) = (o.solver)(&h[..=n], start, horizon) else {
         return Ok(Toc::NoContact);
     };
-    let mut r = start + s;
-    if refine {
-        r = k.polish(r, start, start + l, start, horizon);
+    if o.refine && !(width(&h, n, r, margin) <= SHARP * r) {
+        r = k.polish(r, start, horizon, start, horizon);
     }
     if r > horizon {
         r = horizon;
