@@ -126,8 +126,14 @@ pub(super) fn edges_separation(verts: &[Vertex], p_: &Body, pts: &[(f64, f64)], 
 }
 
 /// [`separation`] of two polygons whose vertices at t are pa and pb.
-pub(super) fn polygons_separation(verts: &[Vertex], a_: &Body, b_: &Body, t: f64, pa: &[(f64, f64)],
-                                  pb: &[(f64, f64)]) -> f64 {
+pub(super) fn polygons_separation(
+    verts: &[Vertex],
+    a_: &Body,
+    b_: &Body,
+    t: f64,
+    pa: &[(f64, f64)],
+    pb: &[(f64, f64)],
+) -> f64 {
     max(edges_separation(verts, a_, pb, t), edges_separation(verts, b_, pa, t))
 }
 

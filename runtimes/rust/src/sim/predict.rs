@@ -1010,11 +1010,8 @@ fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
         Some((pa, pb)) => polygons_separation(w.verts(), a_, b_, now, pa, pb),
         None => separation(w.verts(), a_, b_, now),
     };
-    let anyway = clear_root(
-        sep - tol,
-        spin + (u2 - u1).abs() + (v2 - v1).abs(),
-        (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs(),
-    );
+    let anyway =
+        clear_root(sep - tol, spin + (u2 - u1).abs() + (v2 - v1).abs(), (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs());
     max(along, anyway)
 }
 
