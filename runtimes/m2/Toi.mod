@@ -187,6 +187,8 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
+   b^.rc[0].other1 := 0 ;
+   b^.rc[1].other1 := 0 ;
    b^.placed := FALSE ;
    b^.seen := 0 ;
    b^.carry := 0 ;

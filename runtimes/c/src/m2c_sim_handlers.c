@@ -250,10 +250,19 @@ static void handle_collision(m2c_world *m, const m2c_sim_event *ev)
         m2c_sim_handle_sleep(m, B, A, t);
         return;
     }
+    if (m2c_sim_can_sleep_two(m, A, B, ev, cx, cy, nx, ny, vn)) {
+        m2c_sim_handle_sleep_two(m, A, B, t);
+        return;
+    }
+    if (m2c_sim_can_sleep_two(m, B, A, ev, cx, cy, nx, ny, vn)) {
+        m2c_sim_handle_sleep_two(m, B, A, t);
+        return;
+    }
     if (m2c_sim_can_ride(m, A, B, feature, i, j, vn)) {
         handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
+    int press_a = m2c_sim_slow_press(m, A, B, ev, nx, ny, vn), press_b = m2c_sim_slow_press(m, B, A, ev, nx, ny, vn);
     m->stats.collisions++;
     /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
      * on it); a gentle touch leaves it asleep, a real impulse wakes its
@@ -292,6 +301,10 @@ static void handle_collision(m2c_world *m, const m2c_sim_event *ev)
             m2c_sim_emit_state(m, both[k]);
         }
     }
+    if (press_a && !A->asleep)
+        m2c_sim_note_rest(m, A, B, ev, cx, cy, nx, ny);
+    if (press_b && !B->asleep)
+        m2c_sim_note_rest(m, B, A, ev, cx, cy, nx, ny);
     /* an impulse changes the motion of what it hit: what they carried leaves
      * (a sleeper a gentle touch left asleep has not moved: what slides on it stays) */
     m2c_sim_left left = { 0 };

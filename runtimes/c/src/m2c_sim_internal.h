@@ -450,10 +450,23 @@ typedef struct m2c_sim_cluster {
     int32_t nmovers, ndone, bcap;
 } m2c_sim_cluster;
 
+/* A movable body's last slow contact pressing it onto another (a hop), for
+ * sleeping on two supports (docs/simulator.md, "Two supports"). */
+typedef struct m2c_sim_rest_contact {
+    double px, py;          /* m: the contact point */
+    double mx, my;          /* unit normal from the body to the other */
+    double load;            /* m/s^2: the body's free acceleration along (mx, my), > 0 */
+    double gx, gy, gang;    /* m, m, rad: the other body's position and angle then */
+    double bx, by, bang;    /* m, m, rad: the body's own position and angle then */
+    int32_t other1;         /* the other body's index + 1; 0: no contact */
+} m2c_sim_rest_contact;
+
 struct m2c_world {
     m2c_sim_scene *s;                   /* owned */
     m2c_sim_body *bodies;               /* s->bodies */
     uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
+    m2c_sim_rest_contact *restc;        /* per body, two: its last slow pressing contact, and the last before
+                                         * it with another body */
     m2c_sim_heap heap;
     m2c_sim_stats stats;
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
@@ -891,6 +904,13 @@ static inline int m2c_sim_jolted(const m2c_sim_body *S)
 /* A supported body that stays where it is. */
 int m2c_sim_at_rest(const m2c_world *m, const m2c_sim_body *A);
 /* Awake movable M, a body of the collision ev with grounded G, falls asleep on G. */
+int m2c_sim_slow_press(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                       double nx, double ny, double vn);
+void m2c_sim_note_rest(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double cx,
+                       double cy, double nx, double ny);
+int m2c_sim_can_sleep_two(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                          double cx, double cy, double nx, double ny, double vn);
+void m2c_sim_handle_sleep_two(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t);
 int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
                       double ny, double vn);
 /* A (advanced to t) falls asleep resting on G. */

@@ -101,6 +101,115 @@ int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G
     return 1;
 }
 
+/* The contact of ev of awake movable M with G (both advanced; (nx, ny) from
+ * a to b, vn its normal speed) is slow and presses M onto G: M's free
+ * acceleration has a positive load along the normal from M to G, vn <
+ * rest_speed and eM eG (-vn) < rest_speed, M's speed across the normal is
+ * below rest_speed, and a polygon M turns slower than rest_speed / bound. */
+int m2c_sim_slow_press(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                       double nx, double ny, double vn)
+{
+    if (M->fixed || M->asleep)
+        return 0;
+    double mx = M->idx == ev->u.collision.a ? nx : -nx;
+    double my = M->idx == ev->u.collision.a ? ny : -ny;
+    double rest = m->s->rest_speed;
+    double load = M->fax * mx + M->fay * my;
+    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
+        return 0;
+    double ut = M->vy * mx - M->vx * my;
+    if (ut * ut >= rest * rest)
+        return 0;
+    return !M->polygon || fabs(M->om) * M->bound < rest;
+}
+
+/* Keeps the contact of ev at (cx, cy) as M's last slow pressing contact,
+ * with G's and M's positions and angles now. */
+void m2c_sim_note_rest(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double cx,
+                       double cy, double nx, double ny)
+{
+    m2c_sim_rest_contact *r = &m->restc[2 * (size_t)M->idx];
+    if (r[0].other1 != G->idx + 1)
+        r[1] = r[0];                    /* the last contact with another body is kept */
+    r->px = cx;
+    r->py = cy;
+    r->mx = M->idx == ev->u.collision.a ? nx : -nx;
+    r->my = M->idx == ev->u.collision.a ? ny : -ny;
+    r->load = M->fax * r->mx + M->fay * r->my;
+    r->gx = G->px;
+    r->gy = G->py;
+    r->gang = G->ang;
+    r->bx = M->px;
+    r->by = M->py;
+    r->bang = M->ang;
+    r->other1 = G->idx + 1;
+}
+
+/* A contact force along the direction of M's free acceleration (gx, gy)
+ * (unit) at a contact with unit normal (mx, my) from M to G lies in the
+ * friction cone: the normal presses (c > 0) and |m x g| <= mu c. */
+static int in_cone(double mx, double my, double gx, double gy, double mu)
+{
+    double c = mx * gx + my * gy;
+    double s = fabs(mx * gy - my * gx);
+    return c > 0.0 && !(s > mu * c);
+}
+
+/* Awake movable M, in the slow pressing contact of ev with grounded G at
+ * (cx, cy), falls asleep on two supports: its last slow pressing contact
+ * (restc) was with another grounded body G1 that has not moved since, and M
+ * has moved less than the face tolerance of `flat` since (its centre, and
+ * its angle times its bound: it still touches G1 within a hop's height); both
+ * contacts can push along M's free acceleration within their friction
+ * cones, and M's centre lies strictly between the two contact points across
+ * that direction (by more than the tolerance): two vertical forces then
+ * hold M's weight with no torque (docs/simulator.md, "Two supports"). */
+int m2c_sim_can_sleep_two(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                          double cx, double cy, double nx, double ny, double vn)
+{
+    if (!m2c_sim_grounded(G) || !m2c_sim_slow_press(m, M, G, ev, nx, ny, vn))
+        return 0;
+    const m2c_sim_rest_contact *r = &m->restc[2 * (size_t)M->idx];
+    if (r->other1 - 1 == G->idx)
+        r++;                            /* the last contact with a body other than G */
+    if (r->other1 == 0 || r->other1 - 1 == G->idx)
+        return 0;
+    const m2c_sim_body *G1 = &m->bodies[r->other1 - 1];
+    if (G1->gone || !m2c_sim_grounded(G1) || G1->px != r->gx || G1->py != r->gy || G1->ang != r->gang)
+        return 0;
+    /* M has stayed within a hop's height of where it touched G1 (the face tolerance of `flat`) */
+    double ftol = fmax(m->s->tol, m->s->rest_speed * m->s->rest_speed / r->load);
+    double dx = M->px - r->bx, dy = M->py - r->by;
+    if (dx * dx + dy * dy > ftol * ftol || fabs(M->ang - r->bang) * M->bound > ftol)
+        return 0;
+    double fa = sqrt(M->fax * M->fax + M->fay * M->fay);
+    double gx = M->fax / fa, gy = M->fay / fa;
+    double mx = M->idx == ev->u.collision.a ? nx : -nx;
+    double my = M->idx == ev->u.collision.a ? ny : -ny;
+    if (!in_cone(r->mx, r->my, gx, gy, M->mu * G1->mu) || !in_cone(mx, my, gx, gy, M->mu * G->mu))
+        return 0;
+    double x1 = (r->px - M->px) * -gy + (r->py - M->py) * gx;
+    double x2 = (cx - M->px) * -gy + (cy - M->py) * gx;
+    double tol = m->s->tol;
+    return (x1 < -tol && x2 > tol) || (x1 > tol && x2 < -tol);
+}
+
+/* A falls asleep on G (handle_sleep) and on its other support, the body of
+ * its last slow pressing contact: when that one sleeps in another island,
+ * the two islands become one (A's), so that waking either wakes both. */
+void m2c_sim_handle_sleep_two(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
+{
+    const m2c_sim_rest_contact *r = &m->restc[2 * (size_t)A->idx];
+    const m2c_sim_body *G1 = &m->bodies[(r->other1 - 1 == G->idx ? r[1].other1 : r->other1) - 1];
+    m2c_sim_handle_sleep(m, A, G, t);
+    if (G1->asleep && G1->island != A->island) {
+        int32_t old = G1->island;
+        for (int32_t k = 0; k < m->s->nbodies; k++)
+            if (m->bodies[k].asleep && m->bodies[k].island == old)
+                m->bodies[k].island = A->island;
+    }
+}
+
 /* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
  * G's island, or in a new one numbered A's index when G is fixed.  Its
  * awake neighbours are predicted against it again. */

@@ -163,11 +163,12 @@ int m2c_sim_open(m2c_world *m, m2c_sim_scene *scene, int cc_variants, int pe_var
     m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
     m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
     m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
+    m->restc = calloc(2 * ((size_t)scene->nbodies + 1), sizeof *m->restc);
     size_t nv = scene->verts_cap + 1;
     m->trig_cap = nv;
     m->vtrig = calloc(nv, sizeof *m->vtrig);
     m->etrig = calloc(nv, sizeof *m->etrig);
-    if (m->stamp == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
+    if (m->stamp == NULL || m->restc == NULL || m->vtrig == NULL || m->etrig == NULL || m->cc_counts == NULL || m->pe_counts == NULL
         || m->large == NULL || m2c_sim_grid_init(&m->grid, scene->nx, scene->ny) != 0)
         m2c_sim_die(m, "out of memory");
     m2c_sim_choose_fetch(m);
@@ -202,6 +203,7 @@ void m2c_sim_close(m2c_world *m)
     free(m->wnear);
     free(m->near);
     free(m->stamp);
+    free(m->restc);
     free(m->vtrig);
     free(m->etrig);
     free(m->scratch);

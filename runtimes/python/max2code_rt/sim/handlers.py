@@ -37,9 +37,17 @@ class HandlersMixin:
         if self.can_sleep(B, A, ev, nx, ny, vn):
             self.handle_sleep(B, A, t)
             return
+        if self.can_sleep_two(A, B, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_two(A, B, t)
+            return
+        if self.can_sleep_two(B, A, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_two(B, A, t)
+            return
         if self.can_ride(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
+        press_a = self.slow_press(A, B, ev, nx, ny, vn)
+        press_b = self.slow_press(B, A, ev, nx, ny, vn)
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
         # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
@@ -73,6 +81,10 @@ class HandlersMixin:
             if not b.fixed and not b.asleep:
                 b.stamp += 1
                 self.emit_state(b)
+        if press_a and not A.asleep:
+            self.note_rest(A, B, ev, cx, cy, nx, ny)
+        if press_b and not B.asleep:
+            self.note_rest(B, A, ev, cx, cy, nx, ny)
         # an impulse changes the motion of what it hit: what they carried leaves
         # (a sleeper a gentle touch left asleep has not moved: what slides on it stays)
         left = []

@@ -100,6 +100,102 @@ class SleepMixin:
         """A sleeper an impulse has set moving."""
         return S.vx != 0.0 or S.vy != 0.0 or S.om != 0.0
 
+    def slow_press(self, M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float) -> bool:
+        """The contact of ev of awake movable M with G is slow and presses M
+        onto G: M's free acceleration has a positive load along the normal
+        from M to G, vn < rest_speed and eM eG (-vn) < rest_speed, M's speed
+        across the normal is below rest_speed, and a polygon M turns slower
+        than rest_speed / bound."""
+        if M.fixed or M.asleep:
+            return False
+        mx = nx if M.idx == ev.a else -nx
+        my = ny if M.idx == ev.a else -ny
+        rest = self.s.rest_speed
+        load = M.fax * mx + M.fay * my
+        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
+            return False
+        ut = M.vy * mx - M.vx * my
+        if ut * ut >= rest * rest:
+            return False
+        return not M.polygon or math.fabs(M.om) * M.bound < rest
+
+    def note_rest(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float) -> None:
+        """Keeps the contact of ev at (cx, cy) as M's last slow pressing
+        contact, with G's and M's positions and angles now; the one before,
+        when it was with another body, is kept too."""
+        mx = nx if M.idx == ev.a else -nx
+        my = ny if M.idx == ev.a else -ny
+        r = (G.idx, cx, cy, mx, my, M.fax * mx + M.fay * my, G.px, G.py, G.ang, M.px, M.py, M.ang)
+        old = self.restc.get(M.idx)
+        if old is None:
+            self.restc[M.idx] = [r, None]
+        elif old[0][0] != G.idx:
+            self.restc[M.idx] = [r, old[0]]
+        else:
+            old[0] = r
+
+    def rest_other(self, M: Body, G: Body):
+        """M's last slow pressing contact with a body other than G, or None."""
+        slots = self.restc.get(M.idx)
+        if slots is None:
+            return None
+        r = slots[0] if slots[0][0] != G.idx else slots[1]
+        return r if r is not None and r[0] != G.idx else None
+
+    @staticmethod
+    def in_cone(mx: float, my: float, gx: float, gy: float, mu: float) -> bool:
+        """A contact force along (gx, gy) at a contact of unit normal (mx, my)
+        lies in the friction cone: c > 0 and |m x g| <= mu c."""
+        c = mx * gx + my * gy
+        s = math.fabs(mx * gy - my * gx)
+        return c > 0.0 and not (s > mu * c)
+
+    def can_sleep_two(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float,
+                      vn: float) -> bool:
+        """Awake movable M, in the slow pressing contact of ev with grounded G
+        at (cx, cy), falls asleep on two supports (docs/simulator.md, "Two
+        supports"): its last slow pressing contact with another body G1 that
+        is grounded and has not moved since; M has moved less than the face
+        tolerance since (its centre, and its angle times its bound); both
+        contacts can push along M's free acceleration within their friction
+        cones, and M's centre lies strictly between the two contact points
+        across that direction (by more than the tolerance)."""
+        if not self.grounded(G) or not self.slow_press(M, G, ev, nx, ny, vn):
+            return False
+        r = self.rest_other(M, G)
+        if r is None:
+            return False
+        G1 = self.s.bodies[r[0]]
+        if G1.gone or not self.grounded(G1) or G1.px != r[6] or G1.py != r[7] or G1.ang != r[8]:
+            return False
+        ftol = max(self.s.tol, self.s.rest_speed * self.s.rest_speed / r[5])
+        dx = M.px - r[9]
+        dy = M.py - r[10]
+        if dx * dx + dy * dy > ftol * ftol or math.fabs(M.ang - r[11]) * M.bound > ftol:
+            return False
+        fa = math.sqrt(M.fax * M.fax + M.fay * M.fay)
+        gx = M.fax / fa
+        gy = M.fay / fa
+        mx = nx if M.idx == ev.a else -nx
+        my = ny if M.idx == ev.a else -ny
+        if not self.in_cone(r[3], r[4], gx, gy, M.mu * G1.mu) or not self.in_cone(mx, my, gx, gy, M.mu * G.mu):
+            return False
+        x1 = (r[1] - M.px) * -gy + (r[2] - M.py) * gx
+        x2 = (cx - M.px) * -gy + (cy - M.py) * gx
+        tol = self.s.tol
+        return (x1 < -tol and x2 > tol) or (x1 > tol and x2 < -tol)
+
+    def handle_sleep_two(self, A: Body, G: Body, t: float) -> None:
+        """A falls asleep on G (handle_sleep) and on its other support: when
+        that one sleeps in another island, the two islands become one (A's)."""
+        G1 = self.s.bodies[self.rest_other(A, G)[0]]
+        self.handle_sleep(A, G, t)
+        if G1.asleep and G1.island != A.island:
+            old = G1.island
+            for b in self.s.bodies:
+                if b.asleep and b.island == old:
+                    b.island = A.island
+
     def handle_sleep(self, A: Body, G: Body, t: float) -> None:
         """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
         in G's island, or in a new one numbered A's index when G is fixed.

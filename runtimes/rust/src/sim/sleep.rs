@@ -6,7 +6,7 @@
 use super::motion::point_at;
 use super::scene::Body;
 use super::support::{flat, is_static, support_frame};
-use super::world::Space;
+use super::world::{RestContact, Space};
 use super::PE;
 
 /// A body others can fall asleep on: asleep, or fixed and unmoving.
@@ -123,4 +123,109 @@ fn over_face(w: &Space, m_: &Body, v_: &Body, e_: &Body, i: i32, j: i32, load: f
     }
     let c = (m_.px - e_.px) * tx + (m_.py - e_.py) * ty;
     !(c < lo + tol) && !(c > hi - tol)
+}
+
+/// The contact of ev of awake movable M (body m) with G (body g) is slow and
+/// presses M onto G: M's free acceleration has a positive load along the
+/// normal from M to G, vn < rest_speed and eM eG (-vn) < rest_speed, M's
+/// speed across the normal is below rest_speed, and a polygon M turns
+/// slower than rest_speed / bound.
+pub fn slow_press(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn: f64) -> bool {
+    let bodies = &w.s.bodies;
+    let (m_, g_) = (&bodies[m], &bodies[g]);
+    if m_.fixed || m_.asleep {
+        return false;
+    }
+    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+    let rest = w.s.rest_speed;
+    let load = m_.fax * mx + m_.fay * my;
+    if !(load > 0.0) || vn >= rest || m_.e * g_.e * -vn >= rest {
+        return false;
+    }
+    let ut = m_.vy * mx - m_.vx * my;
+    if ut * ut >= rest * rest {
+        return false;
+    }
+    !m_.polygon || m_.om.abs() * m_.bound < rest
+}
+
+/// Keeps the contact of ev at (cx, cy) as M's last slow pressing contact,
+/// with G's and M's positions and angles now; the one before, when it was
+/// with another body, is kept too.
+#[allow(clippy::too_many_arguments)]
+pub fn note_rest(w: &mut Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64) {
+    let (m_, g_) = (&w.s.bodies[m], &w.s.bodies[g]);
+    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+    let r = RestContact {
+        px: cx,
+        py: cy,
+        mx,
+        my,
+        load: m_.fax * mx + m_.fay * my,
+        gx: g_.px,
+        gy: g_.py,
+        gang: g_.ang,
+        bx: m_.px,
+        by: m_.py,
+        bang: m_.ang,
+        other1: g as i32 + 1,
+    };
+    let slots = &mut w.restc[m];
+    if slots[0].other1 != g as i32 + 1 {
+        slots[1] = slots[0];
+    }
+    slots[0] = r;
+}
+
+/// M's last slow pressing contact with a body other than G, if any.
+pub fn rest_other(w: &Space, m: usize, g: usize) -> Option<RestContact> {
+    let slots = &w.restc[m];
+    let r = if slots[0].other1 - 1 == g as i32 { slots[1] } else { slots[0] };
+    (r.other1 != 0 && r.other1 - 1 != g as i32).then_some(r)
+}
+
+/// A contact force along (gx, gy) at a contact of unit normal (mx, my) lies
+/// in the friction cone: c > 0 and |m x g| <= mu c.
+fn in_cone(mx: f64, my: f64, gx: f64, gy: f64, mu: f64) -> bool {
+    let c = mx * gx + my * gy;
+    let s = (mx * gy - my * gx).abs();
+    c > 0.0 && !(s > mu * c)
+}
+
+/// Awake movable M, in the slow pressing contact of ev with grounded G at
+/// (cx, cy), falls asleep on two supports (docs/simulator.md, "Two
+/// supports"): its last slow pressing contact with another body G1 that is
+/// grounded and has not moved since; M has moved less than the face
+/// tolerance since (its centre, and its angle times its bound); both
+/// contacts can push along M's free acceleration within their friction
+/// cones, and M's centre lies strictly between the two contact points
+/// across that direction (by more than the tolerance).
+#[allow(clippy::too_many_arguments)]
+pub fn can_sleep_two(w: &Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64) -> bool {
+    let bodies = &w.s.bodies;
+    if !grounded(&bodies[g]) || !slow_press(w, m, g, ev, nx, ny, vn) {
+        return false;
+    }
+    let Some(r) = rest_other(w, m, g) else {
+        return false;
+    };
+    let (m_, g_, g1) = (&bodies[m], &bodies[g], &bodies[(r.other1 - 1) as usize]);
+    if g1.gone || !grounded(g1) || g1.px != r.gx || g1.py != r.gy || g1.ang != r.gang {
+        return false;
+    }
+    let (tol, r2) = (w.s.tol, w.s.rest_speed * w.s.rest_speed / r.load);
+    let ftol = if r2 > tol { r2 } else { tol }; // C's fmax(tol, r2)
+    let (dx, dy) = (m_.px - r.bx, m_.py - r.by);
+    if dx * dx + dy * dy > ftol * ftol || (m_.ang - r.bang).abs() * m_.bound > ftol {
+        return false;
+    }
+    let fa = (m_.fax * m_.fax + m_.fay * m_.fay).sqrt();
+    let (gx, gy) = (m_.fax / fa, m_.fay / fa);
+    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+    if !in_cone(r.mx, r.my, gx, gy, m_.mu * g1.mu) || !in_cone(mx, my, gx, gy, m_.mu * g_.mu) {
+        return false;
+    }
+    let x1 = (r.px - m_.px) * -gy + (r.py - m_.py) * gx;
+    let x2 = (cx - m_.px) * -gy + (cy - m_.py) * gx;
+    (x1 < -tol && x2 > tol) || (x1 > tol && x2 < -tol)
 }

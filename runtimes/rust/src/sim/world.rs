@@ -62,6 +62,33 @@ pub struct Space {
     /// per body: asleep, the fixed body it fell asleep supported on (its
     /// edge's tangent kept in `tx`, `ty`), else -1 (the body record is full)
     pub rest: Vec<i32>,
+    /// per body: its last slow pressing contact, and the last before it with
+    /// another body (sleeping on two supports, [`super::sleep::can_sleep_two`])
+    pub restc: Vec<[RestContact; 2]>,
+}
+
+/// A movable body's slow contact pressing it onto another (a hop), for
+/// sleeping on two supports (docs/simulator.md, "Two supports").
+#[derive(Clone, Copy, Default)]
+pub struct RestContact {
+    /// m: the contact point
+    pub px: f64,
+    pub py: f64,
+    /// unit normal from the body to the other
+    pub mx: f64,
+    pub my: f64,
+    /// m/s^2: the body's free acceleration along (mx, my), > 0
+    pub load: f64,
+    /// m, m, rad: the other body's position and angle then
+    pub gx: f64,
+    pub gy: f64,
+    pub gang: f64,
+    /// m, m, rad: the body's own position and angle then
+    pub bx: f64,
+    pub by: f64,
+    pub bang: f64,
+    /// the other body's index + 1; 0: no contact
+    pub other1: i32,
 }
 
 /// Fetching ahead pays where the bodies and cells miss the cache (the
@@ -83,7 +110,8 @@ impl Space {
                 place_large(&mut grid, &mut s, b);
             }
         }
-        let mut w = Space { s, stamps, grid, fetch: false, rest };
+        let restc = vec![[RestContact::default(); 2]; s.bodies.len()];
+        let mut w = Space { s, stamps, grid, fetch: false, rest, restc };
         w.choose_fetch();
         w
     }
