@@ -51,16 +51,35 @@ def generated():
 
 @pytest.fixture(scope="session")
 def installed(tmp_path_factory):
-    """This checkout built as a wheel and installed in a fresh venv (made once
-    per session).  The venv sees the system's site-packages for the
-    dependencies (lark, numpy, matplotlib, ...: nothing is downloaded) but
-    max2code itself comes from the wheel.  Returns (venv folder, environment
-    for subprocesses: the venv's bin first on PATH, no PYTHONPATH)."""
+    """This checkout built as a wheel and installed in a fresh venv, made
+    once per run: the parallel workers of a run share it (it is made under a
+    lock in the run's temporary folder, which they share).  The venv sees the
+    system's site-packages for the dependencies (lark, numpy, matplotlib,
+    ...: nothing is downloaded) but max2code itself comes from the wheel; it
+    holds no pip of its own (the suite's pip installs the wheel into it).
+    Returns (venv folder, environment for subprocesses: the venv's bin first
+    on PATH, no PYTHONPATH)."""
     import subprocess
 
     from max2code.toolchain.tools import build_lock
 
-    base = tmp_path_factory.mktemp("installed")
+    run = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        run = run.parent            # the folder of the run, above each worker's own
+    base = run / "installed"
+    venv = base / "venv"
+    with build_lock(base):
+        if not (base / "made").exists():
+            _make_installed(base, venv, subprocess)
+            (base / "made").write_text("")
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MAX2CODE_BUILD", "VIRTUAL_ENV")}
+    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env['PATH']}"
+    return venv, env
+
+
+def _make_installed(base: Path, venv: Path, subprocess) -> None:
+    from max2code.toolchain.tools import build_lock
+
     wheels = base / "wheels"
     # one wheel build at a time from this checkout: setuptools writes its egg-info and build/lib
     # in the checkout, and a parallel worker's build would mix into this one
@@ -68,8 +87,7 @@ def installed(tmp_path_factory):
         subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", ROOT,
                         "-w", str(wheels)], check=True, capture_output=True, text=True)
     (wheel,) = wheels.glob("max2code-*.whl")
-    venv = base / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)], check=True)
     if sys.prefix != sys.base_prefix:
         # the suite runs in a venv (scripts/setup's .venv), whose packages the new one sees
         # too, after its own: a path line, so the .venv's editable max2code is not loaded
@@ -78,11 +96,8 @@ def installed(tmp_path_factory):
         site = subprocess.run([str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
                               check=True, capture_output=True, text=True).stdout.strip()
         (Path(site) / "parent-environment.pth").write_text("".join(f"{d}\n" for d in here))
-    subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "-q", "--no-deps", "--no-index", "--ignore-installed",
-                    str(wheel)], check=True, capture_output=True, text=True)
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MAX2CODE_BUILD", "VIRTUAL_ENV")}
-    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env['PATH']}"
-    return venv, env
+    subprocess.run([sys.executable, "-m", "pip", "--python", str(venv / "bin" / "python"), "install", "-q", "--no-deps",
+                    "--no-index", "--ignore-installed", str(wheel)], check=True, capture_output=True, text=True)
 
 
 def _null_is_device() -> bool:

@@ -5,10 +5,17 @@ two steps every harness shares (exact.py's too): writing the generated file
 and the harness source into a workdir, and running the build commands."""
 from __future__ import annotations
 
+import contextlib
+import fcntl
+import functools
+import hashlib
 import os
+import shutil
 import subprocess
 from dataclasses import dataclass
+from pathlib import Path
 
+from max2code import paths
 from max2code.errors import Max2CodeError
 from max2code.generate.lower import FunctionIR
 from max2code.generate.render import environment
@@ -67,9 +74,90 @@ def write_harness(lang: str, generated_text: str, workdir: str, template: str, *
 
 
 def compile_harness(commands: list[list[str]], workdir: str, timeout: float) -> None:
-    """Run the build commands in `workdir`; HarnessBuildError with the tool's output on failure."""
+    """Run the build commands in `workdir`; HarnessBuildError with the tool's output on failure.
+    A build that succeeded is kept under BUILD/harness/, keyed by all that
+    made it (_build_key): the same harness built again (by another test, a
+    parallel worker or a later run) is copied from there instead."""
+    key = _build_key(commands, workdir)
+    entry = paths.build_dir() / "harness" / key[:32]
+    with _locked(entry):
+        if (entry / _DONE).is_file() and (entry / _DONE).read_text(encoding="utf-8") == key:
+            for f in entry.iterdir():
+                if f.name != _DONE:
+                    shutil.copy2(f, os.path.join(workdir, f.name))
+            return
+        before = {name: os.stat(os.path.join(workdir, name)).st_mtime_ns for name in os.listdir(workdir)}
+        for cmd in commands:
+            proc = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True, cwd=workdir,
+                                  timeout=timeout)
+            if proc.returncode != 0:
+                raise HarnessBuildError(f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}")
+        # the entry: what the commands made or changed in workdir (programs, objects), written whole, then marked
+        made = [n for n in sorted(os.listdir(workdir)) if os.path.isfile(os.path.join(workdir, n))
+                and before.get(n) != os.stat(os.path.join(workdir, n)).st_mtime_ns]
+        tmp = entry.with_name(f"{entry.name}.{os.getpid()}.tmp")
+        shutil.rmtree(tmp, ignore_errors=True)
+        tmp.mkdir(parents=True)
+        for n in made:
+            shutil.copy2(os.path.join(workdir, n), tmp / n)
+        (tmp / _DONE).write_text(key, encoding="utf-8")
+        shutil.rmtree(entry, ignore_errors=True)
+        os.replace(tmp, entry)
+
+
+@contextlib.contextmanager
+def _locked(entry: Path):
+    """Hold the lock of a cache entry (the file ENTRY.lock next to it): two
+    workers that build the same harness take turns, and the second copies."""
+    entry.parent.mkdir(parents=True, exist_ok=True)
+    with open(entry.with_name(entry.name + ".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+_DONE = "harness-key"       # an entry's last file: the full key; a folder without it is not an entry
+
+
+@functools.lru_cache(maxsize=None)
+def _tool_version(tool: str) -> str:
+    """What names a build tool's version: its `--version` text (rustup's
+    proxies and compiler drivers print the real toolchain's)."""
+    try:
+        proc = subprocess.run([tool, "--version"], stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                              timeout=60)
+    except OSError as exc:
+        return f"{tool}: {exc}"
+    return f"{shutil.which(tool) or tool}\n{proc.stdout}{proc.stderr}"
+
+
+def _build_key(commands: list[list[str]], workdir: str) -> str:
+    """The digest of a harness build: the commands (workdir written as a
+    placeholder, so the same build in another folder has the same key), the
+    bytes of every file in workdir (the generated file, the harness source)
+    and of every other file a command names (the runtime's library, objects
+    and rlib), the runtime sources (their headers and interfaces), and the
+    tools' versions."""
+    h = hashlib.sha256()
+    wd = os.path.abspath(workdir)
+
+    def add(label: str, data: bytes) -> None:
+        h.update(f"{label} {len(data)}\0".encode())
+        h.update(data)
+    add("runtimes", paths.sources_digest().encode())
+    for name in sorted(os.listdir(wd)):
+        p = os.path.join(wd, name)
+        if os.path.isfile(p):
+            with open(p, "rb") as fh:
+                add(f"workdir/{name}", fh.read())
     for cmd in commands:
-        proc = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True, cwd=workdir,
-                              timeout=timeout)
-        if proc.returncode != 0:
-            raise HarnessBuildError(f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}")
+        add("tool", _tool_version(cmd[0]).encode())
+        add("command", "\0".join(a.replace(wd, "<workdir>") for a in cmd).encode())
+        for a in cmd[1:]:
+            p = os.path.abspath(os.path.join(wd, a))
+            if not p.startswith(wd + os.sep) and os.path.isfile(p):
+                with open(p, "rb") as fh:
+                    add(f"file {a}", fh.read())
+    return h.hexdigest()

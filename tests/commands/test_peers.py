@@ -120,10 +120,66 @@ def test_pymunk_reads_the_scene():
     check_drops(peers.run_pymunk(drop_scene()), peers.STEP)
 
 
-@pytest.mark.slow
-def test_rapier_reads_the_scene():
-    binary = peers.build_rapier(progress=False)     # crates.io is reachable: a failure to build is a failure
-    check_drops(peers.run_driver("rapier", binary, drop_scene()), peers.STEP)
+# The rapier2d driver's answer to drop_scene(), recorded: building rapier2d from crates.io takes minutes
+# of CPU, so the suite runs the driver's recorded output through the same Python path instead (peer_text
+# in, run_driver's subprocess, parse_driver_output, check_drops), and the recording names the driver
+# sources (Cargo.toml, Cargo.lock, src/) and the exact input it was made from: a change to either fails
+# test_rapier_recording_is_current until `python3 tests/commands/test_peers.py --record` builds the driver
+# (peers.build_rapier, as the benchmark does) and records it again.
+RAPIER_RECORDING = ROOT / "tests" / "data" / "peers" / "rapier-drops.json"
+
+
+def rapier_driver_digest() -> str:
+    """The digest of the rapier driver's sources, by their paths relative to the driver's folder."""
+    import hashlib
+    h = hashlib.sha256()
+    d = peers.RAPIER_DIR
+    for f in [d / "Cargo.toml", d / "Cargo.lock", *sorted((d / "src").rglob("*.rs"))]:
+        data = f.read_bytes()
+        h.update(f"{f.relative_to(d).as_posix()} {len(data)}\0".encode() + data)
+    return h.hexdigest()
+
+
+def record_rapier() -> None:
+    """Build the rapier driver, run it on drop_scene() and write RAPIER_RECORDING."""
+    import subprocess
+    binary = peers.build_rapier(progress=True)
+    text = peers.peer_text(drop_scene(), peers.STEP)
+    proc = subprocess.run([binary], input=text, capture_output=True, text=True, timeout=600, check=True)
+    RAPIER_RECORDING.parent.mkdir(parents=True, exist_ok=True)
+    RAPIER_RECORDING.write_text(json.dumps({"driver": rapier_driver_digest(), "input": text, "output": proc.stdout},
+                                           indent=1) + "\n", encoding="utf-8")
+
+
+def rapier_recording() -> dict:
+    return json.loads(RAPIER_RECORDING.read_text(encoding="utf-8"))
+
+
+def test_rapier_recording_is_current():
+    rec = rapier_recording()
+    again = "the rapier driver's recording is stale: run `python3 tests/commands/test_peers.py --record`"
+    assert rec["driver"] == rapier_driver_digest(), again + " (bench/peers/rapier changed)"
+    assert rec["input"] == peers.peer_text(drop_scene(), peers.STEP), again + " (peer_text or the scene changed)"
+
+
+def test_rapier_reads_the_scene(tmp_path):
+    """The recorded driver output through run_driver: a stand-in program
+    that answers the recorded input, and only it, with the recorded output."""
+    import sys
+    rec = rapier_recording()
+    (tmp_path / "recording.json").write_text(json.dumps(rec), encoding="utf-8")
+    stand_in = tmp_path / "rapier-peer"
+    stand_in.write_text(f"#!{sys.executable}\n"
+                        "import json, sys\n"
+                        f"rec = json.load(open({str(tmp_path / 'recording.json')!r}))\n"
+                        "if sys.stdin.read() != rec['input']:\n"
+                        "    print('X not the recorded input'); sys.exit(1)\n"
+                        "sys.stdout.write(rec['output'])\n")
+    stand_in.chmod(0o755)
+    check_drops(peers.run_driver("rapier", str(stand_in), drop_scene()), peers.STEP)
+    # and another scene is not answered from the recording
+    other = peers.run_driver("rapier", str(stand_in), drop_scene().replace(end_time=0.5))
+    assert other.status == "not the recorded input"
 
 
 @pytest.mark.slow
@@ -162,3 +218,11 @@ def test_event_vs_frame_sweep_reports_a_stuck_scene():
     row = ev.cpu_table(results, ["c"])[2]
     assert row.startswith("| drops | 1 | 0 (0) | stopped: ") and "the scene is stuck" in row
     assert results[0].frames[0].cpu_per_s > 0.0        # pymunk's free run is still timed
+
+
+if __name__ == "__main__":
+    import sys
+    if sys.argv[1:] != ["--record"]:
+        sys.exit("usage: python3 tests/commands/test_peers.py --record   (builds the rapier driver, records its output)")
+    record_rapier()
+    print(f"wrote {RAPIER_RECORDING}")

@@ -103,6 +103,7 @@ def test_a_disagreement_and_a_crash_are_counted():
 
 
 # ------------------------------------------------------------------ what the fuzzing found
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_negative_body_of_a_live_input_has_the_one_message_in_every_runtime(runners, bases):
     """Rust's `--live` reader named a negative body `no body -1`."""
     for body in (-1, -2147483648):
@@ -110,6 +111,7 @@ def test_a_negative_body_of_a_live_input_has_the_one_message_in_every_runtime(ru
         assert one_answer(got) == (1, f"X live input: body {body} does not exist")
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_rest_speed_whose_square_overflows_is_refused(runners, bases):
     """rest_speed 1e160 ran with another horizon count in Modula-2 (its
     square is infinite); it is now refused by the flat check in every runtime
@@ -127,6 +129,7 @@ def test_a_rest_speed_whose_square_overflows_is_refused(runners, bases):
         parse_scene(json.dumps(raw), "in-memory")
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_live_velocity_that_would_carry_a_body_out_of_range_is_refused(runners, bases):
     """add_velocity(1e308) on a ball (finite, so accepted before) would put
     it at 2e308 m by the end: refused with the scene's reach message in
@@ -139,6 +142,7 @@ def test_a_live_velocity_that_would_carry_a_body_out_of_range_is_refused(runners
         assert one_answer(answers(runners, live_text(bases, "ledge", line), 0.5))[0] == 0, line
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_scripted_input_that_would_carry_a_body_out_of_range_stops_the_run(runners, bases):
     """An impulse of -1e308 scripted on the box's ball (not finite, or 2e308
     m by the end) made every runtime write NaN, then disagree: a scripted
@@ -157,6 +161,7 @@ def test_a_scripted_input_that_would_carry_a_body_out_of_range_stops_the_run(run
         assert one_answer(answers(runners, live_text(bases, "ledge", line)))[0] == 0, line
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_polygon_with_a_negative_bound_is_refused_by_rule_7_in_every_runtime(runners, bases):
     """C and Rust skipped 0 <= BOUND for a polygon and refused its first
     vertex as outside the bound (rule 9) where Python and Modula-2 refused
@@ -169,6 +174,7 @@ def test_a_polygon_with_a_negative_bound_is_refused_by_rule_7_in_every_runtime(r
     assert one_answer(answers(runners, bad)) == (1, "X scene: body 2: bound -0.10000000000000001 is too small or too large")
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_modula2_writes_its_probe_lines_before_a_refused_live_teleport(runners, bases):
     """A live teleport onto another body stops the run; Modula-2 lost the
     probe's buffered state lines (stderr empty) where the others wrote
@@ -254,6 +260,7 @@ def _vertex_field(text: str, body: int, vertex: int, field: int, value: str) -> 
     return "".join(lines).encode()
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_a_vertex_whose_distance_or_edge_line_is_beyond_the_bound_is_refused(runners, bases):
     """A wall's vertex distance RHO of 1.8e308 (or -1e308) was read without a
     check: Python's broad phase stopped on an infinite corner (exit 3) where
@@ -296,6 +303,7 @@ def test_a_run_out_of_time_where_the_others_hit_max_events_is_slow_not_a_timeout
     assert t.timeouts == 4
 
 
+@pytest.mark.slow     # builds the four runtimes' simulators (the runners fixture)
 def test_an_orbit_turning_at_1e151_rad_s_is_stopped_by_max_events_alike(runners, bases):
     """The scene of the test above with max_events 20000: every runtime
     stops it with the same X line (bounded by max_events, not hung)."""

@@ -55,6 +55,7 @@ def test_a_stuck_run_keeps_its_trace_in_every_runtime(tmp_path, capsys):
         assert kept[lang] == kept[LANGS[0]], f"{lang}'s kept trace differs from {LANGS[0]}'s"
 
 
+@pytest.mark.slow      # builds and runs the C simulator
 def test_a_run_over_the_event_limit_keeps_its_trace_on_standard_output(capsys):
     """Without -o the trace goes to standard output as it is made: the
     events before the limit, then the stopped line.  The simulator counts
