@@ -37,7 +37,7 @@ from max2code.progress import bar
 from max2code.paths import ROOT
 from max2code.sim.scene import Scene, load_scene, parse_scene
 from max2code.sim.commands import compare
-from max2code.reports.engines import EvfError, OurResult, build_space, read_states, step_until, time_ours, touching
+from max2code.reports.engines import EvfError, OurResult, _pymunk, build_space, read_states, step_until, time_ours, touching
 from max2code.sim.simulate import LANGS, WORK_COUNTERS, SimulateError, handled_events, run_scene
 
 STEPS = (1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0)
