@@ -48,6 +48,7 @@ def test_layout_is_found_and_proved(circles_py):
     assert pl.exact.circles is None
 
 
+@pytest.mark.slow
 def test_float_code_has_no_bound():
     g = generate_file(GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang="c",
                                       out_name="generated", exact=True, real="float"))

@@ -146,6 +146,7 @@ def test_the_command_line_reports_it_in_one_line_with_status_2_and_writes_nothin
     assert not out.exists() and not (tmp_path / "segment.h").exists()
 
 
+@pytest.mark.slow
 def test_the_bundled_equations_pass_in_every_form(generated):
     for eq in ("circle-circle", "point-line"):
         for kw in ({}, {"exact": True}, {"shared": False}, {"variants": False}, {"effects": ("acceleration",)}):

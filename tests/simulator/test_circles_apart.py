@@ -75,12 +75,14 @@ finite = st.floats(min_value=-10.0, max_value=10.0, allow_nan=False, allow_infin
 radius = st.floats(min_value=0.0, max_value=1.0, allow_nan=False, allow_infinity=False)
 
 
+@pytest.mark.slow
 @settings(max_examples=3000, deadline=None)
 @given(x=finite, y=finite, vx=finite, vy=finite, ra=radius, rb=radius)
 def test_random_pairs(world, x, y, vx, vy, ra, rb):
     check(world, x, y, vx, vy, ra, rb)
 
 
+@pytest.mark.slow
 @settings(max_examples=3000, deadline=None)
 @given(ang=st.floats(min_value=0.0, max_value=2 * math.pi), gap=st.floats(min_value=-1e-6, max_value=1e-6),
        speed=st.floats(min_value=1e-6, max_value=100.0), slant=st.floats(min_value=-1e-9, max_value=1e-9),
@@ -94,6 +96,7 @@ def test_touching_and_sliding_past(world, ang, gap, speed, slant, r):
     check(world, x, y, vx, vy, r, r)
 
 
+@pytest.mark.slow
 @settings(max_examples=3000, deadline=None)
 @given(ang=st.floats(min_value=0.0, max_value=2 * math.pi), miss=st.floats(min_value=-1e-7, max_value=1e-7),
        far=st.floats(min_value=1.0, max_value=1000.0), speed=st.floats(min_value=1e-6, max_value=100.0),
@@ -113,6 +116,7 @@ magnitude = st.integers(min_value=-600, max_value=600)
 mantissa = st.floats(min_value=-1.0, max_value=1.0, allow_nan=False, allow_infinity=False)
 
 
+@pytest.mark.slow
 @settings(max_examples=3000, deadline=None)
 @given(x=mantissa, y=mantissa, vx=mantissa, vy=mantissa, ex=magnitude, ev=magnitude, r=magnitude)
 def test_extreme_magnitudes(world, x, y, vx, vy, ex, ev, r):

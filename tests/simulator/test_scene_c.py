@@ -210,6 +210,7 @@ def scenes(draw):
     return "{" + ", ".join(f'"{k}": {v}' for k, v in put) + "}"
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scenes())
 def test_made_scenes(text):

@@ -89,6 +89,7 @@ def in_c_streamed(scene, build, text, cuts, **kw):
     return "".join(out), stats
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_fast_path_writes_the_same_bytes_on_every_example(path):
     scene = load_scene(str(path))
@@ -307,6 +308,7 @@ def traces(draw, kinds=tuple(ALL_KINDS), tail=True):
     return text, cuts
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(traces(), st.booleans())
 def test_made_traces_convert_alike(trace, frames):
@@ -319,6 +321,7 @@ def test_made_traces_convert_alike(trace, frames):
     assert in_c_streamed(SCENE, BUILD, text, cuts, frames=frames) == (want[0], want[1][1])
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(traces(tuple(COMMON_KINDS), tail=False), st.booleans())
 def test_made_traces_of_the_common_lines_convert_in_c(trace, frames):
