@@ -105,6 +105,7 @@ PL = [c for c in CASES if c["equation"] == "point-line"]
 PL_REGULAR = [c for c in PL if c["regular"] and c["expect"] is not None and "options" not in c]
 
 
+@pytest.mark.slow
 def test_knob_gsl_solver_gives_accepted_answers(point_line_c):
     g, h = point_line_c
     rows = _rows("point-line", PL, g.exact.params)
@@ -117,6 +118,7 @@ def test_knob_gsl_solver_gives_accepted_answers(point_line_c):
     assert bad == [], bad
 
 
+@pytest.mark.slow
 def test_knob_refine_off_and_window_angle(point_line_c):
     """Without refinement each window's polynomial answers: the error falls
     as the window angle shrinks (order 4: about angle^5)."""
@@ -134,6 +136,7 @@ def test_knob_refine_off_and_window_angle(point_line_c):
     assert max(abs(t - c["expect"]) / c["expect"] for c, (st, t) in zip(cases, got)) <= 1e-12
 
 
+@pytest.mark.slow
 def test_bad_options_are_errors(point_line_c):
     g, h = point_line_c
     c = PL_REGULAR[0]
@@ -142,6 +145,7 @@ def test_bad_options_are_errors(point_line_c):
     assert [st for st, _ in got] == [-1, -1]
 
 
+@pytest.mark.slow
 def test_zero_tol_knob_decides_touching_at_zero(point_line_c):
     """A gap of 1e-6 at t = 0, decreasing: a contact at 0 when zero_tol covers it."""
     g, h = point_line_c

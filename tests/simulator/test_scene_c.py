@@ -331,6 +331,7 @@ def test_the_good_scene_is_taken():
     agree(fast, scene)
 
 
+@pytest.mark.slow
 def test_command_with_and_without_the_c_reader(tmp_path, monkeypatch):
     """`max2code simulate` writes the same trace whichever reader took the scene, and the same error."""
     from max2code.sim import commands

@@ -449,6 +449,7 @@ def test_an_output_that_cannot_be_written_is_one_plain_error():
     assert r.stderr == "standard output: error: cannot write: No space left on device\n", r.stderr
 
 
+@pytest.mark.slow
 def test_a_closed_pipe_ends_the_command_quietly():
     """The reader of standard output gone before the trace is written (`| head -c 10`): no message, the exit
     status a shell shows for a Unix tool ended by SIGPIPE (128 + 13)."""
