@@ -91,23 +91,20 @@ END over_face ;
    (flat, whichever body has the vertex). *)
 PROCEDURE can_sleep (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
 VAR
-   mx, my, load, ut: REAL ;
+   mx, my, load: REAL ;
    V, E: BodyRef ;
 BEGIN
-   IF M^.fixed OR M^.asleep OR NOT grounded (G) THEN RETURN FALSE END ;
-   IF M^.idx = ev.a THEN
-      mx := nx ;
-      my := ny
-   ELSE
-      mx := -nx ;
-      my := -ny
-   END ;
-   load := M^.fax * mx + M^.fay * my ;
-   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (M^.e * G^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
-   ut := M^.vy * mx - M^.vx * my ;
-   IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
+   IF (NOT grounded (G)) OR (NOT slow_press (M, G, ev, nx, ny, vn)) THEN RETURN FALSE END ;
    IF M^.polygon THEN
-      IF (ABS (M^.om) * M^.bound >= RestSpeed) OR (ev.feature # FeatPE) OR (ev.i < 0) THEN RETURN FALSE END ;
+      IF (ev.feature # FeatPE) OR (ev.i < 0) THEN RETURN FALSE END ;
+      IF M^.idx = ev.a THEN
+         mx := nx ;
+         my := ny
+      ELSE
+         mx := -nx ;
+         my := -ny
+      END ;
+      load := M^.fax * mx + M^.fay * my ;
       V := ADR (Bodies^[ev.a]) ;
       E := ADR (Bodies^[ev.b]) ;
       RETURN flat (V, E, ev.i, ev.j, -nx, -ny, load) AND over_face (M, V, E, ev.i, ev.j, load)

@@ -73,26 +73,12 @@ static int over_face(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *V,
 int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
                       double ny, double vn)
 {
-    if (M->fixed || M->asleep || !m2c_sim_grounded(G))
-        return 0;
-    double mx, my;
-    if (M->idx == ev->u.collision.a) {
-        mx = nx;
-        my = ny;
-    } else {
-        mx = -nx;
-        my = -ny;
-    }
-    double rest = m->s->rest_speed;
-    double load = M->fax * mx + M->fay * my;
-    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
-        return 0;
-    double ut = M->vy * mx - M->vx * my;
-    if (ut * ut >= rest * rest)
+    if (!m2c_sim_grounded(G) || !m2c_sim_slow_press(m, M, G, ev, nx, ny, vn))
         return 0;
     if (M->polygon) {
-        if (fabs(M->om) * M->bound >= rest || ev->u.collision.feature != M2C_SIM_PE || ev->u.collision.i < 0)
+        if (ev->u.collision.feature != M2C_SIM_PE || ev->u.collision.i < 0)
             return 0;
+        double load = M->idx == ev->u.collision.a ? M->fax * nx + M->fay * ny : M->fax * -nx + M->fay * -ny;
         const m2c_sim_body *V = &m->bodies[ev->u.collision.a];
         const m2c_sim_body *E = &m->bodies[ev->u.collision.b];
         return m2c_sim_flat(m, V, E, ev->u.collision.i, ev->u.collision.j, -nx, -ny, load)

@@ -42,22 +42,12 @@ class SleepMixin:
         rest_speed, and a polygon M turns slower than rest_speed / bound and
         lies on a face: a vertex-edge contact with a neighbour of the vertex
         on the edge's line (`flat`, whichever body has the vertex)."""
-        if M.fixed or M.asleep or not self.grounded(G):
-            return False
-        if M.idx == ev.a:
-            mx, my = nx, ny
-        else:
-            mx, my = -nx, -ny
-        rest = self.s.rest_speed
-        load = M.fax * mx + M.fay * my
-        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
-            return False
-        ut = M.vy * mx - M.vx * my
-        if ut * ut >= rest * rest:
+        if not self.grounded(G) or not self.slow_press(M, G, ev, nx, ny, vn):
             return False
         if M.polygon:
-            if math.fabs(M.om) * M.bound >= rest or ev.feature != PE or ev.i < 0:
+            if ev.feature != PE or ev.i < 0:
                 return False
+            load = M.fax * nx + M.fay * ny if M.idx == ev.a else M.fax * -nx + M.fay * -ny
             bodies = self.s.bodies
             V = bodies[ev.a]
             E = bodies[ev.b]

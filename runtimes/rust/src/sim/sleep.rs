@@ -59,24 +59,16 @@ pub struct Touch {
 #[allow(clippy::too_many_arguments)]
 pub fn can_sleep(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn: f64) -> bool {
     let bodies = &w.s.bodies;
-    let (m_, g_) = (&bodies[m], &bodies[g]);
-    if m_.fixed || m_.asleep || !grounded(g_) {
-        return false;
-    }
-    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
-    let rest = w.s.rest_speed;
-    let load = m_.fax * mx + m_.fay * my;
-    if !(load > 0.0) || vn >= rest || m_.e * g_.e * -vn >= rest {
-        return false;
-    }
-    let ut = m_.vy * mx - m_.vx * my;
-    if ut * ut >= rest * rest {
+    let m_ = &bodies[m];
+    if !grounded(&bodies[g]) || !slow_press(w, m, g, ev, nx, ny, vn) {
         return false;
     }
     if m_.polygon {
-        if m_.om.abs() * m_.bound >= rest || ev.feature != PE || ev.i < 0 {
+        if ev.feature != PE || ev.i < 0 {
             return false;
         }
+        let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+        let load = m_.fax * mx + m_.fay * my;
         let (v_, e_) = (&bodies[ev.a], &bodies[ev.b]);
         return flat(w, v_, e_, ev.i, ev.j, -nx, -ny, load) && over_face(w, m_, v_, e_, ev.i, ev.j, load);
     }
