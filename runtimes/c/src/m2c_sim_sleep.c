@@ -131,6 +131,15 @@ void m2c_sim_note_rest(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *
     r->other1 = G->idx + 1;
 }
 
+/* M's last slow pressing contact with a body other than G, or NULL. */
+static const m2c_sim_rest_contact *rest_other(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G)
+{
+    const m2c_sim_rest_contact *r = &m->restc[2 * (size_t)M->idx];
+    if (r->other1 - 1 == G->idx)
+        r++;
+    return r->other1 == 0 || r->other1 - 1 == G->idx ? NULL : r;
+}
+
 /* A contact force along the direction of M's free acceleration (gx, gy)
  * (unit) at a contact with unit normal (mx, my) from M to G lies in the
  * friction cone: the normal presses (c > 0) and |m x g| <= mu c. */
@@ -155,10 +164,8 @@ int m2c_sim_can_sleep_two(const m2c_world *m, const m2c_sim_body *M, const m2c_s
 {
     if (!m2c_sim_grounded(G) || !m2c_sim_slow_press(m, M, G, ev, nx, ny, vn))
         return 0;
-    const m2c_sim_rest_contact *r = &m->restc[2 * (size_t)M->idx];
-    if (r->other1 - 1 == G->idx)
-        r++;                            /* the last contact with a body other than G */
-    if (r->other1 == 0 || r->other1 - 1 == G->idx)
+    const m2c_sim_rest_contact *r = rest_other(m, M, G);
+    if (r == NULL)
         return 0;
     const m2c_sim_body *G1 = &m->bodies[r->other1 - 1];
     if (G1->gone || !m2c_sim_grounded(G1) || G1->px != r->gx || G1->py != r->gy || G1->ang != r->gang)
@@ -185,8 +192,7 @@ int m2c_sim_can_sleep_two(const m2c_world *m, const m2c_sim_body *M, const m2c_s
  * the two islands become one (A's), so that waking either wakes both. */
 void m2c_sim_handle_sleep_two(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t)
 {
-    const m2c_sim_rest_contact *r = &m->restc[2 * (size_t)A->idx];
-    const m2c_sim_body *G1 = &m->bodies[(r->other1 - 1 == G->idx ? r[1].other1 : r->other1) - 1];
+    const m2c_sim_body *G1 = &m->bodies[rest_other(m, A, G)->other1 - 1];
     m2c_sim_handle_sleep(m, A, G, t);
     if (G1->asleep && G1->island != A->island) {
         int32_t old = G1->island;
