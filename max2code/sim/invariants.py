@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 
 from max2code.sim.replay import Replay
-from max2code.sim.scene import Body, Scene, penetration
+from max2code.sim.scene import Body, Scene, circle_centre, penetration_placed, world_vertices
 
 
 @dataclass
@@ -130,8 +130,35 @@ def check(scene: Scene, rp: Replay, kinds=("collision", "support", "stop", "leav
     deepest, where = -math.inf, ""
     drift, dwhere = 0.0, ""
     times = sorted({e.t for e in rp.events if e.kind in kinds})
+    # a pair is measured again only when one of its bodies has moved since the
+    # pair was last measured: the same places give the same depth, which could
+    # not raise `deepest` a second time
+    measured: dict[tuple[int, int], tuple] = {}
     for t in times:
         placed = [_at(b, rp.state_at(k, t)) for k, b in enumerate(bodies)]
+        where_at = [(p.position, p.angle) for p in placed]
+        corners: dict[int, list] = {}
+        boxes: dict[int, tuple] = {}
+
+        def pts(k: int):
+            if not placed[k].polygon:
+                return None
+            if k not in corners:
+                corners[k] = world_vertices(placed[k])
+            return corners[k]
+
+        def box(k: int):
+            if k not in boxes:
+                p = pts(k)
+                if p is None:
+                    x, y = circle_centre(placed[k])
+                    r = placed[k].radius
+                    boxes[k] = (x - r, y - r, x + r, y + r)
+                else:
+                    xs, ys = [q[0] for q in p], [q[1] for q in p]
+                    boxes[k] = (min(xs), min(ys), max(xs), max(ys))
+            return boxes[k]
+
         # pairs whose bounding circles meet (sort-and-sweep on x)
         order = sorted(range(len(placed)), key=lambda k: placed[k].position[0] - placed[k].bound)
         active: list[int] = []
@@ -146,7 +173,17 @@ def check(scene: Scene, rp: Replay, kinds=("collision", "support", "stop", "leav
                 reach = bj.bound + bk.bound
                 if (bj.position[0] - bk.position[0]) ** 2 + (bj.position[1] - bk.position[1]) ** 2 > reach * reach:
                     continue
-                d = penetration(bj, bk)
+                now = (where_at[j], where_at[k])
+                if measured.get((j, k)) == now:
+                    continue
+                measured[(j, k)] = now
+                if deepest >= 0.0:
+                    # convex bodies whose boxes are apart are apart: depth < 0 <= deepest
+                    xj0, yj0, xj1, yj1 = box(j)
+                    xk0, yk0, xk1, yk1 = box(k)
+                    if xj0 > xk1 or xk0 > xj1 or yj0 > yk1 or yk0 > yj1:
+                        continue
+                d = penetration_placed(bj, pts(j), bk, pts(k), deepest)
                 if d > deepest:
                     deepest, where = d, f"{bj.name} and {bk.name} at t={t!r}"
             active.append(k)

@@ -887,12 +887,22 @@ def circle_centre(b: Body) -> tuple[float, float]:
 
 def penetration(a: Body, b: Body) -> float:
     """How deep two bodies overlap at t = 0 (<= 0: apart or touching)."""
-    if not a.polygon and not b.polygon:
+    return penetration_placed(a, world_vertices(a) if a.polygon else None,
+                              b, world_vertices(b) if b.polygon else None)
+
+
+def penetration_placed(a: Body, pa, b: Body, pb, above: float = -math.inf) -> float:
+    """penetration(a, b) from the polygons' world vertices (pa, pb; None for
+    a circle).  With `above`, two polygons stop at the first separating axis
+    that shows the depth is at most `above`, and return that axis's depth (at
+    most `above`, at least the true depth): for a caller that only wants
+    depths greater than `above`."""
+    if pa is None and pb is None:
         (x1, y1), (x2, y2) = circle_centre(a), circle_centre(b)
         return a.radius + b.radius - math.hypot(x2 - x1, y2 - y1)
-    if not a.polygon or not b.polygon:
-        c, p = (a, b) if not a.polygon else (b, a)
-        (x, y), pts = circle_centre(c), world_vertices(p)
+    if pa is None or pb is None:
+        c, pts = (a, pb) if pa is None else (b, pa)
+        x, y = circle_centre(c)
         n = len(pts)
         # signed distance from the centre to the polygon
         inside_depth = math.inf
@@ -910,7 +920,6 @@ def penetration(a: Body, b: Body) -> float:
             return c.radius + inside_depth
         return c.radius - outside
     # two polygons: separating axes
-    pa, pb = world_vertices(a), world_vertices(b)
     depth = math.inf
     for pts, other in ((pa, pb), (pb, pa)):
         n = len(pts)
@@ -921,6 +930,8 @@ def penetration(a: Body, b: Body) -> float:
             nx, ny = ey / ln, -ex / ln
             lo = min((x - x0) * nx + (y - y0) * ny for x, y in other)
             depth = min(depth, -lo)
+            if depth <= above:
+                return depth
     return depth
 
 
