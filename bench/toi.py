@@ -269,9 +269,9 @@ def run_rigid(exe: Path, cases: list[dict], reps: int, tags: tuple[str, ...]):
 
 # ---- Box2D --------------------------------------------------------------
 
-def build_box2d(src: Path, progress: bool) -> Path:
+def build_box2d(src: Path, progress: bool, driver: str = "toi.c", name: str = "toi_box2d") -> Path:
     """Box2D's library from its source (cmake, release, no samples or tests)
-    and the driver bench/peers/box2d/toi.c linked against it."""
+    and a driver of bench/peers/box2d (toi.c: two balls) linked against it."""
     out = BUILD / "box2d"
     out.mkdir(parents=True, exist_ok=True)
     if progress:
@@ -281,8 +281,8 @@ def build_box2d(src: Path, progress: bool) -> Path:
                     "-DBOX2D_VALIDATE=OFF"], check=True, stdout=subprocess.DEVNULL)
     subprocess.run(["cmake", "--build", str(out), "-j2"], check=True, stdout=subprocess.DEVNULL)
     lib = next(out.rglob("libbox2d*.a"))
-    exe = out / "toi_box2d"
-    subprocess.run(["gcc", "-O2", "-std=c17", f"-I{src / 'include'}", str(ROOT / "bench" / "peers" / "box2d" / "toi.c"),
+    exe = out / name
+    subprocess.run(["gcc", "-O2", "-std=c17", f"-I{src / 'include'}", str(ROOT / "bench" / "peers" / "box2d" / driver),
                     "-o", str(exe), str(lib), "-lm"], check=True)
     return exe
 

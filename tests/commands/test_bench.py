@@ -92,3 +92,36 @@ def _bench_sim():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
+
+
+def _toi_shapes():
+    spec = importlib.util.spec_from_file_location("toi_shapes", ROOT / "bench" / "toi_shapes.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_toi_shapes_gives_the_peers_every_rigid_case_and_scores_their_answers():
+    """bench/toi_shapes.py: only cases without acceleration or orbit go to the
+    peers, each as one line of the drivers' layout (horizon, then per body
+    kind, n, 7 numbers and n vertices), and a peer's time is scored by the
+    conformance rule: inside [t_in, t_deep] right, a contact where the
+    bodies never come within 2 tol invented, none where they touch missed."""
+    ts = _toi_shapes()
+    cases = ts.load(ts.CASES, None)
+    everything = [ln for ln in ts.CASES.read_text().splitlines() if ln.strip()]
+    assert 0 < len(cases) < len(everything)
+    for c in cases:
+        fields = ts.peer_line(c).split()
+        n_a = int(fields[2])
+        n_b = int(fields[1 + 9 + 2 * n_a + 1])
+        assert len(fields) == 1 + (9 + 2 * n_a) + (9 + 2 * n_b)
+        assert float(fields[0]) == c["horizon"]
+    hit = next(c for c in cases if c.get("t_deep") is not None and c["d0"] > 0)
+    assert ts.verdict(hit, repr(hit["t_star"])) == "right"
+    assert ts.verdict(hit, "none") == "missed"
+    assert ts.verdict(hit, repr(hit["t_in"] - 1e-3)) == "wrong"
+    assert ts.verdict(hit, "refused") == "wrong"
+    apart = next(c for c in cases if c.get("t_in") is None and c["d0"] > 0)
+    assert ts.verdict(apart, "none") == "right"
+    assert ts.verdict(apart, "0.5") == "invented"
