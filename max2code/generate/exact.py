@@ -801,9 +801,8 @@ def window_context(target, section: ExactSection, variants, selection, taken: se
         nodes += [a.node for a in body] + coefs
         cases.append({"masks": masks, "degree": degree, "temps": [(a.name, target.expr(a.node)) for a in body],
                       "coefs": [target.expr(c) for c in coefs]})
-    clash = local_names & (pset | {section.variable} | top)
-    if clash:
-        raise AssertionError(f"internal error: window entry locals {sorted(clash)} shadow its inputs")
+    if local_names & (pset | {section.variable} | top):
+        return None     # a temporary named like an input (a variable named w1 ...): no window entry
     used: set[str] = set()
     plain: set[str] = set()
     for n in nodes:

@@ -81,3 +81,28 @@ def test_window_entry_is_generated_and_recorded(lang):
                                                               lang=lang, out_name="generated", exact=True),
                                               real="float"))
         assert "circle_circle_window" not in f.text
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("equation", ["circle-circle", "point-line"])
+def test_python_driver_answers_the_same_without_the_window_entry(equation):
+    """A motion without the window field (made by hand) takes shift,
+    coefficients and truncation one by one: the same answers to the bit."""
+    import json
+
+    from max2code_rt.exact import exact_toc
+
+    g, ns = _module(equation)
+    motion = ns[f"{g.exact.name.upper()}_MOTION"]
+    plain = dataclasses.replace(motion, window=None)
+    cases = [json.loads(line) for line in open(ROOT / "tests" / "conformance" / "toc_exact.jsonl")]
+    cases = [c for c in cases if c["equation"] == equation][:60]
+    assert len(cases) == 60
+    contacts = 0
+    for c in cases:
+        p = [c["params"][k] for k in g.exact.params]
+        a = exact_toc(motion, p, c["horizon"])
+        b = exact_toc(plain, p, c["horizon"])
+        assert (a.hex() if isinstance(a, float) else a) == (b.hex() if isinstance(b, float) else b), c["id"]
+        contacts += isinstance(a, float)
+    assert contacts > 10
