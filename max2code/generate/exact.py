@@ -737,9 +737,99 @@ def _unique(base: str, taken: set[str]) -> str:
     return name
 
 
+def _rename(n: Node, names: dict[str, str]) -> Node:
+    """The tree `n` with every ('ref', name) in `names` renamed."""
+    if n[0] == "ref":
+        return ("ref", names.get(n[1], n[1]))
+    if n[0] == "lit":
+        return n
+    return (n[0],) + tuple(_rename(c, names) if isinstance(c, tuple) else c for c in n[1:])
+
+
+def _is_derived(n: Node, params) -> bool:
+    """sin(p), cos(p), 1/p of a parameter p: the inputs a coefficient function
+    derives once (lower.Lowering.derived)."""
+    return (n[0] == "call" and n[2][0] == "ref" and n[2][1] in params) or \
+        (n[0] == "/" and n[1][0] == "lit" and n[1][1] == 1.0 and n[2][0] == "ref" and n[2][1] in params)
+
+
+def window_context(target, section: ExactSection, variants, selection, taken: set[str]) -> dict | None:
+    """What the templates print for NAME_window: the window polynomial (the
+    coefficient entry of the shifted parameters: the selection's variants,
+    or the one coefficient function) and the truncation bound over [0, h]
+    of the same parameters, in one function whose derived inputs (the sines
+    and cosines of the shifted phases) are computed once.  The expressions
+    are the ones NAME_coefficients and NAME_truncation print, so the values
+    are theirs to the bit.  None for single precision (the driver then
+    calls the entries one by one)."""
+    if section.polynomial or target.single or not variants:
+        return None
+    params = section.params
+    pset = set(params)
+    tr = section.truncation
+    shared: dict[Node, str] = {}            # derived node -> its name in the truncation
+    t_temps: list[Assign] = []
+    for a in tr.temps:
+        if _is_derived(a.node, pset) and a.node not in shared:
+            shared[a.node] = a.name
+        else:
+            t_temps.append(a)
+    by_name = {fn.name: fn for fn in variants}
+    if selection is not None:
+        picks = [(by_name[c.name], list(c.masks), c.degree) for c in selection.cases]
+        switches = [list(zs) for _, zs in selection.switches]
+    else:
+        picks = [(variants[0], [], variants[0].degree)]
+        switches = []
+    top = set(shared.values())
+    cases, nodes = [], [a.node for a in tr.temps] + list(tr.outputs)
+    local_names = {a.name for a in t_temps}
+    for fn, masks, degree in picks:
+        ren: dict[str, str] = {}
+        own: list[Assign] = []
+        for a in fn.derived:
+            if a.node in shared:
+                ren[a.name] = shared[a.node]
+            else:
+                own.append(a)
+        for a in list(own) + list(fn.temps):
+            if a.name in top:           # a local of the variant named like a shared input: rename it
+                ren[a.name] = _unique(a.name + "_", top | local_names | pset | {section.variable})
+        body = [Assign(ren.get(a.name, a.name), _rename(a.node, ren)) for a in list(own) + list(fn.temps)]
+        coefs = [_rename(c, ren) for c in fn.coefficients]
+        local_names |= {a.name for a in body}
+        nodes += [a.node for a in body] + coefs
+        cases.append({"masks": masks, "degree": degree, "temps": [(a.name, target.expr(a.node)) for a in body],
+                      "coefs": [target.expr(c) for c in coefs]})
+    if local_names & (pset | {section.variable} | top):
+        return None     # a temporary named like an input (a variable named w1 ...): no window entry
+    used: set[str] = set()
+    plain: set[str] = set()
+    for n in nodes:
+        refs(n, used)
+        _refs_outside_abs(n, plain)
+    for zs in switches:
+        used |= set(zs)
+        plain |= set(zs)
+    inputs = list(params) + [section.variable]
+    names = set(taken) | local_names | top
+    local = {b: _unique(b, names) for b in ("t0", "span", "coef", "bound", "mask", "q", "n")}
+    return {"name": f"{section.name}_window", "at": f"{section.name}_window_at",
+            "shared": [(name, target.expr(node)) for node, name in shared.items()],
+            "trunc_temps": [(a.name, target.expr(a.node)) for a in t_temps],
+            "trunc_out": target.expr(tr.outputs[0]),
+            "switches": switches, "cases": cases, "selection": selection is not None,
+            "unused": [p for p in inputs if p not in used],
+            "abs_only": [p for p in inputs if p in used and p not in plain],
+            "locals": sorted(local_names), "local": local,
+            "max_degree": max(c["degree"] for c in cases)}
+
+
 def render_context(target, section: ExactSection, coef_entry: str, coef_selection: bool, coef_degree: int,
-                   complete: bool = True) -> dict:
-    """What templates/<lang>/exact.j2 prints: every function's lines as text."""
+                   complete: bool = True, variants=(), selection=None) -> dict:
+    """What templates/<lang>/exact.j2 prints: every function's lines as text.
+    `variants` (the coefficient functions: the selection's variants, or the
+    one function) and `selection` give the window entry (window_context)."""
     params = section.params
     taken = set(params) | {section.variable}
     fns = {}
@@ -762,7 +852,8 @@ def render_context(target, section: ExactSection, coef_entry: str, coef_selectio
                     "outputs": outs, "unused": list(fn.unused_params), "used": used, "abs_only": abs_only,
                     "pairs": [(outs[i], outs[i + 1]) for i in range(0, len(outs), 2)] if fn.kind == "max" else []}
     local = {b: _unique(b, taken) for b in ("out", "rate", "pv", "mo", "wk", "rk")}
-    return {"section": section, "fns": fns, "params": list(params), "nparams": len(params),
+    window = window_context(target, section, list(variants), selection, taken)
+    return {"window": window, "section": section, "fns": fns, "params": list(params), "nparams": len(params),
             "variable": section.variable, "coef_entry": coef_entry, "coef_selection": coef_selection,
             "coef_degree": coef_degree, "local": local, "name": section.name, "polynomial": section.polynomial,
             # the circles' bound and polynomial stand in for the generated functions: only in double

@@ -95,7 +95,7 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
         text = _fragment(d, fn, tgt, blocks, header, mxm_name, out_name, req.line_directives, check)
         return GeneratedFile(text, d, fn)
     if not (req.variants and any(p.body is not None for p in mod.parameters)):
-        section, ectx = _exact(d, req, tgt, mod.equation, False, fn.degree)
+        section, ectx = _exact(d, req, tgt, mod.equation, False, fn.degree, variants=(fn,))
         if check:
             check.coefficient_functions([(fn, (), None)])
             if section is not None:
@@ -113,7 +113,8 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
     ordered = [general] + [v for v in vs if v is not general]
     functions = [(v.function, "exact when " + " = ".join(v.zeros) + " = 0" if v.zeros else "") for v in ordered]
     selection = build_selection(f"{mod.equation}_coefficients", vs, switches_of(d), effects)
-    section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree, selection.complete)
+    section, ectx = _exact(d, req, tgt, selection.name, True, selection.max_degree, selection.complete,
+                           variants=tuple(v.function for v in ordered), selection_logic=selection)
     if check:
         check.coefficient_functions([(v.function, v.zeros, v.polynomial) for v in ordered])
         check.selection(selection, vs)
@@ -127,12 +128,14 @@ def generate(d: Derivation, req: GenerateRequest) -> GeneratedFile:
 
 
 def _exact(d: Derivation, req: GenerateRequest, tgt, coef_entry: str, selection: bool, degree: int,
-           complete: bool = True):
-    """The exact-motion section and its template context, when requested."""
+           complete: bool = True, variants=(), selection_logic=None):
+    """The exact-motion section and its template context, when requested
+    (`variants` and `selection_logic`: the coefficient functions and the
+    selection among them, which the window entry inlines)."""
     if not req.exact:
         return None, None
     section = derive_exact(d, progress=req.progress, use_cache=req.use_cache, timeout=req.maxima_timeout)
-    return section, render_context(tgt, section, coef_entry, selection, degree, complete)
+    return section, render_context(tgt, section, coef_entry, selection, degree, complete, variants, selection_logic)
 
 
 def _fragment(d: Derivation, fn: FunctionIR, tgt, blocks, header, mxm_name, out_name, line_directives,

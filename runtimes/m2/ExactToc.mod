@@ -253,10 +253,14 @@ VAR
    n, i, step, st: INTEGER ;
    e, f, s, mg, x, z, v, d, w, we: REAL ;
 BEGIN
-   Cur.shift (Par, t0, pp) ;
-   n := Cur.coefficients (pp, c) ;
+   IF Cur.hasWindow THEN
+      n := Cur.window (Par, t0, L, c, e)
+   ELSE
+      Cur.shift (Par, t0, pp) ;
+      n := Cur.coefficients (pp, c) ;
+      IF (n >= 0) AND (n <= MaxDegree) THEN e := Cur.truncation (pp, L) END
+   END ;
    IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
-   e := Cur.truncation (pp, L) ;
    f := FloorAt (t0 + L) ;
    a := t0 ;
    b := t0 + L ;
@@ -550,6 +554,7 @@ BEGIN
    mo.truncation := NoValue ;
    mo.rate := NoRate ;
    mo.hasCircles := FALSE ;
+   mo.hasWindow := FALSE ;
    UsePd := FALSE ;
    st := Begin (mo, p, horizon, o, t, start) ;
    IF st # Search THEN RETURN st END ;

@@ -40,6 +40,10 @@ typedef struct m2c_motion {
        of radii and coefficients covers every effect; the driver then bounds the whole horizon
        first and takes circles without orbits on their exact polynomial (docs/exact-motion.md) */
     const int *circles;
+    /* NULL, or the window at once: the coefficients of shift(p, t0) into coef (their degree, -1 when
+       unsupported) and truncation(shift(p, t0), h) into *bound, the same values as those three calls
+       (generated as NAME_window, which computes the sines and cosines they share once) */
+    int (*window)(const double *p, double t0, double h, double *coef, double *bound);
 } m2c_motion;
 
 /* Options (knobs).  m2c_exact_defaults fills the defaults. */

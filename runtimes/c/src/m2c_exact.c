@@ -186,12 +186,19 @@ static double width(const double *c, int n, double s, double err)
 static int first_root(const ctx *k, double t0, double L, int closed, int depth, double *r, double *a, double *b,
                       double *wd)
 {
-    double pp[M2C_EXACT_MAX_PARAMS], c[M2C_MAX_DEGREE + 1], q[M2C_MAX_DEGREE + 1];
-    k->m->shift(k->p, t0, pp);
-    int n = k->m->coefficients(pp, c);
+    double c[M2C_MAX_DEGREE + 1], q[M2C_MAX_DEGREE + 1], e = 0.0;
+    int n;
+    if (k->m->window) {
+        n = k->m->window(k->p, t0, L, c, &e);
+    } else {
+        double pp[M2C_EXACT_MAX_PARAMS];
+        k->m->shift(k->p, t0, pp);
+        n = k->m->coefficients(pp, c);
+        if (n >= 0 && n <= M2C_MAX_DEGREE)
+            e = k->m->truncation(pp, L);
+    }
     if (n < 0 || n > M2C_MAX_DEGREE)
         return -1;
-    double e = k->m->truncation(pp, L);
     double f = floor_at(k, t0 + L);
     double s;
     *a = t0;
@@ -490,7 +497,7 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
     if (!pm || !p || !t || pm->nparams < 0 || pm->nparams > M2C_EXACT_MAX_PARAMS || pm->max_degree > M2C_MAX_DEGREE)
         return -1;
     /* the windowed driver's motion without shift, truncation and rate, which this path never calls */
-    m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0};
+    m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0, 0};
     ctx k = {&m, p, o.solver, o.zero_tol, 0, 0};
     double start;
     int st0 = begin(&k, &o, horizon, &start, t);

@@ -46,6 +46,10 @@ class Motion:
     # when the gap is their squared centre distance minus the squared sum of radii and coefficients
     # takes every effect: the whole-horizon bound first, circles without orbits on their polynomial
     circles: Sequence[int] | None = None
+    # None, or the window at once: (p, t0, h) -> (the coefficients of shift(p, t0), truncation(shift(p,
+    # t0), h)), the same values as those three calls (generated as NAME_window, which computes the
+    # sines and cosines they share once); ValueError: unsupported
+    window: Callable[[Sequence[float], float, float], tuple] | None = None
 
 
 @dataclass(frozen=True)
@@ -201,14 +205,26 @@ class _Driver:
             raise _Error(f"degree above {MAX_DEGREE}")
         return c
 
+    def window(self, t0, L):
+        """The window polynomial at t0 and its truncation bound over [0, L]."""
+        if self.m.window is None:
+            pp = self.m.shift(self.p, t0)
+            return self.coefficients(pp), self.m.truncation(pp, L)
+        try:
+            c, e = self.m.window(self.p, t0, L)
+        except ValueError:
+            raise _Error("a parameter uses an effect the code was not generated for") from None
+        c = [float(x) for x in c]
+        if len(c) - 1 > MAX_DEGREE:
+            raise _Error(f"degree above {MAX_DEGREE}")
+        return c, e
+
     def first_root(self, t0, L, closed, depth):
         """(r, a, b, width): the first root of the exact gap in [t0, t0 + L]
         (closed) or (t0, t0 + L], the bracket it was found in and how far
         the gap's root may lie from r; None for none."""
-        pp = self.m.shift(self.p, t0)
-        c = self.coefficients(pp)
+        c, e = self.window(t0, L)
         n = len(c) - 1
-        e = self.m.truncation(pp, L)
         f = self.floor_at(t0 + L)
         if closed and abs(c[0]) <= f:
             return t0, t0, t0 + L, math.inf

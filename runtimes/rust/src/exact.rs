@@ -50,6 +50,10 @@ pub struct Motion {
     /// sum of radii and `coefficients` takes every effect: the driver then bounds the whole
     /// horizon first and takes circles without orbits on their exact polynomial.
     pub circles: Option<&'static [usize; 24]>,
+    /// `None`, or the window at once: the coefficients of `shift(p, t0)` into `c` (their degree,
+    /// `None` when unsupported) and `truncation(shift(p, t0), h)`, the same values as those three
+    /// calls (generated as `NAME_window`, which computes the sines and cosines they share once).
+    pub window: Option<fn(&[f64], f64, f64, &mut [f64]) -> Option<(usize, f64)>>,
 }
 
 /// An equation whose polynomial is the exact gap (no approximated
@@ -259,12 +263,21 @@ impl Ctx<'_> {
     /// The first root of the exact gap in [t0, t0 + L] (closed) or (t0, t0 + L],
     /// with the bracket it was found in and how far the gap's root may lie from it.
     fn first_root(&self, t0: f64, l: f64, closed: bool, depth: u32) -> Found {
-        let mut pp = [0.0f64; MAX_PARAMS];
-        let pp = &mut pp[..self.m.nparams];
-        (self.m.shift)(self.p, t0, pp);
         let mut c = [0.0f64; MAX_DEGREE + 1];
-        let n = self.coefficients(pp, &mut c)?;
-        let e = (self.m.truncation)(pp, l);
+        let (n, e) = match self.m.window {
+            Some(window) => match window(self.p, t0, l, &mut c[..]) {
+                Some((n, e)) if n <= MAX_DEGREE => (n, e),
+                Some(_) => return Err("degree above 16"),
+                None => return Err("a parameter uses an effect the code was not generated for"),
+            },
+            None => {
+                let mut pp = [0.0f64; MAX_PARAMS];
+                let pp = &mut pp[..self.m.nparams];
+                (self.m.shift)(self.p, t0, pp);
+                let n = self.coefficients(pp, &mut c)?;
+                (n, (self.m.truncation)(pp, l))
+            }
+        };
         let f = self.floor_at(t0 + l);
         if closed && c[0].abs() <= f {
             return Ok(Some((t0, t0, t0 + l, f64::INFINITY)));
@@ -553,6 +566,7 @@ pub fn poly_toc(pm: &PolyMotion, p: &[f64], horizon: f64, o: &ExactOptions) -> R
         truncation: no_truncation,
         rate: no_rate,
         circles: None,
+        window: None,
     };
     let k = Ctx { m: &m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
     let start = match begin(&k, horizon, o)? {
