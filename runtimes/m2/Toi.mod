@@ -16,6 +16,7 @@ FROM SimMotion IMPORT rebase, TurnRate ;
 FROM SimOverlap IMPORT separation ;
 FROM SimContact IMPORT contact_frame ;
 FROM SimPredict IMPORT ClearCounts, PairContact ;
+IMPORT SimPredict ;
 
 CONST
    MaxReal = 1.7976931348623157E308 ;
@@ -260,6 +261,7 @@ BEGIN
    SimScene.NVerts := a.nverts + b.nverts ;
    SimScene.Tol := tol ;
    SimScene.Alpha := alpha ;
+   SimPredict.Library := TRUE ;
    IF separation (A, B, 0.0) < -tol THEN
       r.status := Overlapped
    ELSE
@@ -289,6 +291,7 @@ BEGIN
    SimScene.NVerts := savedNV ;
    SimScene.Tol := savedTol ;
    SimScene.Alpha := savedAlpha ;
+   SimPredict.Library := FALSE ;
    RETURN r.status
 END TimeOfImpact ;
 

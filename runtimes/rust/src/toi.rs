@@ -194,6 +194,9 @@ impl PairEnv for Pair {
     fn covered(&self, _cover: i64) -> bool {
         false
     }
+    fn library(&self) -> bool {
+        true
+    }
 }
 
 struct Uncounted;
