@@ -1202,6 +1202,21 @@ int m2c_toi_polygon(m2c_toi_shape *s, const double *xy, int n)
     return 0;
 }
 
+/* m2c_sim_separation of A and B at 0; of two polygons with every vertex
+ * from one cosine and sine of its body's angle (rotated_points), the
+ * library's own values (the simulator keeps m2c_sim_separation's). */
+static double library_separation(const m2c_sim_body *A, const m2c_sim_body *B)
+{
+    if (!A->polygon || !B->polygon)
+        return m2c_sim_separation(NULL, A, B, 0.0);
+    m2c_sim_motion q1 = m2c_sim_state_at(A, 0.0);
+    m2c_sim_motion q2 = m2c_sim_state_at(B, 0.0);
+    double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
+    rotated_points(A, q1, cos(q1.ang), sin(q1.ang), ax, ay);
+    rotated_points(B, q2, cos(q2.ang), sin(q2.ang), bx, by);
+    return polygons_separation(NULL, A, B, 0.0, ax, ay, bx, by);
+}
+
 /* The largest angle (at most 0.5 rad) whose order-n Taylor remainder of sin
  * and cos, a^(n+1)/(n+1)!, times the lever (m) stays below the tolerance. */
 static double angle_for(double lever, int n, double tol)
@@ -1268,7 +1283,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
     body_of(a, ma, 0, &A);
     body_of(b, mb, 1, &B);
     double tol = o->tol;
-    if (m2c_sim_separation(NULL, &A, &B, 0.0) < -tol) {
+    if (library_separation(&A, &B) < -tol) {
         r->status = M2C_TOI_OVERLAPPED;
         return M2C_TOI_OVERLAPPED;
     }

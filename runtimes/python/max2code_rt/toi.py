@@ -201,6 +201,18 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         return max(best, self._edges_clear(B, x2, y2, cb, sb, pa, spin, u1 - u2, v1 - v2, A.ax - B.ax,
                                            A.ay - B.ay, tol))
 
+    def library_separation(self, A: Body, B: Body) -> float:
+        """separation of A and B at 0; of two polygons with every vertex from
+        one cosine and sine of its body's angle (_rotated_points), the
+        library's own values (the simulator keeps separation's)."""
+        if not (A.polygon and B.polygon):
+            return self.separation(A, B, 0.0)
+        x1, y1, _, _, g1 = self.state_at(A, 0.0)
+        x2, y2, _, _, g2 = self.state_at(B, 0.0)
+        pa = _rotated_points(A, x1, y1, math.cos(g1), math.sin(g1))
+        pb = _rotated_points(B, x2, y2, math.cos(g2), math.sin(g2))
+        return self.polygons_separation(A, B, 0.0, pa, pb)
+
     def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, pts, spin: float, du: float,
                      dv: float, dax: float, day: float, tol: float) -> float:
         """clear_root along each edge normal of P (its centre (px, py), cos c
@@ -278,7 +290,7 @@ class Toi:
         p = self.pair
         s = p.s
         s.tol, s.bodies, s.end = tol, [A, B], horizon
-        if p.separation(A, B, 0.0) < -tol:
+        if p.library_separation(A, B) < -tol:
             return Result(OVERLAPPED)
         # the windows (docs/simulator.md, "Taylor windows"): both turn, a
         # lever of twice the larger bound plus the larger bound; one turns,

@@ -1048,6 +1048,20 @@ fn rotated_points(verts: &[Vertex], b: &Body, x: f64, y: f64, c: f64, s: f64) ->
         .collect()
 }
 
+/// [`separation`] of A and B at 0; of two polygons with every vertex from
+/// one cosine and sine of its body's angle ([`rotated_points`]), the TOI
+/// library's own values (the simulator keeps [`separation`]'s).
+pub(crate) fn library_separation(verts: &[Vertex], a_: &Body, b_: &Body) -> f64 {
+    if !(a_.polygon && b_.polygon) {
+        return separation(verts, a_, b_, 0.0);
+    }
+    let (x1, y1, _, _, g1) = state_at(a_, 0.0);
+    let (x2, y2, _, _, g2) = state_at(b_, 0.0);
+    let pa = rotated_points(verts, a_, x1, y1, g1.cos(), g1.sin());
+    let pb = rotated_points(verts, b_, x2, y2, g2.cos(), g2.sin());
+    polygons_separation(verts, a_, b_, 0.0, &pa, &pb)
+}
+
 /// clear_root along each edge normal of P (its centre (px, py), cos c and
 /// sin s of its angle), held fixed: the gap of the other polygon's
 /// vertices pts beyond the edge's line, opened by (du, dv) . normal and
