@@ -9,13 +9,15 @@ IMPLEMENTATION MODULE Toi ;
 
 FROM SYSTEM IMPORT ADR ;
 FROM CMath IMPORT atan2, pow, sqrt ;
+FROM RealMath IMPORT cos, sin ;
 FROM SimScene IMPORT Body, BodyArray, BodyRef, Grow, Vertex, VertexArray ;
 IMPORT SimScene ;
 FROM SimWorld IMPORT NCc ;
-FROM SimMotion IMPORT rebase, TurnRate ;
-FROM SimOverlap IMPORT separation ;
+FROM SimMotion IMPORT rebase, StateAt, TurnRate ;
+FROM SimOverlap IMPORT polygons_separation, separation ;
 FROM SimContact IMPORT contact_frame ;
 FROM SimPredict IMPORT ClearCounts, PairContact ;
+IMPORT SimPredict ;
 
 CONST
    MaxReal = 1.7976931348623157E308 ;
@@ -25,6 +27,7 @@ CONST
 VAR
    Two: BodyArray ;              (* the query's bodies A (0) and B (1) *)
    TwoVerts: VertexArray ;       (* their vertices: A's, then B's *)
+   SepAX, SepAY, SepBX, SepBY: ARRAY [0..MaxVertices - 1] OF REAL ;    (* LibrarySeparation's vertices (m) *)
 
 
 PROCEDURE Defaults (VAR o: Options) ;
@@ -196,6 +199,35 @@ BEGIN
 END BodyOf ;
 
 
+(* separation of A and B at 0 (the query's tables in place); of two
+   polygons with every vertex from one cosine and sine of its body's angle,
+   its place (lx, ly) in the body's frame rotated: the library's own values
+   (the simulator keeps separation's), as SimPredict's clear_polygons takes
+   them. *)
+PROCEDURE LibrarySeparation (A, B: BodyRef) : REAL ;
+VAR
+   x, y, vx, vy, ang, c, s: REAL ;
+   k: INTEGER ;
+BEGIN
+   IF NOT (A^.polygon AND B^.polygon) THEN RETURN separation (A, B, 0.0) END ;
+   StateAt (A, 0.0, x, y, vx, vy, ang) ;
+   c := cos (ang) ;
+   s := sin (ang) ;
+   FOR k := 0 TO A^.nv - 1 DO
+      SepAX[k] := x + (c * SimScene.Verts^[A^.v0 + k].lx - s * SimScene.Verts^[A^.v0 + k].ly) ;
+      SepAY[k] := y + (s * SimScene.Verts^[A^.v0 + k].lx + c * SimScene.Verts^[A^.v0 + k].ly)
+   END ;
+   StateAt (B, 0.0, x, y, vx, vy, ang) ;
+   c := cos (ang) ;
+   s := sin (ang) ;
+   FOR k := 0 TO B^.nv - 1 DO
+      SepBX[k] := x + (c * SimScene.Verts^[B^.v0 + k].lx - s * SimScene.Verts^[B^.v0 + k].ly) ;
+      SepBY[k] := y + (s * SimScene.Verts^[B^.v0 + k].lx + c * SimScene.Verts^[B^.v0 + k].ly)
+   END ;
+   RETURN polygons_separation (A, B, 0.0, SepAX, SepAY, SepBX, SepBY)
+END LibrarySeparation ;
+
+
 PROCEDURE TimeOfImpact (VAR a: Shape; VAR ma: Motion; VAR b: Shape; VAR mb: Motion; horizon: REAL;
                         VAR o: Options; VAR r: Result) : INTEGER ;
 VAR
@@ -260,7 +292,8 @@ BEGIN
    SimScene.NVerts := a.nverts + b.nverts ;
    SimScene.Tol := tol ;
    SimScene.Alpha := alpha ;
-   IF separation (A, B, 0.0) < -tol THEN
+   SimPredict.Library := TRUE ;
+   IF LibrarySeparation (A, B) < -tol THEN
       r.status := Overlapped
    ELSE
       found := PairContact (A, B, 0.0, horizon, MaxSteps, MaxSteps, t, feat, fa, fb, fi, fj) ;
@@ -289,6 +322,7 @@ BEGIN
    SimScene.NVerts := savedNV ;
    SimScene.Tol := savedTol ;
    SimScene.Alpha := savedAlpha ;
+   SimPredict.Library := FALSE ;
    RETURN r.status
 END TimeOfImpact ;
 

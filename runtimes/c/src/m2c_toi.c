@@ -463,12 +463,22 @@ static int bounds_meet(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_bo
 {
     m2c_sim_motion q1 = m2c_sim_state_at(A, now);
     m2c_sim_motion q2 = m2c_sim_state_at(B, now);
+    double tol = ctx->tol;
+    if (ctx->m == NULL) {
+        /* the library: bounds that overlap now need no polynomial (the
+         * simulator keeps the polynomial's own value, whose bits its traces
+         * pin; a test that says overlap only goes on to the next step) */
+        double dx = q1.x - q2.x, dy = q1.y - q2.y, r = A->bound + B->bound;
+        if (dx * dx + dy * dy - r * r <= tol * (2.0 * r + tol)) {
+            *meet = 0.0;
+            return 1;
+        }
+    }
     double g[24] = { q1.x - q2.x, q1.vx - q2.vx, A->ax - B->ax, 0.0, 0.0, HALF_PI,
                      q1.y - q2.y, q1.vy - q2.vy, A->ay - B->ay, 0.0, 0.0,
                      0.0, 0.0, 0.0, 0.0, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0, A->bound, B->bound };
     double coef[M2C_MAX_DEGREE + 1];
     int deg = cc_coefficients(ctx, g, coef);
-    double tol = ctx->tol;
     if (coef[0] <= tol * (2.0 * (A->bound + B->bound) + tol)) {
         *meet = 0.0;
         return 1;
@@ -759,6 +769,74 @@ static double clear_axes(m2c_toi_ctx *ctx, const m2c_sim_body *T, const m2c_sim_
     return best;
 }
 
+/* The vertices (xs[k], ys[k]) of polygon b whose state now is q, from one
+ * cosine c and sine s of its angle: the rotation of each vertex's place
+ * (lx, ly) in the body's frame (m). */
+static void rotated_points(const m2c_sim_body *b, m2c_sim_motion q, double c, double s, double *xs, double *ys)
+{
+    for (int32_t k = 0; k < b->nverts; k++) {
+        const m2c_sim_vertex *v = &b->verts[k];
+        xs[k] = q.x + (c * v->lx - s * v->ly);
+        ys[k] = q.y + (s * v->lx + c * v->ly);
+    }
+}
+
+/* clear_root along each edge normal of P (state q, cos c and sin s of its
+ * angle), held fixed: the gap of the other polygon's vertices (xs, ys, n of
+ * them) beyond the edge's line, opened by (du, dv) . normal and (dax, day)
+ * (the other body's velocity and acceleration less P's); the largest of
+ * the times. */
+static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, double s, const double *xs,
+                          const double *ys, int32_t n, double spin, double du, double dv, double dax, double day,
+                          double tol)
+{
+    double best = 0.0;
+    for (int32_t j = 0; j < P->nverts; j++) {
+        const m2c_sim_vertex *ed = &P->verts[j];
+        double ox = c * ed->nx - s * ed->ny;
+        double oy = s * ed->nx + c * ed->ny;
+        double off = ox * q.x + oy * q.y + ed->h;
+        double g = INFINITY;
+        for (int32_t k = 0; k < n; k++)
+            g = m2c_sim_min(g, ox * xs[k] + oy * ys[k] - off);
+        best = m2c_sim_max(best, clear_root(g - tol, spin - (ox * du + oy * dv), fabs(ox * dax + oy * day)));
+    }
+    return best;
+}
+
+/* The library's clear_time of two polygons (no world; the simulator keeps
+ * clear_time's own, whose bits its traces pin): every vertex from one
+ * cosine and sine of its body's angle (rotated_points), and the gap along
+ * each edge normal of either polygon held fixed as well as along the line
+ * of the centres.  Along a fixed axis the gap closes at most as fast as
+ * the centres' relative motion along it plus each bound times its turn
+ * rate (clear_time), and the gap of the best separating axis now is the
+ * separation, so this is never shorter than a bound through the norms
+ * |x| + |y| and never longer than the bodies stay apart. */
+static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, double now)
+{
+    m2c_sim_motion q1 = m2c_sim_state_at(A, now);
+    m2c_sim_motion q2 = m2c_sim_state_at(B, now);
+    double dx = q2.x - q1.x, dy = q2.y - q1.y;
+    double d = sqrt(dx * dx + dy * dy);
+    if (!(d > 0.0))
+        return 0.0;
+    double nx = dx / d, ny = dy / d;
+    double ca = cos(q1.ang), sa = sin(q1.ang), cb = cos(q2.ang), sb = sin(q2.ang);
+    double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
+    rotated_points(A, q1, ca, sa, ax, ay);
+    rotated_points(B, q2, cb, sb, bx, by);
+    double hi = reach_points(nx, ny, ax, ay, A->nverts);
+    double lo = -reach_points(-nx, -ny, bx, by, B->nverts);
+    double spin = A->bound * m2c_sim_turn_rate(A) + B->bound * m2c_sim_turn_rate(B);
+    double tol = ctx->tol;
+    double du = q2.vx - q1.vx, dv = q2.vy - q1.vy, dax = B->ax - A->ax, day = B->ay - A->ay;
+    double best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), fabs(nx * dax + ny * day));
+    best = m2c_sim_max(best, edges_clear(A, q1, ca, sa, bx, by, B->nverts, spin, du, dv, dax, day, tol));
+    return m2c_sim_max(best, edges_clear(B, q2, cb, sb, ax, ay, A->nverts, spin, q1.vx - q2.vx, q1.vy - q2.vy,
+                                         A->ax - B->ax, A->ay - B->ay, tol));
+}
+
 /* How long (s) A and B surely stay more than the tolerance apart, from
  * their gap along a fixed unit axis now (0 when not apart now): each edge
  * normal of a polygon that does not turn against a body that does
@@ -770,6 +848,9 @@ static double clear_time(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_
         return clear_axes(ctx, A, B, now);
     if (A->polygon && A->om == 0.0 && m2c_sim_turn_rate(B) > 0.0)
         return clear_axes(ctx, B, A, now);
+    if (ctx->m == NULL && A->polygon && B->polygon && A->nverts <= M2C_TOI_MAX_VERTICES
+        && B->nverts <= M2C_TOI_MAX_VERTICES)
+        return clear_polygons(ctx, A, B, now);
     m2c_sim_motion q1 = m2c_sim_state_at(A, now);
     m2c_sim_motion q2 = m2c_sim_state_at(B, now);
     double dx = q2.x - q1.x, dy = q2.y - q1.y;
@@ -1121,6 +1202,21 @@ int m2c_toi_polygon(m2c_toi_shape *s, const double *xy, int n)
     return 0;
 }
 
+/* m2c_sim_separation of A and B at 0; of two polygons with every vertex
+ * from one cosine and sine of its body's angle (rotated_points), the
+ * library's own values (the simulator keeps m2c_sim_separation's). */
+static double library_separation(const m2c_sim_body *A, const m2c_sim_body *B)
+{
+    if (!A->polygon || !B->polygon)
+        return m2c_sim_separation(NULL, A, B, 0.0);
+    m2c_sim_motion q1 = m2c_sim_state_at(A, 0.0);
+    m2c_sim_motion q2 = m2c_sim_state_at(B, 0.0);
+    double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
+    rotated_points(A, q1, cos(q1.ang), sin(q1.ang), ax, ay);
+    rotated_points(B, q2, cos(q2.ang), sin(q2.ang), bx, by);
+    return polygons_separation(NULL, A, B, 0.0, ax, ay, bx, by);
+}
+
 /* The largest angle (at most 0.5 rad) whose order-n Taylor remainder of sin
  * and cos, a^(n+1)/(n+1)!, times the lever (m) stays below the tolerance. */
 static double angle_for(double lever, int n, double tol)
@@ -1187,7 +1283,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
     body_of(a, ma, 0, &A);
     body_of(b, mb, 1, &B);
     double tol = o->tol;
-    if (m2c_sim_separation(NULL, &A, &B, 0.0) < -tol) {
+    if (library_separation(&A, &B) < -tol) {
         r->status = M2C_TOI_OVERLAPPED;
         return M2C_TOI_OVERLAPPED;
     }

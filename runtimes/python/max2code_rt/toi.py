@@ -154,6 +154,90 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         self.stats = _Stats()
         self.s = _Scene()
 
+    def bounds_meet(self, A: Body, B: Body, now: float, w: float) -> float | None:
+        """PredictMixin.bounds_meet, but bounds that overlap now need no
+        polynomial (the simulator keeps the polynomial's own value, whose
+        bits its traces pin; a test that says overlap only goes on to the
+        next step)."""
+        x1, y1, _, _, _ = self.state_at(A, now)
+        x2, y2, _, _, _ = self.state_at(B, now)
+        tol = self.s.tol
+        dx, dy, r = x1 - x2, y1 - y2, A.bound + B.bound
+        if dx * dx + dy * dy - r * r <= tol * (2.0 * r + tol):
+            return 0.0
+        return PredictMixin.bounds_meet(self, A, B, now, w)
+
+    def clear_time(self, A: Body, B: Body, now: float) -> float:
+        """PredictMixin.clear_time, but for two polygons (when neither is a
+        polygon that does not turn against one that does) the library's own
+        (the simulator keeps its own, whose bits its traces pin): every
+        vertex from one cosine and sine of its body's angle, and the gap
+        along each edge normal of either polygon held fixed as well as along
+        the line of the centres.  Along a fixed axis the gap closes at most
+        as fast as the centres' relative motion along it plus each bound
+        times its turn rate, and the gap of the best separating axis now is
+        the separation, so this is never shorter than the bound through the
+        norms |x| + |y| and never longer than the bodies stay apart."""
+        if (not (A.polygon and B.polygon) or (B.om == 0.0 and self.turn_rate(A) > 0.0)
+                or (A.om == 0.0 and self.turn_rate(B) > 0.0)):
+            return PredictMixin.clear_time(self, A, B, now)
+        x1, y1, u1, v1, g1 = self.state_at(A, now)
+        x2, y2, u2, v2, g2 = self.state_at(B, now)
+        dx, dy = x2 - x1, y2 - y1
+        d = math.sqrt(dx * dx + dy * dy)
+        if not (d > 0.0):
+            return 0.0
+        nx, ny = dx / d, dy / d
+        ca, sa, cb, sb = math.cos(g1), math.sin(g1), math.cos(g2), math.sin(g2)
+        pa = _rotated_points(A, x1, y1, ca, sa)
+        pb = _rotated_points(B, x2, y2, cb, sb)
+        hi = self.reach_points(nx, ny, pa)
+        lo = -self.reach_points(-nx, -ny, pb)
+        spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
+        tol = self.s.tol
+        du, dv, dax, day = u2 - u1, v2 - v1, B.ax - A.ax, B.ay - A.ay
+        best = self.clear_root(lo - hi - tol, spin - (nx * du + ny * dv), math.fabs(nx * dax + ny * day))
+        best = max(best, self._edges_clear(A, x1, y1, ca, sa, pb, spin, du, dv, dax, day, tol))
+        return max(best, self._edges_clear(B, x2, y2, cb, sb, pa, spin, u1 - u2, v1 - v2, A.ax - B.ax,
+                                           A.ay - B.ay, tol))
+
+    def library_separation(self, A: Body, B: Body) -> float:
+        """separation of A and B at 0; of two polygons with every vertex from
+        one cosine and sine of its body's angle (_rotated_points), the
+        library's own values (the simulator keeps separation's)."""
+        if not (A.polygon and B.polygon):
+            return self.separation(A, B, 0.0)
+        x1, y1, _, _, g1 = self.state_at(A, 0.0)
+        x2, y2, _, _, g2 = self.state_at(B, 0.0)
+        pa = _rotated_points(A, x1, y1, math.cos(g1), math.sin(g1))
+        pb = _rotated_points(B, x2, y2, math.cos(g2), math.sin(g2))
+        return self.polygons_separation(A, B, 0.0, pa, pb)
+
+    def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, pts, spin: float, du: float,
+                     dv: float, dax: float, day: float, tol: float) -> float:
+        """clear_root along each edge normal of P (its centre (px, py), cos c
+        and sin s of its angle), held fixed: the gap of the other polygon's
+        vertices pts beyond the edge's line, opened by (du, dv) . normal and
+        (dax, day) (the other body's velocity and acceleration less P's);
+        the largest of the times."""
+        best = 0.0
+        for ed in P.verts:
+            ox = c * ed.nx - s * ed.ny
+            oy = s * ed.nx + c * ed.ny
+            off = ox * px + oy * py + ed.h
+            g = math.inf
+            for qx, qy in pts:
+                g = min(g, ox * qx + oy * qy - off)
+            best = max(best, self.clear_root(g - tol, spin - (ox * du + oy * dv), math.fabs(ox * dax + oy * day)))
+        return best
+
+
+def _rotated_points(b: Body, x: float, y: float, c: float, s: float) -> list[tuple[float, float]]:
+    """The vertices of polygon b whose centre is at (x, y), from the cosine c
+    and sine s of its angle: the rotation of each vertex's place (lx, ly)
+    in the body's frame (m)."""
+    return [(x + (c * v.lx - s * v.ly), y + (s * v.lx + c * v.ly)) for v in b.verts]
+
 
 def _angle_for(lever: float, n: int, tol: float) -> float:
     """The largest angle (at most 0.5 rad) whose order-n Taylor remainder of
@@ -206,7 +290,7 @@ class Toi:
         p = self.pair
         s = p.s
         s.tol, s.bodies, s.end = tol, [A, B], horizon
-        if p.separation(A, B, 0.0) < -tol:
+        if p.library_separation(A, B) < -tol:
             return Result(OVERLAPPED)
         # the windows (docs/simulator.md, "Taylor windows"): both turn, a
         # lever of twice the larger bound plus the larger bound; one turns,

@@ -22,8 +22,7 @@
 
 use crate::sim::contact::contact_frame;
 use crate::sim::motion::{state_at, turn_rate};
-use crate::sim::overlap::separation;
-use crate::sim::predict::{pair_search, Counter, Found, PairEnv};
+use crate::sim::predict::{library_separation, pair_search, Counter, Found, PairEnv};
 use crate::sim::scene::{Body, CosSin, Vertex};
 use crate::sim::Equations;
 
@@ -194,6 +193,9 @@ impl PairEnv for Pair {
     fn covered(&self, _cover: i64) -> bool {
         false
     }
+    fn library(&self) -> bool {
+        true
+    }
 }
 
 struct Uncounted;
@@ -285,7 +287,7 @@ pub fn toi<E: Equations>(a: &Shape, ma: &Motion, b: &Shape, mb: &Motion, horizon
     let mut verts = a.verts.clone();
     verts.extend(b.verts.iter().cloned());
     let mut pair = Pair { tol, alpha: 0.5, verts };
-    if separation(&pair.verts, &bodies[0], &bodies[1], 0.0) < -tol {
+    if library_separation(&pair.verts, &bodies[0], &bodies[1]) < -tol {
         return ToiResult::of(OVERLAPPED);
     }
     // the windows (docs/simulator.md, "Taylor windows"): both turn, a lever

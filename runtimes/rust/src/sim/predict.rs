@@ -31,6 +31,14 @@ pub trait PairEnv {
     fn verts(&self) -> &[Vertex];
     /// whether the fixed body `cover` (>= 0) still covers its edge
     fn covered(&self, cover: i64) -> bool;
+    /// true for the TOI library, which has no world: its own clear stretch
+    /// of two polygons ([`clear_polygons`]) and its overlap test of the
+    /// bounds without a polynomial ([`bounds_meet`]); the simulator keeps
+    /// the values whose bits its traces pin
+    #[inline(always)]
+    fn library(&self) -> bool {
+        false
+    }
 }
 
 impl PairEnv for Space {
@@ -540,10 +548,20 @@ fn bounds_meet<E: Equations, W: PairEnv, C: Counter>(
     now: f64,
     win: f64,
 ) -> Res<Option<f64>> {
+    let tol = w.tol();
+    if w.library() {
+        // bounds that overlap now need no polynomial (a test that says
+        // overlap only goes on to the next step)
+        let (x1, y1, _, _, _) = state_at(a_, now);
+        let (x2, y2, _, _, _) = state_at(b_, now);
+        let (dx, dy, r) = (x1 - x2, y1 - y2, a_.bound + b_.bound);
+        if dx * dx + dy * dy - r * r <= tol * (2.0 * r + tol) {
+            return Ok(Some(0.0));
+        }
+    }
     let args = plain_args(a_, b_, now, (0.0, 0.0), (a_.bound, b_.bound));
     let mut coef = [0.0; MAX_COEF];
     let deg = cc_coefficients::<E, _>(q, &args, &mut coef)?;
-    let tol = w.tol();
     if coef[0] <= tol * (2.0 * (a_.bound + b_.bound) + tol) {
         return Ok(Some(0.0));
     }
@@ -980,6 +998,9 @@ fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     if a_.polygon && a_.om == 0.0 && turn_rate(b_) > 0.0 {
         return clear_axes(w, b_, a_, now);
     }
+    if w.library() && a_.polygon && b_.polygon {
+        return clear_polygons(w, a_, b_, now);
+    }
     let (x1, y1, u1, v1, _) = state_at(a_, now);
     let (x2, y2, u2, v2, _) = state_at(b_, now);
     let (dx, dy) = (x2 - x1, y2 - y1);
@@ -1013,6 +1034,99 @@ fn clear_time<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     let anyway =
         clear_root(sep - tol, spin + (u2 - u1).abs() + (v2 - v1).abs(), (b_.ax - a_.ax).abs() + (b_.ay - a_.ay).abs());
     max(along, anyway)
+}
+
+/// The vertices of polygon b whose centre is at (x, y), from the cosine c
+/// and sine s of its angle: the rotation of each vertex's place (lx, ly) in
+/// the body's frame (m).
+fn rotated_points(verts: &[Vertex], b: &Body, x: f64, y: f64, c: f64, s: f64) -> Vec<(f64, f64)> {
+    (0..b.nverts())
+        .map(|k| {
+            let v = &verts[b.vert(k)];
+            (x + (c * v.lx - s * v.ly), y + (s * v.lx + c * v.ly))
+        })
+        .collect()
+}
+
+/// [`separation`] of A and B at 0; of two polygons with every vertex from
+/// one cosine and sine of its body's angle ([`rotated_points`]), the TOI
+/// library's own values (the simulator keeps [`separation`]'s).
+pub(crate) fn library_separation(verts: &[Vertex], a_: &Body, b_: &Body) -> f64 {
+    if !(a_.polygon && b_.polygon) {
+        return separation(verts, a_, b_, 0.0);
+    }
+    let (x1, y1, _, _, g1) = state_at(a_, 0.0);
+    let (x2, y2, _, _, g2) = state_at(b_, 0.0);
+    let pa = rotated_points(verts, a_, x1, y1, g1.cos(), g1.sin());
+    let pb = rotated_points(verts, b_, x2, y2, g2.cos(), g2.sin());
+    polygons_separation(verts, a_, b_, 0.0, &pa, &pb)
+}
+
+/// clear_root along each edge normal of P (its centre (px, py), cos c and
+/// sin s of its angle), held fixed: the gap of the other polygon's
+/// vertices pts beyond the edge's line, opened by (du, dv) . normal and
+/// (dax, day) (the other body's velocity and acceleration less P's); the
+/// largest of the times.
+#[allow(clippy::too_many_arguments)]
+fn edges_clear(
+    verts: &[Vertex],
+    p_: &Body,
+    (px, py, c, s): (f64, f64, f64, f64),
+    pts: &[(f64, f64)],
+    spin: f64,
+    (du, dv, dax, day): (f64, f64, f64, f64),
+    tol: f64,
+) -> f64 {
+    let mut best = 0.0;
+    for j in 0..p_.nverts() {
+        let ed = &verts[p_.vert(j)];
+        let ox = c * ed.nx - s * ed.ny;
+        let oy = s * ed.nx + c * ed.ny;
+        let off = ox * px + oy * py + ed.h;
+        let mut g = f64::INFINITY;
+        for &(qx, qy) in pts {
+            let e = ox * qx + oy * qy - off;
+            if e < g {
+                g = e; // Python's min(g, e)
+            }
+        }
+        best = max(best, clear_root(g - tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs()));
+    }
+    best
+}
+
+/// The library's clear_time of two polygons (the simulator keeps
+/// clear_time's own, whose bits its traces pin): every vertex from one
+/// cosine and sine of its body's angle ([`rotated_points`]), and the gap
+/// along each edge normal of either polygon held fixed as well as along the
+/// line of the centres.  Along a fixed axis the gap closes at most as fast
+/// as the centres' relative motion along it plus each bound times its turn
+/// rate, and the gap of the best separating axis now is the separation, so
+/// this is never shorter than the bound through the norms |x| + |y| and
+/// never longer than the bodies stay apart.
+fn clear_polygons<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
+    let (x1, y1, u1, v1, g1) = state_at(a_, now);
+    let (x2, y2, u2, v2, g2) = state_at(b_, now);
+    let (dx, dy) = (x2 - x1, y2 - y1);
+    let d = (dx * dx + dy * dy).sqrt();
+    if !(d > 0.0) {
+        return 0.0;
+    }
+    let (nx, ny) = (dx / d, dy / d);
+    let (ca, sa, cb, sb) = (g1.cos(), g1.sin(), g2.cos(), g2.sin());
+    let pa = rotated_points(w.verts(), a_, x1, y1, ca, sa);
+    let pb = rotated_points(w.verts(), b_, x2, y2, cb, sb);
+    let hi = reach_points(nx, ny, &pa);
+    let lo = -reach_points(-nx, -ny, &pb);
+    let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
+    let tol = w.tol();
+    let (du, dv, dax, day) = (u2 - u1, v2 - v1, b_.ax - a_.ax, b_.ay - a_.ay);
+    let best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), (nx * dax + ny * day).abs());
+    let best = max(best, edges_clear(w.verts(), a_, (x1, y1, ca, sa), &pb, spin, (du, dv, dax, day), tol));
+    max(
+        best,
+        edges_clear(w.verts(), b_, (x2, y2, cb, sb), &pa, spin, (u1 - u2, v1 - v2, a_.ax - b_.ax, a_.ay - b_.ay), tol),
+    )
 }
 
 /// The largest projection of b on the unit axis (nx, ny) at now.
