@@ -364,6 +364,7 @@ def test_examples_replay_to_their_final_state(path):
     assert math.isfinite(sum(b["position"][0] for b in tr.final["bodies"]))
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_the_command_process_writes_everything_before_its_quick_exit(tmp_path):
     """`python -m max2code simulate` ends with os._exit after flushing (cli.run, QUICK_EXIT): the trace on
     standard output through a pipe is the whole of what -o FILE holds, the summary reaches standard error, and
