@@ -1,4 +1,5 @@
-"""Variants and their selection logic (issue: variants derived automatically)."""
+"""Variants and their selection logic (the variants are derived automatically)."""
+import functools
 import json
 import random
 import subprocess
@@ -18,9 +19,16 @@ ORDER = 4
 
 
 def list_variants(eq, *extra):
-    out = subprocess.run([sys.executable, "-m", "max2code", "--list-variants", f"equations/{eq}.mxm", "-q", *extra],
-                         capture_output=True, text=True, check=True, cwd=ROOT).stdout
-    return json.loads(out)
+    return json.loads(_list_variants_output(eq, *extra))
+
+
+@functools.lru_cache(maxsize=None)
+def _list_variants_output(eq, *extra):
+    """`max2code --list-variants` run once per equation and options in this
+    process (a circle-circle run takes about 5 s), its JSON read anew by each
+    caller."""
+    return subprocess.run([sys.executable, "-m", "max2code", "--list-variants", f"equations/{eq}.mxm", "-q", *extra],
+                          capture_output=True, text=True, check=True, cwd=ROOT).stdout
 
 
 def body_degree(off, body):
