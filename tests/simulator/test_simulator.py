@@ -439,6 +439,7 @@ def _simulate_cmd(scene="billiard-break.json"):
     return [sys.executable, "-m", "max2code", "simulate", os.path.join(ROOT, "examples", scene), "-q"], env
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_an_output_that_cannot_be_written_is_one_plain_error():
     """Standard output on a full disk (/dev/full): one line saying that the
     output could not be written and the OS's reason, exit 1, no traceback."""
