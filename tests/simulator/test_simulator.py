@@ -466,6 +466,7 @@ def test_a_closed_pipe_ends_the_command_quietly():
     assert (r.returncode, r.stderr) == (141, "")
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_a_named_pipe_as_the_output_is_written_not_replaced(tmp_path):
     """-o on a device or a named pipe writes into it: a file renamed over it would replace it (as root even
     /dev/null), and its reader would get nothing."""
