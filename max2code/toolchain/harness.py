@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
-import functools
 import hashlib
 import os
 import shutil
@@ -17,10 +16,10 @@ from pathlib import Path
 
 from max2code import paths
 from max2code.errors import Max2CodeError
-from max2code.generate.lower import FunctionIR
 from max2code.generate.render import environment
 from max2code.targets import LANGUAGES
 from max2code.toolchain import toolchain
+from max2code.toolchain.tools import tool_version
 
 
 class HarnessBuildError(Max2CodeError):
@@ -137,18 +136,6 @@ def _locked(entry: Path):
 _DONE = "harness-key"       # an entry's last file: the full key; a folder without it is not an entry
 
 
-@functools.lru_cache(maxsize=None)
-def _tool_version(tool: str) -> str:
-    """What names a build tool's version: its `--version` text (rustup's
-    proxies and compiler drivers print the real toolchain's)."""
-    try:
-        proc = subprocess.run([tool, "--version"], stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                              timeout=60)
-    except OSError as exc:
-        return f"{tool}: {exc}"
-    return f"{shutil.which(tool) or tool}\n{proc.stdout}{proc.stderr}"
-
-
 def _build_key(commands: list[list[str]], workdir: str) -> str:
     """The digest of a harness build: the commands (workdir written as a
     placeholder, so the same build in another folder has the same key), the
@@ -169,7 +156,7 @@ def _build_key(commands: list[list[str]], workdir: str) -> str:
             with open(p, "rb") as fh:
                 add(f"workdir/{name}", fh.read())
     for cmd in commands:
-        add("tool", _tool_version(cmd[0]).encode())
+        add("tool", tool_version(cmd[0]).encode())
         add("command", "\0".join(a.replace(wd, "<workdir>") for a in cmd).encode())
         for a in cmd[1:]:
             p = os.path.abspath(os.path.join(wd, a))

@@ -12,7 +12,7 @@ from pathlib import Path
 from max2code import paths
 from max2code.paths import BUILD, RUNTIMES
 from max2code.toolchain.base import Toolchain
-from max2code.toolchain.tools import RuntimeBuildError, build_lock, gsl_libs, run
+from max2code.toolchain.tools import RuntimeBuildError, build_lock, gsl_libs, run, tool_version
 
 M2_RUNTIME = RUNTIMES / "m2"
 
@@ -48,10 +48,8 @@ def sim_library_objects() -> Path:
     the flags and gm2's version; it is made in a temporary folder and renamed
     into place whole, under a lock, so parallel builds take turns and a
     folder that exists holds every object."""
-    from max2code.toolchain.harness import _tool_version
-
     h = hashlib.sha256()
-    for part in (paths.sources_digest(), "\0".join(SIM_FLAGS), _tool_version("gm2"), "\0".join(SIM_MODULES)):
+    for part in (paths.sources_digest(), "\0".join(SIM_FLAGS), tool_version("gm2"), "\0".join(SIM_MODULES)):
         h.update(part.encode() + b"\0")
     base = BUILD / "m2" / "sim-lib"
     final = base / h.hexdigest()[:32]
