@@ -31,7 +31,9 @@ def root():
 
 @pytest.fixture(scope="session")
 def generated():
-    """(equation, lang) -> GeneratedFile, generated once per session."""
+    """(equation, lang, **options) -> GeneratedFile, generated once per session (per worker)
+    from the equation's absolute path: the tests that build a harness of the same file then
+    build the same text, which compile_harness builds once for all of them."""
     from max2code.generate.pipeline import GenerateRequest, generate_file
 
     cache = {}
@@ -39,7 +41,7 @@ def generated():
     def get(eq, lang, **kw):
         key = (eq, lang, tuple(sorted(kw.items())))
         if key not in cache:
-            cache[key] = generate_file(GenerateRequest(path=os.path.join("equations", f"{eq}.mxm"),
+            cache[key] = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", f"{eq}.mxm"),
                                                        lang=lang, out_name="generated", **kw))
         return cache[key]
 

@@ -172,7 +172,7 @@ class TocOp:
             params = [[float(cases[s]["params"][n]) for n in g.function.params] for s in seqs]
             with tempfile.TemporaryDirectory(prefix=f"toc-{lang}-") as tmp:
                 if g.selection is not None:     # NAME_toc: the selected variant, then the runtime's solver
-                    h = build_harness(lang, g.text, g.function, tmp, toc=g.derivation.module.equation + "_toc")
+                    h = build_harness(lang, g, tmp, mode="toc")
                     got = h.evaluate([p + [0.0, float(cases[s]["horizon"])] for p, s in zip(params, seqs)])
                 else:       # no roles, no NAME_toc: the equation's function, then the runtime's solver on (0, T]
                     h = build_poly_harness(lang, g.text, g.function.params, g.function.name, False, g.function.degree,

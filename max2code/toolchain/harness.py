@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
-import functools
 import hashlib
 import os
 import shutil
@@ -17,14 +16,17 @@ from pathlib import Path
 
 from max2code import paths
 from max2code.errors import Max2CodeError
-from max2code.generate.lower import FunctionIR
 from max2code.generate.render import environment
 from max2code.targets import LANGUAGES
 from max2code.toolchain import toolchain
+from max2code.toolchain.tools import tool_version
 
 
 class HarnessBuildError(Max2CodeError):
     """The generated code did not compile; the message holds the compiler's output."""
+
+
+MODES = {"full": 0, "entry": 1, "toc": 2}
 
 
 @dataclass
@@ -33,9 +35,10 @@ class Harness:
     workdir: str
     run_cmd: list[str]
     nparams: int
+    mode: str = "full"
 
     def evaluate(self, param_sets: list[list[float]], timeout: float = 300) -> list[list[float]]:
-        text = "\n".join(" ".join(repr(float(x)) for x in ps) for ps in param_sets) + "\n"
+        text = f"{MODES[self.mode]}\n" + "\n".join(" ".join(repr(float(x)) for x in ps) for ps in param_sets) + "\n"
         proc = subprocess.run(self.run_cmd, input=text, capture_output=True, text=True,
                               timeout=timeout, cwd=self.workdir)
         if proc.returncode != 0:
@@ -43,19 +46,31 @@ class Harness:
         return [[float(w) for w in line.split()] for line in proc.stdout.splitlines()]
 
 
-def build_harness(lang: str, generated_text: str, fn: FunctionIR, workdir: str, entry: str | None = None,
-                  max_degree: int | None = None, toc: str | None = None) -> Harness:
-    """Write the generated file and the harness into `workdir` and compile them.
-    With `entry` (a selection function's name) the harness calls it and prints
-    the selected degree, then that many + 1 coefficients (-1 when unsupported).
-    With `toc` (a time-of-contact entry's name) each input line is the
-    parameters then lo and hi, and the harness prints `status t`."""
+def build_harness(lang: str, generated, workdir: str, mode: str = "full") -> Harness:
+    """Write the generated file (`generated`, a GeneratedFile) and the harness
+    into `workdir` and compile them.  The harness is one program for the
+    file's every entry, its mode chosen at run time: the same file compiles
+    once (compile_harness keeps the build) whichever modes the callers ask.
+    The Harness returned runs `mode`:
+    "full": the coefficient function; each input line is the parameters;
+    "entry": the selection entry (NAME_coefficients): prints the selected
+    degree, then that many + 1 coefficients (-1 when unsupported);
+    "toc": the time-of-contact entry (NAME_toc): each input line is the
+    parameters then lo and hi, and the harness prints `status t`.
+    "entry" and "toc" need a file generated with its variants (a selection)."""
+    fn, sel = generated.function, generated.selection
+    if mode not in MODES:
+        raise ValueError(f"harness mode must be one of {', '.join(MODES)}, not {mode!r}")
+    if mode != "full" and sel is None:
+        raise ValueError(f"the generated file has no selection entry, so no {mode} mode")
+    entry = sel.name if sel is not None else None
+    toc = sel.name.replace("_coefficients", "_toc") if sel is not None else None
     tc = toolchain(lang)
-    src, exe = write_harness(lang, generated_text, workdir, "harness.j2", name=entry or fn.name,
-                             nparams=len(fn.params), nterms=(max_degree if entry else fn.degree) + 1,
-                             entry=bool(entry), toc=toc)
+    src, exe = write_harness(lang, generated.text, workdir, "harness.j2", name=fn.name, nparams=len(fn.params),
+                             degree=fn.degree, nterms=max(fn.degree, sel.max_degree if sel else 0) + 1,
+                             entry=entry, toc=toc)
     compile_harness(tc.harness_build(src, exe, [workdir]), workdir, timeout=600)
-    return Harness(lang, workdir, tc.harness_run(src, exe), len(fn.params))
+    return Harness(lang, workdir, tc.harness_run(src, exe), len(fn.params), mode)
 
 
 def write_harness(lang: str, generated_text: str, workdir: str, template: str, **ctx) -> tuple[str, str]:
@@ -121,18 +136,6 @@ def _locked(entry: Path):
 _DONE = "harness-key"       # an entry's last file: the full key; a folder without it is not an entry
 
 
-@functools.lru_cache(maxsize=None)
-def _tool_version(tool: str) -> str:
-    """What names a build tool's version: its `--version` text (rustup's
-    proxies and compiler drivers print the real toolchain's)."""
-    try:
-        proc = subprocess.run([tool, "--version"], stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                              timeout=60)
-    except OSError as exc:
-        return f"{tool}: {exc}"
-    return f"{shutil.which(tool) or tool}\n{proc.stdout}{proc.stderr}"
-
-
 def _build_key(commands: list[list[str]], workdir: str) -> str:
     """The digest of a harness build: the commands (workdir written as a
     placeholder, so the same build in another folder has the same key), the
@@ -153,7 +156,7 @@ def _build_key(commands: list[list[str]], workdir: str) -> str:
             with open(p, "rb") as fh:
                 add(f"workdir/{name}", fh.read())
     for cmd in commands:
-        add("tool", _tool_version(cmd[0]).encode())
+        add("tool", tool_version(cmd[0]).encode())
         add("command", "\0".join(a.replace(wd, "<workdir>") for a in cmd).encode())
         for a in cmd[1:]:
             p = os.path.abspath(os.path.join(wd, a))

@@ -3,12 +3,16 @@
 make in runtimes/m2 for the runtime's objects, the testees and the install."""
 from __future__ import annotations
 
+import hashlib
 import os
+import shutil
+import subprocess
 from pathlib import Path
 
+from max2code import paths
 from max2code.paths import BUILD, RUNTIMES
 from max2code.toolchain.base import Toolchain
-from max2code.toolchain.tools import build_lock, gsl_libs, run
+from max2code.toolchain.tools import RuntimeBuildError, build_lock, gsl_libs, run, tool_version
 
 M2_RUNTIME = RUNTIMES / "m2"
 
@@ -34,6 +38,39 @@ def m2_objects(*modules: str) -> list[Path]:
     objs = [BUILD / "m2" / f"{m}.o" for m in (modules or ("Roots",))]
     make_m2(*objs)
     return objs
+
+
+def sim_library_objects() -> Path:
+    """The folder of SIM_MODULES' objects, compiled once for every simulator
+    build: they read no generated code (only SIM_GENERATED does), so the
+    objects are the same bytes whatever the effects and the variant counts.
+    The folder is BUILD/m2/sim-lib/KEY, KEY the digest of the runtime sources,
+    the flags and gm2's version; it is made in a temporary folder and renamed
+    into place whole, under a lock, so parallel builds take turns and a
+    folder that exists holds every object."""
+    h = hashlib.sha256()
+    for part in (paths.sources_digest(), "\0".join(SIM_FLAGS), tool_version("gm2"), "\0".join(SIM_MODULES)):
+        h.update(part.encode() + b"\0")
+    base = BUILD / "m2" / "sim-lib"
+    final = base / h.hexdigest()[:32]
+    if final.is_dir():
+        return final
+    with build_lock(base):
+        if final.is_dir():
+            return final
+        tmp = base / f"{final.name}.{os.getpid()}.tmp"
+        shutil.rmtree(tmp, ignore_errors=True)
+        tmp.mkdir(parents=True)
+        incs = [f"-I{tmp}", f"-I{M2_RUNTIME}", f"-I{M2_RUNTIME / 'src'}"]
+        for m in SIM_MODULES:
+            proc = subprocess.run(["gm2", *SIM_FLAGS, *incs, "-c", str(M2_RUNTIME / f"{m}.mod"), "-o", str(tmp / f"{m}.o")],
+                                  cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=1800)
+            if proc.returncode != 0:
+                shutil.rmtree(tmp, ignore_errors=True)
+                raise RuntimeBuildError(f"max2code: error: the Modula-2 simulator module {m} did not build\n"
+                                        f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
+        os.replace(tmp, final)
+    return final
 
 
 class Modula2Toolchain(Toolchain):
@@ -96,14 +133,16 @@ class Modula2Toolchain(Toolchain):
         return M2_RUNTIME
 
     def sim_world_build(self, workdir: str, variants: dict[str, int]) -> list[list[str]]:
-        """Commands (run in workdir) that compile SIM_MODULES and SIM_GENERATED
-        into workdir/NAME.o, with the generated .mxd files from workdir."""
+        """Commands (run in workdir) that put SIM_MODULES' objects into
+        workdir/NAME.o (copies of sim_library_objects', compiled once for all
+        the simulators) and compile SIM_GENERATED there, with the generated
+        .mxd files from workdir."""
         m2 = self._m2()
-        libs = [os.path.join(workdir, f"{m}.o") for m in SIM_MODULES]
+        shared = sim_library_objects()
         counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
-        return [*[["gm2", *SIM_FLAGS, *incs, "-c", str(m2 / f"{m}.mod"), "-o", o] for m, o in zip(SIM_MODULES, libs)],
+        return [["cp", *[str(shared / f"{m}.o") for m in SIM_MODULES], workdir],
                 ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / f"{SIM_GENERATED}.mod"),
                  "-o", os.path.join(workdir, f"{SIM_GENERATED}.o")]]
 

@@ -5,7 +5,9 @@ builds deny warnings (the C Makefile's WERROR, cargo's RUSTFLAGS); a user's
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -53,3 +55,15 @@ def gsl_libs() -> list[str]:
     """GSL's link flags (pkg-config, else the usual three)."""
     out = subprocess.run(["pkg-config", "--libs", "gsl"], stdin=subprocess.DEVNULL, capture_output=True, text=True)
     return out.stdout.split() if out.returncode == 0 else ["-lgsl", "-lgslcblas", "-lm"]
+
+
+@functools.lru_cache(maxsize=None)
+def tool_version(tool: str) -> str:
+    """What names a build tool's version: its `--version` text (rustup's
+    proxies and compiler drivers print the real toolchain's)."""
+    try:
+        proc = subprocess.run([tool, "--version"], stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                              timeout=60)
+    except OSError as exc:
+        return f"{tool}: {exc}"
+    return f"{shutil.which(tool) or tool}\n{proc.stdout}{proc.stderr}"

@@ -37,8 +37,7 @@ def test_float_variants_agree_bit_for_bit(tmp_path, eq):
     for lang in FLOAT_LANGS:
         g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", f"{eq}.mxm"), lang=lang,
                                           out_name="generated", real="float"))
-        h = build_harness(lang, g.text, g.function, str(tmp_path / lang), entry=g.selection.name,
-                          max_degree=g.selection.max_degree)
+        h = build_harness(lang, g, str(tmp_path / lang), mode="entry")
         outputs[lang] = h.evaluate(_inputs(len(g.function.params)))
     ref = FLOAT_LANGS[0]
     calls = sum(len(r) for r in outputs[ref])

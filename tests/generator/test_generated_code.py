@@ -56,7 +56,7 @@ def harnesses(generated, tmp_path_factory):
     def get(eq, lang):
         if (eq, lang) not in cache:
             g = generated(eq, lang)
-            cache[(eq, lang)] = (g, build_harness(lang, g.text, g.function, str(tmp_path_factory.mktemp(f"{eq}-{lang}"))))
+            cache[(eq, lang)] = (g, build_harness(lang, g, str(tmp_path_factory.mktemp(f"{eq}-{lang}"))))
         return cache[(eq, lang)]
     return get
 

@@ -1,7 +1,8 @@
 """The harness build cache (max2code/toolchain/harness.py, compile_harness):
 a harness built once is copied, not built again, wherever its folder is;
 a change to any input (a source's bytes, a command, a file a command names)
-builds anew; a build that fails is not kept."""
+builds anew; a build that fails is not kept; and build_harness makes one
+program for every mode (entry) of a generated file."""
 import os
 import subprocess
 
@@ -78,3 +79,47 @@ def test_a_failed_build_is_not_kept(tmp_path, build_dir):
     with pytest.raises(H.HarnessBuildError):
         H.compile_harness(cmds(a), a, timeout=60)
     assert not [p for p in (build_dir / "harness").iterdir() if p.is_dir()]
+
+
+@pytest.mark.slow       # builds the C runtime library (on first use) and a harness
+def test_one_program_serves_every_mode_of_a_generated_file(tmp_path, build_dir, generated, monkeypatch):
+    """build_harness compiles one program per generated file, its mode chosen
+    at run time: the coefficients, the selection entry and the time of contact
+    of the same file are one build (one cache entry, no second compile), and
+    each mode answers as its own entry does."""
+    import random
+
+    from max2code_rt.roots import smallest_root
+    from test_generated_code import line_params
+
+    g = generated("point-line", "c")
+    ran = []
+    real = subprocess.run
+    monkeypatch.setattr(H.subprocess, "run", lambda cmd, *a, **k: ran.append(cmd) or real(cmd, *a, **k))
+    full = H.build_harness("c", g, str(tmp_path / "full"))
+    entry = H.build_harness("c", g, str(tmp_path / "entry"), mode="entry")
+    toc = H.build_harness("c", g, str(tmp_path / "toc"), mode="toc")
+    assert len([c for c in ran if c[0] == "gcc"]) == 1
+    assert len([p for p in (build_dir / "harness").iterdir() if p.is_dir()]) == 1
+    rng = random.Random(17)
+    sets = [[line_params(rng)[n] for n in g.function.params] for _ in range(40)]
+    coefs = full.evaluate(sets)
+    picked = entry.evaluate(sets)
+    contacts = toc.evaluate([s + [0.0, 10.0] for s in sets])
+    assert len(coefs) == len(picked) == len(contacts) == len(sets)
+    found = 0
+    for c, e, (status, t) in zip(coefs, picked, contacts):
+        assert len(c) == g.function.degree + 1
+        # no switch's parameters are zero: the selection takes the full variant, whose coefficients these are
+        assert e == [float(g.function.degree)] + c
+        want = smallest_root(c, 0.0, 10.0)
+        assert (status == 1.0) == (want is not None) and status in (0.0, 1.0)
+        if want is not None:
+            found += 1
+            assert abs(t - want) <= 1e-12 * abs(want) + 1e-15, (t, want)
+    assert found >= 5
+    # a mode the program does not have is refused, by the program and by build_harness
+    assert real(full.run_cmd, input="3\n" + " ".join(map(repr, sets[0])) + "\n", capture_output=True,
+                text=True).returncode != 0
+    with pytest.raises(ValueError, match="mode"):
+        H.build_harness("c", g, str(tmp_path / "other"), mode="exact")

@@ -1,6 +1,6 @@
-"""Variants and their selection logic (issue: variants derived automatically)."""
+"""Variants and their selection logic (the variants are derived automatically)."""
+import functools
 import json
-import os
 import random
 import subprocess
 import sys
@@ -10,7 +10,6 @@ import pytest
 
 from conftest import LANGS, ROOT
 from max2code.toolchain.harness import build_harness
-from max2code.generate.pipeline import GenerateRequest, generate_file
 from max2code_rt.roots import smallest_root
 from max2code.conformance.motion_ref import EQUATIONS as REFERENCE
 from max2code.conformance.motion_ref import scale as reference_scale
@@ -20,9 +19,16 @@ ORDER = 4
 
 
 def list_variants(eq, *extra):
-    out = subprocess.run([sys.executable, "-m", "max2code", "--list-variants", f"equations/{eq}.mxm", "-q", *extra],
-                         capture_output=True, text=True, check=True, cwd=ROOT).stdout
-    return json.loads(out)
+    return json.loads(_list_variants_output(eq, *extra))
+
+
+@functools.lru_cache(maxsize=None)
+def _list_variants_output(eq, *extra):
+    """`max2code --list-variants` run once per equation and options in this
+    process (a circle-circle run takes about 5 s), its JSON read anew by each
+    caller."""
+    return subprocess.run([sys.executable, "-m", "max2code", "--list-variants", f"equations/{eq}.mxm", "-q", *extra],
+                          capture_output=True, text=True, check=True, cwd=ROOT).stdout
 
 
 def body_degree(off, body):
@@ -83,17 +89,19 @@ def sample_with_effects_off(eq, rng):
 
 
 @pytest.fixture(scope="module")
-def entry_harness(tmp_path_factory):
+def entry_harness(generated, tmp_path_factory):
+    """(file, its full coefficient function, its selection entry) of EQ in LANG:
+    one harness program (build_harness) runs both."""
     cache = {}
 
     def get(eq, lang):
         if (eq, lang) not in cache:
-            g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", f"{eq}.mxm"), lang=lang, out_name="generated"))
+            g = generated(eq, lang)
             d = str(tmp_path_factory.mktemp(f"entry-{eq}-{lang}"))
-            full = build_harness(lang, g.text, g.function, d + "/full")
-            entry = build_harness(lang, g.text, g.function, d + "/entry",
-                                  entry=g.derivation.module.equation + "_coefficients",
-                                  max_degree=max(v.degree for v in g.variants))
+            full = build_harness(lang, g, d)
+            assert g.selection.name == g.derivation.module.equation + "_coefficients"
+            assert g.selection.max_degree == max(v.degree for v in g.variants)
+            entry = build_harness(lang, g, d, mode="entry")
             cache[(eq, lang)] = (g, full, entry)
         return cache[(eq, lang)]
     return get
@@ -133,9 +141,8 @@ def test_selected_variant_equals_full_equation_with_the_zeros(eq, lang, entry_ha
 
 @pytest.mark.slow
 @pytest.mark.parametrize("lang", LANGS)
-def test_effects_restrict_generation(lang, tmp_path):
-    g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", "circle-circle.mxm"), lang=lang,
-                                      out_name="generated", effects=("acceleration",)))
+def test_effects_restrict_generation(lang, tmp_path, generated):
+    g = generated("circle-circle", lang, effects=("acceleration",))
     names = [v.name for v in g.variants]
     assert names and all("no_orbit1" in n and "no_orbit2" in n for n in names)
     assert max(v.degree for v in g.variants) == 4
@@ -145,8 +152,8 @@ def test_effects_restrict_generation(lang, tmp_path):
     for name in outside:
         assert f"{name}(" not in g.text and f"{name} (" not in g.text
     # still compiles warning-free, and refuses a world with an orbit
-    h = build_harness(lang, g.text, g.function, str(tmp_path), entry="circle_circle_coefficients",
-                      max_degree=max(v.degree for v in g.variants))
+    assert g.selection.name == "circle_circle_coefficients"
+    h = build_harness(lang, g, str(tmp_path), mode="entry")
     rng = random.Random(5)
     p = SAMPLERS["circle-circle"](rng)
     p["d"] = p["j"] = 0.0
@@ -163,7 +170,7 @@ def test_list_variants_with_effects_none():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("eq", ["circle-circle", "point-line"])
-def test_toc_entry_same_bits_in_every_language_and_matches_the_full_equation(eq, tmp_path):
+def test_toc_entry_same_bits_in_every_language_and_matches_the_full_equation(eq, tmp_path, generated):
     rng = random.Random(f"toc-{eq}")
     sets = [sample_with_effects_off(eq, rng) for _ in range(300)]
     if eq == "circle-circle":   # start circle 2 near circle 1, so that many pairs touch
@@ -173,12 +180,12 @@ def test_toc_entry_same_bits_in_every_language_and_matches_the_full_equation(eq,
     horizons = [rng.choice([1.0, 5.0, 20.0]) for _ in sets]
     answers = {}
     for lang in LANGS:
-        g = generate_file(GenerateRequest(path=os.path.join(ROOT, "equations", f"{eq}.mxm"), lang=lang, out_name="generated"))
-        toc = g.derivation.module.equation + "_toc"
-        h = build_harness(lang, g.text, g.function, str(tmp_path / lang), toc=toc)
+        g = generated(eq, lang)
+        assert g.selection.name == g.derivation.module.equation + "_coefficients"
+        h = build_harness(lang, g, str(tmp_path / lang), mode="toc")
         answers[lang] = h.evaluate([[s[n] for n in g.function.params] + [0.0, hz] for s, hz in zip(sets, horizons)])
         if lang == "c":
-            full = build_harness(lang, g.text, g.function, str(tmp_path / "full"))
+            full = build_harness(lang, g, str(tmp_path / lang))
             full_coef = full.evaluate([[s[n] for n in g.function.params] for s in sets])
     for lang in LANGS[1:]:
         assert answers[lang] == answers["c"], f"{lang} differs from c"

@@ -335,7 +335,8 @@ TWO = {"end_time": 2.0, "bodies": [ball(velocity=[1.0, 0.0]), ball("b", position
 
 @pytest.fixture(scope="module")
 def c_world():
-    """(library, flat text) of TWO: CWorld(library, text, out) makes a world."""
+    """(library, flat text) of TWO: CWorld(library, text, out) makes a world.
+    It builds the C world library, so the tests using it are slow tests."""
     from max2code.sim.scene import compile_scene
     from max2code.sim.simulate import world_library
     scene = parse_scene(json.dumps(TWO))
@@ -346,6 +347,7 @@ def open_fds() -> int:
     return len(os.listdir("/proc/self/fd"))
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="counts the open descriptors in /proc")
 def test_worlds_dropped_without_close_free_their_trace_files(c_world):
     """3,000 worlds with a trace, dropped without close() while the cyclic
@@ -371,6 +373,7 @@ def test_worlds_dropped_without_close_free_their_trace_files(c_world):
     assert grown <= 2, f"{grown} descriptors more after 3,000 worlds"
 
 
+@pytest.mark.slow
 def test_a_dropped_world_passes_its_whole_trace_on_and_close_is_idempotent(c_world):
     import io
     from max2code.sim.cworld import CWorld
@@ -390,6 +393,7 @@ def test_a_dropped_world_passes_its_whole_trace_on_and_close_is_idempotent(c_wor
     assert dropped.getvalue() == closed.getvalue() and "\nN " in closed.getvalue()
 
 
+@pytest.mark.slow
 def test_integer_arguments_outside_the_c_range_are_refused_not_wrapped(c_world):
     """ctypes passes 2^32 on as the C int 0: state(2**32, t) gave body 0."""
     from max2code.sim.cworld import CWorld

@@ -364,6 +364,7 @@ def test_examples_replay_to_their_final_state(path):
     assert math.isfinite(sum(b["position"][0] for b in tr.final["bodies"]))
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_the_command_process_writes_everything_before_its_quick_exit(tmp_path):
     """`python -m max2code simulate` ends with os._exit after flushing (cli.run, QUICK_EXIT): the trace on
     standard output through a pipe is the whole of what -o FILE holds, the summary reaches standard error, and
@@ -438,6 +439,7 @@ def _simulate_cmd(scene="billiard-break.json"):
     return [sys.executable, "-m", "max2code", "simulate", os.path.join(ROOT, "examples", scene), "-q"], env
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_an_output_that_cannot_be_written_is_one_plain_error():
     """Standard output on a full disk (/dev/full): one line saying that the
     output could not be written and the OS's reason, exit 1, no traceback."""
@@ -464,6 +466,7 @@ def test_a_closed_pipe_ends_the_command_quietly():
     assert (r.returncode, r.stderr) == (141, "")
 
 
+@pytest.mark.slow      # `max2code simulate` runs the C simulator (its default), built on first use
 def test_a_named_pipe_as_the_output_is_written_not_replaced(tmp_path):
     """-o on a device or a named pipe writes into it: a file renamed over it would replace it (as root even
     /dev/null), and its reader would get nothing."""

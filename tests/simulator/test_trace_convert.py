@@ -115,6 +115,7 @@ def test_fast_path_writes_the_same_bytes_on_every_example(path):
         assert in_c_streamed(scene, build, trace.raw, cuts) == (want[0], want[1][1])
 
 
+@pytest.mark.slow      # builds and runs the C simulator
 def test_the_c_converter_takes_collisions_and_states(monkeypatch):
     """On a trace of collisions and states the C code converts every chunk
     (Python is not asked), and the bytes are Python's."""
@@ -129,6 +130,7 @@ def test_the_c_converter_takes_collisions_and_states(monkeypatch):
     assert in_c(scene, build, events, [n // 4, n // 2]) == want
 
 
+@pytest.mark.slow      # builds and runs the C simulator
 def test_without_a_c_compiler_the_command_says_so_and_writes_the_same_bytes(monkeypatch):
     """When the C converter cannot be built, `auto` converts in Python
     after one note, `c` refuses with one line, `python` is silent; the
