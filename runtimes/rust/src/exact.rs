@@ -53,7 +53,7 @@ pub struct Motion {
     /// `None`, or the window at once: the coefficients of `shift(p, t0)` into `c` (their degree,
     /// `None` when unsupported) and `truncation(shift(p, t0), h)`, the same values as those three
     /// calls (generated as `NAME_window`, which computes the sines and cosines they share once).
-    pub window: Option<fn(&[f64], f64, f64, &mut [f64]) -> Option<(usize, f64)>>,
+    pub window: Option<WindowFn>,
 }
 
 /// An equation whose polynomial is the exact gap (no approximated
@@ -89,6 +89,10 @@ fn no_rate(_p: &[f64]) -> f64 {
 
 /// The root solver: smallest root of `c` in `(lo, hi]`.
 pub type Solver = fn(&[f64], f64, f64) -> Option<f64>;
+
+/// A generated `NAME_window`: `(p, t0, h, c)` gives the coefficients of `shift(p, t0)` in `c`
+/// with their degree and `truncation(shift(p, t0), h)`, or `None` when unsupported.
+pub type WindowFn = fn(&[f64], f64, f64, &mut [f64]) -> Option<(usize, f64)>;
 
 /// Options (knobs) of [`exact_toc`].
 #[derive(Clone, Copy)]
