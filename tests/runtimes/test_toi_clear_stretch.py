@@ -12,24 +12,11 @@ import random
 
 from max2code.toolchain import toi
 from max2code_rt import toi as rt
+from toi_draws import random_polygon  # noqa: E402
 from max2code_rt.sim.predict import PredictMixin
 
 TOL = 1e-9      # m
 SAMPLES = 64    # times sampled in each stretch
-
-
-def _polygon(rng: random.Random) -> rt.Shape:
-    """A box or a random convex polygon about its centre of rotation."""
-    if rng.random() < 0.5:
-        hx, hy = rng.uniform(0.2, 2.0), rng.uniform(0.2, 2.0)
-        return rt.polygon([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
-    n = rng.randint(3, 9)
-    angles = sorted(rng.uniform(0.0, 2.0 * math.pi) for _ in range(n))
-    r = rng.uniform(0.3, 2.0)
-    try:
-        return rt.polygon([(r * math.cos(a), r * math.sin(a)) for a in angles])
-    except ValueError:      # points too close to make a strictly convex polygon
-        return rt.polygon([(-r, -r), (r, -r), (r, r), (-r, r)])
 
 
 def _motion(rng: random.Random, x: float, y: float) -> rt.Motion:
@@ -44,7 +31,7 @@ def test_clear_stretches_keep_the_bodies_apart():
     rng = random.Random(20261208)
     stretches = close = 0
     for _ in range(400):
-        sa, sb = _polygon(rng), _polygon(rng)
+        sa, sb = random_polygon(rng), random_polygon(rng)
         dist = (sa.bound + sb.bound) * rng.uniform(0.7, 1.3)
         th = rng.uniform(0.0, 2.0 * math.pi)
         off = rng.choice([0.0, rng.uniform(-1e4, 1e4)])

@@ -12,23 +12,9 @@ import random
 
 from max2code.toolchain import toi
 from max2code_rt import toi as rt
+from toi_draws import random_polygon  # noqa: E402
 
 TOL = 1e-9      # m
-
-
-def _polygon(rng: random.Random) -> rt.Shape:
-    """A box or a random convex polygon about its centre of rotation."""
-    if rng.random() < 0.5:
-        hx, hy = rng.uniform(0.2, 2.0), rng.uniform(0.2, 2.0)
-        return rt.polygon([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
-    n = rng.randint(3, 9)
-    angles = sorted(rng.uniform(0.0, 2.0 * math.pi) for _ in range(n))
-    r = rng.uniform(0.3, 2.0)
-    pts = [(r * math.cos(a), r * math.sin(a)) for a in angles]
-    try:
-        return rt.polygon(pts)
-    except ValueError:      # points too close to make a strictly convex polygon
-        return rt.polygon([(-r, -r), (r, -r), (r, r), (-r, r)])
 
 
 def _motion(rng: random.Random, x: float, y: float) -> rt.Motion:
@@ -65,7 +51,7 @@ def test_spared_pairs_have_no_contact():
     rng = random.Random(20261207)
     tally = {"windows": 0, "spared": 0, "solved": 0, "contacts": 0}
     for _ in range(300):
-        sa, sb = _polygon(rng), _polygon(rng)
+        sa, sb = random_polygon(rng), random_polygon(rng)
         dist = (sa.bound + sb.bound) * rng.uniform(0.8, 1.5)
         th = rng.uniform(0.0, 2.0 * math.pi)
         off = rng.choice([0.0, rng.uniform(-1e5, 1e5)])
