@@ -20,6 +20,7 @@ VAR
    Floor,                (* 2^-46 = 64 eps: the rounding floor is Floor * scale *)
    TwoM30,               (* 2^-30 *)
    Sharp,                (* 2^-42: a root known to this relative width is not polished *)
+   Settled,              (* 2^-50: a Newton step this small (relative, 4 ulps) ends the polish *)
    Inf: REAL ;           (* infinity *)
    (* the call being answered (the driver is not reentrant) *)
    Cur: Motion ;
@@ -198,6 +199,31 @@ BEGIN
 END CirclesBound ;
 
 
+(* Two circles: the window rate, the largest |angular velocity| of the
+   orbit terms of the bodies that orbit (radius not zero).  It is what the
+   generated rate gives for this layout (each approximation's error term is
+   its body's orbit radius times a factor, and the radius squared is one of
+   them), without its sines. *)
+PROCEDURE CirclesRate (VAR m: Motion; VAR p: ARRAY OF REAL) : REAL ;
+VAR
+   rate, wx, wy: REAL ;
+   b: INTEGER ;
+BEGIN
+   rate := 0.0 ;
+   b := 0 ;
+   WHILE b <= 12 DO
+      IF p[m.circles[b + 6]] # 0.0 THEN
+         wx := ABS (p[m.circles[b + 7]]) ;
+         wy := ABS (p[m.circles[b + 9]]) ;
+         IF wx > rate THEN rate := wx END ;
+         IF wy > rate THEN rate := wy END
+      END ;
+      b := b + 12
+   END ;
+   RETURN rate
+END CirclesRate ;
+
+
 (* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
    > 0, before it), or 2 T + 1 when there is none. *)
 PROCEDURE Entry (VAR h: Coeffs; n: INTEGER; margin, lo, T: REAL) : REAL ;
@@ -311,7 +337,8 @@ END FirstRoot ;
 
 
 (* Newton steps on the exact gap, kept while |gap| decreases inside [a, b]
-   and (lo, hi].  The driver polishes a root only when it may lie more than
+   and (lo, hi]; a step of at most Settled times the root is taken without
+   evaluating the gap there, and ends the polish.  The driver polishes a root only when it may lie more than
    Sharp r from the gap's (near a double root, or where the rounding or
    truncation of its polynomial is large). *)
 PROCEDURE Polish (x, a, b, lo, hi: REAL) : REAL ;
@@ -326,6 +353,8 @@ BEGIN
       IF NOT (d # 0.0) THEN RETURN x END ;
       xn := x - g / d ;
       IF NOT ((xn >= a) AND (xn <= b) AND (xn > lo) AND (xn <= hi)) THEN RETURN x END ;
+      (* converged to rounding: the next step would be noise *)
+      IF ABS (xn - x) <= Settled * ABS (xn) THEN RETURN xn END ;
       gn := GapAt (xn) ;
       IF NOT (ABS (gn) < ABS (g)) THEN RETURN x END ;
       x := xn ;
@@ -460,7 +489,7 @@ BEGIN
    IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
    span := horizon - start ;
    h := span ;
-   rate := Cur.rate (Par) ;
+   IF bound THEN rate := CirclesRate (m, p) ELSE rate := Cur.rate (Par) END ;
    IF (rate > 0.0) AND (o.windowAngle / rate < span) THEN h := o.windowAngle / rate END ;
    IF span / h > MaxWindows THEN RETURN -1 END ;
    t0 := start ;
@@ -570,6 +599,7 @@ BEGIN
    TwoM30 := ldexp (1.0, -30) ;
    Two50 := ldexp (1.0, -50) ;
    Sharp := ldexp (1.0, -42) ;
+   Settled := ldexp (1.0, -50) ;
    Inf := ldexp (1.0, 1100) ;   (* overflows to infinity *)
    UsePd := FALSE
 END ExactToc.

@@ -11,6 +11,7 @@
 #define POLISH_STEPS 4       /* Newton steps on the exact gap */
 #define SAFE (1.0 + 0x1p-40) /* covers the rounding of reach() */
 #define SHARP 0x1p-42        /* a root known to this relative width is not polished */
+#define SETTLED 0x1p-50      /* a Newton step this small (relative, 4 ulps) ends the polish */
 
 typedef struct {
     const m2c_motion *m;
@@ -156,6 +157,26 @@ static double circles_bound(const int *ix, const double *p, double T, double *h,
     return rho;
 }
 
+/* Two circles: the window rate, the largest |angular velocity| of the
+ * orbit terms of the bodies that orbit (radius not zero).  It is what the
+ * generated rate gives for this layout (each approximation's error term is
+ * its body's orbit radius times a factor, and the radius squared is one of
+ * them), without its sines. */
+static double circles_rate(const int *ix, const double *p)
+{
+    double rate = 0.0;
+    for (int b = 0; b < 2; b++, ix += 12) {
+        if (p[ix[6]] == 0.0)
+            continue;
+        double wx = fabs(p[ix[7]]), wy = fabs(p[ix[9]]);
+        if (wx > rate)
+            rate = wx;
+        if (wy > rate)
+            rate = wy;
+    }
+    return rate;
+}
+
 /* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
  * > 0, before it), or 2 T + 1 when there is none. */
 static double entry(const double *h, int n, double margin, double lo, double T)
@@ -260,7 +281,8 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
 }
 
 /* Newton steps on the exact gap, kept while |gap| decreases inside
- * [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+ * [a, b] and (lo, hi]; a step of at most SETTLED times the root is taken
+ * without evaluating the gap there, and ends the polish.  The driver polishes a root only when it may lie
  * more than SHARP r from the gap's (near a double root, or where the
  * rounding or truncation of its polynomial is large). */
 static double polish(const ctx *k, double x, double a, double b, double lo, double hi)
@@ -275,6 +297,10 @@ static double polish(const ctx *k, double x, double a, double b, double lo, doub
         double xn = x - g / d;
         if (!(xn >= a && xn <= b && xn > lo && xn <= hi))
             break;
+        if (fabs(xn - x) <= SETTLED * fabs(xn)) {
+            x = xn;            /* converged to rounding: the next step would be noise */
+            break;
+        }
         double gn = gap_at(k, xn);
         if (!(fabs(gn) < fabs(g)))
             break;
@@ -428,7 +454,7 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         return 0;              /* the bound keeps the circles apart over the whole horizon */
     double span = horizon - start;
     double h = span;
-    double rate = m->rate(p);
+    double rate = bound ? circles_rate(m->circles, p) : m->rate(p);
     if (rate > 0.0 && o.window_angle / rate < span)
         h = o.window_angle / rate;
     if (span / h > M2C_EXACT_MAX_WINDOWS)

@@ -26,6 +26,7 @@ MAX_WINDOWS = 10000000.0
 MAX_PARAMS = 64
 SAFE = 1.0 + 2.0 ** -40    # covers the rounding of _reach()
 SHARP = 2.0 ** -42         # a root known to this relative width is not polished
+SETTLED = 2.0 ** -50       # a Newton step this small (relative, 4 ulps) ends the polish
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,24 @@ def _circles_bound(ix, p, T):
     sy = abs(y0) + (abs(y1) + abs(y2) * T) * T
     margin = FLOOR * (sx * sx + sy * sy + R * R)
     return h, (x0, x1, x2, y0, y1, y2, r), margin, rho
+
+
+def _circles_rate(ix, p):
+    """Two circles: the window rate, the largest |angular velocity| of the
+    orbit terms of the bodies that orbit (radius not zero).  It is what the
+    generated rate gives for this layout (each approximation's error term is
+    its body's orbit radius times a factor, and the radius squared is one of
+    them), without its sines."""
+    rate = 0.0
+    for b in (0, 12):
+        if p[ix[b + 6]] == 0.0:
+            continue
+        wx, wy = abs(p[ix[b + 7]]), abs(p[ix[b + 9]])
+        if wx > rate:
+            rate = wx
+        if wy > rate:
+            rate = wy
+    return rate
 
 
 def _entry(h, n, margin, lo, T):
@@ -266,7 +285,9 @@ class _Driver:
 
     def polish(self, x, a, b, lo, hi):
         """Newton steps on the exact gap, kept while |gap| decreases inside
-        [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+        [a, b] and (lo, hi]; a step of at most SETTLED times the root is
+        taken without evaluating the gap there, and ends the polish.  The
+        driver polishes a root only when it may lie
         more than SHARP r from the gap's (near a double root, or where the
         rounding or truncation of its polynomial is large)."""
         g = self.gap(x)
@@ -278,6 +299,9 @@ class _Driver:
                 break
             xn = x - g / d
             if not (xn >= a and xn <= b and xn > lo and xn <= hi):
+                break
+            if abs(xn - x) <= SETTLED * abs(xn):
+                x = xn      # converged to rounding: the next step would be noise
                 break
             gn = self.gap(xn)
             if not abs(gn) < abs(g):
@@ -368,7 +392,7 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
             return None     # the bound keeps the circles apart over the whole horizon
         span = horizon - start
         h = span
-        rate = m.rate(p)
+        rate = _circles_rate(circles, p) if bound else m.rate(p)
         if rate > 0.0 and window_angle / rate < span:
             h = window_angle / rate
         if span / h > MAX_WINDOWS:

@@ -23,6 +23,7 @@ const MAX_STEPS: u32 = 200;
 const POLISH_STEPS: u32 = 4;
 const SAFE: f64 = 1.0 + 1.0 / 1099511627776.0; // 1 + 2^-40: covers the rounding of reach()
 const SHARP: f64 = 1.0 / 4398046511104.0; // 2^-42: a root known to this relative width is not polished
+const SETTLED: f64 = 1.0 / 1125899906842624.0; // 2^-50: a Newton step this small (relative, 4 ulps) ends the polish
 
 /// What the driver needs of an equation (generated); every function takes
 /// the parameters as a slice in the equation's order.
@@ -163,6 +164,28 @@ fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f6
     let sy = y0.abs() + (y1.abs() + y2.abs() * t) * t;
     let margin = FLOOR * (sx * sx + sy * sy + big * big);
     (h, [x0, x1, x2, y0, y1, y2, r], margin, rho)
+}
+
+/// Two circles: the window rate, the largest |angular velocity| of the
+/// orbit terms of the bodies that orbit (radius not zero).  It is what the
+/// generated rate gives for this layout (each approximation's error term is
+/// its body's orbit radius times a factor, and the radius squared is one of
+/// them), without its sines.
+fn circles_rate(ix: &[usize; 24], p: &[f64]) -> f64 {
+    let mut rate = 0.0f64;
+    for b in [0usize, 12] {
+        if p[ix[b + 6]] == 0.0 {
+            continue;
+        }
+        let (wx, wy) = (p[ix[b + 7]].abs(), p[ix[b + 9]].abs());
+        if wx > rate {
+            rate = wx;
+        }
+        if wy > rate {
+            rate = wy;
+        }
+    }
+    rate
 }
 
 /// The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
@@ -333,8 +356,9 @@ impl Ctx<'_> {
     }
 
     /// Newton steps on the exact gap, kept while |gap| decreases inside
-    /// [a, b] and (lo, hi].  The driver polishes a root only when it may lie
-    /// more than SHARP r from the gap's (near a double root, or where the
+    /// [a, b] and (lo, hi]; a step of at most SETTLED times the root is taken
+    /// without evaluating the gap there, and ends the polish.  The driver
+    /// polishes a root only when it may lie more than SHARP r from the gap's (near a double root, or where the
     /// rounding or truncation of its polynomial is large).
     fn polish(&self, mut x: f64, a: f64, b: f64, lo: f64, hi: f64) -> f64 {
         let mut g = self.gap(x);
@@ -348,6 +372,10 @@ impl Ctx<'_> {
             }
             let xn = x - g / d;
             if !(xn >= a && xn <= b && xn > lo && xn <= hi) {
+                break;
+            }
+            if (xn - x).abs() <= SETTLED * xn.abs() {
+                x = xn; // converged to rounding: the next step would be noise
                 break;
             }
             let gn = self.gap(xn);
@@ -422,7 +450,10 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
     let span = horizon - start;
     let mut h = span;
-    let rate = (m.rate)(p);
+    let rate = match m.circles {
+        Some(ix) if bound => circles_rate(ix, p),
+        _ => (m.rate)(p),
+    };
     if rate > 0.0 && o.window_angle / rate < span {
         h = o.window_angle / rate;
     }
