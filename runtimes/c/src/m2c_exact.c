@@ -400,16 +400,38 @@ static int poly_search(const ctx *k, const double *c, int n, double start, doubl
 /* Two circles without orbits: their gap is the polynomial H of
  * circles_bound (exact up to its margin), solved once over (start,
  * horizon]; the root is polished on the gap only when its width under that
- * margin exceeds SHARP r. */
+ * margin exceeds SHARP r.  The checks and rules at t = 0 are begin's, with
+ * the gap and the scale at 0 read from the differences directly (the
+ * values gap_at and floor_at give: at t = 0 the terms in t are zero);
+ * begin itself answers only a touch at 0. */
 static int still_circles(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *o,
                          double *t)
 {
-    double h[5], d[7], margin, start, r;
-    circles_bound(m->circles, p, horizon, h, d, &margin);
-    ctx k = {m, p, o->solver, o->zero_tol, d, m->circles};
-    int st0 = begin(&k, o, horizon, &start, t);
-    if (st0 != SEARCH)
-        return st0;
+    if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
+        return -1;
+    if (!isfinite(horizon) || !(horizon > 0.0))
+        return 0;
+    if (!all_finite(p, m->nparams))
+        return 0;
+    const int *ix = m->circles, *jx = ix + 12;
+    double h[5], d[7], margin, start = 0.0, r;
+    circles_bound(ix, p, horizon, h, d, &margin);
+    ctx k = {m, p, o->solver, o->zero_tol, d, ix};
+    double sr = fabs(p[ix[11]]) + fabs(p[jx[11]]);
+    double ax = fabs(p[ix[0]]) + fabs(p[jx[0]]), ay = fabs(p[ix[1]]) + fabs(p[jx[1]]);
+    double band0 = FLOOR * (sr * sr + ay * ay + ax * ax);
+    if (o->zero_tol > band0)
+        band0 = o->zero_tol;
+    double g0 = d[3] * d[3] - d[6] * d[6] + d[0] * d[0];
+    if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
+        *t = 0.0;
+        return M2C_EXACT_OVERLAPPED;
+    }
+    if (fabs(g0) <= band0) {    /* touching at t = 0 */
+        int st0 = begin(&k, o, horizon, &start, t);
+        if (st0 != SEARCH)
+            return st0;
+    }
     int n = 4;
     while (n > 0 && h[n] == 0.0)
         n--;
