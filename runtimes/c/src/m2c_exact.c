@@ -349,9 +349,13 @@ static int all_finite(const double *p, int n)
 /* The checks and the rules at t = 0 shared by m2c_exact_toc and
  * m2c_exact_poly_toc: -1 an error, 0 none, 1 a contact at 0,
  * M2C_EXACT_OVERLAPPED, or 3 with *start (0, or where a separating contact
- * at 0 has left the zero band): search (*start, horizon]. */
+ * at 0 has left the zero band): search (*start, horizon].  clear0 is a
+ * lower bound on the exact gap at t = 0 (-INFINITY when none is known):
+ * above twice the band the computed gap, within the floor (at most the
+ * band) of the exact one, is above the band, so the rules answer search
+ * from 0 without evaluating it. */
 #define SEARCH 3
-static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double *start, double *t)
+static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double clear0, double *start, double *t)
 {
     const m2c_motion *m = k->m;
     if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
@@ -364,6 +368,8 @@ static int begin(const ctx *k, const m2c_exact_options *o, double horizon, doubl
     double band0 = floor_at(k, 0.0);
     if (o->zero_tol > band0)
         band0 = o->zero_tol;
+    if (clear0 > 2.0 * band0)
+        return SEARCH;
     double g0 = gap_at(k, 0.0);
     if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
         *t = 0.0;
@@ -428,7 +434,7 @@ static int still_circles(const m2c_motion *m, const double *p, double horizon, c
         return M2C_EXACT_OVERLAPPED;
     }
     if (fabs(g0) <= band0) {    /* touching at t = 0 */
-        int st0 = begin(&k, o, horizon, &start, t);
+        int st0 = begin(&k, o, horizon, -INFINITY, &start, t);
         if (st0 != SEARCH)
             return st0;
     }
@@ -458,17 +464,26 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
     if (m->circles && p[m->circles[6]] == 0.0 && p[m->circles[18]] == 0.0)
         return still_circles(m, p, horizon, &o, t);    /* no orbit: no windows */
     ctx k = {m, p, o.solver, o.zero_tol, 0, 0};
-    double hb[5], pd[7], mb = 0.0;
+    double hb[5], pd[7], mb = 0.0, clear0 = -INFINITY;
     int nb = 0, bound = 0;
     if (m->circles) {          /* (non-finite parameters or horizon: begin answers before any use) */
         bound = 1;
-        circles_bound(m->circles, p, horizon, hb, pd, &mb);
+        double rho = circles_bound(m->circles, p, horizon, hb, pd, &mb);
         nb = 4;
         while (nb > 0 && hb[nb] == 0.0)
             nb--;
+        /* at t = 0 the centres are |D| apart without their orbits, each orbit
+         * offset at most its rho: the gap is at least (|D| - rho)^2 - R^2,
+         * |D| rounded down and the square and R^2 by 2^-40 against the
+         * roundings */
+        double dist = sqrt(pd[0] * pd[0] + pd[3] * pd[3]) * (1.0 - 0x1p-40);
+        if (dist > rho) {
+            double s = dist - rho;
+            clear0 = s * s * (1.0 - 0x1p-40) - pd[6] * pd[6] * (1.0 + 0x1p-40);
+        }
     }
     double start;
-    int st0 = begin(&k, &o, horizon, &start, t);
+    int st0 = begin(&k, &o, horizon, clear0, &start, t);
     if (st0 != SEARCH)
         return st0;
     double e = bound ? entry(hb, nb, mb, start, horizon) : start;
@@ -548,7 +563,7 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
     m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0, 0};
     ctx k = {&m, p, o.solver, o.zero_tol, 0, 0};
     double start;
-    int st0 = begin(&k, &o, horizon, &start, t);
+    int st0 = begin(&k, &o, horizon, -INFINITY, &start, t);
     if (st0 != SEARCH)
         return st0;
     double c[M2C_MAX_DEGREE + 1];
