@@ -21,6 +21,7 @@ VAR
    TwoM30,               (* 2^-30 *)
    Sharp,                (* 2^-42: a root known to this relative width is not polished *)
    Settled,              (* 2^-50: a Newton step this small (relative, 4 ulps) ends the polish *)
+   Slack,                (* 2^-40: the lower bound on the gap at t = 0 against its roundings *)
    Inf: REAL ;           (* infinity *)
    (* the call being answered (the driver is not reentrant) *)
    Cur: Motion ;
@@ -197,6 +198,22 @@ BEGIN
    Pd[3] := y0 ; Pd[4] := y1 ; Pd[5] := y2 ; Pd[6] := r ;
    RETURN rho
 END CirclesBound ;
+
+
+(* A lower bound on the gap at t = 0 from CirclesBound's differences (Pd)
+   and orbit reach rho: the centres are |D| apart without their orbits,
+   each orbit offset at most its rho, so the gap is at least (|D| - rho)^2 -
+   R^2 (|D| rounded down, the square and R^2 by 2^-40 against the
+   roundings); -Inf when |D| <= rho. *)
+PROCEDURE ClearAtZero (rho: REAL) : REAL ;
+VAR
+   dist, s: REAL ;
+BEGIN
+   dist := sqrt (Pd[0] * Pd[0] + Pd[3] * Pd[3]) * (1.0 - Slack) ;
+   IF NOT (dist > rho) THEN RETURN -Inf END ;
+   s := dist - rho ;
+   RETURN s * s * (1.0 - Slack) - Pd[6] * Pd[6] * (1.0 + Slack)
+END ClearAtZero ;
 
 
 (* Two circles: the window rate, the largest |angular velocity| of the
@@ -390,7 +407,7 @@ CONST
    (m and p become the call's Cur and Par): -1 an error, 0 none, 1 a contact
    at 0, Overlapped, or Search with start (0, or where a separating contact
    at 0 has left the zero band). *)
-PROCEDURE Begin (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+PROCEDURE Begin (VAR m: Motion; VAR p: ARRAY OF REAL; horizon, clear0: REAL;
                  VAR o: Options; VAR t, start: REAL) : INTEGER ;
 VAR
    i: INTEGER ;
@@ -414,6 +431,7 @@ BEGIN
    start := 0.0 ;
    band0 := FloorAt (0.0) ;
    IF o.zeroTol > band0 THEN band0 := o.zeroTol END ;
+   IF clear0 > 2.0 * band0 THEN RETURN Search END ;
    g0 := GapAt (0.0) ;
    IF g0 < -band0 THEN          (* inside each other at t = 0: not a contact, its own answer *)
       t := 0.0 ;
@@ -445,7 +463,7 @@ VAR
 BEGIN
    rho := CirclesBound (m, p, horizon, h, margin) ;
    UsePd := TRUE ;
-   st := Begin (m, p, horizon, o, t, start) ;
+   st := Begin (m, p, horizon, -Inf, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    n := 4 ;
    WHILE (n > 0) AND (h[n] = 0.0) DO n := n - 1 END ;
@@ -463,13 +481,14 @@ PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
                         VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
    st, n, nb: INTEGER ;
-   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho, wd: REAL ;
+   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho, wd, clear0: REAL ;
    bound: BOOLEAN ;
    pp: Params ;
    c, hb: Coeffs ;
 BEGIN
    UsePd := FALSE ;
    bound := FALSE ;
+   clear0 := -Inf ;
    nb := 0 ;
    mb := 0.0 ;
    IF m.hasCircles AND (VAL (INTEGER, HIGH (p)) + 1 >= m.nparams)
@@ -481,9 +500,10 @@ BEGIN
       bound := TRUE ;
       rho := CirclesBound (m, p, horizon, hb, mb) ;
       nb := 4 ;
-      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END
+      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END ;
+      clear0 := ClearAtZero (rho)
    END ;
-   st := Begin (m, p, horizon, o, t, start) ;
+   st := Begin (m, p, horizon, clear0, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    IF bound THEN e := Entry (hb, nb, mb, start, horizon) ELSE e := start END ;
    IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
@@ -585,7 +605,7 @@ BEGIN
    mo.hasCircles := FALSE ;
    mo.hasWindow := FALSE ;
    UsePd := FALSE ;
-   st := Begin (mo, p, horizon, o, t, start) ;
+   st := Begin (mo, p, horizon, -Inf, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    n := Cur.coefficients (Par, c) ;
    IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
@@ -600,6 +620,7 @@ BEGIN
    Two50 := ldexp (1.0, -50) ;
    Sharp := ldexp (1.0, -42) ;
    Settled := ldexp (1.0, -50) ;
+   Slack := ldexp (1.0, -40) ;
    Inf := ldexp (1.0, 1100) ;   (* overflows to infinity *)
    UsePd := FALSE
 END ExactToc.

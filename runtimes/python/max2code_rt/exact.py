@@ -132,6 +132,19 @@ def _circles_bound(ix, p, T):
     return h, (x0, x1, x2, y0, y1, y2, r), margin, rho
 
 
+def _clear_at_zero(d, rho):
+    """A lower bound on the gap at t = 0 from _circles_bound's differences d
+    and orbit reach rho: the centres are |D| apart without their orbits,
+    each orbit offset at most its rho, so the gap is at least (|D| - rho)^2 -
+    R^2 (|D| rounded down, the square and R^2 by 2^-40 against the
+    roundings); -inf when |D| <= rho."""
+    dist = math.sqrt(d[0] * d[0] + d[3] * d[3]) * (1.0 - 2.0 ** -40)
+    if not dist > rho:
+        return -math.inf
+    s = dist - rho
+    return s * s * (1.0 - 2.0 ** -40) - d[6] * d[6] * (1.0 + 2.0 ** -40)
+
+
 def _circles_rate(ix, p):
     """Two circles: the window rate, the largest |angular velocity| of the
     orbit terms of the bodies that orbit (radius not zero).  It is what the
@@ -325,9 +338,13 @@ class _Driver:
         return horizon
 
 
-def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float):
+def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float, clear0: float = -math.inf):
     """The checks and the rules at t = 0 shared by exact_toc and poly_toc:
-    (answer, None) when they decide, else (None, start): search (start, horizon]."""
+    (answer, None) when they decide, else (None, start): search (start, horizon].
+    clear0 is a lower bound on the exact gap at t = 0 (-inf when none is
+    known): above twice the band the computed gap, within the floor (at most
+    the band) of the exact one, is above the band, so the rules answer search
+    from 0 without evaluating it."""
     m = k.m
     if m.nparams < 0 or m.nparams > MAX_PARAMS or m.max_degree > MAX_DEGREE or len(p) != m.nparams:
         raise ValueError("exact_toc: the motion does not fit the runtime's limits or the parameters")
@@ -341,6 +358,8 @@ def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float):
     band0 = k.floor_at(0.0)
     if zero_tol > band0:
         band0 = zero_tol
+    if clear0 > 2.0 * band0:
+        return None, start
     g0 = k.gap(0.0)
     if g0 < -band0:         # inside each other at t = 0: not a contact, its own answer
         return OVERLAPPED, None
@@ -379,12 +398,13 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
         return _still_circles(k, circles, p, horizon, window_angle, zero_tol, refine)    # no orbit: no windows
     bound = circles is not None and all(math.isfinite(x) for x in p)
     if bound:       # (a non-finite horizon: _begin answers before any use)
-        hb, _, mb, _ = _circles_bound(circles, p, horizon)
+        hb, pd, mb, rho = _circles_bound(circles, p, horizon)
         nb = 4
         while nb > 0 and hb[nb] == 0.0:
             nb -= 1
+        clear0 = _clear_at_zero(pd, rho)
     try:
-        answer, start = _begin(k, p, horizon, window_angle, zero_tol)
+        answer, start = _begin(k, p, horizon, window_angle, zero_tol, clear0 if bound else -math.inf)
         if start is None:
             return answer
         e = _entry(hb, nb, mb, start, horizon) if bound else start

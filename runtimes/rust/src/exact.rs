@@ -166,6 +166,21 @@ fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f6
     (h, [x0, x1, x2, y0, y1, y2, r], margin, rho)
 }
 
+/// A lower bound on the gap at t = 0 from [`circles_bound`]'s differences
+/// `d` and orbit reach `rho`: the centres are |D| apart without their
+/// orbits, each orbit offset at most its rho, so the gap is at least
+/// (|D| - rho)^2 - R^2 (|D| rounded down, the square and R^2 by 2^-40
+/// against the roundings); -inf when |D| <= rho.
+fn clear_at_zero(d: &[f64; 7], rho: f64) -> f64 {
+    let slack = 1.0 / 1099511627776.0; // 2^-40
+    let dist = (d[0] * d[0] + d[3] * d[3]).sqrt() * (1.0 - slack);
+    if !(dist > rho) {
+        return f64::NEG_INFINITY;
+    }
+    let s = dist - rho;
+    s * s * (1.0 - slack) - d[6] * d[6] * (1.0 + slack)
+}
+
 /// Two circles: the window rate, the largest |angular velocity| of the
 /// orbit terms of the bodies that orbit (radius not zero).  It is what the
 /// generated rate gives for this layout (each approximation's error term is
@@ -425,13 +440,14 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
     let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
     let mut hb = [0.0f64; 5];
-    let (mut nb, mut mb) = (0usize, 0.0f64);
+    let (mut nb, mut mb, mut clear0) = (0usize, 0.0f64, f64::NEG_INFINITY);
     // (non-finite parameters or horizon: begin answers before any use)
     let bound = match m.circles {
         Some(ix) if p.len() == m.nparams && p.iter().all(|v| v.is_finite()) => {
-            let (h, _, margin, _) = circles_bound(ix, p, horizon);
+            let (h, d, margin, rho) = circles_bound(ix, p, horizon);
             hb = h;
             mb = margin;
+            clear0 = clear_at_zero(&d, rho);
             nb = 4;
             while nb > 0 && hb[nb] == 0.0 {
                 nb -= 1;
@@ -440,7 +456,7 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         }
         _ => false,
     };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, clear0)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -547,7 +563,7 @@ fn still_scale(ix: &[usize; 24], p: &[f64], t: f64) -> f64 {
 fn still_circles(m: &Motion, ix: &[usize; 24], p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
     let (h, pd, margin, _) = circles_bound(ix, p, horizon);
     let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: Some((pd, ix)) };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, f64::NEG_INFINITY)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -604,7 +620,7 @@ pub fn poly_toc(pm: &PolyMotion, p: &[f64], horizon: f64, o: &ExactOptions) -> R
         window: None,
     };
     let k = Ctx { m: &m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, f64::NEG_INFINITY)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -619,8 +635,12 @@ enum Begin {
 }
 
 /// The checks and the rules at t = 0 shared by [`exact_toc`] and [`poly_toc`]:
-/// an answer, or where to start the search of `(start, horizon]`.
-fn begin(k: &Ctx, horizon: f64, o: &ExactOptions) -> Result<Begin, &'static str> {
+/// an answer, or where to start the search of `(start, horizon]`.  `clear0`
+/// is a lower bound on the exact gap at t = 0 (-inf when none is known):
+/// above twice the band the computed gap, within the floor (at most the
+/// band) of the exact one, is above the band, so the rules answer search
+/// from 0 without evaluating it.
+fn begin(k: &Ctx, horizon: f64, o: &ExactOptions, clear0: f64) -> Result<Begin, &'static str> {
     let (m, p) = (k.m, k.p);
     if m.nparams > MAX_PARAMS || m.max_degree > MAX_DEGREE || p.len() != m.nparams {
         return Err("exact_toc: the motion does not fit the runtime's limits or the parameters");
@@ -635,6 +655,9 @@ fn begin(k: &Ctx, horizon: f64, o: &ExactOptions) -> Result<Begin, &'static str>
     let mut band0 = k.floor_at(0.0);
     if o.zero_tol > band0 {
         band0 = o.zero_tol;
+    }
+    if clear0 > 2.0 * band0 {
+        return Ok(Begin::Search(start));
     }
     let g0 = k.gap(0.0);
     if g0 < -band0 {
