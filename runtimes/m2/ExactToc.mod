@@ -20,6 +20,8 @@ VAR
    Floor,                (* 2^-46 = 64 eps: the rounding floor is Floor * scale *)
    TwoM30,               (* 2^-30 *)
    Sharp,                (* 2^-42: a root known to this relative width is not polished *)
+   Settled,              (* 2^-50: a Newton step this small (relative, 4 ulps) ends the polish *)
+   Slack,                (* 2^-40: the lower bound on the gap at t = 0 against its roundings *)
    Inf: REAL ;           (* infinity *)
    (* the call being answered (the driver is not reentrant) *)
    Cur: Motion ;
@@ -198,6 +200,47 @@ BEGIN
 END CirclesBound ;
 
 
+(* A lower bound on the gap at t = 0 from CirclesBound's differences (Pd)
+   and orbit reach rho: the centres are |D| apart without their orbits,
+   each orbit offset at most its rho, so the gap is at least (|D| - rho)^2 -
+   R^2 (|D| rounded down, the square and R^2 by 2^-40 against the
+   roundings); -Inf when |D| <= rho. *)
+PROCEDURE ClearAtZero (rho: REAL) : REAL ;
+VAR
+   dist, s: REAL ;
+BEGIN
+   dist := sqrt (Pd[0] * Pd[0] + Pd[3] * Pd[3]) * (1.0 - Slack) ;
+   IF NOT (dist > rho) THEN RETURN -Inf END ;
+   s := dist - rho ;
+   RETURN s * s * (1.0 - Slack) - Pd[6] * Pd[6] * (1.0 + Slack)
+END ClearAtZero ;
+
+
+(* Two circles: the window rate, the largest |angular velocity| of the
+   orbit terms of the bodies that orbit (radius not zero).  It is what the
+   generated rate gives for this layout (each approximation's error term is
+   its body's orbit radius times a factor, and the radius squared is one of
+   them), without its sines. *)
+PROCEDURE CirclesRate (VAR m: Motion; VAR p: ARRAY OF REAL) : REAL ;
+VAR
+   rate, wx, wy: REAL ;
+   b: INTEGER ;
+BEGIN
+   rate := 0.0 ;
+   b := 0 ;
+   WHILE b <= 12 DO
+      IF p[m.circles[b + 6]] # 0.0 THEN
+         wx := ABS (p[m.circles[b + 7]]) ;
+         wy := ABS (p[m.circles[b + 9]]) ;
+         IF wx > rate THEN rate := wx END ;
+         IF wy > rate THEN rate := wy END
+      END ;
+      b := b + 12
+   END ;
+   RETURN rate
+END CirclesRate ;
+
+
 (* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
    > 0, before it), or 2 T + 1 when there is none. *)
 PROCEDURE Entry (VAR h: Coeffs; n: INTEGER; margin, lo, T: REAL) : REAL ;
@@ -311,7 +354,8 @@ END FirstRoot ;
 
 
 (* Newton steps on the exact gap, kept while |gap| decreases inside [a, b]
-   and (lo, hi].  The driver polishes a root only when it may lie more than
+   and (lo, hi]; a step of at most Settled times the root is taken without
+   evaluating the gap there, and ends the polish.  The driver polishes a root only when it may lie more than
    Sharp r from the gap's (near a double root, or where the rounding or
    truncation of its polynomial is large). *)
 PROCEDURE Polish (x, a, b, lo, hi: REAL) : REAL ;
@@ -326,6 +370,8 @@ BEGIN
       IF NOT (d # 0.0) THEN RETURN x END ;
       xn := x - g / d ;
       IF NOT ((xn >= a) AND (xn <= b) AND (xn > lo) AND (xn <= hi)) THEN RETURN x END ;
+      (* converged to rounding: the next step would be noise *)
+      IF ABS (xn - x) <= Settled * ABS (xn) THEN RETURN xn END ;
       gn := GapAt (xn) ;
       IF NOT (ABS (gn) < ABS (g)) THEN RETURN x END ;
       x := xn ;
@@ -361,7 +407,7 @@ CONST
    (m and p become the call's Cur and Par): -1 an error, 0 none, 1 a contact
    at 0, Overlapped, or Search with start (0, or where a separating contact
    at 0 has left the zero band). *)
-PROCEDURE Begin (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
+PROCEDURE Begin (VAR m: Motion; VAR p: ARRAY OF REAL; horizon, clear0: REAL;
                  VAR o: Options; VAR t, start: REAL) : INTEGER ;
 VAR
    i: INTEGER ;
@@ -385,6 +431,7 @@ BEGIN
    start := 0.0 ;
    band0 := FloorAt (0.0) ;
    IF o.zeroTol > band0 THEN band0 := o.zeroTol END ;
+   IF clear0 > 2.0 * band0 THEN RETURN Search END ;
    g0 := GapAt (0.0) ;
    IF g0 < -band0 THEN          (* inside each other at t = 0: not a contact, its own answer *)
       t := 0.0 ;
@@ -416,7 +463,7 @@ VAR
 BEGIN
    rho := CirclesBound (m, p, horizon, h, margin) ;
    UsePd := TRUE ;
-   st := Begin (m, p, horizon, o, t, start) ;
+   st := Begin (m, p, horizon, -Inf, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    n := 4 ;
    WHILE (n > 0) AND (h[n] = 0.0) DO n := n - 1 END ;
@@ -434,13 +481,14 @@ PROCEDURE FirstContact (VAR m: Motion; VAR p: ARRAY OF REAL; horizon: REAL;
                         VAR o: Options; VAR t: REAL) : INTEGER ;
 VAR
    st, n, nb: INTEGER ;
-   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho, wd: REAL ;
+   start, span, h, rate, t0, t1, w, wj, L, r, a, b, s, e, mb, rho, wd, clear0: REAL ;
    bound: BOOLEAN ;
    pp: Params ;
    c, hb: Coeffs ;
 BEGIN
    UsePd := FALSE ;
    bound := FALSE ;
+   clear0 := -Inf ;
    nb := 0 ;
    mb := 0.0 ;
    IF m.hasCircles AND (VAL (INTEGER, HIGH (p)) + 1 >= m.nparams)
@@ -452,15 +500,16 @@ BEGIN
       bound := TRUE ;
       rho := CirclesBound (m, p, horizon, hb, mb) ;
       nb := 4 ;
-      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END
+      WHILE (nb > 0) AND (hb[nb] = 0.0) DO nb := nb - 1 END ;
+      clear0 := ClearAtZero (rho)
    END ;
-   st := Begin (m, p, horizon, o, t, start) ;
+   st := Begin (m, p, horizon, clear0, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    IF bound THEN e := Entry (hb, nb, mb, start, horizon) ELSE e := start END ;
    IF NOT (e <= horizon) THEN RETURN 0 END ;   (* the bound keeps the circles apart over the whole horizon *)
    span := horizon - start ;
    h := span ;
-   rate := Cur.rate (Par) ;
+   IF bound THEN rate := CirclesRate (m, p) ELSE rate := Cur.rate (Par) END ;
    IF (rate > 0.0) AND (o.windowAngle / rate < span) THEN h := o.windowAngle / rate END ;
    IF span / h > MaxWindows THEN RETURN -1 END ;
    t0 := start ;
@@ -556,7 +605,7 @@ BEGIN
    mo.hasCircles := FALSE ;
    mo.hasWindow := FALSE ;
    UsePd := FALSE ;
-   st := Begin (mo, p, horizon, o, t, start) ;
+   st := Begin (mo, p, horizon, -Inf, o, t, start) ;
    IF st # Search THEN RETURN st END ;
    n := Cur.coefficients (Par, c) ;
    IF (n < 0) OR (n > MaxDegree) THEN RETURN -1 END ;
@@ -570,6 +619,8 @@ BEGIN
    TwoM30 := ldexp (1.0, -30) ;
    Two50 := ldexp (1.0, -50) ;
    Sharp := ldexp (1.0, -42) ;
+   Settled := ldexp (1.0, -50) ;
+   Slack := ldexp (1.0, -40) ;
    Inf := ldexp (1.0, 1100) ;   (* overflows to infinity *)
    UsePd := FALSE
 END ExactToc.

@@ -209,3 +209,50 @@ def test_the_bound_is_tight_where_the_orbits_face_each_other(p, T, frac, slack):
         assert g > 0
     elif slack < -1e-9:
         assert g > 0     # a miss that the bound leaves to the windows
+
+
+@settings(max_examples=300, deadline=None)
+@given(circle_params())
+def test_the_circles_rate_is_the_generated_rate(circles_py, p):
+    """The driver's window rate for two circles (the orbiting bodies'
+    |angular velocities|, no sine) is the generated NAME_rate to the bit."""
+    from max2code_rt.exact import _circles_rate
+
+    g, ns = circles_py
+    vec = [p[c] for c in CC]
+    assert _circles_rate(g.exact.circles, vec) == ns["CIRCLE_CIRCLE_MOTION"].rate(vec)
+
+
+@settings(max_examples=300, deadline=None)
+@given(circle_params(), st.floats(-1e-3, 1e-3), st.booleans())
+def test_the_gap_at_zero_is_above_its_lower_bound(p, slack, facing):
+    """The lower bound on the gap at t = 0 with which the rules at t = 0
+    skip the exact gap is below the gap (40 digits); with both orbit
+    offsets turned at t = 0 towards the other circle (facing) it is within
+    |slack| of it, so a bound that ignored the orbits' reach fails here."""
+    from max2code_rt.exact import _circles_bound, _clear_at_zero
+
+    ix = [CC.index(c) for c in "ambncodefpqxgrhsiujklvwz"]
+    D = [p["a"] - p["g"], p["m"] - p["r"]]
+    dist = math.hypot(*D)
+    if facing:
+        d1, d2 = max(p["d"], 0.05), max(p["j"], 0.05)
+        if dist < d1 + d2 + 0.1:
+            return
+        ux, uy = D[0] / dist, D[1] / dist
+        for rad, w, f, wy, q, sign, dk in (("d", "e", "f", "p", "q", -1.0, d1), ("j", "k", "l", "v", "w", 1.0, d2)):
+            p[rad] = dk
+            p[wy] = p[w]
+            p[q] = math.atan2(sign * uy, sign * ux)
+            p[f] = p[q] + math.pi / 2
+        total = dist - d1 - d2 + slack
+        if total <= 0.0:
+            return
+        p["x"], p["z"] = 0.4 * total, 0.6 * total
+    _, d, _, rho = _circles_bound(ix, [p[c] for c in CC], 1.0)
+    lo = _clear_at_zero(d, rho)
+    with mpmath.workdps(DPS):
+        g = Gap("circle-circle", p, 1.0).G(mpmath.mpf(0))
+        assert lo <= g
+        if facing and lo > 0.0:
+            assert g - lo < 4 * abs(slack) * total + 1e-9

@@ -11,6 +11,7 @@
 #define POLISH_STEPS 4       /* Newton steps on the exact gap */
 #define SAFE (1.0 + 0x1p-40) /* covers the rounding of reach() */
 #define SHARP 0x1p-42        /* a root known to this relative width is not polished */
+#define SETTLED 0x1p-50      /* a Newton step this small (relative, 4 ulps) ends the polish */
 
 typedef struct {
     const m2c_motion *m;
@@ -156,6 +157,26 @@ static double circles_bound(const int *ix, const double *p, double T, double *h,
     return rho;
 }
 
+/* Two circles: the window rate, the largest |angular velocity| of the
+ * orbit terms of the bodies that orbit (radius not zero).  It is what the
+ * generated rate gives for this layout (each approximation's error term is
+ * its body's orbit radius times a factor, and the radius squared is one of
+ * them), without its sines. */
+static double circles_rate(const int *ix, const double *p)
+{
+    double rate = 0.0;
+    for (int b = 0; b < 2; b++, ix += 12) {
+        if (p[ix[6]] == 0.0)
+            continue;
+        double wx = fabs(p[ix[7]]), wy = fabs(p[ix[9]]);
+        if (wx > rate)
+            rate = wx;
+        if (wy > rate)
+            rate = wy;
+    }
+    return rate;
+}
+
 /* The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
  * > 0, before it), or 2 T + 1 when there is none. */
 static double entry(const double *h, int n, double margin, double lo, double T)
@@ -260,7 +281,8 @@ static int first_root(const ctx *k, double t0, double L, int closed, int depth, 
 }
 
 /* Newton steps on the exact gap, kept while |gap| decreases inside
- * [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+ * [a, b] and (lo, hi]; a step of at most SETTLED times the root is taken
+ * without evaluating the gap there, and ends the polish.  The driver polishes a root only when it may lie
  * more than SHARP r from the gap's (near a double root, or where the
  * rounding or truncation of its polynomial is large). */
 static double polish(const ctx *k, double x, double a, double b, double lo, double hi)
@@ -275,6 +297,10 @@ static double polish(const ctx *k, double x, double a, double b, double lo, doub
         double xn = x - g / d;
         if (!(xn >= a && xn <= b && xn > lo && xn <= hi))
             break;
+        if (fabs(xn - x) <= SETTLED * fabs(xn)) {
+            x = xn;            /* converged to rounding: the next step would be noise */
+            break;
+        }
         double gn = gap_at(k, xn);
         if (!(fabs(gn) < fabs(g)))
             break;
@@ -323,9 +349,13 @@ static int all_finite(const double *p, int n)
 /* The checks and the rules at t = 0 shared by m2c_exact_toc and
  * m2c_exact_poly_toc: -1 an error, 0 none, 1 a contact at 0,
  * M2C_EXACT_OVERLAPPED, or 3 with *start (0, or where a separating contact
- * at 0 has left the zero band): search (*start, horizon]. */
+ * at 0 has left the zero band): search (*start, horizon].  clear0 is a
+ * lower bound on the exact gap at t = 0 (-INFINITY when none is known):
+ * above twice the band the computed gap, within the floor (at most the
+ * band) of the exact one, is above the band, so the rules answer search
+ * from 0 without evaluating it. */
 #define SEARCH 3
-static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double *start, double *t)
+static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double clear0, double *start, double *t)
 {
     const m2c_motion *m = k->m;
     if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
@@ -338,6 +368,8 @@ static int begin(const ctx *k, const m2c_exact_options *o, double horizon, doubl
     double band0 = floor_at(k, 0.0);
     if (o->zero_tol > band0)
         band0 = o->zero_tol;
+    if (clear0 > 2.0 * band0)
+        return SEARCH;
     double g0 = gap_at(k, 0.0);
     if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
         *t = 0.0;
@@ -374,16 +406,38 @@ static int poly_search(const ctx *k, const double *c, int n, double start, doubl
 /* Two circles without orbits: their gap is the polynomial H of
  * circles_bound (exact up to its margin), solved once over (start,
  * horizon]; the root is polished on the gap only when its width under that
- * margin exceeds SHARP r. */
+ * margin exceeds SHARP r.  The checks and rules at t = 0 are begin's, with
+ * the gap and the scale at 0 read from the differences directly (the
+ * values gap_at and floor_at give: at t = 0 the terms in t are zero);
+ * begin itself answers only a touch at 0. */
 static int still_circles(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *o,
                          double *t)
 {
-    double h[5], d[7], margin, start, r;
-    circles_bound(m->circles, p, horizon, h, d, &margin);
-    ctx k = {m, p, o->solver, o->zero_tol, d, m->circles};
-    int st0 = begin(&k, o, horizon, &start, t);
-    if (st0 != SEARCH)
-        return st0;
+    if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
+        return -1;
+    if (!isfinite(horizon) || !(horizon > 0.0))
+        return 0;
+    if (!all_finite(p, m->nparams))
+        return 0;
+    const int *ix = m->circles, *jx = ix + 12;
+    double h[5], d[7], margin, start = 0.0, r;
+    circles_bound(ix, p, horizon, h, d, &margin);
+    ctx k = {m, p, o->solver, o->zero_tol, d, ix};
+    double sr = fabs(p[ix[11]]) + fabs(p[jx[11]]);
+    double ax = fabs(p[ix[0]]) + fabs(p[jx[0]]), ay = fabs(p[ix[1]]) + fabs(p[jx[1]]);
+    double band0 = FLOOR * (sr * sr + ay * ay + ax * ax);
+    if (o->zero_tol > band0)
+        band0 = o->zero_tol;
+    double g0 = d[3] * d[3] - d[6] * d[6] + d[0] * d[0];
+    if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
+        *t = 0.0;
+        return M2C_EXACT_OVERLAPPED;
+    }
+    if (fabs(g0) <= band0) {    /* touching at t = 0 */
+        int st0 = begin(&k, o, horizon, -INFINITY, &start, t);
+        if (st0 != SEARCH)
+            return st0;
+    }
     int n = 4;
     while (n > 0 && h[n] == 0.0)
         n--;
@@ -410,17 +464,26 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
     if (m->circles && p[m->circles[6]] == 0.0 && p[m->circles[18]] == 0.0)
         return still_circles(m, p, horizon, &o, t);    /* no orbit: no windows */
     ctx k = {m, p, o.solver, o.zero_tol, 0, 0};
-    double hb[5], pd[7], mb = 0.0;
+    double hb[5], pd[7], mb = 0.0, clear0 = -INFINITY;
     int nb = 0, bound = 0;
     if (m->circles) {          /* (non-finite parameters or horizon: begin answers before any use) */
         bound = 1;
-        circles_bound(m->circles, p, horizon, hb, pd, &mb);
+        double rho = circles_bound(m->circles, p, horizon, hb, pd, &mb);
         nb = 4;
         while (nb > 0 && hb[nb] == 0.0)
             nb--;
+        /* at t = 0 the centres are |D| apart without their orbits, each orbit
+         * offset at most its rho: the gap is at least (|D| - rho)^2 - R^2,
+         * |D| rounded down and the square and R^2 by 2^-40 against the
+         * roundings */
+        double dist = sqrt(pd[0] * pd[0] + pd[3] * pd[3]) * (1.0 - 0x1p-40);
+        if (dist > rho) {
+            double s = dist - rho;
+            clear0 = s * s * (1.0 - 0x1p-40) - pd[6] * pd[6] * (1.0 + 0x1p-40);
+        }
     }
     double start;
-    int st0 = begin(&k, &o, horizon, &start, t);
+    int st0 = begin(&k, &o, horizon, clear0, &start, t);
     if (st0 != SEARCH)
         return st0;
     double e = bound ? entry(hb, nb, mb, start, horizon) : start;
@@ -428,7 +491,7 @@ int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2
         return 0;              /* the bound keeps the circles apart over the whole horizon */
     double span = horizon - start;
     double h = span;
-    double rate = m->rate(p);
+    double rate = bound ? circles_rate(m->circles, p) : m->rate(p);
     if (rate > 0.0 && o.window_angle / rate < span)
         h = o.window_angle / rate;
     if (span / h > M2C_EXACT_MAX_WINDOWS)
@@ -500,7 +563,7 @@ int m2c_exact_poly_toc(const m2c_poly_motion *pm, const double *p, double horizo
     m2c_motion m = {pm->nparams, pm->max_degree, pm->coefficients, 0, pm->gap, pm->gap_dt, pm->scale, 0, 0, 0, 0};
     ctx k = {&m, p, o.solver, o.zero_tol, 0, 0};
     double start;
-    int st0 = begin(&k, &o, horizon, &start, t);
+    int st0 = begin(&k, &o, horizon, -INFINITY, &start, t);
     if (st0 != SEARCH)
         return st0;
     double c[M2C_MAX_DEGREE + 1];

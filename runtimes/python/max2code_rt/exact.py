@@ -26,6 +26,7 @@ MAX_WINDOWS = 10000000.0
 MAX_PARAMS = 64
 SAFE = 1.0 + 2.0 ** -40    # covers the rounding of _reach()
 SHARP = 2.0 ** -42         # a root known to this relative width is not polished
+SETTLED = 2.0 ** -50       # a Newton step this small (relative, 4 ulps) ends the polish
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,37 @@ def _circles_bound(ix, p, T):
     sy = abs(y0) + (abs(y1) + abs(y2) * T) * T
     margin = FLOOR * (sx * sx + sy * sy + R * R)
     return h, (x0, x1, x2, y0, y1, y2, r), margin, rho
+
+
+def _clear_at_zero(d, rho):
+    """A lower bound on the gap at t = 0 from _circles_bound's differences d
+    and orbit reach rho: the centres are |D| apart without their orbits,
+    each orbit offset at most its rho, so the gap is at least (|D| - rho)^2 -
+    R^2 (|D| rounded down, the square and R^2 by 2^-40 against the
+    roundings); -inf when |D| <= rho."""
+    dist = math.sqrt(d[0] * d[0] + d[3] * d[3]) * (1.0 - 2.0 ** -40)
+    if not dist > rho:
+        return -math.inf
+    s = dist - rho
+    return s * s * (1.0 - 2.0 ** -40) - d[6] * d[6] * (1.0 + 2.0 ** -40)
+
+
+def _circles_rate(ix, p):
+    """Two circles: the window rate, the largest |angular velocity| of the
+    orbit terms of the bodies that orbit (radius not zero).  It is what the
+    generated rate gives for this layout (each approximation's error term is
+    its body's orbit radius times a factor, and the radius squared is one of
+    them), without its sines."""
+    rate = 0.0
+    for b in (0, 12):
+        if p[ix[b + 6]] == 0.0:
+            continue
+        wx, wy = abs(p[ix[b + 7]]), abs(p[ix[b + 9]])
+        if wx > rate:
+            rate = wx
+        if wy > rate:
+            rate = wy
+    return rate
 
 
 def _entry(h, n, margin, lo, T):
@@ -266,7 +298,9 @@ class _Driver:
 
     def polish(self, x, a, b, lo, hi):
         """Newton steps on the exact gap, kept while |gap| decreases inside
-        [a, b] and (lo, hi].  The driver polishes a root only when it may lie
+        [a, b] and (lo, hi]; a step of at most SETTLED times the root is
+        taken without evaluating the gap there, and ends the polish.  The
+        driver polishes a root only when it may lie
         more than SHARP r from the gap's (near a double root, or where the
         rounding or truncation of its polynomial is large)."""
         g = self.gap(x)
@@ -278,6 +312,9 @@ class _Driver:
                 break
             xn = x - g / d
             if not (xn >= a and xn <= b and xn > lo and xn <= hi):
+                break
+            if abs(xn - x) <= SETTLED * abs(xn):
+                x = xn      # converged to rounding: the next step would be noise
                 break
             gn = self.gap(xn)
             if not abs(gn) < abs(g):
@@ -301,9 +338,13 @@ class _Driver:
         return horizon
 
 
-def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float):
+def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float, clear0: float = -math.inf):
     """The checks and the rules at t = 0 shared by exact_toc and poly_toc:
-    (answer, None) when they decide, else (None, start): search (start, horizon]."""
+    (answer, None) when they decide, else (None, start): search (start, horizon].
+    clear0 is a lower bound on the exact gap at t = 0 (-inf when none is
+    known): above twice the band the computed gap, within the floor (at most
+    the band) of the exact one, is above the band, so the rules answer search
+    from 0 without evaluating it."""
     m = k.m
     if m.nparams < 0 or m.nparams > MAX_PARAMS or m.max_degree > MAX_DEGREE or len(p) != m.nparams:
         raise ValueError("exact_toc: the motion does not fit the runtime's limits or the parameters")
@@ -317,6 +358,8 @@ def _begin(k: _Driver, p, horizon: float, window_angle: float, zero_tol: float):
     band0 = k.floor_at(0.0)
     if zero_tol > band0:
         band0 = zero_tol
+    if clear0 > 2.0 * band0:
+        return None, start
     g0 = k.gap(0.0)
     if g0 < -band0:         # inside each other at t = 0: not a contact, its own answer
         return OVERLAPPED, None
@@ -355,12 +398,13 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
         return _still_circles(k, circles, p, horizon, window_angle, zero_tol, refine)    # no orbit: no windows
     bound = circles is not None and all(math.isfinite(x) for x in p)
     if bound:       # (a non-finite horizon: _begin answers before any use)
-        hb, _, mb, _ = _circles_bound(circles, p, horizon)
+        hb, pd, mb, rho = _circles_bound(circles, p, horizon)
         nb = 4
         while nb > 0 and hb[nb] == 0.0:
             nb -= 1
+        clear0 = _clear_at_zero(pd, rho)
     try:
-        answer, start = _begin(k, p, horizon, window_angle, zero_tol)
+        answer, start = _begin(k, p, horizon, window_angle, zero_tol, clear0 if bound else -math.inf)
         if start is None:
             return answer
         e = _entry(hb, nb, mb, start, horizon) if bound else start
@@ -368,7 +412,7 @@ def exact_toc(m: Motion, p: Sequence[float], horizon: float, *, window_angle: fl
             return None     # the bound keeps the circles apart over the whole horizon
         span = horizon - start
         h = span
-        rate = m.rate(p)
+        rate = _circles_rate(circles, p) if bound else m.rate(p)
         if rate > 0.0 and window_angle / rate < span:
             h = window_angle / rate
         if span / h > MAX_WINDOWS:

@@ -23,6 +23,7 @@ const MAX_STEPS: u32 = 200;
 const POLISH_STEPS: u32 = 4;
 const SAFE: f64 = 1.0 + 1.0 / 1099511627776.0; // 1 + 2^-40: covers the rounding of reach()
 const SHARP: f64 = 1.0 / 4398046511104.0; // 2^-42: a root known to this relative width is not polished
+const SETTLED: f64 = 1.0 / 1125899906842624.0; // 2^-50: a Newton step this small (relative, 4 ulps) ends the polish
 
 /// What the driver needs of an equation (generated); every function takes
 /// the parameters as a slice in the equation's order.
@@ -163,6 +164,43 @@ fn circles_bound(ix: &[usize; 24], p: &[f64], t: f64) -> ([f64; 5], [f64; 7], f6
     let sy = y0.abs() + (y1.abs() + y2.abs() * t) * t;
     let margin = FLOOR * (sx * sx + sy * sy + big * big);
     (h, [x0, x1, x2, y0, y1, y2, r], margin, rho)
+}
+
+/// A lower bound on the gap at t = 0 from [`circles_bound`]'s differences
+/// `d` and orbit reach `rho`: the centres are |D| apart without their
+/// orbits, each orbit offset at most its rho, so the gap is at least
+/// (|D| - rho)^2 - R^2 (|D| rounded down, the square and R^2 by 2^-40
+/// against the roundings); -inf when |D| <= rho.
+fn clear_at_zero(d: &[f64; 7], rho: f64) -> f64 {
+    let slack = 1.0 / 1099511627776.0; // 2^-40
+    let dist = (d[0] * d[0] + d[3] * d[3]).sqrt() * (1.0 - slack);
+    if !(dist > rho) {
+        return f64::NEG_INFINITY;
+    }
+    let s = dist - rho;
+    s * s * (1.0 - slack) - d[6] * d[6] * (1.0 + slack)
+}
+
+/// Two circles: the window rate, the largest |angular velocity| of the
+/// orbit terms of the bodies that orbit (radius not zero).  It is what the
+/// generated rate gives for this layout (each approximation's error term is
+/// its body's orbit radius times a factor, and the radius squared is one of
+/// them), without its sines.
+fn circles_rate(ix: &[usize; 24], p: &[f64]) -> f64 {
+    let mut rate = 0.0f64;
+    for b in [0usize, 12] {
+        if p[ix[b + 6]] == 0.0 {
+            continue;
+        }
+        let (wx, wy) = (p[ix[b + 7]].abs(), p[ix[b + 9]].abs());
+        if wx > rate {
+            rate = wx;
+        }
+        if wy > rate {
+            rate = wy;
+        }
+    }
+    rate
 }
 
 /// The first t in [lo, T] where H(t) <= 2 margin (H > margin, so the gap
@@ -333,8 +371,9 @@ impl Ctx<'_> {
     }
 
     /// Newton steps on the exact gap, kept while |gap| decreases inside
-    /// [a, b] and (lo, hi].  The driver polishes a root only when it may lie
-    /// more than SHARP r from the gap's (near a double root, or where the
+    /// [a, b] and (lo, hi]; a step of at most SETTLED times the root is taken
+    /// without evaluating the gap there, and ends the polish.  The driver
+    /// polishes a root only when it may lie more than SHARP r from the gap's (near a double root, or where the
     /// rounding or truncation of its polynomial is large).
     fn polish(&self, mut x: f64, a: f64, b: f64, lo: f64, hi: f64) -> f64 {
         let mut g = self.gap(x);
@@ -348,6 +387,10 @@ impl Ctx<'_> {
             }
             let xn = x - g / d;
             if !(xn >= a && xn <= b && xn > lo && xn <= hi) {
+                break;
+            }
+            if (xn - x).abs() <= SETTLED * xn.abs() {
+                x = xn; // converged to rounding: the next step would be noise
                 break;
             }
             let gn = self.gap(xn);
@@ -397,13 +440,14 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
     let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
     let mut hb = [0.0f64; 5];
-    let (mut nb, mut mb) = (0usize, 0.0f64);
+    let (mut nb, mut mb, mut clear0) = (0usize, 0.0f64, f64::NEG_INFINITY);
     // (non-finite parameters or horizon: begin answers before any use)
     let bound = match m.circles {
         Some(ix) if p.len() == m.nparams && p.iter().all(|v| v.is_finite()) => {
-            let (h, _, margin, _) = circles_bound(ix, p, horizon);
+            let (h, d, margin, rho) = circles_bound(ix, p, horizon);
             hb = h;
             mb = margin;
+            clear0 = clear_at_zero(&d, rho);
             nb = 4;
             while nb > 0 && hb[nb] == 0.0 {
                 nb -= 1;
@@ -412,7 +456,7 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
         }
         _ => false,
     };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, clear0)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -422,7 +466,10 @@ pub fn exact_toc(m: &Motion, p: &[f64], horizon: f64, o: &ExactOptions) -> Resul
     }
     let span = horizon - start;
     let mut h = span;
-    let rate = (m.rate)(p);
+    let rate = match m.circles {
+        Some(ix) if bound => circles_rate(ix, p),
+        _ => (m.rate)(p),
+    };
     if rate > 0.0 && o.window_angle / rate < span {
         h = o.window_angle / rate;
     }
@@ -516,7 +563,7 @@ fn still_scale(ix: &[usize; 24], p: &[f64], t: f64) -> f64 {
 fn still_circles(m: &Motion, ix: &[usize; 24], p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
     let (h, pd, margin, _) = circles_bound(ix, p, horizon);
     let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: Some((pd, ix)) };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, f64::NEG_INFINITY)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -573,7 +620,7 @@ pub fn poly_toc(pm: &PolyMotion, p: &[f64], horizon: f64, o: &ExactOptions) -> R
         window: None,
     };
     let k = Ctx { m: &m, p, solver: o.solver, zero_tol: o.zero_tol, pd: None };
-    let start = match begin(&k, horizon, o)? {
+    let start = match begin(&k, horizon, o, f64::NEG_INFINITY)? {
         Begin::Answer(a) => return Ok(a),
         Begin::Search(s) => s,
     };
@@ -588,8 +635,12 @@ enum Begin {
 }
 
 /// The checks and the rules at t = 0 shared by [`exact_toc`] and [`poly_toc`]:
-/// an answer, or where to start the search of `(start, horizon]`.
-fn begin(k: &Ctx, horizon: f64, o: &ExactOptions) -> Result<Begin, &'static str> {
+/// an answer, or where to start the search of `(start, horizon]`.  `clear0`
+/// is a lower bound on the exact gap at t = 0 (-inf when none is known):
+/// above twice the band the computed gap, within the floor (at most the
+/// band) of the exact one, is above the band, so the rules answer search
+/// from 0 without evaluating it.
+fn begin(k: &Ctx, horizon: f64, o: &ExactOptions, clear0: f64) -> Result<Begin, &'static str> {
     let (m, p) = (k.m, k.p);
     if m.nparams > MAX_PARAMS || m.max_degree > MAX_DEGREE || p.len() != m.nparams {
         return Err("exact_toc: the motion does not fit the runtime's limits or the parameters");
@@ -604,6 +655,9 @@ fn begin(k: &Ctx, horizon: f64, o: &ExactOptions) -> Result<Begin, &'static str>
     let mut band0 = k.floor_at(0.0);
     if o.zero_tol > band0 {
         band0 = o.zero_tol;
+    }
+    if clear0 > 2.0 * band0 {
+        return Ok(Begin::Search(start));
     }
     let g0 = k.gap(0.0);
     if g0 < -band0 {
