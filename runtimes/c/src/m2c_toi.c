@@ -22,6 +22,34 @@
 #endif
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
+/* cos and sin of a body's angle a (rad): without a world, the values of the
+ * last two angles are kept (a clear stretch and the Taylor window at the
+ * same time take the same angles), bit for bit what cos and sin give. */
+static void toi_cos_sin(m2c_toi_ctx *ctx, double a, double *c, double *s)
+{
+    if (ctx->m != NULL) {
+        *c = cos(a);
+        *s = sin(a);
+        return;
+    }
+    for (int k = 0; k < ctx->trig_n; k++) {
+        const double *e = ctx->trig[k];
+        if (e[0] == a && signbit(e[0]) == signbit(a)) {     /* sin(-0) is -0 */
+            *c = e[1];
+            *s = e[2];
+            return;
+        }
+    }
+    *c = cos(a);
+    *s = sin(a);
+    memcpy(ctx->trig[1], ctx->trig[0], sizeof ctx->trig[0]);      /* the newest first */
+    ctx->trig[0][0] = a;
+    ctx->trig[0][1] = *c;
+    ctx->trig[0][2] = *s;
+    if (ctx->trig_n < 2)
+        ctx->trig_n++;
+}
+
 /* ---- first valid root of one feature ---------------------------------------- */
 
 /* What point_edge's contact must satisfy: the point lies on the segment. */
@@ -593,7 +621,7 @@ typedef struct pe_window {
  * w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
  * beyond the edge's extent widened by the tolerance, inside (evaluated on
  * the exact motion) refuses every root of the window. */
-static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
+static void window_bound(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
                          pe_window *k)
 {
     m2c_sim_motion q1 = m2c_sim_state_at(X, now);
@@ -614,9 +642,9 @@ static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2
             && Y->nverts <= M2C_TOI_MAX_VERTICES;
     if (!k->on)
         return;
-    k->ca = cos(q1.ang);
-    k->sa = sin(q1.ang);
-    double cb = cos(q2.ang), sb = sin(q2.ang);
+    toi_cos_sin(ctx, q1.ang, &k->ca, &k->sa);
+    double cb, sb;
+    toi_cos_sin(ctx, q2.ang, &cb, &sb);
     for (int32_t j = 0; j < Y->nverts; j++) {
         const m2c_sim_vertex *ed = &Y->verts[j];
         double nx = cb * ed->nx - sb * ed->ny;
@@ -901,7 +929,9 @@ static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_
     if (!(d > 0.0))
         return 0.0;
     double nx = dx / d, ny = dy / d;
-    double ca = cos(q1.ang), sa = sin(q1.ang), cb = cos(q2.ang), sb = sin(q2.ang);
+    double ca, sa, cb, sb;
+    toi_cos_sin(ctx, q1.ang, &ca, &sa);
+    toi_cos_sin(ctx, q2.ang, &cb, &sb);
     double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
     rotated_points(A, q1, ca, sa, ax, ay);
     rotated_points(B, q2, cb, sb, bx, by);
@@ -1300,6 +1330,18 @@ static double library_separation(const m2c_sim_body *A, const m2c_sim_body *B)
     return polygons_separation(NULL, A, B, 0.0, ax, ay, bx, by);
 }
 
+/* A and B at 0 are farther apart than their bounds and the tolerance, so
+ * that their separation exceeds the tolerance (each body lies within its
+ * bound about its centre of rotation) and the overlap test can be spared:
+ * the centres' distance less the bounds, with a margin of 2^-30 of the
+ * sizes for every rounding. */
+static int bounds_apart(const m2c_sim_body *A, const m2c_sim_body *B, double tol)
+{
+    double dx = B->px - A->px, dy = B->py - A->py, r = A->bound + B->bound;
+    double d = sqrt(dx * dx + dy * dy);
+    return d - r > tol + 0x1p-30 * (d + r + fabs(A->px) + fabs(A->py) + fabs(B->px) + fabs(B->py));
+}
+
 /* The largest angle (at most 0.5 rad) whose order-n Taylor remainder of sin
  * and cos, a^(n+1)/(n+1)!, times the lever (m) stays below the tolerance. */
 static double angle_for(double lever, int n, double tol)
@@ -1366,7 +1408,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
     body_of(a, ma, 0, &A);
     body_of(b, mb, 1, &B);
     double tol = o->tol;
-    if (library_separation(&A, &B) < -tol) {
+    if (!bounds_apart(&A, &B, tol) && library_separation(&A, &B) < -tol) {
         r->status = M2C_TOI_OVERLAPPED;
         return M2C_TOI_OVERLAPPED;
     }
@@ -1384,7 +1426,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
         B.window = angle_for(B.bound + A.r, o->taylor_order, tol);
     double scratch[M2C_TOI_MAX_VERTICES * (M2C_MAX_DEGREE + 1)];
     int scratch_deg[M2C_TOI_MAX_VERTICES];
-    m2c_toi_ctx ctx = { tol, alpha, NULL, NULL, 0, scratch, scratch_deg };
+    m2c_toi_ctx ctx = { tol, alpha, NULL, NULL, 0, scratch, scratch_deg, 0, { { 0.0 } } };
     m2c_toi_best bs;
     double at = 0.0;
     int found = m2c_toi_pair(&ctx, &A, &B, 0.0, horizon, 10000000L, 10000000L, &bs, &at);
