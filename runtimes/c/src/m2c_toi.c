@@ -702,9 +702,13 @@ static void vertices_edges(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_si
                          || (a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry) < k.lo[j] - alim
                          || a > k.hi[j] + alim)) {
                 /* far from the line, or beside the edge, all through the window (window_bound):
-                 * counted, not solved */
+                 * counted, not solved (without a world the count is only pe_count's check) */
+                if (ctx->m == NULL) {
+                    ctx->error |= spared < 0;
+                    continue;
+                }
                 int32_t cover = B->verts[j].cover;
-                if (!(cover >= 0 && ctx->m != NULL && !ctx->m->bodies[cover].gone))
+                if (!(cover >= 0 && !ctx->m->bodies[cover].gone))
                     pe_count(ctx, spared);
                 continue;
             }
