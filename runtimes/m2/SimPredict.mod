@@ -905,16 +905,23 @@ BEGIN
       off := ox * px + oy * py + Verts^[P^.v0 + j].h ;
       g := Inf ;
       near := 0 ;
-      FOR k := 0 TO n - 1 DO
+      k := 0 ;
+      stop := FALSE ;
+      WHILE (k < n) AND NOT stop DO
          e := ox * xs[k] + oy * ys[k] - off ;
-         ClrGap[k] := e ;
-         IF e < g THEN
-            g := e ;
-            near := k
+         IF e - Tol <= 0.0 THEN
+            stop := TRUE                       (* then g - Tol <= 0 too: x - Tol rises with x *)
+         ELSE
+            ClrGap[k] := e ;
+            IF e < g THEN
+               g := e ;
+               near := k
+            END ;
+            INC (k)
          END
       END ;
       (* not apart along this axis: 0, never above best *)
-      IF g - Tol > 0.0 THEN
+      IF (NOT stop) AND (g - Tol > 0.0) THEN
          rv := ox * du + oy * dv ;
          lin := spin - rv ;
          ao := ox * dax + oy * day ;

@@ -867,16 +867,18 @@ static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, dou
         double oy = s * ed->nx + c * ed->ny;
         double off = ox * q.x + oy * q.y + ed->h;
         double g = INFINITY;
-        int32_t near = 0;
-        for (int32_t k = 0; k < n; k++) {
+        int32_t near = 0, k = 0;
+        for (; k < n; k++) {
             double e = ox * xs[k] + oy * ys[k] - off;
+            if (e - tol <= 0.0)
+                break;                  /* then g - tol <= 0 too: x - tol rises with x */
             gaps[k] = e;
             if (e < g) {
                 g = e;
                 near = k;
             }
         }
-        if (!(g - tol > 0.0))
+        if (k < n || !(g - tol > 0.0))
             continue;                   /* not apart along this axis: 0, never above best */
         double rv = ox * du + oy * dv;
         double lin = spin - rv;

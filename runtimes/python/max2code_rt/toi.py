@@ -251,11 +251,13 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
             gaps = []
             for k, (qx, qy) in enumerate(pts):
                 e = ox * qx + oy * qy - off
+                if e - tol <= 0.0:
+                    break               # then g - tol <= 0 too: x - tol rises with x
                 gaps.append(e)
                 if e < g:
                     g = e
                     near = k
-            if not (g - tol > 0.0):
+            if len(gaps) < len(pts) or not (g - tol > 0.0):
                 continue                # not apart along this axis: 0, never above best
             rv = ox * du + oy * dv
             lin = spin - rv

@@ -1129,15 +1129,20 @@ fn edges_clear(
         let off = ox * px + oy * py + ed.h;
         let mut g = f64::INFINITY;
         let mut near = 0;
+        let mut all = true;
         for (k, &(qx, qy)) in pts.iter().enumerate() {
             let e = ox * qx + oy * qy - off;
+            if e - tol <= 0.0 {
+                all = false; // then g - tol <= 0 too: x - tol rises with x
+                break;
+            }
             gaps[k] = e;
             if e < g {
                 g = e;
                 near = k;
             }
         }
-        if !(g - tol > 0.0) {
+        if !all || !(g - tol > 0.0) {
             continue; // not apart along this axis: 0, never above best
         }
         let rv = ox * du + oy * dv;
