@@ -715,8 +715,9 @@ typedef struct m2c_toi_ctx {
     int error;                  /* without a world: a generated entry refused its parameters */
     double *scratch;            /* without a world: bound_polygon's M2C_TOI_MAX_VERTICES polynomials */
     int *scratch_deg;           /* and their degrees */
-    int trig_n;                 /* without a world: how many of trig hold a body's angle (rad), its cos, sin */
-    double trig[2][3];          /* (m2c_toi_cos_sin: a clear stretch and the window after it share them) */
+    int trig_n;                 /* without a world: bit k set when trig[k] holds body k's last angle (rad), */
+    double trig[2][3];          /* its cos and sin (toi_cos_sin: a clear stretch and the window after it
+                                   share them) */
 } m2c_toi_ctx;
 
 /* The simulator's context of a pair's computation. */

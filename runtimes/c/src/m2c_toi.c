@@ -22,32 +22,28 @@
 #endif
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
-/* cos and sin of a body's angle a (rad): without a world, the values of the
- * last two angles are kept (a clear stretch and the Taylor window at the
- * same time take the same angles), bit for bit what cos and sin give. */
-static void toi_cos_sin(m2c_toi_ctx *ctx, double a, double *c, double *s)
+/* cos and sin of body b's angle a (rad): without a world, the values of
+ * each body's last angle are kept (a clear stretch and the Taylor window at
+ * the same time take the same angles), bit for bit what cos and sin give. */
+static void toi_cos_sin(m2c_toi_ctx *ctx, const m2c_sim_body *b, double a, double *c, double *s)
 {
     if (ctx->m != NULL) {
         *c = cos(a);
         *s = sin(a);
         return;
     }
-    for (int k = 0; k < ctx->trig_n; k++) {
-        const double *e = ctx->trig[k];
-        if (e[0] == a && signbit(e[0]) == signbit(a)) {     /* sin(-0) is -0 */
-            *c = e[1];
-            *s = e[2];
-            return;
-        }
+    double *e = ctx->trig[b->idx & 1];          /* the library's bodies are 0 and 1 */
+    if ((ctx->trig_n >> (b->idx & 1) & 1) && memcmp(&e[0], &a, sizeof a) == 0) {
+        *c = e[1];
+        *s = e[2];
+        return;
     }
     *c = cos(a);
     *s = sin(a);
-    memcpy(ctx->trig[1], ctx->trig[0], sizeof ctx->trig[0]);      /* the newest first */
-    ctx->trig[0][0] = a;
-    ctx->trig[0][1] = *c;
-    ctx->trig[0][2] = *s;
-    if (ctx->trig_n < 2)
-        ctx->trig_n++;
+    e[0] = a;
+    e[1] = *c;
+    e[2] = *s;
+    ctx->trig_n |= 1 << (b->idx & 1);
 }
 
 /* ---- first valid root of one feature ---------------------------------------- */
@@ -642,9 +638,9 @@ static void window_bound(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_
             && Y->nverts <= M2C_TOI_MAX_VERTICES;
     if (!k->on)
         return;
-    toi_cos_sin(ctx, q1.ang, &k->ca, &k->sa);
+    toi_cos_sin(ctx, X, q1.ang, &k->ca, &k->sa);
     double cb, sb;
-    toi_cos_sin(ctx, q2.ang, &cb, &sb);
+    toi_cos_sin(ctx, Y, q2.ang, &cb, &sb);
     for (int32_t j = 0; j < Y->nverts; j++) {
         const m2c_sim_vertex *ed = &Y->verts[j];
         double nx = cb * ed->nx - sb * ed->ny;
@@ -936,8 +932,8 @@ static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_
         return 0.0;
     double nx = dx / d, ny = dy / d;
     double ca, sa, cb, sb;
-    toi_cos_sin(ctx, q1.ang, &ca, &sa);
-    toi_cos_sin(ctx, q2.ang, &cb, &sb);
+    toi_cos_sin(ctx, A, q1.ang, &ca, &sa);
+    toi_cos_sin(ctx, B, q2.ang, &cb, &sb);
     double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
     rotated_points(A, q1, ca, sa, ax, ay);
     rotated_points(B, q2, cb, sb, bx, by);
