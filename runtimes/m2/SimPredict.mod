@@ -85,8 +85,10 @@ VAR
    (* and the place (m) of that centre along the edge's tangent (-WinEY, WinEX)
       now, and the edge's extent (m) widened by the margins *)
    WinAlong, WinLo, WinHi: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
-   (* clear_time's vertices of its two polygons *)
+   (* clear_time's vertices of its two polygons, their velocities (m/s) from
+      their turns (spin_velocities), and edges_clear's gaps of one axis (m) *)
    ClrAX, ClrAY, ClrBX, ClrBY: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
+   ClrAWX, ClrAWY, ClrBWX, ClrBWY, ClrGap: ARRAY [0..MAX_VERTICES - 1] OF REAL ;
 
 
 (* A neighbour of X's vertex i at t lies more than the tolerance behind the
@@ -841,29 +843,117 @@ BEGIN
 END rotated_points ;
 
 
-(* clear_root along each edge normal of P (its centre (px, py), cos c and
-   sin s of its angle), held fixed: the gap of the other polygon's n
-   vertices (xs[k], ys[k]) beyond the edge's line, opened by (du, dv) .
-   normal and (dax, day) (the other body's velocity and acceleration less
-   P's); the largest of the times. *)
-PROCEDURE edges_clear (P: BodyRef; px, py, c, s: REAL; VAR xs, ys: ARRAY OF REAL; n: INTEGER;
-                       spin, du, dv, dax, day: REAL) : REAL ;
+(* The velocity (wx[k], wy[k]) (m/s) of each vertex of polygon b about its
+   centre from its turn: its offset from the centre (the rotation of its
+   place (lx, ly) by the cosine c and sine s of b's angle) turned a quarter
+   and times the turn rate. *)
+PROCEDURE spin_velocities (b: BodyRef; c, s: REAL; VAR wx, wy: ARRAY OF REAL) ;
 VAR
-   best, ox, oy, off, g, e, t: REAL ;
-   j, k: INTEGER ;
+   k: INTEGER ;
 BEGIN
-   best := 0.0 ;
+   FOR k := 0 TO b^.nv - 1 DO
+      wx[k] := -(b^.om * (s * Verts^[b^.v0 + k].lx + c * Verts^[b^.v0 + k].ly)) ;
+      wy[k] := b^.om * (c * Verts^[b^.v0 + k].lx - s * Verts^[b^.v0 + k].ly)
+   END
+END spin_velocities ;
+
+
+(* The later of the rate bound's root (clear_root (e, lin, qa)) and the
+   Taylor bound's (clear_root (e, r, q)) of one vertex (s). *)
+PROCEDURE vertex_clear (e, lin, qa, r, q: REAL) : REAL ;
+VAR
+   a, b: REAL ;
+BEGIN
+   a := clear_root (e, lin, qa) ;
+   b := clear_root (e, r, q) ;
+   IF b > a THEN RETURN b END ;
+   RETURN a
+END vertex_clear ;
+
+
+(* The larger of best and the time the other polygon Q stays beyond each
+   edge line of P (its centre (px, py), cos c and sin s of its angle) by
+   more than the tolerance, the edge's outward normal o held fixed (s).
+   Q's n vertices (xs, ys) and their velocities from the turn (qwx, qwy),
+   P's (pwx, pwy) (spin_velocities); (du, dv) and (dax, day): Q's velocity
+   and acceleration less P's; spin: the bounds times the turn rates; curv:
+   the bounds times the turn rates squared (m/s^2).
+
+   Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
+   twice, and the later of the two roots holds: at the rate spin - o . (du,
+   dv) and |o . (dax, day)| (each point of a body moves along o at most its
+   bound times its turn rate faster than the centre), and by its Taylor
+   polynomial of order 1 at s = 0 less the second derivative's bound:
+   e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
+   day)) s^2/2, since the part of a vertex along o that turns is
+   rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
+   support along o is at most the largest of its vertices' such
+   polynomials.  The axis holds until the first of its vertices' roots; an
+   axis whose nearest vertex cannot raise best is skipped, and a vertex
+   whose rate bound already lasts past the axis's time so far is not
+   solved. *)
+PROCEDURE edges_clear (P: BodyRef; px, py, c, s: REAL; VAR xs, ys, qwx, qwy, pwx, pwy: ARRAY OF REAL;
+                       n: INTEGER; best, spin, curv, du, dv, dax, day: REAL) : REAL ;
+VAR
+   ox, oy, off, g, e, t, rv, lin, ao, qa, q, top, m: REAL ;
+   j, k, near: INTEGER ;
+   stop: BOOLEAN ;
+BEGIN
    FOR j := 0 TO P^.nv - 1 DO
       ox := c * Verts^[P^.v0 + j].nx - s * Verts^[P^.v0 + j].ny ;
       oy := s * Verts^[P^.v0 + j].nx + c * Verts^[P^.v0 + j].ny ;
       off := ox * px + oy * py + Verts^[P^.v0 + j].h ;
       g := Inf ;
-      FOR k := 0 TO n - 1 DO
+      near := 0 ;
+      k := 0 ;
+      stop := FALSE ;
+      WHILE (k < n) AND NOT stop DO
          e := ox * xs[k] + oy * ys[k] - off ;
-         IF e < g THEN g := e END            (* Python's min(g, e) *)
+         IF e - Tol <= 0.0 THEN
+            stop := TRUE                       (* then g - Tol <= 0 too: x - Tol rises with x *)
+         ELSE
+            ClrGap[k] := e ;
+            IF e < g THEN
+               g := e ;
+               near := k
+            END ;
+            INC (k)
+         END
       END ;
-      t := clear_root (g - Tol, spin - (ox * du + oy * dv), ABS (ox * dax + oy * day)) ;
-      IF t > best THEN best := t END        (* Python's max(best, t) *)
+      (* not apart along this axis: 0, never above best *)
+      IF (NOT stop) AND (g - Tol > 0.0) THEN
+         rv := ox * du + oy * dv ;
+         lin := spin - rv ;
+         ao := ox * dax + oy * day ;
+         qa := ABS (ao) ;
+         q := curv - ao ;
+         IF NOT (q > 0.0) THEN q := 0.0 END ;
+         top := -Inf ;
+         FOR k := 0 TO P^.nv - 1 DO
+            e := ox * pwx[k] + oy * pwy[k] ;
+            IF e > top THEN top := e END
+         END ;
+         m := vertex_clear (ClrGap[near] - Tol, lin, qa, top - (rv + (ox * qwx[near] + oy * qwy[near])), q) ;
+         IF m > best THEN
+            k := 0 ;
+            stop := FALSE ;
+            WHILE (k < n) AND NOT stop DO
+               IF k # near THEN
+                  e := ClrGap[k] - Tol ;
+                  (* unless its rate bound alone lasts past m *)
+                  IF NOT ((m < Inf) AND (e - m * (lin + 0.5 * qa * m) >= 0.0)) THEN
+                     t := vertex_clear (e, lin, qa, top - (rv + (ox * qwx[k] + oy * qwy[k])), q) ;
+                     IF t < m THEN
+                        m := t ;
+                        stop := NOT (m > best)
+                     END
+                  END
+               END ;
+               INC (k)
+            END ;
+            IF m > best THEN best := m END
+         END
+      END
    END ;
    RETURN best
 END edges_clear ;
@@ -875,13 +965,15 @@ END edges_clear ;
    each edge normal of either polygon held fixed as well as along the line
    of the centres.  Along a fixed axis the gap closes at most as fast as the
    centres' relative motion along it plus each bound times its turn rate,
-   and the gap of the best separating axis now is the separation, so this
-   is never shorter than the bound through the norms |x| + |y| and never
-   longer than the bodies stay apart. *)
+   along an edge normal each vertex's gap also stays above its Taylor
+   polynomial of order 1 less the bound of its second derivative
+   (edges_clear), and the gap of the best separating axis now is the
+   separation, so this is never shorter than the bound through the norms
+   |x| + |y| and never longer than the bodies stay apart. *)
 PROCEDURE clear_polygons (A, B: BodyRef; now: REAL) : REAL ;
 VAR
-   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, ca, sa, cb, sb, hi, lo, spin,
-   du, dv, dax, day, best, t: REAL ;
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, ca, sa, cb, sb, hi, lo, spin, curv,
+   du, dv, dax, day, best: REAL ;
 BEGIN
    StateAt (A, now, x1, y1, u1, v1, a1) ;
    StateAt (B, now, x2, y2, u2, v2, a2) ;
@@ -897,20 +989,21 @@ BEGIN
    sb := sin (a2) ;
    rotated_points (A, x1, y1, ca, sa, ClrAX, ClrAY) ;
    rotated_points (B, x2, y2, cb, sb, ClrBX, ClrBY) ;
+   spin_velocities (A, ca, sa, ClrAWX, ClrAWY) ;
+   spin_velocities (B, cb, sb, ClrBWX, ClrBWY) ;
    hi := reach_points (nx, ny, ClrAX, ClrAY, A^.nv) ;
    lo := -reach_points (-nx, -ny, ClrBX, ClrBY, B^.nv) ;
    spin := A^.bound * TurnRate (A) + B^.bound * TurnRate (B) ;
+   curv := A^.om * A^.om * A^.bound + B^.om * B^.om * B^.bound ;
    du := u2 - u1 ;
    dv := v2 - v1 ;
    dax := B^.ax - A^.ax ;
    day := B^.ay - A^.ay ;
    best := clear_root (lo - hi - Tol, spin - (nx * du + ny * dv), ABS (nx * dax + ny * day)) ;
-   t := edges_clear (A, x1, y1, ca, sa, ClrBX, ClrBY, B^.nv, spin, du, dv, dax, day) ;
-   IF t > best THEN best := t END ;          (* Python's max(best, t) *)
-   t := edges_clear (B, x2, y2, cb, sb, ClrAX, ClrAY, A^.nv, spin, u1 - u2, v1 - v2, A^.ax - B^.ax,
-                     A^.ay - B^.ay) ;
-   IF t > best THEN best := t END ;
-   RETURN best
+   best := edges_clear (A, x1, y1, ca, sa, ClrBX, ClrBY, ClrBWX, ClrBWY, ClrAWX, ClrAWY, B^.nv, best, spin,
+                        curv, du, dv, dax, day) ;
+   RETURN edges_clear (B, x2, y2, cb, sb, ClrAX, ClrAY, ClrAWX, ClrAWY, ClrBWX, ClrBWY, A^.nv, best, spin,
+                       curv, u1 - u2, v1 - v2, A^.ax - B^.ax, A^.ay - B^.ay)
 END clear_polygons ;
 
 

@@ -23,6 +23,7 @@ CONST
    MaxReal = 1.7976931348623157E308 ;
    Pi = 3.141592653589793 ;      (* pi rounded to double *)
    MaxSteps = 10000000 ;         (* the most steps (and Taylor windows) of one query *)
+   TwoM30 = 1.0 / 1073741824.0 ; (* 2^-30 *)
 
 VAR
    Two: BodyArray ;              (* the query's bodies A (0) and B (1) *)
@@ -228,6 +229,23 @@ BEGIN
 END LibrarySeparation ;
 
 
+(* A and B at 0 are farther apart than their bounds and the tolerance tol,
+   so that their separation exceeds tol (each body lies within its bound
+   about its centre of rotation) and the overlap test can be spared: the
+   centres' distance less the bounds, with a margin of 2^-30 of the sizes
+   for every rounding. *)
+PROCEDURE BoundsApart (A, B: BodyRef; tol: REAL) : BOOLEAN ;
+VAR
+   dx, dy, r, d: REAL ;
+BEGIN
+   dx := B^.px - A^.px ;
+   dy := B^.py - A^.py ;
+   r := A^.bound + B^.bound ;
+   d := sqrt (dx * dx + dy * dy) ;
+   RETURN d - r > tol + TwoM30 * (d + r + ABS (A^.px) + ABS (A^.py) + ABS (B^.px) + ABS (B^.py))
+END BoundsApart ;
+
+
 PROCEDURE TimeOfImpact (VAR a: Shape; VAR ma: Motion; VAR b: Shape; VAR mb: Motion; horizon: REAL;
                         VAR o: Options; VAR r: Result) : INTEGER ;
 VAR
@@ -293,7 +311,7 @@ BEGIN
    SimScene.Tol := tol ;
    SimScene.Alpha := alpha ;
    SimPredict.Library := TRUE ;
-   IF LibrarySeparation (A, B) < -tol THEN
+   IF NOT BoundsApart (A, B, tol) AND (LibrarySeparation (A, B) < -tol) THEN
       r.status := Overlapped
    ELSE
       found := PairContact (A, B, 0.0, horizon, MaxSteps, MaxSteps, t, feat, fa, fb, fi, fj) ;

@@ -3,8 +3,9 @@ clear_polygons in C, Rust and Modula-2, the Python runtime's
 _Pair.clear_time checked here): on random pairs of turning convex
 polygons near each other, the bodies stay more than the tolerance apart all
 through the stretch it gives (their separation sampled on the exact
-motion), and the stretch is never shorter than the simulator's clear_time
-(the line of the centres and the norms |x| + |y|)."""
+motion), the stretch is never shorter than the simulator's clear_time
+(the line of the centres and the norms |x| + |y|), and many stretches end
+near touching."""
 from __future__ import annotations
 
 import math
@@ -60,5 +61,7 @@ def test_clear_stretches_keep_the_bodies_apart():
             assert gap > TOL * (1.0 - 1e-6), (f"{gap!r} m apart at s = {t - now!r} of a clear stretch of "
                                               f"{clear!r} s (separation {sep0!r} m at now)")
         close += low < 0.5 * sep0
-    # many stretches, and stretches that end near touching (the bound is not loose everywhere)
-    assert stretches > 200 and close > 20, (stretches, close)
+    # many stretches, and stretches that end near touching (the bound is not loose everywhere: the
+    # Taylor bound of edges_clear takes 52 of these 264 stretches to less than half the separation
+    # at their start, the rate bound alone 33)
+    assert stretches > 200 and close > 45, (stretches, close)

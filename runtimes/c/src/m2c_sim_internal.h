@@ -715,12 +715,15 @@ typedef struct m2c_toi_ctx {
     int error;                  /* without a world: a generated entry refused its parameters */
     double *scratch;            /* without a world: bound_polygon's M2C_TOI_MAX_VERTICES polynomials */
     int *scratch_deg;           /* and their degrees */
+    int trig_n;                 /* without a world: bit k set when trig[k] holds body k's last angle (rad), */
+    double trig[2][3];          /* its cos and sin (toi_cos_sin: a clear stretch and the window after it
+                                   share them) */
 } m2c_toi_ctx;
 
 /* The simulator's context of a pair's computation. */
 static inline m2c_toi_ctx m2c_sim_ctx(m2c_world *m)
 {
-    m2c_toi_ctx k = { m->s->tol, m->s->alpha, m, m2c_sim_die, 0, NULL, NULL };
+    m2c_toi_ctx k = { m->s->tol, m->s->alpha, m, m2c_sim_die, 0, NULL, NULL, 0, { { 0.0 } } };
     return k;
 }
 

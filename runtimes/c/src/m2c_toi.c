@@ -22,6 +22,30 @@
 #endif
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
 
+/* cos and sin of body b's angle a (rad): without a world, the values of
+ * each body's last angle are kept (a clear stretch and the Taylor window at
+ * the same time take the same angles), bit for bit what cos and sin give. */
+static void toi_cos_sin(m2c_toi_ctx *ctx, const m2c_sim_body *b, double a, double *c, double *s)
+{
+    if (ctx->m != NULL) {
+        *c = cos(a);
+        *s = sin(a);
+        return;
+    }
+    double *e = ctx->trig[b->idx & 1];          /* the library's bodies are 0 and 1 */
+    if ((ctx->trig_n >> (b->idx & 1) & 1) && memcmp(&e[0], &a, sizeof a) == 0) {
+        *c = e[1];
+        *s = e[2];
+        return;
+    }
+    *c = cos(a);
+    *s = sin(a);
+    e[0] = a;
+    e[1] = *c;
+    e[2] = *s;
+    ctx->trig_n |= 1 << (b->idx & 1);
+}
+
 /* ---- first valid root of one feature ---------------------------------------- */
 
 /* What point_edge's contact must satisfy: the point lies on the segment. */
@@ -593,7 +617,7 @@ typedef struct pe_window {
  * w (|wy| (D + rho) + V + |wx| rho): when a(0) lies farther than that
  * beyond the edge's extent widened by the tolerance, inside (evaluated on
  * the exact motion) refuses every root of the window. */
-static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
+static void window_bound(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, double now, double w,
                          pe_window *k)
 {
     m2c_sim_motion q1 = m2c_sim_state_at(X, now);
@@ -614,9 +638,9 @@ static void window_bound(const m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2
             && Y->nverts <= M2C_TOI_MAX_VERTICES;
     if (!k->on)
         return;
-    k->ca = cos(q1.ang);
-    k->sa = sin(q1.ang);
-    double cb = cos(q2.ang), sb = sin(q2.ang);
+    toi_cos_sin(ctx, X, q1.ang, &k->ca, &k->sa);
+    double cb, sb;
+    toi_cos_sin(ctx, Y, q2.ang, &cb, &sb);
     for (int32_t j = 0; j < Y->nverts; j++) {
         const m2c_sim_vertex *ed = &Y->verts[j];
         double nx = cb * ed->nx - sb * ed->ny;
@@ -674,9 +698,13 @@ static void vertices_edges(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_si
                          || (a = k.along[j] - k.ey[j] * rx + k.ex[j] * ry) < k.lo[j] - alim
                          || a > k.hi[j] + alim)) {
                 /* far from the line, or beside the edge, all through the window (window_bound):
-                 * counted, not solved */
+                 * counted, not solved (without a world the count is only pe_count's check) */
+                if (ctx->m == NULL) {
+                    ctx->error |= spared < 0;
+                    continue;
+                }
                 int32_t cover = B->verts[j].cover;
-                if (!(cover >= 0 && ctx->m != NULL && !ctx->m->bodies[cover].gone))
+                if (!(cover >= 0 && !ctx->m->bodies[cover].gone))
                     pe_count(ctx, spared);
                 continue;
             }
@@ -781,25 +809,104 @@ static void rotated_points(const m2c_sim_body *b, m2c_sim_motion q, double c, do
     }
 }
 
-/* clear_root along each edge normal of P (state q, cos c and sin s of its
- * angle), held fixed: the gap of the other polygon's vertices (xs, ys, n of
- * them) beyond the edge's line, opened by (du, dv) . normal and (dax, day)
- * (the other body's velocity and acceleration less P's); the largest of
- * the times. */
-static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, double s, const double *xs,
-                          const double *ys, int32_t n, double spin, double du, double dv, double dax, double day,
-                          double tol)
+/* The velocity (wx[k], wy[k]) (m/s) of each vertex of polygon b about its
+ * centre from its turn: its offset from the centre (the rotation of its
+ * place (lx, ly) by the cosine c and sine s of b's angle) turned a quarter
+ * and times the turn rate. */
+static void spin_velocities(const m2c_sim_body *b, double c, double s, double *wx, double *wy)
 {
-    double best = 0.0;
+    for (int32_t k = 0; k < b->nverts; k++) {
+        const m2c_sim_vertex *v = &b->verts[k];
+        wx[k] = -(b->om * (s * v->lx + c * v->ly));
+        wy[k] = b->om * (c * v->lx - s * v->ly);
+    }
+}
+
+/* The later of the rate bound's root (clear_root(e, lin, qa)) and the
+ * Taylor bound's (clear_root(e, r, q)) of one vertex (s). */
+static double vertex_clear(double e, double lin, double qa, double r, double q)
+{
+    double a = clear_root(e, lin, qa);
+    double b = clear_root(e, r, q);
+    return b > a ? b : a;
+}
+
+/* The larger of best and the time the other polygon Q stays beyond each
+ * edge line of P (state q, cos c and sin s of its angle) by more than tol,
+ * the edge's outward normal o held fixed (s).  Q's n vertices (xs, ys) and
+ * their velocities from the turn (qwx, qwy), P's (pwx, pwy)
+ * (spin_velocities); (du, dv) and (dax, day): Q's velocity and
+ * acceleration less P's; spin: the bounds times the turn rates; curv: the
+ * bounds times the turn rates squared (m/s^2).
+ *
+ * Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
+ * twice, and the later of the two roots holds: at the rate spin - o . (du,
+ * dv) and |o . (dax, day)| (each point of a body moves along o at most its
+ * bound times its turn rate faster than the centre), and by its Taylor
+ * polynomial of order 1 at s = 0 less the second derivative's bound:
+ * e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
+ * day)) s^2/2, since the part of a vertex along o that turns is
+ * rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
+ * support along o is at most the largest of its vertices' such
+ * polynomials.  The axis holds until the first of its vertices' roots; an
+ * axis whose nearest vertex cannot raise best is skipped, and a vertex whose
+ * rate bound already lasts past the axis's time so far is not solved. */
+static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, double s, const double *xs,
+                          const double *ys, const double *qwx, const double *qwy, const double *pwx,
+                          const double *pwy, int32_t n, double best, double spin, double curv, double du, double dv,
+                          double dax, double day, double tol)
+{
+    double gaps[M2C_TOI_MAX_VERTICES];
     for (int32_t j = 0; j < P->nverts; j++) {
         const m2c_sim_vertex *ed = &P->verts[j];
         double ox = c * ed->nx - s * ed->ny;
         double oy = s * ed->nx + c * ed->ny;
         double off = ox * q.x + oy * q.y + ed->h;
         double g = INFINITY;
-        for (int32_t k = 0; k < n; k++)
-            g = m2c_sim_min(g, ox * xs[k] + oy * ys[k] - off);
-        best = m2c_sim_max(best, clear_root(g - tol, spin - (ox * du + oy * dv), fabs(ox * dax + oy * day)));
+        int32_t near = 0, k = 0;
+        for (; k < n; k++) {
+            double e = ox * xs[k] + oy * ys[k] - off;
+            if (e - tol <= 0.0)
+                break;                  /* then g - tol <= 0 too: x - tol rises with x */
+            gaps[k] = e;
+            if (e < g) {
+                g = e;
+                near = k;
+            }
+        }
+        if (k < n || !(g - tol > 0.0))
+            continue;                   /* not apart along this axis: 0, never above best */
+        double rv = ox * du + oy * dv;
+        double lin = spin - rv;
+        double ao = ox * dax + oy * day;
+        double qa = fabs(ao);
+        double qq = curv - ao;
+        if (!(qq > 0.0))
+            qq = 0.0;
+        double top = -INFINITY;
+        for (int32_t k = 0; k < P->nverts; k++) {
+            double e = ox * pwx[k] + oy * pwy[k];
+            if (e > top)
+                top = e;
+        }
+        double m = vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * qwx[near] + oy * qwy[near])), qq);
+        if (!(m > best))
+            continue;
+        for (int32_t k = 0; k < n; k++) {
+            if (k == near)
+                continue;
+            double e = gaps[k] - tol;
+            if (m < INFINITY && e - m * (lin + 0.5 * qa * m) >= 0.0)
+                continue;               /* its rate bound alone lasts past m */
+            double t = vertex_clear(e, lin, qa, top - (rv + (ox * qwx[k] + oy * qwy[k])), qq);
+            if (t < m) {
+                m = t;
+                if (!(m > best))
+                    break;
+            }
+        }
+        if (m > best)
+            best = m;
     }
     return best;
 }
@@ -810,9 +917,11 @@ static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, dou
  * each edge normal of either polygon held fixed as well as along the line
  * of the centres.  Along a fixed axis the gap closes at most as fast as
  * the centres' relative motion along it plus each bound times its turn
- * rate (clear_time), and the gap of the best separating axis now is the
- * separation, so this is never shorter than a bound through the norms
- * |x| + |y| and never longer than the bodies stay apart. */
+ * rate (clear_time), along an edge normal each vertex's gap also stays
+ * above its Taylor polynomial of order 1 less the bound of its second
+ * derivative (edges_clear), and the gap of the best separating axis now
+ * is the separation, so this is never shorter than a bound through the
+ * norms |x| + |y| and never longer than the bodies stay apart. */
 static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     m2c_sim_motion q1 = m2c_sim_state_at(A, now);
@@ -822,19 +931,25 @@ static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_
     if (!(d > 0.0))
         return 0.0;
     double nx = dx / d, ny = dy / d;
-    double ca = cos(q1.ang), sa = sin(q1.ang), cb = cos(q2.ang), sb = sin(q2.ang);
+    double ca, sa, cb, sb;
+    toi_cos_sin(ctx, A, q1.ang, &ca, &sa);
+    toi_cos_sin(ctx, B, q2.ang, &cb, &sb);
     double ax[M2C_TOI_MAX_VERTICES], ay[M2C_TOI_MAX_VERTICES], bx[M2C_TOI_MAX_VERTICES], by[M2C_TOI_MAX_VERTICES];
     rotated_points(A, q1, ca, sa, ax, ay);
     rotated_points(B, q2, cb, sb, bx, by);
+    double awx[M2C_TOI_MAX_VERTICES], awy[M2C_TOI_MAX_VERTICES], bwx[M2C_TOI_MAX_VERTICES], bwy[M2C_TOI_MAX_VERTICES];
+    spin_velocities(A, ca, sa, awx, awy);
+    spin_velocities(B, cb, sb, bwx, bwy);
     double hi = reach_points(nx, ny, ax, ay, A->nverts);
     double lo = -reach_points(-nx, -ny, bx, by, B->nverts);
     double spin = A->bound * m2c_sim_turn_rate(A) + B->bound * m2c_sim_turn_rate(B);
+    double curv = A->om * A->om * A->bound + B->om * B->om * B->bound;
     double tol = ctx->tol;
     double du = q2.vx - q1.vx, dv = q2.vy - q1.vy, dax = B->ax - A->ax, day = B->ay - A->ay;
     double best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), fabs(nx * dax + ny * day));
-    best = m2c_sim_max(best, edges_clear(A, q1, ca, sa, bx, by, B->nverts, spin, du, dv, dax, day, tol));
-    return m2c_sim_max(best, edges_clear(B, q2, cb, sb, ax, ay, A->nverts, spin, q1.vx - q2.vx, q1.vy - q2.vy,
-                                         A->ax - B->ax, A->ay - B->ay, tol));
+    best = edges_clear(A, q1, ca, sa, bx, by, bwx, bwy, awx, awy, B->nverts, best, spin, curv, du, dv, dax, day, tol);
+    return edges_clear(B, q2, cb, sb, ax, ay, awx, awy, bwx, bwy, A->nverts, best, spin, curv, q1.vx - q2.vx,
+                       q1.vy - q2.vy, A->ax - B->ax, A->ay - B->ay, tol);
 }
 
 /* How long (s) A and B surely stay more than the tolerance apart, from
@@ -1217,6 +1332,18 @@ static double library_separation(const m2c_sim_body *A, const m2c_sim_body *B)
     return polygons_separation(NULL, A, B, 0.0, ax, ay, bx, by);
 }
 
+/* A and B at 0 are farther apart than their bounds and the tolerance, so
+ * that their separation exceeds the tolerance (each body lies within its
+ * bound about its centre of rotation) and the overlap test can be spared:
+ * the centres' distance less the bounds, with a margin of 2^-30 of the
+ * sizes for every rounding. */
+static int bounds_apart(const m2c_sim_body *A, const m2c_sim_body *B, double tol)
+{
+    double dx = B->px - A->px, dy = B->py - A->py, r = A->bound + B->bound;
+    double d = sqrt(dx * dx + dy * dy);
+    return d - r > tol + 0x1p-30 * (d + r + fabs(A->px) + fabs(A->py) + fabs(B->px) + fabs(B->py));
+}
+
 /* The largest angle (at most 0.5 rad) whose order-n Taylor remainder of sin
  * and cos, a^(n+1)/(n+1)!, times the lever (m) stays below the tolerance. */
 static double angle_for(double lever, int n, double tol)
@@ -1283,7 +1410,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
     body_of(a, ma, 0, &A);
     body_of(b, mb, 1, &B);
     double tol = o->tol;
-    if (library_separation(&A, &B) < -tol) {
+    if (!bounds_apart(&A, &B, tol) && library_separation(&A, &B) < -tol) {
         r->status = M2C_TOI_OVERLAPPED;
         return M2C_TOI_OVERLAPPED;
     }
@@ -1301,7 +1428,7 @@ int m2c_toi(const m2c_toi_shape *a, const m2c_toi_motion *ma, const m2c_toi_shap
         B.window = angle_for(B.bound + A.r, o->taylor_order, tol);
     double scratch[M2C_TOI_MAX_VERTICES * (M2C_MAX_DEGREE + 1)];
     int scratch_deg[M2C_TOI_MAX_VERTICES];
-    m2c_toi_ctx ctx = { tol, alpha, NULL, NULL, 0, scratch, scratch_deg };
+    m2c_toi_ctx ctx = { tol, alpha, NULL, NULL, 0, scratch, scratch_deg, 0, { { 0.0 } } };
     m2c_toi_best bs;
     double at = 0.0;
     int found = m2c_toi_pair(&ctx, &A, &B, 0.0, horizon, 10000000L, 10000000L, &bs, &at);

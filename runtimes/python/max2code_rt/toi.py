@@ -22,7 +22,7 @@ from max2code_rt.sim.contact import ContactMixin
 from max2code_rt.sim.motion import MotionMixin
 from max2code_rt.sim.out import SimError
 from max2code_rt.sim.overlap import OverlapMixin
-from max2code_rt.sim.predict import CC, PE, PredictMixin
+from max2code_rt.sim.predict import CC, PE, TWO_M30, PredictMixin
 from max2code_rt.sim.scene import Body, Vertex
 
 # status of an answer (the C library's numbers)
@@ -172,12 +172,15 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         polygon that does not turn against one that does) the library's own
         (the simulator keeps its own, whose bits its traces pin): every
         vertex from one cosine and sine of its body's angle, and the gap
-        along each edge normal of either polygon held fixed as well as along
-        the line of the centres.  Along a fixed axis the gap closes at most
-        as fast as the centres' relative motion along it plus each bound
-        times its turn rate, and the gap of the best separating axis now is
-        the separation, so this is never shorter than the bound through the
-        norms |x| + |y| and never longer than the bodies stay apart."""
+        along each edge normal of either polygon held fixed (_edges_clear)
+        as well as along the line of the centres.  Along a fixed axis the
+        gap closes at most as fast as the centres' relative motion along it
+        plus each bound times its turn rate, along an edge normal each
+        vertex's gap also stays above its Taylor polynomial of order 1 less
+        the bound of its second derivative, and the gap of the best
+        separating axis now is the separation, so this is never shorter
+        than the bound through the norms |x| + |y| and never longer than
+        the bodies stay apart."""
         if (not (A.polygon and B.polygon) or (B.om == 0.0 and self.turn_rate(A) > 0.0)
                 or (A.om == 0.0 and self.turn_rate(B) > 0.0)):
             return PredictMixin.clear_time(self, A, B, now)
@@ -191,15 +194,18 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         ca, sa, cb, sb = math.cos(g1), math.sin(g1), math.cos(g2), math.sin(g2)
         pa = _rotated_points(A, x1, y1, ca, sa)
         pb = _rotated_points(B, x2, y2, cb, sb)
+        wa = _spin_velocities(A, ca, sa)
+        wb = _spin_velocities(B, cb, sb)
         hi = self.reach_points(nx, ny, pa)
         lo = -self.reach_points(-nx, -ny, pb)
         spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
+        curv = A.om * A.om * A.bound + B.om * B.om * B.bound
         tol = self.s.tol
         du, dv, dax, day = u2 - u1, v2 - v1, B.ax - A.ax, B.ay - A.ay
         best = self.clear_root(lo - hi - tol, spin - (nx * du + ny * dv), math.fabs(nx * dax + ny * day))
-        best = max(best, self._edges_clear(A, x1, y1, ca, sa, pb, spin, du, dv, dax, day, tol))
-        return max(best, self._edges_clear(B, x2, y2, cb, sb, pa, spin, u1 - u2, v1 - v2, A.ax - B.ax,
-                                           A.ay - B.ay, tol))
+        best = self._edges_clear(A, x1, y1, ca, sa, pb, wb, wa, best, spin, curv, du, dv, dax, day, tol)
+        return self._edges_clear(B, x2, y2, cb, sb, pa, wa, wb, best, spin, curv, u1 - u2, v1 - v2, A.ax - B.ax,
+                                 A.ay - B.ay, tol)
 
     def library_separation(self, A: Body, B: Body) -> float:
         """separation of A and B at 0; of two polygons with every vertex from
@@ -213,23 +219,82 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         pb = _rotated_points(B, x2, y2, math.cos(g2), math.sin(g2))
         return self.polygons_separation(A, B, 0.0, pa, pb)
 
-    def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, pts, spin: float, du: float,
-                     dv: float, dax: float, day: float, tol: float) -> float:
-        """clear_root along each edge normal of P (its centre (px, py), cos c
-        and sin s of its angle), held fixed: the gap of the other polygon's
-        vertices pts beyond the edge's line, opened by (du, dv) . normal and
-        (dax, day) (the other body's velocity and acceleration less P's);
-        the largest of the times."""
-        best = 0.0
+    def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, pts, wq, wp, best: float,
+                     spin: float, curv: float, du: float, dv: float, dax: float, day: float, tol: float) -> float:
+        """The larger of best and the time the other polygon Q stays beyond
+        each edge line of P (its centre (px, py), cos c and sin s of its
+        angle) by more than tol, the edge's outward normal o held fixed
+        (s).  Q's vertices pts and their velocities from the turn wq (and
+        P's, wp: _spin_velocities); (du, dv) and (dax, day): Q's velocity
+        and acceleration less P's; spin: the bounds times the turn rates;
+        curv: the bounds times the turn rates squared (m/s^2).
+
+        Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded
+        below twice, and the later of the two roots holds: at the rate
+        spin - o . (du, dv) and |o . (dax, day)| (each point of a body
+        moves along o at most its bound times its turn rate faster than
+        the centre), and by its Taylor polynomial of order 1 at s = 0 less
+        the second derivative's bound: e_k(0) + (o . (du, dv) + o . wq_k -
+        max_m o . wp_m) s - (curv - o . (dax, day)) s^2/2, since the part
+        of a vertex along o that turns is rho cos(phase + w s), whose second
+        derivative is at most rho w^2, and P's support along o is at most
+        the largest of its vertices' such polynomials.  The axis holds
+        until the first of its vertices' roots; an axis whose nearest
+        vertex cannot raise best is skipped, and a vertex whose rate bound
+        already lasts past the axis's time so far is not solved."""
         for ed in P.verts:
             ox = c * ed.nx - s * ed.ny
             oy = s * ed.nx + c * ed.ny
             off = ox * px + oy * py + ed.h
             g = math.inf
-            for qx, qy in pts:
-                g = min(g, ox * qx + oy * qy - off)
-            best = max(best, self.clear_root(g - tol, spin - (ox * du + oy * dv), math.fabs(ox * dax + oy * day)))
+            near = 0
+            gaps = []
+            for k, (qx, qy) in enumerate(pts):
+                e = ox * qx + oy * qy - off
+                if e - tol <= 0.0:
+                    break               # then g - tol <= 0 too: x - tol rises with x
+                gaps.append(e)
+                if e < g:
+                    g = e
+                    near = k
+            if len(gaps) < len(pts) or not (g - tol > 0.0):
+                continue                # not apart along this axis: 0, never above best
+            rv = ox * du + oy * dv
+            lin = spin - rv
+            ao = ox * dax + oy * day
+            qa = math.fabs(ao)
+            q = curv - ao
+            if not (q > 0.0):
+                q = 0.0
+            top = -math.inf
+            for wx, wy in wp:
+                e = ox * wx + oy * wy
+                if e > top:
+                    top = e
+            m = self._vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * wq[near][0] + oy * wq[near][1])), q)
+            if not (m > best):
+                continue
+            for k in range(len(pts)):
+                if k == near:
+                    continue
+                e = gaps[k] - tol
+                if m < math.inf and e - m * (lin + 0.5 * qa * m) >= 0.0:
+                    continue            # its rate bound alone lasts past m
+                t = self._vertex_clear(e, lin, qa, top - (rv + (ox * wq[k][0] + oy * wq[k][1])), q)
+                if t < m:
+                    m = t
+                    if not (m > best):
+                        break
+            if m > best:
+                best = m
         return best
+
+    def _vertex_clear(self, e: float, lin: float, qa: float, r: float, q: float) -> float:
+        """The later of the rate bound's root (clear_root(e, lin, qa)) and
+        the Taylor bound's (clear_root(e, r, q)) of one vertex (s)."""
+        a = self.clear_root(e, lin, qa)
+        b = self.clear_root(e, r, q)
+        return b if b > a else a
 
 
 def _rotated_points(b: Body, x: float, y: float, c: float, s: float) -> list[tuple[float, float]]:
@@ -237,6 +302,25 @@ def _rotated_points(b: Body, x: float, y: float, c: float, s: float) -> list[tup
     and sine s of its angle: the rotation of each vertex's place (lx, ly)
     in the body's frame (m)."""
     return [(x + (c * v.lx - s * v.ly), y + (s * v.lx + c * v.ly)) for v in b.verts]
+
+
+def _spin_velocities(b: Body, c: float, s: float) -> list[tuple[float, float]]:
+    """The velocity of each vertex of polygon b about its centre from its
+    turn (m/s): its offset from the centre (the rotation of its place
+    (lx, ly) by the cosine c and sine s of the body's angle) turned a
+    quarter and times the turn rate."""
+    return [(-(b.om * (s * v.lx + c * v.ly)), b.om * (c * v.lx - s * v.ly)) for v in b.verts]
+
+
+def _bounds_apart(A: Body, B: Body, tol: float) -> bool:
+    """A and B at 0 are farther apart than their bounds and tol, so that
+    their separation exceeds tol (each body lies within its bound about its
+    centre of rotation) and the overlap test can be spared: the centres'
+    distance less the bounds, with a margin of 2^-30 of the sizes for every
+    rounding."""
+    dx, dy, r = B.px - A.px, B.py - A.py, A.bound + B.bound
+    d = math.sqrt(dx * dx + dy * dy)
+    return d - r > tol + TWO_M30 * (d + r + math.fabs(A.px) + math.fabs(A.py) + math.fabs(B.px) + math.fabs(B.py))
 
 
 def _angle_for(lever: float, n: int, tol: float) -> float:
@@ -290,7 +374,7 @@ class Toi:
         p = self.pair
         s = p.s
         s.tol, s.bodies, s.end = tol, [A, B], horizon
-        if p.library_separation(A, B) < -tol:
+        if not _bounds_apart(A, B, tol) and p.library_separation(A, B) < -tol:
             return Result(OVERLAPPED)
         # the windows (docs/simulator.md, "Taylor windows"): both turn, a
         # lever of twice the larger bound plus the larger bound; one turns,

@@ -1062,35 +1062,127 @@ pub(crate) fn library_separation(verts: &[Vertex], a_: &Body, b_: &Body) -> f64 
     polygons_separation(verts, a_, b_, 0.0, &pa, &pb)
 }
 
-/// clear_root along each edge normal of P (its centre (px, py), cos c and
-/// sin s of its angle), held fixed: the gap of the other polygon's
-/// vertices pts beyond the edge's line, opened by (du, dv) . normal and
-/// (dax, day) (the other body's velocity and acceleration less P's); the
-/// largest of the times.
+/// The velocity of each vertex of polygon b about its centre from its turn
+/// (m/s): its offset from the centre (the rotation of its place (lx, ly) by
+/// the cosine c and sine s of b's angle) turned a quarter and times the
+/// turn rate.
+fn spin_velocities(verts: &[Vertex], b: &Body, c: f64, s: f64) -> Vec<(f64, f64)> {
+    (0..b.nverts())
+        .map(|k| {
+            let v = &verts[b.vert(k)];
+            (-(b.om * (s * v.lx + c * v.ly)), b.om * (c * v.lx - s * v.ly))
+        })
+        .collect()
+}
+
+/// The later of the rate bound's root (clear_root(e, lin, qa)) and the
+/// Taylor bound's (clear_root(e, r, q)) of one vertex (s).
+#[inline]
+fn vertex_clear(e: f64, lin: f64, qa: f64, r: f64, q: f64) -> f64 {
+    let a = clear_root(e, lin, qa);
+    let b = clear_root(e, r, q);
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// The larger of best and the time the other polygon Q stays beyond each
+/// edge line of P (its centre (px, py), cos c and sin s of its angle) by
+/// more than tol, the edge's outward normal o held fixed (s).  Q's vertices
+/// pts and their velocities from the turn qw, P's pw ([`spin_velocities`]);
+/// (du, dv) and (dax, day): Q's velocity and acceleration less P's; spin:
+/// the bounds times the turn rates; curv: the bounds times the turn rates
+/// squared (m/s^2).
+///
+/// Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
+/// twice, and the later of the two roots holds: at the rate spin - o . (du,
+/// dv) and |o . (dax, day)| (each point of a body moves along o at most its
+/// bound times its turn rate faster than the centre), and by its Taylor
+/// polynomial of order 1 at s = 0 less the second derivative's bound:
+/// e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
+/// day)) s^2/2, since the part of a vertex along o that turns is
+/// rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
+/// support along o is at most the largest of its vertices' such
+/// polynomials.  The axis holds until the first of its vertices' roots; an
+/// axis whose nearest vertex cannot raise best is skipped, and a vertex
+/// whose rate bound already lasts past the axis's time so far is not solved.
 #[allow(clippy::too_many_arguments)]
 fn edges_clear(
     verts: &[Vertex],
     p_: &Body,
     (px, py, c, s): (f64, f64, f64, f64),
     pts: &[(f64, f64)],
-    spin: f64,
+    qw: &[(f64, f64)],
+    pw: &[(f64, f64)],
+    mut best: f64,
+    (spin, curv): (f64, f64),
     (du, dv, dax, day): (f64, f64, f64, f64),
     tol: f64,
 ) -> f64 {
-    let mut best = 0.0;
+    let mut gaps = vec![0.0f64; pts.len()];
     for j in 0..p_.nverts() {
         let ed = &verts[p_.vert(j)];
         let ox = c * ed.nx - s * ed.ny;
         let oy = s * ed.nx + c * ed.ny;
         let off = ox * px + oy * py + ed.h;
         let mut g = f64::INFINITY;
-        for &(qx, qy) in pts {
+        let mut near = 0;
+        let mut all = true;
+        for (k, &(qx, qy)) in pts.iter().enumerate() {
             let e = ox * qx + oy * qy - off;
+            if e - tol <= 0.0 {
+                all = false; // then g - tol <= 0 too: x - tol rises with x
+                break;
+            }
+            gaps[k] = e;
             if e < g {
-                g = e; // Python's min(g, e)
+                g = e;
+                near = k;
             }
         }
-        best = max(best, clear_root(g - tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs()));
+        if !all || !(g - tol > 0.0) {
+            continue; // not apart along this axis: 0, never above best
+        }
+        let rv = ox * du + oy * dv;
+        let lin = spin - rv;
+        let ao = ox * dax + oy * day;
+        let qa = ao.abs();
+        let mut q = curv - ao;
+        if !(q > 0.0) {
+            q = 0.0;
+        }
+        let mut top = f64::NEG_INFINITY;
+        for &(wx, wy) in pw {
+            let e = ox * wx + oy * wy;
+            if e > top {
+                top = e;
+            }
+        }
+        let mut m = vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * qw[near].0 + oy * qw[near].1)), q);
+        if !(m > best) {
+            continue;
+        }
+        for k in 0..pts.len() {
+            if k == near {
+                continue;
+            }
+            let e = gaps[k] - tol;
+            if m < f64::INFINITY && e - m * (lin + 0.5 * qa * m) >= 0.0 {
+                continue; // its rate bound alone lasts past m
+            }
+            let t = vertex_clear(e, lin, qa, top - (rv + (ox * qw[k].0 + oy * qw[k].1)), q);
+            if t < m {
+                m = t;
+                if !(m > best) {
+                    break;
+                }
+            }
+        }
+        if m > best {
+            best = m;
+        }
     }
     best
 }
@@ -1101,9 +1193,11 @@ fn edges_clear(
 /// along each edge normal of either polygon held fixed as well as along the
 /// line of the centres.  Along a fixed axis the gap closes at most as fast
 /// as the centres' relative motion along it plus each bound times its turn
-/// rate, and the gap of the best separating axis now is the separation, so
-/// this is never shorter than the bound through the norms |x| + |y| and
-/// never longer than the bodies stay apart.
+/// rate, along an edge normal each vertex's gap also stays above its Taylor
+/// polynomial of order 1 less the bound of its second derivative
+/// ([`edges_clear`]), and the gap of the best separating axis now is the
+/// separation, so this is never shorter than the bound through the norms
+/// |x| + |y| and never longer than the bodies stay apart.
 fn clear_polygons<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     let (x1, y1, u1, v1, g1) = state_at(a_, now);
     let (x2, y2, u2, v2, g2) = state_at(b_, now);
@@ -1116,16 +1210,27 @@ fn clear_polygons<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     let (ca, sa, cb, sb) = (g1.cos(), g1.sin(), g2.cos(), g2.sin());
     let pa = rotated_points(w.verts(), a_, x1, y1, ca, sa);
     let pb = rotated_points(w.verts(), b_, x2, y2, cb, sb);
+    let wa = spin_velocities(w.verts(), a_, ca, sa);
+    let wb = spin_velocities(w.verts(), b_, cb, sb);
     let hi = reach_points(nx, ny, &pa);
     let lo = -reach_points(-nx, -ny, &pb);
     let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
+    let curv = a_.om * a_.om * a_.bound + b_.om * b_.om * b_.bound;
     let tol = w.tol();
     let (du, dv, dax, day) = (u2 - u1, v2 - v1, b_.ax - a_.ax, b_.ay - a_.ay);
     let best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), (nx * dax + ny * day).abs());
-    let best = max(best, edges_clear(w.verts(), a_, (x1, y1, ca, sa), &pb, spin, (du, dv, dax, day), tol));
-    max(
+    let best = edges_clear(w.verts(), a_, (x1, y1, ca, sa), &pb, &wb, &wa, best, (spin, curv), (du, dv, dax, day), tol);
+    edges_clear(
+        w.verts(),
+        b_,
+        (x2, y2, cb, sb),
+        &pa,
+        &wa,
+        &wb,
         best,
-        edges_clear(w.verts(), b_, (x2, y2, cb, sb), &pa, spin, (u1 - u2, v1 - v2, a_.ax - b_.ax, a_.ay - b_.ay), tol),
+        (spin, curv),
+        (u1 - u2, v1 - v2, a_.ax - b_.ax, a_.ay - b_.ay),
+        tol,
     )
 }
 
