@@ -761,8 +761,9 @@ def window_context(target, section: ExactSection, variants, selection, taken: se
     and cosines of the shifted phases) are computed once.  The expressions
     are the ones NAME_coefficients and NAME_truncation print, so the values
     are theirs to the bit.  None for single precision (the driver then
-    calls the entries one by one)."""
-    if section.polynomial or target.single or not variants:
+    calls the entries one by one), and for a target without the entry
+    (`window_entry`)."""
+    if section.polynomial or target.single or not variants or not target.window_entry:
         return None
     params = section.params
     pset = set(params)

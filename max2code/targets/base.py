@@ -30,6 +30,10 @@ class Target:
     gsl_baseline: ClassVar[str | None] = None  # the conformance name of its GSL baseline testee, if any
     requires: ClassVar[str] = ""               # what must be installed to build and run its code
     links: ClassVar[str] = ""                  # how generated code and the runtime link into a program
+    # the exact code's NAME_window entry (every variant's coefficients again, beside the truncation
+    # bound, sharing their sines and cosines); without it the driver calls shift, coefficients and
+    # truncation one by one, with the same answers to the bit
+    window_entry: ClassVar[bool] = True
     # names a parameter or equation may not take (max2code/generate/names.py asks every target
     # through reserved_as): (what they are, the names), e.g. the language's keywords, the library
     # names the generated file can see, the names the printer and templates use

@@ -14,6 +14,10 @@ class Modula2(Target):
     gsl_baseline = "gsl-m2"
     requires = "gm2 (GCC 12 or later, `-fiso`)"
     links = "`#include` eq.mxd in your module (`gm2 -fcpp`); link Roots.o and ExactToc.o"
+    # gm2 12's front end takes time in the square of a module's length: circle-circle's window entry
+    # (its 64 variants again) makes the including module compile in about 260 s of CPU instead of 56 s,
+    # for about 10 % less time per exact query
+    window_entry = False
     def zero_test(self, names) -> str:
         # AND binds tighter than = in Modula-2: parenthesise each test
         return " AND ".join(f"({n} = {self.real_literal(0.0)})" for n in names)
