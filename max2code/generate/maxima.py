@@ -22,6 +22,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from max2code import paths
 from max2code.errors import Max2CodeError, SourceError, Span
 
 DRIVER_VERSION = "2"   # bump when the script layout or the cache entry changes: it is part of the cache key
@@ -252,12 +253,6 @@ def _entry_digest(items: dict, output_lines: int) -> str:
     return hashlib.sha256(json.dumps({"items": items, "output_lines": output_lines}, sort_keys=True).encode()).hexdigest()
 
 
-def _cache_dir() -> Path:
-    base = os.environ.get("MAX2CODE_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "max2code")
-    return Path(base)
-
-
 def _lisp_string(s: str) -> str:
     return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
@@ -369,7 +364,7 @@ def run_maxima(prelude: list[str], statements: list[Statement], items: dict[str,
             key_src = json.dumps({"driver": DRIVER_VERSION, "maxima": version, "program": program,
                                   "environment": _environment(), "files": files, "prelude": prelude,
                                   "statements": [s.text for s in stmts], "items": items}, sort_keys=True)
-            cache_file = _cache_dir() / (hashlib.sha256(key_src.encode()).hexdigest() + ".json")
+            cache_file = paths.cache_dir() / (hashlib.sha256(key_src.encode()).hexdigest() + ".json")
     if cache_file is not None and cache_file.exists():
         try:
             data = json.loads(cache_file.read_text(encoding="utf-8"))
