@@ -146,13 +146,18 @@ def _hash_tree(path, h) -> None:
             h.update(fh.read())
 
 
+# the form of build.stamp's digest (_build_simulator): part of every build's
+# key, so that a folder stamped in another form is built again
+STAMP_FORM = "paths-relative-to-the-folder"
+
+
 def _build_key(lang: str, effects: tuple[str, ...], order: int) -> tuple[Path, str]:
     """The build's folder and the hash (hex) of everything it depends on but
     Maxima's version (its results are cached by version anyway): the hash
     remembered for the files' stat when none changed (max2code/filestate.py),
     else computed from their bytes."""
     workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
-    head = json.dumps([lang, list(effects), order, __version__])
+    head = json.dumps([lang, list(effects), order, __version__, STAMP_FORM])
     trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang)]
     now = filestate.state([*map(str, EQUATIONS.values()), *(p for tree in trees for p in tree)], head)
     memo = workdir / "inputs.state"
@@ -239,7 +244,9 @@ def _build_simulator(lang: str, effects: tuple[str, ...], order: int, progress: 
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
     cmds = tc.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
-    h.update(json.dumps(cmds).encode())     # new flags rebuild too
+    # new flags rebuild too; the folder's own path is left out, so a build
+    # folder copied elsewhere whole keeps its stamp
+    h.update(json.dumps(cmds).replace(json.dumps(str(workdir))[1:-1], "WORKDIR").encode())
     digest = h.hexdigest()
     run = tc.sim_run(str(workdir), generated)
     if not stamp.exists() or stamp.read_text() != digest or not _runnable(run):     # a deleted program too
