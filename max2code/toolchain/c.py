@@ -77,6 +77,9 @@ class CToolchain(Toolchain):
     def install_runtime(self, prefix: str) -> str:
         prefix = os.path.abspath(prefix)
         with build_lock(BUILD / "c-install"):
+            # m2c.pc holds PREFIX, and make remakes it only when the Makefile changed: an
+            # install to another prefix from the same build folder writes it again
+            (BUILD / "c-install" / "m2c.pc").unlink(missing_ok=True)
             run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c-install'}",
                  f"PREFIX={prefix}", "install"], C_RUNTIME)
         return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
