@@ -99,14 +99,6 @@ def _read_polynomial(text: str, variable: str) -> Polynomial:
     return collect(read_expr(text), variable)
 
 
-@functools.lru_cache(maxsize=256)
-def _lower(poly: Polynomial, name: str, doc: str, params: tuple[str, ...], docs: tuple[str, ...], origin,
-           shared: bool) -> FunctionIR:
-    """lower, remembered by its arguments (all immutable, as is the FunctionIR
-    it returns): the same equation's variants for another language are lowered once."""
-    return lower(poly, name, doc, params, docs, origin, shared=shared)
-
-
 def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_cache: bool = True,
                     timeout: float = DEFAULT_TIMEOUT, progress: bool = False, shared: bool = True) -> list[Variant]:
     """All variants reachable in a world with `effects` (None: every effect)."""
@@ -157,7 +149,7 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
         zeros = tuple(sorted({p for s in best for p in s.params}))
         name = mod.equation + "".join("_" + s.label for s in best)
         _progress(progress, min(2 + n, len(combos) + 1), len(combos) + 2, f"lowering {name}")
-        fn = _lower(poly, name, mod.doc, params, docs, origin, shared)
+        fn = lower(poly, name, mod.doc, params, docs, origin, shared=shared)
         aliases = tuple("+".join(s.label for s in combos[i]) or "full" for i in members[1:])
         variants.append(Variant(name, best, zeros, poly, fn, aliases))
     _progress(progress, len(combos) + 2, len(combos) + 2, f"{len(variants)} variants")
