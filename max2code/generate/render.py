@@ -81,7 +81,8 @@ def _function_context(target: Target, fn: FunctionIR, note: str, mxm_name: str, 
     out_array = "coef"
     while out_array in fn.params or out_array in {a.name for a in fn.derived + fn.temps}:
         out_array += "_"
-    used = [p for p in fn.params if p not in fn.unused_params]
+    unused = set(fn.unused_params)      # a walk of every tree: once, not once per parameter
+    used = [p for p in fn.params if p not in unused]
     return {"fn": fn, "body": body, "locals": [a.name for a in fn.derived + fn.temps], "out": out_array, "note": note,
             "used": used}
 

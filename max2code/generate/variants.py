@@ -9,6 +9,7 @@ cost, cheapest first: the order in which the selection logic tests them.
 """
 from __future__ import annotations
 
+import functools
 import itertools
 from dataclasses import dataclass
 
@@ -89,6 +90,15 @@ def _progress(on: bool, i: int, n: int, what: str) -> None:
         bar(i, n, what)
 
 
+@functools.lru_cache(maxsize=256)
+def _read_polynomial(text: str, variable: str) -> Polynomial:
+    """Maxima's text of a variant's polynomial, read and collected in powers
+    of `variable` (an immutable Polynomial): remembered by the text, since
+    one process generates the same equation for several languages and
+    reading is most of the Python side of the variants."""
+    return collect(read_expr(text), variable)
+
+
 def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_cache: bool = True,
                     timeout: float = DEFAULT_TIMEOUT, progress: bool = False, shared: bool = True) -> list[Variant]:
     """All variants reachable in a world with `effects` (None: every effect)."""
@@ -116,7 +126,7 @@ def derive_variants(derivation, *, effects: tuple[str, ...] | None = None, use_c
     polys: list[Polynomial] = []
     for i in range(len(combos)):
         try:
-            polys.append(collect(read_expr(res.items[f"v{i}"]), mod.variable))
+            polys.append(_read_polynomial(res.items[f"v{i}"], mod.variable))
         except (MaximaOutputError, NotPolynomial) as exc:
             raise SourceError(origin, f"variant {i}: {exc}") from None
     _progress(progress, 1, len(combos) + 2, "Maxima checks every collection")

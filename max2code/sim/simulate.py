@@ -146,13 +146,18 @@ def _hash_tree(path, h) -> None:
             h.update(fh.read())
 
 
+# the form of build.stamp's digest (_build_simulator): part of every build's
+# key, so that a folder stamped in another form is built again
+STAMP_FORM = "paths-relative-to-the-folder"
+
+
 def _build_key(lang: str, effects: tuple[str, ...], order: int) -> tuple[Path, str]:
     """The build's folder and the hash (hex) of everything it depends on but
     Maxima's version (its results are cached by version anyway): the hash
     remembered for the files' stat when none changed (max2code/filestate.py),
     else computed from their bytes."""
     workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
-    head = json.dumps([lang, list(effects), order, __version__])
+    head = json.dumps([lang, list(effects), order, __version__, STAMP_FORM])
     trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang)]
     now = filestate.state([*map(str, EQUATIONS.values()), *(p for tree in trees for p in tree)], head)
     memo = workdir / "inputs.state"
@@ -239,20 +244,27 @@ def _build_simulator(lang: str, effects: tuple[str, ...], order: int, progress: 
         h.update(out.text.encode())
     _hash_tree(RUNTIMES / lang, h)
     cmds = tc.sim_build(str(workdir), generated, {eq: len(n) for eq, n in names.items()})
-    h.update(json.dumps(cmds).encode())     # new flags rebuild too
+    # new flags rebuild too; the folder's own path is left out, so a build
+    # folder copied elsewhere whole keeps its stamp
+    h.update(json.dumps(cmds).replace(json.dumps(str(workdir))[1:-1], "WORKDIR").encode())
     digest = h.hexdigest()
     run = tc.sim_run(str(workdir), generated)
     if not stamp.exists() or stamp.read_text() != digest or not _runnable(run):     # a deleted program too
-        for cmd in cmds:
-            proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                                  timeout=1800)
-            if proc.returncode != 0:
-                raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
-                                    f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
+        _run_build(lang, workdir, cmds)
         stamp.write_text(digest)
     names_file.write_text(json.dumps({"names": names, "generated": generated, "run": run}), encoding="utf-8")
     inputs_stamp.write_text(key)
     return SimBuild(lang, str(workdir), run, names, generated)
+
+
+def _run_build(lang: str, workdir: Path, cmds: list[list[str]]) -> None:
+    """Run a build's commands in workdir, in order; SimulateError with the failing command's output."""
+    for cmd in cmds:
+        proc = subprocess.run(cmd, cwd=workdir, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                              timeout=1800)
+        if proc.returncode != 0:
+            raise SimulateError(f"{lang} simulator did not build: {' '.join(map(str, cmd))}\n"
+                                f"{proc.stdout[-3000:]}{proc.stderr[-3000:]}")
 
 
 def world_library(scene: Scene, lang: str = "c", *, progress: bool = False) -> Path:
@@ -260,11 +272,40 @@ def world_library(scene: Scene, lang: str = "c", *, progress: bool = False) -> P
     built with the equations of the scene's effects (beside its simulator,
     built when needed): for ctypes and other programs.  SimulateError when
     `lang` makes none."""
+    return effects_world_library(lang, scene.effects, scene.taylor_order, progress=progress)
+
+
+def effects_world_library(lang: str, effects: tuple[str, ...], order: int, *, progress: bool = False) -> Path:
+    """world_library for these effects and Taylor order: built on demand
+    (the simulator's build makes only its program), once per simulator build
+    (its stamp world.stamp names the build.stamp it was made from), under the
+    lock of the simulator's folder."""
     name = toolchain(lang).world_library
     if name is None:
         raise SimulateError(f"the {lang} simulator has no shared library of the world API")
-    build = build_simulator(lang, scene.effects, scene.taylor_order, progress=progress)
-    return Path(build.workdir) / name
+    build = built_simulator(lang, effects, order)
+    if build is not None and _world_fresh(Path(build.workdir), name):
+        return Path(build.workdir) / name
+    workdir, _ = _build_key(lang, effects, order)
+    from max2code.toolchain.tools import build_lock
+    with build_lock(workdir):
+        build = built_simulator(lang, effects, order) or _build_simulator(lang, effects, order, progress)
+        if not _world_fresh(workdir, name):
+            tc = toolchain(lang)
+            cmds = tc.world_build(build.workdir, build.generated,
+                                  {eq: len(n) for eq, n in build.variant_names.items()})
+            _run_build(lang, workdir, cmds)
+            (workdir / "world.stamp").write_text((workdir / "build.stamp").read_text())
+    return workdir / name
+
+
+def _world_fresh(workdir: Path, name: str) -> bool:
+    """The world library in workdir was made from the simulator build there now."""
+    try:
+        return ((workdir / name).exists()
+                and (workdir / "world.stamp").read_text() == (workdir / "build.stamp").read_text())
+    except OSError:
+        return False
 
 
 def _num(w: str) -> str:

@@ -62,8 +62,14 @@ class Toolchain:
         raise NotImplementedError(f"{type(self).__name__} must define sim_build and sim_run (simulator = True)")
 
     # the file name of the shared library of the live world API (docs/engine-api.md)
-    # that sim_build also makes in workdir, or None when it makes none
+    # that world_build makes in sim_build's workdir, or None when it makes none
     world_library: ClassVar[str | None] = None
+
+    def world_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
+        """Commands that build the shared library `world_library` in sim_build's
+        workdir (beside the built simulator, from the same generated files), run
+        only when it is asked for (max2code.sim.simulate.world_library)."""
+        raise NotImplementedError(f"{type(self).__name__} names a world_library but does not define world_build")
 
     # ---- conformance testee (docs/roots.md, "Conformance suite") -------
     def testee(self, baseline: bool = False) -> list[str]:

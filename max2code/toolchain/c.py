@@ -44,6 +44,17 @@ def c_pic_library() -> Path:
     return BUILD / "c" / "libm2c_pic.a"
 
 
+def _variant_counts(variants: dict[str, int]) -> list[str]:
+    """The defines that tell the simulator how many variants each generated NAME_variant counts."""
+    return [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}", f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
+
+
+def _sim_sources() -> list[str]:
+    """The simulator's sources (runtimes/c/src/m2c_sim*.c) and the pair computation it shares with the TOI library."""
+    src = C_RUNTIME / "src"
+    return sorted(str(p) for p in src.glob("m2c_sim*.c")) + [str(src / "m2c_toi.c")]
+
+
 class CToolchain(Toolchain):
     name = "c"
     tools = ("gcc", "pkg-config")
@@ -66,6 +77,9 @@ class CToolchain(Toolchain):
     def install_runtime(self, prefix: str) -> str:
         prefix = os.path.abspath(prefix)
         with build_lock(BUILD / "c-install"):
+            # m2c.pc holds PREFIX, and make remakes it only when the Makefile changed: an
+            # install to another prefix from the same build folder writes it again
+            (BUILD / "c-install" / "m2c.pc").unlink(missing_ok=True)
             run(["make", "-s", "-C", str(C_RUNTIME), f"BUILD={BUILD / 'c-install'}",
                  f"PREFIX={prefix}", "install"], C_RUNTIME)
         return (f"installed libm2c (static and shared), m2c_roots.h, m2c_exact.h and m2c.pc under {prefix}; build with\n"
@@ -84,9 +98,9 @@ class CToolchain(Toolchain):
         against the declarations of m2c_sim_equations.h), then the simulator
         (runtimes/c/src/m2c_sim*.c and the pair computation it shares with the
         TOI library, m2c_toi.c) with its program, told how many variants
-        each NAME_variant counts, and link them with libm2c.a into workdir/sim;
-        the same world (m2c_world.h) with libm2c's position-independent
-        objects into workdir/libm2c_world.so."""
+        each NAME_variant counts, and link them with libm2c.a into workdir/sim
+        (the shared library of the world is world_build's, made only when
+        asked for)."""
         c = C_RUNTIME
         lib = c_library()
         inc, src = c / "include", c / "src"
@@ -98,20 +112,25 @@ class CToolchain(Toolchain):
             cmds.append([*SIM_FLAGS, "-Wno-array-parameter", f"-I{inc}", "-include", str(src / "m2c_sim_equations.h"),
                          "-c", generated[eq], "-o", obj])
             objs.append(obj)
-        counts = [f"-DM2C_SIM_CC_VARIANTS={variants['circle_circle']}",
-                  f"-DM2C_SIM_PE_VARIANTS={variants['point_edge']}"]
-        sources = sorted(str(p) for p in src.glob("m2c_sim*.c")) + [str(src / "m2c_toi.c")]
-        cmds.append([*SIM_FLAGS, f"-I{inc}", f"-I{src}", *counts, *sources, str(c / "tools" / "m2c_sim_main.c"),
-                     *objs, "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
-        # the same world as a shared library, for ctypes and other programs (m2c_world.h)
-        pic_objs = []
+        cmds.append([*SIM_FLAGS, f"-I{inc}", f"-I{src}", *_variant_counts(variants), *_sim_sources(),
+                     str(c / "tools" / "m2c_sim_main.c"), *objs, "-o", os.path.join(workdir, "sim"), str(lib), "-lm"])
+        return cmds
+
+    def world_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
+        """Commands that build the world of sim_build's program (m2c_world.h)
+        as a shared library, for ctypes and other programs: the same sources
+        and generated files, compiled position-independent and linked with
+        libm2c's position-independent objects into workdir/libm2c_world.so."""
+        inc, src = C_RUNTIME / "include", C_RUNTIME / "src"
+        cmds, pic_objs = [], []
         for eq in ("circle_circle", "point_edge"):
             obj = os.path.join(workdir, eq + ".pic.o")
             cmds.append([*SIM_FLAGS, "-fPIC", "-Wno-array-parameter", f"-I{inc}", "-include",
                          str(src / "m2c_sim_equations.h"), "-c", generated[eq], "-o", obj])
             pic_objs.append(obj)
-        cmds.append([*SIM_FLAGS, "-fPIC", "-shared", f"-I{inc}", f"-I{src}", *counts, *sources, *pic_objs, "-o",
-                     os.path.join(workdir, WORLD_LIBRARY), str(c_pic_library()), "-lm"])
+        cmds.append([*SIM_FLAGS, "-fPIC", "-shared", f"-I{inc}", f"-I{src}", *_variant_counts(variants),
+                     *_sim_sources(), *pic_objs, "-o", os.path.join(workdir, WORLD_LIBRARY), str(c_pic_library()),
+                     "-lm"])
         return cmds
 
     def sim_run(self, workdir: str, generated: dict[str, str]) -> list[str]:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from max2code.generate.variants import WORLD_EFFECTS
 from max2code.paths import BUILD, RUNTIMES
-from max2code.sim.simulate import build_simulator
+from max2code.sim.simulate import build_simulator, effects_world_library
 
 ORDER = 4       # the Taylor order of the library's generated polynomials (the simulator's default)
 
@@ -43,8 +43,7 @@ def python_toi(order: int = ORDER, tol: float = 1e-9):
 def c_library(order: int = ORDER) -> Path:
     """The shared library holding m2c_toi (m2c_toi.h) with the generated C
     of every effect: the simulator build's libm2c_world.so, which exports it."""
-    build = build_simulator("c", WORLD_EFFECTS, order)
-    return Path(build.workdir) / "libm2c_world.so"
+    return effects_world_library("c", WORLD_EFFECTS, order)
 
 
 def c_program(source: Path, name: str, order: int = ORDER) -> Path:

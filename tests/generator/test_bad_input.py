@@ -308,19 +308,29 @@ def test_a_simulator_program_deleted_from_its_build_is_built_again(tmp_path, cap
     """The build stamps match but the program is gone (deleted, or replaced
     by another run at that moment): simulate builds it again and runs, and
     writes its output file (not `-o FILE: cannot write`).  In a build folder
-    of its own: the shared one's program may be running in another test."""
+    of its own (the shared one's program may be running in another test):
+    a copy of the shared build, whose stamps hold for the copy too (they
+    leave the folder's path out), with the program deleted."""
+    import shutil
     from max2code.sim import simulate
     from max2code.sim.scene import load_scene
-    from max2code.sim.simulate import build_simulator
-    monkeypatch.setattr(simulate, "BUILD", tmp_path / "build")
+    from max2code.sim.simulate import build_simulator, built_simulator
     path = os.path.join(ROOT, "examples", "newtons-cradle.json")
     scene = load_scene(path)
-    program = build_simulator("c", scene.effects, scene.taylor_order).run_cmd[0]
+    shared = build_simulator("c", scene.effects, scene.taylor_order).workdir
+    monkeypatch.setattr(simulate, "BUILD", tmp_path / "build")
+    own = simulate._build_key("c", scene.effects, scene.taylor_order)[0]
+    shutil.copytree(shared, own, ignore=shutil.ignore_patterns(".lock", "*.so", "*.pic.o"))
+    program = built_simulator("c", scene.effects, scene.taylor_order).run_cmd[0]
+    assert program.startswith(str(own))
+    stamp = (own / "build.stamp").read_text()
     os.unlink(program)
+    assert built_simulator("c", scene.effects, scene.taylor_order) is None
     out = tmp_path / "t.jsonl"
     code, _, err = run(capsys, "simulate", "--lang", "c", path, "-q", "-o", out)
     assert code == 0, err
     assert os.path.exists(program) and out.read_text().count("\n") > 100
+    assert (own / "build.stamp").read_text() == stamp
 
 
 def test_a_simulator_that_cannot_start_is_named(tmp_path, monkeypatch):

@@ -1,7 +1,8 @@
 """The C world API (runtimes/c/include/m2c_world.h, docs/engine-api.md):
 the example program of the docs compiles warning-free against the
-libm2c_world.so that the simulator's build makes and reports the contacts
-of the batch trace; two worlds at once, driven in different steps through
+libm2c_world.so that world_library builds beside the simulator and reports
+the contacts of the batch trace; the library is built on demand, not by the
+simulator's build; two worlds at once, driven in different steps through
 ctypes, write the batch bytes."""
 from __future__ import annotations
 
@@ -14,8 +15,8 @@ import subprocess
 import pytest
 
 from max2code.sim.scene import compile_scene, load_scene
-from max2code.sim.simulate import run_scene, world_library
-from max2code.toolchain.c import FLAGS
+from max2code.sim.simulate import build_simulator, run_scene, world_library
+from max2code.toolchain.c import FLAGS, WORLD_LIBRARY, CToolchain
 
 pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts/test --fast leaves it out)
 
@@ -23,6 +24,27 @@ pytestmark = pytest.mark.slow      # builds or runs the native runtimes (scripts
 ROOT = next(str(p) for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 INCLUDE = os.path.join(ROOT, "runtimes", "c", "include")
 EXAMPLE = os.path.join(ROOT, "runtimes", "c", "examples", "world_loop.c")
+
+
+def test_the_world_library_is_built_on_demand_once_per_simulator_build():
+    """The simulator's build makes only its program (`max2code simulate` needs
+    no shared library); world_library makes the library from the same
+    generated files and the same simulator build, and a second call finds it
+    made (its stamp names the simulator build it was made from)."""
+    scene = load_scene(os.path.join(ROOT, "examples", "newtons-cradle.json"))
+    build = build_simulator("c", scene.effects, scene.taylor_order)
+    variants = {eq: len(n) for eq, n in build.variant_names.items()}
+    program = CToolchain().sim_build(build.workdir, build.generated, variants)
+    world = CToolchain().world_build(build.workdir, build.generated, variants)
+    assert not any(WORLD_LIBRARY in arg or arg == "-fPIC" for cmd in program for arg in cmd)
+    assert world[-1][world[-1].index("-o") + 1] == os.path.join(build.workdir, WORLD_LIBRARY)
+    assert all(g in (arg for cmd in world for arg in cmd) for g in build.generated.values())
+    lib = world_library(scene)
+    assert lib == Path(build.workdir) / WORLD_LIBRARY and lib.exists()
+    stamps = Path(build.workdir) / "world.stamp", Path(build.workdir) / "build.stamp"
+    assert stamps[0].read_text() == stamps[1].read_text()
+    made = lib.stat().st_mtime_ns
+    assert world_library(scene) == lib and lib.stat().st_mtime_ns == made
 
 
 def test_the_docs_example_program_runs(tmp_path):

@@ -2,7 +2,8 @@
  * in argv[1] is advanced frame by frame at 60 frames per second; each
  * contact is printed as it is handled, and body argv[2]'s exact state at
  * every 30th frame.  Build it against the libm2c_world.so that
- * `max2code simulate --lang c` makes beside its simulator:
+ * max2code.sim.simulate.world_library(scene) makes beside the simulator of
+ * the scene's effects:
  *
  *   cc -std=c11 -Iruntimes/c/include world_loop.c DIR/libm2c_world.so -Wl,-rpath,DIR -o world_loop
  *   ./world_loop scene.txt 0

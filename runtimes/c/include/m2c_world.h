@@ -4,8 +4,8 @@
  * A world is a scene being simulated: advance it to any time, read the
  * exact state of any body between events, change velocities at the current
  * time.  It is built with the generated contact equations of its scene's
- * effects (`max2code simulate` builds it, and libm2c_world.so beside the
- * simulator program).  Worlds share nothing: two may run at once (not one
+ * effects (max2code.sim.simulate.world_library builds it as libm2c_world.so
+ * beside the simulator program).  Worlds share nothing: two may run at once (not one
  * from two threads at once).  Times in s, lengths in m, angles in rad,
  * velocities in m/s, impulses in kg m/s. */
 #ifndef M2C_WORLD_H
