@@ -175,6 +175,23 @@ def test_conformance_cases_keep_their_bits(circles_py):
     assert n > 150
 
 
+def _face_each_other(p, D, dist, t):
+    """Turn both circular orbits (radii at least 0.05) so that at time t
+    each offset points at the other circle along D, the centres' difference
+    without orbits (length dist): the orbits' whole reach closes the gap.
+    The radii, or None when the circles are too close for it."""
+    d1, d2 = max(p["d"], 0.05), max(p["j"], 0.05)
+    if dist < d1 + d2 + 0.1:
+        return None
+    ux, uy = D[0] / dist, D[1] / dist
+    for rad, w, f, wy, q, sign, dk in (("d", "e", "f", "p", "q", -1.0, d1), ("j", "k", "l", "v", "w", 1.0, d2)):
+        p[rad] = dk
+        p[wy] = p[w]
+        p[q] = math.atan2(sign * uy, sign * ux) - (p[w] * t if t else 0.0)
+        p[f] = p[q] + math.pi / 2
+    return d1, d2
+
+
 @settings(max_examples=200, deadline=None)
 @given(circle_params(), st.floats(0.1, 10.0), st.floats(0.0, 1.0), st.floats(-1e-3, 1e-3))
 def test_the_bound_is_tight_where_the_orbits_face_each_other(p, T, frac, slack):
@@ -189,15 +206,10 @@ def test_the_bound_is_tight_where_the_orbits_face_each_other(p, T, frac, slack):
     D = [(p[a] + p[b] * t + p[c] * t * t / 2) - (p[g] + p[h] * t + p[i] * t * t / 2)
          for a, b, c, g, h, i in (("a", "b", "c", "g", "h", "i"), ("m", "n", "o", "r", "s", "u"))]
     dist = math.hypot(*D)
-    d1, d2 = max(p["d"], 0.05), max(p["j"], 0.05)
-    if dist < d1 + d2 + 0.1:
+    radii = _face_each_other(p, D, dist, t)
+    if radii is None:
         return
-    ux, uy = D[0] / dist, D[1] / dist
-    for rad, w, f, wy, q, sign, dk in (("d", "e", "f", "p", "q", -1.0, d1), ("j", "k", "l", "v", "w", 1.0, d2)):
-        p[rad] = dk
-        p[wy] = p[w]
-        p[q] = math.atan2(sign * uy, sign * ux) - p[w] * t
-        p[f] = p[q] + math.pi / 2
+    d1, d2 = radii
     total = dist - d1 - d2 + slack
     p["x"], p["z"] = 0.4 * total, 0.6 * total
     ix = [CC.index(c) for c in "ambncodefpqxgrhsiujklvwz"]
@@ -236,15 +248,10 @@ def test_the_gap_at_zero_is_above_its_lower_bound(p, slack, facing):
     D = [p["a"] - p["g"], p["m"] - p["r"]]
     dist = math.hypot(*D)
     if facing:
-        d1, d2 = max(p["d"], 0.05), max(p["j"], 0.05)
-        if dist < d1 + d2 + 0.1:
+        radii = _face_each_other(p, D, dist, 0.0)
+        if radii is None:
             return
-        ux, uy = D[0] / dist, D[1] / dist
-        for rad, w, f, wy, q, sign, dk in (("d", "e", "f", "p", "q", -1.0, d1), ("j", "k", "l", "v", "w", 1.0, d2)):
-            p[rad] = dk
-            p[wy] = p[w]
-            p[q] = math.atan2(sign * uy, sign * ux)
-            p[f] = p[q] + math.pi / 2
+        d1, d2 = radii
         total = dist - d1 - d2 + slack
         if total <= 0.0:
             return
