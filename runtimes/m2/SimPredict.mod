@@ -40,6 +40,9 @@ CONST
       window) one prediction of a pair goes through before it leaves the rest
       to a horizon *)
    Chain = 8 ;
+   (* windows: a clear stretch of two turning polygons shorter than this
+      leads straight to the window at its end (the TOI library only) *)
+   Straight = 4.0 ;
    (* CirclesApart's margins: far above the coefficients' rounding *)
    TwoM40 = 1.0 / 1099511627776.0 ;
    TwoM30 = 1.0 / 1073741824.0 ;
@@ -858,47 +861,55 @@ BEGIN
 END spin_velocities ;
 
 
-(* The later of the rate bound's root (clear_root (e, lin, qa)) and the
-   Taylor bound's (clear_root (e, r, q)) of one vertex (s). *)
-PROCEDURE vertex_clear (e, lin, qa, r, q: REAL) : REAL ;
-VAR
-   a, b: REAL ;
-BEGIN
-   a := clear_root (e, lin, qa) ;
-   b := clear_root (e, r, q) ;
-   IF b > a THEN RETURN b END ;
-   RETURN a
-END vertex_clear ;
+(* The larger of best and the time the other polygon Q (its centre (qx,
+   qy)) stays beyond some edge line of P (its centre (px, py), cos c and
+   sin s of its angle) by more than the tolerance (s).  Q's n vertices (xs,
+   ys) and their velocities from the turn (qwx, qwy) (spin_velocities);
+   (du, dv) and (dax, day): Q's velocity and acceleration less P's; spin:
+   the bounds times the turn rates; span: the time of one radian of the two
+   turns together (s), the reach of the turning bound.
 
-
-(* The larger of best and the time the other polygon Q stays beyond each
-   edge line of P (its centre (px, py), cos c and sin s of its angle) by
-   more than the tolerance, the edge's outward normal o held fixed (s).
-   Q's n vertices (xs, ys) and their velocities from the turn (qwx, qwy),
-   P's (pwx, pwy) (spin_velocities); (du, dv) and (dax, day): Q's velocity
-   and acceleration less P's; spin: the bounds times the turn rates; curv:
-   the bounds times the turn rates squared (m/s^2).
-
-   Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
-   twice, and the later of the two roots holds: at the rate spin - o . (du,
-   dv) and |o . (dax, day)| (each point of a body moves along o at most its
-   bound times its turn rate faster than the centre), and by its Taylor
-   polynomial of order 1 at s = 0 less the second derivative's bound:
-   e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
-   day)) s^2/2, since the part of a vertex along o that turns is
-   rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
-   support along o is at most the largest of its vertices' such
-   polynomials.  The axis holds until the first of its vertices' roots; an
-   axis whose nearest vertex cannot raise best is skipped, and a vertex
-   whose rate bound already lasts past the axis's time so far is not
+   Along the edge's outward normal o held fixed, every vertex of Q stays
+   beyond P's support until the root of the rate bound e - (spin - o . (du,
+   dv)) s - |o . (dax, day)| s^2/2 of the nearest vertex's gap e (each
+   point of a body moves along o at most its bound times its turn rate
+   faster than the centre).  Along the normal n(s) turning with P, P's
+   support is the edge's own line, and vertex k's gap g(s) = n(s) . (d(s) +
+   r_k(s)) - h (d: Q's centre less P's, r_k: the vertex about Q's centre)
+   has, with the turn rates wp and wq, the derivatives g1 = wp n_ . u + n .
+   (dv + w_k) and g2 = -wp^2 n . u + 2 wp n_ . (dv + w_k) + n . da - wq^2 n
+   . r_k at 0 (u = d + r_k, n_ the normal turned a quarter, w_k the
+   vertex's velocity from the turn); over [0, span] the third derivative is
+   at most J = |wp|^3 D + 3 wp^2 V + 3 |wp| |da| + bound_Q |wq - wp|^3 and
+   the first at most |wp| D + V + bound_Q |wq - wp| (D, V: bounds of |d|
+   and |d'| over the span), so g stays above g(0) + g1 s + (g2 - J span/3)
+   s^2/2 until that bound's root (at most span).  The axis holds until the
+   later of the two; the turning normal is taken only where it can raise
+   the axis and best, nearest vertex first, and a vertex whose
+   first-derivative bound already lasts past the time so far is not
    solved. *)
-PROCEDURE edges_clear (P: BodyRef; px, py, c, s: REAL; VAR xs, ys, qwx, qwy, pwx, pwy: ARRAY OF REAL;
-                       n: INTEGER; best, spin, curv, du, dv, dax, day: REAL) : REAL ;
+PROCEDURE edges_clear (P: BodyRef; px, py, c, s: REAL; Q: BodyRef; qx, qy: REAL;
+                       VAR xs, ys, qwx, qwy: ARRAY OF REAL; n: INTEGER;
+                       best, spin, span, du, dv, dax, day: REAL) : REAL ;
 VAR
-   ox, oy, off, g, e, t, rv, lin, ao, qa, q, top, m: REAL ;
-   j, k, near: INTEGER ;
-   stop: BOOLEAN ;
+   ox, oy, off, g, e, t, m, mt, wp, wr, vel, acc, cx, cy, dist, vmax, aw, dw, jerk, rate,
+   ux, uy, vx, vy, g1, g2, qq: REAL ;
+   i, j, k, near: INTEGER ;
+   stop, turning: BOOLEAN ;
 BEGIN
+   wp := P^.om ;
+   wr := Q^.om ;
+   vel := sqrt (du * du + dv * dv) ;
+   acc := sqrt (dax * dax + day * day) ;
+   cx := qx - px ;
+   cy := qy - py ;
+   dist := sqrt (cx * cx + cy * cy) + (vel + 0.5 * acc * span) * span ;
+   vmax := vel + acc * span ;
+   aw := ABS (wp) ;
+   dw := ABS (wr - wp) ;
+   jerk := (aw * aw * aw * dist + 3.0 * aw * aw * vmax + 3.0 * aw * acc + Q^.bound * dw * dw * dw) * span / 3.0 ;
+   rate := aw * dist + vmax + Q^.bound * dw ;
+   turning := (span > 0.0) AND (span <= MAX (REAL)) AND (jerk <= MAX (REAL)) AND (rate <= MAX (REAL)) ;
    FOR j := 0 TO P^.nv - 1 DO
       ox := c * Verts^[P^.v0 + j].nx - s * Verts^[P^.v0 + j].ny ;
       oy := s * Verts^[P^.v0 + j].nx + c * Verts^[P^.v0 + j].ny ;
@@ -922,37 +933,43 @@ BEGIN
       END ;
       (* not apart along this axis: 0, never above best *)
       IF (NOT stop) AND (g - Tol > 0.0) THEN
-         rv := ox * du + oy * dv ;
-         lin := spin - rv ;
-         ao := ox * dax + oy * day ;
-         qa := ABS (ao) ;
-         q := curv - ao ;
-         IF NOT (q > 0.0) THEN q := 0.0 END ;
-         top := -Inf ;
-         FOR k := 0 TO P^.nv - 1 DO
-            e := ox * pwx[k] + oy * pwy[k] ;
-            IF e > top THEN top := e END
-         END ;
-         m := vertex_clear (ClrGap[near] - Tol, lin, qa, top - (rv + (ox * qwx[near] + oy * qwy[near])), q) ;
-         IF m > best THEN
-            k := 0 ;
+         m := clear_root (g - Tol, spin - (ox * du + oy * dv), ABS (ox * dax + oy * day)) ;
+         IF turning AND (span > m) AND (span > best) THEN
+            mt := span ;
+            i := 0 ;
             stop := FALSE ;
-            WHILE (k < n) AND NOT stop DO
-               IF k # near THEN
-                  e := ClrGap[k] - Tol ;
-                  (* unless its rate bound alone lasts past m *)
-                  IF NOT ((m < Inf) AND (e - m * (lin + 0.5 * qa * m) >= 0.0)) THEN
-                     t := vertex_clear (e, lin, qa, top - (rv + (ox * qwx[k] + oy * qwy[k])), q) ;
-                     IF t < m THEN
-                        m := t ;
-                        stop := NOT (m > best)
-                     END
+            WHILE (i < n) AND NOT stop DO
+               IF i = 0 THEN
+                  k := near
+               ELSIF i <= near THEN
+                  k := i - 1
+               ELSE
+                  k := i
+               END ;
+               e := ClrGap[k] - Tol ;
+               (* unless its first-derivative bound alone lasts past mt *)
+               IF NOT (e - mt * rate >= 0.0) THEN
+                  ux := xs[k] - px ;
+                  uy := ys[k] - py ;
+                  vx := du + qwx[k] ;
+                  vy := dv + qwy[k] ;
+                  g1 := wp * (ox * uy - oy * ux) + (ox * vx + oy * vy) ;
+                  g2 := -(wp * wp) * (ox * ux + oy * uy) + 2.0 * wp * (ox * vy - oy * vx) + (ox * dax + oy * day)
+                        - wr * wr * (ox * (xs[k] - qx) + oy * (ys[k] - qy)) ;
+                  qq := jerk - g2 ;
+                  IF NOT (qq > 0.0) THEN qq := 0.0 END ;
+                  t := clear_root (e, -g1, qq) ;
+                  IF NOT (t >= 0.0) THEN t := 0.0 END ;
+                  IF t < mt THEN
+                     mt := t ;
+                     stop := NOT ((mt > m) AND (mt > best))
                   END
                END ;
-               INC (k)
+               INC (i)
             END ;
-            IF m > best THEN best := m END
-         END
+            IF mt > m THEN m := mt END
+         END ;
+         IF m > best THEN best := m END
       END
    END ;
    RETURN best
@@ -962,17 +979,18 @@ END edges_clear ;
 (* The library's clear_time of two polygons (the simulator keeps
    clear_time's own, whose bits its traces pin): every vertex from one
    cosine and sine of its body's angle (rotated_points), and the gap along
-   each edge normal of either polygon held fixed as well as along the line
-   of the centres.  Along a fixed axis the gap closes at most as fast as the
-   centres' relative motion along it plus each bound times its turn rate,
-   along an edge normal each vertex's gap also stays above its Taylor
-   polynomial of order 1 less the bound of its second derivative
-   (edges_clear), and the gap of the best separating axis now is the
-   separation, so this is never shorter than the bound through the norms
-   |x| + |y| and never longer than the bodies stay apart. *)
+   each edge normal of either polygon, held fixed and turning with its
+   polygon (edges_clear), as well as along the line of the centres.  Along
+   a fixed axis the gap closes at most as fast as the centres' relative
+   motion along it plus each bound times its turn rate, along a turning
+   edge normal each vertex's gap stays above its Taylor polynomial of order
+   2 less the bound of its third derivative, and the gap of the best
+   separating axis now is the separation, so this is never shorter than the
+   bound through the norms |x| + |y| and never longer than the bodies stay
+   apart. *)
 PROCEDURE clear_polygons (A, B: BodyRef; now: REAL) : REAL ;
 VAR
-   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, ca, sa, cb, sb, hi, lo, spin, curv,
+   x1, y1, u1, v1, a1, x2, y2, u2, v2, a2, dx, dy, d, nx, ny, ca, sa, cb, sb, hi, lo, spin, span,
    du, dv, dax, day, best: REAL ;
 BEGIN
    StateAt (A, now, x1, y1, u1, v1, a1) ;
@@ -994,16 +1012,16 @@ BEGIN
    hi := reach_points (nx, ny, ClrAX, ClrAY, A^.nv) ;
    lo := -reach_points (-nx, -ny, ClrBX, ClrBY, B^.nv) ;
    spin := A^.bound * TurnRate (A) + B^.bound * TurnRate (B) ;
-   curv := A^.om * A^.om * A^.bound + B^.om * B^.om * B^.bound ;
+   span := 1.0 / (ABS (A^.om) + ABS (B^.om)) ;
    du := u2 - u1 ;
    dv := v2 - v1 ;
    dax := B^.ax - A^.ax ;
    day := B^.ay - A^.ay ;
    best := clear_root (lo - hi - Tol, spin - (nx * du + ny * dv), ABS (nx * dax + ny * day)) ;
-   best := edges_clear (A, x1, y1, ca, sa, ClrBX, ClrBY, ClrBWX, ClrBWY, ClrAWX, ClrAWY, B^.nv, best, spin,
-                        curv, du, dv, dax, day) ;
-   RETURN edges_clear (B, x2, y2, cb, sb, ClrAX, ClrAY, ClrAWX, ClrAWY, ClrBWX, ClrBWY, A^.nv, best, spin,
-                       curv, u1 - u2, v1 - v2, A^.ax - B^.ax, A^.ay - B^.ay)
+   best := edges_clear (A, x1, y1, ca, sa, B, x2, y2, ClrBX, ClrBY, ClrBWX, ClrBWY, B^.nv, best, spin, span,
+                        du, dv, dax, day) ;
+   RETURN edges_clear (B, x2, y2, cb, sb, A, x1, y1, ClrAX, ClrAY, ClrAWX, ClrAWY, A^.nv, best, spin, span,
+                       u1 - u2, v1 - v2, A^.ax - B^.ax, A^.ay - B^.ay)
 END clear_polygons ;
 
 
@@ -1069,13 +1087,19 @@ END clear_time ;
 PROCEDURE PairContact (A, B: BodyRef; now, end: REAL; stages, windows: INTEGER;
                        VAR t: REAL; VAR feat, a, b, i, j: INTEGER) : INTEGER ;
 VAR
-   w, ta, tb, q, meet, clear: REAL ;
+   w, ta, tb, q, meet, clear, lead: REAL ;
    best: Best ;
-   found: BOOLEAN ;
+   found, straight: BOOLEAN ;
    stage, solved: INTEGER ;
 BEGIN
    ta := TurnRate (A) ;
    tb := TurnRate (B) ;
+   (* the library: a clear stretch of two turning polygons shorter than
+      Straight windows leads straight to the window at its end, without
+      another bound or clear-stretch test (the simulator: never) *)
+   lead := 0.0 ;
+   IF Library AND A^.polygon AND B^.polygon AND (ta > 0.0) AND (tb > 0.0) THEN lead := Straight END ;
+   straight := FALSE ;
    solved := 0 ;
    stage := 0 ;
    LOOP
@@ -1084,7 +1108,7 @@ BEGIN
       w := end - now ;
       IF NOT (w > 0.0) THEN RETURN 0 END ;
       meet := 0.0 ;
-      IF A^.polygon OR B^.polygon THEN
+      IF (A^.polygon OR B^.polygon) AND NOT straight THEN
          (* bounds that do not turn: until they touch, nothing can *)
          IF B^.polygon AND (ta > 0.0) AND (B^.om = 0.0) THEN
             found := bound_polygon (A, B, now, w, meet)
@@ -1108,12 +1132,14 @@ BEGIN
          END ;
          IF q < w THEN w := q END ;     (* Python's min(w, q) *)
          clear := 0.0 ;
-         IF (ta > 0.0) OR (tb > 0.0) THEN clear := clear_time (A, B, now) END ;
-         IF ((ta > 0.0) OR (tb > 0.0)) AND (clear >= w) THEN
+         IF ((ta > 0.0) OR (tb > 0.0)) AND NOT straight THEN clear := clear_time (A, B, now) END ;
+         IF ((ta > 0.0) OR (tb > 0.0)) AND NOT straight AND (clear >= w) THEN
             (* apart all through the window, whatever the turns do: no roots
                to solve until they may come within the tolerance *)
-            now := now + clear
+            now := now + clear ;
+            straight := clear < lead * w
          ELSE
+            straight := FALSE ;
             IF solved >= windows THEN EXIT END ;   (* the simulator: one Taylor window per prediction *)
             Features (A, B, now, w, best) ;
             IF best.found THEN

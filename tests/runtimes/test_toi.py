@@ -1,17 +1,19 @@
 """The TOI library (docs/toi.md): its conformance cases pass in C,
 Modula-2, Python and Rust against the mpmath references, with the same bits (time,
-features, point, normal); the judge rejects wrong answers; shapes are
-checked."""
+features, point, normal), as do random pairs of turning polygons; the judge
+rejects wrong answers; shapes are checked."""
 from __future__ import annotations
 
 import json
 import math
+import random
 from pathlib import Path
 
 import pytest
 
 from max2code.conformance import toi_op
 from max2code.conformance.ops import hex_of
+from toi_draws import random_polygon  # noqa: E402
 
 ROOT = next(p for p in Path(__file__).resolve().parents if (p / "pyproject.toml").exists())
 CASES = ROOT / "tests" / "conformance" / "toi" / "toi.jsonl"
@@ -58,6 +60,46 @@ def test_the_runtimes_give_the_same_bits(answers):
     assert not differ, differ[:10]
     hits = sum(1 for s in cases if got["c"][s].startswith("hit"))
     assert hits >= len(cases) // 2
+
+
+def _turning_pairs(rng: random.Random, count: int) -> dict[int, dict]:
+    """Pairs of turning polygons heading for each other (boxes and random
+    convex polygons; some accelerate, some far from the origin, some spin
+    fast): the library's clear stretches of two turning polygons and its
+    step straight to a window, on more motions than the conformance cases."""
+    out = {}
+    for seq in range(count):
+        sa, sb = random_polygon(rng), random_polygon(rng)
+        off = rng.choice([0.0, rng.uniform(-1e4, 1e4), rng.uniform(-1e6, 1e6)])
+        th = rng.uniform(0.0, 2.0 * math.pi)
+        dist = (sa.bound + sb.bound) * rng.uniform(1.0, 2.5)
+        accel = rng.random() < 0.4
+
+        def motion(x, y, hx, hy):
+            return {"x": x, "y": y, "vx": rng.uniform(-3, 3) + hx, "vy": rng.uniform(-3, 3) + hy,
+                    "ax": rng.uniform(-5, 5) if accel else 0.0, "ay": rng.uniform(-5, 5) if accel else 0.0,
+                    "angle": rng.uniform(-4, 4), "omega": rng.choice([rng.uniform(-8, 8), rng.uniform(-40, 40)]),
+                    "orbit": 0.0, "orbit_phase": 0.0}
+
+        out[seq] = {"id": f"turning-{seq:03d}", "horizon": 4.0, "tol": 1e-9,
+                    "a": {"shape": "polygon", "vertices": [[v.lx, v.ly] for v in sa.verts],
+                          "motion": motion(off, off, 0.0, 0.0)},
+                    "b": {"shape": "polygon", "vertices": [[v.lx, v.ly] for v in sb.verts],
+                          "motion": motion(off + dist * math.cos(th), off + dist * math.sin(th),
+                                           -2.0 * math.cos(th), -2.0 * math.sin(th))}}
+    return out
+
+
+@pytest.mark.slow
+def test_turning_polygons_give_the_same_bits_in_every_runtime():
+    cases = _turning_pairs(random.Random(20261208), 200)
+    op = toi_op.ToiOp()
+    got = {lang: op.batch(lang, cases) for lang in LANGS}
+    differ = [cases[s]["id"] for s in cases if len({got[lang][s] for lang in LANGS}) > 1]
+    assert not differ, differ[:10]
+    hits = sum(1 for s in cases if got["c"][s].startswith("hit"))
+    errors = [cases[s]["id"] for s in cases if got["c"][s].startswith("error")]
+    assert hits >= len(cases) // 5 and not errors, (hits, errors[:10])
 
 
 def _case(**over):

@@ -61,7 +61,7 @@ def test_clear_stretches_keep_the_bodies_apart():
             assert gap > TOL * (1.0 - 1e-6), (f"{gap!r} m apart at s = {t - now!r} of a clear stretch of "
                                               f"{clear!r} s (separation {sep0!r} m at now)")
         close += low < 0.5 * sep0
-    # many stretches, and stretches that end near touching (the bound is not loose everywhere: the
-    # Taylor bound of edges_clear takes 52 of these 264 stretches to less than half the separation
-    # at their start, the rate bound alone 33)
-    assert stretches > 200 and close > 45, (stretches, close)
+    # many stretches, and stretches that end near touching (the bound is not loose everywhere: with
+    # the turning edge normals of edges_clear 67 of these 264 stretches end at less than half the
+    # separation at their start, with the rate bound alone 33)
+    assert stretches > 200 and close > 60, (stretches, close)

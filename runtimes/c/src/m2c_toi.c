@@ -21,6 +21,8 @@
 #define M_PI 3.14159265358979323846
 #endif
 #define HALF_PI 1.5707963267948966      /* rad: pi/2 rounded to double (cos x = sin(x + pi/2)) */
+#define M2C_TOI_STRAIGHT 4.0            /* windows: a shorter clear stretch of two turning polygons leads to its
+                                           window (m2c_toi_pair, the library only) */
 
 /* cos and sin of body b's angle a (rad): without a world, the values of
  * each body's last angle are kept (a clear stretch and the Taylor window at
@@ -822,40 +824,47 @@ static void spin_velocities(const m2c_sim_body *b, double c, double s, double *w
     }
 }
 
-/* The later of the rate bound's root (clear_root(e, lin, qa)) and the
- * Taylor bound's (clear_root(e, r, q)) of one vertex (s). */
-static double vertex_clear(double e, double lin, double qa, double r, double q)
-{
-    double a = clear_root(e, lin, qa);
-    double b = clear_root(e, r, q);
-    return b > a ? b : a;
-}
-
-/* The larger of best and the time the other polygon Q stays beyond each
- * edge line of P (state q, cos c and sin s of its angle) by more than tol,
- * the edge's outward normal o held fixed (s).  Q's n vertices (xs, ys) and
- * their velocities from the turn (qwx, qwy), P's (pwx, pwy)
- * (spin_velocities); (du, dv) and (dax, day): Q's velocity and
- * acceleration less P's; spin: the bounds times the turn rates; curv: the
- * bounds times the turn rates squared (m/s^2).
+/* The larger of best and the time the other polygon Q (its centre (qx, qy))
+ * stays beyond some edge line of P (state q, cos c and sin s of its angle)
+ * by more than tol (s).  Q's n vertices (xs, ys) and their velocities from
+ * the turn (qwx, qwy) (spin_velocities); (du, dv) and (dax, day): Q's
+ * velocity and acceleration less P's; spin: the bounds times the turn
+ * rates; span: the time of one radian of the two turns together (s), the
+ * reach of the turning bound.
  *
- * Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
- * twice, and the later of the two roots holds: at the rate spin - o . (du,
- * dv) and |o . (dax, day)| (each point of a body moves along o at most its
- * bound times its turn rate faster than the centre), and by its Taylor
- * polynomial of order 1 at s = 0 less the second derivative's bound:
- * e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
- * day)) s^2/2, since the part of a vertex along o that turns is
- * rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
- * support along o is at most the largest of its vertices' such
- * polynomials.  The axis holds until the first of its vertices' roots; an
- * axis whose nearest vertex cannot raise best is skipped, and a vertex whose
- * rate bound already lasts past the axis's time so far is not solved. */
-static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, double s, const double *xs,
-                          const double *ys, const double *qwx, const double *qwy, const double *pwx,
-                          const double *pwy, int32_t n, double best, double spin, double curv, double du, double dv,
+ * Along the edge's outward normal o held fixed, every vertex of Q stays
+ * beyond P's support until the root of the rate bound e - (spin - o . (du,
+ * dv)) s - |o . (dax, day)| s^2/2 of the nearest vertex's gap e (each point
+ * of a body moves along o at most its bound times its turn rate faster than
+ * the centre).  Along the normal n(s) turning with P, P's support is the
+ * edge's own line, and vertex k's gap g(s) = n(s) . (d(s) + r_k(s)) - h (d:
+ * Q's centre less P's, r_k: the vertex about Q's centre) has, with the turn
+ * rates wp and wq, the derivatives g1 = wp n_ . u + n . (dv + w_k) and g2 =
+ * -wp^2 n . u + 2 wp n_ . (dv + w_k) + n . da - wq^2 n . r_k at 0 (u = d +
+ * r_k, n_ the normal turned a quarter, w_k the vertex's velocity from the
+ * turn); over [0, span] the third derivative is at most J = |wp|^3 D + 3
+ * wp^2 V + 3 |wp| |da| + bound_Q |wq - wp|^3 and the first at most |wp| D +
+ * V + bound_Q |wq - wp| (D, V: bounds of |d| and |d'| over the span), so g
+ * stays above g(0) + g1 s + (g2 - J span/3) s^2/2 until that bound's root
+ * (at most span).  The axis holds until the later of the two; the turning
+ * normal is taken only where it can raise the axis and best, nearest vertex
+ * first, and a vertex whose first-derivative bound already lasts past the
+ * time so far is not solved. */
+static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, double s, const m2c_sim_body *Q,
+                          double qx, double qy, const double *xs, const double *ys, const double *qwx,
+                          const double *qwy, int32_t n, double best, double spin, double span, double du, double dv,
                           double dax, double day, double tol)
 {
+    double wp = P->om, wr = Q->om;
+    double vel = sqrt(du * du + dv * dv);
+    double acc = sqrt(dax * dax + day * day);
+    double cx = qx - q.x, cy = qy - q.y;
+    double dist = sqrt(cx * cx + cy * cy) + (vel + 0.5 * acc * span) * span;
+    double vmax = vel + acc * span;
+    double aw = fabs(wp), dw = fabs(wr - wp);
+    double jerk = (aw * aw * aw * dist + 3.0 * aw * aw * vmax + 3.0 * aw * acc + Q->bound * dw * dw * dw) * span / 3.0;
+    double rate = aw * dist + vmax + Q->bound * dw;
+    int turning = span > 0.0 && span <= DBL_MAX && jerk <= DBL_MAX && rate <= DBL_MAX;
     double gaps[M2C_TOI_MAX_VERTICES];
     for (int32_t j = 0; j < P->nverts; j++) {
         const m2c_sim_vertex *ed = &P->verts[j];
@@ -876,34 +885,33 @@ static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, dou
         }
         if (k < n || !(g - tol > 0.0))
             continue;                   /* not apart along this axis: 0, never above best */
-        double rv = ox * du + oy * dv;
-        double lin = spin - rv;
-        double ao = ox * dax + oy * day;
-        double qa = fabs(ao);
-        double qq = curv - ao;
-        if (!(qq > 0.0))
-            qq = 0.0;
-        double top = -INFINITY;
-        for (int32_t k = 0; k < P->nverts; k++) {
-            double e = ox * pwx[k] + oy * pwy[k];
-            if (e > top)
-                top = e;
-        }
-        double m = vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * qwx[near] + oy * qwy[near])), qq);
-        if (!(m > best))
-            continue;
-        for (int32_t k = 0; k < n; k++) {
-            if (k == near)
-                continue;
-            double e = gaps[k] - tol;
-            if (m < INFINITY && e - m * (lin + 0.5 * qa * m) >= 0.0)
-                continue;               /* its rate bound alone lasts past m */
-            double t = vertex_clear(e, lin, qa, top - (rv + (ox * qwx[k] + oy * qwy[k])), qq);
-            if (t < m) {
-                m = t;
-                if (!(m > best))
-                    break;
+        double m = clear_root(g - tol, spin - (ox * du + oy * dv), fabs(ox * dax + oy * day));
+        if (turning && span > m && span > best) {
+            double mt = span;
+            for (int32_t i = 0; i < n; i++) {
+                k = i == 0 ? near : (i <= near ? i - 1 : i);
+                double e = gaps[k] - tol;
+                if (e - mt * rate >= 0.0)
+                    continue;           /* its first-derivative bound alone lasts past mt */
+                double ux = xs[k] - q.x, uy = ys[k] - q.y;
+                double vx = du + qwx[k], vy = dv + qwy[k];
+                double g1 = wp * (ox * uy - oy * ux) + (ox * vx + oy * vy);
+                double g2 = -(wp * wp) * (ox * ux + oy * uy) + 2.0 * wp * (ox * vy - oy * vx) + (ox * dax + oy * day)
+                            - wr * wr * (ox * (xs[k] - qx) + oy * (ys[k] - qy));
+                double qq = jerk - g2;
+                if (!(qq > 0.0))
+                    qq = 0.0;
+                double t = clear_root(e, -g1, qq);
+                if (!(t >= 0.0))
+                    t = 0.0;
+                if (t < mt) {
+                    mt = t;
+                    if (!(mt > m && mt > best))
+                        break;
+                }
             }
+            if (mt > m)
+                m = mt;
         }
         if (m > best)
             best = m;
@@ -914,14 +922,15 @@ static double edges_clear(const m2c_sim_body *P, m2c_sim_motion q, double c, dou
 /* The library's clear_time of two polygons (no world; the simulator keeps
  * clear_time's own, whose bits its traces pin): every vertex from one
  * cosine and sine of its body's angle (rotated_points), and the gap along
- * each edge normal of either polygon held fixed as well as along the line
- * of the centres.  Along a fixed axis the gap closes at most as fast as
- * the centres' relative motion along it plus each bound times its turn
- * rate (clear_time), along an edge normal each vertex's gap also stays
- * above its Taylor polynomial of order 1 less the bound of its second
- * derivative (edges_clear), and the gap of the best separating axis now
- * is the separation, so this is never shorter than a bound through the
- * norms |x| + |y| and never longer than the bodies stay apart. */
+ * each edge normal of either polygon, held fixed and turning with its
+ * polygon (edges_clear), as well as along the line of the centres.  Along
+ * a fixed axis the gap closes at most as fast as the centres' relative
+ * motion along it plus each bound times its turn rate (clear_time), along a
+ * turning edge normal each vertex's gap stays above its Taylor polynomial
+ * of order 2 less the bound of its third derivative (edges_clear), and the
+ * gap of the best separating axis now is the separation, so this is never
+ * shorter than a bound through the norms |x| + |y| and never longer than
+ * the bodies stay apart. */
 static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, double now)
 {
     m2c_sim_motion q1 = m2c_sim_state_at(A, now);
@@ -943,12 +952,13 @@ static double clear_polygons(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_
     double hi = reach_points(nx, ny, ax, ay, A->nverts);
     double lo = -reach_points(-nx, -ny, bx, by, B->nverts);
     double spin = A->bound * m2c_sim_turn_rate(A) + B->bound * m2c_sim_turn_rate(B);
-    double curv = A->om * A->om * A->bound + B->om * B->om * B->bound;
+    double span = 1.0 / (fabs(A->om) + fabs(B->om));
     double tol = ctx->tol;
     double du = q2.vx - q1.vx, dv = q2.vy - q1.vy, dax = B->ax - A->ax, day = B->ay - A->ay;
     double best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), fabs(nx * dax + ny * day));
-    best = edges_clear(A, q1, ca, sa, bx, by, bwx, bwy, awx, awy, B->nverts, best, spin, curv, du, dv, dax, day, tol);
-    return edges_clear(B, q2, cb, sb, ax, ay, awx, awy, bwx, bwy, A->nverts, best, spin, curv, q1.vx - q2.vx,
+    best = edges_clear(A, q1, ca, sa, B, q2.x, q2.y, bx, by, bwx, bwy, B->nverts, best, spin, span, du, dv, dax, day,
+                       tol);
+    return edges_clear(B, q2, cb, sb, A, q1.x, q1.y, ax, ay, awx, awy, A->nverts, best, spin, span, q1.vx - q2.vx,
                        q1.vy - q2.vy, A->ax - B->ax, A->ay - B->ay, tol);
 }
 
@@ -1192,12 +1202,17 @@ int m2c_toi_pair(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B,
         return 0;
     }
     double ta = m2c_sim_turn_rate(A), tb = m2c_sim_turn_rate(B);
+    /* the library: a clear stretch of two turning polygons shorter than
+     * M2C_TOI_STRAIGHT windows leads straight to the window at its end,
+     * without another bound or clear-stretch test (the simulator: never) */
+    double lead = ctx->m == NULL && A->polygon && B->polygon && ta > 0.0 && tb > 0.0 ? M2C_TOI_STRAIGHT : 0.0;
+    int straight = 0;
     long solved = 0;
     for (long stage = 0; stage < stages; stage++) {
         double w = end - now;
         if (!(w > 0.0))
             return 0;
-        if (A->polygon || B->polygon) {
+        if ((A->polygon || B->polygon) && !straight) {
             /* bounds that do not turn: until they touch, nothing can */
             double meet = 0.0;
             int met;
@@ -1224,14 +1239,18 @@ int m2c_toi_pair(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B,
                 x = B->window / tb;
             if (x < w)                      /* Python's min(w, x) */
                 w = x;
-            double clear = clear_time(ctx, A, B, now);
-            if (clear >= w) {
-                /* apart all through the window, whatever the turns do: no
-                 * roots to solve until they may come within the tolerance */
-                now = now + clear;
-                continue;
+            if (!straight) {
+                double clear = clear_time(ctx, A, B, now);
+                if (clear >= w) {
+                    /* apart all through the window, whatever the turns do: no
+                     * roots to solve until they may come within the tolerance */
+                    now = now + clear;
+                    straight = clear < lead * w;
+                    continue;
+                }
             }
         }
+        straight = 0;
         if (solved >= windows)
             break;          /* the simulator: one Taylor window per prediction, the next at a horizon */
         features(ctx, A, B, now, w, bs);

@@ -17,6 +17,7 @@ Units: s, m, m/s, m/s^2, rad, rad/s.  Angles count counter-clockwise.
 from __future__ import annotations
 
 import math
+from sys import float_info
 
 from max2code_rt.sim.contact import ContactMixin
 from max2code_rt.sim.motion import MotionMixin
@@ -24,6 +25,8 @@ from max2code_rt.sim.out import SimError
 from max2code_rt.sim.overlap import OverlapMixin
 from max2code_rt.sim.predict import CC, PE, TWO_M30, PredictMixin
 from max2code_rt.sim.scene import Body, Vertex
+
+DBL_MAX = float_info.max     # the largest finite double
 
 # status of an answer (the C library's numbers)
 ERROR, NONE, HIT, OVERLAPPED = -1, 0, 1, 2
@@ -147,6 +150,8 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
     """The simulator's pair computation without a world: two bodies, no
     counters, no covered edges."""
 
+    STRAIGHT = 4.0      # a clear stretch of two turning polygons shorter than 4 windows: its window next
+
     def __init__(self, cc, pe):
         self.cc_coef, self.cc_var = cc.circle_circle_coefficients, cc.circle_circle_variant
         self.pe_coef, self.pe_var = pe.point_edge_coefficients, pe.point_edge_variant
@@ -172,15 +177,15 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         polygon that does not turn against one that does) the library's own
         (the simulator keeps its own, whose bits its traces pin): every
         vertex from one cosine and sine of its body's angle, and the gap
-        along each edge normal of either polygon held fixed (_edges_clear)
-        as well as along the line of the centres.  Along a fixed axis the
-        gap closes at most as fast as the centres' relative motion along it
-        plus each bound times its turn rate, along an edge normal each
-        vertex's gap also stays above its Taylor polynomial of order 1 less
-        the bound of its second derivative, and the gap of the best
-        separating axis now is the separation, so this is never shorter
-        than the bound through the norms |x| + |y| and never longer than
-        the bodies stay apart."""
+        along each edge normal of either polygon, held fixed and turning
+        with its polygon (_edges_clear), as well as along the line of the
+        centres.  Along a fixed axis the gap closes at most as fast as the
+        centres' relative motion along it plus each bound times its turn
+        rate, along a turning edge normal each vertex's gap stays above its
+        Taylor polynomial of order 2 less the bound of its third derivative,
+        and the gap of the best separating axis now is the separation, so
+        this is never shorter than the bound through the norms |x| + |y|
+        and never longer than the bodies stay apart."""
         if (not (A.polygon and B.polygon) or (B.om == 0.0 and self.turn_rate(A) > 0.0)
                 or (A.om == 0.0 and self.turn_rate(B) > 0.0)):
             return PredictMixin.clear_time(self, A, B, now)
@@ -199,13 +204,13 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         hi = self.reach_points(nx, ny, pa)
         lo = -self.reach_points(-nx, -ny, pb)
         spin = A.bound * self.turn_rate(A) + B.bound * self.turn_rate(B)
-        curv = A.om * A.om * A.bound + B.om * B.om * B.bound
+        span = 1.0 / (math.fabs(A.om) + math.fabs(B.om))
         tol = self.s.tol
         du, dv, dax, day = u2 - u1, v2 - v1, B.ax - A.ax, B.ay - A.ay
         best = self.clear_root(lo - hi - tol, spin - (nx * du + ny * dv), math.fabs(nx * dax + ny * day))
-        best = self._edges_clear(A, x1, y1, ca, sa, pb, wb, wa, best, spin, curv, du, dv, dax, day, tol)
-        return self._edges_clear(B, x2, y2, cb, sb, pa, wa, wb, best, spin, curv, u1 - u2, v1 - v2, A.ax - B.ax,
-                                 A.ay - B.ay, tol)
+        best = self._edges_clear(A, x1, y1, ca, sa, B, x2, y2, pb, wb, best, spin, span, du, dv, dax, day, tol)
+        return self._edges_clear(B, x2, y2, cb, sb, A, x1, y1, pa, wa, best, spin, span, u1 - u2, v1 - v2,
+                                 A.ax - B.ax, A.ay - B.ay, tol)
 
     def library_separation(self, A: Body, B: Body) -> float:
         """separation of A and B at 0; of two polygons with every vertex from
@@ -219,29 +224,48 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
         pb = _rotated_points(B, x2, y2, math.cos(g2), math.sin(g2))
         return self.polygons_separation(A, B, 0.0, pa, pb)
 
-    def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, pts, wq, wp, best: float,
-                     spin: float, curv: float, du: float, dv: float, dax: float, day: float, tol: float) -> float:
-        """The larger of best and the time the other polygon Q stays beyond
-        each edge line of P (its centre (px, py), cos c and sin s of its
-        angle) by more than tol, the edge's outward normal o held fixed
-        (s).  Q's vertices pts and their velocities from the turn wq (and
-        P's, wp: _spin_velocities); (du, dv) and (dax, day): Q's velocity
-        and acceleration less P's; spin: the bounds times the turn rates;
-        curv: the bounds times the turn rates squared (m/s^2).
+    def _edges_clear(self, P: Body, px: float, py: float, c: float, s: float, Q: Body, qx: float, qy: float, pts,
+                     wq, best: float, spin: float, span: float, du: float, dv: float, dax: float, day: float,
+                     tol: float) -> float:
+        """The larger of best and the time the other polygon Q (its centre
+        (qx, qy)) stays beyond some edge line of P (its centre (px, py),
+        cos c and sin s of its angle) by more than tol (s).  Q's vertices
+        pts and their velocities from the turn wq (_spin_velocities);
+        (du, dv) and (dax, day): Q's velocity and acceleration less P's;
+        spin: the bounds times the turn rates; span: the time of one radian
+        of the two turns together (s), the reach of the turning bound.
 
-        Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded
-        below twice, and the later of the two roots holds: at the rate
-        spin - o . (du, dv) and |o . (dax, day)| (each point of a body
-        moves along o at most its bound times its turn rate faster than
-        the centre), and by its Taylor polynomial of order 1 at s = 0 less
-        the second derivative's bound: e_k(0) + (o . (du, dv) + o . wq_k -
-        max_m o . wp_m) s - (curv - o . (dax, day)) s^2/2, since the part
-        of a vertex along o that turns is rho cos(phase + w s), whose second
-        derivative is at most rho w^2, and P's support along o is at most
-        the largest of its vertices' such polynomials.  The axis holds
-        until the first of its vertices' roots; an axis whose nearest
-        vertex cannot raise best is skipped, and a vertex whose rate bound
-        already lasts past the axis's time so far is not solved."""
+        Along the edge's outward normal o held fixed, every vertex of Q
+        stays beyond P's support until the root of the rate bound
+        e - (spin - o . (du, dv)) s - |o . (dax, day)| s^2/2 of the nearest
+        vertex's gap e (each point of a body moves along o at most its
+        bound times its turn rate faster than the centre).  Along the
+        normal n(s) turning with P, P's support is the edge's own line, and
+        vertex k's gap g(s) = n(s) . (d(s) + r_k(s)) - h (d: Q's centre less
+        P's, r_k: the vertex about Q's centre) has, with the turn rates wp
+        and wq, the derivatives g1 = wp n_ . u + n . (dv + w_k) and g2 =
+        -wp^2 n . u + 2 wp n_ . (dv + w_k) + n . da - wq^2 n . r_k at 0 (u =
+        d + r_k, n_ the normal turned a quarter, w_k the vertex's velocity
+        from the turn); over [0, span] the third derivative is at most J =
+        |wp|^3 D + 3 wp^2 V + 3 |wp| |da| + bound_Q |wq - wp|^3 and the
+        first at most |wp| D + V + bound_Q |wq - wp| (D, V: bounds of |d|
+        and |d'| over the span), so g stays above g(0) + g1 s + (g2 - J
+        span/3) s^2/2 until that bound's root (at most span).  The axis
+        holds until the later of the two; the turning normal is taken only
+        where it can raise the axis and best, nearest vertex first, and a
+        vertex whose first-derivative bound already lasts past the time so
+        far is not solved."""
+        wp, wr = P.om, Q.om
+        vel = math.sqrt(du * du + dv * dv)
+        acc = math.sqrt(dax * dax + day * day)
+        cx, cy = qx - px, qy - py
+        dist = math.sqrt(cx * cx + cy * cy) + (vel + 0.5 * acc * span) * span
+        vmax = vel + acc * span
+        aw, dw = math.fabs(wp), math.fabs(wr - wp)
+        jerk = (aw * aw * aw * dist + 3.0 * aw * aw * vmax + 3.0 * aw * acc + Q.bound * dw * dw * dw) * span / 3.0
+        rate = aw * dist + vmax + Q.bound * dw
+        turning = span > 0.0 and span <= DBL_MAX and jerk <= DBL_MAX and rate <= DBL_MAX
+        n = len(pts)
         for ed in P.verts:
             ox = c * ed.nx - s * ed.ny
             oy = s * ed.nx + c * ed.ny
@@ -249,52 +273,45 @@ class _Pair(PredictMixin, MotionMixin, OverlapMixin, ContactMixin):
             g = math.inf
             near = 0
             gaps = []
-            for k, (qx, qy) in enumerate(pts):
-                e = ox * qx + oy * qy - off
+            for k, (x, y) in enumerate(pts):
+                e = ox * x + oy * y - off
                 if e - tol <= 0.0:
                     break               # then g - tol <= 0 too: x - tol rises with x
                 gaps.append(e)
                 if e < g:
                     g = e
                     near = k
-            if len(gaps) < len(pts) or not (g - tol > 0.0):
+            if len(gaps) < n or not (g - tol > 0.0):
                 continue                # not apart along this axis: 0, never above best
-            rv = ox * du + oy * dv
-            lin = spin - rv
-            ao = ox * dax + oy * day
-            qa = math.fabs(ao)
-            q = curv - ao
-            if not (q > 0.0):
-                q = 0.0
-            top = -math.inf
-            for wx, wy in wp:
-                e = ox * wx + oy * wy
-                if e > top:
-                    top = e
-            m = self._vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * wq[near][0] + oy * wq[near][1])), q)
-            if not (m > best):
-                continue
-            for k in range(len(pts)):
-                if k == near:
-                    continue
-                e = gaps[k] - tol
-                if m < math.inf and e - m * (lin + 0.5 * qa * m) >= 0.0:
-                    continue            # its rate bound alone lasts past m
-                t = self._vertex_clear(e, lin, qa, top - (rv + (ox * wq[k][0] + oy * wq[k][1])), q)
-                if t < m:
-                    m = t
-                    if not (m > best):
-                        break
+            m = self.clear_root(g - tol, spin - (ox * du + oy * dv), math.fabs(ox * dax + oy * day))
+            if turning and span > m and span > best:
+                mt = span
+                for i in range(n):
+                    k = near if i == 0 else (i - 1 if i <= near else i)
+                    e = gaps[k] - tol
+                    if e - mt * rate >= 0.0:
+                        continue        # its first-derivative bound alone lasts past mt
+                    x, y = pts[k]
+                    ux, uy = x - px, y - py
+                    vx, vy = du + wq[k][0], dv + wq[k][1]
+                    g1 = wp * (ox * uy - oy * ux) + (ox * vx + oy * vy)
+                    g2 = (-(wp * wp) * (ox * ux + oy * uy) + 2.0 * wp * (ox * vy - oy * vx) + (ox * dax + oy * day)
+                          - wr * wr * (ox * (x - qx) + oy * (y - qy)))
+                    q = jerk - g2
+                    if not (q > 0.0):
+                        q = 0.0
+                    t = self.clear_root(e, -g1, q)
+                    if not (t >= 0.0):
+                        t = 0.0
+                    if t < mt:
+                        mt = t
+                        if not (mt > m and mt > best):
+                            break
+                if mt > m:
+                    m = mt
             if m > best:
                 best = m
         return best
-
-    def _vertex_clear(self, e: float, lin: float, qa: float, r: float, q: float) -> float:
-        """The later of the rate bound's root (clear_root(e, lin, qa)) and
-        the Taylor bound's (clear_root(e, r, q)) of one vertex (s)."""
-        a = self.clear_root(e, lin, qa)
-        b = self.clear_root(e, r, q)
-        return b if b > a else a
 
 
 def _rotated_points(b: Body, x: float, y: float, c: float, s: float) -> list[tuple[float, float]]:

@@ -37,6 +37,12 @@ def _always(s: float) -> bool:
 class PredictMixin:
     """Pairs, features, first valid roots, cell crossings."""
 
+    # A clear stretch of two turning polygons shorter than this many Taylor
+    # windows leads straight to the window at its end, without another bound
+    # or clear-stretch test (the TOI library's own step; 0: never, the
+    # simulator's chain)
+    STRAIGHT = 0.0
+
     @staticmethod
     def pressing(c: list[float], deg: int, d: float, s: float) -> bool:
         """At a zero of the gap c: approaching (first derivative d < 0), or
@@ -299,12 +305,14 @@ class PredictMixin:
         ran out at `at` (the simulator schedules a horizon there)."""
         s = self.s
         ta, tb = self.turn_rate(A), self.turn_rate(B)
+        lead = self.STRAIGHT if A.polygon and B.polygon and ta > 0.0 and tb > 0.0 else 0.0
+        straight = False
         solved = 0
         for _ in range(stages):
             w = end - now
             if not (w > 0.0):
                 return 0, now, None
-            if A.polygon or B.polygon:
+            if (A.polygon or B.polygon) and not straight:
                 # bounds that do not turn: until they touch, nothing can
                 if B.polygon and ta > 0.0 and B.om == 0.0:
                     meet = self.bound_polygon(A, B, now, w)
@@ -323,13 +331,15 @@ class PredictMixin:
                 w = min(w, A.window / ta)
             elif tb > 0.0:
                 w = min(w, B.window / tb)
-            if ta > 0.0 or tb > 0.0:
+            if (ta > 0.0 or tb > 0.0) and not straight:
                 clear = self.clear_time(A, B, now)
                 if clear >= w:
                     # apart all through the window, whatever the turns do: no
                     # roots to solve until they may come within the tolerance
                     now = now + clear
+                    straight = clear < lead * w
                     continue
+            straight = False
             if solved >= windows:
                 break       # the simulator: one Taylor window per prediction, the next at a horizon
             best = self.features(A, B, now, w)

@@ -19,6 +19,9 @@ use crate::roots::smallest_root;
 /// window) one prediction of a pair goes through before it leaves the rest
 /// to a horizon.
 const CHAIN: usize = 8;
+/// A clear stretch of two turning polygons shorter than this many Taylor
+/// windows leads straight to the window at its end (the TOI library only).
+const STRAIGHT: f64 = 4.0;
 
 /// What a pair's computation reads besides the two bodies: the simulator's
 /// [`Space`], or the TOI library's pair ([`crate::toi`]).
@@ -879,6 +882,11 @@ pub fn pair_search<E: Equations, W: PairEnv, C: Counter>(
         return Ok(Found::None);
     }
     let (ta, tb) = (turn_rate(a_), turn_rate(b_));
+    // the library: a clear stretch of two turning polygons shorter than
+    // STRAIGHT windows leads straight to the window at its end, without
+    // another bound or clear-stretch test (the simulator: never)
+    let lead = if w.library() && a_.polygon && b_.polygon && ta > 0.0 && tb > 0.0 { STRAIGHT } else { 0.0 };
+    let mut straight = false;
     let mut now = now;
     let mut solved = 0;
     for _ in 0..stages {
@@ -886,7 +894,7 @@ pub fn pair_search<E: Equations, W: PairEnv, C: Counter>(
         if !(win > 0.0) {
             return Ok(Found::None);
         }
-        if a_.polygon || b_.polygon {
+        if (a_.polygon || b_.polygon) && !straight {
             // bounds that do not turn: until they touch, nothing can
             let meet = if b_.polygon && ta > 0.0 && b_.om == 0.0 {
                 bound_polygon::<E, _, _>(w, q, a_, b_, now, win)?
@@ -917,15 +925,17 @@ pub fn pair_search<E: Equations, W: PairEnv, C: Counter>(
         if x < win {
             win = x;
         }
-        if ta > 0.0 || tb > 0.0 {
+        if (ta > 0.0 || tb > 0.0) && !straight {
             let clear = clear_time(w, a_, b_, now);
             if clear >= win {
                 // apart all through the window, whatever the turns do: no
                 // roots to solve until they may come within the tolerance
                 now = now + clear;
+                straight = clear < lead * win;
                 continue;
             }
         }
+        straight = false;
         if solved >= windows {
             // the simulator: one Taylor window per prediction, the next at a horizon
             break;
@@ -1077,51 +1087,58 @@ fn spin_velocities(verts: &[Vertex], b: &Body, c: f64, s: f64) -> Vec<(f64, f64)
 
 /// The later of the rate bound's root (clear_root(e, lin, qa)) and the
 /// Taylor bound's (clear_root(e, r, q)) of one vertex (s).
-#[inline]
-fn vertex_clear(e: f64, lin: f64, qa: f64, r: f64, q: f64) -> f64 {
-    let a = clear_root(e, lin, qa);
-    let b = clear_root(e, r, q);
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
-
-/// The larger of best and the time the other polygon Q stays beyond each
-/// edge line of P (its centre (px, py), cos c and sin s of its angle) by
-/// more than tol, the edge's outward normal o held fixed (s).  Q's vertices
-/// pts and their velocities from the turn qw, P's pw ([`spin_velocities`]);
-/// (du, dv) and (dax, day): Q's velocity and acceleration less P's; spin:
-/// the bounds times the turn rates; curv: the bounds times the turn rates
-/// squared (m/s^2).
+/// The larger of best and the time the other polygon Q (its centre (qx,
+/// qy)) stays beyond some edge line of P (its centre (px, py), cos c and sin
+/// s of its angle) by more than tol (s).  Q's vertices pts and their
+/// velocities from the turn qw ([`spin_velocities`]); (du, dv) and (dax,
+/// day): Q's velocity and acceleration less P's; spin: the bounds times the
+/// turn rates; span: the time of one radian of the two turns together (s),
+/// the reach of the turning bound.
 ///
-/// Vertex k's gap e_k(s) = o . q_k(s) - max_m o . p_m(s) is bounded below
-/// twice, and the later of the two roots holds: at the rate spin - o . (du,
-/// dv) and |o . (dax, day)| (each point of a body moves along o at most its
-/// bound times its turn rate faster than the centre), and by its Taylor
-/// polynomial of order 1 at s = 0 less the second derivative's bound:
-/// e_k(0) + (o . (du, dv) + o . qw_k - max_m o . pw_m) s - (curv - o . (dax,
-/// day)) s^2/2, since the part of a vertex along o that turns is
-/// rho cos(phase + w s), whose second derivative is at most rho w^2, and P's
-/// support along o is at most the largest of its vertices' such
-/// polynomials.  The axis holds until the first of its vertices' roots; an
-/// axis whose nearest vertex cannot raise best is skipped, and a vertex
-/// whose rate bound already lasts past the axis's time so far is not solved.
+/// Along the edge's outward normal o held fixed, every vertex of Q stays
+/// beyond P's support until the root of the rate bound e - (spin - o . (du,
+/// dv)) s - |o . (dax, day)| s^2/2 of the nearest vertex's gap e (each point
+/// of a body moves along o at most its bound times its turn rate faster
+/// than the centre).  Along the normal n(s) turning with P, P's support is
+/// the edge's own line, and vertex k's gap g(s) = n(s) . (d(s) + r_k(s)) - h
+/// (d: Q's centre less P's, r_k: the vertex about Q's centre) has, with the
+/// turn rates wp and wq, the derivatives g1 = wp n_ . u + n . (dv + w_k) and
+/// g2 = -wp^2 n . u + 2 wp n_ . (dv + w_k) + n . da - wq^2 n . r_k at 0 (u =
+/// d + r_k, n_ the normal turned a quarter, w_k the vertex's velocity from
+/// the turn); over [0, span] the third derivative is at most J = |wp|^3 D +
+/// 3 wp^2 V + 3 |wp| |da| + bound_Q |wq - wp|^3 and the first at most
+/// |wp| D + V + bound_Q |wq - wp| (D, V: bounds of |d| and |d'| over the span), so
+/// g stays above g(0) + g1 s + (g2 - J span/3) s^2/2 until that bound's root
+/// (at most span).  The axis holds until the later of the two; the turning
+/// normal is taken only where it can raise the axis and best, nearest
+/// vertex first, and a vertex whose first-derivative bound already lasts
+/// past the time so far is not solved.
 #[allow(clippy::too_many_arguments)]
 fn edges_clear(
     verts: &[Vertex],
     p_: &Body,
     (px, py, c, s): (f64, f64, f64, f64),
+    q_: &Body,
+    (qx, qy): (f64, f64),
     pts: &[(f64, f64)],
     qw: &[(f64, f64)],
-    pw: &[(f64, f64)],
     mut best: f64,
-    (spin, curv): (f64, f64),
+    (spin, span): (f64, f64),
     (du, dv, dax, day): (f64, f64, f64, f64),
     tol: f64,
 ) -> f64 {
-    let mut gaps = vec![0.0f64; pts.len()];
+    let (wp, wr) = (p_.om, q_.om);
+    let vel = (du * du + dv * dv).sqrt();
+    let acc = (dax * dax + day * day).sqrt();
+    let (cx, cy) = (qx - px, qy - py);
+    let dist = (cx * cx + cy * cy).sqrt() + (vel + 0.5 * acc * span) * span;
+    let vmax = vel + acc * span;
+    let (aw, dw) = (wp.abs(), (wr - wp).abs());
+    let jerk = (aw * aw * aw * dist + 3.0 * aw * aw * vmax + 3.0 * aw * acc + q_.bound * dw * dw * dw) * span / 3.0;
+    let rate = aw * dist + vmax + q_.bound * dw;
+    let turning = span > 0.0 && span <= f64::MAX && jerk <= f64::MAX && rate <= f64::MAX;
+    let n = pts.len();
+    let mut gaps = vec![0.0f64; n];
     for j in 0..p_.nverts() {
         let ed = &verts[p_.vert(j)];
         let ox = c * ed.nx - s * ed.ny;
@@ -1130,8 +1147,8 @@ fn edges_clear(
         let mut g = f64::INFINITY;
         let mut near = 0;
         let mut all = true;
-        for (k, &(qx, qy)) in pts.iter().enumerate() {
-            let e = ox * qx + oy * qy - off;
+        for (k, &(x, y)) in pts.iter().enumerate() {
+            let e = ox * x + oy * y - off;
             if e - tol <= 0.0 {
                 all = false; // then g - tol <= 0 too: x - tol rises with x
                 break;
@@ -1145,39 +1162,44 @@ fn edges_clear(
         if !all || !(g - tol > 0.0) {
             continue; // not apart along this axis: 0, never above best
         }
-        let rv = ox * du + oy * dv;
-        let lin = spin - rv;
-        let ao = ox * dax + oy * day;
-        let qa = ao.abs();
-        let mut q = curv - ao;
-        if !(q > 0.0) {
-            q = 0.0;
-        }
-        let mut top = f64::NEG_INFINITY;
-        for &(wx, wy) in pw {
-            let e = ox * wx + oy * wy;
-            if e > top {
-                top = e;
-            }
-        }
-        let mut m = vertex_clear(gaps[near] - tol, lin, qa, top - (rv + (ox * qw[near].0 + oy * qw[near].1)), q);
-        if !(m > best) {
-            continue;
-        }
-        for k in 0..pts.len() {
-            if k == near {
-                continue;
-            }
-            let e = gaps[k] - tol;
-            if m < f64::INFINITY && e - m * (lin + 0.5 * qa * m) >= 0.0 {
-                continue; // its rate bound alone lasts past m
-            }
-            let t = vertex_clear(e, lin, qa, top - (rv + (ox * qw[k].0 + oy * qw[k].1)), q);
-            if t < m {
-                m = t;
-                if !(m > best) {
-                    break;
+        let mut m = clear_root(g - tol, spin - (ox * du + oy * dv), (ox * dax + oy * day).abs());
+        if turning && span > m && span > best {
+            let mut mt = span;
+            for i in 0..n {
+                let k = if i == 0 {
+                    near
+                } else if i <= near {
+                    i - 1
+                } else {
+                    i
+                };
+                let e = gaps[k] - tol;
+                if e - mt * rate >= 0.0 {
+                    continue; // its first-derivative bound alone lasts past mt
                 }
+                let (x, y) = pts[k];
+                let (ux, uy) = (x - px, y - py);
+                let (vx, vy) = (du + qw[k].0, dv + qw[k].1);
+                let g1 = wp * (ox * uy - oy * ux) + (ox * vx + oy * vy);
+                let g2 = -(wp * wp) * (ox * ux + oy * uy) + 2.0 * wp * (ox * vy - oy * vx) + (ox * dax + oy * day)
+                    - wr * wr * (ox * (x - qx) + oy * (y - qy));
+                let mut qq = jerk - g2;
+                if !(qq > 0.0) {
+                    qq = 0.0;
+                }
+                let mut t = clear_root(e, -g1, qq);
+                if !(t >= 0.0) {
+                    t = 0.0;
+                }
+                if t < mt {
+                    mt = t;
+                    if !(mt > m && mt > best) {
+                        break;
+                    }
+                }
+            }
+            if mt > m {
+                m = mt;
             }
         }
         if m > best {
@@ -1190,14 +1212,15 @@ fn edges_clear(
 /// The library's clear_time of two polygons (the simulator keeps
 /// clear_time's own, whose bits its traces pin): every vertex from one
 /// cosine and sine of its body's angle ([`rotated_points`]), and the gap
-/// along each edge normal of either polygon held fixed as well as along the
-/// line of the centres.  Along a fixed axis the gap closes at most as fast
-/// as the centres' relative motion along it plus each bound times its turn
-/// rate, along an edge normal each vertex's gap also stays above its Taylor
-/// polynomial of order 1 less the bound of its second derivative
-/// ([`edges_clear`]), and the gap of the best separating axis now is the
-/// separation, so this is never shorter than the bound through the norms
-/// |x| + |y| and never longer than the bodies stay apart.
+/// along each edge normal of either polygon, held fixed and turning with its
+/// polygon ([`edges_clear`]), as well as along the line of the centres.
+/// Along a fixed axis the gap closes at most as fast as the centres'
+/// relative motion along it plus each bound times its turn rate, along a
+/// turning edge normal each vertex's gap stays above its Taylor polynomial
+/// of order 2 less the bound of its third derivative, and the gap of the
+/// best separating axis now is the separation, so this is never shorter
+/// than the bound through the norms |x| + |y| and never longer than the
+/// bodies stay apart.
 fn clear_polygons<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     let (x1, y1, u1, v1, g1) = state_at(a_, now);
     let (x2, y2, u2, v2, g2) = state_at(b_, now);
@@ -1215,20 +1238,33 @@ fn clear_polygons<W: PairEnv>(w: &W, a_: &Body, b_: &Body, now: f64) -> f64 {
     let hi = reach_points(nx, ny, &pa);
     let lo = -reach_points(-nx, -ny, &pb);
     let spin = a_.bound * turn_rate(a_) + b_.bound * turn_rate(b_);
-    let curv = a_.om * a_.om * a_.bound + b_.om * b_.om * b_.bound;
+    let span = 1.0 / (a_.om.abs() + b_.om.abs());
     let tol = w.tol();
     let (du, dv, dax, day) = (u2 - u1, v2 - v1, b_.ax - a_.ax, b_.ay - a_.ay);
     let best = clear_root(lo - hi - tol, spin - (nx * du + ny * dv), (nx * dax + ny * day).abs());
-    let best = edges_clear(w.verts(), a_, (x1, y1, ca, sa), &pb, &wb, &wa, best, (spin, curv), (du, dv, dax, day), tol);
+    let best = edges_clear(
+        w.verts(),
+        a_,
+        (x1, y1, ca, sa),
+        b_,
+        (x2, y2),
+        &pb,
+        &wb,
+        best,
+        (spin, span),
+        (du, dv, dax, day),
+        tol,
+    );
     edges_clear(
         w.verts(),
         b_,
         (x2, y2, cb, sb),
+        a_,
+        (x1, y1),
         &pa,
         &wa,
-        &wb,
         best,
-        (spin, curv),
+        (spin, span),
         (u1 - u2, v1 - v2, a_.ax - b_.ax, a_.ay - b_.ay),
         tol,
     )
