@@ -263,3 +263,56 @@ def test_the_gap_at_zero_is_above_its_lower_bound(p, slack, facing):
         assert lo <= g
         if facing and lo > 0.0:
             assert g - lo < 4 * abs(slack) * total + 1e-9
+
+
+def _still_draw(rng: random.Random) -> tuple[dict, float]:
+    """Two circles without orbits (the angular velocities and phases drawn
+    all the same, the radii zero): apart, aimed at each other, inside each
+    other, or touching at t = 0 along x (the gap there is zero exactly)."""
+    p, T = _draw(rng)
+    p["d"] = p["j"] = 0.0
+    kind = rng.randrange(4)
+    if kind == 2:       # inside each other
+        p["g"], p["r"] = p["a"] + 0.1 * p["x"], p["m"]
+    elif kind == 3:     # touching at t = 0, moving together or apart
+        p["g"], p["r"] = p["a"] + (p["x"] + p["z"]), p["m"]
+        p["h"] = p["b"] + rng.choice([-1.0, 1.0]) * rng.uniform(0.5, 2.0)
+    return p, T
+
+
+@pytest.mark.slow
+def test_a_non_finite_parameter_answers_none_without_orbits(circles_py, tmp_path):
+    """Without orbits the C and Rust drivers test the parameters' finiteness
+    only before an answer other than none: on drawn pairs that touch, meet,
+    miss or overlap, any one parameter (used by the gap or not) made an
+    infinity or a NaN gives none in C, Rust and Python; the finite pairs give
+    the same bits in the three."""
+    from max2code.toolchain.exact import build_exact_harness
+
+    _, ns = circles_py
+    py_toc = ns["circle_circle_toc_exact"]
+    rng = random.Random(2718)
+    finite, broken = [], []
+    for _ in range(40):
+        p, T = _still_draw(rng)
+        finite.append((p, T))
+        for _ in range(3):
+            q = dict(p)
+            q[rng.choice(CC)] = rng.choice([math.inf, -math.inf, math.nan])
+            broken.append((q, T))
+    rows = [[p[c] for c in CC] + [T, 1.0, 1.0, 0.0, 0.0] for p, T in finite + broken]
+    answers = {}
+    for lang in ("c", "rust"):
+        g = generate_file(GenerateRequest(path=str(ROOT / "equations" / "circle-circle.mxm"), lang=lang,
+                                          out_name="generated", exact=True))
+        h = build_exact_harness(lang, g.text, g.exact, str(tmp_path / lang))
+        answers[lang], _ = h.run(rows)
+    py = []
+    for p, T in finite + broken:
+        a = py_toc(*[p[c] for c in CC], T)
+        py.append((0, 0.0) if a is None else (2, 0.0) if a == "overlapped" else (1, a))
+    n = len(finite)
+    assert answers["c"][:n] == answers["rust"][:n] == py[:n]
+    assert {st for st, _ in py[:n]} == {0, 1, 2}     # the draws reach none, contact and overlapped
+    for lang, got in (("c", answers["c"]), ("rust", answers["rust"]), ("python", py)):
+        assert all(st == 0 for st, _ in got[n:]), lang

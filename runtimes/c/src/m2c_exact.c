@@ -1,6 +1,7 @@
 /* Contact time of the exact motion: the generic driver of
  * docs/exact-motion.md ("Algorithm"), operation for operation the same as
  * the Rust, Python and Modula-2 runtimes. */
+#include <float.h>
 #include <math.h>
 #include "m2c_exact.h"
 #include "m2c_roots.h"
@@ -89,27 +90,32 @@ static double floor_at(const ctx *k, double t)
     return FLOOR * k->m->scale(k->p, t);
 }
 
-/* The exact gap and its derivative: the motion's, or for two circles
- * without orbits the centres' distance squared minus the radii's sum
- * squared, differences first (k->pd). */
-static double gap_at(const ctx *k, double t)
+/* Two circles without orbits: the centres' distance squared minus the
+ * radii's sum squared and its derivative, from the differences d (ctx.pd). */
+static double still_gap(const double *d, double t)
 {
-    if (!k->pd)
-        return k->m->gap(k->p, t);
-    const double *d = k->pd;
     double x = (d[2] * t + d[1]) * t + d[0];
     double y = (d[5] * t + d[4]) * t + d[3];
     return y * y - d[6] * d[6] + x * x;
 }
 
-static double gap_dt_at(const ctx *k, double t)
+static double still_gap_dt(const double *d, double t)
 {
-    if (!k->pd)
-        return k->m->gap_dt(k->p, t);
-    const double *d = k->pd;
     double x = (d[2] * t + d[1]) * t + d[0];
     double y = (d[5] * t + d[4]) * t + d[3];
     return 2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]));
+}
+
+/* The exact gap and its derivative: the motion's, or for two circles
+ * without orbits still_gap (k->pd). */
+static double gap_at(const ctx *k, double t)
+{
+    return k->pd ? still_gap(k->pd, t) : k->m->gap(k->p, t);
+}
+
+static double gap_dt_at(const ctx *k, double t)
+{
+    return k->pd ? still_gap_dt(k->pd, t) : k->m->gap_dt(k->p, t);
 }
 
 /* ---- Two circles: the whole-horizon bound (docs/exact-motion.md) ----
@@ -310,6 +316,33 @@ static double polish(const ctx *k, double x, double a, double b, double lo, doub
     return x;
 }
 
+/* polish for two circles without orbits over [a, b] = [lo, hi]: the same
+ * steps on still_gap, called directly. */
+static double still_polish(const double *d, double x, double lo, double hi)
+{
+    double g = still_gap(d, x);
+    for (int i = 0; i < POLISH_STEPS; i++) {
+        if (g == 0.0)
+            break;
+        double dg = still_gap_dt(d, x);
+        if (!(dg != 0.0))
+            break;
+        double xn = x - g / dg;
+        if (!(xn > lo && xn <= hi))
+            break;
+        if (fabs(xn - x) <= SETTLED * fabs(xn)) {
+            x = xn;
+            break;
+        }
+        double gn = still_gap(d, xn);
+        if (!(fabs(gn) < fabs(g)))
+            break;
+        x = xn;
+        g = gn;
+    }
+    return x;
+}
+
 /* Where a contact at t = 0 that separates has left the zero band. */
 static double depart(const ctx *k, double horizon, double band0, double d0)
 {
@@ -329,21 +362,27 @@ static double depart(const ctx *k, double horizon, double band0, double d0)
     return horizon;
 }
 
-/* No parameter is an infinity or a NaN (x * 0 is 0 for every finite x,
- * else NaN; four sums to keep the loop short). */
+/* No parameter is an infinity or a NaN.  Their sum is finite only then,
+ * unless finite parameters overflow it: then each is tested (x * 0 is 0
+ * for every finite x, else NaN). */
 static int all_finite(const double *p, int n)
 {
-    double z0 = 0.0, z1 = 0.0, z2 = 0.0, z3 = 0.0;
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     int i = 0;
     for (; i + 3 < n; i += 4) {
-        z0 += p[i] * 0.0;
-        z1 += p[i + 1] * 0.0;
-        z2 += p[i + 2] * 0.0;
-        z3 += p[i + 3] * 0.0;
+        s0 += p[i];
+        s1 += p[i + 1];
+        s2 += p[i + 2];
+        s3 += p[i + 3];
     }
     for (; i < n; i++)
-        z0 += p[i] * 0.0;
-    return (z0 + z1) + (z2 + z3) == 0.0;
+        s0 += p[i];
+    if (isfinite((s0 + s1) + (s2 + s3)))
+        return 1;
+    for (i = 0; i < n; i++)
+        if (!(p[i] * 0.0 == 0.0))
+            return 0;
+    return 1;
 }
 
 /* The checks and the rules at t = 0 shared by m2c_exact_toc and
@@ -358,9 +397,9 @@ static int all_finite(const double *p, int n)
 static int begin(const ctx *k, const m2c_exact_options *o, double horizon, double clear0, double *start, double *t)
 {
     const m2c_motion *m = k->m;
-    if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
+    if (!(o->window_angle > 0.0 && o->window_angle <= DBL_MAX) || !o->solver || !(o->zero_tol >= 0.0))
         return -1;
-    if (!isfinite(horizon) || !(horizon > 0.0))
+    if (!(horizon > 0.0 && horizon <= DBL_MAX))
         return 0;
     if (!all_finite(k->p, m->nparams))
         return 0;
@@ -404,65 +443,82 @@ static int poly_search(const ctx *k, const double *c, int n, double start, doubl
 }
 
 /* Two circles without orbits: their gap is the polynomial H of
- * circles_bound (exact up to its margin), solved once over (start,
- * horizon]; the root is polished on the gap only when its width under that
- * margin exceeds SHARP r.  The checks and rules at t = 0 are begin's, with
- * the gap and the scale at 0 read from the differences directly (the
- * values gap_at and floor_at give: at t = 0 the terms in t are zero);
- * begin itself answers only a touch at 0. */
+ * circles_bound (rho1 = rho2 = 0: exact up to its margin), solved once
+ * over (start, horizon]; the root is polished on the gap only when its
+ * width under that margin exceeds SHARP r.  The checks and rules at t = 0
+ * are begin's, with the gap and the scale at 0 read from the differences
+ * directly (the values gap_at and floor_at give: at t = 0 the terms in t
+ * are zero); begin itself answers only a touch at 0.  The parameters'
+ * finiteness decides only an answer other than none (a non-finite one
+ * makes every answer none), so it is tested only before such an answer;
+ * the margin is computed only for a root. */
 static int still_circles(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *o,
                          double *t)
 {
-    if (!(o->window_angle > 0.0) || !isfinite(o->window_angle) || !o->solver || !(o->zero_tol >= 0.0))
+    if (!(o->window_angle > 0.0 && o->window_angle <= DBL_MAX) || !o->solver || !(o->zero_tol >= 0.0))
         return -1;
-    if (!isfinite(horizon) || !(horizon > 0.0))
-        return 0;
-    if (!all_finite(p, m->nparams))
+    if (!(horizon > 0.0 && horizon <= DBL_MAX))
         return 0;
     const int *ix = m->circles, *jx = ix + 12;
-    double h[5], d[7], margin, start = 0.0, r;
-    circles_bound(ix, p, horizon, h, d, &margin);
-    ctx k = {m, p, o->solver, o->zero_tol, d, ix};
+    double x0 = p[ix[0]] - p[jx[0]], y0 = p[ix[1]] - p[jx[1]];
+    double x1 = p[ix[2]] - p[jx[2]], y1 = p[ix[3]] - p[jx[3]];
+    double x2 = 0.5 * (p[ix[4]] - p[jx[4]]), y2 = 0.5 * (p[ix[5]] - p[jx[5]]);
+    double r = fabs(p[ix[11]] + p[jx[11]]);
+    double h[5], d[7], start = 0.0, s;
+    h[0] = x0 * x0 + y0 * y0 - r * r;
+    h[1] = 2.0 * (x0 * x1 + y0 * y1);
+    h[2] = x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2);
+    h[3] = 2.0 * (x1 * x2 + y1 * y2);
+    h[4] = x2 * x2 + y2 * y2;
     double sr = fabs(p[ix[11]]) + fabs(p[jx[11]]);
     double ax = fabs(p[ix[0]]) + fabs(p[jx[0]]), ay = fabs(p[ix[1]]) + fabs(p[jx[1]]);
     double band0 = FLOOR * (sr * sr + ay * ay + ax * ax);
     if (o->zero_tol > band0)
         band0 = o->zero_tol;
-    double g0 = d[3] * d[3] - d[6] * d[6] + d[0] * d[0];
+    double g0 = y0 * y0 - r * r + x0 * x0;
     if (g0 < -band0) {          /* inside each other at t = 0: not a contact, its own answer */
+        if (!all_finite(p, m->nparams))
+            return 0;
         *t = 0.0;
         return M2C_EXACT_OVERLAPPED;
     }
     if (fabs(g0) <= band0) {    /* touching at t = 0 */
+        d[0] = x0, d[1] = x1, d[2] = x2, d[3] = y0, d[4] = y1, d[5] = y2, d[6] = r;
+        ctx k = {m, p, o->solver, o->zero_tol, d, ix};
         int st0 = begin(&k, o, horizon, -INFINITY, &start, t);
         if (st0 != SEARCH)
             return st0;
     }
-    int n = 4;
-    while (n > 0 && h[n] == 0.0)
-        n--;
-    if (o->solver(h, n, start, horizon, &r) != 1)
+    int n = h[4] != 0.0 ? 4 : h[3] != 0.0 ? 3 : h[2] != 0.0 ? 2 : h[1] != 0.0 ? 1 : 0;
+    int found = o->solver == m2c_smallest_root ? m2c_smallest_root(h, n, start, horizon, &s)
+                                               : o->solver(h, n, start, horizon, &s);
+    if (found != 1 || !all_finite(p, m->nparams))
         return 0;
-    if (o->refine && !(width(h, n, r, margin) <= SHARP * r))
-        r = polish(&k, r, start, horizon, start, horizon);
-    if (r > horizon)
-        r = horizon;
-    *t = r + 0.0;
+    if (o->refine) {
+        double sx = fabs(x0) + (fabs(x1) + fabs(x2) * horizon) * horizon;
+        double sy = fabs(y0) + (fabs(y1) + fabs(y2) * horizon) * horizon;
+        double margin = FLOOR * (sx * sx + sy * sy + r * r);
+        if (!(width(h, n, s, margin) <= SHARP * s)) {
+            d[0] = x0, d[1] = x1, d[2] = x2, d[3] = y0, d[4] = y1, d[5] = y2, d[6] = r;
+            s = still_polish(d, s, start, horizon);
+        }
+    }
+    if (s > horizon)
+        s = horizon;
+    *t = s + 0.0;
     return 1;
 }
+
+static const m2c_exact_options DEFAULTS = {M2C_EXACT_ANGLE, 1, 0.0, m2c_smallest_root};
 
 int m2c_exact_toc(const m2c_motion *m, const double *p, double horizon, const m2c_exact_options *options,
                   double *t)
 {
-    m2c_exact_options o;
-    if (options)
-        o = *options;
-    else
-        m2c_exact_defaults(&o);
     if (!m || !p || !t || m->nparams < 0 || m->nparams > M2C_EXACT_MAX_PARAMS || m->max_degree > M2C_MAX_DEGREE)
         return -1;
     if (m->circles && p[m->circles[6]] == 0.0 && p[m->circles[18]] == 0.0)
-        return still_circles(m, p, horizon, &o, t);    /* no orbit: no windows */
+        return still_circles(m, p, horizon, options ? options : &DEFAULTS, t);    /* no orbit: no windows */
+    m2c_exact_options o = options ? *options : DEFAULTS;
     ctx k = {m, p, o.solver, o.zero_tol, 0, 0};
     double hb[5], pd[7], mb = 0.0, clear0 = -INFINITY;
     int nb = 0, bound = 0;

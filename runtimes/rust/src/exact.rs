@@ -275,22 +275,14 @@ impl Ctx<'_> {
     fn gap(&self, t: f64) -> f64 {
         match &self.pd {
             None => (self.m.gap)(self.p, t),
-            Some((d, _)) => {
-                let x = (d[2] * t + d[1]) * t + d[0];
-                let y = (d[5] * t + d[4]) * t + d[3];
-                y * y - d[6] * d[6] + x * x
-            }
+            Some((d, _)) => still_gap(d, t),
         }
     }
 
     fn gap_dt(&self, t: f64) -> f64 {
         match &self.pd {
             None => (self.m.gap_dt)(self.p, t),
-            Some((d, _)) => {
-                let x = (d[2] * t + d[1]) * t + d[0];
-                let y = (d[5] * t + d[4]) * t + d[3];
-                2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]))
-            }
+            Some((d, _)) => still_gap_dt(d, t),
         }
     }
 
@@ -557,30 +549,123 @@ fn still_scale(ix: &[usize; 24], p: &[f64], t: f64) -> f64 {
 }
 
 /// Two circles without orbits: their gap is the polynomial H of
-/// `circles_bound` (exact up to its margin), solved once over `(start,
-/// horizon]`; the root is polished on the gap only when its width under that
-/// margin exceeds SHARP r.
+/// `circles_bound` (rho1 = rho2 = 0: exact up to its margin), solved once
+/// over `(start, horizon]`; the root is polished on the gap only when its
+/// width under that margin exceeds SHARP r.  The checks and rules at t = 0
+/// are [`begin`]'s, with the gap and the scale at 0 read from the
+/// differences directly; `begin` itself answers only a touch at 0.  The
+/// parameters' finiteness decides only an answer other than none (a
+/// non-finite one makes every answer none), so it is tested only before
+/// such an answer; the margin is computed only for a root.
 fn still_circles(m: &Motion, ix: &[usize; 24], p: &[f64], horizon: f64, o: &ExactOptions) -> Result<Toc, &'static str> {
-    let (h, pd, margin, _) = circles_bound(ix, p, horizon);
-    let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: Some((pd, ix)) };
-    let start = match begin(&k, horizon, o, f64::NEG_INFINITY)? {
-        Begin::Answer(a) => return Ok(a),
-        Begin::Search(s) => s,
-    };
+    if m.nparams > MAX_PARAMS || m.max_degree > MAX_DEGREE {
+        return Err("exact_toc: the motion does not fit the runtime's limits or the parameters");
+    }
+    if !(o.window_angle > 0.0) || !o.window_angle.is_finite() || !(o.zero_tol >= 0.0) {
+        return Err("exact_toc: window_angle must be positive and finite, zero_tol >= 0");
+    }
+    if !horizon.is_finite() || !(horizon > 0.0) {
+        return Ok(Toc::NoContact);
+    }
+    let jx = &ix[12..];
+    let (x0, y0) = (p[ix[0]] - p[jx[0]], p[ix[1]] - p[jx[1]]);
+    let (x1, y1) = (p[ix[2]] - p[jx[2]], p[ix[3]] - p[jx[3]]);
+    let (x2, y2) = (0.5 * (p[ix[4]] - p[jx[4]]), 0.5 * (p[ix[5]] - p[jx[5]]));
+    let r = (p[ix[11]] + p[jx[11]]).abs();
+    let h = [
+        x0 * x0 + y0 * y0 - r * r,
+        2.0 * (x0 * x1 + y0 * y1),
+        x1 * x1 + y1 * y1 + 2.0 * (x0 * x2 + y0 * y2),
+        2.0 * (x1 * x2 + y1 * y2),
+        x2 * x2 + y2 * y2,
+    ];
+    let d = [x0, x1, x2, y0, y1, y2, r];
+    let finite = || p.iter().all(|v| v.is_finite());
+    let mut band0 = FLOOR * still_scale(ix, p, 0.0);
+    if o.zero_tol > band0 {
+        band0 = o.zero_tol;
+    }
+    let g0 = y0 * y0 - r * r + x0 * x0;
+    if g0 < -band0 {
+        // inside each other at t = 0: not a contact, its own answer
+        return Ok(if finite() { Toc::Overlapped } else { Toc::NoContact });
+    }
+    let mut start = 0.0;
+    if g0.abs() <= band0 {
+        // touching at t = 0
+        let k = Ctx { m, p, solver: o.solver, zero_tol: o.zero_tol, pd: Some((d, ix)) };
+        match begin(&k, horizon, o, f64::NEG_INFINITY)? {
+            Begin::Answer(a) => return Ok(a),
+            Begin::Search(s) => start = s,
+        }
+    }
     let mut n = 4;
     while n > 0 && h[n] == 0.0 {
         n -= 1;
     }
-    let Some(mut r) = (o.solver)(&h[..=n], start, horizon) else {
+    let Some(mut s) = (o.solver)(&h[..=n], start, horizon) else {
         return Ok(Toc::NoContact);
     };
-    if o.refine && !(width(&h, n, r, margin) <= SHARP * r) {
-        r = k.polish(r, start, horizon, start, horizon);
+    if !finite() {
+        return Ok(Toc::NoContact);
     }
-    if r > horizon {
-        r = horizon;
+    if o.refine {
+        let sx = x0.abs() + (x1.abs() + x2.abs() * horizon) * horizon;
+        let sy = y0.abs() + (y1.abs() + y2.abs() * horizon) * horizon;
+        let margin = FLOOR * (sx * sx + sy * sy + r * r);
+        if !(width(&h, n, s, margin) <= SHARP * s) {
+            s = still_polish(&d, s, start, horizon);
+        }
     }
-    Ok(Toc::Contact(r + 0.0))
+    if s > horizon {
+        s = horizon;
+    }
+    Ok(Toc::Contact(s + 0.0))
+}
+
+/// Two circles without orbits: the centres' distance squared minus the
+/// radii's sum squared, from the differences `d` (`Ctx::pd`).
+fn still_gap(d: &[f64; 7], t: f64) -> f64 {
+    let x = (d[2] * t + d[1]) * t + d[0];
+    let y = (d[5] * t + d[4]) * t + d[3];
+    y * y - d[6] * d[6] + x * x
+}
+
+/// Its derivative.
+fn still_gap_dt(d: &[f64; 7], t: f64) -> f64 {
+    let x = (d[2] * t + d[1]) * t + d[0];
+    let y = (d[5] * t + d[4]) * t + d[3];
+    2.0 * (x * (2.0 * d[2] * t + d[1]) + y * (2.0 * d[5] * t + d[4]))
+}
+
+/// `Ctx::polish` for two circles without orbits over [a, b] = [lo, hi]:
+/// the same steps on [`still_gap`], called directly.
+fn still_polish(d: &[f64; 7], mut x: f64, lo: f64, hi: f64) -> f64 {
+    let mut g = still_gap(d, x);
+    for _ in 0..POLISH_STEPS {
+        if g == 0.0 {
+            break;
+        }
+        let dg = still_gap_dt(d, x);
+        if !(dg != 0.0) {
+            break;
+        }
+        let xn = x - g / dg;
+        if !(xn > lo && xn <= hi) {
+            break;
+        }
+        if (xn - x).abs() <= SETTLED * xn.abs() {
+            x = xn;
+            break;
+        }
+        let gn = still_gap(d, xn);
+        if !(gn.abs() < g.abs()) {
+            break;
+        }
+        x = xn;
+        g = gn;
+    }
+    x
 }
 
 /// The polynomial `c` is the exact gap: its smallest root in `(start, horizon]`, polished.
