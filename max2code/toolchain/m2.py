@@ -13,7 +13,6 @@ from pathlib import Path
 from max2code import paths
 from max2code.paths import BUILD, RUNTIMES
 from max2code.toolchain.base import Toolchain
-from max2code.toolchain.m2_split import split_files
 from max2code.toolchain.tools import RuntimeBuildError, build_lock, gsl_libs, run, tool_version
 
 M2_RUNTIME = RUNTIMES / "m2"
@@ -48,6 +47,7 @@ def _split_harness(src: str) -> tuple[list[str], list[str]]:
     if found is None or not os.path.isfile(os.path.join(workdir, found.group(1))):
         return [], []
     name = found.group(1)
+    from max2code.toolchain.m2_split import split_files
     parts = split_files([os.path.join(workdir, name)], workdir, workdir, ".parts")
     if not parts:
         return [], []
@@ -182,6 +182,7 @@ class Modula2Toolchain(Toolchain):
         shared = sim_library_objects()
         counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
+        from max2code.toolchain.m2_split import split_files
         parts = split_files([os.path.join(workdir, f"{eq}.mxd") for eq in ("circle_circle", "point_edge")],
                             workdir, os.path.join(workdir, SPLIT))
         with open(os.path.join(workdir, SPLIT, PARTS_LIST), "w", encoding="utf-8") as fh:

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
 
 # at most this many lines of procedures per part module: small enough that the
 # square stays small, large enough that a part's fixed cost (gm2 starting,
@@ -36,12 +35,12 @@ _CALLS = ("sin", "cos", "sinf", "cosf")
 _IMPORTS = {"sin": "RealMath", "cos": "RealMath", "sinf": "ShortMath", "cosf": "ShortMath"}
 
 
-@dataclass
 class _Proc:
-    name: str
-    heading: str
-    lines: list[str]
-    calls: set[str]
+    """A movable procedure: its name, heading line, lines and the calls it makes."""
+    __slots__ = ("name", "heading", "lines", "calls")
+
+    def __init__(self, name: str, heading: str, lines: list[str], calls: set[str]):
+        self.name, self.heading, self.lines, self.calls = name, heading, lines, calls
 
 
 def _movable(lines: list[str]) -> _Proc | None:
