@@ -38,12 +38,12 @@ def _split_harness(src: str) -> tuple[list[str], list[str]]:
     turned to the text that imports them (GENERATED.parts).  Returns the
     commands' pieces: the parts' sources and their objects (none when the
     harness includes no generated file beside it)."""
-    if not os.path.isfile(src):
+    if not (src.endswith(".mod") and os.path.isfile(src)):
         return [], []
     workdir = os.path.dirname(os.path.abspath(src))
     with open(src, encoding="utf-8") as fh:
         text = fh.read()
-    found = re.search(r'^#include "([\w.-]+\.mxd)"$', text, re.M)
+    found = re.search(r'^#include "([\w.-]+\.mxd)(?:\.parts)?"$', text, re.M)     # .parts: split before
     if found is None or not os.path.isfile(os.path.join(workdir, found.group(1))):
         return [], []
     name = found.group(1)
