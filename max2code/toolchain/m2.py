@@ -157,7 +157,8 @@ class Modula2Toolchain(Toolchain):
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the simulator's library modules (SIM_MODULES, and
         SIM_GENERATED, which #includes the generated circle_circle.mxd and
-        point_edge.mxd from workdir) and the batch simulator (SimMain, a thin
+        point_edge.mxd from workdir, split into part modules by
+        sim_world_build) and the batch simulator (SimMain, a thin
         user of the live world SimLive), and link
         them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
