@@ -158,7 +158,8 @@ def _build_key(lang: str, effects: tuple[str, ...], order: int) -> tuple[Path, s
     else computed from their bytes."""
     workdir = BUILD / "sim" / lang / (("-".join(effects) or "none") + f"-o{order}")
     head = json.dumps([lang, list(effects), order, __version__, STAMP_FORM])
-    trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", TEMPLATES / lang, RUNTIMES / lang)]
+    trees = [_tree_files(tree) for tree in (PKG / "generate", PKG / "targets", PKG / "toolchain", TEMPLATES / lang,
+                                            RUNTIMES / lang)]
     now = filestate.state([*map(str, EQUATIONS.values()), *(p for tree in trees for p in tree)], head)
     memo = workdir / "inputs.state"
     digest = filestate.recall(memo, now)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -24,6 +25,41 @@ SIM_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2", "-ffp-contract=off"]
 SIM_MODULES = ("SimOut", "SimScene", "SimQueue", "SimGrid", "SimMotion", "SimWorld", "SimContact", "SimSupport",
                "SimSleep", "SimOverlap", "SimCluster", "SimHandlers", "SimLive")
 SIM_GENERATED = "SimPredict"
+# the folder (in the simulator's workdir) of the texts SIM_GENERATED includes
+# in place of the generated files, and the list of their part modules (m2_split.py)
+SPLIT = "split"
+PARTS_LIST = "parts.txt"
+HARNESS_FLAGS = ["-fiso", "-fcpp", "-Wall", "-Werror", "-O2"]
+
+
+def _split_harness(src: str) -> tuple[list[str], list[str]]:
+    """The harness source `src` made to include its generated file as part
+    modules (m2_split.py): the part modules written beside it, the include
+    turned to the text that imports them (GENERATED.parts).  Returns the
+    commands' pieces: the parts' sources and their objects (none when the
+    harness includes no generated file beside it)."""
+    if not (src.endswith(".mod") and os.path.isfile(src)):
+        return [], []
+    workdir = os.path.dirname(os.path.abspath(src))
+    with open(src, encoding="utf-8") as fh:
+        text = fh.read()
+    found = re.search(r'^#include "([\w.-]+\.mxd)(?:\.parts)?"$', text, re.M)     # .parts: split before
+    if found is None or not os.path.isfile(os.path.join(workdir, found.group(1))):
+        return [], []
+    name = found.group(1)
+    from max2code.toolchain.m2_split import split_files
+    parts = split_files([os.path.join(workdir, name)], workdir, workdir, ".parts")
+    if not parts:
+        return [], []
+    text = text.replace(found.group(0), f'#include "{name}.parts"')
+    with open(src, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return ([os.path.join(workdir, f"{m}.mod") for m in parts], [os.path.join(workdir, f"{m}.o") for m in parts])
+
+
+def _part_builds(flags: list[str], incs: list[str], sources: list[str]) -> list[list[str]]:
+    """The commands that compile part modules (each SOURCE.mod into SOURCE.o)."""
+    return [["gm2", *flags, *incs, "-c", m, "-o", m[:-4] + ".o"] for m in sources]
 
 
 def make_m2(*targets: str | Path) -> None:
@@ -82,9 +118,10 @@ class Modula2Toolchain(Toolchain):
         """Commands that compile the harness: gm2 -fiso -fcpp, warnings are errors;
         the runtime's src folder (cstdio.def, which the harness imports) follows
         `include_dirs` on the search path."""
-        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2",
-                 *[f"-I{d}" for d in (*include_dirs, M2_RUNTIME / "src")], *self.runtime_flags(), src, "-o", exe,
-                 "-lm"]]
+        incs = [f"-I{d}" for d in (*include_dirs, M2_RUNTIME / "src")]
+        sources, objs = _split_harness(src)
+        return [*_part_builds(HARNESS_FLAGS, [*incs, f"-I{M2_RUNTIME}"], sources),
+                ["gm2", *HARNESS_FLAGS, *incs, *self.runtime_flags(), *objs, src, "-o", exe, "-lm"]]
 
     def runtime_flags(self) -> list[str]:
         objs = m2_objects()
@@ -109,8 +146,10 @@ class Modula2Toolchain(Toolchain):
     def exact_harness_build(self, src: str, exe: str, workdir: str) -> list[list[str]]:
         m2 = M2_RUNTIME
         objs = m2_objects("Roots", "RootsGsl", "ExactToc")
-        return [["gm2", "-fiso", "-fcpp", "-Wall", "-Werror", "-O2", f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}",
-                 *map(str, objs), src, "-o", exe, *gsl_libs(), "-lm"]]
+        incs = [f"-I{m2}", f"-I{m2 / 'src'}", f"-I{workdir}"]
+        sources, parts = _split_harness(os.path.join(workdir, src))
+        return [*_part_builds(HARNESS_FLAGS, incs, sources),
+                ["gm2", *HARNESS_FLAGS, *incs, *map(str, objs), *parts, src, "-o", exe, *gsl_libs(), "-lm"]]
 
     def harness_run(self, src: str, exe: str) -> list[str]:
         return [exe]
@@ -118,7 +157,8 @@ class Modula2Toolchain(Toolchain):
     def sim_build(self, workdir: str, generated: dict[str, str], variants: dict[str, int]) -> list[list[str]]:
         """Compile the simulator's library modules (SIM_MODULES, and
         SIM_GENERATED, which #includes the generated circle_circle.mxd and
-        point_edge.mxd from workdir) and the batch simulator (SimMain, a thin
+        point_edge.mxd from workdir, split into part modules by
+        sim_world_build) and the batch simulator (SimMain, a thin
         user of the live world SimLive), and link
         them with the Roots runtime into workdir/sim.
         The commands run in workdir: gm2 writes SimMain.o to the current
@@ -136,22 +176,39 @@ class Modula2Toolchain(Toolchain):
         """Commands (run in workdir) that put SIM_MODULES' objects into
         workdir/NAME.o (copies of sim_library_objects', compiled once for all
         the simulators) and compile SIM_GENERATED there, with the generated
-        .mxd files from workdir."""
+        .mxd files from workdir: their coefficient procedures as part
+        modules (m2_split.py; gm2's time grows with the square of a module's
+        length), SIM_GENERATED including the rest (workdir/split/NAME.mxd)."""
         m2 = self._m2()
         shared = sim_library_objects()
         counts = [f"-DSIM_CC_VARIANTS={variants['circle_circle']}",
                   f"-DSIM_PE_VARIANTS={variants['point_edge']}"]
-        incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
+        from max2code.toolchain.m2_split import split_files
+        parts = split_files([os.path.join(workdir, f"{eq}.mxd") for eq in ("circle_circle", "point_edge")],
+                            workdir, os.path.join(workdir, SPLIT))
+        with open(os.path.join(workdir, SPLIT, PARTS_LIST), "w", encoding="utf-8") as fh:
+            fh.write("".join(f"{m}\n" for m in parts))
+        incs = [f"-I{os.path.join(workdir, SPLIT)}", f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return [["cp", *[str(shared / f"{m}.o") for m in SIM_MODULES], workdir],
+                *_part_builds(SIM_FLAGS, incs, [os.path.join(workdir, f"{m}.mod") for m in parts]),
                 ["gm2", *SIM_FLAGS, *counts, *incs, "-c", str(m2 / f"{SIM_GENERATED}.mod"),
                  "-o", os.path.join(workdir, f"{SIM_GENERATED}.o")]]
+
+    @staticmethod
+    def sim_parts(workdir: str) -> list[str]:
+        """The part modules of the generated code in a simulator's workdir (sim_world_build's)."""
+        try:
+            with open(os.path.join(workdir, SPLIT, PARTS_LIST), encoding="utf-8") as fh:
+                return fh.read().split()
+        except OSError:
+            return []
 
     def sim_program_build(self, workdir: str, program: str, exe: str) -> list[str]:
         """The command (run in workdir) that compiles a program module using
         the live world SimLive and links it with the objects sim_world_build made."""
         m2 = self._m2()
         objs = m2_objects()
-        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, SIM_GENERATED)]
+        libs = [os.path.join(workdir, f"{m}.o") for m in (*SIM_MODULES, SIM_GENERATED, *self.sim_parts(workdir))]
         incs = [f"-I{workdir}", f"-I{m2}", f"-I{m2 / 'src'}"]
         return ["gm2", *SIM_FLAGS, *incs, program, *libs, *map(str, objs), "-o", exe, "-lm"]
 

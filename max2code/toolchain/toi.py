@@ -109,18 +109,19 @@ def rust_testee(order: int = ORDER) -> Path:
 def m2_testee(order: int = ORDER) -> Path:
     """The Modula-2 TOI testee (runtimes/m2/ToiTestee.mod over the library
     module Toi) linked with the simulator build of every effect (its modules
-    and the generated code it includes), built under build/toi/m2/ when its
+    and the part modules of the generated code), built under build/toi/m2/ when its
     inputs changed.  The commands run in that folder: gm2 writes the
     program's objects to the current folder and looks them up along -I,
     where that folder comes first."""
-    from max2code.toolchain.m2 import M2_RUNTIME, SIM_FLAGS, SIM_GENERATED, SIM_MODULES, m2_objects
+    from max2code.toolchain.m2 import M2_RUNTIME, SIM_FLAGS, SIM_GENERATED, SIM_MODULES, Modula2Toolchain, m2_objects
     from max2code.toolchain.tools import gsl_libs
     build = build_simulator("m2", WORLD_EFFECTS, order)
     work = BUILD / "toi" / "m2" / f"o{order}"
     work.mkdir(parents=True, exist_ok=True)
     exe = work / "toi_testee"
     objs = m2_objects("Roots", "RootsGsl", "Wire")
-    sim_objs = [Path(build.workdir) / f"{m}.o" for m in (*SIM_MODULES, SIM_GENERATED)]
+    sim_objs = [Path(build.workdir) / f"{m}.o"
+                for m in (*SIM_MODULES, SIM_GENERATED, *Modula2Toolchain.sim_parts(build.workdir))]
     sources = [M2_RUNTIME / "Toi.mod", M2_RUNTIME / "Toi.def", M2_RUNTIME / "ToiTestee.mod"]
     newest = max(os.path.getmtime(p) for p in (*sources, *objs, *sim_objs))
     if not exe.exists() or os.path.getmtime(exe) < newest:

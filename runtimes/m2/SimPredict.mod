@@ -12,7 +12,11 @@ IMPLEMENTATION MODULE SimPredict ;
 
    The generated entries of equations/circle-circle.mxm and
    equations/point-edge.mxm are included below from the build directory
-   (gm2 -fcpp, the build directory on the include path).  The build defines
+   (gm2 -fcpp, the build directory on the include path): the build
+   (max2code/toolchain/m2.py) includes their selection entries here and
+   their coefficient procedures as part modules that the included text
+   imports, as gm2 12 takes time in the square of a module's length
+   (max2code/toolchain/m2_split.py).  The build defines
    SIM_CC_VARIANTS and SIM_PE_VARIANTS, the number of variants each
    NAME_variant counts (max2code/toolchain/m2.py reads them from the
    generated files). *)
