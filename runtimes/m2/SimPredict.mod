@@ -19,7 +19,7 @@ IMPLEMENTATION MODULE SimPredict ;
 
 FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT cos, sin ;
-FROM Roots IMPORT SmallestRoot ;
+FROM Roots IMPORT NoRootTo, SmallestRoot ;
 FROM CMath IMPORT sqrt ;
 FROM SimScene IMPORT Alpha, Bodies, BodyRef, CellH, CellW, EndT, GridMargin, GridNX, GridNY, GridX0, GridY0,
                      Grow, HalfCell, MAX_VERTICES, MaxItems, NBodies, Tol, Vertex, Verts ;
@@ -50,6 +50,8 @@ CONST
    TwoM450 = TwoM90 * TwoM90 * TwoM90 * TwoM90 * TwoM90 ;   (* ... and its bounds on sizes *)
    TwoP450 = 1.0 / TwoM450 ;
    TwoM900 = TwoM450 * TwoM450 ;
+   (* FirstContact's margin: a root beyond before (1 + 2^-10) is far beyond before *)
+   BeforeMargin = 1.0 / 1024.0 ;
    CcVariants = SIM_CC_VARIANTS ;
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
@@ -185,16 +187,29 @@ END touching_now ;
    decreasing, or touches zero with zero slope while pressed together
    (resting contact), and the check holds (edge: Inside, else always).  At
    s = 0 the gap counts as zero within kappa: approaching or pressed
-   (touching_now) means contact now, separating or merely touching never. *)
-PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
+   (touching_now) means contact now, separating or merely touching never.
+
+   before: the earliest contact of the pair's other features found so far
+   (Inf for none); a contact at or after it is never kept (the earliest one,
+   first found on a tie, wins), so the search may answer none instead
+   (docs/simulator.md, "Features that cannot come first"): at once when
+   before is 0, and for degrees 3 and 4 when the Bernstein test of the root
+   solver's entry shows no root in [0, before (1 + 2^-10)], so that a root
+   found in [0, w] lies beyond before by far more than the solver's error. *)
+PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN; before: REAL;
                         VAR s: REAL) : BOOLEAN ;
 VAR
-   lo, d: REAL ;
+   lo, d, h: REAL ;
    it, k: INTEGER ;
 BEGIN
+   IF NOT (before > 0.0) THEN RETURN FALSE END ;
    IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
       s := 0.0 ;
       RETURN TRUE
+   END ;
+   IF (before < w) AND ((deg = 3) OR (deg = 4)) THEN
+      h := before + before * BeforeMargin ;
+      IF (h < w) AND NoRootTo (c, deg, h) THEN RETURN FALSE END
    END ;
    lo := 0.0 ;
    FOR it := 0 TO deg + 1 DO
@@ -307,7 +322,7 @@ END CentreParams ;
 
 (* The first contact within [0, w] of a circle of radius ra moving as pa
    and one of radius rb moving as pb. *)
-PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w: REAL; VAR t: REAL) : BOOLEAN ;
+PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    kappa: REAL ;
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
@@ -322,7 +337,7 @@ BEGIN
       RETURN FALSE
    END ;
    deg := circles_gap (pa, ra, pb, rb, coef) ;
-   RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
+   RETURN FirstContact (coef, deg, w, kappa, FALSE, before, t)
 END CirclesFirst ;
 
 
@@ -370,14 +385,14 @@ END circles_gap ;
 
 
 (* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
-   (radius 0). *)
-PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+   (radius 0); before: FirstContact's. *)
+PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    pa, pb: CParams ;
 BEGIN
    CircleParamsOf (A, now, -1, pa) ;
    CircleParamsOf (B, now, vb, pb) ;
-   RETURN CirclesFirst (pa, A^.r, pb, rb, w, t)
+   RETURN CirclesFirst (pa, A^.r, pb, rb, w, before, t)
 END PredictCC ;
 
 
@@ -432,7 +447,7 @@ END PeCoefficients ;
    edge j's line (behind: else that line does not separate the bodies
    there, a corner meeting a corner: another feature pair is the contact). *)
 PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
-                   now, w: REAL; i: INTEGER; VAR t: REAL) : BOOLEAN ;
+                   now, w: REAL; i: INTEGER; before: REAL; VAR t: REAL) : BOOLEAN ;
 BEGIN
    IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
@@ -442,14 +457,14 @@ BEGIN
    ChkEdge := Y^.v0 + j ;
    ChkVert := i ;
    ChkNow := now ;
-   RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
+   RETURN FirstContact (coef, deg, w, Tol, TRUE, before, t)
 END PeFirst ;
 
 
 (* Point of X (circle centre with radius, vx < 0, or vertex vx: the index in
    Verts of X's vertex vx - X^.v0) against the line of edge j of Y (none while a fixed body covers the edge: its cover
-   is not gone; nothing is counted). *)
-PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+   is not gone; nothing is counted); before: FirstContact's. *)
+PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    rho, beta, rad: REAL ;
    deg, cover: INTEGER ;
@@ -468,9 +483,9 @@ BEGIN
    END ;
    deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
    IF vx < 0 THEN
-      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, t)
+      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, before, t)
    END ;
-   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, t)
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, before, t)
 END PredictPE ;
 
 
@@ -486,6 +501,15 @@ BEGIN
       best.j := j
    END
 END Better ;
+
+
+(* FirstContact's before for the earliest contact found so far (t, when
+   found). *)
+PROCEDURE BeforeOf (found: BOOLEAN; t: REAL) : REAL ;
+BEGIN
+   IF found THEN RETURN t END ;
+   RETURN Inf
+END BeforeOf ;
 
 
 (* T turns, polygon P does not: when T's bounding circle (radius T.bound
@@ -517,7 +541,8 @@ BEGIN
    found := FALSE ;
    meet := 0.0 ;
    FOR j := 0 TO P^.nv - 1 DO
-      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1, t) ;
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1,
+                      BeforeOf (found, meet), t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t
@@ -526,7 +551,7 @@ BEGIN
    CentreParams (T, now, pt) ;
    FOR k := 0 TO P^.nv - 1 DO
       CircleParamsOf (P, now, P^.v0 + k, pv) ;
-      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, t) ;
+      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, BeforeOf (found, meet), t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t
@@ -577,11 +602,11 @@ VAR
    found: BOOLEAN ;
 BEGIN
    FOR j := 0 TO P^.nv - 1 DO
-      found := PredictPE (C, P, -1, j, now, w, t) ;
+      found := PredictPE (C, P, -1, j, now, w, BeforeOf (best.found, best.t), t) ;
       Better (best, found, t, FeatPE, C^.idx, P^.idx, -1, j)
    END ;
    FOR k := 0 TO P^.nv - 1 DO
-      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, t) ;
+      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, BeforeOf (best.found, best.t), t) ;
       Better (best, found, t, FeatCC, C^.idx, P^.idx, -1, k)
    END
 END CirclePolygon ;
@@ -728,7 +753,7 @@ BEGIN
                END
             END
          ELSE
-            found := PredictPE (A, B, vi, j, now, w, t) ;
+            found := PredictPE (A, B, vi, j, now, w, BeforeOf (best.found, best.t), t) ;
             Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
          END
       END
@@ -747,7 +772,7 @@ BEGIN
    best.found := FALSE ;
    best.t := 0.0 ;
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
-      found := PredictCC (A, B, -1, B^.r, now, w, t) ;
+      found := PredictCC (A, B, -1, B^.r, now, w, Inf, t) ;
       Better (best, found, t, FeatCC, A^.idx, B^.idx, -1, -1)
    ELSIF NOT A^.polygon THEN
       CirclePolygon (A, B, now, w, best)
