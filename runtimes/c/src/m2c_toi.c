@@ -142,6 +142,42 @@ int m2c_toi_touching_now(const double *c, int deg, double kappa)
     return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa;
 }
 
+/* Binomial coefficients C(j, i), j <= 8 (exact in a double). */
+static const double BINOMIAL[9][9] = {
+    { 1 }, { 1, 1 }, { 1, 2, 1 }, { 1, 3, 3, 1 }, { 1, 4, 6, 4, 1 }, { 1, 5, 10, 10, 5, 1 },
+    { 1, 6, 15, 20, 15, 6, 1 }, { 1, 7, 21, 35, 35, 21, 7, 1 }, { 1, 8, 28, 56, 70, 56, 28, 8, 1 },
+};
+
+/* The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+ * (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+ * there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+ * C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+ * sign.  The root solver's test for degrees 3 and 4 (docs/roots.md, step 1,
+ * "lo >= 0" (c)) for higher degrees: each t_i is within 8 roundings of c_i
+ * hi^i, each term C(j, i) u_i within 2 more, each sum within 8 more, so b_j
+ * is within 18 2^-53 S < 2^-48 S of the exact coefficient and m is 7 times
+ * that (docs/simulator.md, "Features that cannot come first"). */
+static int no_root_high(const double *c, int n, double hi)
+{
+    double u[9], p = 1.0, S = 0.0;
+    for (int i = 0; i <= n; i++) {
+        double t = c[i] * p;
+        p = p * hi;
+        S = S + fabs(t);
+        u[i] = t / BINOMIAL[n][i];
+    }
+    double m = 0x1p-46 * S + 0x1p-900;
+    int neg = u[0] < 0.0;
+    for (int j = 0; j <= n; j++) {
+        double b = 0.0;
+        for (int i = 0; i <= j; i++)
+            b = b + BINOMIAL[j][i] * u[i];
+        if (!(neg ? b < -m : b > m))
+            return 0;
+    }
+    return 1;
+}
+
 /* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
  * decreasing, or touches zero with zero slope while pressed together
  * (resting contact), and the check holds.  At s = 0 the gap counts as zero
@@ -152,10 +188,10 @@ int m2c_toi_touching_now(const double *c, int deg, double kappa)
  * (+inf for none); a contact at or after it is never kept (the earliest
  * one, first found on a tie, wins), so the search may answer none instead
  * (docs/simulator.md, "Features that cannot come first"): at once when
- * before is 0, and for degrees 3 and 4 when the Bernstein test of the
- * root solver's entry shows no root in [0, before (1 + 2^-10)], so that
- * a root found in [0, w] lies beyond before by far more than the solver's
- * error. */
+ * before is 0, and when a Bernstein test shows no root in [0, before (1 +
+ * 2^-10)] (degrees 3 and 4: the root solver's entry's; 5 to 8:
+ * no_root_high), so that a root found in [0, w] lies beyond before by far
+ * more than the solver's error. */
 static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double before,
                          double *out)
 {
@@ -165,9 +201,10 @@ static int first_contact(const double *c, int deg, double w, double kappa, const
         *out = 0.0;
         return 1;
     }
-    if (before < w && (deg == 3 || deg == 4)) {
+    if (before < w && deg >= 3 && deg <= 8) {
         double h = before + before * 0x1p-10;
-        if (h >= 0x1p-250 && h < w && (deg == 3 ? m2c_x_no_root3(c, h) : m2c_x_no_root4(c, h)))
+        if (h < w && (deg <= 4 ? h >= 0x1p-250 && (deg == 3 ? m2c_x_no_root3(c, h) : m2c_x_no_root4(c, h))
+                               : h >= 0x1p-100 && no_root_high(c, deg, h)))
             return 0;
     }
     double lo = 0.0;
