@@ -7,8 +7,8 @@ answer kept by the full search.  Checked on the Python reference (C, Rust
 and Modula-2 write the same bytes: the crosscheck and the trace digests)
 on circle gaps with a relative acceleration (degree 4, the Bernstein test's
 case), circles touching now and pressed together (contact now must win over
-the test), and random cubics and quartics, with before at, just before and
-just after their roots."""
+the test), and random polynomials of degrees 3 to 8 (the Bernstein tests'
+degrees), with before at, just before and just after their roots."""
 from __future__ import annotations
 
 import json
@@ -57,6 +57,30 @@ def agree(w, coef, kappa, check=lambda s: True):
         got = w.first_contact(coef, deg, WINDOW, kappa, check, before)
         assert kept(got, before) == kept(full, before), (coef, kappa, before, full, got)
     return full
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(0.05, 3.0), min_size=1, max_size=4), st.floats(0.1, 10.0), st.booleans(),
+       st.integers(5, 8))
+def test_products_of_roots(world, roots, scale, pressed, deg):
+    """Polynomials of degree 5 to 8 with known roots in the window (one of
+    them double when pressed: a touching), the rest of the degree made up of
+    a factor without real roots."""
+    coef = [scale]
+    def times(q):
+        out = [0.0] * (len(coef) + len(q) - 1)
+        for i, a in enumerate(coef):
+            for k, b in enumerate(q):
+                out[i + k] += a * b
+        return out
+    rs = roots + [roots[0]] if pressed else roots
+    for r in rs:
+        if len(coef) - 1 < deg:
+            coef = times([-r, 1.0])
+    while len(coef) - 1 < deg:
+        coef = times([1.0, 0.0, 1.0]) if deg - (len(coef) - 1) >= 2 else times([1.0, 1.0])
+    full = agree(world, coef, 0.0)
+    assert full is None or full > 0.0
 
 
 def circle_gap(w, x, y, vx, vy, ax, ay, ra, rb):
@@ -110,11 +134,11 @@ def test_touching_circles(world, phi, gap, vx, vy, ax, ay, ra, rb):
 coefficient = st.floats(-100.0, 100.0, allow_nan=False)
 
 
-@settings(max_examples=400, deadline=None)
-@given(st.lists(coefficient, min_size=4, max_size=5), st.sampled_from([0.0, 1e-9, 1e-3]))
-def test_cubics_and_quartics(world, coef, kappa):
-    """Any cubic or quartic (roots anywhere in the window, several of them,
-    touching or not), with the check refusing some roots."""
+@settings(max_examples=600, deadline=None)
+@given(st.lists(coefficient, min_size=4, max_size=9), st.sampled_from([0.0, 1e-9, 1e-3]))
+def test_polynomials(world, coef, kappa):
+    """Any polynomial of degree 3 to 8 (roots anywhere in the window, several
+    of them, touching or not), with the check refusing some roots."""
     if coef[-1] == 0.0:
         coef[-1] = 1.0
     agree(world, coef, kappa)

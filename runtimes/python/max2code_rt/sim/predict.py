@@ -35,6 +35,39 @@ def _always(s: float) -> bool:
     return True
 
 
+_BINOMIAL = tuple(tuple(float(math.comb(j, i)) for i in range(j + 1)) for j in range(9))  # exact
+_TWO_M46 = 2.0 ** -46
+_TWO_M900 = 2.0 ** -900
+_TWO_M100 = 2.0 ** -100
+
+
+def _no_root_high(c: list[float], n: int, hi: float) -> bool:
+    """The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+    (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+    there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+    C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+    sign (the root solver's test for degrees 3 and 4, for higher degrees:
+    docs/simulator.md, "Features that cannot come first")."""
+    u = []
+    p = 1.0
+    S = 0.0
+    for i in range(n + 1):
+        t = c[i] * p
+        p = p * hi
+        S = S + abs(t)
+        u.append(t / _BINOMIAL[n][i])
+    m = _TWO_M46 * S + _TWO_M900
+    neg = u[0] < 0.0
+    for j in range(n + 1):
+        row = _BINOMIAL[j]
+        b = 0.0
+        for i in range(j + 1):
+            b = b + row[i] * u[i]
+        if not (b < -m if neg else b > m):
+            return False
+    return True
+
+
 def _before(best) -> float:
     """first_contact's before for the earliest contact found so far (best: _better's)."""
     return math.inf if best is None else best[0]
@@ -86,18 +119,19 @@ class PredictMixin:
         far (inf for none); a contact at or after it is never kept (the
         earliest one, first found on a tie, wins), so the search may answer
         None instead (docs/simulator.md, "Features that cannot come first"):
-        at once when before is 0, and for degrees 3 and 4 when the Bernstein
-        test of the root solver's entry shows no root in [0, before (1 +
-        2^-10)], so that a root found in [0, w] lies beyond before by far
-        more than the solver's error."""
+        at once when before is 0, and when a Bernstein test shows no root in
+        [0, before (1 + 2^-10)] (degrees 3 and 4: the root solver's entry's;
+        5 to 8: _no_root_high), so that a root found in [0, w] lies beyond
+        before by far more than the solver's error."""
         if not (before > 0.0):
             return None
         if deg >= 1 and math.fabs(c[0]) <= kappa and self.touching_now(c, deg, kappa) and check(0.0):
             return 0.0
-        if before < w and (deg == 3 or deg == 4):
+        if before < w and 3 <= deg <= 8:
             h = before + before * _BEFORE_MARGIN
-            if h >= _HI_MIN and h < w and (_no_root3(c[0], c[1], c[2], c[3], h) if deg == 3
-                                           else _no_root4(c[0], c[1], c[2], c[3], c[4], h)):
+            if h < w and ((h >= _HI_MIN and (_no_root3(c[0], c[1], c[2], c[3], h) if deg == 3
+                                             else _no_root4(c[0], c[1], c[2], c[3], c[4], h))) if deg <= 4
+                          else h >= _TWO_M100 and _no_root_high(c, deg, h)):
                 return None
         lo = 0.0
         for _ in range(deg + 2):
