@@ -126,10 +126,10 @@ pub fn touching_now(c: &[f64; MAX_COEF], deg: usize, kappa: f64) -> bool {
 /// (+inf for none); a contact at or after it is never kept (the earliest
 /// one, first found on a tie, wins), so the search may answer None instead
 /// (docs/simulator.md, "Features that cannot come first"): at once when
-/// before is 0, and for degrees 3 and 4 when the Bernstein test of the
-/// root solver's entry shows no root in [0, before (1 + 2^-10)], so that a
-/// root found in [0, w] lies beyond before by far more than the solver's
-/// error.
+/// before is 0, and when a Bernstein test shows no root in [0, before (1 +
+/// 2^-10)] (degrees 3 and 4: the root solver's entry's; 5 to 8:
+/// no_root_high), so that a root found in [0, w] lies beyond before by far
+/// more than the solver's error.
 #[inline(always)]
 pub fn first_contact<F: FnMut(f64) -> bool>(
     c: &[f64; MAX_COEF],
@@ -145,12 +145,16 @@ pub fn first_contact<F: FnMut(f64) -> bool>(
     if deg >= 1 && c[0].abs() <= kappa && touching_now(c, deg, kappa) && check(0.0) {
         return Some(0.0);
     }
-    if before < w && (deg == 3 || deg == 4) {
+    if before < w && (3..=8).contains(&deg) {
         let h = before + before * TWO_M10;
-        if h >= TWO_M250
-            && h < w
-            && (if deg == 3 { crate::roots::no_root3(c, h) } else { crate::roots::no_root4(c, h) })
-        {
+        let clear = |h: f64| {
+            if deg <= 4 {
+                h >= TWO_M250 && if deg == 3 { crate::roots::no_root3(c, h) } else { crate::roots::no_root4(c, h) }
+            } else {
+                h >= TWO_M100 && no_root_high(c, deg, h)
+            }
+        };
+        if h < w && clear(h) {
             return None;
         }
     }
@@ -172,6 +176,51 @@ pub fn first_contact<F: FnMut(f64) -> bool>(
 /// 2^-10 and 2^-250 (first_contact's margin and the Bernstein test's least interval).
 const TWO_M10: f64 = 1.0 / 1024.0;
 const TWO_M250: f64 = two_to(-250);
+
+const TWO_M100: f64 = two_to(-100);
+const TWO_M46: f64 = two_to(-46);
+
+/// Binomial coefficients C(j, i), j <= 8 (exact in an f64).
+const BINOMIAL: [[f64; 9]; 9] = [
+    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 3.0, 3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 4.0, 6.0, 4.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 5.0, 10.0, 10.0, 5.0, 1.0, 0.0, 0.0, 0.0],
+    [1.0, 6.0, 15.0, 20.0, 15.0, 6.0, 1.0, 0.0, 0.0],
+    [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0, 0.0],
+    [1.0, 8.0, 28.0, 56.0, 70.0, 56.0, 28.0, 8.0, 1.0],
+];
+
+/// The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+/// (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+/// there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+/// C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+/// sign (the root solver's test for degrees 3 and 4, for higher degrees:
+/// docs/simulator.md, "Features that cannot come first").
+fn no_root_high(c: &[f64; MAX_COEF], n: usize, hi: f64) -> bool {
+    let mut u = [0.0; 9];
+    let (mut p, mut sum) = (1.0, 0.0);
+    for (i, (ui, ci)) in u.iter_mut().zip(c).take(n + 1).enumerate() {
+        let t = ci * p;
+        p = p * hi;
+        sum = sum + t.abs();
+        *ui = t / BINOMIAL[n][i];
+    }
+    let m = TWO_M46 * sum + TWO_M900;
+    let neg = u[0] < 0.0;
+    for (j, row) in BINOMIAL.iter().enumerate().take(n + 1) {
+        let mut b = 0.0;
+        for (w, ui) in row[..=j].iter().zip(&u) {
+            b = b + w * ui;
+        }
+        if !(if neg { b < -m } else { b > m }) {
+            return false;
+        }
+    }
+    true
+}
 
 /// first_contact's before for the earliest contact found so far.
 #[inline(always)]
