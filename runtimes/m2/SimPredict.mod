@@ -19,7 +19,7 @@ IMPLEMENTATION MODULE SimPredict ;
 
 FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT cos, sin ;
-FROM Roots IMPORT NoRootTo, SmallestRoot ;
+FROM Roots IMPORT IsFinite, NoRootTo, SmallestRoot ;
 FROM CMath IMPORT sqrt ;
 FROM SimScene IMPORT Alpha, Bodies, BodyRef, CellH, CellW, EndT, GridMargin, GridNX, GridNY, GridX0, GridY0,
                      Grow, HalfCell, MAX_VERTICES, MaxItems, NBodies, Tol, Vertex, Verts ;
@@ -52,6 +52,9 @@ CONST
    TwoM900 = TwoM450 * TwoM450 ;
    (* FirstContact's margin: a root beyond before (1 + 2^-10) is far beyond before *)
    BeforeMargin = 1.0 / 1024.0 ;
+   (* NoRootHigh's margin and least interval *)
+   TwoM46 = 1.0 / 70368744177664.0 ;
+   TwoM100 = TwoM90 * (1.0 / 1024.0) ;
    CcVariants = SIM_CC_VARIANTS ;
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
@@ -82,6 +85,7 @@ VAR
    ChkVert: INTEGER ;          (* the point is X's vertex ChkVert (local index; -1: not a vertex) *)
    ChkNow: REAL ;
    EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
+   Binomial: ARRAY [0..8], [0..8] OF REAL ;    (* C(j, i), exact; set by the module's body *)
    CapEdgePolys: INTEGER ;
    (* WindowBound's values per edge of the window's edge polygon: the outward
       unit normal now, the gap (m) of the vertex polygon's centre beyond the
@@ -183,6 +187,45 @@ BEGIN
 END touching_now ;
 
 
+(* The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+   (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+   there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+   C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+   sign (the root solver's test for degrees 3 and 4, for higher degrees:
+   docs/simulator.md, "Features that cannot come first").  A sum S that is
+   not finite answers FALSE at once: gm2 may compile b > m as NOT (b <= m),
+   true for a NaN; with S finite no b_j is NaN (the other runtimes' IEEE
+   comparisons answer FALSE there too). *)
+PROCEDURE NoRootHigh (VAR c: ARRAY OF REAL; n: INTEGER; hi: REAL) : BOOLEAN ;
+VAR
+   u: ARRAY [0..8] OF REAL ;
+   p, s, t, m, b: REAL ;
+   i, j: INTEGER ;
+   neg, ok: BOOLEAN ;
+BEGIN
+   p := 1.0 ;
+   s := 0.0 ;
+   FOR i := 0 TO n DO
+      t := c[i] * p ;
+      p := p * hi ;
+      s := s + ABS (t) ;
+      u[i] := t / Binomial[n, i]
+   END ;
+   IF NOT IsFinite (s) THEN RETURN FALSE END ;
+   m := TwoM46 * s + TwoM900 ;
+   neg := u[0] < 0.0 ;
+   FOR j := 0 TO n DO
+      b := 0.0 ;
+      FOR i := 0 TO j DO
+         b := b + Binomial[j, i] * u[i]
+      END ;
+      IF neg THEN ok := b < -m ELSE ok := b > m END ;
+      IF NOT ok THEN RETURN FALSE END
+   END ;
+   RETURN TRUE
+END NoRootHigh ;
+
+
 (* The smallest s in [0, w] where the gap c(s) reaches zero while
    decreasing, or touches zero with zero slope while pressed together
    (resting contact), and the check holds (edge: Inside, else always).  At
@@ -193,9 +236,10 @@ END touching_now ;
    (Inf for none); a contact at or after it is never kept (the earliest one,
    first found on a tie, wins), so the search may answer none instead
    (docs/simulator.md, "Features that cannot come first"): at once when
-   before is 0, and for degrees 3 and 4 when the Bernstein test of the root
-   solver's entry shows no root in [0, before (1 + 2^-10)], so that a root
-   found in [0, w] lies beyond before by far more than the solver's error. *)
+   before is 0, and when a Bernstein test shows no root in [0, before (1 +
+   2^-10)] (degrees 3 and 4: the root solver's entry's, NoRootTo; 5 to 8:
+   NoRootHigh), so that a root found in [0, w] lies beyond before by far
+   more than the solver's error. *)
 PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN; before: REAL;
                         VAR s: REAL) : BOOLEAN ;
 VAR
@@ -207,9 +251,15 @@ BEGIN
       s := 0.0 ;
       RETURN TRUE
    END ;
-   IF (before < w) AND ((deg = 3) OR (deg = 4)) THEN
+   IF (before < w) AND (deg >= 3) AND (deg <= 8) THEN
       h := before + before * BeforeMargin ;
-      IF (h < w) AND NoRootTo (c, deg, h) THEN RETURN FALSE END
+      IF h < w THEN
+         IF deg <= 4 THEN
+            IF NoRootTo (c, deg, h) THEN RETURN FALSE END
+         ELSIF (h >= TwoM100) AND NoRootHigh (c, deg, h) THEN
+            RETURN FALSE
+         END
+      END
    END ;
    lo := 0.0 ;
    FOR it := 0 TO deg + 1 DO
@@ -1409,7 +1459,27 @@ BEGIN
 END ClearCounts ;
 
 
+(* Binomial's C(j, i): Pascal's triangle (sums of small integers, exact). *)
+PROCEDURE SetBinomial ;
+VAR
+   j, i: INTEGER ;
 BEGIN
+   FOR j := 0 TO 8 DO
+      FOR i := 0 TO 8 DO
+         IF (i = 0) OR (i = j) THEN
+            Binomial[j, i] := 1.0
+         ELSIF i < j THEN
+            Binomial[j, i] := Binomial[j - 1, i - 1] + Binomial[j - 1, i]
+         ELSE
+            Binomial[j, i] := 0.0
+         END
+      END
+   END
+END SetBinomial ;
+
+
+BEGIN
+   SetBinomial ;
    Library := FALSE ;
    EdgePolys := NIL ;
    CapEdgePolys := 0
