@@ -1179,6 +1179,15 @@ BEGIN
 END NoRoot4 ;
 
 
+PROCEDURE NoRootTo (VAR c: ARRAY OF REAL; degree: INTEGER; hi: REAL) : BOOLEAN ;
+BEGIN
+   IF NOT (hi >= HiMin) THEN RETURN FALSE END ;
+   IF (degree = 3) AND (HIGH (c) >= 3) THEN RETURN NoRoot3 (c[0], c[1], c[2], c[3], hi) END ;
+   IF (degree = 4) AND (HIGH (c) >= 4) THEN RETURN NoRoot4 (c[0], c[1], c[2], c[3], c[4], hi) END ;
+   RETURN FALSE
+END NoRootTo ;
+
+
 (* The degree-2 fast path (docs/roots.md step 1) is written out in the
    exported entry, and everything else is left to Entry, called from two
    places so that gcc does not inline it (it inlines a procedure called once

@@ -23,7 +23,7 @@ IMPLEMENTATION MODULE SimPredict ;
 
 FROM SYSTEM IMPORT ADR ;
 FROM RealMath IMPORT cos, sin ;
-FROM Roots IMPORT SmallestRoot ;
+FROM Roots IMPORT IsFinite, NoRootTo, SmallestRoot ;
 FROM CMath IMPORT sqrt ;
 FROM SimScene IMPORT Alpha, Bodies, BodyRef, CellH, CellW, EndT, GridMargin, GridNX, GridNY, GridX0, GridY0,
                      Grow, HalfCell, MAX_VERTICES, MaxItems, NBodies, Tol, Vertex, Verts ;
@@ -54,6 +54,11 @@ CONST
    TwoM450 = TwoM90 * TwoM90 * TwoM90 * TwoM90 * TwoM90 ;   (* ... and its bounds on sizes *)
    TwoP450 = 1.0 / TwoM450 ;
    TwoM900 = TwoM450 * TwoM450 ;
+   (* FirstContact's margin: a root beyond before (1 + 2^-10) is far beyond before *)
+   BeforeMargin = 1.0 / 1024.0 ;
+   (* NoRootHigh's margin and least interval *)
+   TwoM46 = 1.0 / 70368744177664.0 ;
+   TwoM100 = TwoM90 * (1.0 / 1024.0) ;
    CcVariants = SIM_CC_VARIANTS ;
    PeVariants = SIM_PE_VARIANTS ;
    CcMaxDegree = circle_circle_coefficients_max_degree ;
@@ -84,6 +89,7 @@ VAR
    ChkVert: INTEGER ;          (* the point is X's vertex ChkVert (local index; -1: not a vertex) *)
    ChkNow: REAL ;
    EdgePolys: EdgePolyArray ;  (* bound_polygon's polynomials, one per edge of the polygon *)
+   Binomial: ARRAY [0..8], [0..8] OF REAL ;    (* C(j, i), exact; set by the module's body *)
    CapEdgePolys: INTEGER ;
    (* WindowBound's values per edge of the window's edge polygon: the outward
       unit normal now, the gap (m) of the vertex polygon's centre beyond the
@@ -185,20 +191,79 @@ BEGIN
 END touching_now ;
 
 
+(* The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+   (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+   there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+   C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+   sign (the root solver's test for degrees 3 and 4, for higher degrees:
+   docs/simulator.md, "Features that cannot come first").  A sum S that is
+   not finite answers FALSE at once: gm2 may compile b > m as NOT (b <= m),
+   true for a NaN; with S finite no b_j is NaN (the other runtimes' IEEE
+   comparisons answer FALSE there too). *)
+PROCEDURE NoRootHigh (VAR c: ARRAY OF REAL; n: INTEGER; hi: REAL) : BOOLEAN ;
+VAR
+   u: ARRAY [0..8] OF REAL ;
+   p, s, t, m, b: REAL ;
+   i, j: INTEGER ;
+   neg, ok: BOOLEAN ;
+BEGIN
+   p := 1.0 ;
+   s := 0.0 ;
+   FOR i := 0 TO n DO
+      t := c[i] * p ;
+      p := p * hi ;
+      s := s + ABS (t) ;
+      u[i] := t / Binomial[n, i]
+   END ;
+   IF NOT IsFinite (s) THEN RETURN FALSE END ;
+   m := TwoM46 * s + TwoM900 ;
+   neg := u[0] < 0.0 ;
+   FOR j := 0 TO n DO
+      b := 0.0 ;
+      FOR i := 0 TO j DO
+         b := b + Binomial[j, i] * u[i]
+      END ;
+      IF neg THEN ok := b < -m ELSE ok := b > m END ;
+      IF NOT ok THEN RETURN FALSE END
+   END ;
+   RETURN TRUE
+END NoRootHigh ;
+
+
 (* The smallest s in [0, w] where the gap c(s) reaches zero while
    decreasing, or touches zero with zero slope while pressed together
    (resting contact), and the check holds (edge: Inside, else always).  At
    s = 0 the gap counts as zero within kappa: approaching or pressed
-   (touching_now) means contact now, separating or merely touching never. *)
-PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN;
+   (touching_now) means contact now, separating or merely touching never.
+
+   before: the earliest contact of the pair's other features found so far
+   (Inf for none); a contact at or after it is never kept (the earliest one,
+   first found on a tie, wins), so the search may answer none instead
+   (docs/simulator.md, "Features that cannot come first"): at once when
+   before is 0, and when a Bernstein test shows no root in [0, before (1 +
+   2^-10)] (degrees 3 and 4: the root solver's entry's, NoRootTo; 5 to 8:
+   NoRootHigh), so that a root found in [0, w] lies beyond before by far
+   more than the solver's error. *)
+PROCEDURE FirstContact (VAR c: ARRAY OF REAL; deg: INTEGER; w, kappa: REAL; edge: BOOLEAN; before: REAL;
                         VAR s: REAL) : BOOLEAN ;
 VAR
-   lo, d: REAL ;
+   lo, d, h: REAL ;
    it, k: INTEGER ;
 BEGIN
+   IF NOT (before > 0.0) THEN RETURN FALSE END ;
    IF (deg >= 1) AND (ABS (c[0]) <= kappa) AND touching_now (c, deg, kappa) AND Check (edge, 0.0) THEN
       s := 0.0 ;
       RETURN TRUE
+   END ;
+   IF (before < w) AND (deg >= 3) AND (deg <= 8) THEN
+      h := before + before * BeforeMargin ;
+      IF h < w THEN
+         IF deg <= 4 THEN
+            IF NoRootTo (c, deg, h) THEN RETURN FALSE END
+         ELSIF (h >= TwoM100) AND NoRootHigh (c, deg, h) THEN
+            RETURN FALSE
+         END
+      END
    END ;
    lo := 0.0 ;
    FOR it := 0 TO deg + 1 DO
@@ -311,7 +376,7 @@ END CentreParams ;
 
 (* The first contact within [0, w] of a circle of radius ra moving as pa
    and one of radius rb moving as pb. *)
-PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w: REAL; VAR t: REAL) : BOOLEAN ;
+PROCEDURE CirclesFirst (VAR pa: CParams; ra: REAL; VAR pb: CParams; rb, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    kappa: REAL ;
    coef: ARRAY [0..CcMaxDegree] OF REAL ;
@@ -326,7 +391,7 @@ BEGIN
       RETURN FALSE
    END ;
    deg := circles_gap (pa, ra, pb, rb, coef) ;
-   RETURN FirstContact (coef, deg, w, kappa, FALSE, t)
+   RETURN FirstContact (coef, deg, w, kappa, FALSE, before, t)
 END CirclesFirst ;
 
 
@@ -374,14 +439,14 @@ END circles_gap ;
 
 
 (* Circle of A against circle of B (vb < 0, radius rb) or vertex vb of B
-   (radius 0). *)
-PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w: REAL; VAR t: REAL) : BOOLEAN ;
+   (radius 0); before: FirstContact's. *)
+PROCEDURE PredictCC (A, B: BodyRef; vb: INTEGER; rb, now, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    pa, pb: CParams ;
 BEGIN
    CircleParamsOf (A, now, -1, pa) ;
    CircleParamsOf (B, now, vb, pb) ;
-   RETURN CirclesFirst (pa, A^.r, pb, rb, w, t)
+   RETURN CirclesFirst (pa, A^.r, pb, rb, w, before, t)
 END PredictCC ;
 
 
@@ -436,7 +501,7 @@ END PeCoefficients ;
    edge j's line (behind: else that line does not separate the bodies
    there, a corner meeting a corner: another feature pair is the contact). *)
 PROCEDURE PeFirst (VAR coef: ARRAY OF REAL; deg: INTEGER; X, Y: BodyRef; rho, beta: REAL; j: INTEGER;
-                   now, w: REAL; i: INTEGER; VAR t: REAL) : BOOLEAN ;
+                   now, w: REAL; i: INTEGER; before: REAL; VAR t: REAL) : BOOLEAN ;
 BEGIN
    IF deg < 0 THEN RETURN FALSE END ;
    ChkX := X ;
@@ -446,14 +511,14 @@ BEGIN
    ChkEdge := Y^.v0 + j ;
    ChkVert := i ;
    ChkNow := now ;
-   RETURN FirstContact (coef, deg, w, Tol, TRUE, t)
+   RETURN FirstContact (coef, deg, w, Tol, TRUE, before, t)
 END PeFirst ;
 
 
 (* Point of X (circle centre with radius, vx < 0, or vertex vx: the index in
    Verts of X's vertex vx - X^.v0) against the line of edge j of Y (none while a fixed body covers the edge: its cover
-   is not gone; nothing is counted). *)
-PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w: REAL; VAR t: REAL) : BOOLEAN ;
+   is not gone; nothing is counted); before: FirstContact's. *)
+PROCEDURE PredictPE (X, Y: BodyRef; vx, j: INTEGER; now, w, before: REAL; VAR t: REAL) : BOOLEAN ;
 VAR
    rho, beta, rad: REAL ;
    deg, cover: INTEGER ;
@@ -472,9 +537,9 @@ BEGIN
    END ;
    deg := PeCoefficients (X, Y, rho, beta, rad, j, now, coef) ;
    IF vx < 0 THEN
-      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, t)
+      RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, -1, before, t)
    END ;
-   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, t)
+   RETURN PeFirst (coef, deg, X, Y, rho, beta, j, now, w, vx - X^.v0, before, t)
 END PredictPE ;
 
 
@@ -490,6 +555,15 @@ BEGIN
       best.j := j
    END
 END Better ;
+
+
+(* FirstContact's before for the earliest contact found so far (t, when
+   found). *)
+PROCEDURE BeforeOf (found: BOOLEAN; t: REAL) : REAL ;
+BEGIN
+   IF found THEN RETURN t END ;
+   RETURN Inf
+END BeforeOf ;
 
 
 (* T turns, polygon P does not: when T's bounding circle (radius T.bound
@@ -521,7 +595,8 @@ BEGIN
    found := FALSE ;
    meet := 0.0 ;
    FOR j := 0 TO P^.nv - 1 DO
-      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1, t) ;
+      got := PeFirst (EdgePolys^[j].c, EdgePolys^[j].deg, T, P, 0.0, 0.0, j, now, w, -1,
+                      BeforeOf (found, meet), t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t
@@ -530,7 +605,7 @@ BEGIN
    CentreParams (T, now, pt) ;
    FOR k := 0 TO P^.nv - 1 DO
       CircleParamsOf (P, now, P^.v0 + k, pv) ;
-      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, t) ;
+      got := CirclesFirst (pt, T^.bound, pv, 0.0, w, BeforeOf (found, meet), t) ;
       IF got AND ((NOT found) OR (t < meet)) THEN
          found := TRUE ;
          meet := t
@@ -581,11 +656,11 @@ VAR
    found: BOOLEAN ;
 BEGIN
    FOR j := 0 TO P^.nv - 1 DO
-      found := PredictPE (C, P, -1, j, now, w, t) ;
+      found := PredictPE (C, P, -1, j, now, w, BeforeOf (best.found, best.t), t) ;
       Better (best, found, t, FeatPE, C^.idx, P^.idx, -1, j)
    END ;
    FOR k := 0 TO P^.nv - 1 DO
-      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, t) ;
+      found := PredictCC (C, P, P^.v0 + k, 0.0, now, w, BeforeOf (best.found, best.t), t) ;
       Better (best, found, t, FeatCC, C^.idx, P^.idx, -1, k)
    END
 END CirclePolygon ;
@@ -732,7 +807,7 @@ BEGIN
                END
             END
          ELSE
-            found := PredictPE (A, B, vi, j, now, w, t) ;
+            found := PredictPE (A, B, vi, j, now, w, BeforeOf (best.found, best.t), t) ;
             Better (best, found, t, FeatPE, A^.idx, B^.idx, i, j)
          END
       END
@@ -751,7 +826,7 @@ BEGIN
    best.found := FALSE ;
    best.t := 0.0 ;
    IF (NOT A^.polygon) AND (NOT B^.polygon) THEN
-      found := PredictCC (A, B, -1, B^.r, now, w, t) ;
+      found := PredictCC (A, B, -1, B^.r, now, w, Inf, t) ;
       Better (best, found, t, FeatCC, A^.idx, B^.idx, -1, -1)
    ELSIF NOT A^.polygon THEN
       CirclePolygon (A, B, now, w, best)
@@ -1388,7 +1463,27 @@ BEGIN
 END ClearCounts ;
 
 
+(* Binomial's C(j, i): Pascal's triangle (sums of small integers, exact). *)
+PROCEDURE SetBinomial ;
+VAR
+   j, i: INTEGER ;
 BEGIN
+   FOR j := 0 TO 8 DO
+      FOR i := 0 TO 8 DO
+         IF (i = 0) OR (i = j) THEN
+            Binomial[j, i] := 1.0
+         ELSIF i < j THEN
+            Binomial[j, i] := Binomial[j - 1, i - 1] + Binomial[j - 1, i]
+         ELSE
+            Binomial[j, i] := 0.0
+         END
+      END
+   END
+END SetBinomial ;
+
+
+BEGIN
+   SetBinomial ;
    Library := FALSE ;
    EdgePolys := NIL ;
    CapEdgePolys := 0

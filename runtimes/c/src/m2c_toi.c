@@ -142,16 +142,70 @@ int m2c_toi_touching_now(const double *c, int deg, double kappa)
     return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa;
 }
 
+/* Binomial coefficients C(j, i), j <= 8 (exact in a double). */
+static const double BINOMIAL[9][9] = {
+    { 1 }, { 1, 1 }, { 1, 2, 1 }, { 1, 3, 3, 1 }, { 1, 4, 6, 4, 1 }, { 1, 5, 10, 10, 5, 1 },
+    { 1, 6, 15, 20, 15, 6, 1 }, { 1, 7, 21, 35, 35, 21, 7, 1 }, { 1, 8, 28, 56, 70, 56, 28, 8, 1 },
+};
+
+/* The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+ * (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+ * there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+ * C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+ * sign.  The root solver's test for degrees 3 and 4 (docs/roots.md, step 1,
+ * "lo >= 0" (c)) for higher degrees: each t_i is within 8 roundings of c_i
+ * hi^i, each term C(j, i) u_i within 2 more, each sum within 8 more, so b_j
+ * is within 18 2^-53 S < 2^-48 S of the exact coefficient and m is 7 times
+ * that (docs/simulator.md, "Features that cannot come first"). */
+static int no_root_high(const double *c, int n, double hi)
+{
+    double u[9], p = 1.0, S = 0.0;
+    for (int i = 0; i <= n; i++) {
+        double t = c[i] * p;
+        p = p * hi;
+        S = S + fabs(t);
+        u[i] = t / BINOMIAL[n][i];
+    }
+    double m = 0x1p-46 * S + 0x1p-900;
+    int neg = u[0] < 0.0;
+    for (int j = 0; j <= n; j++) {
+        double b = 0.0;
+        for (int i = 0; i <= j; i++)
+            b = b + BINOMIAL[j][i] * u[i];
+        if (!(neg ? b < -m : b > m))
+            return 0;
+    }
+    return 1;
+}
+
 /* The smallest s in [0, w] (s) where the gap c(s) reaches zero while
  * decreasing, or touches zero with zero slope while pressed together
  * (resting contact), and the check holds.  At s = 0 the gap counts as zero
  * within kappa: approaching or pressed (touching_now) means contact now,
- * separating or merely touching never. */
-static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double *out)
+ * separating or merely touching never.
+ *
+ * before: the earliest contact of the pair's other features found so far
+ * (+inf for none); a contact at or after it is never kept (the earliest
+ * one, first found on a tie, wins), so the search may answer none instead
+ * (docs/simulator.md, "Features that cannot come first"): at once when
+ * before is 0, and when a Bernstein test shows no root in [0, before (1 +
+ * 2^-10)] (degrees 3 and 4: the root solver's entry's; 5 to 8:
+ * no_root_high), so that a root found in [0, w] lies beyond before by far
+ * more than the solver's error. */
+static int first_contact(const double *c, int deg, double w, double kappa, const pe_check *chk, double before,
+                         double *out)
 {
+    if (!(before > 0.0))
+        return 0;
     if (deg >= 1 && fabs(c[0]) <= kappa && m2c_toi_touching_now(c, deg, kappa) && inside(chk, 0.0)) {
         *out = 0.0;
         return 1;
+    }
+    if (before < w && deg >= 3 && deg <= 8) {
+        double h = before + before * 0x1p-10;
+        if (h < w && (deg <= 4 ? h >= 0x1p-250 && (deg == 3 ? m2c_x_no_root3(c, h) : m2c_x_no_root4(c, h))
+                               : h >= 0x1p-100 && no_root_high(c, deg, h)))
+            return 0;
     }
     double lo = 0.0;
     for (int it = 0; it < deg + 2; it++) {
@@ -339,7 +393,7 @@ static int circles_apart(const double *g, double kappa)
 /* The first contact within [0, w] (1 with *out, else 0) of a circle of
  * radius ra moving as p1 (circle_params) and one of radius rb moving as p2. */
 static inline __attribute__((always_inline)) int circles_first_args(m2c_toi_ctx *ctx, const double *g, double w,
-                                                                    double *out)
+                                                                    double before, double *out)
 {
     double tol = ctx->tol;
     double kappa = tol * (2.0 * (g[22] + g[23]) + tol);
@@ -349,15 +403,15 @@ static inline __attribute__((always_inline)) int circles_first_args(m2c_toi_ctx 
     }
     double coef[M2C_MAX_DEGREE + 1];
     int deg = cc_coefficients(ctx, g, coef);
-    return first_contact(coef, deg, w, kappa, NULL, out);
+    return first_contact(coef, deg, w, kappa, NULL, before, out);
 }
 
 static int circles_first(m2c_toi_ctx *ctx, const double *p1, double ra, const double *p2, double rb, double w,
-                         double *out)
+                         double before, double *out)
 {
     double g[24];
     cc_args(p1, ra, p2, rb, g);
-    return circles_first_args(ctx, g, w, out);
+    return circles_first_args(ctx, g, w, before, out);
 }
 
 /* predict_cc of two circles that do not orbit (orbit 0: neither turns),
@@ -372,17 +426,18 @@ static int circles_plain(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_
                            qa.y - qb.y, qa.vy - qb.vy, A->ay - B->ay, 0.0, 0.0,
                            0.0, 0.0, 0.0, B->orbit, 0.0, HALF_PI, 0.0, 0.0, 0.0, 0.0, 0.0,
                            A->r, B->r };
-    return circles_first_args(ctx, g, w, out);
+    return circles_first_args(ctx, g, w, HUGE_VAL, out);
 }
 
-/* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb 0). */
+/* Circle of A against circle of B (vb NULL, radius rb) or vertex vb of B (rb
+ * 0); before: first_contact's. */
 static int predict_cc(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body *B, const m2c_sim_vertex *vb, double rb,
-                      double now, double w, double *out)
+                      double now, double w, double before, double *out)
 {
     double p1[11], p2[11];
     m2c_toi_circle_params(ctx, A, now, NULL, p1);
     m2c_toi_circle_params(ctx, B, now, vb, p2);
-    return circles_first(ctx, p1, A->r, p2, rb, w, out);
+    return circles_first(ctx, p1, A->r, p2, rb, w, before, out);
 }
 
 /* Counts a point_edge prediction of variant idx (point_edge_variant): its
@@ -432,17 +487,18 @@ int m2c_toi_pe_coefficients(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_s
  * polynomial whose point (X's centre, or rho, beta about it; vx: X's vertex
  * for its cos, sin cache, else NULL) lies on edge j's segment. */
 static int pe_first(m2c_toi_ctx *ctx, const double *coef, int deg, const m2c_sim_body *X, const m2c_sim_body *Y,
-                    const m2c_sim_vertex *vx, double rho, double beta, int32_t j, double now, double w, double *out)
+                    const m2c_sim_vertex *vx, double rho, double beta, int32_t j, double now, double w, double before,
+                    double *out)
 {
     pe_check chk = { ctx, X, Y, vx, rho, beta, &Y->verts[j], now, ctx->tol };
-    return first_contact(coef, deg, w, ctx->tol, &chk, out);
+    return first_contact(coef, deg, w, ctx->tol, &chk, before, out);
 }
 
 /* Point of X (circle centre with its radius, or vertex vx) against the line
  * of edge j of Y (none while a fixed body covers the edge: its cover is not
- * gone). */
+ * gone); before: first_contact's. */
 static int predict_pe(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_body *Y, const m2c_sim_vertex *vx, int32_t j,
-                      double now, double w, double *out)
+                      double now, double w, double before, double *out)
 {
     int32_t cover = Y->verts[j].cover;
     if (cover >= 0 && ctx->m != NULL && !ctx->m->bodies[cover].gone)
@@ -459,7 +515,7 @@ static int predict_pe(m2c_toi_ctx *ctx, const m2c_sim_body *X, const m2c_sim_bod
     }
     double coef[M2C_MAX_DEGREE + 1];
     int deg = m2c_toi_pe_coefficients(ctx, X, Y, rho, beta, rad, j, now, coef);
-    return pe_first(ctx, coef, deg, X, Y, vx, rho, beta, j, now, w, out);
+    return pe_first(ctx, coef, deg, X, Y, vx, rho, beta, j, now, w, before, out);
 }
 
 /* ---- pairs ------------------------------------------------------------------ */
@@ -553,7 +609,7 @@ static int bound_polygon(m2c_toi_ctx *ctx, const m2c_sim_body *T, const m2c_sim_
     int have = 0;
     double best = 0.0, t = 0.0;
     for (int32_t j = 0; j < n; j++) {
-        if (pe_first(ctx, &coefs[(size_t)j * ROW], deg[j], T, P, NULL, 0.0, 0.0, j, now, w, &t)
+        if (pe_first(ctx, &coefs[(size_t)j * ROW], deg[j], T, P, NULL, 0.0, 0.0, j, now, w, have ? best : HUGE_VAL, &t)
             && (!have || t < best)) {
             have = 1;
             best = t;
@@ -563,7 +619,7 @@ static int bound_polygon(m2c_toi_ctx *ctx, const m2c_sim_body *T, const m2c_sim_
     centre_params(T, now, pt);
     for (int32_t k = 0; k < n; k++) {
         m2c_toi_circle_params(ctx, P, now, &P->verts[k], pv);
-        if (circles_first(ctx, pt, T->bound, pv, 0.0, w, &t) && (!have || t < best)) {
+        if (circles_first(ctx, pt, T->bound, pv, 0.0, w, have ? best : HUGE_VAL, &t) && (!have || t < best)) {
             have = 1;
             best = t;
         }
@@ -576,11 +632,11 @@ static void circle_polygon(m2c_toi_ctx *ctx, const m2c_sim_body *C, const m2c_si
 {
     double t = 0.0;
     for (int32_t j = 0; j < P->nverts; j++) {
-        int found = predict_pe(ctx, C, P, NULL, j, now, w, &t);
+        int found = predict_pe(ctx, C, P, NULL, j, now, w, bs->have ? bs->s : HUGE_VAL, &t);
         better(bs, found, t, M2C_SIM_PE, C, P, -1, j);
     }
     for (int32_t k = 0; k < P->nverts; k++) {
-        int found = predict_cc(ctx, C, P, &P->verts[k], 0.0, now, w, &t);
+        int found = predict_cc(ctx, C, P, &P->verts[k], 0.0, now, w, bs->have ? bs->s : HUGE_VAL, &t);
         better(bs, found, t, M2C_SIM_CC, C, P, -1, k);
     }
 }
@@ -710,7 +766,7 @@ static void vertices_edges(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_si
                     pe_count(ctx, spared);
                 continue;
             }
-            int found = predict_pe(ctx, A, B, v, j, now, w, &t);
+            int found = predict_pe(ctx, A, B, v, j, now, w, bs->have ? bs->s : HUGE_VAL, &t);
             better(bs, found, t, M2C_SIM_PE, A, B, i, j);
         }
     }
@@ -1015,7 +1071,7 @@ static void features(m2c_toi_ctx *ctx, const m2c_sim_body *A, const m2c_sim_body
 {
     if (!A->polygon && !B->polygon) {
         double t = 0.0;
-        int found = predict_cc(ctx, A, B, NULL, B->r, now, w, &t);
+        int found = predict_cc(ctx, A, B, NULL, B->r, now, w, HUGE_VAL, &t);
         better(bs, found, t, M2C_SIM_CC, A, B, -1, -1);
     } else if (!A->polygon) {
         circle_polygon(ctx, A, B, now, w, bs);

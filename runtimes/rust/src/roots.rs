@@ -495,7 +495,7 @@ fn admit2(c0: f64, c1: f64, c2: f64, w: f64) -> bool {
 /// infinite m is false).  p(0) and p(hi) of opposite signs, the usual case
 /// when there is a root, are tested first, so that those calls pay little.
 #[inline(always)]
-fn no_root3(c: &[f64], hi: f64) -> bool {
+pub(crate) fn no_root3(c: &[f64], hi: f64) -> bool {
     let h2 = hi * hi;
     let (t0, t1, t2, t3) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi));
     let b3 = (t0 + t1) + (t2 + t3);
@@ -528,7 +528,7 @@ fn flip(b: f64, s: f64) -> f64 {
 
 /// `no_root3` for degree 4.
 #[inline(always)]
-fn no_root4(c: &[f64], hi: f64) -> bool {
+pub(crate) fn no_root4(c: &[f64], hi: f64) -> bool {
     let h2 = hi * hi;
     let (t0, t1, t2, t3, t4) = (c[0], c[1] * hi, c[2] * h2, c[3] * (h2 * hi), c[4] * (h2 * h2));
     let b4 = ((t0 + t1) + (t2 + t3)) + t4;

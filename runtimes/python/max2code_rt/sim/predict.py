@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from max2code_rt.roots import smallest_root
+from max2code_rt.roots import _HI_MIN, _no_root3, _no_root4, smallest_root
 from max2code_rt.sim.motion import MotionMixin
 from max2code_rt.sim.out import SimError
 from max2code_rt.sim.queue import CellEvent
@@ -28,10 +28,49 @@ TWO_M900 = 2.0 ** -900  # ... and its bounds on sizes: nothing underflows or ove
 TWO_M450 = 2.0 ** -450
 TWO_P450 = 2.0 ** 450
 FEATURE_NAMES = ("circle-circle", "point-edge")
+_BEFORE_MARGIN = 2.0 ** -10  # first_contact's: a root beyond before (1 + 2^-10) is far beyond before
 
 
 def _always(s: float) -> bool:
     return True
+
+
+_BINOMIAL = tuple(tuple(float(math.comb(j, i)) for i in range(j + 1)) for j in range(9))  # exact
+_TWO_M46 = 2.0 ** -46
+_TWO_M900 = 2.0 ** -900
+_TWO_M100 = 2.0 ** -100
+
+
+def _no_root_high(c: list[float], n: int, hi: float) -> bool:
+    """The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+    (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+    there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+    C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+    sign (the root solver's test for degrees 3 and 4, for higher degrees:
+    docs/simulator.md, "Features that cannot come first")."""
+    u = []
+    p = 1.0
+    S = 0.0
+    for i in range(n + 1):
+        t = c[i] * p
+        p = p * hi
+        S = S + abs(t)
+        u.append(t / _BINOMIAL[n][i])
+    m = _TWO_M46 * S + _TWO_M900
+    neg = u[0] < 0.0
+    for j in range(n + 1):
+        row = _BINOMIAL[j]
+        b = 0.0
+        for i in range(j + 1):
+            b = b + row[i] * u[i]
+        if not (b < -m if neg else b > m):
+            return False
+    return True
+
+
+def _before(best) -> float:
+    """first_contact's before for the earliest contact found so far (best: _better's)."""
+    return math.inf if best is None else best[0]
 
 
 class PredictMixin:
@@ -68,14 +107,32 @@ class PredictMixin:
             return False
         return c[0] + c[1] * c[1] / (4.0 * -c[2]) <= kappa
 
-    def first_contact(self, c: list[float], deg: int, w: float, kappa: float, check) -> float | None:
+    def first_contact(self, c: list[float], deg: int, w: float, kappa: float, check,
+                      before: float = math.inf) -> float | None:
         """The smallest s in [0, w] where the gap c(s) reaches zero while
         decreasing, or touches zero with zero slope while pressed together
         (resting contact), and check(s) holds.  At s = 0 the gap counts as
         zero within kappa: approaching or pressed (touching_now) means
-        contact now, separating or merely touching never."""
+        contact now, separating or merely touching never.
+
+        before: the earliest contact of the pair's other features found so
+        far (inf for none); a contact at or after it is never kept (the
+        earliest one, first found on a tie, wins), so the search may answer
+        None instead (docs/simulator.md, "Features that cannot come first"):
+        at once when before is 0, and when a Bernstein test shows no root in
+        [0, before (1 + 2^-10)] (degrees 3 and 4: the root solver's entry's;
+        5 to 8: _no_root_high), so that a root found in [0, w] lies beyond
+        before by far more than the solver's error."""
+        if not (before > 0.0):
+            return None
         if deg >= 1 and math.fabs(c[0]) <= kappa and self.touching_now(c, deg, kappa) and check(0.0):
             return 0.0
+        if before < w and 3 <= deg <= 8:
+            h = before + before * _BEFORE_MARGIN
+            if h < w and ((h >= _HI_MIN and (_no_root3(c[0], c[1], c[2], c[3], h) if deg == 3
+                                             else _no_root4(c[0], c[1], c[2], c[3], c[4], h))) if deg <= 4
+                          else h >= _TWO_M100 and _no_root_high(c, deg, h)):
+                return None
         lo = 0.0
         for _ in range(deg + 2):
             s = smallest_root(c[:deg + 1], lo, w)
@@ -115,11 +172,13 @@ class PredictMixin:
         x, y, vx, vy, _ = MotionMixin.state_at(b, now)
         return x, vx, b.ax, 0.0, 0.0, HALF_PI, y, vy, b.ay, 0.0, 0.0
 
-    def predict_cc(self, A: Body, B: Body, vb: Vertex | None, rb: float, now: float, w: float):
-        """Circle of A against circle of B (vb None) or vertex vb of B (radius 0)."""
-        return self.circles_first(self.circle_params(A, now, None), A.r, self.circle_params(B, now, vb), rb, w)
+    def predict_cc(self, A: Body, B: Body, vb: Vertex | None, rb: float, now: float, w: float,
+                   before: float = math.inf):
+        """Circle of A against circle of B (vb None) or vertex vb of B (radius 0); before: first_contact's."""
+        return self.circles_first(self.circle_params(A, now, None), A.r, self.circle_params(B, now, vb), rb, w,
+                                  before)
 
-    def circles_first(self, pa, ra: float, pb, rb: float, w: float):
+    def circles_first(self, pa, ra: float, pb, rb: float, w: float, before: float = math.inf):
         """The first contact within [0, w] of a circle of radius ra moving as
         pa (circle_params) and one of radius rb moving as pb."""
         args = self.cc_args(pa, ra, pb, rb)
@@ -129,7 +188,7 @@ class PredictMixin:
             self.cc_count(args)
             return None
         coef = self.cc_coefficients(args)
-        return self.first_contact(coef, len(coef) - 1, w, kappa, _always)
+        return self.first_contact(coef, len(coef) - 1, w, kappa, _always, before)
 
     @staticmethod
     def circles_apart(g, kappa: float) -> bool:
@@ -192,9 +251,10 @@ class PredictMixin:
         self.cc_count(args)
         return self.cc_coef(*args)
 
-    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float, i: int = -1):
+    def predict_pe(self, X: Body, Y: Body, vx_: Vertex | None, j: int, now: float, w: float, i: int = -1,
+                   before: float = math.inf):
         """Point of X (circle centre with radius, or vertex vx_, X's vertex i) against the line of edge j
-        of Y (none while a fixed body covers the edge: its cover is not gone)."""
+        of Y (none while a fixed body covers the edge: its cover is not gone); before: first_contact's."""
         cover = Y.verts[j].cover
         if cover >= 0 and not self.s.bodies[cover].gone:
             return None
@@ -203,7 +263,7 @@ class PredictMixin:
         else:
             rho, beta, rad = vx_.rho, vx_.beta, 0.0
         coef = self.pe_coefficients(X, Y, rho, beta, rad, j, now)
-        return self.pe_first(coef, X, Y, rho, beta, j, now, w, i)
+        return self.pe_first(coef, X, Y, rho, beta, j, now, w, i, before)
 
     def pe_coefficients(self, X: Body, Y: Body, rho: float, beta: float, rad: float, j: int,
                         now: float) -> list[float]:
@@ -232,7 +292,7 @@ class PredictMixin:
         return self.pe_coef(*args)
 
     def pe_first(self, coef: list[float], X: Body, Y: Body, rho: float, beta: float, j: int, now: float,
-                 w: float, i: int = -1):
+                 w: float, i: int = -1, before: float = math.inf):
         """The first contact within [0, w] of pe_coefficients' polygon whose
         point (X's centre, or rho, beta about it) lies on edge j's segment;
         when the point is X's vertex i (i >= 0), both neighbours of that
@@ -258,7 +318,7 @@ class PredictMixin:
                 return True
             return not self.behind(X, i, t, qx, qy, c, sn, ed.h)
 
-        return self.first_contact(coef, len(coef) - 1, w, tol, inside)
+        return self.first_contact(coef, len(coef) - 1, w, tol, inside, before)
 
     def behind(self, X: Body, i: int, t: float, qx: float, qy: float, c: float, sn: float, h: float) -> bool:
         """A neighbour of X's vertex i at t lies more than the tolerance
@@ -401,12 +461,13 @@ class PredictMixin:
             return 0.0
         meet = None
         for j in range(len(P.verts)):
-            t = self.pe_first(coefs[j], T, P, 0.0, 0.0, j, now, w)
+            t = self.pe_first(coefs[j], T, P, 0.0, 0.0, j, now, w, -1, math.inf if meet is None else meet)
             if t is not None and (meet is None or t < meet):
                 meet = t
         pt = self.centre_params(T, now)
         for v in P.verts:
-            t = self.circles_first(pt, T.bound, self.circle_params(P, now, v), 0.0, w)
+            t = self.circles_first(pt, T.bound, self.circle_params(P, now, v), 0.0, w,
+                                   math.inf if meet is None else meet)
             if t is not None and (meet is None or t < meet):
                 meet = t
         return meet
@@ -512,9 +573,10 @@ class PredictMixin:
 
     def circle_polygon(self, C: Body, P: Body, now: float, w: float, best):
         for j in range(len(P.verts)):
-            best = self._better(best, self.predict_pe(C, P, None, j, now, w), PE, C.idx, P.idx, -1, j)
+            t = self.predict_pe(C, P, None, j, now, w, -1, _before(best))
+            best = self._better(best, t, PE, C.idx, P.idx, -1, j)
         for k, v in enumerate(P.verts):
-            best = self._better(best, self.predict_cc(C, P, v, 0.0, now, w), CC, C.idx, P.idx, -1, k)
+            best = self._better(best, self.predict_cc(C, P, v, 0.0, now, w, _before(best)), CC, C.idx, P.idx, -1, k)
         return best
 
     def window_bound(self, X: Body, Y: Body, now: float, w: float):
@@ -610,7 +672,8 @@ class PredictMixin:
         if k is None:
             for i, v in enumerate(A.verts):
                 for j in range(len(B.verts)):
-                    best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
+                    t = self.predict_pe(A, B, v, j, now, w, i, _before(best))
+                    best = self._better(best, t, PE, A.idx, B.idx, i, j)
             return best
         turning, fixed = self.pe_variants(A, B, now)
         bodies = self.s.bodies
@@ -628,7 +691,7 @@ class PredictMixin:
                         self.pe_counts[spared] += 1
                         self.stats.features += 1
                     continue
-                best = self._better(best, self.predict_pe(A, B, v, j, now, w, i), PE, A.idx, B.idx, i, j)
+                best = self._better(best, self.predict_pe(A, B, v, j, now, w, i, _before(best)), PE, A.idx, B.idx, i, j)
         return best
 
     def predict_body(self, b: Body, now: float, skip: Body | None) -> None:

@@ -121,16 +121,42 @@ pub fn touching_now(c: &[f64; MAX_COEF], deg: usize, kappa: f64) -> bool {
 /// (resting contact), and check(s) holds.  At s = 0 the gap counts as zero
 /// within kappa: approaching or pressed (touching_now) means contact now,
 /// separating or merely touching never.
+///
+/// before: the earliest contact of the pair's other features found so far
+/// (+inf for none); a contact at or after it is never kept (the earliest
+/// one, first found on a tie, wins), so the search may answer None instead
+/// (docs/simulator.md, "Features that cannot come first"): at once when
+/// before is 0, and when a Bernstein test shows no root in [0, before (1 +
+/// 2^-10)] (degrees 3 and 4: the root solver's entry's; 5 to 8:
+/// no_root_high), so that a root found in [0, w] lies beyond before by far
+/// more than the solver's error.
 #[inline(always)]
 pub fn first_contact<F: FnMut(f64) -> bool>(
     c: &[f64; MAX_COEF],
     deg: usize,
     w: f64,
     kappa: f64,
+    before: f64,
     mut check: F,
 ) -> Option<f64> {
+    if !(before > 0.0) {
+        return None;
+    }
     if deg >= 1 && c[0].abs() <= kappa && touching_now(c, deg, kappa) && check(0.0) {
         return Some(0.0);
+    }
+    if before < w && (3..=8).contains(&deg) {
+        let h = before + before * TWO_M10;
+        let clear = |h: f64| {
+            if deg <= 4 {
+                h >= TWO_M250 && if deg == 3 { crate::roots::no_root3(c, h) } else { crate::roots::no_root4(c, h) }
+            } else {
+                h >= TWO_M100 && no_root_high(c, deg, h)
+            }
+        };
+        if h < w && clear(h) {
+            return None;
+        }
     }
     let mut lo = 0.0;
     for _ in 0..deg + 2 {
@@ -145,6 +171,61 @@ pub fn first_contact<F: FnMut(f64) -> bool>(
         lo = s;
     }
     None
+}
+
+/// 2^-10 and 2^-250 (first_contact's margin and the Bernstein test's least interval).
+const TWO_M10: f64 = 1.0 / 1024.0;
+const TWO_M250: f64 = two_to(-250);
+
+const TWO_M100: f64 = two_to(-100);
+const TWO_M46: f64 = two_to(-46);
+
+/// Binomial coefficients C(j, i), j <= 8 (exact in an f64).
+const BINOMIAL: [[f64; 9]; 9] = [
+    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 3.0, 3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 4.0, 6.0, 4.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 5.0, 10.0, 10.0, 5.0, 1.0, 0.0, 0.0, 0.0],
+    [1.0, 6.0, 15.0, 20.0, 15.0, 6.0, 1.0, 0.0, 0.0],
+    [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0, 0.0],
+    [1.0, 8.0, 28.0, 56.0, 70.0, 56.0, 28.0, 8.0, 1.0],
+];
+
+/// The polynomial c of degree n (5 to 8) surely has no root in [0, hi]
+/// (hi >= 2^-100, so that hi^8 stays normal): its Bernstein coefficients
+/// there, b_j = sum_{i <= j} C(j, i) u_i with t_i = c_i hi^i and u_i = t_i /
+/// C(n, i), are all beyond m = 2^-46 S + 2^-900 (S = sum |t_i|) with t_0's
+/// sign (the root solver's test for degrees 3 and 4, for higher degrees:
+/// docs/simulator.md, "Features that cannot come first").
+fn no_root_high(c: &[f64; MAX_COEF], n: usize, hi: f64) -> bool {
+    let mut u = [0.0; 9];
+    let (mut p, mut sum) = (1.0, 0.0);
+    for (i, (ui, ci)) in u.iter_mut().zip(c).take(n + 1).enumerate() {
+        let t = ci * p;
+        p = p * hi;
+        sum = sum + t.abs();
+        *ui = t / BINOMIAL[n][i];
+    }
+    let m = TWO_M46 * sum + TWO_M900;
+    let neg = u[0] < 0.0;
+    for (j, row) in BINOMIAL.iter().enumerate().take(n + 1) {
+        let mut b = 0.0;
+        for (w, ui) in row[..=j].iter().zip(&u) {
+            b = b + w * ui;
+        }
+        if !(if neg { b < -m } else { b > m }) {
+            return false;
+        }
+    }
+    true
+}
+
+/// first_contact's before for the earliest contact found so far.
+#[inline(always)]
+fn before_of(best: Option<Best>) -> f64 {
+    best.map_or(f64::INFINITY, |b| b.s)
 }
 
 // ---- features -----------------------------------------------------------------
@@ -214,8 +295,9 @@ fn predict_cc<E: Equations, W: PairEnv, C: Counter>(
     rb: f64,
     now: f64,
     win: f64,
+    before: f64,
 ) -> Res<Option<f64>> {
-    circles_first::<E, _, _>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win)
+    circles_first::<E, _, _>(w, q, &circle_params(a_, now, None), a_.r, &circle_params(b_, now, vb), rb, win, before)
 }
 
 /// circle_circle's 24 parameters for two bodies that do not turn:
@@ -268,11 +350,12 @@ fn circles_plain<E: Equations, W: PairEnv, C: Counter>(
     win: f64,
 ) -> Res<Option<f64>> {
     let args = plain_args(a_, b_, now, (a_.orbit, b_.orbit), (a_.r, b_.r));
-    circles_first_args::<E, _, _>(w, q, &args, win)
+    circles_first_args::<E, _, _>(w, q, &args, win, f64::INFINITY)
 }
 
 /// The first contact within [0, win] of a circle of radius ra moving as pa
 /// (circle_params) and one of radius rb moving as pb.
+#[allow(clippy::too_many_arguments)]
 fn circles_first<E: Equations, W: PairEnv, C: Counter>(
     w: &W,
     q: &mut C,
@@ -281,8 +364,9 @@ fn circles_first<E: Equations, W: PairEnv, C: Counter>(
     pb: &[f64; 11],
     rb: f64,
     win: f64,
+    before: f64,
 ) -> Res<Option<f64>> {
-    circles_first_args::<E, _, _>(w, q, &cc_args(pa, ra, pb, rb), win)
+    circles_first_args::<E, _, _>(w, q, &cc_args(pa, ra, pb, rb), win, before)
 }
 
 /// circles_first of circle_circle's 24 parameters (cc_args).
@@ -292,6 +376,7 @@ fn circles_first_args<E: Equations, W: PairEnv, C: Counter>(
     q: &mut C,
     args: &[f64; 24],
     win: f64,
+    before: f64,
 ) -> Res<Option<f64>> {
     let (ra, rb) = (args[22], args[23]);
     let tol = w.tol();
@@ -302,7 +387,7 @@ fn circles_first_args<E: Equations, W: PairEnv, C: Counter>(
     }
     let mut coef = [0.0; MAX_COEF];
     let deg = cc_coefficients::<E, _>(q, args, &mut coef)?;
-    Ok(first_contact(&coef, deg, win, kappa, |_| true))
+    Ok(first_contact(&coef, deg, win, kappa, before, |_| true))
 }
 
 /// The pair of circles_gap's parameters g surely has no contact, decided
@@ -392,6 +477,7 @@ fn predict_pe<E: Equations, W: PairEnv, C: Counter>(
     now: f64,
     win: f64,
     i: i32,
+    before: f64,
 ) -> Res<Option<f64>> {
     let cover = w.verts()[y_.vert(j)].cover;
     if cover >= 0 && w.covered(cover) {
@@ -403,7 +489,7 @@ fn predict_pe<E: Equations, W: PairEnv, C: Counter>(
     };
     let mut coef = [0.0; MAX_COEF];
     let deg = pe_coefficients::<E, _>(w.verts(), q, x_, y_, rho, beta, rad, j, now, &mut coef)?;
-    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win, i))
+    Ok(pe_first(w, &coef, deg, x_, y_, (rho, beta, vx_), j, now, win, i, before))
 }
 
 /// The point_edge polynomial of a circle of radius rad whose centre orbits
@@ -465,6 +551,7 @@ fn pe_first<W: PairEnv>(
     now: f64,
     win: f64,
     i: i32,
+    before: f64,
 ) -> Option<f64> {
     let ed = &w.verts()[y_.vert(j)];
     let tol = w.tol();
@@ -492,7 +579,7 @@ fn pe_first<W: PairEnv>(
         }
         !behind(w, x_, i as usize, t, (qx, qy), (c, sn), ed.h)
     };
-    first_contact(coef, deg, win, tol, inside)
+    first_contact(coef, deg, win, tol, before, inside)
 }
 
 /// A neighbour of X's vertex i at t lies more than the tolerance behind the
@@ -602,7 +689,8 @@ fn bound_polygon<E: Equations, W: PairEnv, C: Counter>(
     }
     let mut meet: Option<f64> = None;
     for (j, (c, deg)) in coefs.iter().enumerate() {
-        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win, -1) {
+        if let Some(t) = pe_first(w, c, *deg, t_, p_, (0.0, 0.0, None), j, now, win, -1, meet.unwrap_or(f64::INFINITY))
+        {
             if meet.is_none_or(|m| t < m) {
                 meet = Some(t);
             }
@@ -611,7 +699,8 @@ fn bound_polygon<E: Equations, W: PairEnv, C: Counter>(
     let pt = centre_params(t_, now);
     for k in 0..n {
         let v = &w.verts()[p_.vert(k)];
-        let t = circles_first::<E, _, _>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win)?;
+        let before = meet.unwrap_or(f64::INFINITY);
+        let t = circles_first::<E, _, _>(w, q, &pt, t_.bound, &circle_params(p_, now, Some(v)), 0.0, win, before)?;
         if let Some(t) = t {
             if meet.is_none_or(|m| t < m) {
                 meet = Some(t);
@@ -631,12 +720,12 @@ fn circle_polygon<E: Equations, W: PairEnv, C: Counter>(
     mut best: Option<Best>,
 ) -> Res<Option<Best>> {
     for j in 0..p_.nverts() {
-        let t = predict_pe::<E, _, _>(w, q, c_, p_, None, j, now, win, -1)?;
+        let t = predict_pe::<E, _, _>(w, q, c_, p_, None, j, now, win, -1, before_of(best))?;
         best = better(best, t, PE, c_.index(), p_.index(), -1, j as i32);
     }
     for k in 0..p_.nverts() {
         let v = &w.verts()[p_.vert(k)];
-        let t = predict_cc::<E, _, _>(w, q, c_, p_, Some(v), 0.0, now, win)?;
+        let t = predict_cc::<E, _, _>(w, q, c_, p_, Some(v), 0.0, now, win, before_of(best))?;
         best = better(best, t, CC, c_.index(), p_.index(), -1, k as i32);
     }
     Ok(best)
@@ -809,7 +898,7 @@ fn vertices_edges<E: Equations, W: PairEnv, C: Counter>(
                 }
                 continue;
             }
-            let t = predict_pe::<E, _, _>(w, q, a_, b_, Some(v), j, now, win, i as i32)?;
+            let t = predict_pe::<E, _, _>(w, q, a_, b_, Some(v), j, now, win, i as i32, before_of(best))?;
             best = better(best, t, PE, a_.index(), b_.index(), i as i32, j as i32);
         }
     }
@@ -964,7 +1053,7 @@ fn features<E: Equations, W: PairEnv, C: Counter>(
 ) -> Res<Option<Best>> {
     let mut best = None;
     if !a_.polygon && !b_.polygon {
-        let t = predict_cc::<E, _, _>(w, q, a_, b_, None, b_.r, now, win)?;
+        let t = predict_cc::<E, _, _>(w, q, a_, b_, None, b_.r, now, win, f64::INFINITY)?;
         if let Some(t) = t {
             best = Some(Best { s: t, feat: CC, a: a_.index(), b: b_.index(), i: -1, j: -1 });
         }
