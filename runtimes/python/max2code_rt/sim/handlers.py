@@ -37,17 +37,18 @@ class HandlersMixin:
         if self.can_sleep(B, A, ev, nx, ny, vn):
             self.handle_sleep(B, A, t)
             return
-        if self.can_sleep_two(A, B, ev, cx, cy, nx, ny, vn):
-            self.handle_sleep_two(A, B, t)
+        if self.can_sleep_many(A, B, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_many(A, B, ev, t)
             return
-        if self.can_sleep_two(B, A, ev, cx, cy, nx, ny, vn):
-            self.handle_sleep_two(B, A, t)
+        if self.can_sleep_many(B, A, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_many(B, A, ev, t)
             return
         if self.can_ride(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
-        press_a = self.slow_press(A, B, ev, nx, ny, vn)
-        press_b = self.slow_press(B, A, ev, nx, ny, vn)
+        rest = self.s.rest_speed
+        press_a = self.slow_touch(A, B, ev, nx, ny, vn, rest)
+        press_b = self.slow_touch(B, A, ev, nx, ny, vn, rest)
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
         # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
