@@ -8,7 +8,7 @@ IMPLEMENTATION MODULE SimHandlers ;
    double operations in the same order. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, RestContact, EndT, FrameDt, GridNX, GridNY, Input, Inputs, LENGTH_MAX, MaxEvents, MaxSame,
+FROM SimScene IMPORT Bodies, BodyRef, RestSlots, EndT, FrameDt, GridNX, GridNY, Input, Inputs, LENGTH_MAX, MaxEvents, MaxSame,
                      NBodies, NInputs, Tol ;
 FROM SimQueue IMPORT CellEvent, Clear, CollisionEvent, Event, FrameEvent, HorizonEvent, InputEvent, KCell,
                      KCollision, KFrame, KHorizon, KInput, KLeave, KStop, LeaveEvent, Pop, StopEvent, Top ;
@@ -24,7 +24,7 @@ FROM SimPredict IMPORT ClearCounts, PredictBody, PredictCells, PredictLarge, Pre
 FROM SimContact IMPORT contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse ;
 FROM SimSupport IMPORT base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support,
                        slide_accel, static ;
-FROM SimSleep IMPORT at_rest, can_sleep, can_sleep_two, jolted, note_rest, rest_other, slow_press ;
+FROM SimSleep IMPORT at_rest, can_sleep, can_sleep_many, holding, jolted, note_rest, rest_ftol, slow_touch ;
 FROM SimOverlap IMPORT overlapping ;
 FROM SimCluster IMPORT handle_cluster, NTouched, repeated, touch, TouchedT ;
 
@@ -104,24 +104,31 @@ BEGIN
 END handle_sleep ;
 
 
-(* A falls asleep on G (handle_sleep) and on its other support, the body of
-   its last slow pressing contact with another body: when that one sleeps in
-   another island, the two islands become one (A's). *)
-PROCEDURE handle_sleep_two (A, G: BodyRef; t: REAL) ;
+(* A falls asleep on G (handle_sleep); then, for each noted contact that
+   still holds (in slot order) whose body sleeps in another island, that
+   island's sleepers take A's island number: the islands are one, so a jolt
+   or input on any wakes all. *)
+PROCEDURE handle_sleep_many (A, G: BodyRef; ev: CollisionEvent; t: REAL) ;
 VAR
-   r: RestContact ;
-   G1: BodyRef ;
-   old, k: INTEGER ;
+   held, others: ARRAY [0..RestSlots - 1] OF INTEGER ;
+   nh, h, old, k: INTEGER ;
+   fa, ftol: REAL ;
+   O: BodyRef ;
 BEGIN
-   IF rest_other (A, G, r) THEN G1 := ADR (Bodies^[r.other1 - 1]) ELSE G1 := G END ;
+   ftol := rest_ftol (A, fa) ;
+   nh := holding (A, ev, ftol, held) ;
+   FOR h := 0 TO nh - 1 DO others[h] := A^.rc[held[h]].other1 - 1 END ;
    handle_sleep (A, G, t) ;
-   IF G1^.asleep AND (G1^.island # A^.island) THEN
-      old := G1^.island ;
-      FOR k := 0 TO NBodies - 1 DO
-         IF Bodies^[k].asleep AND (Bodies^[k].island = old) THEN Bodies^[k].island := A^.island END
+   FOR h := 0 TO nh - 1 DO
+      O := ADR (Bodies^[others[h]]) ;
+      IF O^.asleep AND (O^.island # A^.island) THEN
+         old := O^.island ;
+         FOR k := 0 TO NBodies - 1 DO
+            IF Bodies^[k].asleep AND (Bodies^[k].island = old) THEN Bodies^[k].island := A^.island END
+         END
       END
    END
-END handle_sleep_two ;
+END handle_sleep_many ;
 
 
 (* S's island wakes at t: every member (by index) gets its free
@@ -230,20 +237,20 @@ BEGIN
       handle_sleep (B, A, t) ;
       RETURN
    END ;
-   IF can_sleep_two (A, B, ev, cx, cy, nx, ny, vn) THEN
-      handle_sleep_two (A, B, t) ;
+   IF can_sleep_many (A, B, ev, cx, cy, nx, ny, vn) THEN
+      handle_sleep_many (A, B, ev, t) ;
       RETURN
    END ;
-   IF can_sleep_two (B, A, ev, cx, cy, nx, ny, vn) THEN
-      handle_sleep_two (B, A, t) ;
+   IF can_sleep_many (B, A, ev, cx, cy, nx, ny, vn) THEN
+      handle_sleep_many (B, A, ev, t) ;
       RETURN
    END ;
    IF can_ride (A, B, ev.feature, ev.i, ev.j, vn) THEN
       handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
       RETURN
    END ;
-   pressA := slow_press (A, B, ev, nx, ny, vn) ;
-   pressB := slow_press (B, A, ev, nx, ny, vn) ;
+   pressA := slow_touch (A, B, ev, nx, ny, vn) ;
+   pressB := slow_touch (B, A, ev, nx, ny, vn) ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
       on it); a gentle touch leaves it asleep, a real impulse wakes its island;

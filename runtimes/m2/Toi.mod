@@ -10,7 +10,7 @@ IMPLEMENTATION MODULE Toi ;
 FROM SYSTEM IMPORT ADR ;
 FROM CMath IMPORT atan2, pow, sqrt ;
 FROM RealMath IMPORT cos, sin ;
-FROM SimScene IMPORT Body, BodyArray, BodyRef, Grow, Vertex, VertexArray ;
+FROM SimScene IMPORT Body, BodyArray, BodyRef, Grow, RestSlots, Vertex, VertexArray ;
 IMPORT SimScene ;
 FROM SimWorld IMPORT NCc ;
 FROM SimMotion IMPORT rebase, StateAt, TurnRate ;
@@ -191,8 +191,7 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
-   b^.rc[0].other1 := 0 ;
-   b^.rc[1].other1 := 0 ;
+   FOR k := 0 TO RestSlots - 1 DO b^.rc[k].other1 := 0 END ;
    b^.placed := FALSE ;
    b^.seen := 0 ;
    b^.carry := 0 ;

@@ -16,7 +16,7 @@ use super::overlap::overlapping;
 use super::predict::{predict_body, predict_cells, predict_near, predict_pair, schedule_cell};
 use super::queue::{prefetch, Event};
 use super::scene::{ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT};
-use super::sleep::{at_rest, can_sleep, can_sleep_two, jolted, note_rest, rest_other, slow_press, Touch};
+use super::sleep::{at_rest, can_sleep, can_sleep_many, holding_bodies, jolted, note_rest, slow_touch, Touch};
 use super::support::{
     base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support, is_static, slide_accel,
 };
@@ -58,17 +58,17 @@ impl<E: Equations> World<E> {
         if can_sleep(&self.w, bi, ai, touch, nx, ny, vn) {
             return self.handle_sleep(bi, ai, t);
         }
-        if can_sleep_two(&self.w, ai, bi, touch, cx, cy, nx, ny, vn) {
-            return self.handle_sleep_two(ai, bi, t);
+        if can_sleep_many(&self.w, ai, bi, touch, cx, cy, nx, ny, vn) {
+            return self.handle_sleep_many(ai, bi, touch, t);
         }
-        if can_sleep_two(&self.w, bi, ai, touch, cx, cy, nx, ny, vn) {
-            return self.handle_sleep_two(bi, ai, t);
+        if can_sleep_many(&self.w, bi, ai, touch, cx, cy, nx, ny, vn) {
+            return self.handle_sleep_many(bi, ai, touch, t);
         }
         if can_ride(&self.w, &self.w.s.bodies[ai], &self.w.s.bodies[bi], feature, i, j, vn) {
             return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
         }
         let (press_a, press_b) =
-            (slow_press(&self.w, ai, bi, touch, nx, ny, vn), slow_press(&self.w, bi, ai, touch, nx, ny, vn));
+            (slow_touch(&self.w, ai, bi, touch, nx, ny, vn), slow_touch(&self.w, bi, ai, touch, nx, ny, vn));
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
@@ -296,18 +296,20 @@ impl<E: Equations> World<E> {
         self.predict_changed(a, t)
     }
 
-    /// Body a falls asleep on g (handle_sleep) and on its other support, the
-    /// body of its last slow pressing contact with another body: when that one
-    /// sleeps in another island, the two islands become one (a's).
-    pub(super) fn handle_sleep_two(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
-        let g1 = rest_other(&self.w, a, g).map_or(g, |r| (r.other1 - 1) as usize);
+    /// Body a falls asleep on g (handle_sleep); then, for each noted contact
+    /// that still holds (in slot order) whose body sleeps in another island,
+    /// that island's sleepers take a's island number.
+    pub(super) fn handle_sleep_many(&mut self, a: usize, g: usize, touch: Touch, t: f64) -> Res<()> {
+        let (others, nh) = holding_bodies(&self.w, a, touch);
         self.handle_sleep(a, g, t)?;
-        let (island, g1_) = (self.w.s.bodies[a].island, &self.w.s.bodies[g1]);
-        if g1_.asleep && g1_.island != island {
-            let old = g1_.island;
-            for b in self.w.s.bodies.iter_mut() {
-                if b.asleep && b.island == old {
-                    b.island = island;
+        for &o in &others[..nh] {
+            let (island, o_) = (self.w.s.bodies[a].island, &self.w.s.bodies[o]);
+            if o_.asleep && o_.island != island {
+                let old = o_.island;
+                for b in self.w.s.bodies.iter_mut() {
+                    if b.asleep && b.island == old {
+                        b.island = island;
+                    }
                 }
             }
         }
