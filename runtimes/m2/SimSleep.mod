@@ -159,8 +159,8 @@ BEGIN
 END slow_touch ;
 
 
-(* Keeps the slow contact of ev at (cx, cy) first among M's last RestSlots
-   slow contacts (distinct by key), with G's and M's positions and angles
+(* With G grounded, keeps the slow contact of ev at (cx, cy) first among M's
+   last RestSlots slow contacts (distinct by key), with G's and M's positions and angles
    now: an earlier one with the same key leaves its place, the others move
    down one, the oldest beyond the slots is dropped. *)
 PROCEDURE note_rest (M, G: BodyRef; ev: CollisionEvent; cx, cy, nx, ny: REAL) ;
@@ -168,6 +168,7 @@ VAR
    r: RestContact ;
    k: INTEGER ;
 BEGIN
+   IF NOT grounded (G) THEN RETURN END ;   (* an awake body moves: a contact with it would not hold *)
    r.side := M^.idx = ev.a ;
    IF r.side THEN
       r.mx := nx ;

@@ -135,7 +135,7 @@ static int same_key(const m2c_sim_rest_contact *r, const m2c_sim_rest_contact *q
     return r->other1 == q->other1 && r->feature == q->feature && r->i == q->i && r->j == q->j && r->side == q->side;
 }
 
-/* Keeps the slow contact of ev at (cx, cy) first among M's last
+/* With G grounded, keeps the slow contact of ev at (cx, cy) first among M's last
  * M2C_SIM_REST_SLOTS slow contacts (distinct by key), with G's and M's
  * positions and angles now: an earlier one with the same key leaves its
  * place, the others move down one, the oldest beyond the slots is
@@ -143,6 +143,8 @@ static int same_key(const m2c_sim_rest_contact *r, const m2c_sim_rest_contact *q
 void m2c_sim_note_rest(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double cx,
                        double cy, double nx, double ny)
 {
+    if (!m2c_sim_grounded(G))
+        return;                         /* an awake body moves: a contact with it would not hold */
     m2c_sim_rest_contact *slots = &m->restc[M2C_SIM_REST_SLOTS * (size_t)M->idx];
     m2c_sim_rest_contact r;
     int side = M->idx == ev->u.collision.a;

@@ -194,12 +194,14 @@ class SleepMixin:
         return not M.polygon or math.fabs(M.om) * M.bound < rest
 
     def note_rest(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float) -> None:
-        """Keeps the slow contact of ev at (cx, cy) first among M's last
+        """With G grounded, keeps the slow contact of ev at (cx, cy) first among M's last
         REST_SLOTS slow contacts (distinct by the other body and the
         feature: ev's kind, i, j and which side M is), with G's and M's
         positions and angles now: an earlier one with the same key leaves
         its place, the others move down one, the oldest beyond REST_SLOTS
         is dropped."""
+        if not self.grounded(G):
+            return          # an awake body moves: a contact with it would not hold
         mx = nx if M.idx == ev.a else -nx
         my = ny if M.idx == ev.a else -ny
         r = (G.idx, ev.feature, ev.i, ev.j, M.idx == ev.a, cx, cy, mx, my, G.px, G.py, G.ang, M.px, M.py, M.ang)

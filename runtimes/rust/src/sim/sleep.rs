@@ -166,7 +166,7 @@ fn same_key(r: &RestContact, q: &RestContact) -> bool {
     r.other1 == q.other1 && r.feature == q.feature && r.i == q.i && r.j == q.j && r.side == q.side
 }
 
-/// Keeps the slow contact of ev at (cx, cy) first among M's last
+/// With G grounded, keeps the slow contact of ev at (cx, cy) first among M's last
 /// [`REST_SLOTS`] slow contacts (distinct by the other body, ev's feature,
 /// i, j and which side M is), with G's and M's positions and angles now:
 /// an earlier one with the same key leaves its place, the others move down
@@ -174,6 +174,9 @@ fn same_key(r: &RestContact, q: &RestContact) -> bool {
 #[allow(clippy::too_many_arguments)]
 pub fn note_rest(w: &mut Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64) {
     let (m_, g_) = (&w.s.bodies[m], &w.s.bodies[g]);
+    if !grounded(g_) {
+        return; // an awake body moves: a contact with it would not hold
+    }
     let side = m == ev.a;
     let (mx, my) = if side { (nx, ny) } else { (-nx, -ny) };
     let r = RestContact {
