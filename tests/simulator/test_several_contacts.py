@@ -168,3 +168,20 @@ def test_piles_agree_in_all_four_runtimes(seed):
     raw = pile_scene(seed, end_time=0.8)
     scene = parse_scene(json.dumps(raw), f"pile-{seed}.json")
     run_all(scene)
+
+
+@settings(max_examples=6, deadline=None)
+@given(plank_x=st.one_of(st.floats(0.9, 1.1), st.floats(1.32, 1.45)))
+def test_a_plank_sleeps_on_two_boxes_only_with_its_centre_between_them(plank_x):
+    """The plank of test_two_supports.bridge (0.6 m, boxes' tops spanning
+    0.7..0.9 and 1.1..1.3 m): centred between the boxes it falls asleep on
+    them; with its centre past the right box's far corner it never sleeps
+    on a box (it tips off)."""
+    from test_two_supports import bridge
+    tr = run_all(bridge(plank_x))
+    on_boxes = [e for e in tr.events if e["kind"] == "sleep" and e["bodies"][0] == "plank"
+                and e["bodies"][1] in ("left", "right")]
+    if plank_x <= 1.1:
+        assert on_boxes and on_boxes[0]["t"] < 0.2
+    else:
+        assert not on_boxes
