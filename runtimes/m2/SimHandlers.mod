@@ -28,6 +28,9 @@ FROM SimSleep IMPORT at_rest, can_sleep, can_sleep_many, holding, jolted, note_r
 FROM SimOverlap IMPORT overlapping ;
 FROM SimCluster IMPORT handle_cluster, NTouched, repeated, touch, TouchedT ;
 
+CONST
+   Waking = -2 ;               (* island of the sleepers handle_wake is waking *)
+
 
 (* A leaves its support or carrier at t (E leave, its state: world velocity
    kept, free acceleration), then what A carries, depth-first (release);
@@ -94,6 +97,8 @@ BEGIN
    A^.ay := 0.0 ;
    A^.asleep := TRUE ;
    IF G^.asleep THEN A^.island := G^.island ELSE A^.island := A^.idx END ;
+   A^.on[0] := G^.idx ;
+   A^.non := 1 ;
    INC (A^.stamp) ;
    EmitSupportEnd ("sleep", t, A^.idx, G^.idx, A^.island) ;
    EmitState (A) ;
@@ -104,48 +109,65 @@ BEGIN
 END handle_sleep ;
 
 
-(* A falls asleep on G (handle_sleep); then, for each noted contact that
-   still holds (in slot order) whose body sleeps in another island, that
-   island's sleepers take A's island number: the islands are one, so a jolt
-   or input on any wakes all. *)
+(* A falls asleep on G (handle_sleep); then the body of each noted contact
+   that still holds (in slot order) is added to what A rests on, so a jolt
+   on any of them wakes A. *)
 PROCEDURE handle_sleep_many (A, G: BodyRef; ev: CollisionEvent; t: REAL) ;
 VAR
    held, others: ARRAY [0..RestSlots - 1] OF INTEGER ;
-   nh, h, old, k: INTEGER ;
+   nh, h: INTEGER ;
    fa, ftol: REAL ;
-   O: BodyRef ;
 BEGIN
    ftol := rest_ftol (A, fa) ;
    nh := holding (A, ev, ftol, held) ;
    FOR h := 0 TO nh - 1 DO others[h] := A^.rc[held[h]].other1 - 1 END ;
    handle_sleep (A, G, t) ;
    FOR h := 0 TO nh - 1 DO
-      O := ADR (Bodies^[others[h]]) ;
-      IF O^.asleep AND (O^.island # A^.island) THEN
-         old := O^.island ;
-         FOR k := 0 TO NBodies - 1 DO
-            IF Bodies^[k].asleep AND (Bodies^[k].island = old) THEN Bodies^[k].island := A^.island END
-         END
-      END
+      A^.on[A^.non] := others[h] ;
+      INC (A^.non)
    END
 END handle_sleep_many ;
 
 
-(* S's island wakes at t: every member (by index) gets its free
-   acceleration back, then fresh predictions (a pair of members once). *)
+(* Sleeper S wakes at t, and with it every sleeper that rests on a woken
+   body (the upward closure, marked island Waking): each (by index) gets its
+   free acceleration back, then fresh predictions (a pair of woken bodies
+   once). *)
 PROCEDURE handle_wake (S: BodyRef; t: REAL) ;
+CONST
+   island = Waking ;
 VAR
-   island, i, n0: INTEGER ;
+   i, g, n0: INTEGER ;
+   grown: BOOLEAN ;
    b: BodyRef ;
 BEGIN
    INC (Stats.wakes) ;
-   island := S^.island ;
    Str ("E wake ") ;
    Real (t) ;
    Str (" ") ; Int (S^.idx) ;
-   Str (" -1 -1 -1 ") ; Int (island) ;
+   Str (" -1 -1 -1 ") ; Int (S^.island) ;
    Str (" 0 0 0 0 0") ;
    Ln ;
+   S^.island := island ;
+   grown := TRUE ;
+   WHILE grown DO
+      grown := FALSE ;
+      FOR i := 0 TO NBodies - 1 DO
+         b := ADR (Bodies^[i]) ;
+         IF b^.asleep AND (b^.island # island) THEN
+            g := 0 ;
+            WHILE g < b^.non DO
+               IF Bodies^[b^.on[g]].island = island THEN
+                  b^.island := island ;
+                  grown := TRUE ;
+                  g := b^.non
+               ELSE
+                  INC (g)
+               END
+            END
+         END
+      END
+   END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF b^.asleep AND (b^.island = island) THEN
@@ -161,7 +183,7 @@ BEGIN
    n0 := NLeft ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
-      IF b^.island = island THEN release (b, t) END     (* bodies sliding on a member leave it: it may move *)
+      IF b^.island = island THEN release (b, t) END     (* bodies sliding on a woken body leave it: it may move *)
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
@@ -253,7 +275,7 @@ BEGIN
    pressB := slow_touch (B, A, ev, nx, ny, vn) ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-      on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+      on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
       a slow contact of bodies held on their supports keeps them there *)
    isheld := held (A, B, nx, ny, vn) ;
    IF isheld THEN
@@ -541,7 +563,7 @@ END remove ;
    again at once and is supported again relative to B's new motion, or
    bounces, or falls); B is predicted against every body again (a large B:
    each small one that is not fixed or removed, in index order; a small one:
-   PredictBody), the bodies that left against the others; last the islands
+   PredictBody), the bodies that left against the others; last the sleepers
    touching B wake (wake_touching: B may have held them, or carries them
    into others). *)
 PROCEDURE drive (B: BodyRef; k: INTEGER; t, vx, vy: REAL) ;
@@ -583,10 +605,10 @@ BEGIN
 END drive ;
 
 
-(* The islands of the sleepers whose bounding circles reach the body's
-   (within the tolerance; a body removed, or a fixed one whose velocity an
-   input set) wake: it may have held them (by index; a woken island's other
-   members are awake already). *)
+(* The sleepers whose bounding circles reach the body's (within the
+   tolerance; a body removed, or a fixed one whose velocity an input set)
+   wake, each with what rests on it: it may have held them (by index; one
+   woken with an earlier one is awake already). *)
 PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
 VAR
    i: INTEGER ;

@@ -665,6 +665,7 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
+   b^.non := 0 ;
    FOR k := 0 TO RestSlots - 1 DO b^.rc[k].other1 := 0 END ;
    b^.placed := FALSE ;
    b^.seen := 0 ;

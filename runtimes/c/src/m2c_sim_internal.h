@@ -96,6 +96,8 @@ typedef struct m2c_sim_body {
     double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
     double at;              /* m/s^2: free acceleration relative to the support's, along the tangent */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    int32_t non;            /* asleep: how many bodies it rests on (in on) */
+    int32_t on[5];          /* asleep: the bodies it rests on, its support first (1 + M2C_SIM_REST_SLOTS) */
     int32_t rest;           /* asleep: the fixed body it fell asleep supported on (its edge frame kept in tx, ty), else -1 */
     int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
     unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
@@ -921,7 +923,7 @@ int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G
                       double ny, double vn);
 /* A (advanced to t) falls asleep resting on G. */
 void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t);
-/* S's island wakes at t. */
+/* Sleeper S wakes at t, with every sleeper resting on a woken body. */
 void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t);
 /* The islands of the sleepers whose bounding circles reach body's wake. */
 void m2c_sim_wake_touching(m2c_world *m, const m2c_sim_body *body, double t);

@@ -1,11 +1,13 @@
 /* Sleeping islands (docs/simulator.md, "Contact model: sleeping islands"):
  * a slow body pressed onto a grounded one (asleep, or fixed and unmoving)
- * falls asleep in its island, frozen (v = a = w = 0, no events of its
+ * falls asleep resting on it, frozen (v = a = w = 0, no events of its
  * own); an impulse that would move it, or a body removed or driven next to
- * it, wakes the whole island.  Speeds in m/s. */
+ * it, wakes it and the sleepers resting on it, going up.  Speeds in m/s. */
 #include <math.h>
 
 #include "m2c_sim_internal.h"
+
+#define WAKING (-2)     /* island of the sleepers handle_wake is waking */
 
 /* A body supported by an unmoving body, slower than rest_speed along its
  * edge, that static friction would hold there (|at| <= mu load, as in
@@ -320,10 +322,9 @@ int m2c_sim_can_sleep_many(const m2c_world *m, const m2c_sim_body *M, const m2c_
     return balanced(M, (const double (*)[5])pts, nh + 1, fa, m->s->tol);
 }
 
-/* A falls asleep on G (handle_sleep); then, for each noted contact that
- * still holds (in slot order) whose body sleeps in another island, that
- * island's sleepers take A's island number: the islands are one, so a jolt
- * or input on any wakes all. */
+/* A falls asleep on G (handle_sleep); then the body of each noted contact
+ * that still holds (in slot order) is added to what A rests on, so a jolt
+ * on any of them wakes A. */
 void m2c_sim_handle_sleep_many(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, const m2c_sim_event *ev, double t)
 {
     double fa = sqrt(A->fax * A->fax + A->fay * A->fay);
@@ -334,15 +335,8 @@ void m2c_sim_handle_sleep_many(m2c_world *m, m2c_sim_body *A, const m2c_sim_body
     for (int h = 0; h < nh; h++)
         others[h] = m->restc[M2C_SIM_REST_SLOTS * (size_t)A->idx + (size_t)held[h]].other1 - 1;
     m2c_sim_handle_sleep(m, A, G, t);
-    for (int h = 0; h < nh; h++) {
-        const m2c_sim_body *O = &m->bodies[others[h]];
-        if (O->asleep && O->island != A->island) {
-            int32_t old = O->island;
-            for (int32_t k = 0; k < m->s->nbodies; k++)
-                if (m->bodies[k].asleep && m->bodies[k].island == old)
-                    m->bodies[k].island = A->island;
-        }
-    }
+    for (int h = 0; h < nh; h++)
+        A->on[A->non++] = others[h];
 }
 
 /* A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0) in
@@ -361,6 +355,8 @@ void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, 
     A->ay = 0.0;
     A->asleep = 1;
     A->island = G->asleep ? G->island : A->idx;
+    A->on[0] = G->idx;
+    A->non = 1;
     m->stamp[A->idx]++;
     m2c_sim_emit_island(m, "E sleep ", t, A->idx, G->idx, A->island);
     m2c_sim_emit_state(m, A);
@@ -370,14 +366,31 @@ void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, 
     m2c_sim_predict_released(m, &left, t);
 }
 
-/* S's island wakes at t: every member (by index) gets its free
- * acceleration back, then fresh predictions (a pair of members once). */
+/* Sleeper S wakes at t, and with it every sleeper that rests on a woken
+ * body (the upward closure, marked island WAKING): each (by index) gets its
+ * free acceleration back, then fresh predictions (a pair of woken bodies
+ * once). */
 void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t)
 {
     m->stats.wakes++;
-    int32_t island = S->island;
-    m2c_sim_emit_island(m, "E wake ", t, S->idx, -1, island);
+    m2c_sim_emit_island(m, "E wake ", t, S->idx, -1, S->island);
     int32_t n = m->s->nbodies;
+    const int32_t island = WAKING;
+    m->bodies[S->idx].island = island;
+    int grown = 1;
+    while (grown) {
+        grown = 0;
+        for (int32_t k = 0; k < n; k++) {
+            m2c_sim_body *b = &m->bodies[k];
+            if (b->asleep && b->island != island)
+                for (int32_t g = 0; g < b->non; g++)
+                    if (m->bodies[b->on[g]].island == island) {
+                        b->island = island;
+                        grown = 1;
+                        break;
+                    }
+        }
+    }
     for (int32_t k = 0; k < n; k++) {
         m2c_sim_body *b = &m->bodies[k];
         if (b->asleep && b->island == island) {
@@ -403,9 +416,9 @@ void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t)
             m->bodies[k].island = -1;
 }
 
-/* The islands of the sleepers whose bounding circles reach the removed
- * body's (within the tolerance) wake: it may have held them (by index; a
- * woken island's other members are awake already). */
+/* The sleepers whose bounding circles reach the removed body's (within the
+ * tolerance) wake, each with what rests on it: it may have held them (by
+ * index; one woken with an earlier one is awake already). */
 void m2c_sim_wake_touching(m2c_world *m, const m2c_sim_body *body, double t)
 {
     double tol = m->s->tol;

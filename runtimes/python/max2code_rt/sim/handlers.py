@@ -51,7 +51,7 @@ class HandlersMixin:
         press_b = self.slow_touch(B, A, ev, nx, ny, vn, rest)
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        # on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
         # a slow contact of bodies held on their supports keeps them there
         held = self.held(A, B, nx, ny, vn)
         if held:
@@ -164,7 +164,7 @@ class HandlersMixin:
         if body.gone:
             raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
         if body.asleep:
-            self.handle_wake(body, t)      # any input on a sleeper wakes its island first
+            self.handle_wake(body, t)      # any input on a sleeper wakes it (and what rests on it) first
         self.rebase(body, t)
         if inp.mode != REMOVE:
             self.check_reach(body, ev.k, t, inp.mode, inp.vx, inp.vy)
@@ -240,7 +240,7 @@ class HandlersMixin:
         motion, or bounces, or falls); B is predicted against every body
         again (a large B: each small one that is not fixed or removed, in
         index order; a small one: predict_body), the bodies that left
-        against the others; last the islands touching B wake (wake_touching:
+        against the others; last the sleepers touching B wake (wake_touching:
         B may have held them, or carries them into others)."""
         B.vx = vx
         B.vy = vy

@@ -1,7 +1,7 @@
 """Sleeping islands (docs/simulator.md, "Contact model: sleeping
-islands"): when a body falls asleep on a grounded one, the island it
-joins, and how an island wakes (a jolt, an input, a body removed or
-driven next to it)."""
+islands"): when a body falls asleep on a grounded one, what it rests on,
+and what wakes with a sleeper (a jolt, an input, a body removed or driven
+next to it): the sleepers resting on it, going up."""
 from __future__ import annotations
 
 import math
@@ -11,6 +11,7 @@ from max2code_rt.sim.queue import CollisionEvent
 from max2code_rt.sim.scene import Body
 
 REST_SLOTS = 4      # slow contacts kept per body (note_rest)
+WAKING = -2         # island of the sleepers handle_wake is waking
 
 
 def _cross(a, b):
@@ -266,21 +267,15 @@ class SleepMixin:
         return balanced(M, pts, fa, self.s.tol)
 
     def handle_sleep_many(self, A: Body, G: Body, ev: CollisionEvent, t: float) -> None:
-        """A falls asleep on G (handle_sleep); then, for each noted contact
-        that still holds (in slot order) whose body sleeps in another
-        island, that island's sleepers take A's island number."""
+        """A falls asleep on G (handle_sleep); then the body of each noted
+        contact that still holds (in slot order) is added to what A rests
+        on, so a jolt on any of them wakes A."""
         fa = math.sqrt(A.fax * A.fax + A.fay * A.fay)
         rest = self.s.rest_speed
         held = self.holding(A, ev, max(self.s.tol, rest * rest / fa))
         self.handle_sleep(A, G, t)
-        bodies = self.s.bodies
         for r in held:
-            O = bodies[r[0]]
-            if O.asleep and O.island != A.island:
-                old = O.island
-                for b in bodies:
-                    if b.asleep and b.island == old:
-                        b.island = A.island
+            A.on.append(r[0])
 
     def handle_sleep(self, A: Body, G: Body, t: float) -> None:
         """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
@@ -297,6 +292,7 @@ class SleepMixin:
         A.ay = 0.0
         A.asleep = True
         A.island = G.island if G.asleep else A.idx
+        A.on = [G.idx]
         A.stamp += 1
         self.emit_sleep(t, A.idx, G.idx, A.island)
         self.emit_state(A)
@@ -306,12 +302,25 @@ class SleepMixin:
         self.predict_released(left, t)
 
     def handle_wake(self, S: Body, t: float) -> None:
-        """S's island wakes at t: every member (by index) gets its free
-        acceleration back, then fresh predictions (a pair of members once)."""
+        """Sleeper S wakes at t, and with it every sleeper that rests on a
+        woken body (the upward closure, marked island WAKING): each (by
+        index) gets its free acceleration back, then fresh predictions (a
+        pair of woken bodies once)."""
         self.stats.wakes += 1
-        island = S.island
-        self.emit_wake(t, S.idx, island)
+        self.emit_wake(t, S.idx, S.island)
         bodies = self.s.bodies
+        S.island = WAKING
+        grown = True
+        while grown:
+            grown = False
+            for b in bodies:
+                if b.asleep and b.island != WAKING:
+                    for g in b.on:
+                        if bodies[g].island == WAKING:
+                            b.island = WAKING
+                            grown = True
+                            break
+        island = WAKING
         for b in bodies:
             if b.asleep and b.island == island:
                 self.rebase(b, t)
@@ -345,10 +354,10 @@ class SleepMixin:
         self.schedule_cell(b, now)
 
     def wake_touching(self, body: Body, t: float) -> None:
-        """The islands of the sleepers whose bounding circles reach the
-        body's (within the tolerance; a body removed, or a fixed one whose
-        velocity an input set) wake: it may have held them (by index; a
-        woken island's other members are awake already)."""
+        """The sleepers whose bounding circles reach the body's (within the
+        tolerance; a body removed, or a fixed one whose velocity an input
+        set) wake, each with what rests on it: it may have held them (by
+        index; one woken with an earlier one is awake already)."""
         tol = self.s.tol
         for o in self.s.bodies:
             if o.asleep:

@@ -20,7 +20,10 @@ use super::sleep::{at_rest, can_sleep, can_sleep_many, holding_bodies, jolted, n
 use super::support::{
     base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support, is_static, slide_accel,
 };
-use super::world::SWEEP_FIRST;
+use super::world::{REST_SLOTS, SWEEP_FIRST};
+
+/// The island of the sleepers handle_wake is waking.
+const WAKING: i32 = -2;
 use super::Equations;
 
 impl<E: Equations> World<E> {
@@ -72,7 +75,7 @@ impl<E: Equations> World<E> {
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        // on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        // on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
         // a slow contact of bodies held on their supports keeps them there
         let bodies = &self.w.s.bodies;
         let is_held = held(bodies, &bodies[ai], &bodies[bi], nx, ny, vn, rest_speed);
@@ -290,28 +293,22 @@ impl<E: Equations> World<E> {
         a_.ay = 0.0;
         a_.asleep = true;
         a_.island = g_island;
+        self.w.on[a] = [-1; 1 + REST_SLOTS];
+        self.w.on[a][0] = g as i32;
         self.w.bump(a);
         self.out.sleep(t, a as u32, g as u32, g_island)?;
         self.out.state(&self.w.s.bodies[a])?;
         self.predict_changed(a, t)
     }
 
-    /// Body a falls asleep on g (handle_sleep); then, for each noted contact
-    /// that still holds (in slot order) whose body sleeps in another island,
-    /// that island's sleepers take a's island number.
+    /// Body a falls asleep on g (handle_sleep); then the body of each noted
+    /// contact that still holds (in slot order) is added to what a rests on,
+    /// so a jolt on any of them wakes a.
     pub(super) fn handle_sleep_many(&mut self, a: usize, g: usize, touch: Touch, t: f64) -> Res<()> {
         let (others, nh) = holding_bodies(&self.w, a, touch);
         self.handle_sleep(a, g, t)?;
-        for &o in &others[..nh] {
-            let (island, o_) = (self.w.s.bodies[a].island, &self.w.s.bodies[o]);
-            if o_.asleep && o_.island != island {
-                let old = o_.island;
-                for b in self.w.s.bodies.iter_mut() {
-                    if b.asleep && b.island == old {
-                        b.island = island;
-                    }
-                }
-            }
+        for (h, &o) in others[..nh].iter().enumerate() {
+            self.w.on[a][1 + h] = o as i32;
         }
         Ok(())
     }
@@ -367,14 +364,33 @@ impl<E: Equations> World<E> {
         Ok(())
     }
 
-    /// The island of sleeper s wakes at t: every member (by index) gets its
-    /// free acceleration back, then fresh predictions (a pair of members
-    /// once).
+    /// Sleeper s wakes at t, and with it every sleeper that rests on a
+    /// woken body (the upward closure, marked island WAKING): each (by
+    /// index) gets its free acceleration back, then fresh predictions (a
+    /// pair of woken bodies once).
     pub(super) fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
         self.q.stats.wakes += 1;
-        let island = self.w.s.bodies[s].island;
-        self.out.wake(t, s as u32, island)?;
+        self.out.wake(t, s as u32, self.w.s.bodies[s].island)?;
         let n = self.w.s.bodies.len();
+        let island = WAKING;
+        self.w.s.bodies[s].island = island;
+        let mut grown = true;
+        while grown {
+            grown = false;
+            for k in 0..n {
+                let b_ = &self.w.s.bodies[k];
+                if b_.asleep
+                    && b_.island != island
+                    && self.w.on[k]
+                        .iter()
+                        .take_while(|&&g| g >= 0)
+                        .any(|&g| self.w.s.bodies[g as usize].island == island)
+                {
+                    self.w.s.bodies[k].island = island;
+                    grown = true;
+                }
+            }
+        }
         for k in 0..n {
             let b_ = &mut self.w.s.bodies[k];
             if b_.asleep && b_.island == island {
@@ -558,7 +574,7 @@ impl<E: Equations> World<E> {
     /// or bounces, or falls); b is predicted against every body again (a
     /// large b: each small one that is not fixed or removed, in index
     /// order; a small one: predict_body), the bodies that left against the
-    /// others; last the islands touching b wake (wake_touching: b may have
+    /// others; last the sleepers touching b wake (wake_touching: b may have
     /// held them, or carries them into others).
     fn drive(&mut self, b: usize, k: u32, t: f64, vx: f64, vy: f64) -> Res<()> {
         let body = &mut self.w.s.bodies[b];
@@ -594,10 +610,10 @@ impl<E: Equations> World<E> {
         self.wake_touching(b, t)
     }
 
-    /// The islands of the sleepers whose bounding circles reach the body's
-    /// (within the tolerance; a body removed, or a fixed one whose velocity
-    /// an input set) wake: it may have held them (by index; a woken
-    /// island's other members are awake already).
+    /// The sleepers whose bounding circles reach the body's (within the
+    /// tolerance; a body removed, or a fixed one whose velocity an input
+    /// set) wake, each with what rests on it: it may have held them (by
+    /// index; one woken with an earlier one is awake already).
     fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
         let tol = self.w.s.tol;
         let (bx, by, bound) = {

@@ -359,7 +359,7 @@ pub fn can_sleep_many(w: &Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64
 }
 
 /// The bodies of M's noted contacts that still hold (in slot order), for
-/// merging islands when M falls asleep on several contacts.
+/// what M rests on when it falls asleep on several contacts.
 pub fn holding_bodies(w: &Space, m: usize, ev: Touch) -> ([usize; REST_SLOTS], usize) {
     let (_, ftol) = rest_ftol(w, &w.s.bodies[m]);
     let mut held = [0usize; REST_SLOTS];

@@ -65,6 +65,9 @@ pub struct Space {
     /// per body: its last [`REST_SLOTS`] slow contacts, the last first
     /// (sleeping on several contacts, [`super::sleep::can_sleep_many`])
     pub restc: Vec<[RestContact; REST_SLOTS]>,
+    /// per body: asleep, the bodies it rests on, its support first, -1
+    /// after the last (a jolt on any of them wakes it)
+    pub on: Vec<[i32; 1 + REST_SLOTS]>,
 }
 
 /// Slow contacts kept per body ([`super::sleep::note_rest`]).
@@ -118,7 +121,8 @@ impl Space {
             }
         }
         let restc = vec![[RestContact::default(); REST_SLOTS]; s.bodies.len()];
-        let mut w = Space { s, stamps, grid, fetch: false, rest, restc };
+        let on = vec![[-1; 1 + REST_SLOTS]; s.bodies.len()];
+        let mut w = Space { s, stamps, grid, fetch: false, rest, restc, on };
         w.choose_fetch();
         w
     }
