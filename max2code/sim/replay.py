@@ -318,7 +318,7 @@ def read_trace(text: str, scene: Scene, path: str = "<trace>", *, tolerance: flo
             if scene.bodies[k].fixed and not driven:       # only an input that sets its velocity moves it
                 rd.fail(f"{kind}: the trace changes the motion of {scene.bodies[k].name}, which is fixed in "
                         f"{scene.path}: the trace belongs to another scene")
-            if k not in ev.bodies and kind != "wake":       # a wake changes every body of its island
+            if k not in ev.bodies and kind != "wake":       # a wake changes every body woken with it
                 rd.fail(f"{kind}: a state of {scene.bodies[k].name}, which is not in this {kind}")
             if tolerance is not None:
                 p = advance(rp.states[k][-1], scene.bodies[k], t)

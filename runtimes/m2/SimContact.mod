@@ -292,7 +292,7 @@ END held_impulse ;
    the normal speed of S's material point by less than rest_speed,
    j (1/mS + (rS x n)^2 / IS) < rest_speed, and no hop of it was Unpaid, it stands (S stays asleep,
    unchanged: a gentle touch); else the other body's velocity is restored
-   and the full impulse is applied (S moves: jolted, its island wakes).
+   and the full impulse is applied (S moves: jolted, it wakes with what rests on it).
    When the other body is fixed (it moves or turns: a sleeper is never
    predicted against an unmoving one) S cannot be held (the pair would have
    no mass): the full impulse at once.  Returns the impulse applied. *)

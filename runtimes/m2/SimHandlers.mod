@@ -8,7 +8,7 @@ IMPLEMENTATION MODULE SimHandlers ;
    double operations in the same order. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, RestContact, EndT, FrameDt, GridNX, GridNY, Input, Inputs, LENGTH_MAX, MaxEvents, MaxSame,
+FROM SimScene IMPORT Bodies, BodyRef, RestSlots, EndT, FrameDt, GridNX, GridNY, Input, Inputs, LENGTH_MAX, MaxEvents, MaxSame,
                      NBodies, NInputs, Tol ;
 FROM SimQueue IMPORT CellEvent, Clear, CollisionEvent, Event, FrameEvent, HorizonEvent, InputEvent, KCell,
                      KCollision, KFrame, KHorizon, KInput, KLeave, KStop, LeaveEvent, Pop, StopEvent, Top ;
@@ -24,9 +24,12 @@ FROM SimPredict IMPORT ClearCounts, PredictBody, PredictCells, PredictLarge, Pre
 FROM SimContact IMPORT contact_frame, contact_impulse, held, held_impulse, normal_speed, sleeper_impulse ;
 FROM SimSupport IMPORT base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support,
                        slide_accel, static ;
-FROM SimSleep IMPORT at_rest, can_sleep, can_sleep_two, jolted, note_rest, rest_other, slow_press ;
+FROM SimSleep IMPORT at_rest, can_sleep, can_sleep_many, holding, jolted, note_rest, rest_ftol, slow_touch ;
 FROM SimOverlap IMPORT overlapping ;
 FROM SimCluster IMPORT handle_cluster, NTouched, repeated, touch, TouchedT ;
+
+CONST
+   Waking = -2 ;               (* island of the sleepers handle_wake is waking *)
 
 
 (* A leaves its support or carrier at t (E leave, its state: world velocity
@@ -94,6 +97,8 @@ BEGIN
    A^.ay := 0.0 ;
    A^.asleep := TRUE ;
    IF G^.asleep THEN A^.island := G^.island ELSE A^.island := A^.idx END ;
+   A^.on[0] := G^.idx ;
+   A^.non := 1 ;
    INC (A^.stamp) ;
    EmitSupportEnd ("sleep", t, A^.idx, G^.idx, A^.island) ;
    EmitState (A) ;
@@ -104,41 +109,65 @@ BEGIN
 END handle_sleep ;
 
 
-(* A falls asleep on G (handle_sleep) and on its other support, the body of
-   its last slow pressing contact with another body: when that one sleeps in
-   another island, the two islands become one (A's). *)
-PROCEDURE handle_sleep_two (A, G: BodyRef; t: REAL) ;
+(* A falls asleep on G (handle_sleep); then the body of each noted contact
+   that still holds (in slot order) is added to what A rests on, so a jolt
+   on any of them wakes A. *)
+PROCEDURE handle_sleep_many (A, G: BodyRef; ev: CollisionEvent; t: REAL) ;
 VAR
-   r: RestContact ;
-   G1: BodyRef ;
-   old, k: INTEGER ;
+   held, others: ARRAY [0..RestSlots - 1] OF INTEGER ;
+   nh, h: INTEGER ;
+   fa, ftol: REAL ;
 BEGIN
-   IF rest_other (A, G, r) THEN G1 := ADR (Bodies^[r.other1 - 1]) ELSE G1 := G END ;
+   ftol := rest_ftol (A, fa) ;
+   nh := holding (A, ev, ftol, held) ;
+   FOR h := 0 TO nh - 1 DO others[h] := A^.rc[held[h]].other1 - 1 END ;
    handle_sleep (A, G, t) ;
-   IF G1^.asleep AND (G1^.island # A^.island) THEN
-      old := G1^.island ;
-      FOR k := 0 TO NBodies - 1 DO
-         IF Bodies^[k].asleep AND (Bodies^[k].island = old) THEN Bodies^[k].island := A^.island END
-      END
+   FOR h := 0 TO nh - 1 DO
+      A^.on[A^.non] := others[h] ;
+      INC (A^.non)
    END
-END handle_sleep_two ;
+END handle_sleep_many ;
 
 
-(* S's island wakes at t: every member (by index) gets its free
-   acceleration back, then fresh predictions (a pair of members once). *)
+(* Sleeper S wakes at t, and with it every sleeper that rests on a woken
+   body (the upward closure, marked island Waking): each (by index) gets its
+   free acceleration back, then fresh predictions (a pair of woken bodies
+   once). *)
 PROCEDURE handle_wake (S: BodyRef; t: REAL) ;
+CONST
+   island = Waking ;
 VAR
-   island, i, n0: INTEGER ;
+   i, g, n0: INTEGER ;
+   grown: BOOLEAN ;
    b: BodyRef ;
 BEGIN
    INC (Stats.wakes) ;
-   island := S^.island ;
    Str ("E wake ") ;
    Real (t) ;
    Str (" ") ; Int (S^.idx) ;
-   Str (" -1 -1 -1 ") ; Int (island) ;
+   Str (" -1 -1 -1 ") ; Int (S^.island) ;
    Str (" 0 0 0 0 0") ;
    Ln ;
+   S^.island := island ;
+   grown := TRUE ;
+   WHILE grown DO
+      grown := FALSE ;
+      FOR i := 0 TO NBodies - 1 DO
+         b := ADR (Bodies^[i]) ;
+         IF b^.asleep AND (b^.island # island) THEN
+            g := 0 ;
+            WHILE g < b^.non DO
+               IF Bodies^[b^.on[g]].island = island THEN
+                  b^.island := island ;
+                  grown := TRUE ;
+                  g := b^.non
+               ELSE
+                  INC (g)
+               END
+            END
+         END
+      END
+   END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
       IF b^.asleep AND (b^.island = island) THEN
@@ -154,7 +183,7 @@ BEGIN
    n0 := NLeft ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
-      IF b^.island = island THEN release (b, t) END     (* bodies sliding on a member leave it: it may move *)
+      IF b^.island = island THEN release (b, t) END     (* bodies sliding on a woken body leave it: it may move *)
    END ;
    FOR i := 0 TO NBodies - 1 DO
       b := ADR (Bodies^[i]) ;
@@ -230,23 +259,23 @@ BEGIN
       handle_sleep (B, A, t) ;
       RETURN
    END ;
-   IF can_sleep_two (A, B, ev, cx, cy, nx, ny, vn) THEN
-      handle_sleep_two (A, B, t) ;
+   IF can_sleep_many (A, B, ev, cx, cy, nx, ny, vn) THEN
+      handle_sleep_many (A, B, ev, t) ;
       RETURN
    END ;
-   IF can_sleep_two (B, A, ev, cx, cy, nx, ny, vn) THEN
-      handle_sleep_two (B, A, t) ;
+   IF can_sleep_many (B, A, ev, cx, cy, nx, ny, vn) THEN
+      handle_sleep_many (B, A, ev, t) ;
       RETURN
    END ;
    IF can_ride (A, B, ev.feature, ev.i, ev.j, vn) THEN
       handle_support (t, ev, A, B, cx, cy, nx, ny, vn) ;
       RETURN
    END ;
-   pressA := slow_press (A, B, ev, nx, ny, vn) ;
-   pressB := slow_press (B, A, ev, nx, ny, vn) ;
+   pressA := slow_touch (A, B, ev, nx, ny, vn) ;
+   pressB := slow_touch (B, A, ev, nx, ny, vn) ;
    INC (Stats.collisions) ;
    (* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-      on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+      on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
       a slow contact of bodies held on their supports keeps them there *)
    isheld := held (A, B, nx, ny, vn) ;
    IF isheld THEN
@@ -534,7 +563,7 @@ END remove ;
    again at once and is supported again relative to B's new motion, or
    bounces, or falls); B is predicted against every body again (a large B:
    each small one that is not fixed or removed, in index order; a small one:
-   PredictBody), the bodies that left against the others; last the islands
+   PredictBody), the bodies that left against the others; last the sleepers
    touching B wake (wake_touching: B may have held them, or carries them
    into others). *)
 PROCEDURE drive (B: BodyRef; k: INTEGER; t, vx, vy: REAL) ;
@@ -576,10 +605,10 @@ BEGIN
 END drive ;
 
 
-(* The islands of the sleepers whose bounding circles reach the body's
-   (within the tolerance; a body removed, or a fixed one whose velocity an
-   input set) wake: it may have held them (by index; a woken island's other
-   members are awake already). *)
+(* The sleepers whose bounding circles reach the body's (within the
+   tolerance; a body removed, or a fixed one whose velocity an input set)
+   wake, each with what rests on it: it may have held them (by index; one
+   woken with an earlier one is awake already). *)
 PROCEDURE wake_touching (b: BodyRef; t: REAL) ;
 VAR
    i: INTEGER ;

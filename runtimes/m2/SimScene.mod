@@ -598,7 +598,7 @@ END Winds ;
    of vertices (0 after a fault). *)
 PROCEDURE ReadBody (i, v0, n: INTEGER; tl, tEnd: REAL) : INTEGER ;
 VAR
-   j: INTEGER ;
+   j, k: INTEGER ;
    poly, fixed, large, nv, cover: LONGINT ;
    b: BodyRef ;
    v: Vertex ;
@@ -665,8 +665,8 @@ BEGIN
    b^.gone := FALSE ;
    b^.asleep := FALSE ;
    b^.island := -1 ;
-   b^.rc[0].other1 := 0 ;
-   b^.rc[1].other1 := 0 ;
+   b^.non := 0 ;
+   FOR k := 0 TO RestSlots - 1 DO b^.rc[k].other1 := 0 END ;
    b^.placed := FALSE ;
    b^.seen := 0 ;
    b^.carry := 0 ;

@@ -4,7 +4,7 @@ IMPLEMENTATION MODULE SimSleep ;
    over_face and can_sleep. *)
 
 FROM SYSTEM IMPORT ADR ;
-FROM SimScene IMPORT Bodies, BodyRef, RestContact, RestSpeed, Tol, Verts ;
+FROM SimScene IMPORT Bodies, BodyRef, RestContact, RestSlots, RestSpeed, Tol, Verts ;
 FROM CMath IMPORT sqrt ;
 FROM SimQueue IMPORT CollisionEvent, FeatPE ;
 FROM SimSupport IMPORT flat, static, support_frame ;
@@ -137,13 +137,14 @@ BEGIN
 END slow_press ;
 
 
-(* Keeps the contact of ev at (cx, cy) as M's last slow pressing contact,
-   with G's and M's positions and angles now; the one before, when it was
-   with another body, is kept too. *)
-PROCEDURE note_rest (M, G: BodyRef; ev: CollisionEvent; cx, cy, nx, ny: REAL) ;
+(* The contact of ev of awake movable M with G is slow: slow_press without
+   the load (a contact across M's free acceleration, a wall a box leans on,
+   counts). *)
+PROCEDURE slow_touch (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
 VAR
-   mx, my: REAL ;
+   mx, my, ut: REAL ;
 BEGIN
+   IF M^.fixed OR M^.asleep THEN RETURN FALSE END ;
    IF M^.idx = ev.a THEN
       mx := nx ;
       my := ny
@@ -151,84 +152,248 @@ BEGIN
       mx := -nx ;
       my := -ny
    END ;
-   IF M^.rc[0].other1 # G^.idx + 1 THEN M^.rc[1] := M^.rc[0] END ;
-   M^.rc[0].px := cx ;
-   M^.rc[0].py := cy ;
-   M^.rc[0].other1 := G^.idx + 1 ;
-   M^.rc[0].mx := mx ;
-   M^.rc[0].my := my ;
-   M^.rc[0].load := M^.fax * mx + M^.fay * my ;
-   M^.rc[0].gx := G^.px ;
-   M^.rc[0].gy := G^.py ;
-   M^.rc[0].gang := G^.ang ;
-   M^.rc[0].bx := M^.px ;
-   M^.rc[0].by := M^.py ;
-   M^.rc[0].bang := M^.ang
+   IF (vn >= RestSpeed) OR (M^.e * G^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
+   ut := M^.vy * mx - M^.vx * my ;
+   IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
+   RETURN (NOT M^.polygon) OR (ABS (M^.om) * M^.bound < RestSpeed)
+END slow_touch ;
+
+
+(* With G grounded, keeps the slow contact of ev at (cx, cy) first among M's
+   last RestSlots slow contacts (distinct by key), with G's and M's positions and angles
+   now: an earlier one with the same key leaves its place, the others move
+   down one, the oldest beyond the slots is dropped. *)
+PROCEDURE note_rest (M, G: BodyRef; ev: CollisionEvent; cx, cy, nx, ny: REAL) ;
+VAR
+   r: RestContact ;
+   k: INTEGER ;
+BEGIN
+   IF NOT grounded (G) THEN RETURN END ;   (* an awake body moves: a contact with it would not hold *)
+   r.side := M^.idx = ev.a ;
+   IF r.side THEN
+      r.mx := nx ;
+      r.my := ny
+   ELSE
+      r.mx := -nx ;
+      r.my := -ny
+   END ;
+   r.other1 := G^.idx + 1 ;
+   r.feature := ev.feature ;
+   r.i := ev.i ;
+   r.j := ev.j ;
+   r.px := cx ;
+   r.py := cy ;
+   r.gx := G^.px ;
+   r.gy := G^.py ;
+   r.gang := G^.ang ;
+   r.bx := M^.px ;
+   r.by := M^.py ;
+   r.bang := M^.ang ;
+   k := 0 ;
+   (* the first slot empty, or with the same key (other body, feature, i, j, side), or the last *)
+   WHILE (k < RestSlots - 1) AND (M^.rc[k].other1 # 0)
+         AND NOT ((M^.rc[k].other1 = r.other1) AND (M^.rc[k].feature = r.feature) AND (M^.rc[k].i = r.i)
+                  AND (M^.rc[k].j = r.j) AND (M^.rc[k].side = r.side)) DO
+      INC (k)
+   END ;
+   WHILE k > 0 DO
+      M^.rc[k] := M^.rc[k - 1] ;
+      DEC (k)
+   END ;
+   M^.rc[0] := r
 END note_rest ;
 
 
-(* M's last slow pressing contact with a body other than G: FALSE when none. *)
-PROCEDURE rest_other (M, G: BodyRef; VAR r: RestContact) : BOOLEAN ;
-BEGIN
-   IF M^.rc[0].other1 - 1 = G^.idx THEN r := M^.rc[1] ELSE r := M^.rc[0] END ;
-   RETURN (r.other1 # 0) AND (r.other1 - 1 # G^.idx)
-END rest_other ;
-
-
-(* A contact force along (gx, gy) at a contact of unit normal (mx, my) lies
-   in the friction cone: c > 0 and |m x g| <= mu c. *)
-PROCEDURE in_cone (mx, my, gx, gy, mu: REAL) : BOOLEAN ;
+(* The face tolerance of M's noted contacts, max(tol, rest_speed^2 / |faM|)
+   (fa: |faM|). *)
+PROCEDURE rest_ftol (M: BodyRef; VAR fa: REAL) : REAL ;
 VAR
-   c, s: REAL ;
+   ftol: REAL ;
 BEGIN
-   c := mx * gx + my * gy ;
-   s := ABS (mx * gy - my * gx) ;
-   RETURN (c > 0.0) AND NOT (s > mu * c)
-END in_cone ;
+   fa := sqrt (M^.fax * M^.fax + M^.fay * M^.fay) ;
+   ftol := RestSpeed * RestSpeed / fa ;
+   IF Tol > ftol THEN ftol := Tol END ;
+   RETURN ftol
+END rest_ftol ;
+
+
+(* M's noted slow contacts that still hold, in slot order, but the one with
+   ev's key: the other body is not removed, grounded, at the position and
+   angle noted (bit for bit), and M has moved less than ftol since (its
+   centre, and its angle times its bound).  Their slot numbers go to held;
+   returns how many. *)
+PROCEDURE holding (M: BodyRef; ev: CollisionEvent; ftol: REAL; VAR held: ARRAY OF INTEGER) : INTEGER ;
+VAR
+   k, n, other1: INTEGER ;
+   side: BOOLEAN ;
+   O: BodyRef ;
+   r: POINTER TO RestContact ;
+   dx, dy: REAL ;
+BEGIN
+   side := M^.idx = ev.a ;
+   IF side THEN other1 := ev.b + 1 ELSE other1 := ev.a + 1 END ;
+   n := 0 ;
+   k := 0 ;
+   WHILE (k < RestSlots) AND (M^.rc[k].other1 # 0) DO
+      r := ADR (M^.rc[k]) ;
+      IF NOT ((r^.other1 = other1) AND (r^.feature = ev.feature) AND (r^.i = ev.i) AND (r^.j = ev.j)
+              AND (r^.side = side)) THEN
+         O := ADR (Bodies^[r^.other1 - 1]) ;
+         IF (NOT O^.gone) AND grounded (O) AND (O^.px = r^.gx) AND (O^.py = r^.gy) AND (O^.ang = r^.gang) THEN
+            dx := M^.px - r^.bx ;
+            dy := M^.py - r^.by ;
+            IF (NOT (dx * dx + dy * dy > ftol * ftol)) AND NOT (ABS (M^.ang - r^.bang) * M^.bound > ftol) THEN
+               held[n] := k ;
+               INC (n)
+            END
+         END
+      END ;
+      INC (k)
+   END ;
+   RETURN n
+END holding ;
+
+
+(* c := a x b for the rays' three components (force x, force y, torque). *)
+PROCEDURE Cross3 (VAR a, b, c: ARRAY OF REAL) ;
+BEGIN
+   c[0] := a[1] * b[2] - a[2] * b[1] ;
+   c[1] := a[2] * b[0] - a[0] * b[2] ;
+   c[2] := a[0] * b[1] - a[1] * b[0]
+END Cross3 ;
+
+
+PROCEDURE Dot3 (VAR a, b: ARRAY OF REAL) : REAL ;
+BEGIN
+   RETURN a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+END Dot3 ;
+
+
+TYPE
+   Vec3 = ARRAY [0..2] OF REAL ;
+   Contact5 = ARRAY [0..4] OF REAL ;
+
+
+(* Adds the ray (dx, dy, rx dy - ry dx) as rays[n], then n + 1. *)
+PROCEDURE AddRay (VAR rays: ARRAY OF Vec3; VAR n: INTEGER; rx, ry, dx, dy: REAL) ;
+BEGIN
+   rays[n][0] := dx ;
+   rays[n][1] := dy ;
+   rays[n][2] := rx * dy - ry * dx ;
+   INC (n)
+END AddRay ;
+
+
+(* The contacts pts[0..np-1] = (px, py, mx, my, mu) of M (unit normal m
+   from M to the other body) admit a static equilibrium with a margin: each
+   of four targets T is a combination with coefficients >= 0 of the contact
+   rays (per contact -m + mu t and -m - mu t, t = (-my, mx); -m alone when
+   mu = 0), each ray written (dx, dy, (p - pM) x d).  By Caratheodory a
+   target in the cone of the rays lies in the cone of three independent
+   ones: the triples i < j < k are tried with Cramer's rule until every
+   target is found in one (docs/simulator.md, "Several contacts"). *)
+PROCEDURE balanced (M: BodyRef; VAR pts: ARRAY OF Contact5; np: INTEGER; fa: REAL) : BOOLEAN ;
+VAR
+   rays: ARRAY [0..2 * RestSlots + 1] OF Vec3 ;
+   targets: ARRAY [0..3] OF Vec3 ;
+   found: ARRAY [0..3] OF BOOLEAN ;
+   cij, cjk, cki: Vec3 ;
+   n, c, i, j, k, q, left: INTEGER ;
+   rx, ry, mx, my, mu, e, wx, wy, tq, d, li, lj, lk: REAL ;
+   out: BOOLEAN ;
+BEGIN
+   n := 0 ;
+   FOR c := 0 TO np - 1 DO
+      rx := pts[c][0] - M^.px ;
+      ry := pts[c][1] - M^.py ;
+      mx := pts[c][2] ;
+      my := pts[c][3] ;
+      mu := pts[c][4] ;
+      IF mu > 0.0 THEN
+         AddRay (rays, n, rx, ry, -mx - mu * my, -my + mu * mx) ;
+         AddRay (rays, n, rx, ry, -mx + mu * my, -my - mu * mx)
+      ELSE
+         AddRay (rays, n, rx, ry, -mx, -my)
+      END
+   END ;
+   IF n < 3 THEN RETURN FALSE END ;
+   e := Tol / M^.bound ;
+   wx := -e * M^.fay ;
+   wy := e * M^.fax ;
+   tq := fa * Tol ;
+   targets[0][0] := -M^.fax + wx ; targets[0][1] := -M^.fay + wy ; targets[0][2] := 0.0 ;
+   targets[1][0] := -M^.fax - wx ; targets[1][1] := -M^.fay - wy ; targets[1][2] := 0.0 ;
+   targets[2][0] := -M^.fax ; targets[2][1] := -M^.fay ; targets[2][2] := tq ;
+   targets[3][0] := -M^.fax ; targets[3][1] := -M^.fay ; targets[3][2] := -tq ;
+   FOR q := 0 TO 3 DO found[q] := FALSE END ;
+   left := 4 ;
+   FOR i := 0 TO n - 3 DO
+      FOR j := i + 1 TO n - 2 DO
+         Cross3 (rays[i], rays[j], cij) ;
+         FOR k := j + 1 TO n - 1 DO
+            Cross3 (rays[j], rays[k], cjk) ;
+            Cross3 (rays[k], rays[i], cki) ;
+            d := Dot3 (rays[i], cjk) ;
+            IF (d > 0.0) OR (d < 0.0) THEN
+               FOR q := 0 TO 3 DO
+                  IF NOT found[q] THEN
+                     li := Dot3 (targets[q], cjk) ;
+                     lj := Dot3 (targets[q], cki) ;
+                     lk := Dot3 (targets[q], cij) ;
+                     IF d > 0.0 THEN
+                        out := (li < 0.0) OR (lj < 0.0) OR (lk < 0.0)
+                     ELSE
+                        out := (li > 0.0) OR (lj > 0.0) OR (lk > 0.0)
+                     END ;
+                     IF NOT out THEN
+                        found[q] := TRUE ;
+                        DEC (left) ;
+                        IF left = 0 THEN RETURN TRUE END
+                     END
+                  END
+               END
+            END
+         END
+      END
+   END ;
+   RETURN FALSE
+END balanced ;
 
 
 (* Awake movable M, in the slow pressing contact of ev with grounded G at
-   (cx, cy), falls asleep on two supports (docs/simulator.md, "Two
-   supports"): its last slow pressing contact with another body G1 that is
-   grounded and has not moved since; M has moved less than the face
-   tolerance since (its centre, and its angle times its bound); both
-   contacts can push along M's free acceleration within their friction
-   cones, and M's centre lies strictly between the two contact points across
-   that direction (by more than the tolerance). *)
-PROCEDURE can_sleep_two (M, G: BodyRef; ev: CollisionEvent; cx, cy, nx, ny, vn: REAL) : BOOLEAN ;
+   (cx, cy), falls asleep resting on several contacts (docs/simulator.md,
+   "Several contacts"): this contact and M's noted ones that still hold
+   (holding) admit a static equilibrium with a margin (balanced). *)
+PROCEDURE can_sleep_many (M, G: BodyRef; ev: CollisionEvent; cx, cy, nx, ny, vn: REAL) : BOOLEAN ;
 VAR
-   r: RestContact ;
-   G1: BodyRef ;
-   ftol, dx, dy, fa, gx, gy, mx, my, x1, x2: REAL ;
+   held: ARRAY [0..RestSlots - 1] OF INTEGER ;
+   pts: ARRAY [0..RestSlots] OF Contact5 ;
+   nh, h: INTEGER ;
+   fa, ftol: REAL ;
 BEGIN
    IF (NOT grounded (G)) OR (NOT slow_press (M, G, ev, nx, ny, vn)) THEN RETURN FALSE END ;
-   IF NOT rest_other (M, G, r) THEN RETURN FALSE END ;
-   G1 := ADR (Bodies^[r.other1 - 1]) ;
-   IF G1^.gone OR (NOT grounded (G1)) OR (G1^.px # r.gx) OR (G1^.py # r.gy) OR (G1^.ang # r.gang) THEN
-      RETURN FALSE
-   END ;
-   ftol := RestSpeed * RestSpeed / r.load ;
-   IF Tol > ftol THEN ftol := Tol END ;
-   dx := M^.px - r.bx ;
-   dy := M^.py - r.by ;
-   IF (dx * dx + dy * dy > ftol * ftol) OR (ABS (M^.ang - r.bang) * M^.bound > ftol) THEN RETURN FALSE END ;
-   fa := sqrt (M^.fax * M^.fax + M^.fay * M^.fay) ;
-   gx := M^.fax / fa ;
-   gy := M^.fay / fa ;
+   ftol := rest_ftol (M, fa) ;
+   nh := holding (M, ev, ftol, held) ;
+   IF nh = 0 THEN RETURN FALSE END ;
+   pts[0][0] := cx ;
+   pts[0][1] := cy ;
    IF M^.idx = ev.a THEN
-      mx := nx ;
-      my := ny
+      pts[0][2] := nx ;
+      pts[0][3] := ny
    ELSE
-      mx := -nx ;
-      my := -ny
+      pts[0][2] := -nx ;
+      pts[0][3] := -ny
    END ;
-   IF (NOT in_cone (r.mx, r.my, gx, gy, M^.mu * G1^.mu)) OR (NOT in_cone (mx, my, gx, gy, M^.mu * G^.mu)) THEN
-      RETURN FALSE
+   pts[0][4] := M^.mu * G^.mu ;
+   FOR h := 0 TO nh - 1 DO
+      pts[h + 1][0] := M^.rc[held[h]].px ;
+      pts[h + 1][1] := M^.rc[held[h]].py ;
+      pts[h + 1][2] := M^.rc[held[h]].mx ;
+      pts[h + 1][3] := M^.rc[held[h]].my ;
+      pts[h + 1][4] := M^.mu * Bodies^[M^.rc[held[h]].other1 - 1].mu
    END ;
-   x1 := (r.px - M^.px) * (-gy) + (r.py - M^.py) * gx ;
-   x2 := (cx - M^.px) * (-gy) + (cy - M^.py) * gx ;
-   RETURN ((x1 < -Tol) AND (x2 > Tol)) OR ((x1 > Tol) AND (x2 < -Tol))
-END can_sleep_two ;
+   RETURN balanced (M, pts, nh + 1, fa)
+END can_sleep_many ;
 
 
 END SimSleep.

@@ -1,4 +1,4 @@
-"""Sleeping on two supports (docs/simulator.md, "Two supports"): a plank
+"""Sleeping on two supports (docs/simulator.md, "Several contacts"): a plank
 laid across two boxes asleep on the floor touches each with a corner and
 has its centre over neither face, so neither support alone lets it sleep.
 Both together hold it: the two contacts can push against gravity within

@@ -250,19 +250,19 @@ static void handle_collision(m2c_world *m, const m2c_sim_event *ev)
         m2c_sim_handle_sleep(m, B, A, t);
         return;
     }
-    if (m2c_sim_can_sleep_two(m, A, B, ev, cx, cy, nx, ny, vn)) {
-        m2c_sim_handle_sleep_two(m, A, B, t);
+    if (m2c_sim_can_sleep_many(m, A, B, ev, cx, cy, nx, ny, vn)) {
+        m2c_sim_handle_sleep_many(m, A, B, ev, t);
         return;
     }
-    if (m2c_sim_can_sleep_two(m, B, A, ev, cx, cy, nx, ny, vn)) {
-        m2c_sim_handle_sleep_two(m, B, A, t);
+    if (m2c_sim_can_sleep_many(m, B, A, ev, cx, cy, nx, ny, vn)) {
+        m2c_sim_handle_sleep_many(m, B, A, ev, t);
         return;
     }
     if (m2c_sim_can_ride(m, A, B, feature, i, j, vn)) {
         handle_support(m, ev, A, B, cx, cy, nx, ny, vn);
         return;
     }
-    int press_a = m2c_sim_slow_press(m, A, B, ev, nx, ny, vn), press_b = m2c_sim_slow_press(m, B, A, ev, nx, ny, vn);
+    int press_a = m2c_sim_slow_touch(m, A, B, ev, nx, ny, vn), press_b = m2c_sim_slow_touch(m, B, A, ev, nx, ny, vn);
     m->stats.collisions++;
     /* a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
      * on it); a gentle touch leaves it asleep, a real impulse wakes its

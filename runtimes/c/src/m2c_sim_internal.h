@@ -96,6 +96,8 @@ typedef struct m2c_sim_body {
     double load;            /* m/s^2: free acceleration relative to the support's pressing onto it, > 0 */
     double at;              /* m/s^2: free acceleration relative to the support's, along the tangent */
     int32_t island;         /* the island's number (the index of its first sleeper), -1: awake */
+    int32_t non;            /* asleep: how many bodies it rests on (in on) */
+    int32_t on[5];          /* asleep: the bodies it rests on, its support first (1 + M2C_SIM_REST_SLOTS) */
     int32_t rest;           /* asleep: the fixed body it fell asleep supported on (its edge frame kept in tx, ty), else -1 */
     int32_t wcells[4];      /* the cells its box covers: x_lo, x_hi, y_lo, y_hi */
     unsigned long long seen;    /* the mark of the last large_near (walls_in) that listed it */
@@ -450,23 +452,24 @@ typedef struct m2c_sim_cluster {
     int32_t nmovers, ndone, bcap;
 } m2c_sim_cluster;
 
-/* A movable body's last slow contact pressing it onto another (a hop), for
- * sleeping on two supports (docs/simulator.md, "Two supports"). */
+/* A movable body's slow contact with another (a hop), for sleeping on
+ * several contacts (docs/simulator.md, "Several contacts"). */
+#define M2C_SIM_REST_SLOTS 4   /* slow contacts kept per body, the last first */
 typedef struct m2c_sim_rest_contact {
     double px, py;          /* m: the contact point */
     double mx, my;          /* unit normal from the body to the other */
-    double load;            /* m/s^2: the body's free acceleration along (mx, my), > 0 */
     double gx, gy, gang;    /* m, m, rad: the other body's position and angle then */
     double bx, by, bang;    /* m, m, rad: the body's own position and angle then */
     int32_t other1;         /* the other body's index + 1; 0: no contact */
+    int32_t feature, i, j;  /* the collision's feature and its i, j */
+    int32_t side;           /* 1: the body was the collision's a, 0: its b */
 } m2c_sim_rest_contact;
 
 struct m2c_world {
     m2c_sim_scene *s;                   /* owned */
     m2c_sim_body *bodies;               /* s->bodies */
     uint32_t *stamp;                    /* per body: bumped when its motion changes (lazy invalidation) */
-    m2c_sim_rest_contact *restc;        /* per body, two: its last slow pressing contact, and the last before
-                                         * it with another body */
+    m2c_sim_rest_contact *restc;        /* per body, M2C_SIM_REST_SLOTS: its last slow contacts, the last first */
     m2c_sim_heap heap;
     m2c_sim_stats stats;
     long long *cc_counts, *pe_counts;   /* predictions served per variant */
@@ -911,14 +914,16 @@ int m2c_sim_slow_press(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_
                        double nx, double ny, double vn);
 void m2c_sim_note_rest(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double cx,
                        double cy, double nx, double ny);
-int m2c_sim_can_sleep_two(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
-                          double cx, double cy, double nx, double ny, double vn);
-void m2c_sim_handle_sleep_two(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t);
+int m2c_sim_slow_touch(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                       double nx, double ny, double vn);
+int m2c_sim_can_sleep_many(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev,
+                           double cx, double cy, double nx, double ny, double vn);
+void m2c_sim_handle_sleep_many(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, const m2c_sim_event *ev, double t);
 int m2c_sim_can_sleep(m2c_world *m, const m2c_sim_body *M, const m2c_sim_body *G, const m2c_sim_event *ev, double nx,
                       double ny, double vn);
 /* A (advanced to t) falls asleep resting on G. */
 void m2c_sim_handle_sleep(m2c_world *m, m2c_sim_body *A, const m2c_sim_body *G, double t);
-/* S's island wakes at t. */
+/* Sleeper S wakes at t, with every sleeper resting on a woken body. */
 void m2c_sim_handle_wake(m2c_world *m, const m2c_sim_body *S, double t);
 /* The islands of the sleepers whose bounding circles reach body's wake. */
 void m2c_sim_wake_touching(m2c_world *m, const m2c_sim_body *body, double t);

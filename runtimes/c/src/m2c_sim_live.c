@@ -447,7 +447,7 @@ static int reserve_body(m2c_world *m, int32_t nverts)
         int32_t *lg = realloc(m->large, (size_t)cap * sizeof *lg);
         if (lg != NULL)
             m->large = lg;
-        m2c_sim_rest_contact *rc = realloc(m->restc, 2 * (size_t)cap * sizeof *rc);
+        m2c_sim_rest_contact *rc = realloc(m->restc, M2C_SIM_REST_SLOTS * (size_t)cap * sizeof *rc);
         if (rc != NULL)
             m->restc = rc;
         if (b == NULL || st == NULL || lg == NULL || rc == NULL) {
@@ -458,7 +458,7 @@ static int reserve_body(m2c_world *m, int32_t nverts)
         memset(b, 0, (size_t)cap * sizeof *b);
         memcpy(b, s->bodies, (size_t)s->nbodies * sizeof *b);
         memset(st + s->bodies_cap, 0, (size_t)(cap - s->bodies_cap) * sizeof *st);
-        memset(rc + 2 * (size_t)s->bodies_cap, 0, 2 * (size_t)(cap - s->bodies_cap) * sizeof *rc);
+        memset(rc + M2C_SIM_REST_SLOTS * (size_t)s->bodies_cap, 0, M2C_SIM_REST_SLOTS * (size_t)(cap - s->bodies_cap) * sizeof *rc);
         free(s->bodies);
         s->bodies = m->bodies = b;
         s->bodies_cap = cap;

@@ -528,6 +528,7 @@ static void read_body(reader *r, m2c_sim_body *b, int32_t k, const body_context 
     b->gone = 0;
     b->asleep = 0;
     b->island = -1;
+    b->non = 0;
     b->carry = 0;
     b->rest = -1;
     b->verts = NULL;

@@ -163,7 +163,7 @@ int m2c_sim_open(m2c_world *m, m2c_sim_scene *scene, int cc_variants, int pe_var
     m->pe_counts = calloc((size_t)pe_variants, sizeof *m->pe_counts);
     m->large = calloc((size_t)scene->nbodies + 1, sizeof *m->large);
     m->stamp = calloc((size_t)scene->nbodies + 1, sizeof *m->stamp);
-    m->restc = calloc(2 * ((size_t)scene->nbodies + 1), sizeof *m->restc);
+    m->restc = calloc(M2C_SIM_REST_SLOTS * ((size_t)scene->nbodies + 1), sizeof *m->restc);
     size_t nv = scene->verts_cap + 1;
     m->trig_cap = nv;
     m->vtrig = calloc(nv, sizeof *m->vtrig);

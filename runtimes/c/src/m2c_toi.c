@@ -1460,6 +1460,7 @@ static void body_of(const m2c_toi_shape *s, const m2c_toi_motion *q, int32_t idx
     b->idx = idx;
     b->sup = -1;
     b->island = -1;
+    b->non = 0;
     b->nverts = s->nverts;
     b->verts = b->polygon ? (m2c_sim_vertex *)s->verts : NULL;
 }

@@ -37,20 +37,21 @@ class HandlersMixin:
         if self.can_sleep(B, A, ev, nx, ny, vn):
             self.handle_sleep(B, A, t)
             return
-        if self.can_sleep_two(A, B, ev, cx, cy, nx, ny, vn):
-            self.handle_sleep_two(A, B, t)
+        if self.can_sleep_many(A, B, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_many(A, B, ev, t)
             return
-        if self.can_sleep_two(B, A, ev, cx, cy, nx, ny, vn):
-            self.handle_sleep_two(B, A, t)
+        if self.can_sleep_many(B, A, ev, cx, cy, nx, ny, vn):
+            self.handle_sleep_many(B, A, ev, t)
             return
         if self.can_ride(A, B, ev.feature, ev.i, ev.j, vn):
             self.handle_support(ev, A, B, cx, cy, nx, ny, vn)
             return
-        press_a = self.slow_press(A, B, ev, nx, ny, vn)
-        press_b = self.slow_press(B, A, ev, nx, ny, vn)
+        rest = self.s.rest_speed
+        press_a = self.slow_touch(A, B, ev, nx, ny, vn, rest)
+        press_b = self.slow_touch(B, A, ev, nx, ny, vn, rest)
         self.stats.collisions += 1
         # a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        # on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        # on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
         # a slow contact of bodies held on their supports keeps them there
         held = self.held(A, B, nx, ny, vn)
         if held:
@@ -163,7 +164,7 @@ class HandlersMixin:
         if body.gone:
             raise SimError(f"input {ev.k}: body {body.idx} was removed before t = {_fmt(t)}")
         if body.asleep:
-            self.handle_wake(body, t)      # any input on a sleeper wakes its island first
+            self.handle_wake(body, t)      # any input on a sleeper wakes it (and what rests on it) first
         self.rebase(body, t)
         if inp.mode != REMOVE:
             self.check_reach(body, ev.k, t, inp.mode, inp.vx, inp.vy)
@@ -239,7 +240,7 @@ class HandlersMixin:
         motion, or bounces, or falls); B is predicted against every body
         again (a large B: each small one that is not fixed or removed, in
         index order; a small one: predict_body), the bodies that left
-        against the others; last the islands touching B wake (wake_touching:
+        against the others; last the sleepers touching B wake (wake_touching:
         B may have held them, or carries them into others)."""
         B.vx = vx
         B.vy = vy

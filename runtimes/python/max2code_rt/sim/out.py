@@ -57,7 +57,7 @@ class OutMixin:
         self.out.write(f"E sleep {_fmt(t)} {a} {g} -1 -1 {island} 0 0 0 0 0\n")
 
     def emit_wake(self, t: float, s: int, island: int) -> None:
-        """`E wake`: the island of sleeper s wakes."""
+        """`E wake`: sleeper s (of that island) wakes, with what rests on it."""
         self.out.write(f"E wake {_fmt(t)} {s} -1 -1 -1 {island} 0 0 0 0 0\n")
 
     def emit_add(self, t: float, body: int) -> None:

@@ -38,7 +38,7 @@ class Body:
     __slots__ = ("idx", "polygon", "fixed", "inv_m", "inv_i", "e", "mu", "px", "py", "vx", "vy", "ax", "ay",
                  "ang", "om", "tb", "r", "orbit", "ophase", "bound", "window", "large", "verts", "stamp", "cx", "cy",
                  "fax", "fay", "sup", "sup_edge", "tx", "ty", "load", "at", "gone", "asleep", "island", "wcells", "seen",
-                 "carry", "rest")
+                 "carry", "rest", "on")
 
 
 class Input:
@@ -173,6 +173,7 @@ def read_body(tk: Tokens, i: int, tol: float, end: float, n: int) -> Body:
     b.gone = False
     b.asleep = False
     b.island = -1
+    b.on = []
     b.wcells = None
     b.seen = 0
     b.carry = 0

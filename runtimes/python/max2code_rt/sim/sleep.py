@@ -1,7 +1,7 @@
 """Sleeping islands (docs/simulator.md, "Contact model: sleeping
-islands"): when a body falls asleep on a grounded one, the island it
-joins, and how an island wakes (a jolt, an input, a body removed or
-driven next to it)."""
+islands"): when a body falls asleep on a grounded one, what it rests on,
+and what wakes with a sleeper (a jolt, an input, a body removed or driven
+next to it): the sleepers resting on it, going up."""
 from __future__ import annotations
 
 import math
@@ -9,6 +9,73 @@ import math
 from max2code_rt.sim.predict import PE
 from max2code_rt.sim.queue import CollisionEvent
 from max2code_rt.sim.scene import Body
+
+REST_SLOTS = 4      # slow contacts kept per body (note_rest)
+WAKING = -2         # island of the sleepers handle_wake is waking
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def balanced(M: Body, pts: list, fa: float, tol: float) -> bool:
+    """Contacts pts = (px, py, mx, my, mu) of M (unit normal m from M to the
+    other body) admit a static equilibrium with a margin: every target
+    T of `targets` is a combination with coefficients >= 0 of the contact
+    rays (per contact -m + mu t and -m - mu t, t = (-my, mx); -m alone when
+    mu = 0), each ray written (dx, dy, (p - pM) x d).  By Caratheodory a
+    target in the cone of the rays is in the cone of three independent
+    ones: the triples i < j < k (rays in order) are tried with Cramer's
+    rule until every target is found in one."""
+    rays = []
+    for (px, py, mx, my, mu) in pts:
+        rx = px - M.px
+        ry = py - M.py
+        if mu > 0.0:
+            for (dx, dy) in ((-mx - mu * my, -my + mu * mx), (-mx + mu * my, -my - mu * mx)):
+                rays.append((dx, dy, rx * dy - ry * dx))
+        else:
+            dx = -mx
+            dy = -my
+            rays.append((dx, dy, rx * dy - ry * dx))
+    n = len(rays)
+    if n < 3:
+        return False
+    e = tol / M.bound
+    wx = -e * M.fay
+    wy = e * M.fax
+    tq = fa * tol
+    targets = ((-M.fax + wx, -M.fay + wy, 0.0), (-M.fax - wx, -M.fay - wy, 0.0),
+               (-M.fax, -M.fay, tq), (-M.fax, -M.fay, -tq))
+    found = [False, False, False, False]
+    left = 4
+    for i in range(n - 2):
+        for j in range(i + 1, n - 1):
+            cij = _cross(rays[i], rays[j])
+            for k in range(j + 1, n):
+                cjk = _cross(rays[j], rays[k])
+                cki = _cross(rays[k], rays[i])
+                d = _dot(rays[i], cjk)
+                if not (d > 0.0) and not (d < 0.0):
+                    continue
+                for q in range(4):
+                    if found[q]:
+                        continue
+                    T = targets[q]
+                    li = _dot(T, cjk)
+                    lj = _dot(T, cki)
+                    lk = _dot(T, cij)
+                    if (li < 0.0 or lj < 0.0 or lk < 0.0) if d > 0.0 else (li > 0.0 or lj > 0.0 or lk > 0.0):
+                        continue
+                    found[q] = True
+                    left -= 1
+                    if left == 0:
+                        return True
+    return False
 
 
 class SleepMixin:
@@ -109,82 +176,106 @@ class SleepMixin:
             return False
         return not M.polygon or math.fabs(M.om) * M.bound < rest
 
-    def note_rest(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float) -> None:
-        """Keeps the contact of ev at (cx, cy) as M's last slow pressing
-        contact, with G's and M's positions and angles now; the one before,
-        when it was with another body, is kept too."""
+    @staticmethod
+    def slow_touch(M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float, rest: float) -> bool:
+        """The contact of ev of awake movable M with G is slow: slow_press
+        without the load (a contact across M's free acceleration, a wall a
+        box leans on, counts): vn < rest_speed, eM eG (-vn) < rest_speed,
+        M's speed across the normal below rest_speed, a polygon M turning
+        slower than rest_speed / bound."""
+        if M.fixed or M.asleep:
+            return False
         mx = nx if M.idx == ev.a else -nx
         my = ny if M.idx == ev.a else -ny
-        r = (G.idx, cx, cy, mx, my, M.fax * mx + M.fay * my, G.px, G.py, G.ang, M.px, M.py, M.ang)
+        if vn >= rest or M.e * G.e * -vn >= rest:
+            return False
+        ut = M.vy * mx - M.vx * my
+        if ut * ut >= rest * rest:
+            return False
+        return not M.polygon or math.fabs(M.om) * M.bound < rest
+
+    def note_rest(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float) -> None:
+        """With G grounded, keeps the slow contact of ev at (cx, cy) first among M's last
+        REST_SLOTS slow contacts (distinct by the other body and the
+        feature: ev's kind, i, j and which side M is), with G's and M's
+        positions and angles now: an earlier one with the same key leaves
+        its place, the others move down one, the oldest beyond REST_SLOTS
+        is dropped."""
+        if not self.grounded(G):
+            return          # an awake body moves: a contact with it would not hold
+        mx = nx if M.idx == ev.a else -nx
+        my = ny if M.idx == ev.a else -ny
+        r = (G.idx, ev.feature, ev.i, ev.j, M.idx == ev.a, cx, cy, mx, my, G.px, G.py, G.ang, M.px, M.py, M.ang)
         old = self.restc.get(M.idx)
         if old is None:
-            self.restc[M.idx] = [r, None]
-        elif old[0][0] != G.idx:
-            self.restc[M.idx] = [r, old[0]]
-        else:
-            old[0] = r
+            self.restc[M.idx] = [r]
+            return
+        for k, o in enumerate(old):
+            if o[:5] == r[:5]:
+                del old[k]
+                break
+        old.insert(0, r)
+        if len(old) > REST_SLOTS:
+            del old[REST_SLOTS]
 
-    def rest_other(self, M: Body, G: Body):
-        """M's last slow pressing contact with a body other than G, or None."""
+    def holding(self, M: Body, ev: CollisionEvent, ftol: float) -> list:
+        """M's noted slow contacts that still hold, in slot order, but the
+        one with ev's key: the other body is not removed, grounded, at the
+        position and angle noted (bit for bit), and M has moved less than
+        ftol since (its centre, and its angle times its bound)."""
+        out = []
         slots = self.restc.get(M.idx)
         if slots is None:
-            return None
-        r = slots[0] if slots[0][0] != G.idx else slots[1]
-        return r if r is not None and r[0] != G.idx else None
+            return out
+        side = M.idx == ev.a
+        other = ev.b if side else ev.a
+        bodies = self.s.bodies
+        for r in slots:
+            if r[0] == other and r[1] == ev.feature and r[2] == ev.i and r[3] == ev.j and r[4] == side:
+                continue
+            O = bodies[r[0]]
+            if O.gone or not self.grounded(O) or O.px != r[9] or O.py != r[10] or O.ang != r[11]:
+                continue
+            dx = M.px - r[12]
+            dy = M.py - r[13]
+            if dx * dx + dy * dy > ftol * ftol or math.fabs(M.ang - r[14]) * M.bound > ftol:
+                continue
+            out.append(r)
+        return out
 
-    @staticmethod
-    def in_cone(mx: float, my: float, gx: float, gy: float, mu: float) -> bool:
-        """A contact force along (gx, gy) at a contact of unit normal (mx, my)
-        lies in the friction cone: c > 0 and |m x g| <= mu c."""
-        c = mx * gx + my * gy
-        s = math.fabs(mx * gy - my * gx)
-        return c > 0.0 and not (s > mu * c)
-
-    def can_sleep_two(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float,
-                      vn: float) -> bool:
+    def can_sleep_many(self, M: Body, G: Body, ev: CollisionEvent, cx: float, cy: float, nx: float, ny: float,
+                       vn: float) -> bool:
         """Awake movable M, in the slow pressing contact of ev with grounded G
-        at (cx, cy), falls asleep on two supports (docs/simulator.md, "Two
-        supports"): its last slow pressing contact with another body G1 that
-        is grounded and has not moved since; M has moved less than the face
-        tolerance since (its centre, and its angle times its bound); both
-        contacts can push along M's free acceleration within their friction
-        cones, and M's centre lies strictly between the two contact points
-        across that direction (by more than the tolerance)."""
+        at (cx, cy), falls asleep resting on several contacts
+        (docs/simulator.md, "Several contacts"): this contact and M's noted
+        ones that still hold (holding) admit a static equilibrium with a
+        margin (balanced)."""
         if not self.grounded(G) or not self.slow_press(M, G, ev, nx, ny, vn):
             return False
-        r = self.rest_other(M, G)
-        if r is None:
-            return False
-        G1 = self.s.bodies[r[0]]
-        if G1.gone or not self.grounded(G1) or G1.px != r[6] or G1.py != r[7] or G1.ang != r[8]:
-            return False
-        ftol = max(self.s.tol, self.s.rest_speed * self.s.rest_speed / r[5])
-        dx = M.px - r[9]
-        dy = M.py - r[10]
-        if dx * dx + dy * dy > ftol * ftol or math.fabs(M.ang - r[11]) * M.bound > ftol:
-            return False
         fa = math.sqrt(M.fax * M.fax + M.fay * M.fay)
-        gx = M.fax / fa
-        gy = M.fay / fa
+        rest = self.s.rest_speed
+        ftol = max(self.s.tol, rest * rest / fa)
+        held = self.holding(M, ev, ftol)
+        if not held:
+            return False
         mx = nx if M.idx == ev.a else -nx
         my = ny if M.idx == ev.a else -ny
-        if not self.in_cone(r[3], r[4], gx, gy, M.mu * G1.mu) or not self.in_cone(mx, my, gx, gy, M.mu * G.mu):
-            return False
-        x1 = (r[1] - M.px) * -gy + (r[2] - M.py) * gx
-        x2 = (cx - M.px) * -gy + (cy - M.py) * gx
-        tol = self.s.tol
-        return (x1 < -tol and x2 > tol) or (x1 > tol and x2 < -tol)
+        pts = [(cx, cy, mx, my, M.mu * G.mu)]
+        bodies = self.s.bodies
+        for r in held:
+            pts.append((r[5], r[6], r[7], r[8], M.mu * bodies[r[0]].mu))
+        return balanced(M, pts, fa, self.s.tol)
 
-    def handle_sleep_two(self, A: Body, G: Body, t: float) -> None:
-        """A falls asleep on G (handle_sleep) and on its other support: when
-        that one sleeps in another island, the two islands become one (A's)."""
-        G1 = self.s.bodies[self.rest_other(A, G)[0]]
+    def handle_sleep_many(self, A: Body, G: Body, ev: CollisionEvent, t: float) -> None:
+        """A falls asleep on G (handle_sleep); then the body of each noted
+        contact that still holds (in slot order) is added to what A rests
+        on, so a jolt on any of them wakes A."""
+        fa = math.sqrt(A.fax * A.fax + A.fay * A.fay)
+        rest = self.s.rest_speed
+        held = self.holding(A, ev, max(self.s.tol, rest * rest / fa))
         self.handle_sleep(A, G, t)
-        if G1.asleep and G1.island != A.island:
-            old = G1.island
-            for b in self.s.bodies:
-                if b.asleep and b.island == old:
-                    b.island = A.island
+        for r in held:
+            A.on.append(r[0])
 
     def handle_sleep(self, A: Body, G: Body, t: float) -> None:
         """A (advanced to t) falls asleep resting on G: frozen (v = a = w = 0)
@@ -201,6 +292,7 @@ class SleepMixin:
         A.ay = 0.0
         A.asleep = True
         A.island = G.island if G.asleep else A.idx
+        A.on = [G.idx]
         A.stamp += 1
         self.emit_sleep(t, A.idx, G.idx, A.island)
         self.emit_state(A)
@@ -210,12 +302,25 @@ class SleepMixin:
         self.predict_released(left, t)
 
     def handle_wake(self, S: Body, t: float) -> None:
-        """S's island wakes at t: every member (by index) gets its free
-        acceleration back, then fresh predictions (a pair of members once)."""
+        """Sleeper S wakes at t, and with it every sleeper that rests on a
+        woken body (the upward closure, marked island WAKING): each (by
+        index) gets its free acceleration back, then fresh predictions (a
+        pair of woken bodies once)."""
         self.stats.wakes += 1
-        island = S.island
-        self.emit_wake(t, S.idx, island)
+        self.emit_wake(t, S.idx, S.island)
         bodies = self.s.bodies
+        S.island = WAKING
+        grown = True
+        while grown:
+            grown = False
+            for b in bodies:
+                if b.asleep and b.island != WAKING:
+                    for g in b.on:
+                        if bodies[g].island == WAKING:
+                            b.island = WAKING
+                            grown = True
+                            break
+        island = WAKING
         for b in bodies:
             if b.asleep and b.island == island:
                 self.rebase(b, t)
@@ -249,10 +354,10 @@ class SleepMixin:
         self.schedule_cell(b, now)
 
     def wake_touching(self, body: Body, t: float) -> None:
-        """The islands of the sleepers whose bounding circles reach the
-        body's (within the tolerance; a body removed, or a fixed one whose
-        velocity an input set) wake: it may have held them (by index; a
-        woken island's other members are awake already)."""
+        """The sleepers whose bounding circles reach the body's (within the
+        tolerance; a body removed, or a fixed one whose velocity an input
+        set) wake, each with what rests on it: it may have held them (by
+        index; one woken with an earlier one is awake already)."""
         tol = self.s.tol
         for o in self.s.bodies:
             if o.asleep:

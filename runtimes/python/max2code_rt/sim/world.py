@@ -71,8 +71,8 @@ class WorldState:
         self.touched: list[list[int]] = []   # [a, b, feature, i, j, times] of each contact handled at touched_t
         self.jammed_t = -1.0        # the instant of the bodies in jammed
         self.jammed: list[int] = []  # the bodies a jam put to sleep at jammed_t (held_now)
-        # per body: its last slow pressing contact, and the last before it with another body
-        # (note_rest: (other, px, py, mx, my, load, gx, gy, gang, bx, by, bang))
+        # per body: its last REST_SLOTS slow contacts, the last first (note_rest: (other, feature, i, j,
+        # side, px, py, mx, my, gx, gy, gang, bx, by, bang))
         self.restc: dict[int, list] = {}
 
     def is_stale(self, ev) -> bool:

@@ -16,11 +16,14 @@ use super::overlap::overlapping;
 use super::predict::{predict_body, predict_cells, predict_near, predict_pair, schedule_cell};
 use super::queue::{prefetch, Event};
 use super::scene::{ADD_VELOCITY, IMPULSE, LENGTH_MAX, REMOVE, SET_VELOCITY, TELEPORT};
-use super::sleep::{at_rest, can_sleep, can_sleep_two, jolted, note_rest, rest_other, slow_press, Touch};
+use super::sleep::{at_rest, can_sleep, can_sleep_many, holding_bodies, jolted, note_rest, slow_touch, Touch};
 use super::support::{
     base_holds, can_carry, can_ride, can_support, end_support, enter_carried, enter_support, is_static, slide_accel,
 };
-use super::world::SWEEP_FIRST;
+use super::world::{REST_SLOTS, SWEEP_FIRST};
+
+/// The island of the sleepers handle_wake is waking.
+const WAKING: i32 = -2;
 use super::Equations;
 
 impl<E: Equations> World<E> {
@@ -58,21 +61,21 @@ impl<E: Equations> World<E> {
         if can_sleep(&self.w, bi, ai, touch, nx, ny, vn) {
             return self.handle_sleep(bi, ai, t);
         }
-        if can_sleep_two(&self.w, ai, bi, touch, cx, cy, nx, ny, vn) {
-            return self.handle_sleep_two(ai, bi, t);
+        if can_sleep_many(&self.w, ai, bi, touch, cx, cy, nx, ny, vn) {
+            return self.handle_sleep_many(ai, bi, touch, t);
         }
-        if can_sleep_two(&self.w, bi, ai, touch, cx, cy, nx, ny, vn) {
-            return self.handle_sleep_two(bi, ai, t);
+        if can_sleep_many(&self.w, bi, ai, touch, cx, cy, nx, ny, vn) {
+            return self.handle_sleep_many(bi, ai, touch, t);
         }
         if can_ride(&self.w, &self.w.s.bodies[ai], &self.w.s.bodies[bi], feature, i, j, vn) {
             return self.handle_support(t, (a, b, feature, i, j), (cx, cy), (nx, ny), vn);
         }
         let (press_a, press_b) =
-            (slow_press(&self.w, ai, bi, touch, nx, ny, vn), slow_press(&self.w, bi, ai, touch, nx, ny, vn));
+            (slow_touch(&self.w, ai, bi, touch, nx, ny, vn), slow_touch(&self.w, bi, ai, touch, nx, ny, vn));
         self.q.stats.collisions += 1;
         let rest_speed = self.w.s.rest_speed;
         // a sleeper takes the impulse frozen (a = 0: pressed by whatever lands
-        // on it); a gentle touch leaves it asleep, a real impulse wakes its island;
+        // on it); a gentle touch leaves it asleep, a real impulse wakes it and what rests on it;
         // a slow contact of bodies held on their supports keeps them there
         let bodies = &self.w.s.bodies;
         let is_held = held(bodies, &bodies[ai], &bodies[bi], nx, ny, vn, rest_speed);
@@ -290,26 +293,22 @@ impl<E: Equations> World<E> {
         a_.ay = 0.0;
         a_.asleep = true;
         a_.island = g_island;
+        self.w.on[a] = [-1; 1 + REST_SLOTS];
+        self.w.on[a][0] = g as i32;
         self.w.bump(a);
         self.out.sleep(t, a as u32, g as u32, g_island)?;
         self.out.state(&self.w.s.bodies[a])?;
         self.predict_changed(a, t)
     }
 
-    /// Body a falls asleep on g (handle_sleep) and on its other support, the
-    /// body of its last slow pressing contact with another body: when that one
-    /// sleeps in another island, the two islands become one (a's).
-    pub(super) fn handle_sleep_two(&mut self, a: usize, g: usize, t: f64) -> Res<()> {
-        let g1 = rest_other(&self.w, a, g).map_or(g, |r| (r.other1 - 1) as usize);
+    /// Body a falls asleep on g (handle_sleep); then the body of each noted
+    /// contact that still holds (in slot order) is added to what a rests on,
+    /// so a jolt on any of them wakes a.
+    pub(super) fn handle_sleep_many(&mut self, a: usize, g: usize, touch: Touch, t: f64) -> Res<()> {
+        let (others, nh) = holding_bodies(&self.w, a, touch);
         self.handle_sleep(a, g, t)?;
-        let (island, g1_) = (self.w.s.bodies[a].island, &self.w.s.bodies[g1]);
-        if g1_.asleep && g1_.island != island {
-            let old = g1_.island;
-            for b in self.w.s.bodies.iter_mut() {
-                if b.asleep && b.island == old {
-                    b.island = island;
-                }
-            }
+        for (h, &o) in others[..nh].iter().enumerate() {
+            self.w.on[a][1 + h] = o as i32;
         }
         Ok(())
     }
@@ -365,14 +364,33 @@ impl<E: Equations> World<E> {
         Ok(())
     }
 
-    /// The island of sleeper s wakes at t: every member (by index) gets its
-    /// free acceleration back, then fresh predictions (a pair of members
-    /// once).
+    /// Sleeper s wakes at t, and with it every sleeper that rests on a
+    /// woken body (the upward closure, marked island WAKING): each (by
+    /// index) gets its free acceleration back, then fresh predictions (a
+    /// pair of woken bodies once).
     pub(super) fn handle_wake(&mut self, s: usize, t: f64) -> Res<()> {
         self.q.stats.wakes += 1;
-        let island = self.w.s.bodies[s].island;
-        self.out.wake(t, s as u32, island)?;
+        self.out.wake(t, s as u32, self.w.s.bodies[s].island)?;
         let n = self.w.s.bodies.len();
+        let island = WAKING;
+        self.w.s.bodies[s].island = island;
+        let mut grown = true;
+        while grown {
+            grown = false;
+            for k in 0..n {
+                let b_ = &self.w.s.bodies[k];
+                if b_.asleep
+                    && b_.island != island
+                    && self.w.on[k]
+                        .iter()
+                        .take_while(|&&g| g >= 0)
+                        .any(|&g| self.w.s.bodies[g as usize].island == island)
+                {
+                    self.w.s.bodies[k].island = island;
+                    grown = true;
+                }
+            }
+        }
         for k in 0..n {
             let b_ = &mut self.w.s.bodies[k];
             if b_.asleep && b_.island == island {
@@ -556,7 +574,7 @@ impl<E: Equations> World<E> {
     /// or bounces, or falls); b is predicted against every body again (a
     /// large b: each small one that is not fixed or removed, in index
     /// order; a small one: predict_body), the bodies that left against the
-    /// others; last the islands touching b wake (wake_touching: b may have
+    /// others; last the sleepers touching b wake (wake_touching: b may have
     /// held them, or carries them into others).
     fn drive(&mut self, b: usize, k: u32, t: f64, vx: f64, vy: f64) -> Res<()> {
         let body = &mut self.w.s.bodies[b];
@@ -592,10 +610,10 @@ impl<E: Equations> World<E> {
         self.wake_touching(b, t)
     }
 
-    /// The islands of the sleepers whose bounding circles reach the body's
-    /// (within the tolerance; a body removed, or a fixed one whose velocity
-    /// an input set) wake: it may have held them (by index; a woken
-    /// island's other members are awake already).
+    /// The sleepers whose bounding circles reach the body's (within the
+    /// tolerance; a body removed, or a fixed one whose velocity an input
+    /// set) wake, each with what rests on it: it may have held them (by
+    /// index; one woken with an earlier one is awake already).
     fn wake_touching(&mut self, body: usize, t: f64) -> Res<()> {
         let tol = self.w.s.tol;
         let (bx, by, bound) = {

@@ -407,7 +407,8 @@ impl<E: Equations> World<E> {
         self.w.s.bodies.push(b);
         self.w.stamps.push(0);
         self.w.rest.push(-1);
-        self.w.restc.push([super::world::RestContact::default(); 2]);
+        self.w.restc.push([super::world::RestContact::default(); super::world::REST_SLOTS]);
+        self.w.on.push([-1; 1 + super::world::REST_SLOTS]);
         self.w.choose_fetch();
         self.added += 1;
         self.out.add(t, idx as u32)?;

@@ -241,7 +241,7 @@ impl Out {
         self.end_line()
     }
 
-    /// `E wake T S -1 -1 -1 ISLAND 0 0 0 0 0`: the island of sleeper s wakes.
+    /// `E wake T S -1 -1 -1 ISLAND 0 0 0 0 0`: sleeper s wakes, with what rests on it.
     pub fn wake(&mut self, t: f64, s: u32, island: i32) -> io::Result<()> {
         if self.off() {
             return Ok(());

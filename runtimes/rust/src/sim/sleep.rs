@@ -6,7 +6,7 @@
 use super::motion::point_at;
 use super::scene::Body;
 use super::support::{flat, is_static, support_frame};
-use super::world::{RestContact, Space};
+use super::world::{RestContact, Space, REST_SLOTS};
 use super::PE;
 
 /// A body others can fall asleep on: asleep, or fixed and unmoving.
@@ -141,19 +141,49 @@ pub fn slow_press(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn
     !m_.polygon || m_.om.abs() * m_.bound < rest
 }
 
-/// Keeps the contact of ev at (cx, cy) as M's last slow pressing contact,
-/// with G's and M's positions and angles now; the one before, when it was
-/// with another body, is kept too.
+/// The contact of ev of awake movable M with G is slow: [`slow_press`]
+/// without the load (a contact across M's free acceleration, a wall a box
+/// leans on, counts).
+pub fn slow_touch(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn: f64) -> bool {
+    let bodies = &w.s.bodies;
+    let (m_, g_) = (&bodies[m], &bodies[g]);
+    if m_.fixed || m_.asleep {
+        return false;
+    }
+    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+    let rest = w.s.rest_speed;
+    if vn >= rest || m_.e * g_.e * -vn >= rest {
+        return false;
+    }
+    let ut = m_.vy * mx - m_.vx * my;
+    if ut * ut >= rest * rest {
+        return false;
+    }
+    !m_.polygon || m_.om.abs() * m_.bound < rest
+}
+
+fn same_key(r: &RestContact, q: &RestContact) -> bool {
+    r.other1 == q.other1 && r.feature == q.feature && r.i == q.i && r.j == q.j && r.side == q.side
+}
+
+/// With G grounded, keeps the slow contact of ev at (cx, cy) first among M's last
+/// [`REST_SLOTS`] slow contacts (distinct by the other body, ev's feature,
+/// i, j and which side M is), with G's and M's positions and angles now:
+/// an earlier one with the same key leaves its place, the others move down
+/// one, the oldest beyond the slots is dropped.
 #[allow(clippy::too_many_arguments)]
 pub fn note_rest(w: &mut Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64) {
     let (m_, g_) = (&w.s.bodies[m], &w.s.bodies[g]);
-    let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
+    if !grounded(g_) {
+        return; // an awake body moves: a contact with it would not hold
+    }
+    let side = m == ev.a;
+    let (mx, my) = if side { (nx, ny) } else { (-nx, -ny) };
     let r = RestContact {
         px: cx,
         py: cy,
         mx,
         my,
-        load: m_.fax * mx + m_.fay * my,
         gx: g_.px,
         gy: g_.py,
         gang: g_.ang,
@@ -161,63 +191,182 @@ pub fn note_rest(w: &mut Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64,
         by: m_.py,
         bang: m_.ang,
         other1: g as i32 + 1,
+        feature: ev.feature,
+        i: ev.i,
+        j: ev.j,
+        side,
     };
     let slots = &mut w.restc[m];
-    if slots[0].other1 != g as i32 + 1 {
-        slots[1] = slots[0];
+    let mut k = 0;
+    while k < REST_SLOTS - 1 && slots[k].other1 != 0 && !same_key(&slots[k], &r) {
+        k += 1;
+    }
+    while k > 0 {
+        slots[k] = slots[k - 1];
+        k -= 1;
     }
     slots[0] = r;
 }
 
-/// M's last slow pressing contact with a body other than G, if any.
-pub fn rest_other(w: &Space, m: usize, g: usize) -> Option<RestContact> {
-    let slots = &w.restc[m];
-    let r = if slots[0].other1 - 1 == g as i32 { slots[1] } else { slots[0] };
-    (r.other1 != 0 && r.other1 - 1 != g as i32).then_some(r)
+/// M's noted slow contacts that still hold, in slot order, but the one with
+/// ev's key: the other body is not removed, grounded, at the position and
+/// angle noted (bit for bit), and M has moved less than ftol since (its
+/// centre, and its angle times its bound).  Their slot numbers go to held;
+/// returns how many.
+fn holding(w: &Space, m: usize, ev: Touch, ftol: f64, held: &mut [usize; REST_SLOTS]) -> usize {
+    let bodies = &w.s.bodies;
+    let m_ = &bodies[m];
+    let side = m == ev.a;
+    let other1 = (if side { ev.b } else { ev.a }) as i32 + 1;
+    let mut n = 0;
+    for (k, r) in w.restc[m].iter().enumerate() {
+        if r.other1 == 0 {
+            break;
+        }
+        if r.other1 == other1 && r.feature == ev.feature && r.i == ev.i && r.j == ev.j && r.side == side {
+            continue;
+        }
+        let o = &bodies[(r.other1 - 1) as usize];
+        if o.gone || !grounded(o) || o.px != r.gx || o.py != r.gy || o.ang != r.gang {
+            continue;
+        }
+        let (dx, dy) = (m_.px - r.bx, m_.py - r.by);
+        if dx * dx + dy * dy > ftol * ftol || (m_.ang - r.bang).abs() * m_.bound > ftol {
+            continue;
+        }
+        held[n] = k;
+        n += 1;
+    }
+    n
 }
 
-/// A contact force along (gx, gy) at a contact of unit normal (mx, my) lies
-/// in the friction cone: c > 0 and |m x g| <= mu c.
-fn in_cone(mx: f64, my: f64, gx: f64, gy: f64, mu: f64) -> bool {
-    let c = mx * gx + my * gy;
-    let s = (mx * gy - my * gx).abs();
-    c > 0.0 && !(s > mu * c)
+#[inline(always)]
+fn cross3(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+#[inline(always)]
+fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The contacts (px, py, mx, my, mu) of M (unit normal m from M to the
+/// other body) admit a static equilibrium with a margin: each of four
+/// targets T is a combination with coefficients >= 0 of the contact rays
+/// (per contact -m + mu t and -m - mu t, t = (-my, mx); -m alone when
+/// mu = 0), each ray written (dx, dy, (p - pM) x d).  By Caratheodory a
+/// target in the cone of the rays lies in the cone of three independent
+/// ones: the triples i < j < k are tried with Cramer's rule until every
+/// target is found in one (docs/simulator.md, "Several contacts").
+fn balanced(m_: &Body, pts: &[[f64; 5]], fa: f64, tol: f64) -> bool {
+    let mut rays = [[0.0f64; 3]; 2 * (REST_SLOTS + 1)];
+    let mut n = 0;
+    for p in pts {
+        let (rx, ry) = (p[0] - m_.px, p[1] - m_.py);
+        let (mx, my, mu) = (p[2], p[3], p[4]);
+        if mu > 0.0 {
+            let (dx, dy) = (-mx - mu * my, -my + mu * mx);
+            rays[n] = [dx, dy, rx * dy - ry * dx];
+            n += 1;
+            let (dx, dy) = (-mx + mu * my, -my - mu * mx);
+            rays[n] = [dx, dy, rx * dy - ry * dx];
+            n += 1;
+        } else {
+            let (dx, dy) = (-mx, -my);
+            rays[n] = [dx, dy, rx * dy - ry * dx];
+            n += 1;
+        }
+    }
+    if n < 3 {
+        return false;
+    }
+    let e = tol / m_.bound;
+    let (wx, wy) = (-e * m_.fay, e * m_.fax);
+    let tq = fa * tol;
+    let targets = [
+        [-m_.fax + wx, -m_.fay + wy, 0.0],
+        [-m_.fax - wx, -m_.fay - wy, 0.0],
+        [-m_.fax, -m_.fay, tq],
+        [-m_.fax, -m_.fay, -tq],
+    ];
+    let mut found = [false; 4];
+    let mut left = 4;
+    for i in 0..n - 2 {
+        for j in i + 1..n - 1 {
+            let cij = cross3(&rays[i], &rays[j]);
+            for k in j + 1..n {
+                let cjk = cross3(&rays[j], &rays[k]);
+                let cki = cross3(&rays[k], &rays[i]);
+                let d = dot3(&rays[i], &cjk);
+                if !(d > 0.0) && !(d < 0.0) {
+                    continue;
+                }
+                for q in 0..4 {
+                    if found[q] {
+                        continue;
+                    }
+                    let t = &targets[q];
+                    let (li, lj, lk) = (dot3(t, &cjk), dot3(t, &cki), dot3(t, &cij));
+                    let out = if d > 0.0 { li < 0.0 || lj < 0.0 || lk < 0.0 } else { li > 0.0 || lj > 0.0 || lk > 0.0 };
+                    if out {
+                        continue;
+                    }
+                    found[q] = true;
+                    left -= 1;
+                    if left == 0 {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The face tolerance of the noted contacts: max(tol, rest_speed^2 / |faM|).
+fn rest_ftol(w: &Space, m_: &Body) -> (f64, f64) {
+    let fa = (m_.fax * m_.fax + m_.fay * m_.fay).sqrt();
+    let (tol, r2) = (w.s.tol, w.s.rest_speed * w.s.rest_speed / fa);
+    (fa, if r2 > tol { r2 } else { tol }) // C's fmax(tol, r2)
 }
 
 /// Awake movable M, in the slow pressing contact of ev with grounded G at
-/// (cx, cy), falls asleep on two supports (docs/simulator.md, "Two
-/// supports"): its last slow pressing contact with another body G1 that is
-/// grounded and has not moved since; M has moved less than the face
-/// tolerance since (its centre, and its angle times its bound); both
-/// contacts can push along M's free acceleration within their friction
-/// cones, and M's centre lies strictly between the two contact points
-/// across that direction (by more than the tolerance).
+/// (cx, cy), falls asleep resting on several contacts (docs/simulator.md,
+/// "Several contacts"): this contact and M's noted ones that still hold
+/// ([`holding`]) admit a static equilibrium with a margin ([`balanced`]).
 #[allow(clippy::too_many_arguments)]
-pub fn can_sleep_two(w: &Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64) -> bool {
+pub fn can_sleep_many(w: &Space, m: usize, g: usize, ev: Touch, cx: f64, cy: f64, nx: f64, ny: f64, vn: f64) -> bool {
     let bodies = &w.s.bodies;
     if !grounded(&bodies[g]) || !slow_press(w, m, g, ev, nx, ny, vn) {
         return false;
     }
-    let Some(r) = rest_other(w, m, g) else {
-        return false;
-    };
-    let (m_, g_, g1) = (&bodies[m], &bodies[g], &bodies[(r.other1 - 1) as usize]);
-    if g1.gone || !grounded(g1) || g1.px != r.gx || g1.py != r.gy || g1.ang != r.gang {
-        return false;
-    }
-    let (tol, r2) = (w.s.tol, w.s.rest_speed * w.s.rest_speed / r.load);
-    let ftol = if r2 > tol { r2 } else { tol }; // C's fmax(tol, r2)
-    let (dx, dy) = (m_.px - r.bx, m_.py - r.by);
-    if dx * dx + dy * dy > ftol * ftol || (m_.ang - r.bang).abs() * m_.bound > ftol {
+    let m_ = &bodies[m];
+    let (fa, ftol) = rest_ftol(w, m_);
+    let mut held = [0usize; REST_SLOTS];
+    let nh = holding(w, m, ev, ftol, &mut held);
+    if nh == 0 {
         return false;
     }
-    let fa = (m_.fax * m_.fax + m_.fay * m_.fay).sqrt();
-    let (gx, gy) = (m_.fax / fa, m_.fay / fa);
     let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
-    if !in_cone(r.mx, r.my, gx, gy, m_.mu * g1.mu) || !in_cone(mx, my, gx, gy, m_.mu * g_.mu) {
-        return false;
+    let mut pts = [[0.0f64; 5]; REST_SLOTS + 1];
+    pts[0] = [cx, cy, mx, my, m_.mu * bodies[g].mu];
+    let slots = &w.restc[m];
+    for h in 0..nh {
+        let r = &slots[held[h]];
+        pts[h + 1] = [r.px, r.py, r.mx, r.my, m_.mu * bodies[(r.other1 - 1) as usize].mu];
     }
-    let x1 = (r.px - m_.px) * -gy + (r.py - m_.py) * gx;
-    let x2 = (cx - m_.px) * -gy + (cy - m_.py) * gx;
-    (x1 < -tol && x2 > tol) || (x1 > tol && x2 < -tol)
+    balanced(m_, &pts[..nh + 1], fa, w.s.tol)
+}
+
+/// The bodies of M's noted contacts that still hold (in slot order), for
+/// what M rests on when it falls asleep on several contacts.
+pub fn holding_bodies(w: &Space, m: usize, ev: Touch) -> ([usize; REST_SLOTS], usize) {
+    let (_, ftol) = rest_ftol(w, &w.s.bodies[m]);
+    let mut held = [0usize; REST_SLOTS];
+    let nh = holding(w, m, ev, ftol, &mut held);
+    let mut others = [0usize; REST_SLOTS];
+    for h in 0..nh {
+        others[h] = (w.restc[m][held[h]].other1 - 1) as usize;
+    }
+    (others, nh)
 }

@@ -62,13 +62,19 @@ pub struct Space {
     /// per body: asleep, the fixed body it fell asleep supported on (its
     /// edge's tangent kept in `tx`, `ty`), else -1 (the body record is full)
     pub rest: Vec<i32>,
-    /// per body: its last slow pressing contact, and the last before it with
-    /// another body (sleeping on two supports, [`super::sleep::can_sleep_two`])
-    pub restc: Vec<[RestContact; 2]>,
+    /// per body: its last [`REST_SLOTS`] slow contacts, the last first
+    /// (sleeping on several contacts, [`super::sleep::can_sleep_many`])
+    pub restc: Vec<[RestContact; REST_SLOTS]>,
+    /// per body: asleep, the bodies it rests on, its support first, -1
+    /// after the last (a jolt on any of them wakes it)
+    pub on: Vec<[i32; 1 + REST_SLOTS]>,
 }
 
-/// A movable body's slow contact pressing it onto another (a hop), for
-/// sleeping on two supports (docs/simulator.md, "Two supports").
+/// Slow contacts kept per body ([`super::sleep::note_rest`]).
+pub const REST_SLOTS: usize = 4;
+
+/// A movable body's slow contact with another (a hop), for sleeping on
+/// several contacts (docs/simulator.md, "Several contacts").
 #[derive(Clone, Copy, Default)]
 pub struct RestContact {
     /// m: the contact point
@@ -77,8 +83,6 @@ pub struct RestContact {
     /// unit normal from the body to the other
     pub mx: f64,
     pub my: f64,
-    /// m/s^2: the body's free acceleration along (mx, my), > 0
-    pub load: f64,
     /// m, m, rad: the other body's position and angle then
     pub gx: f64,
     pub gy: f64,
@@ -89,6 +93,12 @@ pub struct RestContact {
     pub bang: f64,
     /// the other body's index + 1; 0: no contact
     pub other1: i32,
+    /// the collision's feature and its i, j
+    pub feature: i32,
+    pub i: i32,
+    pub j: i32,
+    /// whether the body was the collision's a
+    pub side: bool,
 }
 
 /// Fetching ahead pays where the bodies and cells miss the cache (the
@@ -110,8 +120,9 @@ impl Space {
                 place_large(&mut grid, &mut s, b);
             }
         }
-        let restc = vec![[RestContact::default(); 2]; s.bodies.len()];
-        let mut w = Space { s, stamps, grid, fetch: false, rest, restc };
+        let restc = vec![[RestContact::default(); REST_SLOTS]; s.bodies.len()];
+        let on = vec![[-1; 1 + REST_SLOTS]; s.bodies.len()];
+        let mut w = Space { s, stamps, grid, fetch: false, rest, restc, on };
         w.choose_fetch();
         w
     }
