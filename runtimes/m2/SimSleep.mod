@@ -119,7 +119,7 @@ END can_sleep ;
    is below rest_speed, and a polygon M turns slower than rest_speed / bound. *)
 PROCEDURE slow_press (M, G: BodyRef; ev: CollisionEvent; nx, ny, vn: REAL) : BOOLEAN ;
 VAR
-   mx, my, load, ut: REAL ;
+   mx, my, load: REAL ;
 BEGIN
    IF M^.fixed OR M^.asleep THEN RETURN FALSE END ;
    IF M^.idx = ev.a THEN
@@ -130,10 +130,8 @@ BEGIN
       my := -ny
    END ;
    load := M^.fax * mx + M^.fay * my ;
-   IF (NOT (load > 0.0)) OR (vn >= RestSpeed) OR (M^.e * G^.e * (-vn) >= RestSpeed) THEN RETURN FALSE END ;
-   ut := M^.vy * mx - M^.vx * my ;
-   IF ut * ut >= RestSpeed * RestSpeed THEN RETURN FALSE END ;
-   RETURN (NOT M^.polygon) OR (ABS (M^.om) * M^.bound < RestSpeed)
+   IF NOT (load > 0.0) THEN RETURN FALSE END ;
+   RETURN slow_touch (M, G, ev, nx, ny, vn)
 END slow_press ;
 
 

@@ -101,14 +101,8 @@ int m2c_sim_slow_press(const m2c_world *m, const m2c_sim_body *M, const m2c_sim_
         return 0;
     double mx = M->idx == ev->u.collision.a ? nx : -nx;
     double my = M->idx == ev->u.collision.a ? ny : -ny;
-    double rest = m->s->rest_speed;
     double load = M->fax * mx + M->fay * my;
-    if (!(load > 0.0) || vn >= rest || M->e * G->e * -vn >= rest)
-        return 0;
-    double ut = M->vy * mx - M->vx * my;
-    if (ut * ut >= rest * rest)
-        return 0;
-    return !M->polygon || fabs(M->om) * M->bound < rest;
+    return load > 0.0 && m2c_sim_slow_touch(m, M, G, ev, nx, ny, vn);
 }
 
 /* The contact of ev of awake movable M with G is slow: slow_press without

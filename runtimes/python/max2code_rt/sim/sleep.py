@@ -167,14 +167,8 @@ class SleepMixin:
             return False
         mx = nx if M.idx == ev.a else -nx
         my = ny if M.idx == ev.a else -ny
-        rest = self.s.rest_speed
         load = M.fax * mx + M.fay * my
-        if not (load > 0.0) or vn >= rest or M.e * G.e * -vn >= rest:
-            return False
-        ut = M.vy * mx - M.vx * my
-        if ut * ut >= rest * rest:
-            return False
-        return not M.polygon or math.fabs(M.om) * M.bound < rest
+        return load > 0.0 and self.slow_touch(M, G, ev, nx, ny, vn, self.s.rest_speed)
 
     @staticmethod
     def slow_touch(M: Body, G: Body, ev: CollisionEvent, nx: float, ny: float, vn: float, rest: float) -> bool:

@@ -123,22 +123,13 @@ fn over_face(w: &Space, m_: &Body, v_: &Body, e_: &Body, i: i32, j: i32, load: f
 /// speed across the normal is below rest_speed, and a polygon M turns
 /// slower than rest_speed / bound.
 pub fn slow_press(w: &Space, m: usize, g: usize, ev: Touch, nx: f64, ny: f64, vn: f64) -> bool {
-    let bodies = &w.s.bodies;
-    let (m_, g_) = (&bodies[m], &bodies[g]);
+    let m_ = &w.s.bodies[m];
     if m_.fixed || m_.asleep {
         return false;
     }
     let (mx, my) = if m == ev.a { (nx, ny) } else { (-nx, -ny) };
-    let rest = w.s.rest_speed;
     let load = m_.fax * mx + m_.fay * my;
-    if !(load > 0.0) || vn >= rest || m_.e * g_.e * -vn >= rest {
-        return false;
-    }
-    let ut = m_.vy * mx - m_.vx * my;
-    if ut * ut >= rest * rest {
-        return false;
-    }
-    !m_.polygon || m_.om.abs() * m_.bound < rest
+    load > 0.0 && slow_touch(w, m, g, ev, nx, ny, vn)
 }
 
 /// The contact of ev of awake movable M with G is slow: [`slow_press`]
