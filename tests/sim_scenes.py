@@ -239,3 +239,33 @@ def spinning_scene(seed: int, *, end_time: float = 1.5) -> dict:
     if rng.random() < 0.5:
         scene["gravity"] = [0.0, -9.81]
     return scene
+
+
+def run_everywhere(scene):
+    """Run a parsed scene in every runtime; the traces must be the same bytes,
+    with no overlap beyond the tolerance and no energy gained (1e-12
+    relative).  Returns the first runtime's trace."""
+    from max2code.sim.commands import crosscheck
+    from max2code.sim.invariants import check, energy_growth
+    from max2code.sim.replay import read_trace
+    from max2code.sim.simulate import LANGS
+    tr, problems = crosscheck(scene, LANGS)
+    assert problems == []
+    ref = tr[LANGS[0]]
+    for lang in LANGS[1:]:
+        assert tr[lang].raw == ref.raw, lang
+    rp = read_trace("\n".join(ref.lines()), scene, scene.name)
+    assert check(scene, rp).max_overlap <= scene.tolerance
+    assert energy_growth(scene, rp).max_growth <= 1e-12
+    return ref
+
+
+def two_circles_world():
+    """A Python world of two unit-mass circles of radius 0.1, 1 m apart,
+    under gravity: its predictor serves tests that hand it gaps directly."""
+    from max2code.sim.live import python_world
+    from max2code.sim.scene import parse_scene
+    raw = {"end_time": 1.0, "gravity": [0.0, -9.81], "bodies": [
+        {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]},
+        {"name": "b", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1.0, 0.0]}]}
+    return python_world(parse_scene(json.dumps(raw), "two.json"))

@@ -11,24 +11,19 @@ the test), and random polynomials of degrees 3 to 8 (the Bernstein tests'
 degrees), with before at, just before and just after their roots."""
 from __future__ import annotations
 
-import json
 import math
 
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from max2code.sim.scene import parse_scene
+from sim_scenes import two_circles_world  # noqa: E402
 
 WINDOW = 10.0       # s: a long window, so that the test's interval [0, before] lies inside it
 
 
 @pytest.fixture(scope="module")
 def world():
-    from max2code.sim.live import python_world
-    raw = {"end_time": 1.0, "gravity": [0.0, -9.81], "bodies": [
-        {"name": "a", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [0.0, 0.0]},
-        {"name": "b", "shape": "circle", "radius": 0.1, "mass": 1.0, "position": [1.0, 0.0]}]}
-    return python_world(parse_scene(json.dumps(raw), "two.json"))
+    return two_circles_world()
 
 
 def kept(t, before):

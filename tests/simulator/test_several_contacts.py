@@ -15,12 +15,8 @@ import math
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from max2code.sim.commands import crosscheck
-from max2code.sim.invariants import check, energy_growth
-from max2code.sim.replay import read_trace
 from max2code.sim.scene import parse_scene
-from max2code.sim.simulate import LANGS
-from sim_scenes import pile_scene  # noqa: E402
+from sim_scenes import pile_scene, run_everywhere  # noqa: E402
 
 pytestmark = pytest.mark.slow      # runs the native runtimes
 
@@ -111,18 +107,6 @@ def lean_margin(tilt, mu_floor, mu_wall):
     return max(min(c0 + c1 * s for (c0, c1) in ls) for s in cands) / W
 
 
-def run_all(scene):
-    tr, problems = crosscheck(scene, LANGS)
-    assert problems == []
-    ref = tr[LANGS[0]]
-    for lang in LANGS[1:]:
-        assert tr[lang].raw == ref.raw, lang
-    rp = read_trace("\n".join(ref.lines()), scene, scene.name)
-    assert check(scene, rp).max_overlap <= scene.tolerance
-    assert energy_growth(scene, rp).max_growth <= 1e-12
-    return ref
-
-
 def sleeps_leaning(tr, a0):
     """The box fell asleep near its leaning pose (its angle within 0.01 rad
     of where it started)."""
@@ -149,14 +133,14 @@ def test_a_leaning_box_sleeps_exactly_when_it_can_stand(tilt, mu_box, mu_wall):
     margin = lean_margin(tilt, mu_box * 1.0, mu_box * mu_wall)
     assume(abs(margin) > 0.02)         # away from the limit: the pose moves a hop's height while it hops
     scene = lean_scene(tilt, mu_box, mu_wall)
-    tr = run_all(scene)
+    tr = run_everywhere(scene)
     a0 = -tilt
     assert sleeps_leaning(tr, a0) == (margin > 0.0), (margin, [e for e in tr.events if e["kind"] == "sleep"])
 
 
 @pytest.mark.parametrize("tilt", [0.3, 0.6])
 def test_a_frictionless_leaning_box_slides_down(tilt):
-    tr = run_all(lean_scene(tilt, 0.0, 0.5))
+    tr = run_everywhere(lean_scene(tilt, 0.0, 0.5))
     assert not [e for e in tr.events if e["kind"] == "sleep" and e["bodies"][0] == "leaner"]
     leaner = next(b for b in tr.final["bodies"] if b["body"] == "leaner")
     assert leaner["velocity"] != [0.0, 0.0]         # still moving at the end
@@ -167,7 +151,7 @@ def test_a_frictionless_leaning_box_slides_down(tilt):
 def test_piles_agree_in_all_four_runtimes(seed):
     raw = pile_scene(seed, end_time=0.8)
     scene = parse_scene(json.dumps(raw), f"pile-{seed}.json")
-    run_all(scene)
+    run_everywhere(scene)
 
 
 @settings(max_examples=6, deadline=None)
@@ -178,7 +162,7 @@ def test_a_plank_sleeps_on_two_boxes_only_with_its_centre_between_them(plank_x):
     them; with its centre past the right box's far corner it never sleeps
     on a box (it tips off)."""
     from test_two_supports import bridge
-    tr = run_all(bridge(plank_x))
+    tr = run_everywhere(bridge(plank_x))
     on_boxes = [e for e in tr.events if e["kind"] == "sleep" and e["bodies"][0] == "plank"
                 and e["bodies"][1] in ("left", "right")]
     if plank_x <= 1.1:

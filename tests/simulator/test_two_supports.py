@@ -13,11 +13,8 @@ import json
 
 import pytest
 
-from max2code.sim.commands import crosscheck
-from max2code.sim.invariants import check, energy_growth
-from max2code.sim.replay import read_trace
 from max2code.sim.scene import parse_scene
-from max2code.sim.simulate import LANGS
+from sim_scenes import run_everywhere  # noqa: E402
 
 
 def box(name, x, y, hw, hh, mass=None, friction=0.5):
@@ -44,18 +41,6 @@ def bridge(plank_x: float, push: bool = False, friction: float = 0.5):
     return parse_scene(json.dumps(raw), f"bridge-{plank_x}-{push}-{friction}.json")
 
 
-def run(scene):
-    tr, problems = crosscheck(scene, LANGS)
-    assert problems == []
-    ref = tr[LANGS[0]]
-    for lang in LANGS[1:]:
-        assert tr[lang].raw == ref.raw, lang
-    rp = read_trace("\n".join(ref.lines()), scene, scene.name)
-    assert check(scene, rp).max_overlap <= scene.tolerance
-    assert energy_growth(scene, rp).max_growth <= 1e-12
-    return ref
-
-
 def final(tr, name):
     return next(b for b in tr.final["bodies"] if b["body"] == name)
 
@@ -63,7 +48,7 @@ def final(tr, name):
 @pytest.mark.slow
 @pytest.mark.parametrize("plank_x", [1.0, 1.02, 0.97])
 def test_a_plank_across_two_sleeping_boxes_falls_asleep_on_both(plank_x):
-    tr = run(bridge(plank_x))
+    tr = run_everywhere(bridge(plank_x))
     sleeps = [e for e in tr.events if e["kind"] == "sleep" and e["bodies"][0] == "plank"]
     assert len(sleeps) == 1 and sleeps[0]["bodies"][1] in ("left", "right"), sleeps
     assert sleeps[0]["t"] < 0.1                     # a few hops after landing at 0.045 s
@@ -76,7 +61,7 @@ def test_a_plank_across_two_sleeping_boxes_falls_asleep_on_both(plank_x):
 
 @pytest.mark.slow
 def test_the_plank_joins_both_boxes_islands_so_a_push_on_either_wakes_it():
-    tr = run(bridge(1.0, push=True))
+    tr = run_everywhere(bridge(1.0, push=True))
     wakes = [e for e in tr.events if e["kind"] == "wake" and e["t"] == 1.0]
     assert wakes, "the push at t = 1 s woke nothing"
     woken = {s["body"] for e in wakes for s in e["states"]}
@@ -85,7 +70,7 @@ def test_the_plank_joins_both_boxes_islands_so_a_push_on_either_wakes_it():
 
 @pytest.mark.slow
 def test_a_plank_whose_centre_lies_beyond_both_contacts_tips_off():
-    tr = run(bridge(1.35))
+    tr = run_everywhere(bridge(1.35))
     p = final(tr, "plank")
     assert p["position"][1] < 0.1, p                # on the floor, past the right box
     assert not [e for e in tr.events if e["kind"] == "sleep" and e["bodies"][0] == "plank"
