@@ -15,8 +15,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from max2code.sim.scene import parse_scene
-from sim_scenes import pile_scene  # noqa: E402
-from test_several_contacts import box, run_all
+from sim_scenes import pile_scene, run_everywhere  # noqa: E402
+from test_several_contacts import box  # noqa: E402
 
 pytestmark = pytest.mark.slow      # runs the native runtimes
 
@@ -55,20 +55,20 @@ def asleep_before(tr, t):
 
 @pytest.mark.parametrize("velocity", [(0.5, 0.0), (0.0, 0.3)])
 def test_a_jolt_on_the_top_box_wakes_only_it(velocity):
-    tr = run_all(stack("box2", velocity))
+    tr = run_everywhere(stack("box2", velocity))
     assert asleep_before(tr, 1.0) == {"box0", "box1", "box2"}
     assert woken_at(tr, 1.0) == ["box2"]
 
 
 @pytest.mark.parametrize("velocity", [(0.5, 0.0), (0.0, 0.3)])
 def test_a_jolt_on_the_bottom_box_wakes_the_whole_stack(velocity):
-    tr = run_all(stack("box0", velocity))
+    tr = run_everywhere(stack("box0", velocity))
     assert asleep_before(tr, 1.0) == {"box0", "box1", "box2"}
     assert woken_at(tr, 1.0) == ["box0", "box1", "box2"]
 
 
 def test_a_jolt_on_the_middle_box_wakes_it_and_what_is_above():
-    tr = run_all(stack("box1", (0.0, 0.3)))
+    tr = run_everywhere(stack("box1", (0.0, 0.3)))
     assert woken_at(tr, 1.0) == ["box1", "box2"]
 
 
@@ -89,7 +89,7 @@ def balls_side_by_side(velocity):
 @pytest.mark.parametrize("velocity", [(-0.5, 0.0), (0.0, 0.4)])
 def test_a_ball_beside_a_jolted_ball_stays_asleep(velocity):
     """Neither the ball beside nor the base under the jolted ball wakes with it."""
-    tr = run_all(balls_side_by_side(velocity))
+    tr = run_everywhere(balls_side_by_side(velocity))
     assert asleep_before(tr, 1.0) == {"base", "left", "right"}
     assert woken_at(tr, 1.0) == ["left"]
     assert not [e for e in tr.events if e["kind"] == "wake" and "right" in [s["body"] for s in e["states"]]]
@@ -122,5 +122,5 @@ def test_piles_jolted_late_wake_upwards_in_all_four_runtimes(seed):
     raw["inputs"] = [{"time": 1.2, "body": rng.choice(movers),
                       "add_velocity": [rng.uniform(-1.0, 1.0), rng.uniform(0.0, 1.0)]}]
     scene = parse_scene(json.dumps(raw), f"pile-{seed}.json")
-    tr = run_all(scene)
+    tr = run_everywhere(scene)
     wakes_are_closed_upwards(tr)
